@@ -1,0 +1,41 @@
+#pragma once
+// The main job on one program: read it, interpret it block by block, and write it back in
+// file order with ccomp's header, changing only what the machine model asks to change.
+#include <cstdint>
+#include <cstdio>
+#include <functional>
+#include <string>
+
+#include "ccomp/gcode/interpreter.hpp"
+#include "ccomp/gcode/source.hpp"
+#include "ccomp/model/machine.hpp"
+
+namespace ccomp::compensate {
+
+struct JobOptions {
+  gcode::InterpreterOptions interpreter;
+  /// Compensate even when the input already carries ccomp's header (double compensation).
+  bool force = false;
+  /// Called with the fraction of the input read, at most about a hundred times.
+  std::function<void(double)> progress;
+  /// Called for every warning, with the line it concerns.
+  std::function<void(const std::string&, std::uint32_t)> warning;
+};
+
+struct JobReport {
+  std::uint64_t blocks = 0;   ///< blocks executed
+  std::uint64_t motions = 0;  ///< canonical motions
+  std::uint64_t bytes = 0;    ///< input size
+};
+
+/// The header comment that marks a compensated program and names the model by its hash.
+[[nodiscard]] std::string header_line(const model::MachineModel& model);
+/// True when `line` is a header that header_line() wrote.
+[[nodiscard]] bool is_header_line(std::string_view line);
+
+/// Runs the job. Throws ccomp::Error; on error part of the output may have been written
+/// (the CLI writes to a temporary file and renames it only on success).
+JobReport run_program_job(gcode::LineSource& input, std::FILE* out, const model::MachineModel& model,
+                          const JobOptions& options);
+
+}  // namespace ccomp::compensate

@@ -1,0 +1,87 @@
+#pragma once
+// What the interpreter tells the rest of ccomp: the canonical machining calls of LinuxCNC
+// (STRAIGHT_TRAVERSE, STRAIGHT_FEED, ARC_FEED, offsets...), with every position as the
+// controlled point in machine coordinates (work offsets applied, tool length not).
+#include <cstdint>
+#include <string>
+#include <string_view>
+
+#include "ccomp/gcode/axes.hpp"
+#include "ccomp/gcode/block.hpp"
+#include "ccomp/gcode/source.hpp"
+
+namespace ccomp::gcode {
+
+enum class Plane : std::uint8_t { xy, zx, yz };  ///< G17, G18, G19
+enum class Units : std::uint8_t { mm, inch };     ///< G21, G20
+enum class FeedMode : std::uint8_t { units_per_minute, inverse_time, units_per_rev };
+
+/// The two in-plane axes and the normal axis of a plane, as ARC_FEED orders them.
+struct PlaneAxes {
+  std::size_t first, second, normal;
+};
+[[nodiscard]] constexpr PlaneAxes plane_axes(Plane p) {
+  switch (p) {
+    case Plane::xy: return {0, 1, 2};
+    case Plane::zx: return {2, 0, 1};
+    case Plane::yz: return {1, 2, 0};
+  }
+  return {0, 1, 2};
+}
+
+/// The offsets in force: origin = G5x + G92/G52 (mm, deg); tool = tool length offset.
+struct Offsets {
+  int coordinate_system = 1;  ///< 1 = G54 ... 9 = G59.3
+  Axes g5x{};
+  Axes g92{};
+  Axes tool{};
+  [[nodiscard]] double origin(std::size_t axis) const { return g5x[axis] + g92[axis]; }
+};
+
+enum class MotionKind : std::uint8_t { traverse, feed, arc, probe };
+
+/// Where a motion came from, for compensation and reports.
+enum class MotionSource : std::uint8_t { program, canned_cycle, reference_return, machine_coordinates };
+
+struct Arc {
+  Plane plane = Plane::xy;
+  double center_first = 0.0;   ///< centre, machine frame, first plane axis (mm)
+  double center_second = 0.0;  ///< centre, second plane axis (mm)
+  int turns = 1;               ///< signed: + counter-clockwise (G3), - clockwise (G2)
+};
+
+struct Motion {
+  MotionKind kind = MotionKind::traverse;
+  MotionSource source = MotionSource::program;
+  Axes start{};  ///< controlled point before the move (machine frame, no tool length)
+  Axes end{};    ///< after the move
+  Arc arc;       ///< when kind == arc
+  FeedMode feed_mode = FeedMode::units_per_minute;
+  double feed = 0.0;  ///< mm/min, or 1/min in inverse time, or mm/rev
+  Units units = Units::mm;  ///< the program's units at the time (for printing)
+  const Offsets* offsets = nullptr;  ///< in force during the move
+  std::uint32_t line = 0;  ///< source line of the block that commanded it
+};
+
+/// A non-motion canonical call, already formatted as LinuxCNC's rs274 prints it.
+struct CanonCall {
+  std::string_view name;
+  std::string arguments;
+  std::uint32_t line = 0;
+};
+
+/// Receives what the interpreter does. Sinks that only want motions leave the rest.
+class CanonSink {
+ public:
+  virtual ~CanonSink() = default;
+  /// Every block the interpreter executes, before its motions, in execution order.
+  virtual void block(const Block& /*block*/, const SourceLine& /*line*/) {}
+  virtual void motion(const Motion& /*motion*/) {}
+  /// Only called when wants_calls() is true, since formatting costs time.
+  virtual void call(const CanonCall& /*call*/) {}
+  [[nodiscard]] virtual bool wants_calls() const { return false; }
+  /// A warning: something ccomp accepted but the user should know.
+  virtual void warning(const std::string& /*message*/, std::uint32_t /*line*/) {}
+};
+
+}  // namespace ccomp::gcode

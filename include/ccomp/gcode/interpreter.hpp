@@ -1,0 +1,72 @@
+#pragma once
+// The RS-274/NGC interpreter: executes a program block by block (following subroutine
+// calls and loops by seeking in the source), tracks the modal state and offsets, and
+// tells a CanonSink every block it executes and every motion that block commands.
+// Semantics follow LinuxCNC's rs274ngc; tests/gcode/linuxcnc_suite_test.cpp holds the two
+// side by side.
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "ccomp/gcode/canon.hpp"
+#include "ccomp/gcode/dialect.hpp"
+#include "ccomp/gcode/source.hpp"
+#include "ccomp/gcode/tool_table.hpp"
+
+namespace ccomp::gcode {
+
+struct InterpreterOptions {
+  Dialect dialect;
+  ToolTable tools;
+  /// Values only the controller knows (`_hal[...]`, `_ini[...]`, probe results, or any
+  /// parameter), by name ("_hal[x.y]") or number ("5063").
+  std::vector<std::pair<std::string, double>> parameters;
+  /// Folders searched for `O<name> call` subroutines in files of their own (name.ngc).
+  std::vector<std::string> subroutine_path;
+  /// When set, lines starting with `/` are skipped (the operator's block-delete switch).
+  bool block_delete = false;
+  /// A guard against endless loops: executing more blocks than this is an error.
+  std::uint64_t max_blocks = 2'000'000'000;
+};
+
+/// The modal state an observer may read between blocks (G codes times ten).
+struct ModalState {
+  int motion = 800;  ///< G80: no motion mode
+  Plane plane = Plane::xy;
+  Units units = Units::mm;
+  bool absolute = true;       ///< G90 (else G91)
+  bool arc_absolute = false;  ///< G90.1 (else G91.1)
+  FeedMode feed_mode = FeedMode::units_per_minute;
+  int cutter_compensation = 400;  ///< G40, G41, G41.1, G42, G42.1
+  int tool_length_mode = 490;     ///< G49, G43, G43.1, G43.2
+  bool retract_to_r = false;      ///< G99 (else G98: back to the initial level)
+  int path_mode = 640;
+  double feed = 0.0;  ///< mm/min (or inverse time, or mm/rev)
+  double speed = 0.0;
+  int tool = 0;
+  int selected_tool = -1;
+};
+
+class Interpreter {
+ public:
+  explicit Interpreter(InterpreterOptions options = {});
+  ~Interpreter();
+  Interpreter(Interpreter&&) noexcept;
+  Interpreter& operator=(Interpreter&&) noexcept;
+
+  /// Executes the whole program. Throws ccomp::Error naming the file, line and column.
+  void run(LineSource& source, CanonSink& sink);
+
+  [[nodiscard]] const ModalState& modal() const;
+  [[nodiscard]] const Offsets& offsets() const;
+  /// The controlled point now (machine frame, no tool length), mm and degrees.
+  [[nodiscard]] const Axes& position() const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace ccomp::gcode

@@ -1,0 +1,34 @@
+#pragma once
+// Parses one line of G-code into a Block. The parser owns scratch buffers and reuses them,
+// so a program of any length is parsed line by line without allocating.
+#include <cstdint>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "ccomp/gcode/block.hpp"
+#include "ccomp/gcode/dialect.hpp"
+
+namespace ccomp::gcode {
+
+class Parser {
+ public:
+  explicit Parser(Dialect dialect = {});
+
+  /// Parses `text` (one line, without its terminator) into `out`. `out.text` views `text`,
+  /// which must outlive the block. Throws ccomp::Error (ErrorKind::program) with
+  /// file:line:column, the line, and what was expected.
+  void parse(std::string_view text, std::uint32_t line, std::string_view file, Block& out);
+
+  [[nodiscard]] const Dialect& dialect() const { return dialect_; }
+
+ private:
+  Dialect dialect_;
+  std::string folded_;
+  std::vector<std::uint32_t> offsets_;
+};
+
+/// The names of the grammar's rules, as the parser declares them (for the sync test).
+[[nodiscard]] std::vector<std::string> grammar_rule_names();
+
+}  // namespace ccomp::gcode

@@ -1,0 +1,52 @@
+#pragma once
+// Writes a program back in file order. A line nobody edited is copied byte for byte (its
+// spacing, case, comments and line terminator); an edited line has only the bytes of the
+// edited values replaced. The writer follows the interpreter: advance_to(offset) writes
+// every line before `offset`, so a straight program streams through in constant memory.
+#include <cstdint>
+#include <cstdio>
+#include <map>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "ccomp/gcode/block.hpp"
+#include "ccomp/gcode/source.hpp"
+
+namespace ccomp::gcode {
+
+/// Replace the bytes `span` of a line with `text`.
+struct Edit {
+  Span span;
+  std::string text;
+};
+
+/// The line with the edits applied (edits must not overlap).
+[[nodiscard]] std::string apply_edits(std::string_view line, std::vector<Edit> edits);
+
+class ProgramWriter {
+ public:
+  /// `reader` is a reader of the program (LineSource::another_reader()); `header` is one
+  /// line (without terminator) written first, or after a leading `%` line.
+  ProgramWriter(LineSource reader, std::FILE* out, std::string header);
+
+  /// Edits for the line starting at `line_offset` (not yet written).
+  void edit(std::uint64_t line_offset, std::vector<Edit> edits);
+  /// Writes every line that starts before `offset`.
+  void advance_to(std::uint64_t offset);
+  /// Writes the rest of the program and flushes.
+  void finish();
+  [[nodiscard]] std::uint64_t written_up_to() const { return next_offset_; }
+
+ private:
+  void write_line(const SourceLine& line);
+
+  LineSource reader_;
+  std::FILE* out_;
+  std::string header_;
+  bool header_written_ = false;
+  std::uint64_t next_offset_ = 0;
+  std::map<std::uint64_t, std::vector<Edit>> edits_;
+};
+
+}  // namespace ccomp::gcode

@@ -1,0 +1,48 @@
+#pragma once
+// The subcommands of the ccomp CLI: argument structs, their CLI11 wiring and their runs.
+#include <CLI/CLI.hpp>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "ccomp/gcode/interpreter.hpp"
+
+namespace ccomp::cli {
+
+/// Options every command that reads G-code shares.
+struct ProgramArgs {
+  std::string tool_table;
+  std::string tool_table_units = "mm";
+  std::vector<std::string> params;  ///< NAME=VALUE
+  std::string dialect;              ///< empty: the model's, else linuxcnc
+  std::vector<std::string> sub_path;
+  bool block_delete = false;
+};
+void add_program_options(CLI::App& cmd, ProgramArgs& args);
+/// Interpreter options from the shared arguments; `model_dialect` when none is given.
+[[nodiscard]] gcode::InterpreterOptions interpreter_options(const ProgramArgs& args,
+                                                            const std::string& model_dialect);
+
+struct CompensateArgs {
+  std::vector<std::string> inputs;
+  std::string model;
+  std::string output;
+  std::string out_dir;
+  bool in_place = false;
+  std::string backup_suffix = ".orig";
+  int jobs = 1;
+  bool force = false;
+  bool progress = false;
+  ProgramArgs program;
+};
+void add_compensate(CLI::App& app, CompensateArgs& args);
+int run_compensate(const CompensateArgs& args);
+
+struct TraceArgs {
+  std::string input;
+  ProgramArgs program;
+};
+CLI::App* add_trace(CLI::App& app, TraceArgs& args);
+int run_trace(const TraceArgs& args);
+
+}  // namespace ccomp::cli

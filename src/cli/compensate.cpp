@@ -1,0 +1,147 @@
+// The main job: ccomp in.nc -m machine.yaml -o out.nc (and its batch and filter forms).
+#include <fcntl.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <atomic>
+#include <cstdio>
+#include <filesystem>
+#include <fmt/format.h>
+#include <mutex>
+#include <thread>
+
+#include "ccomp/compensate/program_job.hpp"
+#include "ccomp/error.hpp"
+#include "commands.hpp"
+
+namespace ccomp::cli {
+namespace fs = std::filesystem;
+
+void add_compensate(CLI::App& app, CompensateArgs& args) {
+  app.add_option("inputs", args.inputs, "G-code programs ('-' reads standard input)");
+  app.add_option("-m,--model", args.model, "machine model (YAML)");
+  app.add_option("-o,--output", args.output, "output program ('-' writes standard output)");
+  app.add_option("--out-dir", args.out_dir, "write each output under this folder, same file name");
+  app.add_flag("--in-place", args.in_place, "replace each input, keeping a backup");
+  app.add_option("--backup-suffix", args.backup_suffix, "suffix of --in-place backups (default .orig)");
+  app.add_option("-j,--jobs", args.jobs, "programs compensated at once")->check(CLI::PositiveNumber);
+  app.add_flag("--force", args.force, "compensate a program that already carries ccomp's header");
+  app.add_flag("--progress", args.progress, "print FILTER_PROGRESS=N lines on stderr (LinuxCNC filters)");
+  add_program_options(app, args.program);
+}
+
+namespace {
+
+struct Target {
+  std::string input;
+  std::string output;  ///< "-" for stdout
+};
+
+/// Writes to `<output>.ccomp-XXXXXX` beside the output and renames it into place only on
+/// success, so a failed run leaves the previous output as it was.
+void compensate_one(const Target& t, const model::MachineModel& model, const compensate::JobOptions& options,
+                    const CompensateArgs& args) {
+  gcode::LineSource input = gcode::LineSource::open(t.input);
+  if (t.output == "-") {
+    std::setvbuf(stdout, nullptr, _IOFBF, 1 << 20);
+    compensate::run_program_job(input, stdout, model, options);
+    return;
+  }
+  const fs::path out(t.output);
+  std::string temp = (out.parent_path().empty() ? fs::path(".") : out.parent_path()) /
+                     (out.filename().string() + ".ccomp-XXXXXX");
+  const int fd = ::mkstemp(temp.data());
+  if (fd < 0) throw Error(ErrorKind::io, fmt::format("cannot create a temporary file beside '{}'", t.output));
+  std::FILE* f = ::fdopen(fd, "wb");
+  std::setvbuf(f, nullptr, _IOFBF, 1 << 20);
+  try {
+    compensate::run_program_job(input, f, model, options);
+    if (std::fclose(f) != 0) throw Error(ErrorKind::io, fmt::format("cannot write '{}'", t.output));
+    f = nullptr;
+    if (args.in_place) {
+      std::error_code ec;
+      fs::copy_file(t.input, t.input + args.backup_suffix, fs::copy_options::overwrite_existing, ec);
+      if (ec) throw Error(ErrorKind::io, fmt::format("cannot write the backup '{}': {}", t.input + args.backup_suffix, ec.message()));
+    }
+    // Keep the input's permissions on the output (post processors may mark files executable).
+    std::error_code ec;
+    if (t.input != "-") fs::permissions(temp, fs::status(t.input).permissions(), ec);
+    if (std::rename(temp.c_str(), t.output.c_str()) != 0)
+      throw Error(ErrorKind::io, fmt::format("cannot move the result into place as '{}'", t.output));
+  } catch (...) {
+    if (f) std::fclose(f);
+    std::remove(temp.c_str());
+    throw;
+  }
+}
+
+}  // namespace
+
+int run_compensate(const CompensateArgs& args) {
+  if (args.inputs.empty())
+    throw Error(ErrorKind::usage, "no input program: ccomp in.nc -m machine.yaml -o out.nc (see --help)");
+  if (args.model.empty()) throw Error(ErrorKind::usage, "no machine model: give one with -m machine.yaml");
+  const int modes = !args.output.empty() + !args.out_dir.empty() + args.in_place;
+  if (modes != 1)
+    throw Error(ErrorKind::usage, "say where the output goes: exactly one of -o FILE, -o -, --out-dir DIR, --in-place");
+  if (!args.output.empty() && args.inputs.size() > 1)
+    throw Error(ErrorKind::usage, "-o takes one input; use --out-dir or --in-place for several");
+  if (args.in_place && std::count(args.inputs.begin(), args.inputs.end(), "-"))
+    throw Error(ErrorKind::usage, "--in-place cannot replace standard input");
+
+  const model::MachineModel model = model::load_machine_model(args.model);
+  compensate::JobOptions options;
+  options.interpreter = interpreter_options(args.program, model.dialect);
+  options.force = args.force;
+
+  std::vector<Target> targets;
+  for (const std::string& in : args.inputs) {
+    Target t{in, args.output};
+    if (args.in_place) t.output = in;
+    if (!args.out_dir.empty()) {
+      if (in == "-") throw Error(ErrorKind::usage, "--out-dir needs file inputs, not '-'");
+      fs::create_directories(args.out_dir);
+      t.output = (fs::path(args.out_dir) / fs::path(in).filename()).string();
+      std::error_code ec;
+      if (fs::equivalent(t.output, in, ec))
+        throw Error(ErrorKind::usage, fmt::format("--out-dir would overwrite the input '{}'", in));
+    }
+    targets.push_back(t);
+  }
+
+  std::mutex report;
+  std::atomic<int> worst{0};
+  std::atomic<std::size_t> next{0};
+  auto worker = [&]() {
+    for (std::size_t i = next++; i < targets.size(); i = next++) {
+      compensate::JobOptions mine = options;
+      const std::string name = targets[i].input == "-" ? "<stdin>" : targets[i].input;
+      mine.warning = [&report, name](const std::string& message, std::uint32_t line) {
+        std::lock_guard lock(report);
+        fmt::print(stderr, "{}:{}: warning: {}\n", name, line, message);
+      };
+      if (args.progress)
+        mine.progress = [&report](double fraction) {
+          std::lock_guard lock(report);
+          fmt::print(stderr, "FILTER_PROGRESS={}\n", static_cast<int>(fraction * 100.0));
+        };
+      try {
+        compensate_one(targets[i], model, mine, args);
+      } catch (const Error& e) {
+        std::lock_guard lock(report);
+        fmt::print(stderr, "{}\n", format_error(e));
+        int code = exit_code(e.kind());
+        int seen = worst.load();
+        while (code > seen && !worst.compare_exchange_weak(seen, code)) {}
+      }
+    }
+  };
+  const int threads = std::clamp(args.jobs, 1, static_cast<int>(targets.size()));
+  std::vector<std::thread> pool;
+  for (int i = 1; i < threads; ++i) pool.emplace_back(worker);
+  worker();
+  for (auto& t : pool) t.join();
+  return worst.load();
+}
+
+}  // namespace ccomp::cli

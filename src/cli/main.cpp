@@ -1,0 +1,51 @@
+// The ccomp command line: a thin layer over the library. Each subcommand lives in its own
+// file under src/cli/; this one wires them up and maps errors to exit codes.
+#include <CLI/CLI.hpp>
+#include <fmt/format.h>
+
+#include "ccomp/error.hpp"
+#include "ccomp/version.hpp"
+#include "commands.hpp"
+
+namespace {
+
+constexpr const char* kExitCodes = R"(Exit codes:
+  0   success (warnings, if any, are on stderr)
+  2   usage: bad command line
+  3   program error: the G-code is wrong (file:line:column on stderr)
+  4   unsupported: valid G-code that ccomp does not handle
+  5   model error: the machine model file is wrong
+  6   I/O error: a file could not be read or written
+  7   refused: compensating would be unsafe (see the message)
+  70  internal error: a bug in ccomp, please report it
+With several inputs the exit code is the highest of the files' codes.)";
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app{"ccomp: rewrites G-code so a real machine cuts what the program means.\n"
+               "  ccomp in.nc -m machine.yaml -o out.nc"};
+  app.footer(kExitCodes);
+  app.set_version_flag("--version", std::string("ccomp ") + ccomp::kVersion);
+  app.require_subcommand(0, 1);
+  ccomp::cli::CompensateArgs compensate;
+  ccomp::cli::add_compensate(app, compensate);
+  ccomp::cli::TraceArgs trace;
+  CLI::App* trace_cmd = ccomp::cli::add_trace(app, trace);
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    const int code = app.exit(e);
+    return code == 0 ? 0 : ccomp::exit_code(ccomp::ErrorKind::usage);
+  }
+  try {
+    if (trace_cmd->parsed()) return ccomp::cli::run_trace(trace);
+    return ccomp::cli::run_compensate(compensate);
+  } catch (const ccomp::Error& e) {
+    fmt::print(stderr, "{}\n", ccomp::format_error(e));
+    return ccomp::exit_code(e.kind());
+  } catch (const std::exception& e) {
+    fmt::print(stderr, "internal error: {}\n", e.what());
+    return ccomp::exit_code(ccomp::ErrorKind::internal);
+  }
+}

@@ -1,0 +1,50 @@
+#include <charconv>
+#include <cmath>
+
+#include "ccomp/error.hpp"
+#include "ccomp/gcode/dialect.hpp"
+#include "ccomp/gcode/tool_table.hpp"
+#include "commands.hpp"
+
+namespace ccomp::cli {
+
+void add_program_options(CLI::App& cmd, ProgramArgs& args) {
+  cmd.add_option("--tool-table", args.tool_table, "LinuxCNC tool table (T1 P1 Z0.5 D0.25 ...)");
+  cmd.add_option("--tool-table-units", args.tool_table_units,
+                 "units of the tool table: mm, or inch as LinuxCNC's rs274 reads it alone")
+      ->check(CLI::IsMember({"mm", "inch"}));
+  cmd.add_option("--param", args.params,
+                 "a value only the controller has: NAME=VALUE (e.g. '_hal[x.y]=2.5' or 5063=1.2)");
+  cmd.add_option("--dialect", args.dialect, "G-code dialect: linuxcnc, fanuc, mazak, wincnc")
+      ->check(CLI::IsMember(gcode::dialect_names()));
+  cmd.add_option("--sub-path", args.sub_path, "folder with subroutine files (name.ngc)");
+  cmd.add_flag("--block-delete", args.block_delete, "skip lines that start with '/'");
+}
+
+gcode::InterpreterOptions interpreter_options(const ProgramArgs& args, const std::string& model_dialect) {
+  gcode::InterpreterOptions o;
+  const std::string name = !args.dialect.empty() ? args.dialect : model_dialect.empty() ? "linuxcnc" : model_dialect;
+  auto dialect = gcode::dialect_named(name);
+  if (!dialect) throw Error(ErrorKind::usage, "unknown dialect '" + name + "'");
+  o.dialect = *dialect;
+  if (!args.tool_table.empty()) {
+    o.tools = gcode::read_tool_table_file(args.tool_table);
+    o.tools.mm_per_unit = args.tool_table_units == "inch" ? 25.4 : 1.0;
+  }
+  for (const std::string& p : args.params) {
+    const auto eq = p.rfind('=');
+    double v = 0.0;
+    if (eq == std::string::npos || eq == 0)
+      throw Error(ErrorKind::usage, "--param takes NAME=VALUE, not '" + p + "'");
+    const std::string value = p.substr(eq + 1);
+    const auto [ptr, ec] = std::from_chars(value.data(), value.data() + value.size(), v);
+    if (ec != std::errc() || ptr != value.data() + value.size() || !std::isfinite(v))
+      throw Error(ErrorKind::usage, "--param " + p + ": '" + value + "' is not a number");
+    o.parameters.emplace_back(p.substr(0, eq), v);
+  }
+  o.subroutine_path = args.sub_path;
+  o.block_delete = args.block_delete;
+  return o;
+}
+
+}  // namespace ccomp::cli

@@ -1,0 +1,27 @@
+#include <cstdio>
+
+#include "ccomp/gcode/trace.hpp"
+#include "commands.hpp"
+
+namespace ccomp::cli {
+
+CLI::App* add_trace(CLI::App& app, TraceArgs& args) {
+  CLI::App* cmd = app.add_subcommand(
+      "trace", "print what the interpreter does, in the canonical format of LinuxCNC's rs274 -g");
+  cmd->add_option("input", args.input, "G-code program ('-' for standard input)")->required();
+  add_program_options(*cmd, args.program);
+  return cmd;
+}
+
+int run_trace(const TraceArgs& args) {
+  gcode::LineSource source = gcode::LineSource::open(args.input);
+  gcode::Interpreter interpreter(interpreter_options(args.program, ""));
+  std::setvbuf(stdout, nullptr, _IOFBF, 1 << 16);
+  gcode::TracePrinter printer(stdout);
+  printer.set_file_name(source.name());
+  interpreter.run(source, printer);
+  std::fflush(stdout);
+  return 0;
+}
+
+}  // namespace ccomp::cli

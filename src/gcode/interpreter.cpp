@@ -1,0 +1,612 @@
+#include "ccomp/gcode/interpreter.hpp"
+
+#include <cmath>
+#include <filesystem>
+#include <fmt/format.h>
+
+#include "interpreter_impl.hpp"
+
+namespace ccomp::gcode {
+
+namespace {
+
+std::string label_of(const OStatement& o) {
+  return o.named ? "<" + o.name + ">" : std::to_string(o.number);
+}
+
+constexpr double kDegree = 3.14159265358979323846 / 180.0;
+
+// Parameters only a running controller can know: probe results, M66 inputs, tool-changer
+// faults. Reading one without --param is refused rather than guessed.
+bool controller_only(int n) {
+  return (n >= 5061 && n <= 5070) || n == 5399 || n == 5600 || n == 5601;
+}
+
+}  // namespace
+
+Interpreter::Impl::Impl(InterpreterOptions o)
+    : options(std::move(o)), parser(options.dialect), tools(options.tools) {
+  // Hold the tool table in mm, like every other length inside the interpreter.
+  for (auto& [number, entry] : tools.tools)
+    for (std::size_t i = 0; i < kAxisCount; ++i)
+      if (!is_rotary(i)) entry.offset[i] *= tools.mm_per_unit;
+  tools.mm_per_unit = 1.0;
+  for (const auto& [name, value] : options.parameters) {
+    std::string folded;
+    for (char c : name)
+      if (c != ' ' && c != '\t') folded.push_back(static_cast<char>(std::toupper(static_cast<unsigned char>(c))));
+    overrides[folded] = value;
+    int n = 0;
+    if (std::sscanf(folded.c_str(), "%d", &n) == 1 && std::to_string(n) == folded && n > 0 &&
+        n < kParameterCount)
+      params.set_numbered(n, value);
+  }
+  params.set_numbered(5220, 1.0);
+}
+
+// ----------------------------------------------------------------------------------------
+// Errors and warnings
+
+void Interpreter::Impl::fail(const Block& b, const Word* where, const std::string& message) const {
+  fail_at(b, where ? where->span : Span{}, message);
+}
+
+void Interpreter::Impl::fail_at(const Block& b, Span span, const std::string& message) const {
+  const std::uint32_t column = span.empty() && span.begin == 0 ? 0 : span.begin + 1;
+  throw Error(ErrorKind::program, message, SourceLocation{file_name(), b.line, column},
+              std::string(b.text));
+}
+
+void Interpreter::Impl::warn(const std::string& message, std::uint32_t line_no) const {
+  if (sink) sink->warning(message, line_no);
+}
+
+void Interpreter::Impl::emit(std::string_view name, std::string args) const {
+  if (sink && sink->wants_calls()) sink->call(CanonCall{name, std::move(args), block.line});
+}
+
+// ----------------------------------------------------------------------------------------
+// Parameters and expressions
+
+bool Interpreter::Impl::named_exists(std::string_view name) {
+  if (overrides.contains(name)) return true;
+  if (params.named(name)) return true;
+  try {
+    (void)read_named(block, name);
+    return true;
+  } catch (const Error&) {
+    return false;
+  }
+}
+
+double Interpreter::Impl::read_named(const Block& b, std::string_view name) {
+  if (auto it = overrides.find(name); it != overrides.end()) return it->second;
+  if (auto v = params.named(name)) return *v;
+  if (name.starts_with("_HAL[") || name.starts_with("_INI[")) {
+    fail(b, nullptr,
+         fmt::format("#<{}> is a value only the controller has; give it with --param '{}=VALUE'",
+                     name, name));
+  }
+  const double u = unit();
+  static constexpr std::string_view kAxisNames[] = {"X", "Y", "Z", "A", "B", "C", "U", "V", "W"};
+  if (name.size() >= 2 && name[0] == '_') {
+    const std::string_view rest = name.substr(1);
+    for (std::size_t i = 0; i < kAxisCount; ++i) {
+      if (rest == kAxisNames[i]) return program(i) / (is_rotary(i) ? 1.0 : u);
+      if (rest.starts_with("ABS_") && rest.substr(4) == kAxisNames[i])
+        return position[i] / (is_rotary(i) ? 1.0 : u);
+    }
+  }
+  if (name == "_VALUE") return value_returned;
+  if (name == "_VALUE_RETURNED") return has_value_returned ? 1.0 : 0.0;
+  if (name == "_LINE") return block.has_line_number ? block.line_number : 0.0;
+  if (name == "_MOTION_MODE") return modal.motion;
+  if (name == "_PLANE") return modal.plane == Plane::xy ? 170 : modal.plane == Plane::zx ? 180 : 190;
+  if (name == "_CCOMP") return modal.cutter_compensation;
+  if (name == "_METRIC") return modal.units == Units::mm;
+  if (name == "_IMPERIAL") return modal.units == Units::inch;
+  if (name == "_ABSOLUTE") return modal.absolute;
+  if (name == "_INCREMENTAL") return !modal.absolute;
+  if (name == "_INVERSE_TIME") return modal.feed_mode == FeedMode::inverse_time;
+  if (name == "_UNITS_PER_MINUTE") return modal.feed_mode == FeedMode::units_per_minute;
+  if (name == "_UNITS_PER_REV") return modal.feed_mode == FeedMode::units_per_rev;
+  if (name == "_COORD_SYSTEM") {
+    static constexpr int kCodes[] = {540, 550, 560, 570, 580, 590, 591, 592, 593};
+    return kCodes[offsets.coordinate_system - 1];
+  }
+  if (name == "_TOOL_OFFSET") return modal.tool_length_mode != 490;
+  if (name == "_RETRACT_R_PLANE") return modal.retract_to_r;
+  if (name == "_RETRACT_OLD_Z") return !modal.retract_to_r;
+  if (name == "_FEED") return modal.feed / u;
+  if (name == "_RPM") return modal.speed;
+  if (name == "_CURRENT_TOOL") return modal.tool;
+  if (name == "_SELECTED_TOOL") return modal.selected_tool;
+  if (name == "_CALL_LEVEL") return static_cast<double>(calls.size());
+  if (name == "_REMAP_LEVEL") return 0.0;
+  if (name == "_TASK") return 1.0;  // ccomp reads a program as the machine will run it
+  fail(b, nullptr, fmt::format("named parameter #<{}> is not defined", name));
+}
+
+double Interpreter::Impl::read_numbered(const Block& b, double index) {
+  const double rounded = std::round(index);
+  if (std::abs(index - rounded) > 1e-4 || rounded < 1 || rounded >= kParameterCount)
+    fail(b, nullptr, fmt::format("parameter number out of range: #{}", index));
+  const int n = static_cast<int>(rounded);
+  const double u = unit();
+  if (controller_only(n) && !overrides.contains(std::to_string(n)))
+    fail(b, nullptr,
+         fmt::format("#{} is a value only the controller has (a probe or input result); give it "
+                     "with --param {}=VALUE",
+                     n, n));
+  // System parameters that mirror ccomp's own state, in the program's current units.
+  auto length = [&](std::size_t axis, double mm) { return is_rotary(axis) ? mm : mm / u; };
+  if (n >= 5211 && n <= 5219) return length(static_cast<std::size_t>(n - 5211), offsets.g92[static_cast<std::size_t>(n - 5211)]);
+  if (n == 5220) return offsets.coordinate_system;
+  if (n >= 5221 && n <= 5389) {
+    const int system = (n - 5221) / 20 + 1;
+    const int field = (n - 5221) % 20;
+    if (system == offsets.coordinate_system && field < 9)
+      return length(static_cast<std::size_t>(field), offsets.g5x[static_cast<std::size_t>(field)]);
+  }
+  if (n == 5400) return modal.tool;
+  if (n >= 5401 && n <= 5409) return length(static_cast<std::size_t>(n - 5401), offsets.tool[static_cast<std::size_t>(n - 5401)]);
+  if (n >= 5420 && n <= 5428) return length(static_cast<std::size_t>(n - 5420), program(static_cast<std::size_t>(n - 5420)));
+  if (n >= 5021 && n <= 5029) return length(static_cast<std::size_t>(n - 5021), position[static_cast<std::size_t>(n - 5021)]);
+  return params.numbered(n);
+}
+
+void Interpreter::Impl::write_numbered(const Block& b, double index, double v) {
+  const double rounded = std::round(index);
+  if (std::abs(index - rounded) > 1e-4 || rounded < 1 || rounded >= kParameterCount)
+    fail(b, nullptr, fmt::format("parameter number out of range: #{}", index));
+  const int n = static_cast<int>(rounded);
+  params.set_numbered(n, v);
+  const double u = unit();
+  if (n >= 5221 && n <= 5389) {
+    const int system = (n - 5221) / 20 + 1;
+    const auto field = static_cast<std::size_t>((n - 5221) % 20);
+    if (system == offsets.coordinate_system && field < kAxisCount)
+      offsets.g5x[field] = is_rotary(field) ? v : v * u;
+  }
+}
+
+void Interpreter::Impl::write_named(const Block& b, std::string_view name, double v) {
+  if (name.starts_with("_HAL[") || name.starts_with("_INI["))
+    fail(b, nullptr, fmt::format("cannot assign to read-only parameter #<{}>", name));
+  params.set_named(name, v);
+}
+
+double Interpreter::Impl::evaluate(const Block& b, const Value& v) {
+  if (v.is_literal()) return v.literal;
+  std::array<double, 64> stack{};
+  std::size_t top = 0;
+  auto pop = [&]() { return stack[--top]; };
+  auto push = [&](double x) {
+    if (top == stack.size()) fail(b, nullptr, "expression too deeply nested");
+    stack[top++] = x;
+  };
+  for (std::uint32_t i = v.rpn_begin; i < v.rpn_end; ++i) {
+    const ExprNode& n = b.rpn[i];
+    switch (n.op) {
+      case ExprOp::number: push(n.number); break;
+      case ExprOp::name: break;
+      case ExprOp::read_named: push(read_named(b, b.name(n.name_begin, n.name_size))); break;
+      case ExprOp::read_numbered: push(read_numbered(b, pop())); break;
+      case ExprOp::exists: push(named_exists(b.name(n.name_begin, n.name_size)) ? 1.0 : 0.0); break;
+      case ExprOp::negate: push(-pop()); break;
+      case ExprOp::abs: push(std::abs(pop())); break;
+      case ExprOp::acos: {
+        const double x = pop();
+        if (x < -1.0 || x > 1.0) fail(b, nullptr, fmt::format("argument to ACOS out of range: {}", x));
+        push(std::acos(x) / kDegree);
+        break;
+      }
+      case ExprOp::asin: {
+        const double x = pop();
+        if (x < -1.0 || x > 1.0) fail(b, nullptr, fmt::format("argument to ASIN out of range: {}", x));
+        push(std::asin(x) / kDegree);
+        break;
+      }
+      case ExprOp::cos: push(std::cos(pop() * kDegree)); break;
+      case ExprOp::exp: push(std::exp(pop())); break;
+      case ExprOp::fix: push(std::floor(pop())); break;
+      case ExprOp::fup: push(std::ceil(pop())); break;
+      case ExprOp::ln: {
+        const double x = pop();
+        if (x <= 0.0) fail(b, nullptr, fmt::format("zero or negative argument to LN: {}", x));
+        push(std::log(x));
+        break;
+      }
+      case ExprOp::round: push(std::round(pop())); break;
+      case ExprOp::sin: push(std::sin(pop() * kDegree)); break;
+      case ExprOp::sqrt: {
+        const double x = pop();
+        if (x < 0.0) fail(b, nullptr, fmt::format("negative argument to SQRT: {}", x));
+        push(std::sqrt(x));
+        break;
+      }
+      case ExprOp::tan: push(std::tan(pop() * kDegree)); break;
+      default: {  // binary
+        const double rhs = pop();
+        const double lhs = pop();
+        double r = 0.0;
+        switch (n.op) {
+          case ExprOp::power:
+            if (lhs < 0.0 && std::floor(rhs) != rhs)
+              fail(b, nullptr, "attempt to raise a negative number to a non-integer power");
+            r = std::pow(lhs, rhs);
+            break;
+          case ExprOp::times: r = lhs * rhs; break;
+          case ExprOp::divide:
+            if (rhs == 0.0) fail(b, nullptr, "attempt to divide by zero");
+            r = lhs / rhs;
+            break;
+          case ExprOp::modulo: r = std::fmod(lhs, rhs); if (r < 0.0) r += std::abs(rhs); break;
+          case ExprOp::plus: r = lhs + rhs; break;
+          case ExprOp::minus: r = lhs - rhs; break;
+          // Comparisons tolerate the same 1e-6 as rs274ngc (TOLERANCE_EQUAL).
+          case ExprOp::eq: r = std::abs(lhs - rhs) < 1e-6; break;
+          case ExprOp::ne: r = std::abs(lhs - rhs) >= 1e-6; break;
+          case ExprOp::gt: r = lhs > rhs; break;
+          case ExprOp::ge: r = lhs >= rhs; break;
+          case ExprOp::lt: r = lhs < rhs; break;
+          case ExprOp::le: r = lhs <= rhs; break;
+          case ExprOp::logical_and: r = lhs != 0.0 && rhs != 0.0; break;
+          case ExprOp::logical_or: r = lhs != 0.0 || rhs != 0.0; break;
+          case ExprOp::logical_xor: r = (lhs != 0.0) != (rhs != 0.0); break;
+          case ExprOp::atan2: r = std::atan2(lhs, rhs) / kDegree; break;
+          default: fail(b, nullptr, "internal: bad expression node");
+        }
+        push(r);
+      }
+    }
+  }
+  if (top != 1) fail(b, nullptr, "internal: malformed expression");
+  return stack[0];
+}
+
+// ----------------------------------------------------------------------------------------
+// The run loop
+
+bool Interpreter::Impl::next_block() {
+  for (;;) {
+    if (sources[current_source]->next(line)) {
+      parser.parse(line.text, line.number, file_name(), block);
+      return true;
+    }
+    // End of a subroutine file without endsub, or of the main file.
+    if (!calls.empty() && calls.back().source == current_source && current_source != 0)
+      fail(block, nullptr, "subroutine file ended without endsub");
+    return false;
+  }
+}
+
+void Interpreter::Impl::run(LineSource& source, CanonSink& out) {
+  sink = &out;
+  sources.assign(1, &source);
+  current_source = 0;
+  emit("USE_LENGTH_UNITS", "CANON_UNITS_MM");
+  emit("SET_G5X_OFFSET", "1, 0.0000, 0.0000, 0.0000, 0.0000, 0.0000, 0.0000");
+  emit("SET_G92_OFFSET", "0.0000, 0.0000, 0.0000, 0.0000, 0.0000, 0.0000");
+  emit("SET_XY_ROTATION", "0.0000");
+  emit("SET_FEED_REFERENCE", "CANON_XYZ");
+  emit("ON_RESET", "");
+  bool first_line = true;
+  while (!ended && next_block()) {
+    if (++blocks_executed > options.max_blocks)
+      fail(block, nullptr, fmt::format("more than {} blocks executed: an endless loop?", options.max_blocks));
+    if (block.program_delimiter) {
+      if (first_line || !percent_seen) {
+        percent_seen = true;
+        first_line = false;
+        out.block(block, line);
+        continue;
+      }
+      out.block(block, line);
+      break;  // the closing % ends the program
+    }
+    if (!block.text.empty()) first_line = false;
+    if (block.block_delete && options.block_delete) continue;
+    out.block(block, line);
+    if (block.o.present) {
+      execute_o(block);
+      continue;
+    }
+    execute(block);
+  }
+  if (!calls.empty() && !ended)
+    warn("program ended inside a subroutine call", line.number);
+}
+
+// ----------------------------------------------------------------------------------------
+// Control flow: O-words and Fanuc subprograms
+
+void Interpreter::Impl::define_sub(const Block& b, bool fanuc) {
+  const std::string label = label_of(b.o);
+  subs[label] = SubDefinition{current_source, sources[current_source]->tell(), fanuc};
+  // Skip the body in normal flow.
+  const std::uint32_t start_line = b.line;
+  const std::string start_text(b.text);
+  for (;;) {
+    if (!sources[current_source]->next(line)) {
+      throw Error(ErrorKind::program,
+                  fanuc ? "Fanuc subprogram O" + label + " has no M99"
+                        : "subroutine O" + label + " has no endsub",
+                  SourceLocation{file_name(), start_line, 1}, start_text);
+    }
+    parser.parse(line.text, line.number, file_name(), block);
+    if (sink) sink->block(block, line);
+    if (fanuc) {
+      if (block.o.present && block.o.keyword == OKeyword::endsub)
+        fail(block, nullptr, "Fanuc 'O....' subroutine definition must end with 'M99'");
+      for (const Word& w : block.words)
+        if (w.letter == 'M' && w.value.is_literal() && w.value.literal == 99) return;
+      continue;
+    }
+    if (!block.o.present) continue;
+    if (block.o.keyword == OKeyword::sub) fail(block, nullptr, "nested subroutine definition");
+    if (block.o.keyword == OKeyword::endsub && label_of(block.o) == label) return;
+  }
+}
+
+void Interpreter::Impl::skip_to(const std::string& label, std::initializer_list<OKeyword> stops,
+                                bool /*fanuc_sub_end*/) {
+  const std::uint32_t start_line = block.line;
+  for (;;) {
+    if (!sources[current_source]->next(line))
+      throw Error(ErrorKind::program, "no matching end for O" + label,
+                  SourceLocation{file_name(), start_line, 0});
+    parser.parse(line.text, line.number, file_name(), block);
+    if (sink) sink->block(block, line);
+    if (!block.o.present || label_of(block.o) != label) continue;
+    for (OKeyword k : stops)
+      if (block.o.keyword == k) return;
+  }
+}
+
+SubDefinition Interpreter::Impl::find_sub(const std::string& label, bool fanuc, const Block& b,
+                                          const Word* where) {
+  if (auto it = subs.find(label); it != subs.end()) return it->second;
+  // Defined later in this file: scan ahead, then come back.
+  LineSource& src = *sources[current_source];
+  const SourcePosition here = src.tell();
+  Block scan;
+  SourceLine l;
+  Parser scanner(options.dialect);
+  while (src.next(l)) {
+    scanner.parse(l.text, l.number, file_name(), scan);
+    if (!scan.o.present) continue;
+    const bool is_def = fanuc ? scan.o.keyword == OKeyword::none : scan.o.keyword == OKeyword::sub;
+    if (is_def && label_of(scan.o) == label) {
+      SubDefinition d{current_source, src.tell(), fanuc};
+      src.seek(here);
+      subs[label] = d;
+      return d;
+    }
+  }
+  src.seek(here);
+  // In a file of its own on the subroutine path.
+  if (!fanuc && b.o.named) {
+    std::string lower = b.o.name;
+    for (char& c : lower) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+    for (const std::string& dir : options.subroutine_path) {
+      for (const std::string& candidate : {lower, b.o.name}) {
+        const std::filesystem::path p = std::filesystem::path(dir) / (candidate + ".ngc");
+        if (!std::filesystem::exists(p)) continue;
+        owned_sources.push_back(std::make_unique<LineSource>(LineSource::open(p.string())));
+        sources.push_back(owned_sources.back().get());
+        const std::size_t index = sources.size() - 1;
+        // The file starts with `O<name> sub`: the body follows it.
+        LineSource& f = *sources[index];
+        SourceLine first;
+        Block head;
+        while (f.next(first)) {
+          scanner.parse(first.text, first.number, f.name(), head);
+          if (head.o.present && head.o.keyword == OKeyword::sub) break;
+        }
+        SubDefinition d{index, f.tell(), false};
+        subs[label] = d;
+        return d;
+      }
+    }
+  }
+  if (fanuc) fail(b, where, fmt::format("M98 calls O{}, which is not defined", label));
+  fail(b, where, fmt::format("unknown subroutine O{}", label));
+}
+
+void Interpreter::Impl::call_sub(const std::string& label, bool fanuc, const Block& b,
+                                 const Word* where, int repeats) {
+  if (calls.size() >= 64) fail(b, where, "subroutines nested too deeply (64 levels)");
+  const SubDefinition d = find_sub(label, fanuc, b, where);
+  if (d.fanuc != fanuc)
+    fail(b, where, fanuc ? "'O.... sub' subroutine must be called with 'O.... call'"
+                         : "Fanuc 'O....' subroutine must be called with 'M98'");
+  CallFrame f;
+  f.label = label;
+  f.source = d.source;
+  f.return_source = current_source;
+  f.return_to = sources[current_source]->tell();
+  f.body = d.body;
+  f.control_depth = controls.size();
+  f.repeats_left = repeats;
+  f.fanuc = fanuc;
+  if (!fanuc) {
+    std::array<double, 30> args{};
+    for (std::size_t i = 0; i < b.o.arguments.size() && i < args.size(); ++i)
+      args[i] = evaluate(b, b.o.arguments[i]);
+    params.push_scope();
+    for (std::size_t i = 0; i < args.size(); ++i)
+      params.set_numbered(static_cast<int>(i + 1), i < b.o.arguments.size() ? args[i] : 0.0);
+  }
+  calls.push_back(f);
+  current_source = d.source;
+  sources[current_source]->seek(d.body);
+}
+
+void Interpreter::Impl::return_from_sub(const Block& b) {
+  if (calls.empty()) fail(b, nullptr, "return or endsub outside a subroutine");
+  CallFrame& f = calls.back();
+  if (f.fanuc && --f.repeats_left > 0) {
+    sources[current_source]->seek(f.body);
+    return;
+  }
+  controls.resize(f.control_depth);
+  if (!f.fanuc) params.pop_scope();
+  current_source = f.return_source;
+  sources[current_source]->seek(f.return_to);
+  calls.pop_back();
+}
+
+void Interpreter::Impl::execute_o(const Block& b) {
+  const OStatement& o = b.o;
+  const std::string label = label_of(o);
+  auto condition = [&]() { return o.arguments.empty() ? 0.0 : evaluate(b, o.arguments.front()); };
+  for (const Word& w : b.words)
+    if (o.keyword != OKeyword::none)
+      fail(b, &w, "an O-word statement cannot carry other words");
+  switch (o.keyword) {
+    case OKeyword::none:
+      // A Fanuc program number: the program's name at the start, a subprogram later.
+      if (!program_started) {
+        program_started = true;
+        execute(b);
+        return;
+      }
+      define_sub(b, true);
+      return;
+    case OKeyword::sub:
+      define_sub(b, false);
+      return;
+    case OKeyword::endsub:
+    case OKeyword::return_:
+      if (!o.arguments.empty()) {
+        value_returned = evaluate(b, o.arguments.front());
+        has_value_returned = true;
+      }
+      if (calls.empty() || calls.back().fanuc)
+        fail(b, nullptr, "'O.... endsub' or 'O.... return' outside an 'O.... sub' subroutine");
+      return_from_sub(b);
+      return;
+    case OKeyword::call:
+      has_value_returned = false;
+      call_sub(label, false, b, nullptr, 1);
+      return;
+    case OKeyword::if_:
+      if (condition() != 0.0) {
+        controls.push_back({OKeyword::if_, label, {}, 0});
+        return;
+      }
+      for (;;) {
+        skip_to(label, {OKeyword::elseif, OKeyword::else_, OKeyword::endif});
+        if (block.o.keyword == OKeyword::endif) return;
+        if (block.o.keyword == OKeyword::else_ ||
+            evaluate(block, block.o.arguments.front()) != 0.0) {
+          controls.push_back({OKeyword::if_, label, {}, 0});
+          return;
+        }
+      }
+    case OKeyword::elseif:
+    case OKeyword::else_:
+      // Reached the end of the branch that ran: skip the rest of the if.
+      if (controls.empty() || controls.back().label != label)
+        fail(b, nullptr, "else or elseif without a matching if");
+      controls.pop_back();
+      skip_to(label, {OKeyword::endif});
+      return;
+    case OKeyword::endif:
+      if (!controls.empty() && controls.back().label == label) controls.pop_back();
+      return;
+    case OKeyword::while_: {
+      if (!controls.empty() && controls.back().label == label &&
+          controls.back().kind == OKeyword::do_) {
+        if (condition() != 0.0)
+          sources[current_source]->seek(controls.back().start);
+        else
+          controls.pop_back();
+        return;
+      }
+      if (condition() == 0.0) {
+        skip_to(label, {OKeyword::endwhile});
+        return;
+      }
+      ControlFrame f{OKeyword::while_, label, {line.offset, line.number}, 0};
+      controls.push_back(f);
+      return;
+    }
+    case OKeyword::endwhile:
+      if (controls.empty() || controls.back().label != label)
+        fail(b, nullptr, "endwhile without a matching while");
+      sources[current_source]->seek(controls.back().start);
+      controls.pop_back();
+      return;
+    case OKeyword::do_:
+      controls.push_back({OKeyword::do_, label, sources[current_source]->tell(), 0});
+      return;
+    case OKeyword::repeat: {
+      const double count = condition();
+      if (count < 1.0) {
+        skip_to(label, {OKeyword::endrepeat});
+        return;
+      }
+      controls.push_back({OKeyword::repeat, label, sources[current_source]->tell(), std::floor(count)});
+      return;
+    }
+    case OKeyword::endrepeat:
+      if (controls.empty() || controls.back().label != label)
+        fail(b, nullptr, "endrepeat without a matching repeat");
+      if (--controls.back().remaining > 0)
+        sources[current_source]->seek(controls.back().start);
+      else
+        controls.pop_back();
+      return;
+    case OKeyword::break_:
+    case OKeyword::continue_: {
+      while (!controls.empty() && controls.back().label != label) controls.pop_back();
+      if (controls.empty()) fail(b, nullptr, "break or continue outside a loop");
+      const ControlFrame f = controls.back();
+      controls.pop_back();
+      const bool brk = o.keyword == OKeyword::break_;
+      if (f.kind == OKeyword::while_) {
+        if (brk)
+          skip_to(label, {OKeyword::endwhile});
+        else
+          sources[current_source]->seek(f.start);
+      } else if (f.kind == OKeyword::do_) {
+        skip_to(label, {OKeyword::while_});
+        if (!brk) {
+          controls.push_back(f);
+          execute_o(block);
+        }
+      } else if (f.kind == OKeyword::repeat) {
+        if (brk) {
+          skip_to(label, {OKeyword::endrepeat});
+        } else if (f.remaining - 1 > 0) {
+          ControlFrame g = f;
+          g.remaining -= 1;
+          controls.push_back(g);
+          sources[current_source]->seek(f.start);
+        } else {
+          skip_to(label, {OKeyword::endrepeat});
+        }
+      } else {
+        fail(b, nullptr, "break or continue outside a loop");
+      }
+      return;
+    }
+  }
+}
+
+// ----------------------------------------------------------------------------------------
+
+Interpreter::Interpreter(InterpreterOptions options)
+    : impl_(std::make_unique<Impl>(std::move(options))) {}
+Interpreter::~Interpreter() = default;
+Interpreter::Interpreter(Interpreter&&) noexcept = default;
+Interpreter& Interpreter::operator=(Interpreter&&) noexcept = default;
+
+void Interpreter::run(LineSource& source, CanonSink& sink) { impl_->run(source, sink); }
+const ModalState& Interpreter::modal() const { return impl_->modal; }
+const Offsets& Interpreter::offsets() const { return impl_->offsets; }
+const Axes& Interpreter::position() const { return impl_->position; }
+
+}  // namespace ccomp::gcode

@@ -1,0 +1,159 @@
+#pragma once
+// Private: the interpreter's state, shared by interpreter.cpp (the run loop and control
+// flow) and execute.cpp (what one block does).
+#include <array>
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <string_view>
+#include <unordered_map>
+#include <vector>
+
+#include "ccomp/error.hpp"
+#include "ccomp/gcode/interpreter.hpp"
+#include "ccomp/gcode/parameters.hpp"
+#include "ccomp/gcode/parser.hpp"
+
+namespace ccomp::gcode {
+
+/// The words of one block, evaluated: values by letter, G and M codes times ten.
+struct Words {
+  std::array<double, 26> value{};
+  std::array<const Word*, 26> word{};  ///< for error positions; nullptr when absent
+  std::uint32_t present = 0;           ///< bit (letter - 'A')
+  std::array<int, 16> g{};
+  std::array<const Word*, 16> g_word{};
+  int g_count = 0;
+  std::array<int, 8> m{};
+  std::array<const Word*, 8> m_word{};
+  int m_count = 0;
+  bool has_spindle_selector = false;
+
+  [[nodiscard]] bool has(char letter) const { return (present >> (letter - 'A')) & 1U; }
+  [[nodiscard]] double operator[](char letter) const { return value[static_cast<std::size_t>(letter - 'A')]; }
+  [[nodiscard]] bool has_g(int code) const {
+    for (int i = 0; i < g_count; ++i)
+      if (g[static_cast<std::size_t>(i)] == code) return true;
+    return false;
+  }
+  [[nodiscard]] bool has_m(int code) const {
+    for (int i = 0; i < m_count; ++i)
+      if (m[static_cast<std::size_t>(i)] == code) return true;
+    return false;
+  }
+  [[nodiscard]] std::uint32_t axis_mask() const;
+};
+
+/// A subroutine call in progress.
+struct CallFrame {
+  std::string label;
+  std::size_t source = 0;        ///< index into Impl::sources
+  SourcePosition return_to;      ///< the line after the call
+  std::size_t return_source = 0;
+  SourcePosition body;           ///< the first line of the body (for Fanuc L repeats)
+  std::size_t control_depth = 0;
+  int repeats_left = 0;
+  bool fanuc = false;
+};
+
+/// An if or loop in progress.
+struct ControlFrame {
+  OKeyword kind = OKeyword::if_;
+  std::string label;
+  SourcePosition start;  ///< while: the while line; do/repeat: the first line of the body
+  double remaining = 0;  ///< repeat count left
+};
+
+struct SubDefinition {
+  std::size_t source = 0;
+  SourcePosition body;
+  bool fanuc = false;
+};
+
+struct Interpreter::Impl {
+  explicit Impl(InterpreterOptions o);
+
+  InterpreterOptions options;
+  Parser parser;
+  Parameters params;
+  NamedValues overrides;  ///< --param values
+  ModalState modal;
+  Offsets offsets;
+  Axes position{};             ///< controlled point, machine frame, no tool length
+  std::uint32_t position_unknown = 0;  ///< axes whose place only a probe knows
+  ToolTable tools;
+
+  // canned-cycle sticky values (mm, program frame of the cycle axis)
+  double cycle_r = 0.0, cycle_bottom = 0.0, cycle_p = 0.0, cycle_q = 0.0;
+  double cycle_r_increment = 0.0, cycle_bottom_increment = 0.0;
+  bool cycle_values_set = false;
+
+  // control flow
+  std::vector<std::unique_ptr<LineSource>> owned_sources;
+  std::vector<LineSource*> sources;
+  std::size_t current_source = 0;
+  std::vector<CallFrame> calls;
+  std::vector<ControlFrame> controls;
+  std::unordered_map<std::string, SubDefinition> subs;
+  bool program_started = false;  ///< an executable block was seen (O-number is a name before)
+  bool percent_seen = false;
+  bool ended = false;
+  double value_returned = 0.0;
+  bool has_value_returned = false;
+  std::uint64_t blocks_executed = 0;
+
+  CanonSink* sink = nullptr;
+  Block block;
+  SourceLine line;
+  Words words;
+
+  // --- run loop and control flow (interpreter.cpp)
+  void run(LineSource& source, CanonSink& out);
+  bool next_block();
+  void execute_o(const Block& b);
+  void skip_to(const std::string& label, std::initializer_list<OKeyword> stops, bool fanuc_sub_end = false);
+  void call_sub(const std::string& label, bool fanuc, const Block& b, const Word* where, int repeats);
+  void return_from_sub(const Block& b);
+  SubDefinition find_sub(const std::string& label, bool fanuc, const Block& b, const Word* where);
+  void define_sub(const Block& b, bool fanuc);
+
+  // --- values (interpreter.cpp)
+  double evaluate(const Block& b, const Value& v);
+  double read_numbered(const Block& b, double index);
+  double read_named(const Block& b, std::string_view name);
+  bool named_exists(std::string_view name);
+  void write_numbered(const Block& b, double index, double v);
+  void write_named(const Block& b, std::string_view name, double v);
+
+  // --- one block (execute.cpp)
+  void execute(const Block& b);
+  void decode(const Block& b);
+  void check_unused_words(const Block& b, int motion_code, int non_modal);
+  void comment(const Block& b);
+  void set_units(Units u);
+  void motion(const Block& b, int code, int non_modal);
+  void straight(MotionKind kind, const Axes& target, MotionSource source);
+  void arc(const Block& b, int code, const Axes& target);
+  void canned_cycle(const Block& b, int code);
+  void cycle_move(MotionKind kind, std::size_t first, std::size_t second, std::size_t normal,
+                  double a, double b, double c);
+  void reference_return(const Block& b, int code);
+  void set_g92(const Block& b, int code);
+  void g10(const Block& b);
+  void tool_length(const Block& b, int code);
+  void end_program(const Block& b);
+  Axes target_of(const Block& b, bool machine_coordinates);
+
+  // --- helpers
+  [[noreturn]] void fail(const Block& b, const Word* where, const std::string& message) const;
+  [[noreturn]] void fail_at(const Block& b, Span span, const std::string& message) const;
+  void warn(const std::string& message, std::uint32_t line_no) const;
+  void emit(std::string_view name, std::string args) const;
+  [[nodiscard]] double unit() const { return modal.units == Units::inch ? 25.4 : 1.0; }
+  [[nodiscard]] double program(std::size_t axis) const {
+    return position[axis] - offsets.origin(axis);
+  }
+  [[nodiscard]] const std::string& file_name() const { return sources[current_source]->name(); }
+};
+
+}  // namespace ccomp::gcode

@@ -1,0 +1,521 @@
+#include "ccomp/gcode/parser.hpp"
+
+#include <algorithm>
+#include <charconv>
+#include <string>
+
+#include "ccomp/error.hpp"
+#include "grammar.hpp"
+
+namespace ccomp::gcode {
+namespace {
+
+namespace pegtl = tao::pegtl;
+namespace g = grammar;
+
+// ---------------------------------------------------------------------------------------
+// Error messages, keyed by the rule that a `must<>` found missing.
+template <typename Rule>
+inline constexpr const char* kMessage = nullptr;
+
+template <> inline constexpr const char* kMessage<g::end_of_block> =
+    "unexpected text: expected a word (a letter and a value), a comment or the end of the line";
+template <> inline constexpr const char* kMessage<pegtl::sor<g::real_value, g::empty_value>> =
+    "expected a value after the letter: a number, [expression], #parameter or function";
+template <> inline constexpr const char* kMessage<g::unsigned_real> =
+    "expected a number";
+template <> inline constexpr const char* kMessage<g::unsigned_value> =
+    "expected a number, [expression], #parameter or function after the sign";
+template <> inline constexpr const char* kMessage<g::operand> =
+    "expected a value (number, [expression], #parameter or function) in the expression";
+template <> inline constexpr const char* kMessage<pegtl::one<']'>> =
+    "expected ']' (or a binary operator) to close the bracket";
+template <> inline constexpr const char* kMessage<pegtl::one<')'>> =
+    "unclosed comment: expected ')' before the end of the line (comments cannot nest)";
+template <> inline constexpr const char* kMessage<pegtl::one<'/'>> =
+    "expected '/' between the two arguments of ATAN[y]/[x]";
+template <> inline constexpr const char* kMessage<pegtl::one<'['>> =
+    "expected '[' after the function name";
+template <> inline constexpr const char* kMessage<pegtl::one<'#'>> =
+    "expected '#' reading a parameter: EXISTS takes #<name>";
+template <> inline constexpr const char* kMessage<pegtl::one<'>'>> =
+    "expected '>' to close the parameter name";
+template <> inline constexpr const char* kMessage<pegtl::one<'='>> =
+    "expected '=' after the parameter in a parameter setting";
+template <> inline constexpr const char* kMessage<g::parameter_name> =
+    "expected a parameter name between '<' and '>'";
+template <> inline constexpr const char* kMessage<g::named_parameter> =
+    "expected a named parameter #<name>";
+template <> inline constexpr const char* kMessage<pegtl::sor<g::named_parameter, g::real_value>> =
+    "expected a parameter number or <name> after '#'";
+template <> inline constexpr const char* kMessage<g::parameter_index> =
+    "expected a parameter number or <name> after '#'";
+template <> inline constexpr const char* kMessage<g::real_value> =
+    "expected a value (number, [expression], #parameter or function)";
+template <> inline constexpr const char* kMessage<g::expression> =
+    "expected a bracketed expression [ ... ]";
+template <> inline constexpr const char* kMessage<g::o_label> =
+    "expected a number or <name> after O";
+
+struct Errors {
+  template <typename Rule>
+  static constexpr const char* message = kMessage<Rule>;
+  // Only `must<>` raises; a rule that fails while alternatives are tried is no error.
+  template <typename Rule>
+  static constexpr bool raise_on_failure = false;
+};
+
+// ---------------------------------------------------------------------------------------
+struct State {
+  const Dialect* dialect = nullptr;  // read by the dialect-dependent custom rules
+  Block* block = nullptr;
+  const char* base = nullptr;             // the folded line
+  const std::uint32_t* offsets = nullptr;  // folded index -> original index (+ sentinel)
+  std::vector<std::uint32_t> marks;       // rpn size when a marked rule started
+  std::vector<std::uint8_t> operators;    // shunting-yard stack; kMarker opens a bracket
+  std::uint32_t expression_depth = 0;
+  bool collecting_o_arguments = false;
+  std::uint32_t index_end = 0;  // rpn size after a parameter_setting's index
+  bool index_named = false;
+  std::uint32_t index_name_begin = 0;
+  std::uint32_t index_name_size = 0;
+
+  [[nodiscard]] std::uint32_t original(const char* p) const {
+    return offsets[static_cast<std::size_t>(p - base)];
+  }
+  [[nodiscard]] Span span(const char* begin, const char* end) const {
+    if (end == begin) return {original(begin), original(begin)};
+    return {original(begin), offsets[static_cast<std::size_t>(end - base) - 1] + 1};
+  }
+  [[nodiscard]] auto rpn_size() const { return static_cast<std::uint32_t>(block->rpn.size()); }
+  [[nodiscard]] Value value(std::uint32_t begin, std::uint32_t end) const {
+    if (end - begin == 1 && block->rpn[begin].op == ExprOp::number)
+      return Value{block->rpn[begin].number, 0, 0};
+    return Value{0.0, begin, end};
+  }
+};
+
+constexpr std::uint8_t kMarker = 0xff;
+
+int precedence(ExprOp op) {
+  switch (op) {
+    case ExprOp::power: return 6;
+    case ExprOp::times:
+    case ExprOp::divide:
+    case ExprOp::modulo: return 5;
+    case ExprOp::plus:
+    case ExprOp::minus: return 4;
+    case ExprOp::eq:
+    case ExprOp::ne:
+    case ExprOp::gt:
+    case ExprOp::ge:
+    case ExprOp::lt:
+    case ExprOp::le: return 3;
+    default: return 2;  // and, or, xor
+  }
+}
+
+// Rules whose start is remembered, so their action knows where their values begin.
+template <typename Rule>
+inline constexpr bool kMarked =
+    std::is_same_v<Rule, g::word> || std::is_same_v<Rule, g::signed_value> ||
+    std::is_same_v<Rule, g::parameter_value> || std::is_same_v<Rule, g::parameter_setting> ||
+    std::is_same_v<Rule, g::expression> || std::is_same_v<Rule, g::exists_call>;
+
+template <typename Rule>
+struct Control : pegtl::must_if<Errors>::control<Rule> {
+  using Base = typename pegtl::must_if<Errors>::template control<Rule>;
+
+  template <typename Input>
+  static void start(const Input& in, State& st) {
+    Base::start(in, st);
+    if constexpr (kMarked<Rule>) st.marks.push_back(st.rpn_size());
+    if constexpr (std::is_same_v<Rule, g::expression>) {
+      st.operators.push_back(kMarker);
+      ++st.expression_depth;
+    }
+    if constexpr (std::is_same_v<Rule, g::o_keyword>) st.collecting_o_arguments = true;
+  }
+  template <typename Input>
+  static void success(const Input& in, State& st) {
+    finish(st);
+    Base::success(in, st);
+  }
+  template <typename Input>
+  static void failure(const Input& in, State& st) {
+    finish(st);
+    if constexpr (std::is_same_v<Rule, g::expression>) {
+      while (!st.operators.empty() && st.operators.back() != kMarker) st.operators.pop_back();
+      if (!st.operators.empty()) st.operators.pop_back();
+    }
+    Base::failure(in, st);
+  }
+  static void finish(State& st) {
+    if constexpr (kMarked<Rule>) st.marks.pop_back();
+    if constexpr (std::is_same_v<Rule, g::expression>) --st.expression_depth;
+    if constexpr (std::is_same_v<Rule, g::o_keyword>) st.collecting_o_arguments = false;
+  }
+};
+
+// ---------------------------------------------------------------------------------------
+template <typename Rule>
+struct Action : pegtl::nothing<Rule> {};
+
+template <>
+struct Action<g::unsigned_real> {
+  template <typename Input>
+  static void apply(const Input& in, State& st) {
+    double v = 0.0;
+    const char* first = in.begin();
+    const auto [ptr, ec] = std::from_chars(first, in.end(), v);
+    if (ec != std::errc() || ptr != in.end())
+      throw pegtl::parse_error("bad number format", in);
+    st.block->rpn.push_back(ExprNode{ExprOp::number, v, 0, 0});
+  }
+};
+
+template <>
+struct Action<g::named_parameter> {
+  template <typename Input>
+  static void apply(const Input& in, State& st) {
+    Block& b = *st.block;
+    const auto begin = static_cast<std::uint32_t>(b.names.size());
+    b.names.append(in.begin() + 1, in.end() - 1);
+    b.rpn.push_back(ExprNode{ExprOp::name, 0.0, begin, static_cast<std::uint32_t>(in.size() - 2)});
+  }
+};
+
+template <>
+struct Action<g::parameter_value> {
+  template <typename Input>
+  static void apply(const Input& /*in*/, State& st) {
+    auto& rpn = st.block->rpn;
+    if (st.rpn_size() - st.marks.back() == 1 && rpn.back().op == ExprOp::name)
+      rpn.back().op = ExprOp::read_named;
+    else
+      rpn.push_back(ExprNode{ExprOp::read_numbered});
+  }
+};
+
+template <>
+struct Action<g::exists_call> {
+  template <typename Input>
+  static void apply(const Input& /*in*/, State& st) {
+    st.block->rpn.back().op = ExprOp::exists;
+  }
+};
+
+template <>
+struct Action<g::signed_value> {
+  template <typename Input>
+  static void apply(const Input& in, State& st) {
+    if (in.peek_char() != '-') return;
+    auto& rpn = st.block->rpn;
+    if (st.rpn_size() - st.marks.back() == 1 && rpn.back().op == ExprOp::number)
+      rpn.back().number = -rpn.back().number;
+    else
+      rpn.push_back(ExprNode{ExprOp::negate});
+  }
+};
+
+ExprOp function_named(std::string_view s) {
+  if (s.starts_with("ABS")) return ExprOp::abs;
+  if (s.starts_with("ACOS")) return ExprOp::acos;
+  if (s.starts_with("ASIN")) return ExprOp::asin;
+  if (s.starts_with("COS")) return ExprOp::cos;
+  if (s.starts_with("EXP")) return ExprOp::exp;
+  if (s.starts_with("FIX")) return ExprOp::fix;
+  if (s.starts_with("FUP")) return ExprOp::fup;
+  if (s.starts_with("LN")) return ExprOp::ln;
+  if (s.starts_with("ROUND")) return ExprOp::round;
+  if (s.starts_with("SIN")) return ExprOp::sin;
+  if (s.starts_with("SQRT")) return ExprOp::sqrt;
+  return ExprOp::tan;
+}
+
+template <>
+struct Action<g::unary_call> {
+  template <typename Input>
+  static void apply(const Input& in, State& st) {
+    st.block->rpn.push_back(ExprNode{function_named(in.string_view())});
+  }
+};
+
+template <>
+struct Action<g::atan_call> {
+  template <typename Input>
+  static void apply(const Input& /*in*/, State& st) {
+    st.block->rpn.push_back(ExprNode{ExprOp::atan2});
+  }
+};
+
+ExprOp operator_named(std::string_view s) {
+  if (s == "**") return ExprOp::power;
+  if (s == "*") return ExprOp::times;
+  if (s == "/") return ExprOp::divide;
+  if (s == "MOD") return ExprOp::modulo;
+  if (s == "+") return ExprOp::plus;
+  if (s == "-") return ExprOp::minus;
+  if (s == "EQ") return ExprOp::eq;
+  if (s == "NE") return ExprOp::ne;
+  if (s == "GT") return ExprOp::gt;
+  if (s == "GE") return ExprOp::ge;
+  if (s == "LT") return ExprOp::lt;
+  if (s == "LE") return ExprOp::le;
+  if (s == "AND") return ExprOp::logical_and;
+  if (s == "OR") return ExprOp::logical_or;
+  return ExprOp::logical_xor;
+}
+
+template <>
+struct Action<g::binary_operator> {
+  template <typename Input>
+  static void apply(const Input& in, State& st) {
+    const ExprOp op = operator_named(in.string_view());
+    auto& ops = st.operators;
+    // Left to right within a level, as rs274ngc does (also for **).
+    while (ops.back() != kMarker && precedence(static_cast<ExprOp>(ops.back())) >= precedence(op)) {
+      st.block->rpn.push_back(ExprNode{static_cast<ExprOp>(ops.back())});
+      ops.pop_back();
+    }
+    ops.push_back(static_cast<std::uint8_t>(op));
+  }
+};
+
+template <>
+struct Action<g::expression> {
+  template <typename Input>
+  static void apply(const Input& /*in*/, State& st) {
+    auto& ops = st.operators;
+    while (ops.back() != kMarker) {
+      st.block->rpn.push_back(ExprNode{static_cast<ExprOp>(ops.back())});
+      ops.pop_back();
+    }
+    ops.pop_back();
+    if (st.collecting_o_arguments && st.expression_depth == 1)
+      st.block->o.arguments.push_back(Value{0.0, st.marks.back(), st.rpn_size()});
+  }
+};
+
+template <>
+struct Action<g::word> {
+  template <typename Input>
+  static void apply(const Input& in, State& st) {
+    Word w;
+    w.letter = in.peek_char();
+    w.span = st.span(in.begin(), in.end());
+    w.value_span = st.span(in.begin() + 1, in.end());
+    w.has_value = in.size() > 1;
+    w.value = st.value(st.marks.back(), st.rpn_size());
+    st.block->words.push_back(w);
+  }
+};
+
+template <>
+struct Action<g::parameter_index> {
+  template <typename Input>
+  static void apply(const Input& in, State& st) {
+    st.index_end = st.rpn_size();
+    st.index_named = in.peek_char() == '<';
+    if (st.index_named) {
+      st.index_name_begin = st.block->rpn.back().name_begin;
+      st.index_name_size = st.block->rpn.back().name_size;
+    }
+  }
+};
+
+template <>
+struct Action<g::parameter_setting> {
+  template <typename Input>
+  static void apply(const Input& in, State& st) {
+    ParameterSetting s;
+    s.span = st.span(in.begin(), in.end());
+    s.named = st.index_named;
+    s.name_begin = st.index_name_begin;
+    s.name_size = st.index_name_size;
+    if (!s.named) s.index = st.value(st.marks.back(), st.index_end);
+    s.value = st.value(st.index_end, st.rpn_size());
+    st.block->settings.push_back(s);
+  }
+};
+
+template <>
+struct Action<g::comment> {
+  template <typename Input>
+  static void apply(const Input& in, State& st) {
+    Comment c;
+    c.span = st.span(in.begin(), in.end());
+    c.text = Span{c.span.begin + 1, c.span.end - 1};
+    st.block->comments.push_back(c);
+  }
+};
+
+template <>
+struct Action<g::eol_comment> {
+  template <typename Input>
+  static void apply(const Input& in, State& st) {
+    Comment c;
+    c.span = st.span(in.begin(), in.end());
+    c.text = Span{c.span.begin + 1, c.span.end};
+    c.end_of_line = true;
+    st.block->comments.push_back(c);
+  }
+};
+
+template <>
+struct Action<g::block_delete> {
+  template <typename Input>
+  static void apply(const Input& /*in*/, State& st) {
+    st.block->block_delete = true;
+  }
+};
+
+template <>
+struct Action<g::line_number> {
+  template <typename Input>
+  static void apply(const Input& in, State& st) {
+    Block& b = *st.block;
+    b.has_line_number = true;
+    b.line_number = b.rpn.back().number;
+    b.rpn.pop_back();
+    b.line_number_span = st.span(in.begin(), in.end());
+  }
+};
+
+template <>
+struct Action<g::program_delimiter> {
+  template <typename Input>
+  static void apply(const Input& /*in*/, State& st) {
+    st.block->program_delimiter = true;
+  }
+};
+
+template <>
+struct Action<g::o_label> {
+  template <typename Input>
+  static void apply(const Input& in, State& st) {
+    OStatement& o = st.block->o;
+    if (in.peek_char() == '<') {
+      const ExprNode n = st.block->rpn.back();
+      st.block->rpn.pop_back();
+      o.named = true;
+      o.name.assign(st.block->name(n.name_begin, n.name_size));
+      return;
+    }
+    std::uint32_t number = 0;
+    const auto [ptr, ec] = std::from_chars(in.begin(), in.end(), number);
+    if (ec != std::errc()) throw pegtl::parse_error("O number out of range", in);
+    o.number = number;
+  }
+};
+
+template <>
+struct Action<g::o_statement> {
+  template <typename Input>
+  static void apply(const Input& in, State& st) {
+    st.block->o.present = true;
+    st.block->o.span = st.span(in.begin(), in.end());
+  }
+};
+
+template <OKeyword K>
+struct KeywordAction {
+  template <typename Input>
+  static void apply(const Input& /*in*/, State& st) {
+    st.block->o.keyword = K;
+  }
+};
+template <> struct Action<g::o_sub> : KeywordAction<OKeyword::sub> {};
+template <> struct Action<g::o_endsub> : KeywordAction<OKeyword::endsub> {};
+template <> struct Action<g::o_call> : KeywordAction<OKeyword::call> {};
+template <> struct Action<g::o_return> : KeywordAction<OKeyword::return_> {};
+template <> struct Action<g::o_if> : KeywordAction<OKeyword::if_> {};
+template <> struct Action<g::o_elseif> : KeywordAction<OKeyword::elseif> {};
+template <> struct Action<g::o_else> : KeywordAction<OKeyword::else_> {};
+template <> struct Action<g::o_endif> : KeywordAction<OKeyword::endif> {};
+template <> struct Action<g::o_while> : KeywordAction<OKeyword::while_> {};
+template <> struct Action<g::o_endwhile> : KeywordAction<OKeyword::endwhile> {};
+template <> struct Action<g::o_do> : KeywordAction<OKeyword::do_> {};
+template <> struct Action<g::o_break> : KeywordAction<OKeyword::break_> {};
+template <> struct Action<g::o_continue> : KeywordAction<OKeyword::continue_> {};
+template <> struct Action<g::o_repeat> : KeywordAction<OKeyword::repeat> {};
+template <> struct Action<g::o_endrepeat> : KeywordAction<OKeyword::endrepeat> {};
+
+// The lexical layer: blanks out, letters up, comments verbatim; remember where each kept
+// byte came from.
+void fold(std::string_view line, const Dialect& dialect, std::string& folded,
+          std::vector<std::uint32_t>& offsets) {
+  folded.clear();
+  offsets.clear();
+  const std::size_t n = line.size();
+  std::size_t i = 0;
+  auto keep = [&](std::size_t at) {
+    folded.push_back(line[at]);
+    offsets.push_back(static_cast<std::uint32_t>(at));
+  };
+  while (i < n) {
+    const char c = line[i];
+    if (c == ' ' || c == '\t') {
+      ++i;
+    } else if (c == '(' || (c == '[' && dialect.bracket_comments)) {
+      const char close = c == '(' ? ')' : ']';
+      keep(i++);
+      while (i < n && line[i] != close) keep(i++);
+      if (i < n) keep(i++);
+    } else if (c == ';') {
+      while (i < n) keep(i++);
+    } else {
+      folded.push_back(c >= 'a' && c <= 'z' ? static_cast<char>(c - 'a' + 'A') : c);
+      offsets.push_back(static_cast<std::uint32_t>(i));
+      ++i;
+    }
+  }
+  offsets.push_back(static_cast<std::uint32_t>(n));
+}
+
+template <typename Rule>
+struct NameCollector {
+  static void visit(std::vector<std::string>& names) {
+    const std::string_view full = pegtl::demangle<Rule>();
+    constexpr std::string_view prefix = "ccomp::gcode::grammar::";
+    if (!full.starts_with(prefix)) return;
+    const std::string_view name = full.substr(prefix.size());
+    if (name.find_first_of("<:") != std::string_view::npos) return;
+    names.emplace_back(name);
+  }
+};
+
+}  // namespace
+
+Parser::Parser(Dialect dialect) : dialect_(std::move(dialect)) {}
+
+void Parser::parse(std::string_view text, std::uint32_t line, std::string_view file, Block& out) {
+  out.clear();
+  out.text = text;
+  out.line = line;
+  fold(text, dialect_, folded_, offsets_);
+  State st;
+  st.dialect = &dialect_;
+  st.block = &out;
+  st.base = folded_.data();
+  st.offsets = offsets_.data();
+  pegtl::memory_input<pegtl::tracking_mode::lazy, pegtl::eol::lf_crlf> in(
+      folded_.data(), folded_.size(), "");
+  try {
+    pegtl::parse<g::line, Action, Control>(in, st);
+  } catch (const pegtl::parse_error& e) {
+    const auto& pos = e.positions().front();
+    const std::uint32_t column = offsets_[std::min(pos.byte, folded_.size())] + 1;
+    throw Error(ErrorKind::program, std::string(e.message()),
+                SourceLocation{std::string(file), line, column}, std::string(text));
+  }
+}
+
+std::vector<std::string> grammar_rule_names() {
+  std::vector<std::string> names;
+  pegtl::visit<g::line, NameCollector>(names);
+  std::sort(names.begin(), names.end());
+  return names;
+}
+
+}  // namespace ccomp::gcode

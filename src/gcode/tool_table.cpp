@@ -1,0 +1,67 @@
+#include "ccomp/gcode/tool_table.hpp"
+
+#include <cctype>
+#include <charconv>
+#include <cmath>
+#include <fstream>
+
+#include "ccomp/error.hpp"
+
+namespace ccomp::gcode {
+
+ToolTable read_tool_table(std::istream& in, const std::string& name) {
+  ToolTable table;
+  std::string text;
+  std::uint32_t line_no = 0;
+  while (std::getline(in, text)) {
+    ++line_no;
+    if (!text.empty() && text.back() == '\r') text.pop_back();
+    std::string_view line(text);
+    ToolEntry entry;
+    if (const auto semi = line.find(';'); semi != std::string_view::npos) {
+      entry.comment = std::string(line.substr(semi + 1));
+      line = line.substr(0, semi);
+    }
+    bool has_tool = false;
+    std::size_t i = 0;
+    while (i < line.size()) {
+      if (std::isspace(static_cast<unsigned char>(line[i]))) {
+        ++i;
+        continue;
+      }
+      const char letter = static_cast<char>(std::toupper(static_cast<unsigned char>(line[i])));
+      const std::size_t start = i++;
+      while (i < line.size() && !std::isspace(static_cast<unsigned char>(line[i]))) ++i;
+      const std::string_view field = line.substr(start + 1, i - start - 1);
+      double value = 0.0;
+      const auto [ptr, ec] = std::from_chars(field.data(), field.data() + field.size(), value);
+      if (ec != std::errc() || ptr != field.data() + field.size() || !std::isfinite(value))
+        throw Error(ErrorKind::io,
+                    "tool table: bad number in field '" + std::string(line.substr(start, i - start)) + "'",
+                    SourceLocation{name, line_no, static_cast<std::uint32_t>(start + 1)}, text);
+      switch (letter) {
+        case 'T': entry.tool = static_cast<int>(value); has_tool = true; break;
+        case 'P': entry.pocket = static_cast<int>(value); break;
+        case 'D': entry.diameter = value; break;
+        case 'I': case 'J': case 'Q': break;  // lathe orientation and angles: not used here
+        default:
+          if (auto axis = axis_index(letter)) {
+            entry.offset[*axis] = value;
+          } else {
+            throw Error(ErrorKind::io, std::string("tool table: unknown field '") + letter + "'",
+                        SourceLocation{name, line_no, static_cast<std::uint32_t>(start + 1)}, text);
+          }
+      }
+    }
+    if (has_tool) table.tools[entry.tool] = entry;
+  }
+  return table;
+}
+
+ToolTable read_tool_table_file(const std::string& path) {
+  std::ifstream in(path);
+  if (!in) throw Error(ErrorKind::io, "cannot open tool table '" + path + "'");
+  return read_tool_table(in, path);
+}
+
+}  // namespace ccomp::gcode

@@ -1,0 +1,64 @@
+#include "ccomp/gcode/trace.hpp"
+
+#include <fmt/format.h>
+
+namespace ccomp::gcode {
+
+void TracePrinter::block(const Block& block, const SourceLine& /*line*/) {
+  if (block.has_line_number) {
+    line_number_.clear();
+    for (char c : block.slice(block.line_number_span))
+      if (c != ' ' && c != '\t') line_number_.push_back(c == 'n' ? 'N' : c);
+  } else {
+    line_number_ = "N.....";
+  }
+}
+
+void TracePrinter::print(const char* name, const std::string& arguments) {
+  fmt::print(out_, "{:5} {:<6} {}({})\n", ++counter_, line_number_, name, arguments);
+}
+
+void TracePrinter::call(const CanonCall& call) {
+  fmt::print(out_, "{:5} {:<6} {}({})\n", ++counter_, line_number_, call.name, call.arguments);
+}
+
+void TracePrinter::warning(const std::string& message, std::uint32_t line) {
+  if (warnings_) fmt::print(warnings_, "{}:{}: warning: {}\n", file_, line, message);
+}
+
+void TracePrinter::motion(const Motion& m) {
+  const double u = m.units == Units::inch ? 25.4 : 1.0;
+  // Canonical positions are in the program's units and the active coordinate system.
+  auto p = [&](std::size_t axis, double machine) {
+    const double v = machine - m.offsets->origin(axis);
+    return is_rotary(axis) ? v : v / u;
+  };
+  const Axes& e = m.end;
+  switch (m.kind) {
+    case MotionKind::traverse:
+    case MotionKind::feed:
+    case MotionKind::probe: {
+      const std::string args = fmt::format("{:.4f}, {:.4f}, {:.4f}, {:.4f}, {:.4f}, {:.4f}", p(0, e[0]),
+                                           p(1, e[1]), p(2, e[2]), p(3, e[3]), p(4, e[4]), p(5, e[5]));
+      if (m.kind == MotionKind::probe) {
+        print("TURN_PROBE_ON", "");
+        print("STRAIGHT_PROBE", args);
+        print("TURN_PROBE_OFF", "");
+      } else {
+        print(m.kind == MotionKind::traverse ? "STRAIGHT_TRAVERSE" : "STRAIGHT_FEED", args);
+      }
+      return;
+    }
+    case MotionKind::arc: {
+      const PlaneAxes pa = plane_axes(m.arc.plane);
+      print("ARC_FEED",
+            fmt::format("{:.4f}, {:.4f}, {:.4f}, {:.4f}, {}, {:.4f}, {:.4f}, {:.4f}, {:.4f}",
+                        p(pa.first, e[pa.first]), p(pa.second, e[pa.second]),
+                        p(pa.first, m.arc.center_first), p(pa.second, m.arc.center_second),
+                        m.arc.turns, p(pa.normal, e[pa.normal]), p(3, e[3]), p(4, e[4]), p(5, e[5])));
+      return;
+    }
+  }
+}
+
+}  // namespace ccomp::gcode

@@ -1,0 +1,75 @@
+#include "ccomp/gcode/writer.hpp"
+
+#include <algorithm>
+#include <cerrno>
+#include <cstring>
+
+#include "ccomp/error.hpp"
+
+namespace ccomp::gcode {
+
+std::string apply_edits(std::string_view line, std::vector<Edit> edits) {
+  std::sort(edits.begin(), edits.end(), [](const Edit& a, const Edit& b) { return a.span.begin < b.span.begin; });
+  std::string out;
+  out.reserve(line.size() + 16);
+  std::uint32_t at = 0;
+  for (const Edit& e : edits) {
+    out.append(line.substr(at, e.span.begin - at));
+    out.append(e.text);
+    at = e.span.end;
+  }
+  out.append(line.substr(at));
+  return out;
+}
+
+ProgramWriter::ProgramWriter(LineSource reader, std::FILE* out, std::string header)
+    : reader_(std::move(reader)), out_(out), header_(std::move(header)) {}
+
+void ProgramWriter::edit(std::uint64_t line_offset, std::vector<Edit> edits) {
+  if (line_offset < next_offset_)
+    throw Error(ErrorKind::internal, "an edit arrived for a line already written");
+  auto& slot = edits_[line_offset];
+  for (Edit& e : edits) slot.push_back(std::move(e));
+}
+
+void ProgramWriter::write_line(const SourceLine& line) {
+  const bool percent = !line.text.empty() && line.text.find_first_not_of(" \t") != std::string_view::npos &&
+                       line.text[line.text.find_first_not_of(" \t")] == '%';
+  std::string_view terminator = line.terminator.empty() ? std::string_view("\n") : line.terminator;
+  if (!header_written_ && !(percent && line.offset == 0)) {
+    std::fwrite(header_.data(), 1, header_.size(), out_);
+    std::fwrite(terminator.data(), 1, terminator.size(), out_);
+    header_written_ = true;
+  }
+  auto it = edits_.find(line.offset);
+  if (it != edits_.end()) {
+    const std::string text = apply_edits(line.text, std::move(it->second));
+    edits_.erase(it);
+    std::fwrite(text.data(), 1, text.size(), out_);
+  } else {
+    std::fwrite(line.text.data(), 1, line.text.size(), out_);
+  }
+  std::fwrite(line.terminator.data(), 1, line.terminator.size(), out_);
+}
+
+void ProgramWriter::advance_to(std::uint64_t offset) {
+  if (offset <= next_offset_) return;
+  SourceLine line;
+  while (next_offset_ < offset && reader_.next(line)) {
+    write_line(line);
+    next_offset_ = reader_.tell().offset;
+  }
+}
+
+void ProgramWriter::finish() {
+  advance_to(UINT64_MAX);
+  if (!header_written_) {  // an empty program, or only a `%` line
+    std::fwrite(header_.data(), 1, header_.size(), out_);
+    std::fputc('\n', out_);
+    header_written_ = true;
+  }
+  if (std::fflush(out_) != 0 || std::ferror(out_))
+    throw Error(ErrorKind::io, std::string("cannot write the output: ") + std::strerror(errno));
+}
+
+}  // namespace ccomp::gcode

@@ -1,0 +1,103 @@
+#include "ccomp/model/machine.hpp"
+
+#include <yaml-cpp/yaml.h>
+
+#include <cmath>
+#include <fmt/format.h>
+#include <fstream>
+#include <sstream>
+
+#include "ccomp/error.hpp"
+#include "ccomp/gcode/dialect.hpp"
+#include "ccomp/util/sha256.hpp"
+
+namespace ccomp::model {
+namespace {
+
+[[noreturn]] void bad(const std::string& file, const YAML::Node& node, const std::string& message) {
+  const auto mark = node.Mark();
+  throw Error(ErrorKind::model, message,
+              SourceLocation{file, mark.line >= 0 ? static_cast<std::uint32_t>(mark.line + 1) : 0,
+                             mark.column >= 0 ? static_cast<std::uint32_t>(mark.column + 1) : 0});
+}
+
+double number(const std::string& file, const YAML::Node& node, const std::string& what) {
+  try {
+    const std::string s = node.as<std::string>();
+    if (s == ".nan" || s == "nan" || s == "NaN") bad(file, node, what + " is NaN");
+    return node.as<double>();
+  } catch (const YAML::Exception&) {
+    bad(file, node, fmt::format("{} must be a number, not '{}'", what, YAML::Dump(node)));
+  }
+}
+
+}  // namespace
+
+MachineModel parse_machine_model(const std::string& text, const std::string& name) {
+  YAML::Node root;
+  try {
+    root = YAML::Load(text);
+  } catch (const YAML::ParserException& e) {
+    throw Error(ErrorKind::model, e.msg,
+                SourceLocation{name, static_cast<std::uint32_t>(e.mark.line + 1),
+                               static_cast<std::uint32_t>(e.mark.column + 1)});
+  }
+  if (!root.IsMap()) throw Error(ErrorKind::model, "a machine model is a YAML mapping", SourceLocation{name});
+  MachineModel m;
+  m.path = name;
+  m.sha256 = util::sha256_hex(text);
+  if (root["name"]) m.name = root["name"].as<std::string>();
+  if (root["description"]) m.description = root["description"].as<std::string>();
+  if (root["dialect"]) m.dialect = root["dialect"].as<std::string>();
+  const YAML::Node axes = root["axes"];
+  if (!axes || !axes.IsMap()) bad(name, root, "the model needs 'axes': a map from axis letter to its type and limits");
+  for (const auto& entry : axes) {
+    AxisSpec a;
+    const std::string letter = entry.first.as<std::string>();
+    if (letter.size() != 1) bad(name, entry.first, fmt::format("axis '{}' is not one letter of XYZABCUVW", letter));
+    a.letter = static_cast<char>(std::toupper(static_cast<unsigned char>(letter[0])));
+    a.type = (a.letter >= 'A' && a.letter <= 'C') ? AxisType::rotary : AxisType::linear;
+    const YAML::Node spec = entry.second;
+    if (spec && spec.IsMap()) {
+      if (spec["type"]) {
+        const std::string type = spec["type"].as<std::string>();
+        if (type == "linear") a.type = AxisType::linear;
+        else if (type == "rotary") a.type = AxisType::rotary;
+        else bad(name, spec["type"], fmt::format("axis {}: type '{}' is neither linear nor rotary", a.letter, type));
+      }
+      if (spec["min"]) a.min = number(name, spec["min"], fmt::format("axis {} min", a.letter));
+      if (spec["max"]) a.max = number(name, spec["max"], fmt::format("axis {} max", a.letter));
+    }
+    m.axes.push_back(a);
+  }
+  validate(m);
+  return m;
+}
+
+MachineModel load_machine_model(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw Error(ErrorKind::io, "cannot open machine model '" + path + "'");
+  std::ostringstream text;
+  text << in.rdbuf();
+  return parse_machine_model(text.str(), path);
+}
+
+void validate(const MachineModel& model) {
+  auto fail = [&](const std::string& message) {
+    throw Error(ErrorKind::model, message, SourceLocation{model.path});
+  };
+  if (model.axes.empty()) fail("the model has no axes");
+  for (std::size_t i = 0; i < model.axes.size(); ++i) {
+    const AxisSpec& a = model.axes[i];
+    if (std::string_view("XYZABCUVW").find(a.letter) == std::string_view::npos)
+      fail(fmt::format("axis '{}' is not one of X Y Z A B C U V W", a.letter));
+    for (std::size_t j = 0; j < i; ++j)
+      if (model.axes[j].letter == a.letter) fail(fmt::format("axis {} is declared twice", a.letter));
+    if (std::isnan(a.min) || std::isnan(a.max)) fail(fmt::format("axis {}: a limit is NaN", a.letter));
+    if (!(a.min < a.max)) fail(fmt::format("axis {}: min {} is not below max {}", a.letter, a.min, a.max));
+  }
+  if (!gcode::dialect_named(model.dialect))
+    fail(fmt::format("unknown dialect '{}' (known: linuxcnc, fanuc, mazak, wincnc)", model.dialect));
+}
+
+}  // namespace ccomp::model
