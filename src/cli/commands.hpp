@@ -12,7 +12,7 @@ namespace ccomp::cli {
 /// Options every command that reads G-code shares.
 struct ProgramArgs {
   std::string tool_table;
-  std::string tool_table_units = "mm";
+  std::string machine_units = "mm";
   std::vector<std::string> params;  ///< NAME=VALUE
   std::string dialect;              ///< empty: the model's, else linuxcnc
   std::vector<std::string> sub_path;

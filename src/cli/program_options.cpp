@@ -10,8 +10,8 @@ namespace ccomp::cli {
 
 void add_program_options(CLI::App& cmd, ProgramArgs& args) {
   cmd.add_option("--tool-table", args.tool_table, "LinuxCNC tool table (T1 P1 Z0.5 D0.25 ...)");
-  cmd.add_option("--tool-table-units", args.tool_table_units,
-                 "units of the tool table: mm, or inch as LinuxCNC's rs274 reads it alone")
+  cmd.add_option("--machine-units", args.machine_units,
+                 "units of the tool table and stored offsets: mm, or inch as LinuxCNC's rs274 alone")
       ->check(CLI::IsMember({"mm", "inch"}));
   cmd.add_option("--param", args.params,
                  "a value only the controller has: NAME=VALUE (e.g. '_hal[x.y]=2.5' or 5063=1.2)");
@@ -29,8 +29,8 @@ gcode::InterpreterOptions interpreter_options(const ProgramArgs& args, const std
   o.dialect = *dialect;
   if (!args.tool_table.empty()) {
     o.tools = gcode::read_tool_table_file(args.tool_table);
-    o.tools.mm_per_unit = args.tool_table_units == "inch" ? 25.4 : 1.0;
   }
+  o.machine_units = args.machine_units == "inch" ? gcode::Units::inch : gcode::Units::mm;
   for (const std::string& p : args.params) {
     const auto eq = p.rfind('=');
     double v = 0.0;

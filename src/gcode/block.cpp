@@ -17,6 +17,8 @@ void Block::clear() {
   o.named = false;
   o.number = 0;
   o.name.clear();
+  o.computed = false;
+  o.label_value = {};
   o.keyword = OKeyword::none;
   o.arguments.clear();
   o.span = {};

@@ -154,11 +154,26 @@ void Interpreter::Impl::comment(const Block& b) {
     const std::string_view text = b.slice(c.text);
     std::string upper;
     for (char ch : text.substr(0, 6)) upper.push_back(static_cast<char>(std::toupper(static_cast<unsigned char>(ch))));
-    if (upper.starts_with("MSG,")) {
+    if (upper.starts_with("ABORT,")) {
+      fail_at(b, c.span, fmt::format("(ABORT) {}", substitute_parameters(b, text.substr(6))));
+    } else if (upper.starts_with("MSG,")) {
       emit("MESSAGE", fmt::format("\"{}\"", text.substr(4)));
     } else if (upper.starts_with("DEBUG,") || upper.starts_with("PRINT,")) {
-      // Substitute #n and #<name> as LinuxCNC does, with %f.
-      const std::string_view body = text.substr(6);
+      const std::string out = substitute_parameters(b, text.substr(6));
+      if (upper.starts_with("DEBUG,"))
+        emit("MESSAGE", fmt::format("\"{}\"", out));
+      else
+        emit("", out);
+    } else {
+      emit("COMMENT", fmt::format("\"{}\"", text));
+    }
+  }
+}
+
+std::string Interpreter::Impl::substitute_parameters(const Block& b, std::string_view body) {
+  // #n and #<name> become their values, printed with %f as LinuxCNC does.
+  {
+    {
       std::string out;
       for (std::size_t i = 0; i < body.size(); ++i) {
         if (body[i] != '#') {
@@ -190,9 +205,7 @@ void Interpreter::Impl::comment(const Block& b) {
           i = j - 1;
         }
       }
-      if (upper.starts_with("DEBUG,")) emit("MESSAGE", fmt::format("\"{}\"", out));
-    } else {
-      emit("COMMENT", fmt::format("\"{}\"", text));
+      return out;
     }
   }
 }
@@ -203,7 +216,7 @@ void Interpreter::Impl::set_units(Units u) {
 }
 
 Axes Interpreter::Impl::target_of(const Block& /*b*/, bool machine_coordinates) {
-  Axes t = position;
+  Axes t = machine_coordinates ? offsets.to_machine(position) : position;
   const double u = unit();
   for (std::size_t i = 0; i < kAxisCount; ++i) {
     const char letter = kAxisLetters[i];
@@ -217,15 +230,15 @@ Axes Interpreter::Impl::target_of(const Block& /*b*/, bool machine_coordinates) 
       t[i] = position[i] + v;
     position_unknown &= ~(1U << i);
   }
-  return t;
+  return machine_coordinates ? offsets.from_machine(t) : t;
 }
 
 void Interpreter::Impl::straight(MotionKind kind, const Axes& target, MotionSource source) {
   Motion m;
   m.kind = kind;
   m.source = source;
-  m.start = position;
-  m.end = target;
+  m.start = offsets.to_machine(position);
+  m.end = offsets.to_machine(target);
   m.feed_mode = modal.feed_mode;
   m.feed = modal.feed;
   m.units = modal.units;
@@ -238,7 +251,7 @@ void Interpreter::Impl::straight(MotionKind kind, const Axes& target, MotionSour
 // ----------------------------------------------------------------------------------------
 
 void Interpreter::Impl::execute(const Block& b) {
-  program_started = true;
+  if (!b.words.empty() || !b.settings.empty()) program_started = true;
   decode(b);
   const double u = unit();
 
@@ -339,15 +352,7 @@ void Interpreter::Impl::execute(const Block& b) {
     if (!words.has_g(kSystems[s])) continue;
     if (modal.cutter_compensation != 400)
       fail(b, nullptr, "cannot change coordinate systems with cutter radius compensation on");
-    offsets.coordinate_system = s + 1;
-    params.set_numbered(5220, s + 1);
-    for (std::size_t i = 0; i < kAxisCount; ++i) {
-      const double v = params.numbered(5221 + s * 20 + static_cast<int>(i));
-      offsets.g5x[i] = v * (is_rotary(i) ? 1.0 : u);
-    }
-    emit("SET_G5X_OFFSET", fmt::format("{}, {}, {}, {}, {}, {}, {}", s + 1, fixed4(offsets.g5x[0] / u),
-                                       fixed4(offsets.g5x[1] / u), fixed4(offsets.g5x[2] / u),
-                                       fixed4(offsets.g5x[3]), fixed4(offsets.g5x[4]), fixed4(offsets.g5x[5])));
+    select_coordinate_system(s + 1);
   }
   // 16. path control
   if (words.has_g(610)) modal.path_mode = 610;
@@ -405,14 +410,14 @@ void Interpreter::Impl::check_unused_words(const Block& b, int motion_code, int 
       fail(b, words.word[static_cast<std::size_t>(letter - 'A')],
            fmt::format("{} word with no G code that uses it ({})", letter, users));
   };
-  if (!(arc || cycle || g10 || words.has_m(19))) unused('R', "G2, G3, canned cycles, G10");
+  if (!(arc || cycle || g10 || words.has_m(19) || words.has_g(640))) unused('R', "G2, G3, canned cycles, G10, G64, M19");
   if (!(arc || (cycle && motion_mode == 870) || g10 || words.has_g(50))) {
     unused('I', "G2, G3, G87, G10");
     unused('J', "G2, G3, G87, G10");
   }
   if (!(arc || (cycle && motion_mode == 870) || motion_mode == 331 || motion_mode == 330)) unused('K', "G2, G3, G33, G87");
   if (!(cycle || g10 || words.has_m(98) || motion_mode == 760)) unused('L', "canned cycles, G10, M98");
-  if (!(cycle || words.has_m(61) || words.has_m(66) || words.has_g(640) || g10 || words.has_g(50)))
+  if (!(cycle || words.has_m(61) || words.has_m(66) || words.has_m(19) || words.has_g(640) || g10 || words.has_g(50)))
     unused('Q', "G73, G83, G64, M61, M66, G10");
   const bool p_user = non_modal == 40 || g10 || arc || cycle || words.has_g(640) || words.has_m(98) ||
                       words.has_m(66) || words.has_m(19) || words.has_m(62) || words.has_m(63) ||
@@ -539,12 +544,19 @@ void Interpreter::Impl::arc(const Block& b, int code, const Axes& target) {
                        (e1 - o1p) / u, (e2 - o2p) / u, r1, r2, abs_err, rel_err * 100.0));
     }
   }
+  if (offsets.rotation != 0.0 && modal.plane != Plane::xy)
+    throw Error(ErrorKind::unsupported, "arcs outside the XY plane with a rotated coordinate system are not supported",
+                SourceLocation{file_name(), b.line, 0}, std::string(b.text));
+  Axes centre = target;
+  centre[pa.first] = c1;
+  centre[pa.second] = c2;
+  centre = offsets.to_machine(centre);
   Motion m;
   m.kind = MotionKind::arc;
   m.source = MotionSource::program;
-  m.start = position;
-  m.end = target;
-  m.arc = Arc{modal.plane, c1, c2, cw ? -turns : turns};
+  m.start = offsets.to_machine(position);
+  m.end = offsets.to_machine(target);
+  m.arc = Arc{modal.plane, centre[pa.first], centre[pa.second], cw ? -turns : turns};
   m.feed_mode = modal.feed_mode;
   m.feed = modal.feed;
   m.units = modal.units;
@@ -659,12 +671,29 @@ void Interpreter::Impl::canned_cycle(const Block& b, int code) {
   }
 }
 
+void Interpreter::Impl::select_coordinate_system(int system) {
+  const double u = unit();
+  change_offsets([&] {
+    offsets.coordinate_system = system;
+    params.set_numbered(5220, system);
+    const int base = 5221 + (system - 1) * 20;
+    for (std::size_t i = 0; i < kAxisCount; ++i)
+      offsets.g5x[i] = params.numbered(base + static_cast<int>(i)) * stored_scale(i);
+    offsets.rotation = params.numbered(base + 9);
+  });
+  emit("SET_G5X_OFFSET", fmt::format("{}, {}, {}, {}, {}, {}, {}", system, fixed4(offsets.g5x[0] / u),
+                                     fixed4(offsets.g5x[1] / u), fixed4(offsets.g5x[2] / u),
+                                     fixed4(offsets.g5x[3]), fixed4(offsets.g5x[4]), fixed4(offsets.g5x[5])));
+  emit("SET_XY_ROTATION", fixed4(offsets.rotation));
+}
+
 void Interpreter::Impl::reference_return(const Block& b, int code) {
   const int base = code == 280 || code == 281 ? 5161 : 5181;
   const double u = unit();
   if (code == 281 || code == 301) {  // store the current position
+    const Axes machine = offsets.to_machine(position);
     for (std::size_t i = 0; i < kAxisCount; ++i)
-      params.set_numbered(base + static_cast<int>(i), position[i] / (is_rotary(i) ? 1.0 : u));
+      params.set_numbered(base + static_cast<int>(i), machine[i] / stored_scale(i));
     return;
   }
   if (modal.cutter_compensation != 400)
@@ -672,19 +701,19 @@ void Interpreter::Impl::reference_return(const Block& b, int code) {
   const std::uint32_t mask = words.axis_mask();
   const Axes intermediate = target_of(b, false);
   straight(MotionKind::traverse, intermediate, MotionSource::reference_return);
-  Axes home = position;
+  Axes home = offsets.to_machine(position);  // home positions are machine coordinates
   for (std::size_t i = 0; i < kAxisCount; ++i) {
     if (mask != 0 && !((mask >> i) & 1U)) continue;
-    home[i] = params.numbered(base + static_cast<int>(i)) * (is_rotary(i) ? 1.0 : u);
+    home[i] = params.numbered(base + static_cast<int>(i)) * stored_scale(i);
   }
-  straight(MotionKind::traverse, home, MotionSource::reference_return);
+  straight(MotionKind::traverse, offsets.from_machine(home), MotionSource::reference_return);
 }
 
 void Interpreter::Impl::set_g92(const Block& b, int code) {
   const double u = unit();
   auto publish = [&]() {
     for (std::size_t i = 0; i < kAxisCount; ++i)
-      params.set_numbered(5211 + static_cast<int>(i), offsets.g92[i] / (is_rotary(i) ? 1.0 : u));
+      params.set_numbered(5211 + static_cast<int>(i), offsets.g92[i] / stored_scale(i));
     emit("SET_G92_OFFSET", fmt::format("{}, {}, {}, {}, {}, {}", fixed4(offsets.g92[0] / u),
                                        fixed4(offsets.g92[1] / u), fixed4(offsets.g92[2] / u),
                                        fixed4(offsets.g92[3]), fixed4(offsets.g92[4]), fixed4(offsets.g92[5])));
@@ -708,13 +737,14 @@ void Interpreter::Impl::set_g92(const Block& b, int code) {
       params.set_numbered(5210, 0.0);
       publish();
       return;
-    case 922:
+    case 922:  // zero the offset, keep the stored values for G92.3
       offsets.g92 = Axes{};
+      params.set_numbered(5210, 0.0);
       emit("SET_G92_OFFSET", "0.0000, 0.0000, 0.0000, 0.0000, 0.0000, 0.0000");
       return;
     case 923:
       for (std::size_t i = 0; i < kAxisCount; ++i)
-        offsets.g92[i] = params.numbered(5211 + static_cast<int>(i)) * (is_rotary(i) ? 1.0 : u);
+        offsets.g92[i] = params.numbered(5211 + static_cast<int>(i)) * stored_scale(i);
       params.set_numbered(5210, 1.0);
       publish();
       return;
@@ -730,45 +760,65 @@ void Interpreter::Impl::g10(const Block& b) {
   const int p = static_cast<int>(std::lround(words['P']));
   if (l == 2 || l == 20) {
     if (p < 0 || p > 9) fail(b, words.word['P' - 'A'], fmt::format("P value out of range with G10 L{}: {}", l, p));
-    if (words.has('R') && words['R'] != 0.0)
-      throw Error(ErrorKind::unsupported, "coordinate system rotation (G10 L2 R) is not supported",
-                  SourceLocation{file_name(), b.line, words.word['R' - 'A']->span.begin + 1}, std::string(b.text));
     const int system = p == 0 ? offsets.coordinate_system : p;
+    const int base = 5221 + (system - 1) * 20;
+    const double rotation = words.has('R') ? words['R'] : params.numbered(base + 9);
+    // L20: the offset that makes the current point read the given value, in the new frame.
+    const Axes machine = offsets.to_machine(position);
+    const double a = rotation * kPi / 180.0;
+    // The point should read the given values, and keep reading what it reads on the axes
+    // not given (with a rotation, X and Y offsets both change when either is given).
+    Axes local{};  // value + G92, rotated into the machine frame
+    for (std::size_t i = 0; i < kAxisCount; ++i)
+      local[i] = (words.has(kAxisLetters[i]) ? words[kAxisLetters[i]] * (is_rotary(i) ? 1.0 : u) : program(i)) +
+                 offsets.g92[i];
+    const bool xy_given = words.has('X') || words.has('Y');
+    const double lx = std::cos(a) * local[0] - std::sin(a) * local[1];
+    const double ly = std::sin(a) * local[0] + std::cos(a) * local[1];
+    local[0] = lx;
+    local[1] = ly;
     for (std::size_t i = 0; i < kAxisCount; ++i) {
       const char letter = kAxisLetters[i];
-      if (!words.has(letter)) continue;
-      const double scale = is_rotary(i) ? 1.0 : u;
-      const double v = words[letter] * scale;
-      // L2: the offset itself; L20: the offset that makes the current point read v.
-      const double offset = l == 2 ? v : position[i] - offsets.g92[i] - v;
-      params.set_numbered(5221 + (system - 1) * 20 + static_cast<int>(i), offset / scale);
-      if (system == offsets.coordinate_system) offsets.g5x[i] = offset;
+      if (!words.has(letter) && !(l == 20 && i < 2 && xy_given)) continue;
+      const double offset = l == 2 ? words[letter] * (is_rotary(i) ? 1.0 : u) : machine[i] - local[i];
+      params.set_numbered(base + static_cast<int>(i), offset / stored_scale(i));
     }
-    if (system == offsets.coordinate_system)
-      emit("SET_G5X_OFFSET", fmt::format("{}, {}, {}, {}, {}, {}, {}", system, fixed4(offsets.g5x[0] / u),
-                                         fixed4(offsets.g5x[1] / u), fixed4(offsets.g5x[2] / u),
-                                         fixed4(offsets.g5x[3]), fixed4(offsets.g5x[4]), fixed4(offsets.g5x[5])));
+    params.set_numbered(base + 9, rotation);
+    if (system == offsets.coordinate_system) select_coordinate_system(system);
     return;
   }
   if (l == 1 || l == 10 || l == 11) {
     ToolEntry& e = tools.tools[p];
     e.tool = p;
+    // L10: the offsets that make the current point read the given values in the current
+    // system; L11 the same in G59.3 without G92 (a touch-off fixture). Axes not given keep
+    // what the tool's table entry makes them read; with a rotation X and Y change together.
+    Offsets frame = offsets;
+    if (l == 11) {
+      for (std::size_t i = 0; i < kAxisCount; ++i)
+        frame.g5x[i] = params.numbered(5381 + static_cast<int>(i)) * stored_scale(i);
+      frame.g92 = Axes{};
+      frame.rotation = params.numbered(5390);
+    }
+    Axes spindle = offsets.to_machine(position);
+    for (std::size_t i = 0; i < kAxisCount; ++i) spindle[i] += offsets.tool[i];
+    Axes with_entry = spindle;
+    for (std::size_t i = 0; i < kAxisCount; ++i) with_entry[i] -= e.offset[i];
+    Axes wanted = frame.program_of(with_entry);
+    for (std::size_t i = 0; i < kAxisCount; ++i) {
+      if (words.has(kAxisLetters[i])) wanted[i] = words[kAxisLetters[i]] * (is_rotary(i) ? 1.0 : u);
+      wanted[i] += frame.origin(i);
+    }
+    const Axes controlled = frame.to_machine(wanted);
+    const bool xy_given = words.has('X') || words.has('Y');
     for (std::size_t i = 0; i < kAxisCount; ++i) {
       const char letter = kAxisLetters[i];
-      if (!words.has(letter)) continue;
-      const double scale = is_rotary(i) ? 1.0 : u;
-      const double v = words[letter] * scale;
-      double offset = v;
-      if (l != 1) {
-        // L10: the offset that makes the current point read v; L11 relative to G59.3.
-        const double origin = l == 10 ? offsets.origin(i) : params.numbered(5381 + static_cast<int>(i)) * scale;
-        offset = position[i] + offsets.tool[i] - origin - v;
-      }
-      e.offset[i] = offset;  // the interpreter's tool table holds mm
+      if (!words.has(letter) && !(l != 1 && i < 2 && xy_given && frame.rotation != 0.0)) continue;
+      e.offset[i] = l == 1 ? words[letter] * (is_rotary(i) ? 1.0 : u) : spindle[i] - controlled[i];
     }
     if (words.has('R')) e.diameter = 2.0 * words['R'] * u;
     emit("SET_TOOL_TABLE_ENTRY", fmt::format("{}", p));
-    return;
+    return;  // the active offset changes only with the next G43, as in LinuxCNC
   }
   fail(b, words.word['L' - 'A'], fmt::format("G10 L{} is not supported (L1, L2, L10, L11, L20 are)", l));
 }
@@ -797,8 +847,11 @@ void Interpreter::Impl::tool_length(const Block& b, int code) {
       break;
     default: break;
   }
-  // The machine stays put: the controlled point moves by the change of offset.
-  for (std::size_t i = 0; i < kAxisCount; ++i) position[i] -= next[i] - offsets.tool[i];
+  // The machine stays put: the controlled point moves by the change of offset (a vector in
+  // the machine frame, so through to_machine when the coordinate system is rotated).
+  Axes machine = offsets.to_machine(position);
+  for (std::size_t i = 0; i < kAxisCount; ++i) machine[i] -= next[i] - offsets.tool[i];
+  position = offsets.from_machine(machine);
   offsets.tool = next;
   modal.tool_length_mode = code;
   emit("USE_TOOL_LENGTH_OFFSET", fmt::format("{} {} {}, {} {} {}, {} {} {}",

@@ -46,7 +46,7 @@ struct atan_call : pegtl::seq<TAO_PEGTL_STRING("ATAN"), pegtl::must<expression>,
                               pegtl::must<pegtl::one<'/'>>, pegtl::must<expression>> {};
 struct exists_call
     : pegtl::seq<TAO_PEGTL_STRING("EXISTS"), pegtl::must<pegtl::one<'['>>,
-                 pegtl::must<pegtl::one<'#'>>, pegtl::must<named_parameter>,
+                 pegtl::must<pegtl::one<'#'>>, pegtl::must<pegtl::sor<named_parameter, real_value>>,
                  pegtl::must<pegtl::one<']'>>> {};
 struct unary_function
     : pegtl::sor<TAO_PEGTL_STRING("ABS"), TAO_PEGTL_STRING("ACOS"), TAO_PEGTL_STRING("ASIN"),
@@ -112,10 +112,11 @@ struct parameter_setting
 
 struct segment : pegtl::sor<comment, parameter_setting, word> {};
 
-struct o_label : pegtl::sor<named_parameter, digits> {};
+struct comment;
+struct o_label : pegtl::sor<named_parameter, digits, parameter_value> {};
 struct o_sub : TAO_PEGTL_STRING("SUB") {};
 struct o_endsub : pegtl::seq<TAO_PEGTL_STRING("ENDSUB"), pegtl::opt<expression>> {};
-struct o_call : pegtl::seq<TAO_PEGTL_STRING("CALL"), pegtl::star<expression>> {};
+struct o_call : pegtl::seq<TAO_PEGTL_STRING("CALL"), pegtl::star<pegtl::sor<expression, comment>>> {};
 struct o_return : pegtl::seq<TAO_PEGTL_STRING("RETURN"), pegtl::opt<expression>> {};
 struct o_if : pegtl::seq<TAO_PEGTL_STRING("IF"), pegtl::must<expression>> {};
 struct o_elseif : pegtl::seq<TAO_PEGTL_STRING("ELSEIF"), pegtl::must<expression>> {};

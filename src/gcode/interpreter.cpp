@@ -14,6 +14,8 @@ std::string label_of(const OStatement& o) {
   return o.named ? "<" + o.name + ">" : std::to_string(o.number);
 }
 
+std::string label_of_number(double v) { return std::to_string(static_cast<long long>(std::lround(v))); }
+
 constexpr double kDegree = 3.14159265358979323846 / 180.0;
 
 // Parameters only a running controller can know: probe results, M66 inputs, tool-changer
@@ -29,8 +31,7 @@ Interpreter::Impl::Impl(InterpreterOptions o)
   // Hold the tool table in mm, like every other length inside the interpreter.
   for (auto& [number, entry] : tools.tools)
     for (std::size_t i = 0; i < kAxisCount; ++i)
-      if (!is_rotary(i)) entry.offset[i] *= tools.mm_per_unit;
-  tools.mm_per_unit = 1.0;
+      if (!is_rotary(i)) entry.offset[i] *= machine_unit();
   for (const auto& [name, value] : options.parameters) {
     std::string folded;
     for (char c : name)
@@ -94,12 +95,12 @@ double Interpreter::Impl::read_named(const Block& b, std::string_view name) {
     for (std::size_t i = 0; i < kAxisCount; ++i) {
       if (rest == kAxisNames[i]) return program(i) / (is_rotary(i) ? 1.0 : u);
       if (rest.starts_with("ABS_") && rest.substr(4) == kAxisNames[i])
-        return position[i] / (is_rotary(i) ? 1.0 : u);
+        return offsets.to_machine(position)[i] / (is_rotary(i) ? 1.0 : u);
     }
   }
   if (name == "_VALUE") return value_returned;
   if (name == "_VALUE_RETURNED") return has_value_returned ? 1.0 : 0.0;
-  if (name == "_LINE") return block.has_line_number ? block.line_number : 0.0;
+  if (name == "_LINE") return block.line;  // the source line, as LinuxCNC counts it
   if (name == "_MOTION_MODE") return modal.motion;
   if (name == "_PLANE") return modal.plane == Plane::xy ? 170 : modal.plane == Plane::zx ? 180 : 190;
   if (name == "_CCOMP") return modal.cutter_compensation;
@@ -140,18 +141,18 @@ double Interpreter::Impl::read_numbered(const Block& b, double index) {
                      n, n));
   // System parameters that mirror ccomp's own state, in the program's current units.
   auto length = [&](std::size_t axis, double mm) { return is_rotary(axis) ? mm : mm / u; };
-  if (n >= 5211 && n <= 5219) return length(static_cast<std::size_t>(n - 5211), offsets.g92[static_cast<std::size_t>(n - 5211)]);
+  // #5161-#5389 are stored (in machine units) by G28.1, G92, G10 L2...; read as they are.
   if (n == 5220) return offsets.coordinate_system;
-  if (n >= 5221 && n <= 5389) {
-    const int system = (n - 5221) / 20 + 1;
-    const int field = (n - 5221) % 20;
-    if (system == offsets.coordinate_system && field < 9)
-      return length(static_cast<std::size_t>(field), offsets.g5x[static_cast<std::size_t>(field)]);
-  }
   if (n == 5400) return modal.tool;
-  if (n >= 5401 && n <= 5409) return length(static_cast<std::size_t>(n - 5401), offsets.tool[static_cast<std::size_t>(n - 5401)]);
+  if (n >= 5401 && n <= 5409) {  // the loaded tool's table entry, in machine units
+    const auto axis = static_cast<std::size_t>(n - 5401);
+    const ToolEntry* e = tools.find(modal.tool);
+    const double v = e ? e->offset[axis] : 0.0;
+    return is_rotary(axis) ? v : v / machine_unit();
+  }
   if (n >= 5420 && n <= 5428) return length(static_cast<std::size_t>(n - 5420), program(static_cast<std::size_t>(n - 5420)));
-  if (n >= 5021 && n <= 5029) return length(static_cast<std::size_t>(n - 5021), position[static_cast<std::size_t>(n - 5021)]);
+  if (n >= 5021 && n <= 5029)
+    return length(static_cast<std::size_t>(n - 5021), offsets.to_machine(position)[static_cast<std::size_t>(n - 5021)]);
   return params.numbered(n);
 }
 
@@ -161,12 +162,15 @@ void Interpreter::Impl::write_numbered(const Block& b, double index, double v) {
     fail(b, nullptr, fmt::format("parameter number out of range: #{}", index));
   const int n = static_cast<int>(rounded);
   params.set_numbered(n, v);
-  const double u = unit();
+  const double u = machine_unit();
   if (n >= 5221 && n <= 5389) {
     const int system = (n - 5221) / 20 + 1;
     const auto field = static_cast<std::size_t>((n - 5221) % 20);
-    if (system == offsets.coordinate_system && field < kAxisCount)
-      offsets.g5x[field] = is_rotary(field) ? v : v * u;
+    if (system == offsets.coordinate_system && field <= kAxisCount)
+      change_offsets([&] {
+        if (field == kAxisCount) offsets.rotation = v;
+        else offsets.g5x[field] = is_rotary(field) ? v : v * u;
+      });
   }
 }
 
@@ -193,6 +197,11 @@ double Interpreter::Impl::evaluate(const Block& b, const Value& v) {
       case ExprOp::read_named: push(read_named(b, b.name(n.name_begin, n.name_size))); break;
       case ExprOp::read_numbered: push(read_numbered(b, pop())); break;
       case ExprOp::exists: push(named_exists(b.name(n.name_begin, n.name_size)) ? 1.0 : 0.0); break;
+      case ExprOp::exists_numbered: {
+        const double index = pop();
+        push(index >= 1 && index < kParameterCount && index == std::floor(index) ? 1.0 : 0.0);
+        break;
+      }
       case ExprOp::negate: push(-pop()); break;
       case ExprOp::abs: push(std::abs(pop())); break;
       case ExprOp::acos: {
@@ -367,13 +376,14 @@ void Interpreter::Impl::skip_to(const std::string& label, std::initializer_list<
 SubDefinition Interpreter::Impl::find_sub(const std::string& label, bool fanuc, const Block& b,
                                           const Word* where) {
   if (auto it = subs.find(label); it != subs.end()) return it->second;
-  // Defined later in this file: scan ahead, then come back.
+  // Defined later in the main file: scan ahead, then come back. (Not in a subroutine's own
+  // file: LinuxCNC looks for those on the subroutine path only.)
   LineSource& src = *sources[current_source];
   const SourcePosition here = src.tell();
   Block scan;
   SourceLine l;
   Parser scanner(options.dialect);
-  while (src.next(l)) {
+  while (current_source == 0 && src.next(l)) {
     scanner.parse(l.text, l.number, file_name(), scan);
     if (!scan.o.present) continue;
     const bool is_def = fanuc ? scan.o.keyword == OKeyword::none : scan.o.keyword == OKeyword::sub;
@@ -459,7 +469,7 @@ void Interpreter::Impl::return_from_sub(const Block& b) {
 
 void Interpreter::Impl::execute_o(const Block& b) {
   const OStatement& o = b.o;
-  const std::string label = label_of(o);
+  const std::string label = o.computed ? label_of_number(evaluate(b, o.label_value)) : label_of(o);
   auto condition = [&]() { return o.arguments.empty() ? 0.0 : evaluate(b, o.arguments.front()); };
   for (const Word& w : b.words)
     if (o.keyword != OKeyword::none)
@@ -475,6 +485,7 @@ void Interpreter::Impl::execute_o(const Block& b) {
       define_sub(b, true);
       return;
     case OKeyword::sub:
+      if (!calls.empty()) fail(b, nullptr, "nested subroutine definition: O" + label + " sub inside a subroutine");
       define_sub(b, false);
       return;
     case OKeyword::endsub:
@@ -489,6 +500,7 @@ void Interpreter::Impl::execute_o(const Block& b) {
       return;
     case OKeyword::call:
       has_value_returned = false;
+      value_returned = 0.0;
       call_sub(label, false, b, nullptr, 1);
       return;
     case OKeyword::if_:

@@ -130,6 +130,7 @@ struct Interpreter::Impl {
   void decode(const Block& b);
   void check_unused_words(const Block& b, int motion_code, int non_modal);
   void comment(const Block& b);
+  std::string substitute_parameters(const Block& b, std::string_view body);
   void set_units(Units u);
   void motion(const Block& b, int code, int non_modal);
   void straight(MotionKind kind, const Axes& target, MotionSource source);
@@ -149,11 +150,23 @@ struct Interpreter::Impl {
   [[noreturn]] void fail_at(const Block& b, Span span, const std::string& message) const;
   void warn(const std::string& message, std::uint32_t line_no) const;
   void emit(std::string_view name, std::string args) const;
+  /// mm per program unit (G20/G21) and per machine unit (parameters, tool table).
   [[nodiscard]] double unit() const { return modal.units == Units::inch ? 25.4 : 1.0; }
+  [[nodiscard]] double machine_unit() const { return options.machine_units == Units::inch ? 25.4 : 1.0; }
+  /// mm or deg per stored unit of a parameter for `axis` (machine units; degrees for A B C).
+  [[nodiscard]] double stored_scale(std::size_t axis) const { return is_rotary(axis) ? 1.0 : machine_unit(); }
   [[nodiscard]] double program(std::size_t axis) const {
     return position[axis] - offsets.origin(axis);
   }
   [[nodiscard]] const std::string& file_name() const { return sources[current_source]->name(); }
+  /// Changes offsets without moving the machine: the interpreter-frame point follows.
+  template <typename Change>
+  void change_offsets(Change&& change) {
+    const Axes machine = offsets.to_machine(position);
+    change();
+    position = offsets.from_machine(machine);
+  }
+  void select_coordinate_system(int system);
 };
 
 }  // namespace ccomp::gcode

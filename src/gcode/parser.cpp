@@ -120,7 +120,8 @@ template <typename Rule>
 inline constexpr bool kMarked =
     std::is_same_v<Rule, g::word> || std::is_same_v<Rule, g::signed_value> ||
     std::is_same_v<Rule, g::parameter_value> || std::is_same_v<Rule, g::parameter_setting> ||
-    std::is_same_v<Rule, g::expression> || std::is_same_v<Rule, g::exists_call>;
+    std::is_same_v<Rule, g::expression> || std::is_same_v<Rule, g::exists_call> ||
+    std::is_same_v<Rule, g::o_label>;
 
 template <typename Rule>
 struct Control : pegtl::must_if<Errors>::control<Rule> {
@@ -201,7 +202,11 @@ template <>
 struct Action<g::exists_call> {
   template <typename Input>
   static void apply(const Input& /*in*/, State& st) {
-    st.block->rpn.back().op = ExprOp::exists;
+    auto& rpn = st.block->rpn;
+    if (st.rpn_size() - st.marks.back() == 1 && rpn.back().op == ExprOp::name)
+      rpn.back().op = ExprOp::exists;
+    else
+      rpn.push_back(ExprNode{ExprOp::exists_numbered});
   }
 };
 
@@ -395,6 +400,11 @@ struct Action<g::o_label> {
   template <typename Input>
   static void apply(const Input& in, State& st) {
     OStatement& o = st.block->o;
+    if (in.peek_char() == '#') {
+      o.computed = true;
+      o.label_value = st.value(st.marks.back(), st.rpn_size());
+      return;
+    }
     if (in.peek_char() == '<') {
       const ExprNode n = st.block->rpn.back();
       st.block->rpn.pop_back();

@@ -19,6 +19,10 @@ void TracePrinter::print(const char* name, const std::string& arguments) {
 }
 
 void TracePrinter::call(const CanonCall& call) {
+  if (call.name.empty()) {  // (PRINT,...): rs274 writes the text as it is
+    fmt::print(out_, "{}\n", call.arguments);
+    return;
+  }
   fmt::print(out_, "{:5} {:<6} {}({})\n", ++counter_, line_number_, call.name, call.arguments);
 }
 
@@ -29,11 +33,8 @@ void TracePrinter::warning(const std::string& message, std::uint32_t line) {
 void TracePrinter::motion(const Motion& m) {
   const double u = m.units == Units::inch ? 25.4 : 1.0;
   // Canonical positions are in the program's units and the active coordinate system.
-  auto p = [&](std::size_t axis, double machine) {
-    const double v = machine - m.offsets->origin(axis);
-    return is_rotary(axis) ? v : v / u;
-  };
-  const Axes& e = m.end;
+  const Axes e = m.offsets->program_of(m.end);
+  auto p = [&](std::size_t axis, double v) { return is_rotary(axis) ? v : v / u; };
   switch (m.kind) {
     case MotionKind::traverse:
     case MotionKind::feed:
@@ -51,10 +52,14 @@ void TracePrinter::motion(const Motion& m) {
     }
     case MotionKind::arc: {
       const PlaneAxes pa = plane_axes(m.arc.plane);
+      Axes centre = m.end;
+      centre[pa.first] = m.arc.center_first;
+      centre[pa.second] = m.arc.center_second;
+      centre = m.offsets->program_of(centre);
       print("ARC_FEED",
             fmt::format("{:.4f}, {:.4f}, {:.4f}, {:.4f}, {}, {:.4f}, {:.4f}, {:.4f}, {:.4f}",
                         p(pa.first, e[pa.first]), p(pa.second, e[pa.second]),
-                        p(pa.first, m.arc.center_first), p(pa.second, m.arc.center_second),
+                        p(pa.first, centre[pa.first]), p(pa.second, centre[pa.second]),
                         m.arc.turns, p(pa.normal, e[pa.normal]), p(3, e[3]), p(4, e[4]), p(5, e[5])));
       return;
     }

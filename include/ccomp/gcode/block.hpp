@@ -24,6 +24,7 @@ enum class ExprOp : std::uint8_t {
   read_named,     ///< push the value of #<name>
   read_numbered,  ///< pop n, push #n
   exists,         ///< push 1 if #<name> exists, else 0
+  exists_numbered,  ///< pop n, push 1 if #n is a valid parameter number
   negate,
   // binary, in rs274ngc's precedence order (see grammar/gcode.peg)
   power,
@@ -123,6 +124,8 @@ struct OStatement {
   bool named = false;
   std::uint32_t number = 0;
   std::string name;
+  bool computed = false;  ///< `o#<n> call`: the label is `label_value`, evaluated when run
+  Value label_value;
   OKeyword keyword = OKeyword::none;
   std::vector<Value> arguments;  ///< call arguments, or the condition / count / return value
   Span span;

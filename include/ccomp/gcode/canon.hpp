@@ -29,13 +29,28 @@ struct PlaneAxes {
   return {0, 1, 2};
 }
 
-/// The offsets in force: origin = G5x + G92/G52 (mm, deg); tool = tool length offset.
+/// The offsets in force: origin = G5x + G92/G52 (mm, deg); tool = tool length offset;
+/// rotation = G10 L2 R, degrees about Z of the G5x system. The interpreter keeps points in
+/// an unrotated frame (program + origin, as rs274ngc does); to_machine() applies the
+/// rotation about the G5x origin.
 struct Offsets {
   int coordinate_system = 1;  ///< 1 = G54 ... 9 = G59.3
   Axes g5x{};
   Axes g92{};
   Axes tool{};
+  double rotation = 0.0;
   [[nodiscard]] double origin(std::size_t axis) const { return g5x[axis] + g92[axis]; }
+  [[nodiscard]] Axes to_machine(const Axes& p) const { return rotated(p, rotation); }
+  [[nodiscard]] Axes from_machine(const Axes& m) const { return rotated(m, -rotation); }
+  /// Program coordinates (current system, mm and deg) of a machine-frame point.
+  [[nodiscard]] Axes program_of(const Axes& machine) const {
+    Axes p = from_machine(machine);
+    for (std::size_t i = 0; i < kAxisCount; ++i) p[i] -= origin(i);
+    return p;
+  }
+
+ private:
+  [[nodiscard]] Axes rotated(const Axes& p, double degrees) const;
 };
 
 enum class MotionKind : std::uint8_t { traverse, feed, arc, probe };
@@ -63,7 +78,8 @@ struct Motion {
   std::uint32_t line = 0;  ///< source line of the block that commanded it
 };
 
-/// A non-motion canonical call, already formatted as LinuxCNC's rs274 prints it.
+/// A non-motion canonical call, already formatted as LinuxCNC's rs274 prints it. An empty
+/// name is plain output of (PRINT,...).
 struct CanonCall {
   std::string_view name;
   std::string arguments;

@@ -20,6 +20,9 @@ namespace ccomp::gcode {
 struct InterpreterOptions {
   Dialect dialect;
   ToolTable tools;
+  /// LinuxCNC keeps the tool table, work offsets and parameters #5161-#5389 and #5401-#5409
+  /// in the machine's units (positions read in program units). rs274 run alone uses inches.
+  Units machine_units = Units::mm;
   /// Values only the controller knows (`_hal[...]`, `_ini[...]`, probe results, or any
   /// parameter), by name ("_hal[x.y]") or number ("5063").
   std::vector<std::pair<std::string, double>> parameters;

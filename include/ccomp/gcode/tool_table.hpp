@@ -18,9 +18,7 @@ struct ToolEntry {
 };
 
 struct ToolTable {
-  std::map<int, ToolEntry> tools;
-  /// LinuxCNC keeps the table in the machine's units; rs274 run alone reads inches.
-  double mm_per_unit = 1.0;
+  std::map<int, ToolEntry> tools;  ///< offsets in the machine's units
   [[nodiscard]] const ToolEntry* find(int tool) const {
     auto it = tools.find(tool);
     return it == tools.end() ? nullptr : &it->second;

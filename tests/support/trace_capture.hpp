@@ -1,0 +1,51 @@
+#pragma once
+// Test support: run the interpreter on a program and capture what `ccomp trace` prints,
+// and compare canonical motion calls the way LinuxCNC's suite needs (numbers to 1e-4).
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "ccomp/error.hpp"
+#include "ccomp/gcode/interpreter.hpp"
+
+namespace ccomp::test {
+
+struct TraceResult {
+  std::vector<std::string> lines;  ///< the trace, one call a line
+  std::optional<Error> error;      ///< set when the interpreter refused the program
+  std::vector<std::string> warnings;
+};
+
+TraceResult trace_file(const std::string& path, const gcode::InterpreterOptions& options = {});
+TraceResult trace_text(const std::string& program, const gcode::InterpreterOptions& options = {});
+
+/// The motion calls (STRAIGHT_TRAVERSE, STRAIGHT_FEED, ARC_FEED, STRAIGHT_PROBE) and the
+/// MESSAGE calls of (DEBUG,...) and (MSG,...) of a trace or of an `expected` file, as
+/// "NAME(args)". Messages show parameter values, so they check expressions and subroutines.
+std::vector<std::string> motion_calls(const std::vector<std::string>& lines);
+
+/// What LinuxCNC's suite observes of a trace: motion and MESSAGE calls, and the plain lines
+/// that (PRINT,...) writes, as "PRINT text". With `awk`, lines are first transformed as the
+/// suite's `awk '{$1=""; print}'` does (first field dropped, blanks collapsed).
+std::vector<std::string> observable(const std::vector<std::string>& lines, bool awk);
+/// Every call of a trace named `name`, as its argument text.
+std::vector<std::string> calls_named(const std::vector<std::string>& lines, const std::string& name);
+
+/// Compares two lists of calls: same names, same numbers within `tolerance`. On mismatch
+/// returns a description of the first difference.
+std::optional<std::string> compare_calls(const std::vector<std::string>& actual,
+                                         const std::vector<std::string>& expected,
+                                         double tolerance = 1e-4);
+
+std::vector<std::string> read_lines(const std::string& path);
+std::string read_file(const std::string& path);
+void write_file(const std::string& path, const std::string& text);
+
+/// Paths the build gives the tests.
+std::string source_dir();
+std::string shared_dir();
+std::string ccomp_binary();
+/// A fresh empty folder under the build's temp area.
+std::string temp_dir(const std::string& name);
+
+}  // namespace ccomp::test
