@@ -59,6 +59,13 @@ std::string g_name(int code) {
 
 std::string fixed4(double v) { return fmt::format("{:.4f}", v); }
 
+std::string axis_letters(std::uint32_t mask) {
+  std::string s;
+  for (std::size_t i = 0; i < kAxisCount; ++i)
+    if ((mask >> i) & 1U) s.push_back(kAxisLetters[i]);
+  return s;
+}
+
 }  // namespace
 
 std::uint32_t Words::axis_mask() const {
@@ -106,10 +113,15 @@ void Interpreter::Impl::decode(const Block& b) {
     int group = g_group(code);
     if (group < 0) {
       const auto& pass = options.dialect.passthrough_g_codes;
-      if (std::find(pass.begin(), pass.end(), code) != pass.end()) continue;
+      const auto& moving = options.dialect.passthrough_moving_g_codes;
+      if (std::find(pass.begin(), pass.end(), code) != pass.end() ||
+          std::find(moving.begin(), moving.end(), code) != moving.end())
+        continue;
       fail(b, w, fmt::format("unknown G code {}", g_name(code)));
     }
     if (group == 0) continue;  // checked below: only one of G10/G28/G30/G52/G53/G92 uses axes
+    if (group == 1 && options.dialect.cycles_own_modal_group && (code == 800 || is_cycle(code)))
+      group = 9;  // Fanuc's canned-cycle group
     int& s = seen_g[static_cast<std::size_t>(group)];
     if (s >= 0 && !(s == code && options.dialect.repeated_modal_codes))
       fail(b, w, fmt::format("two G codes used from the same modal group: {} and {}", g_name(s), g_name(code)));
@@ -260,7 +272,13 @@ void Interpreter::Impl::execute(const Block& b) {
   for (int i = 0; i < words.g_count; ++i) {
     const int code = words.g[static_cast<std::size_t>(i)];
     const int group = g_group(code);
-    if (group == 1) motion_code = code;
+    if (group == 1 && code == 800 && options.dialect.cycles_own_modal_group) {
+      // Fanuc: `G00 G80` cancels the cycle and keeps G00; G80 alone returns to the G0-G3 mode.
+      modal.motion = modal.basic_motion;
+      if (motion_code < 0) motion_code = -2;
+      continue;
+    }
+    if (group == 1) motion_code = motion_code == -2 ? code : code;
     if (group == 0 && code != 530) {
       if (non_modal >= 0 && non_modal != 40)
         fail(b, words.g_word[static_cast<std::size_t>(i)],
@@ -269,12 +287,15 @@ void Interpreter::Impl::execute(const Block& b) {
       else non_modal = code;
     }
   }
+  if (motion_code == -2) motion_code = words.axis_mask() != 0 ? modal.motion : -1;
   const bool g53 = words.has_g(530);
-  const bool axes_used_by_non_modal =
-      non_modal == 100 || non_modal == 280 || non_modal == 300 || non_modal == 520 || non_modal == 920;
+  const int passthrough = passthrough_code();
+  const bool axes_used_by_non_modal = non_modal == 100 || non_modal == 280 || non_modal == 300 ||
+                                      non_modal == 520 || non_modal == 920 || passthrough >= 0;
+  if (g53 && motion_code < 0 && options.dialect.g53_alone_is_rapid) motion_code = 0;
   if (motion_code >= 0 && axes_used_by_non_modal && words.axis_mask() != 0)
     fail(b, nullptr, fmt::format("cannot use two G codes that both use axis values: {} and {}",
-                                 g_name(motion_code), g_name(non_modal)));
+                                 g_name(motion_code), g_name(passthrough >= 0 ? passthrough : non_modal)));
   check_unused_words(b, motion_code, non_modal);
 
   // 1. comments
@@ -370,6 +391,13 @@ void Interpreter::Impl::execute(const Block& b) {
   if (non_modal == 100) g10(b);
   if (non_modal == 280 || non_modal == 300 || non_modal == 281 || non_modal == 301) reference_return(b, non_modal);
   if (non_modal == 520 || (non_modal >= 920 && non_modal <= 923)) set_g92(b, non_modal);
+  if (passthrough >= 0 && words.axis_mask() != 0) {
+    // The controller moves these axes in a way ccomp does not model.
+    position_unknown |= words.axis_mask();
+    warn(fmt::format("{} is passed through unmodelled: ccomp does not know where it moves {}", g_name(passthrough),
+                     axis_letters(words.axis_mask())),
+         b.line);
+  }
   // 20. motion
   if (motion_code >= 0 || (!axes_used_by_non_modal && words.axis_mask() != 0)) {
     if (g53 && motion_code != 0 && motion_code != 10 && !(motion_code < 0 && (modal.motion == 0 || modal.motion == 10)))
@@ -400,15 +428,24 @@ void Interpreter::Impl::execute(const Block& b) {
   if (words.has_m(2) || words.has_m(30)) end_program(b);
 }
 
+int Interpreter::Impl::passthrough_code() const {
+  const auto& moving = options.dialect.passthrough_moving_g_codes;
+  for (int i = 0; i < words.g_count; ++i)
+    if (std::find(moving.begin(), moving.end(), words.g[static_cast<std::size_t>(i)]) != moving.end())
+      return words.g[static_cast<std::size_t>(i)];
+  return -1;
+}
+
 void Interpreter::Impl::check_unused_words(const Block& b, int motion_code, int non_modal) {
   const int motion_mode = motion_code >= 0 ? motion_code : modal.motion;
   const bool arc = motion_mode == 20 || motion_mode == 30;
   const bool cycle = is_cycle(motion_mode);
   const bool g10 = non_modal == 100;
   auto unused = [&](char letter, const char* users) {
-    if (words.has(letter))
-      fail(b, words.word[static_cast<std::size_t>(letter - 'A')],
-           fmt::format("{} word with no G code that uses it ({})", letter, users));
+    if (!words.has(letter)) return;
+    const std::string what = fmt::format("{} word with no G code that uses it ({})", letter, users);
+    if (options.dialect.unused_words_are_errors) fail(b, words.word[static_cast<std::size_t>(letter - 'A')], what);
+    warn(what + ": passed through", b.line);
   };
   if (!(arc || cycle || g10 || words.has_m(19) || words.has_g(640))) unused('R', "G2, G3, canned cycles, G10, G64, M19");
   if (!(arc || (cycle && motion_mode == 870) || g10 || words.has_g(50))) {
@@ -431,7 +468,9 @@ void Interpreter::Impl::check_unused_words(const Block& b, int motion_code, int 
 
 void Interpreter::Impl::motion(const Block& b, int code, int non_modal) {
   (void)non_modal;
-  if (g_group(code) == 1 && code != 800) modal.motion = code;
+  const bool g53_rapid = code == 0 && words.has_g(530) && options.dialect.g53_alone_is_rapid;
+  if (g_group(code) == 1 && code != 800 && !g53_rapid) modal.motion = code;
+  if (code <= 30 && !g53_rapid) modal.basic_motion = code;
   const bool g53 = words.has_g(530);
   switch (code) {
     case 0:
@@ -458,8 +497,11 @@ void Interpreter::Impl::motion(const Block& b, int code, int non_modal) {
       return;
     }
     case 800:
-      modal.motion = 800;
-      if (words.axis_mask() != 0) fail(b, nullptr, "cannot use axis values with G80");
+      modal.motion = options.dialect.cycles_own_modal_group ? modal.basic_motion : 800;
+      if (words.axis_mask() != 0) {
+        if (modal.motion == 800) fail(b, nullptr, "cannot use axis values with G80");
+        motion(b, modal.motion, non_modal);  // Fanuc: G80 X1 moves in the G0/G1 mode
+      }
       return;
     case 382: case 383: case 384: case 385: {
       if (words.axis_mask() == 0) fail(b, nullptr, "all axes missing with motion code G38.x");
@@ -614,7 +656,12 @@ void Interpreter::Impl::canned_cycle(const Block& b, int code) {
     r = cycle_r + old_cc;
     cc = r + cycle_bottom;
   }
-  if (r < cc) fail(b, nullptr, fmt::format("R value ({}) less than {} value ({}) in canned cycle", r / u, depth_letter, cc / u));
+  if (r < cc) {
+    const std::string what = fmt::format("R value ({}) less than {} value ({}) in canned cycle", r / u, depth_letter, cc / u);
+    // LinuxCNC refuses this; Fanuc-family controls feed "down" to a bottom above R.
+    if (!options.dialect.cycles_own_modal_group) fail(b, nullptr, what);
+    warn(what + ": the hole's bottom is above the R plane", b.line);
+  }
   if ((code == 730 || code == 830) && cycle_q <= 0.0)
     fail(b, nullptr, fmt::format("Q word missing or not positive with {}", g_name(code)));
   if (code == 860 && modal.speed == 0.0) fail(b, nullptr, "spindle not turning in G86");

@@ -62,33 +62,12 @@ struct real_value : pegtl::sor<signed_value, unsigned_value> {};
 
 struct comment_text : pegtl::star<pegtl::not_one<')', '('>> {};
 
-/// `[ ... ]` comment, in the wincnc dialect only.
-struct bracket_comment {
-  using rule_t = bracket_comment;
-  using subs_t = pegtl::empty_list;
-  template <pegtl::apply_mode A, pegtl::rewind_mode M, template <typename...> class Action,
-            template <typename...> class Control, typename ParseInput, typename State>
-  static bool match(ParseInput& in, State& state) {
-    if (!state.dialect->bracket_comments || in.empty() || in.peek_char() != '[') return false;
-    for (std::size_t i = 1; i < in.size(); ++i) {
-      if (in.peek_char(i) == ']') {
-        in.bump(i + 1);
-        return true;
-      }
-    }
-    in.bump(in.size());
-    throw pegtl::parse_error("unclosed comment: expected ']' before the end of the line", in);
-  }
-};
-
-struct comment
-    : pegtl::sor<pegtl::seq<pegtl::one<'('>, comment_text, pegtl::must<pegtl::one<')'>>>,
-                 bracket_comment> {};
+struct comment : pegtl::seq<pegtl::one<'('>, comment_text, pegtl::must<pegtl::one<')'>>> {};
 struct eol_comment : pegtl::seq<pegtl::one<';'>, pegtl::star<pegtl::any>> {};
 
 struct word_letter : pegtl::sor<pegtl::ranges<'A', 'M', 'P', 'Z'>, pegtl::one<'$'>> {};
 
-/// A letter with no value, in the dialects that allow it (Haas: `G82 R.1 Z-.1 P F15.`).
+/// A letter with no value, in the dialects that allow it (Haas `G82 R.1 Z-.1 P F15.`).
 struct empty_value {
   using rule_t = empty_value;
   using subs_t = pegtl::empty_list;

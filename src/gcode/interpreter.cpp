@@ -69,6 +69,26 @@ void Interpreter::Impl::emit(std::string_view name, std::string args) const {
 // ----------------------------------------------------------------------------------------
 // Parameters and expressions
 
+Span Interpreter::Impl::locate_name(const Block& b, std::string_view folded) const {
+  // Find `<name>` in the original text, ignoring case and blanks as the lexer does.
+  const std::string_view t = b.text;
+  for (std::size_t at = t.find('<'); at != std::string_view::npos; at = t.find('<', at + 1)) {
+    std::size_t i = at + 1, k = 0;
+    while (i < t.size() && k < folded.size()) {
+      const char c = t[i];
+      if (c == ' ' || c == '\t') {
+        ++i;
+        continue;
+      }
+      if (std::toupper(static_cast<unsigned char>(c)) != folded[k]) break;
+      ++i, ++k;
+    }
+    while (i < t.size() && (t[i] == ' ' || t[i] == '\t')) ++i;
+    if (k == folded.size() && i < t.size() && t[i] == '>') return Span{static_cast<std::uint32_t>(at + 1), static_cast<std::uint32_t>(i)};
+  }
+  return Span{};
+}
+
 bool Interpreter::Impl::named_exists(std::string_view name) {
   if (overrides.contains(name)) return true;
   if (params.named(name)) return true;
@@ -84,9 +104,10 @@ double Interpreter::Impl::read_named(const Block& b, std::string_view name) {
   if (auto it = overrides.find(name); it != overrides.end()) return it->second;
   if (auto v = params.named(name)) return *v;
   if (name.starts_with("_HAL[") || name.starts_with("_INI[")) {
-    fail(b, nullptr,
-         fmt::format("#<{}> is a value only the controller has; give it with --param '{}=VALUE'",
-                     name, name));
+    const Span at = locate_name(b, name);
+    const std::string spelled = at.empty() ? std::string(name) : std::string(b.slice(at));
+    fail_at(b, at, fmt::format("#<{}> is a value only the controller has; give it with --param '{}=VALUE'",
+                               spelled, spelled));
   }
   const double u = unit();
   static constexpr std::string_view kAxisNames[] = {"X", "Y", "Z", "A", "B", "C", "U", "V", "W"};
@@ -125,7 +146,8 @@ double Interpreter::Impl::read_named(const Block& b, std::string_view name) {
   if (name == "_CALL_LEVEL") return static_cast<double>(calls.size());
   if (name == "_REMAP_LEVEL") return 0.0;
   if (name == "_TASK") return 1.0;  // ccomp reads a program as the machine will run it
-  fail(b, nullptr, fmt::format("named parameter #<{}> is not defined", name));
+  const Span at = locate_name(b, name);
+  fail_at(b, at, fmt::format("named parameter #<{}> is not defined", at.empty() ? std::string(name) : std::string(b.slice(at))));
 }
 
 double Interpreter::Impl::read_numbered(const Block& b, double index) {

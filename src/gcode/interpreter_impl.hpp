@@ -122,6 +122,8 @@ struct Interpreter::Impl {
   double read_numbered(const Block& b, double index);
   double read_named(const Block& b, std::string_view name);
   bool named_exists(std::string_view name);
+  /// Where `<name>` (folded) stands in the original line, for error positions.
+  [[nodiscard]] Span locate_name(const Block& b, std::string_view folded) const;
   void write_numbered(const Block& b, double index, double v);
   void write_named(const Block& b, std::string_view name, double v);
 
@@ -129,6 +131,8 @@ struct Interpreter::Impl {
   void execute(const Block& b);
   void decode(const Block& b);
   void check_unused_words(const Block& b, int motion_code, int non_modal);
+  /// A dialect pass-through G code of the block that moves axes ccomp does not model, or -1.
+  [[nodiscard]] int passthrough_code() const;
   void comment(const Block& b);
   std::string substitute_parameters(const Block& b, std::string_view body);
   void set_units(Units u);

@@ -468,10 +468,15 @@ void fold(std::string_view line, const Dialect& dialect, std::string& folded,
     if (c == ' ' || c == '\t') {
       ++i;
     } else if (c == '(' || (c == '[' && dialect.bracket_comments)) {
+      // WinCNC's `[ ... ]` reads as `( ... )`; the offsets still point at the brackets.
       const char close = c == '(' ? ')' : ']';
       keep(i++);
+      if (c == '[') folded.back() = '(';
       while (i < n && line[i] != close) keep(i++);
-      if (i < n) keep(i++);
+      if (i < n) {
+        keep(i++);
+        if (c == '[') folded.back() = ')';
+      }
     } else if (c == ';') {
       while (i < n) keep(i++);
     } else {

@@ -17,9 +17,20 @@ struct Dialect {
   bool empty_word_values = false;
   /// Mazak posts repeat a G code of one modal group (`G98 G98`): accepted when identical.
   bool repeated_modal_codes = false;
+  /// A word no code of its block uses (`G96 S392 R1`): an error in LinuxCNC, a warning for
+  /// controls whose manuals give such words meanings ccomp does not model.
+  bool unused_words_are_errors = true;
+  /// Fanuc-family controls keep canned cycles in a modal group of their own: after G80 the
+  /// G0/G1/G2/G3 mode in force before the cycle applies again. (LinuxCNC: G80 is group 1.)
+  bool cycles_own_modal_group = false;
+  /// `G53 Z0` with no motion mode moves at rapid (Fanuc, WinCNC); LinuxCNC needs G0 or G1.
+  bool g53_alone_is_rapid = false;
   /// G codes (times 10, e.g. 1221 for G122.1) the controller knows and ccomp passes
-  /// through without modelling them. A block carrying one keeps its axis words verbatim.
+  /// through without modelling them: modes that move nothing themselves.
   std::vector<int> passthrough_g_codes;
+  /// Pass-through G codes that move the axes they name in a way ccomp does not model: the
+  /// block keeps its words verbatim and those axes are unknown until the program sets them.
+  std::vector<int> passthrough_moving_g_codes;
   /// M codes outside the standard set (M100-M199 are always user codes) are accepted and
   /// passed through unless this is set.
   bool strict_m_codes = false;
