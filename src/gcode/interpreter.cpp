@@ -334,6 +334,7 @@ void Interpreter::Impl::run(LineSource& source, CanonSink& out) {
         continue;
       }
       out.block(block, line);
+      ended = true;
       break;  // the closing % ends the program
     }
     if (!block.text.empty()) first_line = false;
@@ -345,8 +346,16 @@ void Interpreter::Impl::run(LineSource& source, CanonSink& out) {
     }
     execute(block);
   }
-  if (!calls.empty() && !ended)
-    warn("program ended inside a subroutine call", line.number);
+  if (ended) return;
+  if (!controls.empty()) {
+    const ControlFrame& open = controls.back();
+    throw Error(ErrorKind::program,
+                fmt::format("O{} {} is never closed: the file ends inside it", open.label,
+                            open.kind == OKeyword::if_ ? "if" : open.kind == OKeyword::repeat ? "repeat" : "loop"),
+                SourceLocation{file_name(), line.number, 0});
+  }
+  if (!calls.empty()) warn("program ended inside a subroutine call", line.number);
+  if (!percent_seen) warn("the program ends without M2, M30 or a closing %", line.number);
 }
 
 // ----------------------------------------------------------------------------------------

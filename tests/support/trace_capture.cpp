@@ -55,6 +55,47 @@ TraceResult trace_text(const std::string& program, const gcode::InterpreterOptio
   return run(source, options);
 }
 
+namespace {
+
+class RecordingSink : public gcode::CanonSink {
+ public:
+  explicit RecordingSink(RunResult& r) : r_(r) {}
+  void motion(const gcode::Motion& m) override {
+    r_.motions.push_back({m, *m.offsets});
+    r_.motions.back().motion.offsets = nullptr;
+  }
+  void call(const gcode::CanonCall& c) override {
+    if (c.name == "MESSAGE") r_.messages.push_back(c.arguments.substr(1, c.arguments.size() - 2));
+  }
+  [[nodiscard]] bool wants_calls() const override { return true; }
+  void warning(const std::string& message, std::uint32_t /*line*/) override { r_.warnings.push_back(message); }
+
+ private:
+  RunResult& r_;
+};
+
+}  // namespace
+
+RunResult run_program(const std::string& program, const gcode::InterpreterOptions& options) {
+  RunResult r;
+  gcode::LineSource source = gcode::LineSource::from_string(program, "test.ngc");
+  RecordingSink sink(r);
+  gcode::Interpreter interpreter(options);
+  try {
+    interpreter.run(source, sink);
+  } catch (const Error& e) {
+    r.error = e;
+  }
+  return r;
+}
+
+double evaluate(const std::string& expression) {
+  const RunResult r = run_program("G21 G0 X[" + expression + "]\nM2\n");
+  if (r.error) throw *r.error;
+  if (r.motions.size() != 1) throw std::runtime_error("no motion for " + expression);
+  return r.motions[0].motion.end[0];
+}
+
 std::vector<std::string> calls_named(const std::vector<std::string>& lines, const std::string& name) {
   std::vector<std::string> out;
   const std::string key = name + "(";

@@ -19,6 +19,24 @@ struct TraceResult {
 TraceResult trace_file(const std::string& path, const gcode::InterpreterOptions& options = {});
 TraceResult trace_text(const std::string& program, const gcode::InterpreterOptions& options = {});
 
+/// A motion as the interpreter reported it, with the offsets in force then.
+struct RecordedMotion {
+  gcode::Motion motion;
+  gcode::Offsets offsets;
+};
+
+struct RunResult {
+  std::vector<RecordedMotion> motions;
+  std::optional<Error> error;
+  std::vector<std::string> warnings;
+  std::vector<std::string> messages;  ///< (DEBUG,...) and (MSG,...) texts
+};
+
+/// Runs a program and records its motions (machine frame, mm and deg).
+RunResult run_program(const std::string& program, const gcode::InterpreterOptions& options = {});
+/// The value of a G-code expression, through `G0 X[expr]` in G21 (throws on error).
+double evaluate(const std::string& expression);
+
 /// The motion calls (STRAIGHT_TRAVERSE, STRAIGHT_FEED, ARC_FEED, STRAIGHT_PROBE) and the
 /// MESSAGE calls of (DEBUG,...) and (MSG,...) of a trace or of an `expected` file, as
 /// "NAME(args)". Messages show parameter values, so they check expressions and subroutines.
