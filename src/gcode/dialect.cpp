@@ -11,6 +11,8 @@ std::optional<Dialect> dialect_named(std::string_view name) {
     d.empty_word_values = true;
     d.cycles_own_modal_group = true;
     d.g53_alone_is_rapid = true;
+    d.starts_in_g99 = false;
+    d.cycles_need_spindle = false;
     return d;
   }
   if (name == "mazak") {

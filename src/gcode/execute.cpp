@@ -235,7 +235,7 @@ Axes Interpreter::Impl::target_of(const Block& /*b*/, bool machine_coordinates) 
     if (!words.has(letter)) continue;
     const double v = words[letter] * (is_rotary(i) ? 1.0 : u);
     if (machine_coordinates)
-      t[i] = v;
+      t[i] = v - offsets.tool[i];  // G53 places the machine axis; the tool tip is below it
     else if (modal.absolute)
       t[i] = v + offsets.origin(i);
     else
@@ -291,7 +291,8 @@ void Interpreter::Impl::execute(const Block& b) {
   const bool g53 = words.has_g(530);
   const int passthrough = passthrough_code();
   const bool axes_used_by_non_modal = non_modal == 100 || non_modal == 280 || non_modal == 300 ||
-                                      non_modal == 520 || non_modal == 920 || passthrough >= 0;
+                                      non_modal == 520 || non_modal == 920 || passthrough >= 0 ||
+                                      words.has_g(431);  // G43.1 takes its offsets as axis words
   if (g53 && motion_code < 0 && options.dialect.g53_alone_is_rapid) motion_code = 0;
   if (motion_code >= 0 && axes_used_by_non_modal && words.axis_mask() != 0)
     fail(b, nullptr, fmt::format("cannot use two G codes that both use axis values: {} and {}",
@@ -331,6 +332,7 @@ void Interpreter::Impl::execute(const Block& b) {
   // 6. tool change
   if (words.has_m(6)) {
     if (modal.selected_tool >= 0) modal.tool = modal.selected_tool;
+    modal.spindle = 0;  // a tool change stops the spindle
     emit("STOP_SPINDLE_TURNING", "0");
     emit("CHANGE_TOOL", "");
   }
@@ -339,9 +341,9 @@ void Interpreter::Impl::execute(const Block& b) {
     modal.tool = static_cast<int>(words['Q']);
   }
   // 7. spindle
-  if (words.has_m(3)) emit("START_SPINDLE_CLOCKWISE", "0");
-  if (words.has_m(4)) emit("START_SPINDLE_COUNTERCLOCKWISE", "0");
-  if (words.has_m(5)) emit("STOP_SPINDLE_TURNING", "0");
+  if (words.has_m(3)) modal.spindle = 1, emit("START_SPINDLE_CLOCKWISE", "0");
+  if (words.has_m(4)) modal.spindle = -1, emit("START_SPINDLE_COUNTERCLOCKWISE", "0");
+  if (words.has_m(5)) modal.spindle = 0, emit("STOP_SPINDLE_TURNING", "0");
   // 8. coolant: nothing that moves.  9. overrides: nothing that moves.
   // 10. dwell
   if (non_modal == 40) {
@@ -475,7 +477,11 @@ void Interpreter::Impl::motion(const Block& b, int code, int non_modal) {
   switch (code) {
     case 0:
     case 10: {
-      if (words.axis_mask() == 0) return;
+      if (words.axis_mask() == 0) {
+        // An explicit G0/G1 without axis words moves nowhere, yet LinuxCNC still issues it.
+        if (words.has_g(code)) straight(code == 0 ? MotionKind::traverse : MotionKind::feed, position, MotionSource::program);
+        return;
+      }
       if (code == 10 && modal.feed == 0.0 && modal.feed_mode != FeedMode::inverse_time)
         fail(b, nullptr, "cannot do G1 with zero feed rate (no F word yet)");
       const Axes t = target_of(b, g53);
@@ -664,7 +670,8 @@ void Interpreter::Impl::canned_cycle(const Block& b, int code) {
   }
   if ((code == 730 || code == 830) && cycle_q <= 0.0)
     fail(b, nullptr, fmt::format("Q word missing or not positive with {}", g_name(code)));
-  if (code == 860 && modal.speed == 0.0) fail(b, nullptr, "spindle not turning in G86");
+  if ((code == 840 || code == 860 || code == 880) && modal.spindle == 0 && options.dialect.cycles_need_spindle)
+    fail(b, nullptr, fmt::format("spindle not turning in {}", g_name(code)));
   position_unknown &= ~((1U << pa.first) | (1U << pa.second) | (1U << pa.normal));
   auto traverse = [&](double a, double bv, double c) { cycle_move(MotionKind::traverse, pa.first, pa.second, pa.normal, a, bv, c); };
   auto feed = [&](double a, double bv, double c) { cycle_move(MotionKind::feed, pa.first, pa.second, pa.normal, a, bv, c); };
@@ -740,7 +747,7 @@ void Interpreter::Impl::reference_return(const Block& b, int code) {
   if (code == 281 || code == 301) {  // store the current position
     const Axes machine = offsets.to_machine(position);
     for (std::size_t i = 0; i < kAxisCount; ++i)
-      params.set_numbered(base + static_cast<int>(i), machine[i] / stored_scale(i));
+      params.set_numbered(base + static_cast<int>(i), (machine[i] + offsets.tool[i]) / stored_scale(i));
     return;
   }
   if (modal.cutter_compensation != 400)
@@ -748,10 +755,10 @@ void Interpreter::Impl::reference_return(const Block& b, int code) {
   const std::uint32_t mask = words.axis_mask();
   const Axes intermediate = target_of(b, false);
   straight(MotionKind::traverse, intermediate, MotionSource::reference_return);
-  Axes home = offsets.to_machine(position);  // home positions are machine coordinates
+  Axes home = offsets.to_machine(position);  // home positions are machine axis positions
   for (std::size_t i = 0; i < kAxisCount; ++i) {
     if (mask != 0 && !((mask >> i) & 1U)) continue;
-    home[i] = params.numbered(base + static_cast<int>(i)) * stored_scale(i);
+    home[i] = params.numbered(base + static_cast<int>(i)) * stored_scale(i) - offsets.tool[i];
   }
   straight(MotionKind::traverse, offsets.from_machine(home), MotionSource::reference_return);
 }
@@ -888,7 +895,8 @@ void Interpreter::Impl::tool_length(const Block& b, int code) {
       }
       break;
     }
-    case 431:
+    case 431:  // the axes given; the others keep their offsets, as in LinuxCNC
+      next = offsets.tool;
       for (std::size_t i = 0; i < kAxisCount; ++i)
         if (words.has(kAxisLetters[i])) next[i] = words[kAxisLetters[i]] * (is_rotary(i) ? 1.0 : u);
       break;

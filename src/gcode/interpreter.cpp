@@ -43,6 +43,7 @@ Interpreter::Impl::Impl(InterpreterOptions o)
       params.set_numbered(n, value);
   }
   params.set_numbered(5220, 1.0);
+  modal.retract_to_r = options.dialect.starts_in_g99;
 }
 
 // ----------------------------------------------------------------------------------------
@@ -116,7 +117,7 @@ double Interpreter::Impl::read_named(const Block& b, std::string_view name) {
     for (std::size_t i = 0; i < kAxisCount; ++i) {
       if (rest == kAxisNames[i]) return program(i) / (is_rotary(i) ? 1.0 : u);
       if (rest.starts_with("ABS_") && rest.substr(4) == kAxisNames[i])
-        return offsets.to_machine(position)[i] / (is_rotary(i) ? 1.0 : u);
+        return (offsets.to_machine(position)[i] + offsets.tool[i]) / (is_rotary(i) ? 1.0 : u);
     }
   }
   if (name == "_VALUE") return value_returned;
@@ -173,8 +174,10 @@ double Interpreter::Impl::read_numbered(const Block& b, double index) {
     return is_rotary(axis) ? v : v / machine_unit();
   }
   if (n >= 5420 && n <= 5428) return length(static_cast<std::size_t>(n - 5420), program(static_cast<std::size_t>(n - 5420)));
-  if (n >= 5021 && n <= 5029)
-    return length(static_cast<std::size_t>(n - 5021), offsets.to_machine(position)[static_cast<std::size_t>(n - 5021)]);
+  if (n >= 5021 && n <= 5029) {  // machine axis positions: the controlled point plus the tool
+    const auto axis = static_cast<std::size_t>(n - 5021);
+    return length(axis, offsets.to_machine(position)[axis] + offsets.tool[axis]);
+  }
   return params.numbered(n);
 }
 

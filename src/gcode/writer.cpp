@@ -14,6 +14,8 @@ std::string apply_edits(std::string_view line, std::vector<Edit> edits) {
   out.reserve(line.size() + 16);
   std::uint32_t at = 0;
   for (const Edit& e : edits) {
+    if (e.span.begin < at || e.span.end < e.span.begin || e.span.end > line.size())
+      throw Error(ErrorKind::internal, "overlapping or out-of-line edit of a program line");
     out.append(line.substr(at, e.span.begin - at));
     out.append(e.text);
     at = e.span.end;

@@ -1,1 +1,138 @@
+// The command line as shop scripts and CAM hooks use it: files in and out, streams, exit
+// codes that mean something, and no half-written output on failure.
 #include <gtest/gtest.h>
+
+#include <filesystem>
+
+#include "trace_capture.hpp"
+
+namespace ccomp::test {
+namespace {
+
+namespace fs = std::filesystem;
+
+std::string ccomp() { return shell_quote(ccomp_binary()); }
+std::string zero() { return shell_quote(source_dir() + "/samples/machines/zero.yaml"); }
+
+/// The output without ccomp's header line.
+std::string without_header(const std::string& text) {
+  const auto at = text.find("(ccomp ");
+  if (at == std::string::npos) return text;
+  const auto end = text.find('\n', at);
+  return text.substr(0, at) + text.substr(end + 1);
+}
+
+constexpr const char* kProgram = "G21 G90\nG0 X1 Y2 (start)\r\nG1 x 3.000 F100\n\nM2\n";
+
+TEST(Cli, MainJobWritesTheProgramBackWithAHeader) {
+  const std::string dir = temp_dir("cli_main");
+  write_file(dir + "/in.nc", kProgram);
+  const CommandResult r = run_command(ccomp() + " " + dir + "/in.nc -m " + zero() + " -o " + dir + "/out.nc");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const std::string out = read_file(dir + "/out.nc");
+  EXPECT_EQ(without_header(out), kProgram);
+  EXPECT_NE(out.find("(ccomp "), std::string::npos);
+  EXPECT_NE(out.find("sha256:"), std::string::npos);
+  for (const auto& e : fs::directory_iterator(dir))
+    EXPECT_EQ(e.path().filename().string().find(".ccomp-"), std::string::npos) << "temporary file left behind";
+}
+
+TEST(Cli, StreamsFromStdinToStdout) {
+  const CommandResult r = run_command(ccomp() + " - -m " + zero() + " -o -", kProgram);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(without_header(r.out), kProgram);
+}
+
+TEST(Cli, ProgramErrorsNamePositionAndLeaveThePreviousOutput) {
+  const std::string dir = temp_dir("cli_error");
+  write_file(dir + "/in.nc", "G0 X1\nG1 X2 F100 G0\nM2\n");
+  write_file(dir + "/out.nc", "previous output\n");
+  const CommandResult r = run_command(ccomp() + " " + dir + "/in.nc -m " + zero() + " -o " + dir + "/out.nc");
+  EXPECT_EQ(r.exit_code, 3);
+  EXPECT_NE(r.err.find("in.nc:2:12: error: two G codes used from the same modal group"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("G1 X2 F100 G0\n             ^"), std::string::npos) << r.err;
+  EXPECT_EQ(read_file(dir + "/out.nc"), "previous output\n");
+  for (const auto& e : fs::directory_iterator(dir))
+    EXPECT_EQ(e.path().filename().string().find(".ccomp-"), std::string::npos) << "temporary file left behind";
+}
+
+TEST(Cli, RefusesToCompensateTwice) {
+  const std::string dir = temp_dir("cli_twice");
+  write_file(dir + "/in.nc", kProgram);
+  ASSERT_EQ(run_command(ccomp() + " " + dir + "/in.nc -m " + zero() + " -o " + dir + "/once.nc").exit_code, 0);
+  const CommandResult again = run_command(ccomp() + " " + dir + "/once.nc -m " + zero() + " -o " + dir + "/twice.nc");
+  EXPECT_EQ(again.exit_code, 7) << again.err;
+  EXPECT_NE(again.err.find("already compensated"), std::string::npos);
+  EXPECT_FALSE(fs::exists(dir + "/twice.nc"));
+  EXPECT_EQ(run_command(ccomp() + " " + dir + "/once.nc -m " + zero() + " -o " + dir + "/twice.nc --force").exit_code, 0);
+}
+
+TEST(Cli, RefusesAxesTheMachineLacks) {
+  const std::string dir = temp_dir("cli_axes");
+  write_file(dir + "/xyz.yaml", "name: three-axis\naxes: {X: {}, Y: {}, Z: {}}\n");
+  write_file(dir + "/in.nc", "G0 X1\nG0 A90\nM2\n");
+  const CommandResult r = run_command(ccomp() + " " + dir + "/in.nc -m " + dir + "/xyz.yaml -o " + dir + "/out.nc");
+  EXPECT_EQ(r.exit_code, 7);
+  EXPECT_NE(r.err.find("in.nc:2:4: refused: the program uses axis A"), std::string::npos) << r.err;
+  EXPECT_FALSE(fs::exists(dir + "/out.nc"));
+}
+
+TEST(Cli, ExitCodesForUsageModelAndIo) {
+  const std::string dir = temp_dir("cli_codes");
+  write_file(dir + "/in.nc", kProgram);
+  write_file(dir + "/bad.yaml", "name: x\naxes: {X: {min: 3, max: 1}}\n");
+  EXPECT_EQ(run_command(ccomp() + " " + dir + "/in.nc -o " + dir + "/o.nc").exit_code, 2);  // no model
+  EXPECT_EQ(run_command(ccomp() + " " + dir + "/in.nc -m " + zero()).exit_code, 2);          // no output
+  EXPECT_EQ(run_command(ccomp() + " --no-such-flag").exit_code, 2);
+  EXPECT_EQ(run_command(ccomp() + " " + dir + "/in.nc -m " + dir + "/bad.yaml -o -").exit_code, 5);
+  EXPECT_EQ(run_command(ccomp() + " " + dir + "/missing.nc -m " + zero() + " -o -").exit_code, 6);
+  const CommandResult help = run_command(ccomp() + " --help");
+  EXPECT_EQ(help.exit_code, 0);
+  EXPECT_NE(help.out.find("Exit codes"), std::string::npos);
+  EXPECT_NE(help.out.find("7   refused"), std::string::npos);
+}
+
+TEST(Cli, InPlaceKeepsABackup) {
+  const std::string dir = temp_dir("cli_inplace");
+  write_file(dir + "/part.nc", kProgram);
+  const CommandResult r = run_command(ccomp() + " " + dir + "/part.nc -m " + zero() + " --in-place");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(read_file(dir + "/part.nc.orig"), kProgram);
+  EXPECT_EQ(without_header(read_file(dir + "/part.nc")), kProgram);
+}
+
+TEST(Cli, BatchWithOutDirAndJobsReportsEveryFailure) {
+  const std::string dir = temp_dir("cli_batch");
+  fs::create_directories(dir + "/in");
+  for (int i = 0; i < 6; ++i) write_file(dir + "/in/p" + std::to_string(i) + ".nc", kProgram);
+  write_file(dir + "/in/broken.nc", "G0 X1\nG2 X2 F1\nM2\n");
+  std::string inputs;
+  for (const auto& e : fs::directory_iterator(dir + "/in")) inputs += " " + e.path().string();
+  const CommandResult r = run_command(ccomp() + inputs + " -m " + zero() + " --out-dir " + dir + "/out -j 3");
+  EXPECT_EQ(r.exit_code, 3) << r.err;
+  EXPECT_NE(r.err.find("broken.nc:2"), std::string::npos) << r.err;
+  for (int i = 0; i < 6; ++i)
+    EXPECT_EQ(without_header(read_file(dir + "/out/p" + std::to_string(i) + ".nc")), kProgram) << i;
+  EXPECT_FALSE(fs::exists(dir + "/out/broken.nc"));
+}
+
+TEST(Cli, FilterProgressLinesOnRequest) {
+  std::string big;
+  for (int i = 0; i < 2000; ++i) big += "G1 X" + std::to_string(i) + " F100\n";
+  const CommandResult r = run_command(ccomp() + " - -m " + zero() + " -o - --progress", big + "M2\n");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.err.find("FILTER_PROGRESS=0\n"), std::string::npos);
+  EXPECT_NE(r.err.find("FILTER_PROGRESS=100\n"), std::string::npos);
+  EXPECT_EQ(run_command(ccomp() + " - -m " + zero() + " -o -", "G0 X1\nM2\n").err.find("FILTER_PROGRESS"),
+            std::string::npos);
+}
+
+TEST(Cli, TracePrintsCanonicalCalls) {
+  const CommandResult r = run_command(ccomp() + " trace -", "G21 G0 X1\nG1 Y2 F10\nM2\n");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find("STRAIGHT_TRAVERSE(1.0000, 0.0000, 0.0000, 0.0000, 0.0000, 0.0000)"), std::string::npos);
+  EXPECT_NE(r.out.find("STRAIGHT_FEED(1.0000, 2.0000, 0.0000, 0.0000, 0.0000, 0.0000)"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace ccomp::test

@@ -1,1 +1,99 @@
+// The writer: unedited lines byte for byte, edited lines change only the edited bytes,
+// the header goes first or after a leading %.
 #include <gtest/gtest.h>
+
+#include <cstdio>
+#include <cstdlib>
+
+#include "ccomp/error.hpp"
+#include "ccomp/gcode/writer.hpp"
+
+namespace ccomp::gcode {
+namespace {
+
+std::string write_program(const std::string& program, const std::string& header,
+                          const std::vector<std::pair<std::uint64_t, std::vector<Edit>>>& edits = {}) {
+  char* buffer = nullptr;
+  std::size_t size = 0;
+  std::FILE* out = open_memstream(&buffer, &size);
+  LineSource source = LineSource::from_string(program);
+  ProgramWriter writer(source.another_reader(), out, header);
+  for (const auto& [offset, e] : edits) writer.edit(offset, e);
+  writer.finish();
+  std::fclose(out);
+  std::string text(buffer, size);
+  std::free(buffer);
+  return text;
+}
+
+TEST(Writer, CopiesUneditedLinesByteForByte) {
+  const std::string program = "G0  x1.000 (keep)\r\n\tg1 Y2 ; tail\r\n\r\nM2";
+  EXPECT_EQ(write_program(program, "(H)"), "(H)\r\n" + program);
+}
+
+TEST(Writer, HeaderGoesAfterALeadingPercent) {
+  EXPECT_EQ(write_program("%\nG0 X1\n%\n", "(H)"), "%\n(H)\nG0 X1\n%\n");
+  EXPECT_EQ(write_program("", "(H)"), "(H)\n");
+}
+
+TEST(Writer, EditsReplaceOnlyTheirBytes) {
+  const std::string program = "G0 X1\nG1 x 1 . 5 (c) Y2 F100\nM2\n";
+  // line 2 starts at byte 6; in it "1 . 5" is at [5, 10) and "2" at [16, 17)
+  const std::string out = write_program(program, "(H)", {{6, {Edit{{5, 10}, "1.5003"}, Edit{{16, 17}, "1.9998"}}}});
+  EXPECT_EQ(out, "(H)\nG0 X1\nG1 x 1.5003 (c) Y1.9998 F100\nM2\n");
+}
+
+TEST(Writer, ApplyEditsSortsAndKeepsTheRest) {
+  EXPECT_EQ(apply_edits("abcdef", {Edit{{4, 5}, "E"}, Edit{{0, 1}, "A"}}), "AbcdEf");
+  EXPECT_EQ(apply_edits("abc", {}), "abc");
+  EXPECT_THROW((void)apply_edits("abc", {Edit{{2, 5}, "x"}}), Error);
+  EXPECT_THROW((void)apply_edits("abcdef", {Edit{{1, 4}, "x"}, Edit{{3, 5}, "y"}}), Error);
+}
+
+TEST(Writer, RefusesAnEditForALineAlreadyWritten) {
+  std::FILE* out = std::tmpfile();
+  LineSource source = LineSource::from_string("G0 X1\nG0 X2\n");
+  ProgramWriter writer(source.another_reader(), out, "(H)");
+  writer.advance_to(6);
+  EXPECT_THROW(writer.edit(0, {Edit{{4, 5}, "9"}}), Error);
+  std::fclose(out);
+}
+
+TEST(LineSource, SplitsLinesKeepingTerminatorsAndSeeks) {
+  LineSource s = LineSource::from_string("a\r\nb\nc");
+  SourceLine l;
+  ASSERT_TRUE(s.next(l));
+  EXPECT_EQ(l.text, "a");
+  EXPECT_EQ(l.terminator, "\r\n");
+  const SourcePosition after_a = s.tell();
+  ASSERT_TRUE(s.next(l));
+  EXPECT_EQ(l.text, "b");
+  EXPECT_EQ(l.number, 2U);
+  ASSERT_TRUE(s.next(l));
+  EXPECT_EQ(l.text, "c");
+  EXPECT_EQ(l.terminator, "");
+  EXPECT_FALSE(s.next(l));
+  s.seek(after_a);
+  ASSERT_TRUE(s.next(l));
+  EXPECT_EQ(l.text, "b");
+  EXPECT_EQ(l.offset, 3U);
+}
+
+TEST(LineSource, FileReaderHandlesLinesLongerThanItsBuffer) {
+  const std::string path = std::string(std::getenv("TMPDIR") ? std::getenv("TMPDIR") : "/tmp") + "/ccomp-long-line.ngc";
+  std::string long_line(3 << 20, 'x');
+  std::FILE* f = std::fopen(path.c_str(), "wb");
+  std::fputs(("(" + long_line + ")\nG0 X1\n").c_str(), f);
+  std::fclose(f);
+  LineSource s = LineSource::open(path);
+  SourceLine l;
+  ASSERT_TRUE(s.next(l));
+  EXPECT_EQ(l.text.size(), long_line.size() + 2);
+  ASSERT_TRUE(s.next(l));
+  EXPECT_EQ(l.text, "G0 X1");
+  EXPECT_FALSE(s.next(l));
+  std::remove(path.c_str());
+}
+
+}  // namespace
+}  // namespace ccomp::gcode

@@ -1,1 +1,55 @@
+// The machine model file at this stage: axes, limits, dialect; validate() names the entry.
 #include <gtest/gtest.h>
+
+#include "ccomp/error.hpp"
+#include "ccomp/model/machine.hpp"
+#include "trace_capture.hpp"
+
+namespace ccomp::model {
+namespace {
+
+TEST(MachineModel, ZeroSampleAcceptsEveryAxis) {
+  const MachineModel m = load_machine_model(test::source_dir() + "/samples/machines/zero.yaml");
+  EXPECT_EQ(m.name, "zero");
+  EXPECT_EQ(m.axes.size(), 9U);
+  for (char c : std::string("XYZABCUVW")) EXPECT_NE(m.axis(c), nullptr) << c;
+  EXPECT_EQ(m.sha256.size(), 64U);
+}
+
+TEST(MachineModel, HashNamesTheBytes) {
+  const MachineModel a = parse_machine_model("name: a\naxes: {X: {}}\n", "a.yaml");
+  const MachineModel b = parse_machine_model("name: a\naxes: {X: {}} \n", "b.yaml");
+  EXPECT_NE(a.sha256, b.sha256);
+}
+
+struct BadModel {
+  const char* yaml;
+  const char* words;
+};
+void PrintTo(const BadModel& b, std::ostream* os) { *os << b.yaml; }
+
+class BadModels : public ::testing::TestWithParam<BadModel> {};
+
+TEST_P(BadModels, AreRefusedNamingTheEntry) {
+  try {
+    (void)parse_machine_model(GetParam().yaml, "m.yaml");
+    FAIL() << "accepted";
+  } catch (const Error& e) {
+    EXPECT_EQ(e.kind(), ErrorKind::model);
+    EXPECT_NE(e.message().find(GetParam().words), std::string::npos) << e.message();
+    EXPECT_EQ(e.where().file, "m.yaml");
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(
+    Files, BadModels,
+    ::testing::Values(BadModel{"name: m\n", "axes"}, BadModel{"axes: {Q: {}}\n", "Q"},
+                      BadModel{"axes: {X: {min: 5, max: 1}}\n", "min 5"},
+                      BadModel{"axes: {X: {min: .nan}}\n", "NaN"},
+                      BadModel{"axes: {X: {max: fast}}\n", "must be a number"},
+                      BadModel{"axes: {X: {type: spiral}}\n", "spiral"},
+                      BadModel{"axes: {X: {}}\ndialect: heidenhain\n", "heidenhain"},
+                      BadModel{"axes: [X\n", ""}));
+
+}  // namespace
+}  // namespace ccomp::model

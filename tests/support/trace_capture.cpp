@@ -2,6 +2,7 @@
 
 #include <cstdio>
 #include <cstdlib>
+#include <sys/wait.h>
 #include <filesystem>
 #include <fstream>
 #include <cmath>
@@ -219,6 +220,26 @@ std::string read_file(const std::string& path) {
 void write_file(const std::string& path, const std::string& text) {
   std::ofstream out(path, std::ios::binary);
   out << text;
+}
+
+std::string shell_quote(const std::string& s) {
+  std::string q = "'";
+  for (char c : s) q += c == '\'' ? std::string("'\\''") : std::string(1, c);
+  return q + "'";
+}
+
+CommandResult run_command(const std::string& command, const std::string& stdin_text) {
+  static int counter = 0;
+  const std::string dir = temp_dir("cmd" + std::to_string(++counter));
+  write_file(dir + "/in", stdin_text);
+  const std::string full = "(" + command + ") < " + shell_quote(dir + "/in") + " > " + shell_quote(dir + "/out") +
+                           " 2> " + shell_quote(dir + "/err");
+  const int status = std::system(full.c_str());
+  CommandResult r;
+  r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  r.out = read_file(dir + "/out");
+  r.err = read_file(dir + "/err");
+  return r;
 }
 
 std::string source_dir() { return CCOMP_SOURCE_DIR; }

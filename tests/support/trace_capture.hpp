@@ -59,6 +59,16 @@ std::vector<std::string> read_lines(const std::string& path);
 std::string read_file(const std::string& path);
 void write_file(const std::string& path, const std::string& text);
 
+/// Runs a shell command; returns its exit code, stdout and stderr.
+struct CommandResult {
+  int exit_code = -1;
+  std::string out;
+  std::string err;
+};
+CommandResult run_command(const std::string& command, const std::string& stdin_text = "");
+/// Single-quotes a string for the shell.
+std::string shell_quote(const std::string& s);
+
 /// Paths the build gives the tests.
 std::string source_dir();
 std::string shared_dir();

@@ -25,6 +25,11 @@ struct Dialect {
   bool cycles_own_modal_group = false;
   /// `G53 Z0` with no motion mode moves at rapid (Fanuc, WinCNC); LinuxCNC needs G0 or G1.
   bool g53_alone_is_rapid = false;
+  /// The retract mode at program start: rs274 starts in G99 (back to R), Fanuc in G98.
+  bool starts_in_g99 = true;
+  /// LinuxCNC refuses G84/G86/G88 with the spindle stopped; rigid-tapping controls (Haas,
+  /// Fanuc) drive the spindle from the cycle.
+  bool cycles_need_spindle = true;
   /// G codes (times 10, e.g. 1221 for G122.1) the controller knows and ccomp passes
   /// through without modelling them: modes that move nothing themselves.
   std::vector<int> passthrough_g_codes;

@@ -45,10 +45,11 @@ struct ModalState {
   FeedMode feed_mode = FeedMode::units_per_minute;
   int cutter_compensation = 400;  ///< G40, G41, G41.1, G42, G42.1
   int tool_length_mode = 490;     ///< G49, G43, G43.1, G43.2
-  bool retract_to_r = false;      ///< G99 (else G98: back to the initial level)
+  bool retract_to_r = true;       ///< G99 (else G98: back to the initial level)
   int path_mode = 640;
   double feed = 0.0;  ///< mm/min (or inverse time, or mm/rev)
   double speed = 0.0;
+  int spindle = 0;  ///< 1 clockwise (M3), -1 counter-clockwise (M4), 0 stopped (M5, M6)
   int tool = 0;
   int selected_tool = -1;
 };
