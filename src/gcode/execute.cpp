@@ -79,7 +79,7 @@ void Interpreter::Impl::decode(const Block& b) {
   words = Words{};
   for (const Word& w : b.words) {
     if (!w.has_value) continue;  // a lone letter, where the dialect allows it
-    const double v = evaluate(b, w.value);
+    const double v = w.value.is_literal() ? w.value.literal : evaluate(b, w.value);
     if (!std::isfinite(v)) fail(b, &w, fmt::format("{} word evaluates to {}", w.letter, v));
     if (w.letter == 'G') {
       const double scaled = v * 10.0;
@@ -87,12 +87,14 @@ void Interpreter::Impl::decode(const Block& b) {
       if (std::abs(scaled - code) > 1e-4 || code < 0) fail(b, &w, fmt::format("bad G code G{}", v));
       if (words.g_count == static_cast<int>(words.g.size())) fail(b, &w, "too many G codes on one line");
       words.g[static_cast<std::size_t>(words.g_count)] = code;
+      if (code < 1000) words.g_set.set(static_cast<std::size_t>(code));
       words.g_word[static_cast<std::size_t>(words.g_count++)] = &w;
     } else if (w.letter == 'M') {
       const auto code = static_cast<int>(std::lround(v));
       if (std::abs(v - code) > 1e-4 || code < 0) fail(b, &w, fmt::format("bad M code M{}", v));
       if (words.m_count == static_cast<int>(words.m.size())) fail(b, &w, "too many M codes on one line");
       words.m[static_cast<std::size_t>(words.m_count)] = code;
+      if (code < 200) words.m_set.set(static_cast<std::size_t>(code));
       words.m_word[static_cast<std::size_t>(words.m_count++)] = &w;
     } else if (w.letter == '$') {
       words.has_spindle_selector = true;
@@ -310,7 +312,7 @@ void Interpreter::Impl::execute(const Block& b) {
     const double f = words['F'];
     if (f < 0) fail(b, words.word['F' - 'A'], fmt::format("negative F word: {}", f));
     modal.feed = modal.feed_mode == FeedMode::inverse_time ? f : f * u;
-    emit("SET_FEED_RATE", fixed4(f));
+    emit_lazy("SET_FEED_RATE", [&] { return fixed4(f); });
   } else if (modal.feed_mode == FeedMode::inverse_time) {
     const int m = motion_code >= 0 ? motion_code : modal.motion;
     if ((m == 10 || m == 20 || m == 30) && words.axis_mask() != 0)
@@ -320,14 +322,14 @@ void Interpreter::Impl::execute(const Block& b) {
   if (words.has('S')) {
     if (words['S'] < 0) fail(b, words.word['S' - 'A'], "negative spindle speed");
     modal.speed = words['S'];
-    emit("SET_SPINDLE_SPEED", "0, " + fixed4(modal.speed));
+    emit_lazy("SET_SPINDLE_SPEED", [&] { return "0, " + fixed4(modal.speed); });
   }
   // 5. select tool
   if (words.has('T')) {
     const double t = words['T'];
     if (t < 0 || t != std::floor(t)) fail(b, words.word['T' - 'A'], fmt::format("bad tool number T{}", t));
     modal.selected_tool = static_cast<int>(t);
-    emit("SELECT_TOOL", fmt::format("{}", modal.selected_tool));
+    emit_lazy("SELECT_TOOL", [&] { return fmt::format("{}", modal.selected_tool); });
   }
   // 6. tool change
   if (words.has_m(6)) {
@@ -439,6 +441,10 @@ int Interpreter::Impl::passthrough_code() const {
 }
 
 void Interpreter::Impl::check_unused_words(const Block& b, int motion_code, int non_modal) {
+  constexpr auto bit = [](char c) { return 1U << (c - 'A'); };
+  constexpr std::uint32_t kChecked =
+      bit('R') | bit('I') | bit('J') | bit('K') | bit('L') | bit('Q') | bit('P') | bit('D') | bit('H');
+  if ((words.present & kChecked) == 0) return;  // the common block: nothing to check
   const int motion_mode = motion_code >= 0 ? motion_code : modal.motion;
   const bool arc = motion_mode == 20 || motion_mode == 30;
   const bool cycle = is_cycle(motion_mode);

@@ -54,11 +54,11 @@ struct unary_function
                  TAO_PEGTL_STRING("FUP"), TAO_PEGTL_STRING("LN"), TAO_PEGTL_STRING("ROUND"),
                  TAO_PEGTL_STRING("SIN"), TAO_PEGTL_STRING("SQRT"), TAO_PEGTL_STRING("TAN")> {};
 struct unary_call : pegtl::seq<unary_function, pegtl::must<expression>> {};
-struct function_call : pegtl::sor<atan_call, exists_call, unary_call> {};
+struct function_call : pegtl::seq<pegtl::at<pegtl::upper>, pegtl::sor<atan_call, exists_call, unary_call>> {};
 
 struct unsigned_value : pegtl::sor<unsigned_real, expression, parameter_value, function_call> {};
 struct signed_value : pegtl::seq<pegtl::one<'+', '-'>, pegtl::must<unsigned_value>> {};
-struct real_value : pegtl::sor<signed_value, unsigned_value> {};
+struct real_value : pegtl::sor<unsigned_value, signed_value> {};
 
 struct comment_text : pegtl::star<pegtl::not_one<')', '('>> {};
 
@@ -89,7 +89,7 @@ struct parameter_setting
     : pegtl::seq<pegtl::one<'#'>, pegtl::must<parameter_index>, pegtl::must<pegtl::one<'='>>,
                  pegtl::must<real_value>> {};
 
-struct segment : pegtl::sor<comment, parameter_setting, word> {};
+struct segment : pegtl::sor<word, comment, parameter_setting> {};
 
 struct comment;
 struct o_label : pegtl::sor<named_parameter, digits, parameter_value> {};

@@ -2,6 +2,7 @@
 // Private: the interpreter's state, shared by interpreter.cpp (the run loop and control
 // flow) and execute.cpp (what one block does).
 #include <array>
+#include <bitset>
 #include <cstdint>
 #include <memory>
 #include <string>
@@ -28,15 +29,19 @@ struct Words {
   std::array<const Word*, 8> m_word{};
   int m_count = 0;
   bool has_spindle_selector = false;
+  std::bitset<1000> g_set;  ///< G codes (times ten) below G100 present, for has_g()
+  std::bitset<200> m_set;   ///< M codes below M200 present
 
   [[nodiscard]] bool has(char letter) const { return (present >> (letter - 'A')) & 1U; }
   [[nodiscard]] double operator[](char letter) const { return value[static_cast<std::size_t>(letter - 'A')]; }
   [[nodiscard]] bool has_g(int code) const {
+    if (code < 1000) return g_set[static_cast<std::size_t>(code)];
     for (int i = 0; i < g_count; ++i)
       if (g[static_cast<std::size_t>(i)] == code) return true;
     return false;
   }
   [[nodiscard]] bool has_m(int code) const {
+    if (code < 200) return m_set[static_cast<std::size_t>(code)];
     for (int i = 0; i < m_count; ++i)
       if (m[static_cast<std::size_t>(i)] == code) return true;
     return false;
@@ -154,6 +159,11 @@ struct Interpreter::Impl {
   [[noreturn]] void fail_at(const Block& b, Span span, const std::string& message) const;
   void warn(const std::string& message, std::uint32_t line_no) const;
   void emit(std::string_view name, std::string args) const;
+  /// For calls on hot paths: formats only when a sink reads canonical calls.
+  template <typename MakeArguments>
+  void emit_lazy(std::string_view name, MakeArguments&& make) const {
+    if (sink && sink->wants_calls()) emit(name, make());
+  }
   /// mm per program unit (G20/G21) and per machine unit (parameters, tool table).
   [[nodiscard]] double unit() const { return modal.units == Units::inch ? 25.4 : 1.0; }
   [[nodiscard]] double machine_unit() const { return options.machine_units == Units::inch ? 25.4 : 1.0; }

@@ -1,6 +1,7 @@
 #include "ccomp/gcode/parser.hpp"
 
 #include <algorithm>
+#include <array>
 #include <charconv>
 #include <string>
 
@@ -71,8 +72,8 @@ struct State {
   Block* block = nullptr;
   const char* base = nullptr;             // the folded line
   const std::uint32_t* offsets = nullptr;  // folded index -> original index (+ sentinel)
-  std::vector<std::uint32_t> marks;       // rpn size when a marked rule started
-  std::vector<std::uint8_t> operators;    // shunting-yard stack; kMarker opens a bracket
+  std::vector<std::uint32_t>& marks;       // rpn size when a marked rule started
+  std::vector<std::uint8_t>& operators;    // shunting-yard stack; kMarker opens a bracket
   std::uint32_t expression_depth = 0;
   bool collecting_o_arguments = false;
   std::uint32_t index_end = 0;  // rpn size after a parameter_setting's index
@@ -162,16 +163,40 @@ struct Control : pegtl::must_if<Errors>::control<Rule> {
 template <typename Rule>
 struct Action : pegtl::nothing<Rule> {};
 
+/// Decimal text to the nearest double. Up to 15 significant digits (every coordinate a
+/// control prints) the digits make an exact integer m and the value is m / 10^k with both
+/// exact, so one division rounds correctly (Clinger's fast path); longer numbers go to
+/// std::from_chars.
+double decimal_value(const char* first, const char* last) {
+  static constexpr double kPow10[] = {1e0,  1e1,  1e2,  1e3,  1e4,  1e5,  1e6,  1e7,  1e8,  1e9,  1e10, 1e11,
+                                      1e12, 1e13, 1e14, 1e15, 1e16, 1e17, 1e18, 1e19, 1e20, 1e21, 1e22};
+  std::uint64_t mantissa = 0;
+  int digits = 0, fraction = 0;
+  bool point = false;
+  for (const char* p = first; p != last; ++p) {
+    if (*p == '.') {
+      point = true;
+      continue;
+    }
+    if (mantissa == 0 && *p == '0') {  // leading zeros carry no precision
+      fraction += point;
+      continue;
+    }
+    mantissa = mantissa * 10 + static_cast<std::uint64_t>(*p - '0');
+    ++digits;
+    fraction += point;
+  }
+  if (digits <= 15 && fraction <= 22) return static_cast<double>(mantissa) / kPow10[fraction];
+  double v = 0.0;
+  std::from_chars(first, last, v);
+  return v;
+}
+
 template <>
 struct Action<g::unsigned_real> {
   template <typename Input>
   static void apply(const Input& in, State& st) {
-    double v = 0.0;
-    const char* first = in.begin();
-    const auto [ptr, ec] = std::from_chars(first, in.end(), v);
-    if (ec != std::errc() || ptr != in.end())
-      throw pegtl::parse_error("bad number format", in);
-    st.block->rpn.push_back(ExprNode{ExprOp::number, v, 0, 0});
+    st.block->rpn.push_back(ExprNode{ExprOp::number, decimal_value(in.begin(), in.end()), 0, 0});
   }
 };
 
@@ -451,41 +476,61 @@ template <> struct Action<g::o_continue> : KeywordAction<OKeyword::continue_> {}
 template <> struct Action<g::o_repeat> : KeywordAction<OKeyword::repeat> {};
 template <> struct Action<g::o_endrepeat> : KeywordAction<OKeyword::endrepeat> {};
 
+// How the lexical layer treats each byte: copied (folded to upper case), dropped (blank),
+// or the start of a comment.
+enum : std::uint8_t { kCopy = 0, kBlank = 1, kComment = 2 };
+
+struct ByteClasses {
+  std::array<std::uint8_t, 256> kind{};
+  std::array<char, 256> upper{};
+  constexpr ByteClasses() {
+    for (int c = 0; c < 256; ++c) upper[static_cast<std::size_t>(c)] = static_cast<char>(c >= 'a' && c <= 'z' ? c - 'a' + 'A' : c);
+    kind[' '] = kind['\t'] = kBlank;
+    kind['('] = kind[';'] = kind['['] = kComment;
+  }
+};
+constexpr ByteClasses kBytes;
+
 // The lexical layer: blanks out, letters up, comments verbatim; remember where each kept
 // byte came from.
 void fold(std::string_view line, const Dialect& dialect, std::string& folded,
           std::vector<std::uint32_t>& offsets) {
-  folded.clear();
-  offsets.clear();
   const std::size_t n = line.size();
+  folded.resize(n);
+  offsets.resize(n + 1);
+  char* f = folded.data();
+  std::uint32_t* o = offsets.data();
+  std::size_t k = 0;  // bytes kept
   std::size_t i = 0;
   auto keep = [&](std::size_t at) {
-    folded.push_back(line[at]);
-    offsets.push_back(static_cast<std::uint32_t>(at));
+    f[k] = line[at];
+    o[k++] = static_cast<std::uint32_t>(at);
   };
   while (i < n) {
     const char c = line[i];
-    if (c == ' ' || c == '\t') {
+    const std::uint8_t kind = kBytes.kind[static_cast<unsigned char>(c)];
+    if (kind == kCopy || (c == '[' && !dialect.bracket_comments)) {
+      f[k] = kBytes.upper[static_cast<unsigned char>(c)];
+      o[k++] = static_cast<std::uint32_t>(i++);
+    } else if (kind == kBlank) {
       ++i;
-    } else if (c == '(' || (c == '[' && dialect.bracket_comments)) {
+    } else if (c == '(' || c == '[') {
       // WinCNC's `[ ... ]` reads as `( ... )`; the offsets still point at the brackets.
       const char close = c == '(' ? ')' : ']';
       keep(i++);
-      if (c == '[') folded.back() = '(';
+      if (c == '[') f[k - 1] = '(';
       while (i < n && line[i] != close) keep(i++);
       if (i < n) {
         keep(i++);
-        if (c == '[') folded.back() = ')';
+        if (c == '[') f[k - 1] = ')';
       }
-    } else if (c == ';') {
+    } else {  // ';' to the end of the line
       while (i < n) keep(i++);
-    } else {
-      folded.push_back(c >= 'a' && c <= 'z' ? static_cast<char>(c - 'a' + 'A') : c);
-      offsets.push_back(static_cast<std::uint32_t>(i));
-      ++i;
     }
   }
-  offsets.push_back(static_cast<std::uint32_t>(n));
+  o[k] = static_cast<std::uint32_t>(n);
+  folded.resize(k);
+  offsets.resize(k + 1);
 }
 
 template <typename Rule>
@@ -509,9 +554,9 @@ void Parser::parse(std::string_view text, std::uint32_t line, std::string_view f
   out.text = text;
   out.line = line;
   fold(text, dialect_, folded_, offsets_);
-  State st;
-  st.dialect = &dialect_;
-  st.block = &out;
+  marks_.clear();
+  operators_.clear();
+  State st{&dialect_, &out, nullptr, nullptr, marks_, operators_};
   st.base = folded_.data();
   st.offsets = offsets_.data();
   pegtl::memory_input<pegtl::tracking_mode::lazy, pegtl::eol::lf_crlf> in(

@@ -35,23 +35,26 @@ void ProgramWriter::edit(std::uint64_t line_offset, std::vector<Edit> edits) {
 }
 
 void ProgramWriter::write_line(const SourceLine& line) {
-  const bool percent = !line.text.empty() && line.text.find_first_not_of(" \t") != std::string_view::npos &&
-                       line.text[line.text.find_first_not_of(" \t")] == '%';
-  std::string_view terminator = line.terminator.empty() ? std::string_view("\n") : line.terminator;
-  if (!header_written_ && !(percent && line.offset == 0)) {
-    std::fwrite(header_.data(), 1, header_.size(), out_);
-    std::fwrite(terminator.data(), 1, terminator.size(), out_);
-    header_written_ = true;
+  if (!header_written_) {
+    const auto first = line.text.find_first_not_of(" \t");
+    const bool percent = first != std::string_view::npos && line.text[first] == '%';
+    if (!(percent && line.offset == 0)) {
+      const std::string_view terminator = line.terminator.empty() ? std::string_view("\n") : line.terminator;
+      std::fwrite(header_.data(), 1, header_.size(), out_);
+      std::fwrite(terminator.data(), 1, terminator.size(), out_);
+      header_written_ = true;
+    }
   }
-  auto it = edits_.find(line.offset);
+  auto it = edits_.empty() ? edits_.end() : edits_.find(line.offset);
   if (it != edits_.end()) {
     const std::string text = apply_edits(line.text, std::move(it->second));
     edits_.erase(it);
     std::fwrite(text.data(), 1, text.size(), out_);
+    std::fwrite(line.terminator.data(), 1, line.terminator.size(), out_);
   } else {
-    std::fwrite(line.text.data(), 1, line.text.size(), out_);
+    // The text and its terminator are adjacent in the reader's buffer: one write.
+    std::fwrite(line.text.data(), 1, line.text.size() + line.terminator.size(), out_);
   }
-  std::fwrite(line.terminator.data(), 1, line.terminator.size(), out_);
 }
 
 void ProgramWriter::advance_to(std::uint64_t offset) {

@@ -26,6 +26,8 @@ class Parser {
   Dialect dialect_;
   std::string folded_;
   std::vector<std::uint32_t> offsets_;
+  std::vector<std::uint32_t> marks_;     // parse scratch, kept between lines
+  std::vector<std::uint8_t> operators_;
 };
 
 /// The names of the grammar's rules, as the parser declares them (for the sync test).

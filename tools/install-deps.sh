@@ -1,0 +1,17 @@
+#!/usr/bin/env bash
+# Installs what ccomp builds and tests with, from Debian 12's packages only. Skips apt when
+# everything is there already.
+set -euo pipefail
+packages=(cmake ninja-build g++ pkg-config
+          libeigen3-dev libcli11-dev libfmt-dev libyaml-cpp-dev tao-pegtl-dev
+          libgtest-dev libgmock-dev libbenchmark-dev
+          # what LinuxCNC's rs274 (the differential-test oracle) links against
+          libpython3.11 libedit2 libtirpc3)
+missing=()
+for p in "${packages[@]}"; do dpkg -s "$p" >/dev/null 2>&1 || missing+=("$p"); done
+if [ ${#missing[@]} -gt 0 ]; then
+  sudo=""
+  [ "$(id -u)" -eq 0 ] || sudo="sudo"
+  $sudo apt-get update -qq
+  DEBIAN_FRONTEND=noninteractive $sudo apt-get install -y -qq --no-install-recommends "${missing[@]}"
+fi
