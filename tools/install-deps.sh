@@ -4,7 +4,7 @@
 set -euo pipefail
 packages=(cmake ninja-build g++ pkg-config
           libeigen3-dev libcli11-dev libfmt-dev libyaml-cpp-dev tao-pegtl-dev
-          libgtest-dev libgmock-dev libbenchmark-dev
+          libgtest-dev libgmock-dev libbenchmark-dev bc time
           # what LinuxCNC's rs274 (the differential-test oracle) links against
           libpython3.11 libedit2 libtirpc3)
 missing=()

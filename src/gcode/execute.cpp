@@ -1,7 +1,8 @@
 // What one block does, in RS-274/NGC's order of execution (LinuxCNC's convert_*).
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <cmath>
-#include <fmt/format.h>
 
 #include "interpreter_impl.hpp"
 
@@ -14,50 +15,164 @@ constexpr double kPi = 3.14159265358979323846;
 /// Modal group of a G code (times ten); -1 when unknown. Group numbers follow RS-274/NGC.
 int g_group(int code) {
   switch (code) {
-    case 0: case 10: case 20: case 30: case 330: case 331: case 382: case 383: case 384:
-    case 385: case 730: case 760: case 800: case 810: case 820: case 830: case 840: case 850:
-    case 860: case 870: case 880: case 890: case 50: case 51: case 52: return 1;
-    case 170: case 171: case 180: case 181: case 190: case 191: return 2;
-    case 900: case 910: return 3;
-    case 901: case 911: return 4;
-    case 930: case 940: case 950: return 5;
-    case 200: case 210: return 6;
-    case 400: case 410: case 411: case 420: case 421: return 7;
-    case 430: case 431: case 432: case 490: return 8;
-    case 980: case 990: return 10;
-    case 540: case 550: case 560: case 570: case 580: case 590: case 591: case 592: case 593:
+    case 0:
+    case 10:
+    case 20:
+    case 30:
+    case 330:
+    case 331:
+    case 382:
+    case 383:
+    case 384:
+    case 385:
+    case 730:
+    case 760:
+    case 800:
+    case 810:
+    case 820:
+    case 830:
+    case 840:
+    case 850:
+    case 860:
+    case 870:
+    case 880:
+    case 890:
+    case 50:
+    case 51:
+    case 52:
+      return 1;
+    case 170:
+    case 171:
+    case 180:
+    case 181:
+    case 190:
+    case 191:
+      return 2;
+    case 900:
+    case 910:
+      return 3;
+    case 901:
+    case 911:
+      return 4;
+    case 930:
+    case 940:
+    case 950:
+      return 5;
+    case 200:
+    case 210:
+      return 6;
+    case 400:
+    case 410:
+    case 411:
+    case 420:
+    case 421:
+      return 7;
+    case 430:
+    case 431:
+    case 432:
+    case 490:
+      return 8;
+    case 980:
+    case 990:
+      return 10;
+    case 540:
+    case 550:
+    case 560:
+    case 570:
+    case 580:
+    case 590:
+    case 591:
+    case 592:
+    case 593:
       return 12;
-    case 610: case 611: case 640: return 13;
-    case 960: case 970: return 14;
-    case 70: case 80: return 15;
-    case 40: case 100: case 280: case 281: case 300: case 301: case 520: case 530: case 920:
-    case 921: case 922: case 923: return 0;
-    default: return -1;
+    case 610:
+    case 611:
+    case 640:
+      return 13;
+    case 960:
+    case 970:
+      return 14;
+    case 70:
+    case 80:
+      return 15;
+    case 40:
+    case 100:
+    case 280:
+    case 281:
+    case 300:
+    case 301:
+    case 520:
+    case 530:
+    case 920:
+    case 921:
+    case 922:
+    case 923:
+      return 0;
+    default:
+      return -1;
   }
 }
 
 /// Modal group of an M code; -1 for codes outside the standard set.
 int m_group(int code) {
   switch (code) {
-    case 0: case 1: case 2: case 30: case 60: return 4;
-    case 6: case 61: return 6;
-    case 3: case 4: case 5: case 19: return 7;
-    case 7: case 8: case 9: return 8;
-    case 48: case 49: case 50: case 51: case 52: case 53: return 9;
-    case 62: case 63: case 64: case 65: case 66: case 67: case 68: case 70: case 71: case 72:
-    case 73: return 5;
-    case 98: case 99: return 10;
-    default: return code >= 100 && code <= 199 ? 11 : -1;
+    case 0:
+    case 1:
+    case 2:
+    case 30:
+    case 60:
+      return 4;
+    case 6:
+    case 61:
+      return 6;
+    case 3:
+    case 4:
+    case 5:
+    case 19:
+      return 7;
+    case 7:
+    case 8:
+    case 9:
+      return 8;
+    case 48:
+    case 49:
+    case 50:
+    case 51:
+    case 52:
+    case 53:
+      return 9;
+    case 62:
+    case 63:
+    case 64:
+    case 65:
+    case 66:
+    case 67:
+    case 68:
+    case 70:
+    case 71:
+    case 72:
+    case 73:
+      return 5;
+    case 98:
+    case 99:
+      return 10;
+    default:
+      return code >= 100 && code <= 199 ? 11 : -1;
   }
 }
 
-bool is_cycle(int code) { return code == 730 || (code >= 810 && code <= 890); }
-
-std::string g_name(int code) {
-  return code % 10 == 0 ? fmt::format("G{}", code / 10) : fmt::format("G{}.{}", code / 10, code % 10);
+bool is_cycle(int code) {
+  return code == 730 || (code >= 810 && code <= 890);
 }
 
-std::string fixed4(double v) { return fmt::format("{:.4f}", v); }
+std::string g_name(int code) {
+  return code % 10 == 0 ? fmt::format("G{}", code / 10)
+                        : fmt::format("G{}.{}", code / 10, code % 10);
+}
+
+std::string fixed4(double v) {
+  return fmt::format("{:.4f}", v);
+}
 
 std::string axis_letters(std::uint32_t mask) {
   std::string s;
@@ -85,14 +200,16 @@ void Interpreter::Impl::decode(const Block& b) {
       const double scaled = v * 10.0;
       const auto code = static_cast<int>(std::lround(scaled));
       if (std::abs(scaled - code) > 1e-4 || code < 0) fail(b, &w, fmt::format("bad G code G{}", v));
-      if (words.g_count == static_cast<int>(words.g.size())) fail(b, &w, "too many G codes on one line");
+      if (words.g_count == static_cast<int>(words.g.size()))
+        fail(b, &w, "too many G codes on one line");
       words.g[static_cast<std::size_t>(words.g_count)] = code;
       if (code < 1000) words.g_set.set(static_cast<std::size_t>(code));
       words.g_word[static_cast<std::size_t>(words.g_count++)] = &w;
     } else if (w.letter == 'M') {
       const auto code = static_cast<int>(std::lround(v));
       if (std::abs(v - code) > 1e-4 || code < 0) fail(b, &w, fmt::format("bad M code M{}", v));
-      if (words.m_count == static_cast<int>(words.m.size())) fail(b, &w, "too many M codes on one line");
+      if (words.m_count == static_cast<int>(words.m.size()))
+        fail(b, &w, "too many M codes on one line");
       words.m[static_cast<std::size_t>(words.m_count)] = code;
       if (code < 200) words.m_set.set(static_cast<std::size_t>(code));
       words.m_word[static_cast<std::size_t>(words.m_count++)] = &w;
@@ -121,12 +238,15 @@ void Interpreter::Impl::decode(const Block& b) {
         continue;
       fail(b, w, fmt::format("unknown G code {}", g_name(code)));
     }
+    words.groups |= 1U << group;
     if (group == 0) continue;  // checked below: only one of G10/G28/G30/G52/G53/G92 uses axes
     if (group == 1 && options.dialect.cycles_own_modal_group && (code == 800 || is_cycle(code)))
       group = 9;  // Fanuc's canned-cycle group
     int& s = seen_g[static_cast<std::size_t>(group)];
     if (s >= 0 && !(s == code && options.dialect.repeated_modal_codes))
-      fail(b, w, fmt::format("two G codes used from the same modal group: {} and {}", g_name(s), g_name(code)));
+      fail(b, w,
+           fmt::format("two G codes used from the same modal group: {} and {}", g_name(s),
+                       g_name(code)));
     s = code;
   }
   std::array<int, 16> seen_m;
@@ -167,7 +287,8 @@ void Interpreter::Impl::comment(const Block& b) {
     if (c.end_of_line) continue;
     const std::string_view text = b.slice(c.text);
     std::string upper;
-    for (char ch : text.substr(0, 6)) upper.push_back(static_cast<char>(std::toupper(static_cast<unsigned char>(ch))));
+    for (char ch : text.substr(0, 6))
+      upper.push_back(static_cast<char>(std::toupper(static_cast<unsigned char>(ch))));
     if (upper.starts_with("ABORT,")) {
       fail_at(b, c.span, fmt::format("(ABORT) {}", substitute_parameters(b, text.substr(6))));
     } else if (upper.starts_with("MSG,")) {
@@ -203,7 +324,8 @@ std::string Interpreter::Impl::substitute_parameters(const Block& b, std::string
           }
           std::string name;
           for (char ch : body.substr(j + 1, close - j - 1))
-            if (ch != ' ') name.push_back(static_cast<char>(std::toupper(static_cast<unsigned char>(ch))));
+            if (ch != ' ')
+              name.push_back(static_cast<char>(std::toupper(static_cast<unsigned char>(ch))));
           if (named_exists(name))
             out += fmt::format("{:f}", read_named(b, name));
           else
@@ -215,7 +337,8 @@ std::string Interpreter::Impl::substitute_parameters(const Block& b, std::string
             out.push_back('#');
             continue;
           }
-          out += fmt::format("{:f}", read_numbered(b, std::stod(std::string(body.substr(i + 1, j - i - 1)))));
+          out += fmt::format(
+              "{:f}", read_numbered(b, std::stod(std::string(body.substr(i + 1, j - i - 1)))));
           i = j - 1;
         }
       }
@@ -284,9 +407,12 @@ void Interpreter::Impl::execute(const Block& b) {
     if (group == 0 && code != 530) {
       if (non_modal >= 0 && non_modal != 40)
         fail(b, words.g_word[static_cast<std::size_t>(i)],
-             fmt::format("two G codes used from the same modal group: {} and {}", g_name(non_modal), g_name(code)));
-      if (non_modal != 40 || code == 40) non_modal = code;
-      else non_modal = code;
+             fmt::format("two G codes used from the same modal group: {} and {}", g_name(non_modal),
+                         g_name(code)));
+      if (non_modal != 40 || code == 40)
+        non_modal = code;
+      else
+        non_modal = code;
     }
   }
   if (motion_code == -2) motion_code = words.axis_mask() != 0 ? modal.motion : -1;
@@ -297,16 +423,20 @@ void Interpreter::Impl::execute(const Block& b) {
                                       words.has_g(431);  // G43.1 takes its offsets as axis words
   if (g53 && motion_code < 0 && options.dialect.g53_alone_is_rapid) motion_code = 0;
   if (motion_code >= 0 && axes_used_by_non_modal && words.axis_mask() != 0)
-    fail(b, nullptr, fmt::format("cannot use two G codes that both use axis values: {} and {}",
-                                 g_name(motion_code), g_name(passthrough >= 0 ? passthrough : non_modal)));
+    fail(b, nullptr,
+         fmt::format("cannot use two G codes that both use axis values: {} and {}",
+                     g_name(motion_code), g_name(passthrough >= 0 ? passthrough : non_modal)));
   check_unused_words(b, motion_code, non_modal);
 
   // 1. comments
   if (sink && sink->wants_calls()) comment(b);
   // 2. feed rate mode
-  if (words.has_g(930)) modal.feed_mode = FeedMode::inverse_time, emit("SET_FEED_MODE", "0, 1");
-  if (words.has_g(940)) modal.feed_mode = FeedMode::units_per_minute, emit("SET_FEED_MODE", "0, 0");
-  if (words.has_g(950)) modal.feed_mode = FeedMode::units_per_rev, emit("SET_FEED_MODE", "0, 2");
+  if (words.has_group(5)) {
+    if (words.has_g(930)) modal.feed_mode = FeedMode::inverse_time, emit("SET_FEED_MODE", "0, 1");
+    if (words.has_g(940))
+      modal.feed_mode = FeedMode::units_per_minute, emit("SET_FEED_MODE", "0, 0");
+    if (words.has_g(950)) modal.feed_mode = FeedMode::units_per_rev, emit("SET_FEED_MODE", "0, 2");
+  }
   // 3. feed rate
   if (words.has('F')) {
     const double f = words['F'];
@@ -327,84 +457,95 @@ void Interpreter::Impl::execute(const Block& b) {
   // 5. select tool
   if (words.has('T')) {
     const double t = words['T'];
-    if (t < 0 || t != std::floor(t)) fail(b, words.word['T' - 'A'], fmt::format("bad tool number T{}", t));
+    if (t < 0 || t != std::floor(t))
+      fail(b, words.word['T' - 'A'], fmt::format("bad tool number T{}", t));
     modal.selected_tool = static_cast<int>(t);
     emit_lazy("SELECT_TOOL", [&] { return fmt::format("{}", modal.selected_tool); });
   }
-  // 6. tool change
-  if (words.has_m(6)) {
-    if (modal.selected_tool >= 0) modal.tool = modal.selected_tool;
-    modal.spindle = 0;  // a tool change stops the spindle
-    emit("STOP_SPINDLE_TURNING", "0");
-    emit("CHANGE_TOOL", "");
+  // 6. tool change; 7. spindle (M codes are rare: skip them together)
+  if (words.m_count > 0) {
+    if (words.has_m(6)) {
+      if (modal.selected_tool >= 0) modal.tool = modal.selected_tool;
+      modal.spindle = 0;  // a tool change stops the spindle
+      emit("STOP_SPINDLE_TURNING", "0");
+      emit("CHANGE_TOOL", "");
+    }
+    if (words.has_m(61)) {
+      if (!words.has('Q')) fail(b, nullptr, "M61 needs a Q word (the tool number)");
+      modal.tool = static_cast<int>(words['Q']);
+    }
+    // 7. spindle
+    if (words.has_m(3)) modal.spindle = 1, emit("START_SPINDLE_CLOCKWISE", "0");
+    if (words.has_m(4)) modal.spindle = -1, emit("START_SPINDLE_COUNTERCLOCKWISE", "0");
+    if (words.has_m(5)) modal.spindle = 0, emit("STOP_SPINDLE_TURNING", "0");
   }
-  if (words.has_m(61)) {
-    if (!words.has('Q')) fail(b, nullptr, "M61 needs a Q word (the tool number)");
-    modal.tool = static_cast<int>(words['Q']);
-  }
-  // 7. spindle
-  if (words.has_m(3)) modal.spindle = 1, emit("START_SPINDLE_CLOCKWISE", "0");
-  if (words.has_m(4)) modal.spindle = -1, emit("START_SPINDLE_COUNTERCLOCKWISE", "0");
-  if (words.has_m(5)) modal.spindle = 0, emit("STOP_SPINDLE_TURNING", "0");
   // 8. coolant: nothing that moves.  9. overrides: nothing that moves.
   // 10. dwell
   if (non_modal == 40) {
     if (!words.has('P')) fail(b, nullptr, "dwell time missing with G4");
     emit("DWELL", fixed4(words['P']));
   }
-  // 11. plane
-  if (words.has_g(170)) modal.plane = Plane::xy, emit("SELECT_PLANE", "CANON_PLANE_XY");
-  if (words.has_g(180)) modal.plane = Plane::zx, emit("SELECT_PLANE", "CANON_PLANE_XZ");
-  if (words.has_g(190)) modal.plane = Plane::yz, emit("SELECT_PLANE", "CANON_PLANE_YZ");
-  // 12. units
-  if (words.has_g(200)) set_units(Units::inch);
-  if (words.has_g(210)) set_units(Units::mm);
-  // 13. cutter radius compensation: tracked; the controller offsets the (compensated) path.
-  for (int code : {400, 410, 411, 420, 421}) {
-    if (!words.has_g(code)) continue;
-    if (code != 400 && modal.cutter_compensation != 400)
-      fail(b, nullptr, "cannot turn cutter radius compensation on when it is already on");
-    modal.cutter_compensation = code;
-    emit("COMMENT", code == 400 ? "\"interpreter: cutter radius compensation off\""
-                                : "\"interpreter: cutter radius compensation on\"");
+  // 11.-18. modal settings, only when the block has a G code of those groups
+  constexpr std::uint32_t kSettingGroups = (1U << 2) | (1U << 3) | (1U << 4) | (1U << 6) |
+                                           (1U << 7) | (1U << 8) | (1U << 10) | (1U << 12) |
+                                           (1U << 13);
+  if (words.groups & kSettingGroups) {
+    // 11. plane
+    if (words.has_g(170)) modal.plane = Plane::xy, emit("SELECT_PLANE", "CANON_PLANE_XY");
+    if (words.has_g(180)) modal.plane = Plane::zx, emit("SELECT_PLANE", "CANON_PLANE_XZ");
+    if (words.has_g(190)) modal.plane = Plane::yz, emit("SELECT_PLANE", "CANON_PLANE_YZ");
+    // 12. units
+    if (words.has_g(200)) set_units(Units::inch);
+    if (words.has_g(210)) set_units(Units::mm);
+    // 13. cutter radius compensation: tracked; the controller offsets the (compensated) path.
+    for (int code : {400, 410, 411, 420, 421}) {
+      if (!words.has_g(code)) continue;
+      if (code != 400 && modal.cutter_compensation != 400)
+        fail(b, nullptr, "cannot turn cutter radius compensation on when it is already on");
+      modal.cutter_compensation = code;
+      emit("COMMENT", code == 400 ? "\"interpreter: cutter radius compensation off\""
+                                  : "\"interpreter: cutter radius compensation on\"");
+    }
+    // 14. tool length offset
+    for (int code : {430, 431, 432, 490})
+      if (words.has_g(code)) tool_length(b, code);
+    // 15. coordinate system
+    static constexpr int kSystems[] = {540, 550, 560, 570, 580, 590, 591, 592, 593};
+    for (int s = 0; s < 9; ++s) {
+      if (!words.has_g(kSystems[s])) continue;
+      if (modal.cutter_compensation != 400)
+        fail(b, nullptr, "cannot change coordinate systems with cutter radius compensation on");
+      select_coordinate_system(s + 1);
+    }
+    // 16. path control
+    if (words.has_g(610)) modal.path_mode = 610;
+    if (words.has_g(611)) modal.path_mode = 611;
+    if (words.has_g(640)) modal.path_mode = 640;
+    // 17. distance modes
+    if (words.has_g(900)) modal.absolute = true;
+    if (words.has_g(910)) modal.absolute = false;
+    if (words.has_g(901)) modal.arc_absolute = true;
+    if (words.has_g(911)) modal.arc_absolute = false;
+    // 18. retract mode
+    if (words.has_g(980)) modal.retract_to_r = false;
+    if (words.has_g(990)) modal.retract_to_r = true;
   }
-  // 14. tool length offset
-  for (int code : {430, 431, 432, 490})
-    if (words.has_g(code)) tool_length(b, code);
-  // 15. coordinate system
-  static constexpr int kSystems[] = {540, 550, 560, 570, 580, 590, 591, 592, 593};
-  for (int s = 0; s < 9; ++s) {
-    if (!words.has_g(kSystems[s])) continue;
-    if (modal.cutter_compensation != 400)
-      fail(b, nullptr, "cannot change coordinate systems with cutter radius compensation on");
-    select_coordinate_system(s + 1);
-  }
-  // 16. path control
-  if (words.has_g(610)) modal.path_mode = 610;
-  if (words.has_g(611)) modal.path_mode = 611;
-  if (words.has_g(640)) modal.path_mode = 640;
-  // 17. distance modes
-  if (words.has_g(900)) modal.absolute = true;
-  if (words.has_g(910)) modal.absolute = false;
-  if (words.has_g(901)) modal.arc_absolute = true;
-  if (words.has_g(911)) modal.arc_absolute = false;
-  // 18. retract mode
-  if (words.has_g(980)) modal.retract_to_r = false;
-  if (words.has_g(990)) modal.retract_to_r = true;
   // 19. reference return, coordinate data, axis offsets
   if (non_modal == 100) g10(b);
-  if (non_modal == 280 || non_modal == 300 || non_modal == 281 || non_modal == 301) reference_return(b, non_modal);
+  if (non_modal == 280 || non_modal == 300 || non_modal == 281 || non_modal == 301)
+    reference_return(b, non_modal);
   if (non_modal == 520 || (non_modal >= 920 && non_modal <= 923)) set_g92(b, non_modal);
   if (passthrough >= 0 && words.axis_mask() != 0) {
     // The controller moves these axes in a way ccomp does not model.
     position_unknown |= words.axis_mask();
-    warn(fmt::format("{} is passed through unmodelled: ccomp does not know where it moves {}", g_name(passthrough),
-                     axis_letters(words.axis_mask())),
+    warn(fmt::format("{} is passed through unmodelled: ccomp does not know where it moves {}",
+                     g_name(passthrough), axis_letters(words.axis_mask())),
          b.line);
   }
   // 20. motion
   if (motion_code >= 0 || (!axes_used_by_non_modal && words.axis_mask() != 0)) {
-    if (g53 && motion_code != 0 && motion_code != 10 && !(motion_code < 0 && (modal.motion == 0 || modal.motion == 10)))
+    if (g53 && motion_code != 0 && motion_code != 10 &&
+        !(motion_code < 0 && (modal.motion == 0 || modal.motion == 10)))
       fail(b, nullptr, "must use G0 or G1 with G53");
     if (g53 && !modal.absolute) fail(b, nullptr, "cannot use G53 incremental");
     motion(b, motion_code >= 0 ? motion_code : modal.motion, non_modal);
@@ -414,12 +555,16 @@ void Interpreter::Impl::execute(const Block& b) {
     if (!words.has('P')) fail(b, words.m_word[0], "M98 needs a P word: the subprogram number");
     const double p = words['P'];
     const int repeats = words.has('L') ? static_cast<int>(std::lround(words['L'])) : 1;
-    if (repeats > 0) call_sub(std::to_string(static_cast<std::uint32_t>(std::lround(p))), true, b, nullptr, repeats);
+    if (repeats > 0)
+      call_sub(std::to_string(static_cast<std::uint32_t>(std::lround(p))), true, b, nullptr,
+               repeats);
     return;
   }
   if (words.has_m(99)) {
     if (calls.empty()) {
-      warn("M99 in the main program: read as the end of the program (a controller would restart it)", b.line);
+      warn(
+          "M99 in the main program: read as the end of the program (a controller would restart it)",
+          b.line);
       end_program(b);
     } else if (!calls.back().fanuc) {
       fail(b, nullptr, "an 'O.... sub' subroutine must end with 'O.... endsub', not M99");
@@ -435,15 +580,16 @@ void Interpreter::Impl::execute(const Block& b) {
 int Interpreter::Impl::passthrough_code() const {
   const auto& moving = options.dialect.passthrough_moving_g_codes;
   for (int i = 0; i < words.g_count; ++i)
-    if (std::find(moving.begin(), moving.end(), words.g[static_cast<std::size_t>(i)]) != moving.end())
+    if (std::find(moving.begin(), moving.end(), words.g[static_cast<std::size_t>(i)]) !=
+        moving.end())
       return words.g[static_cast<std::size_t>(i)];
   return -1;
 }
 
 void Interpreter::Impl::check_unused_words(const Block& b, int motion_code, int non_modal) {
   constexpr auto bit = [](char c) { return 1U << (c - 'A'); };
-  constexpr std::uint32_t kChecked =
-      bit('R') | bit('I') | bit('J') | bit('K') | bit('L') | bit('Q') | bit('P') | bit('D') | bit('H');
+  constexpr std::uint32_t kChecked = bit('R') | bit('I') | bit('J') | bit('K') | bit('L') |
+                                     bit('Q') | bit('P') | bit('D') | bit('H');
   if ((words.present & kChecked) == 0) return;  // the common block: nothing to check
   const int motion_mode = motion_code >= 0 ? motion_code : modal.motion;
   const bool arc = motion_mode == 20 || motion_mode == 30;
@@ -452,24 +598,30 @@ void Interpreter::Impl::check_unused_words(const Block& b, int motion_code, int 
   auto unused = [&](char letter, const char* users) {
     if (!words.has(letter)) return;
     const std::string what = fmt::format("{} word with no G code that uses it ({})", letter, users);
-    if (options.dialect.unused_words_are_errors) fail(b, words.word[static_cast<std::size_t>(letter - 'A')], what);
+    if (options.dialect.unused_words_are_errors)
+      fail(b, words.word[static_cast<std::size_t>(letter - 'A')], what);
     warn(what + ": passed through", b.line);
   };
-  if (!(arc || cycle || g10 || words.has_m(19) || words.has_g(640))) unused('R', "G2, G3, canned cycles, G10, G64, M19");
+  if (!(arc || cycle || g10 || words.has_m(19) || words.has_g(640)))
+    unused('R', "G2, G3, canned cycles, G10, G64, M19");
   if (!(arc || (cycle && motion_mode == 870) || g10 || words.has_g(50))) {
     unused('I', "G2, G3, G87, G10");
     unused('J', "G2, G3, G87, G10");
   }
-  if (!(arc || (cycle && motion_mode == 870) || motion_mode == 331 || motion_mode == 330)) unused('K', "G2, G3, G33, G87");
-  if (!(cycle || g10 || words.has_m(98) || motion_mode == 760)) unused('L', "canned cycles, G10, M98");
-  if (!(cycle || words.has_m(61) || words.has_m(66) || words.has_m(19) || words.has_g(640) || g10 || words.has_g(50)))
+  if (!(arc || (cycle && motion_mode == 870) || motion_mode == 331 || motion_mode == 330))
+    unused('K', "G2, G3, G33, G87");
+  if (!(cycle || g10 || words.has_m(98) || motion_mode == 760))
+    unused('L', "canned cycles, G10, M98");
+  if (!(cycle || words.has_m(61) || words.has_m(66) || words.has_m(19) || words.has_g(640) || g10 ||
+        words.has_g(50)))
     unused('Q', "G73, G83, G64, M61, M66, G10");
-  const bool p_user = non_modal == 40 || g10 || arc || cycle || words.has_g(640) || words.has_m(98) ||
-                      words.has_m(66) || words.has_m(19) || words.has_m(62) || words.has_m(63) ||
-                      words.has_m(64) || words.has_m(65) || words.has_g(50) || motion_mode == 760;
+  const bool p_user = non_modal == 40 || g10 || arc || cycle || words.has_g(640) ||
+                      words.has_m(98) || words.has_m(66) || words.has_m(19) || words.has_m(62) ||
+                      words.has_m(63) || words.has_m(64) || words.has_m(65) || words.has_g(50) ||
+                      motion_mode == 760;
   if (!p_user) unused('P', "G4, G10, G64, G2/G3 turns, dwelling cycles, M98, M66");
-  const bool d_user = words.has_g(410) || words.has_g(420) || words.has_g(411) || words.has_g(421) ||
-                      words.has_g(960) || words.has_g(432);
+  const bool d_user = words.has_g(410) || words.has_g(420) || words.has_g(411) ||
+                      words.has_g(421) || words.has_g(960) || words.has_g(432);
   if (!d_user) unused('D', "G41, G42, G96");
   if (!(words.has_g(430) || words.has_g(432))) unused('H', "G43");
 }
@@ -485,7 +637,9 @@ void Interpreter::Impl::motion(const Block& b, int code, int non_modal) {
     case 10: {
       if (words.axis_mask() == 0) {
         // An explicit G0/G1 without axis words moves nowhere, yet LinuxCNC still issues it.
-        if (words.has_g(code)) straight(code == 0 ? MotionKind::traverse : MotionKind::feed, position, MotionSource::program);
+        if (words.has_g(code))
+          straight(code == 0 ? MotionKind::traverse : MotionKind::feed, position,
+                   MotionSource::program);
         return;
       }
       if (code == 10 && modal.feed == 0.0 && modal.feed_mode != FeedMode::inverse_time)
@@ -515,25 +669,40 @@ void Interpreter::Impl::motion(const Block& b, int code, int non_modal) {
         motion(b, modal.motion, non_modal);  // Fanuc: G80 X1 moves in the G0/G1 mode
       }
       return;
-    case 382: case 383: case 384: case 385: {
+    case 382:
+    case 383:
+    case 384:
+    case 385: {
       if (words.axis_mask() == 0) fail(b, nullptr, "all axes missing with motion code G38.x");
       if (modal.feed == 0.0) fail(b, nullptr, "cannot probe with zero feed rate");
       const Axes t = target_of(b, false);
       straight(MotionKind::probe, t, MotionSource::program);
-      warn("probe move (G38.x): ccomp takes the probe to reach its target; the controller stops it on contact",
-           b.line);
+      warn(
+          "probe move (G38.x): ccomp takes the probe to reach its target; the controller stops it "
+          "on contact",
+          b.line);
       return;
     }
-    case 330: case 331: case 760: case 50: case 51: case 52: case 870: case 880:
+    case 330:
+    case 331:
+    case 760:
+    case 50:
+    case 51:
+    case 52:
+    case 870:
+    case 880:
       if (code == 880 || is_cycle(code)) {
-        if (code == 870) throw Error(ErrorKind::unsupported, "G87 back boring is not supported",
-                                     SourceLocation{file_name(), b.line, 0}, std::string(b.text));
+        if (code == 870)
+          throw Error(ErrorKind::unsupported, "G87 back boring is not supported",
+                      SourceLocation{file_name(), b.line, 0}, std::string(b.text));
         break;
       }
       throw Error(ErrorKind::unsupported,
-                  fmt::format("{} is not supported (spindle-synchronised, lathe or spline motion)", g_name(code)),
+                  fmt::format("{} is not supported (spindle-synchronised, lathe or spline motion)",
+                              g_name(code)),
                   SourceLocation{file_name(), b.line, 0}, std::string(b.text));
-    default: break;
+    default:
+      break;
   }
   if (is_cycle(code)) canned_cycle(b, code);
 }
@@ -548,17 +717,22 @@ void Interpreter::Impl::arc(const Block& b, int code, const Axes& target) {
   int turns = 1;
   if (words.has('P')) {
     const double p = words['P'];
-    if (p < 1 || p != std::floor(p)) fail(b, words.word['P' - 'A'], fmt::format("P value for arc turns must be a positive integer, not {}", p));
+    if (p < 1 || p != std::floor(p))
+      fail(b, words.word['P' - 'A'],
+           fmt::format("P value for arc turns must be a positive integer, not {}", p));
     turns = static_cast<int>(p);
   }
   if (words.has('R')) {
     const double radius = words['R'] * u;
     const double abs_radius = std::abs(radius);
-    if (s1 == e1 && s2 == e2) fail(b, words.word['R' - 'A'], "start point and end point of an R-format arc are the same");
+    if (s1 == e1 && s2 == e2)
+      fail(b, words.word['R' - 'A'], "start point and end point of an R-format arc are the same");
     const double mid1 = (s1 + e1) / 2.0, mid2 = (s2 + e2) / 2.0;
     double half = std::hypot(mid1 - e1, mid2 - e2);
     if (half / abs_radius > 1.0 + 1e-12)
-      fail(b, words.word['R' - 'A'], fmt::format("arc radius {} too small to reach the end point (half chord {})", words['R'], half / u));
+      fail(b, words.word['R' - 'A'],
+           fmt::format("arc radius {} too small to reach the end point (half chord {})", words['R'],
+                       half / u));
     if (half / abs_radius > 1.0 - 1e-12) half = abs_radius;  // a semicircle within rounding
     const double theta = std::atan2(e2 - s2, e1 - s1) + ((cw == (radius > 0)) ? -kPi / 2 : kPi / 2);
     const double offset = abs_radius * std::cos(std::asin(half / abs_radius));
@@ -591,15 +765,17 @@ void Interpreter::Impl::arc(const Block& b, int code, const Axes& target) {
       const char* l2 = modal.plane == Plane::xy ? "Y" : modal.plane == Plane::zx ? "X" : "Z";
       const double o1p = offsets.origin(pa.first), o2p = offsets.origin(pa.second);
       fail(b, nullptr,
-           fmt::format("radius to end of arc differs from radius to start: start=({0}{2:.4f},{1}{3:.4f}) "
-                       "center=({0}{4:.4f},{1}{5:.4f}) end=({0}{6:.4f},{1}{7:.4f}) r1={8:.4f} r2={9:.4f} "
-                       "abs_err={10:.4g} rel_err={11:.4f}%",
-                       l1, l2, (s1 - o1p) / u, (s2 - o2p) / u, (c1 - o1p) / u, (c2 - o2p) / u,
-                       (e1 - o1p) / u, (e2 - o2p) / u, r1, r2, abs_err, rel_err * 100.0));
+           fmt::format(
+               "radius to end of arc differs from radius to start: start=({0}{2:.4f},{1}{3:.4f}) "
+               "center=({0}{4:.4f},{1}{5:.4f}) end=({0}{6:.4f},{1}{7:.4f}) r1={8:.4f} r2={9:.4f} "
+               "abs_err={10:.4g} rel_err={11:.4f}%",
+               l1, l2, (s1 - o1p) / u, (s2 - o2p) / u, (c1 - o1p) / u, (c2 - o2p) / u,
+               (e1 - o1p) / u, (e2 - o2p) / u, r1, r2, abs_err, rel_err * 100.0));
     }
   }
   if (offsets.rotation != 0.0 && modal.plane != Plane::xy)
-    throw Error(ErrorKind::unsupported, "arcs outside the XY plane with a rotated coordinate system are not supported",
+    throw Error(ErrorKind::unsupported,
+                "arcs outside the XY plane with a rotated coordinate system are not supported",
                 SourceLocation{file_name(), b.line, 0}, std::string(b.text));
   Axes centre = target;
   centre[pa.first] = c1;
@@ -635,23 +811,30 @@ void Interpreter::Impl::canned_cycle(const Block& b, int code) {
   for (std::size_t i = 3; i < kAxisCount; ++i)
     if (words.has(kAxisLetters[i]))
       fail(b, words.word[static_cast<std::size_t>(kAxisLetters[i] - 'A')],
-           fmt::format("cannot put an {} in canned cycle", static_cast<char>(std::tolower(kAxisLetters[i]))));
+           fmt::format("cannot put an {} in canned cycle",
+                       static_cast<char>(std::tolower(kAxisLetters[i]))));
   if (modal.cutter_compensation != 400)
     fail(b, nullptr, "cannot use a canned cycle with cutter radius compensation on");
   const char first_letter = kAxisLetters[pa.first], second_letter = kAxisLetters[pa.second];
   const char depth_letter = kAxisLetters[pa.normal];
   // R, the depth, P and Q are sticky while the cycle stays in force.
-  if (words.has('R')) cycle_r = words['R'] * u;
-  else if (!cycle_values_set) fail(b, nullptr, "R word missing with canned cycle");
-  if (words.has(depth_letter)) cycle_bottom = words[depth_letter] * u;
-  else if (!cycle_values_set) fail(b, nullptr, fmt::format("{} word missing with canned cycle", depth_letter));
+  if (words.has('R'))
+    cycle_r = words['R'] * u;
+  else if (!cycle_values_set)
+    fail(b, nullptr, "R word missing with canned cycle");
+  if (words.has(depth_letter))
+    cycle_bottom = words[depth_letter] * u;
+  else if (!cycle_values_set)
+    fail(b, nullptr, fmt::format("{} word missing with canned cycle", depth_letter));
   if (words.has('P')) cycle_p = words['P'];
   if (words.has('Q')) cycle_q = words['Q'] * u;
   cycle_values_set = true;
   int repeats = 1;
   if (words.has('L')) {
     const double l = words['L'];
-    if (l < 0 || l != std::floor(l)) fail(b, words.word['L' - 'A'], "L word for canned cycle repeats must be a non-negative integer");
+    if (l < 0 || l != std::floor(l))
+      fail(b, words.word['L' - 'A'],
+           "L word for canned cycle repeats must be a non-negative integer");
     repeats = static_cast<int>(l);
   }
   double old_cc = program(pa.normal);
@@ -669,18 +852,24 @@ void Interpreter::Impl::canned_cycle(const Block& b, int code) {
     cc = r + cycle_bottom;
   }
   if (r < cc) {
-    const std::string what = fmt::format("R value ({}) less than {} value ({}) in canned cycle", r / u, depth_letter, cc / u);
+    const std::string what = fmt::format("R value ({}) less than {} value ({}) in canned cycle",
+                                         r / u, depth_letter, cc / u);
     // LinuxCNC refuses this; Fanuc-family controls feed "down" to a bottom above R.
     if (!options.dialect.cycles_own_modal_group) fail(b, nullptr, what);
     warn(what + ": the hole's bottom is above the R plane", b.line);
   }
   if ((code == 730 || code == 830) && cycle_q <= 0.0)
     fail(b, nullptr, fmt::format("Q word missing or not positive with {}", g_name(code)));
-  if ((code == 840 || code == 860 || code == 880) && modal.spindle == 0 && options.dialect.cycles_need_spindle)
+  if ((code == 840 || code == 860 || code == 880) && modal.spindle == 0 &&
+      options.dialect.cycles_need_spindle)
     fail(b, nullptr, fmt::format("spindle not turning in {}", g_name(code)));
   position_unknown &= ~((1U << pa.first) | (1U << pa.second) | (1U << pa.normal));
-  auto traverse = [&](double a, double bv, double c) { cycle_move(MotionKind::traverse, pa.first, pa.second, pa.normal, a, bv, c); };
-  auto feed = [&](double a, double bv, double c) { cycle_move(MotionKind::feed, pa.first, pa.second, pa.normal, a, bv, c); };
+  auto traverse = [&](double a, double bv, double c) {
+    cycle_move(MotionKind::traverse, pa.first, pa.second, pa.normal, a, bv, c);
+  };
+  auto feed = [&](double a, double bv, double c) {
+    cycle_move(MotionKind::feed, pa.first, pa.second, pa.normal, a, bv, c);
+  };
   if (old_cc < r) {
     traverse(program(pa.first), program(pa.second), r);
     old_cc = r;
@@ -693,8 +882,15 @@ void Interpreter::Impl::canned_cycle(const Block& b, int code) {
     traverse(aa, bb, old_cc);
     if (old_cc != r) traverse(aa, bb, r);
     switch (code) {
-      case 810: feed(aa, bb, cc); traverse(aa, bb, clear); break;
-      case 820: feed(aa, bb, cc); emit("DWELL", fixed4(cycle_p)); traverse(aa, bb, clear); break;
+      case 810:
+        feed(aa, bb, cc);
+        traverse(aa, bb, clear);
+        break;
+      case 820:
+        feed(aa, bb, cc);
+        emit("DWELL", fixed4(cycle_p));
+        traverse(aa, bb, clear);
+        break;
       case 730:
       case 830:
         for (double depth = r - cycle_q; depth > cc; depth -= cycle_q) {
@@ -705,8 +901,16 @@ void Interpreter::Impl::canned_cycle(const Block& b, int code) {
         feed(aa, bb, cc);
         traverse(aa, bb, clear);
         break;
-      case 840: feed(aa, bb, cc); emit("DWELL", fixed4(0)); feed(aa, bb, clear); break;
-      case 850: feed(aa, bb, cc); feed(aa, bb, r); traverse(aa, bb, clear); break;
+      case 840:
+        feed(aa, bb, cc);
+        emit("DWELL", fixed4(0));
+        feed(aa, bb, clear);
+        break;
+      case 850:
+        feed(aa, bb, cc);
+        feed(aa, bb, r);
+        traverse(aa, bb, clear);
+        break;
       case 860:
         feed(aa, bb, cc);
         emit("DWELL", fixed4(cycle_p));
@@ -721,11 +925,17 @@ void Interpreter::Impl::canned_cycle(const Block& b, int code) {
         emit("PROGRAM_STOP", "");
         // The operator retracts by hand: the program resumes at the clearance level.
         position[pa.normal] = clear + offsets.origin(pa.normal);
-        warn("G88: the operator retracts by hand; ccomp continues from the clearance level", b.line);
+        warn("G88: the operator retracts by hand; ccomp continues from the clearance level",
+             b.line);
         break;
       }
-      case 890: feed(aa, bb, cc); emit("DWELL", fixed4(cycle_p)); feed(aa, bb, clear); break;
-      default: break;
+      case 890:
+        feed(aa, bb, cc);
+        emit("DWELL", fixed4(cycle_p));
+        feed(aa, bb, clear);
+        break;
+      default:
+        break;
     }
     old_cc = clear;
   }
@@ -741,9 +951,10 @@ void Interpreter::Impl::select_coordinate_system(int system) {
       offsets.g5x[i] = params.numbered(base + static_cast<int>(i)) * stored_scale(i);
     offsets.rotation = params.numbered(base + 9);
   });
-  emit("SET_G5X_OFFSET", fmt::format("{}, {}, {}, {}, {}, {}, {}", system, fixed4(offsets.g5x[0] / u),
-                                     fixed4(offsets.g5x[1] / u), fixed4(offsets.g5x[2] / u),
-                                     fixed4(offsets.g5x[3]), fixed4(offsets.g5x[4]), fixed4(offsets.g5x[5])));
+  emit("SET_G5X_OFFSET",
+       fmt::format("{}, {}, {}, {}, {}, {}, {}", system, fixed4(offsets.g5x[0] / u),
+                   fixed4(offsets.g5x[1] / u), fixed4(offsets.g5x[2] / u), fixed4(offsets.g5x[3]),
+                   fixed4(offsets.g5x[4]), fixed4(offsets.g5x[5])));
   emit("SET_XY_ROTATION", fixed4(offsets.rotation));
 }
 
@@ -753,7 +964,8 @@ void Interpreter::Impl::reference_return(const Block& b, int code) {
   if (code == 281 || code == 301) {  // store the current position
     const Axes machine = offsets.to_machine(position);
     for (std::size_t i = 0; i < kAxisCount; ++i)
-      params.set_numbered(base + static_cast<int>(i), (machine[i] + offsets.tool[i]) / stored_scale(i));
+      params.set_numbered(base + static_cast<int>(i),
+                          (machine[i] + offsets.tool[i]) / stored_scale(i));
     return;
   }
   if (modal.cutter_compensation != 400)
@@ -774,9 +986,10 @@ void Interpreter::Impl::set_g92(const Block& b, int code) {
   auto publish = [&]() {
     for (std::size_t i = 0; i < kAxisCount; ++i)
       params.set_numbered(5211 + static_cast<int>(i), offsets.g92[i] / stored_scale(i));
-    emit("SET_G92_OFFSET", fmt::format("{}, {}, {}, {}, {}, {}", fixed4(offsets.g92[0] / u),
-                                       fixed4(offsets.g92[1] / u), fixed4(offsets.g92[2] / u),
-                                       fixed4(offsets.g92[3]), fixed4(offsets.g92[4]), fixed4(offsets.g92[5])));
+    emit("SET_G92_OFFSET",
+         fmt::format("{}, {}, {}, {}, {}, {}", fixed4(offsets.g92[0] / u),
+                     fixed4(offsets.g92[1] / u), fixed4(offsets.g92[2] / u), fixed4(offsets.g92[3]),
+                     fixed4(offsets.g92[4]), fixed4(offsets.g92[5])));
   };
   switch (code) {
     case 920:
@@ -808,7 +1021,8 @@ void Interpreter::Impl::set_g92(const Block& b, int code) {
       params.set_numbered(5210, 1.0);
       publish();
       return;
-    default: return;
+    default:
+      return;
   }
 }
 
@@ -819,7 +1033,8 @@ void Interpreter::Impl::g10(const Block& b) {
   if (!words.has('P')) fail(b, nullptr, fmt::format("G10 L{} needs a P word", l));
   const int p = static_cast<int>(std::lround(words['P']));
   if (l == 2 || l == 20) {
-    if (p < 0 || p > 9) fail(b, words.word['P' - 'A'], fmt::format("P value out of range with G10 L{}: {}", l, p));
+    if (p < 0 || p > 9)
+      fail(b, words.word['P' - 'A'], fmt::format("P value out of range with G10 L{}: {}", l, p));
     const int system = p == 0 ? offsets.coordinate_system : p;
     const int base = 5221 + (system - 1) * 20;
     const double rotation = words.has('R') ? words['R'] : params.numbered(base + 9);
@@ -830,7 +1045,8 @@ void Interpreter::Impl::g10(const Block& b) {
     // not given (with a rotation, X and Y offsets both change when either is given).
     Axes local{};  // value + G92, rotated into the machine frame
     for (std::size_t i = 0; i < kAxisCount; ++i)
-      local[i] = (words.has(kAxisLetters[i]) ? words[kAxisLetters[i]] * (is_rotary(i) ? 1.0 : u) : program(i)) +
+      local[i] = (words.has(kAxisLetters[i]) ? words[kAxisLetters[i]] * (is_rotary(i) ? 1.0 : u)
+                                             : program(i)) +
                  offsets.g92[i];
     const bool xy_given = words.has('X') || words.has('Y');
     const double lx = std::cos(a) * local[0] - std::sin(a) * local[1];
@@ -840,7 +1056,8 @@ void Interpreter::Impl::g10(const Block& b) {
     for (std::size_t i = 0; i < kAxisCount; ++i) {
       const char letter = kAxisLetters[i];
       if (!words.has(letter) && !(l == 20 && i < 2 && xy_given)) continue;
-      const double offset = l == 2 ? words[letter] * (is_rotary(i) ? 1.0 : u) : machine[i] - local[i];
+      const double offset =
+          l == 2 ? words[letter] * (is_rotary(i) ? 1.0 : u) : machine[i] - local[i];
       params.set_numbered(base + static_cast<int>(i), offset / stored_scale(i));
     }
     params.set_numbered(base + 9, rotation);
@@ -880,14 +1097,16 @@ void Interpreter::Impl::g10(const Block& b) {
     emit("SET_TOOL_TABLE_ENTRY", fmt::format("{}", p));
     return;  // the active offset changes only with the next G43, as in LinuxCNC
   }
-  fail(b, words.word['L' - 'A'], fmt::format("G10 L{} is not supported (L1, L2, L10, L11, L20 are)", l));
+  fail(b, words.word['L' - 'A'],
+       fmt::format("G10 L{} is not supported (L1, L2, L10, L11, L20 are)", l));
 }
 
 void Interpreter::Impl::tool_length(const Block& b, int code) {
   const double u = unit();
   Axes next{};
   switch (code) {
-    case 490: break;
+    case 490:
+      break;
     case 430:
     case 432: {
       const int tool = words.has('H') ? static_cast<int>(std::lround(words['H'])) : modal.tool;
@@ -895,8 +1114,9 @@ void Interpreter::Impl::tool_length(const Block& b, int code) {
       if (code == 432) next = offsets.tool;
       if (tool != 0) {
         const ToolEntry* e = tools.find(tool);
-        if (!e) fail(b, words.has('H') ? words.word['H' - 'A'] : nullptr,
-                     fmt::format("tool {} is not in the tool table (give one with --tool-table)", tool));
+        if (!e)
+          fail(b, words.has('H') ? words.word['H' - 'A'] : nullptr,
+               fmt::format("tool {} is not in the tool table (give one with --tool-table)", tool));
         for (std::size_t i = 0; i < kAxisCount; ++i) next[i] += e->offset[i];
       }
       break;
@@ -906,7 +1126,8 @@ void Interpreter::Impl::tool_length(const Block& b, int code) {
       for (std::size_t i = 0; i < kAxisCount; ++i)
         if (words.has(kAxisLetters[i])) next[i] = words[kAxisLetters[i]] * (is_rotary(i) ? 1.0 : u);
       break;
-    default: break;
+    default:
+      break;
   }
   // The machine stays put: the controlled point moves by the change of offset (a vector in
   // the machine frame, so through to_machine when the coordinate system is rotated).
@@ -915,10 +1136,10 @@ void Interpreter::Impl::tool_length(const Block& b, int code) {
   position = offsets.from_machine(machine);
   offsets.tool = next;
   modal.tool_length_mode = code;
-  emit("USE_TOOL_LENGTH_OFFSET", fmt::format("{} {} {}, {} {} {}, {} {} {}",
-                                             fixed4(next[0] / u), fixed4(next[1] / u), fixed4(next[2] / u),
-                                             fixed4(next[3]), fixed4(next[4]), fixed4(next[5]),
-                                             fixed4(next[6] / u), fixed4(next[7] / u), fixed4(next[8] / u)));
+  emit("USE_TOOL_LENGTH_OFFSET",
+       fmt::format("{} {} {}, {} {} {}, {} {} {}", fixed4(next[0] / u), fixed4(next[1] / u),
+                   fixed4(next[2] / u), fixed4(next[3]), fixed4(next[4]), fixed4(next[5]),
+                   fixed4(next[6] / u), fixed4(next[7] / u), fixed4(next[8] / u)));
 }
 
 void Interpreter::Impl::end_program(const Block& /*b*/) {

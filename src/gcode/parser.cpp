@@ -547,12 +547,116 @@ struct NameCollector {
 
 }  // namespace
 
-Parser::Parser(Dialect dialect) : dialect_(std::move(dialect)) {}
+Parser::Parser(Dialect dialect, bool fast_path) : dialect_(std::move(dialect)), fast_path_(fast_path) {}
+
+// The fast path: `[/][N<number>] (<letter><number> | (comment))* [;comment]` and `%` lines,
+// with blanks between tokens, upper or lower case. Anything else (parameters, expressions,
+// O-words, blanks inside a number, a letter without a number, anything malformed) returns
+// false and the grammar reads the line, so errors always come from the grammar.
+bool Parser::parse_simple(std::string_view t, Block& out) const {
+  const std::size_t n = t.size();
+  std::size_t i = 0;
+  auto skip_blanks = [&] {
+    while (i < n && (t[i] == ' ' || t[i] == '\t')) ++i;
+  };
+  // A number at i: [+-] digits [. digits] | [+-] . digits. Sets `value`, advances i.
+  double value = 0.0;
+  auto digit = [&](std::size_t at) { return at < n && static_cast<unsigned>(t[at] - '0') < 10U; };
+  auto number = [&]() -> bool {
+    bool negative = false;
+    if (i < n && (t[i] == '+' || t[i] == '-')) negative = t[i++] == '-';
+    const std::size_t digits_start = i;
+    std::uint64_t mantissa = 0;
+    while (digit(i)) mantissa = mantissa * 10 + static_cast<std::uint64_t>(t[i++] - '0');
+    const std::size_t integer_digits = i - digits_start;
+    std::size_t fraction = 0;
+    if (i < n && t[i] == '.') {
+      const std::size_t first = ++i;
+      while (digit(i)) mantissa = mantissa * 10 + static_cast<std::uint64_t>(t[i++] - '0');
+      fraction = i - first;
+    }
+    if (integer_digits + fraction == 0) return false;
+    static constexpr double kPow10[] = {1e0,  1e1,  1e2,  1e3,  1e4,  1e5,  1e6,  1e7,  1e8,  1e9,  1e10, 1e11,
+                                        1e12, 1e13, 1e14, 1e15, 1e16, 1e17, 1e18, 1e19, 1e20, 1e21, 1e22};
+    // Exact while the digits fit 15 decimal places (2^53 > 10^15): one correctly rounded
+    // division. (Leading zeros make the count pessimistic, never wrong.)
+    if (integer_digits + fraction <= 15) {
+      value = static_cast<double>(mantissa) / kPow10[fraction];
+    } else {
+      std::from_chars(t.data() + digits_start, t.data() + i, value);
+    }
+    if (negative) value = -value;
+    return true;
+  };
+  auto is_letter = [](char c) { return (c >= 'A' && c <= 'Z') || (c >= 'a' && c <= 'z'); };
+  auto upper = [](char c) { return c >= 'a' && c <= 'z' ? static_cast<char>(c - 'a' + 'A') : c; };
+
+  skip_blanks();
+  if (i < n && t[i] == '%') {
+    out.program_delimiter = true;
+    return true;
+  }
+  if (i < n && t[i] == '/') {
+    out.block_delete = true;
+    ++i;
+    skip_blanks();
+  }
+  if (i < n && (t[i] == 'N' || t[i] == 'n')) {
+    const std::size_t start = i++;
+    skip_blanks();
+    if (i == n || t[i] == '+' || t[i] == '-' || !number()) return false;
+    out.has_line_number = true;
+    out.line_number = value;
+    out.line_number_span = Span{static_cast<std::uint32_t>(start), static_cast<std::uint32_t>(i)};
+  }
+  for (;;) {
+    skip_blanks();
+    if (i == n) return true;
+    const char c = t[i];
+    if (c == '(') {
+      const std::size_t close = t.find(')', i + 1);
+      if (close == std::string_view::npos) return false;
+      if (t.substr(i + 1, close - i - 1).find('(') != std::string_view::npos) return false;
+      out.comments.push_back(Comment{Span{static_cast<std::uint32_t>(i), static_cast<std::uint32_t>(close + 1)},
+                                     Span{static_cast<std::uint32_t>(i + 1), static_cast<std::uint32_t>(close)}, false});
+      i = close + 1;
+      continue;
+    }
+    if (c == ';') {
+      out.comments.push_back(Comment{Span{static_cast<std::uint32_t>(i), static_cast<std::uint32_t>(n)},
+                                     Span{static_cast<std::uint32_t>(i + 1), static_cast<std::uint32_t>(n)}, true});
+      return true;
+    }
+    const char letter = upper(c);
+    if (!(is_letter(c) || c == '$') || letter == 'N' || letter == 'O') return false;
+    const std::size_t start = i++;
+    skip_blanks();
+    const std::size_t value_start = i;
+    if (i == n || !number()) return false;
+    // A digit right after the number (a blank inside it, `X1 5`) is the grammar's to read.
+    const std::size_t after = i;
+    skip_blanks();
+    if (i < n && ((t[i] >= '0' && t[i] <= '9') || t[i] == '.')) return false;
+    i = after;
+    Word w;
+    w.letter = letter;
+    w.span = Span{static_cast<std::uint32_t>(start), static_cast<std::uint32_t>(after)};
+    w.value_span = Span{static_cast<std::uint32_t>(value_start), static_cast<std::uint32_t>(after)};
+    w.value = Value{value, 0, 0};
+    out.words.push_back(w);
+  }
+}
 
 void Parser::parse(std::string_view text, std::uint32_t line, std::string_view file, Block& out) {
   out.clear();
   out.text = text;
   out.line = line;
+  if (fast_path_ && !dialect_.bracket_comments) {
+    if (parse_simple(text, out)) return;
+    out.clear();
+    out.text = text;
+    out.line = line;
+  }
   fold(text, dialect_, folded_, offsets_);
   marks_.clear();
   operators_.clear();

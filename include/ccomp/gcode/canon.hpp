@@ -40,8 +40,8 @@ struct Offsets {
   Axes tool{};
   double rotation = 0.0;
   [[nodiscard]] double origin(std::size_t axis) const { return g5x[axis] + g92[axis]; }
-  [[nodiscard]] Axes to_machine(const Axes& p) const { return rotated(p, rotation); }
-  [[nodiscard]] Axes from_machine(const Axes& m) const { return rotated(m, -rotation); }
+  [[nodiscard]] Axes to_machine(const Axes& p) const { return rotation == 0.0 ? p : rotated(p, rotation); }
+  [[nodiscard]] Axes from_machine(const Axes& m) const { return rotation == 0.0 ? m : rotated(m, -rotation); }
   /// Program coordinates (current system, mm and deg) of a machine-frame point.
   [[nodiscard]] Axes program_of(const Axes& machine) const {
     Axes p = from_machine(machine);

@@ -13,7 +13,10 @@ namespace ccomp::gcode {
 
 class Parser {
  public:
-  explicit Parser(Dialect dialect = {});
+  /// `fast_path`: read blocks of literal words, comments and line numbers (nearly every
+  /// line CAM posts) with a hand-written scanner, and everything else with the PEGTL
+  /// grammar. Both give the same Block (tests/gcode/parser_fast_path_test.cpp).
+  explicit Parser(Dialect dialect = {}, bool fast_path = true);
 
   /// Parses `text` (one line, without its terminator) into `out`. `out.text` views `text`,
   /// which must outlive the block. Throws ccomp::Error (ErrorKind::program) with
@@ -23,7 +26,10 @@ class Parser {
   [[nodiscard]] const Dialect& dialect() const { return dialect_; }
 
  private:
+  bool parse_simple(std::string_view text, Block& out) const;
+
   Dialect dialect_;
+  bool fast_path_ = true;
   std::string folded_;
   std::vector<std::uint32_t> offsets_;
   std::vector<std::uint32_t> marks_;     // parse scratch, kept between lines
