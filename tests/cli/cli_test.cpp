@@ -136,3 +136,30 @@ TEST(Cli, TracePrintsCanonicalCalls) {
 
 }  // namespace
 }  // namespace ccomp::test
+
+namespace ccomp::test {
+namespace {
+
+TEST(Cli, RefusesMovesBeyondTheAxisLimits) {
+  const std::string dir = temp_dir("cli_limits");
+  write_file(dir + "/m.yaml", "name: small\naxes: {X: {min: -100, max: 100}, Y: {min: -100, max: 100}, Z: {min: -200, max: 0}}\n");
+  write_file(dir + "/tools.tbl", "T1 P1 Z150\n");
+  // Inside: corners at +-90. The arc from (90,0) round to (0,90) bulges to X=90 only.
+  write_file(dir + "/ok.nc", "G21 F100\nG0 X90 Y0 Z-10\nG3 X0 Y90 I-90 J0\nM2\n");
+  // A full circle of radius 90 about (20,0) reaches X=110: the endpoints alone look fine.
+  write_file(dir + "/arc.nc", "G21 F100\nG0 X-70 Y0 Z-10\nG2 X-70 Y0 I90 J0\nM2\n");
+  // Z-10 is inside [-200, 0]; with a 150 mm tool offset the machine's Z goes to +140.
+  write_file(dir + "/tool.nc", "G21\nT1 M6\nG43 H1\nG0 Z-10\nM2\n");
+  const std::string base = shell_quote(ccomp_binary()) + " -m " + dir + "/m.yaml --tool-table " + dir + "/tools.tbl ";
+  EXPECT_EQ(run_command(base + dir + "/ok.nc -o " + dir + "/ok.out").exit_code, 0);
+  const CommandResult arc = run_command(base + dir + "/arc.nc -o " + dir + "/arc.out");
+  EXPECT_EQ(arc.exit_code, 7);
+  EXPECT_NE(arc.err.find("arc.nc:3: refused: axis X would go to 110.0000"), std::string::npos) << arc.err;
+  EXPECT_FALSE(std::filesystem::exists(dir + "/arc.out"));
+  const CommandResult tool = run_command(base + dir + "/tool.nc -o " + dir + "/tool.out");
+  EXPECT_EQ(tool.exit_code, 7);
+  EXPECT_NE(tool.err.find("axis Z would go to 140.0000"), std::string::npos) << tool.err;
+}
+
+}  // namespace
+}  // namespace ccomp::test

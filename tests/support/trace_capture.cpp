@@ -3,6 +3,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <sys/wait.h>
+#include <unistd.h>
 #include <filesystem>
 #include <fstream>
 #include <cmath>
@@ -247,7 +248,8 @@ std::string shared_dir() { return CCOMP_SHARED_DIR; }
 std::string ccomp_binary() { return CCOMP_BINARY; }
 
 std::string temp_dir(const std::string& name) {
-  const auto dir = std::filesystem::path(CCOMP_TEST_TMP) / name;
+  // Per process: ctest runs test cases as parallel processes that share the build tree.
+  const auto dir = std::filesystem::path(CCOMP_TEST_TMP) / std::to_string(::getpid()) / name;
   std::filesystem::remove_all(dir);
   std::filesystem::create_directories(dir);
   return dir.string();

@@ -73,7 +73,7 @@ std::string shell_quote(const std::string& s);
 std::string source_dir();
 std::string shared_dir();
 std::string ccomp_binary();
-/// A fresh empty folder under the build's temp area.
+/// A fresh empty folder under the build's temp area, private to this test process.
 std::string temp_dir(const std::string& name);
 
 }  // namespace ccomp::test
