@@ -27,7 +27,10 @@ bool have_rs274() { return fs::exists(rs274()); }
 
 /// rs274's trace of a program, run as LinuxCNC's suite runs it (inch machine units).
 TraceResult rs274_trace(const std::string& program, const std::string& tool_table) {
-  const CommandResult r = run_command(shell_quote(rs274()) + " -t " + shell_quote(tool_table) + " -g " + shell_quote(program));
+  // rs274 reads and writes rs274ngc.var in its working folder: give it one of its own.
+  const std::string cwd = temp_dir("rs274_cwd");
+  const CommandResult r = run_command("cd " + shell_quote(cwd) + " && " + shell_quote(rs274()) + " -t " +
+                                      shell_quote(tool_table) + " -g " + shell_quote(program));
   TraceResult t;
   std::istringstream in(r.out);
   for (std::string line; std::getline(in, line);) t.lines.push_back(line);
