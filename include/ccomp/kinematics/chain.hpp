@@ -1,0 +1,64 @@
+#pragma once
+// The machine's two kinematic chains, from the base frame W to the workpiece point p and to
+// the tool tip, and the error matrix of ../shared/physics.md (seed 000, eq. 25):
+//   E = (W M p)^-1 * (W M tool)
+// Each link i is placement_i * motion_i(q) * error_i: a fixed offset, the nominal motion
+// of its axis (none for a fixed link), and the small error pose of its error motions.
+// Pinocchio's pattern: an immutable ChainModel, a ChainData scratch built from it, and
+// free functions algo(model, data, ...). Jacobians are right Jacobians (see pose.hpp).
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "ccomp/kinematics/pose.hpp"
+
+namespace ccomp::kinematics {
+
+enum class JointType : std::uint8_t { fixed, linear, rotary };
+
+struct Joint {
+  std::string name;                   ///< "X", "B", "spindle", "tool"...
+  JointType type = JointType::fixed;
+  std::size_t axis = 0;               ///< index into q (X Y Z A B C U V W) when not fixed
+  Vec3 direction = Vec3::UnitX();     ///< unit: motion along it (mm) or about it (rad)
+  Pose placement;                     ///< parent frame -> this joint's frame at q = 0
+};
+
+/// One side of the machine: base frame W to its end (the workpiece point, or the tool tip).
+struct Chain {
+  std::vector<Joint> joints;
+};
+
+struct ChainModel {
+  Chain workpiece;  ///< W -> ... -> p
+  Chain tool;       ///< W -> ... -> tool tip
+  std::size_t nq = 9;
+};
+
+using VecQ = Eigen::VectorXd;  ///< axis values: linear in mm, rotary in rad
+
+/// Scratch for error_matrix(): poses along both chains and the Jacobians of E.
+struct ChainData {
+  explicit ChainData(const ChainModel& model);
+
+  std::vector<Pose> work_error, tool_error;  ///< inputs: each link's error pose (identity = none)
+  std::vector<Pose> work_oMi, tool_oMi;      ///< W -> after link i
+  Pose oMp, oMtool;                          ///< W -> p, W -> tool tip
+  Pose E;                                    ///< p -> tool tip: the error matrix
+  Eigen::Matrix<double, 6, Eigen::Dynamic> J_q;  ///< dE/dq (6 x nq)
+  std::vector<Mat6> J_work_error, J_tool_error;  ///< dE/d(error pose of each link)
+
+  // internal
+  std::vector<Pose> links_;
+};
+
+/// The nominal motion of one joint at axis value q, and its right Jacobian d/dq (6 x 1).
+[[nodiscard]] Pose joint_motion(const Joint& joint, double q, Vec6* J = nullptr);
+
+/// Computes E for axis values q with the error poses in data.work_error / data.tool_error,
+/// and, when `jacobians`, dE/dq and dE/d(each link's error pose).
+void error_matrix(const ChainModel& model, ChainData& data, const VecQ& q, bool jacobians = true);
+
+}  // namespace ccomp::kinematics

@@ -1,0 +1,85 @@
+#include "ccomp/kinematics/chain.hpp"
+
+namespace ccomp::kinematics {
+
+ChainData::ChainData(const ChainModel& model)
+    : work_error(model.workpiece.joints.size()),
+      tool_error(model.tool.joints.size()),
+      work_oMi(model.workpiece.joints.size()),
+      tool_oMi(model.tool.joints.size()),
+      J_q(6, static_cast<Eigen::Index>(model.nq)),
+      J_work_error(model.workpiece.joints.size()),
+      J_tool_error(model.tool.joints.size()) {}
+
+Pose joint_motion(const Joint& joint, double q, Vec6* J) {
+  switch (joint.type) {
+    case JointType::linear:
+      if (J) *J << joint.direction, Vec3::Zero();
+      return Pose::translation(q * joint.direction);
+    case JointType::rotary:
+      // Jr(q d) d = d for any rotation about d.
+      if (J) *J << Vec3::Zero(), joint.direction;
+      return Pose{so3_exp(q * joint.direction), Vec3::Zero()};
+    case JointType::fixed:
+      break;
+  }
+  if (J) J->setZero();
+  return Pose::identity();
+}
+
+namespace {
+
+/// Composes one side, base to end. With `J_end`, fills for each link the Jacobian of the
+/// end pose w.r.t. a right perturbation of the link's error pose (Ad of the suffix
+/// inverse), and adds the link's axis motion into J_q_side.
+Pose compose_side(const Chain& chain, const std::vector<Pose>& errors, const VecQ& q, std::vector<Pose>& oMi,
+                  std::vector<Pose>& links, std::vector<Mat6>* J_error,
+                  Eigen::Matrix<double, 6, Eigen::Dynamic>* J_q) {
+  const std::size_t n = chain.joints.size();
+  links.resize(n);
+  Pose oM;
+  for (std::size_t i = 0; i < n; ++i) {
+    const Joint& j = chain.joints[i];
+    const double qi = j.type == JointType::fixed ? 0.0 : q[static_cast<Eigen::Index>(j.axis)];
+    links[i] = compose(compose(j.placement, joint_motion(j, qi)), errors[i]);
+    oM = compose(oM, links[i]);
+    oMi[i] = oM;
+  }
+  if (!J_error) return oM;
+  J_q->setZero();
+  Pose suffix;  // links i+1 .. n-1
+  for (std::size_t k = n; k-- > 0;) {
+    const Mat6 Ad_suffix_inv = adjoint(inverse(suffix));
+    (*J_error)[k] = Ad_suffix_inv;
+    const Joint& j = chain.joints[k];
+    if (j.type != JointType::fixed) {
+      Vec6 Jm;
+      (void)joint_motion(j, q[static_cast<Eigen::Index>(j.axis)], &Jm);
+      // motion * Exp(tau) * error = motion * error * Exp(Ad(error^-1) tau)
+      J_q->col(static_cast<Eigen::Index>(j.axis)) += Ad_suffix_inv * adjoint(inverse(errors[k])) * Jm;
+    }
+    suffix = compose(links[k], suffix);
+  }
+  return oM;
+}
+
+}  // namespace
+
+void error_matrix(const ChainModel& model, ChainData& data, const VecQ& q, bool jacobians) {
+  Eigen::Matrix<double, 6, Eigen::Dynamic> Jq_work(6, static_cast<Eigen::Index>(model.nq));
+  Eigen::Matrix<double, 6, Eigen::Dynamic> Jq_tool(6, static_cast<Eigen::Index>(model.nq));
+  data.oMp = compose_side(model.workpiece, data.work_error, q, data.work_oMi, data.links_,
+                          jacobians ? &data.J_work_error : nullptr, &Jq_work);
+  data.oMtool = compose_side(model.tool, data.tool_error, q, data.tool_oMi, data.links_,
+                             jacobians ? &data.J_tool_error : nullptr, &Jq_tool);
+  Mat6 J_inv, J_a, J_b;
+  const Pose pMo = inverse(data.oMp, jacobians ? &J_inv : nullptr);
+  data.E = compose(pMo, data.oMtool, jacobians ? &J_a : nullptr, jacobians ? &J_b : nullptr);
+  if (!jacobians) return;
+  const Mat6 J_E_oMp = J_a * J_inv;  // through the inverse of the workpiece side
+  for (Mat6& J : data.J_work_error) J = J_E_oMp * J;
+  for (Mat6& J : data.J_tool_error) J = J_b * J;
+  data.J_q = J_E_oMp * Jq_work + J_b * Jq_tool;
+}
+
+}  // namespace ccomp::kinematics
