@@ -1,0 +1,180 @@
+#include "ccomp/model/error_term.hpp"
+
+#include <Eigen/LU>
+
+#include <algorithm>
+#include <cmath>
+
+namespace ccomp::model {
+namespace {
+
+constexpr double kTwoPi = 2.0 * 3.14159265358979323846;
+
+/// Natural cubic spline through (x_i, y_i): the weights w_i(v) with s(v) = sum w_i y_i and
+/// their derivatives dw_i/dv. The spline is linear in the values, so weights give both the
+/// value and the gradient with respect to every value.
+void cubic_weights(const std::vector<double>& x, double v, Eigen::VectorXd& w, Eigen::VectorXd& dw) {
+  const auto n = static_cast<Eigen::Index>(x.size());
+  w = Eigen::VectorXd::Zero(n);
+  dw = Eigen::VectorXd::Zero(n);
+  if (n == 1) {
+    w[0] = 1.0;
+    return;
+  }
+  // Second derivatives M = A^-1 B y (natural: M_0 = M_{n-1} = 0): solve for the basis.
+  Eigen::MatrixXd A = Eigen::MatrixXd::Zero(n, n), B = Eigen::MatrixXd::Zero(n, n);
+  A(0, 0) = A(n - 1, n - 1) = 1.0;
+  for (Eigen::Index i = 1; i + 1 < n; ++i) {
+    const double h0 = x[static_cast<std::size_t>(i)] - x[static_cast<std::size_t>(i - 1)];
+    const double h1 = x[static_cast<std::size_t>(i + 1)] - x[static_cast<std::size_t>(i)];
+    A(i, i - 1) = h0 / 6.0;
+    A(i, i) = (h0 + h1) / 3.0;
+    A(i, i + 1) = h1 / 6.0;
+    B(i, i - 1) = 1.0 / h0;
+    B(i, i) = -1.0 / h0 - 1.0 / h1;
+    B(i, i + 1) = 1.0 / h1;
+  }
+  const Eigen::MatrixXd Mbasis = A.partialPivLu().solve(B);  // M = Mbasis * y
+  const double vc = std::clamp(v, x.front(), x.back());
+  auto k = static_cast<Eigen::Index>(std::upper_bound(x.begin(), x.end(), vc) - x.begin()) - 1;
+  k = std::clamp<Eigen::Index>(k, 0, n - 2);
+  const double x0 = x[static_cast<std::size_t>(k)], x1 = x[static_cast<std::size_t>(k + 1)];
+  const double h = x1 - x0, a = (x1 - vc) / h, b = (vc - x0) / h;
+  // s = a y_k + b y_k+1 + ((a^3 - a) M_k + (b^3 - b) M_k+1) h^2 / 6
+  w[k] += a;
+  w[k + 1] += b;
+  w += ((a * a * a - a) * Mbasis.row(k).transpose() + (b * b * b - b) * Mbasis.row(k + 1).transpose()) * h * h / 6.0;
+  if (v != vc) return;  // held constant outside the table
+  dw[k] -= 1.0 / h;
+  dw[k + 1] += 1.0 / h;
+  dw += ((-(3 * a * a - 1)) * Mbasis.row(k).transpose() + (3 * b * b - 1) * Mbasis.row(k + 1).transpose()) * h / 6.0;
+}
+
+}  // namespace
+
+std::size_t parameter_count(const TermShape& s) {
+  switch (s.form) {
+    case TermForm::constant:
+    case TermForm::reversal:
+    case TermForm::thermal_linear:
+    case TermForm::scale_expansion: return 1;
+    case TermForm::polynomial: return static_cast<std::size_t>(s.order) + 1;
+    case TermForm::table: return s.knots.size();
+    case TermForm::periodic: return 1 + 2 * static_cast<std::size_t>(s.order);
+    case TermForm::thermal_warmup: return 2;
+    case TermForm::cross_axis: return static_cast<std::size_t>(s.order_primary + 1) * static_cast<std::size_t>(s.order);
+  }
+  return 0;
+}
+
+TermValue evaluate(const TermShape& s, const Eigen::VectorXd& p, const TermInputs& in, bool grad) {
+  TermValue r;
+  if (grad) r.d_parameters = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(parameter_count(s)));
+  const double v = in.primary;
+  switch (s.form) {
+    case TermForm::constant:
+      r.value = p[0];
+      if (grad) r.d_parameters[0] = 1.0;
+      break;
+    case TermForm::polynomial: {
+      double power = 1.0, previous = 0.0;  // v^k and v^(k-1)
+      for (int k = 0; k <= s.order; ++k) {
+        r.value += p[k] * power;
+        r.d_primary += k * p[k] * previous;
+        if (grad) r.d_parameters[k] = power;
+        previous = power;
+        power *= v;
+      }
+      break;
+    }
+    case TermForm::table: {
+      const auto n = static_cast<Eigen::Index>(s.knots.size());
+      Eigen::VectorXd w, dw;
+      if (s.interpolation == Interpolation::cubic) {
+        cubic_weights(s.knots, v, w, dw);
+      } else {
+        w = dw = Eigen::VectorXd::Zero(n);
+        const double vc = std::clamp(v, s.knots.front(), s.knots.back());
+        if (n == 1) {
+          w[0] = 1.0;
+        } else {
+          auto k = static_cast<Eigen::Index>(std::upper_bound(s.knots.begin(), s.knots.end(), vc) - s.knots.begin()) - 1;
+          k = std::clamp<Eigen::Index>(k, 0, n - 2);
+          const double h = s.knots[static_cast<std::size_t>(k + 1)] - s.knots[static_cast<std::size_t>(k)];
+          const double b = (vc - s.knots[static_cast<std::size_t>(k)]) / h;
+          w[k] = 1.0 - b;
+          w[k + 1] = b;
+          if (v == vc) dw[k] = -1.0 / h, dw[k + 1] = 1.0 / h;
+        }
+      }
+      r.value = w.dot(p);
+      r.d_primary = dw.dot(p);
+      if (grad) r.d_parameters = w;
+      break;
+    }
+    case TermForm::periodic: {
+      const double period = p[0];
+      for (int k = 1; k <= s.order; ++k) {
+        const double a = p[2 * k - 1], b = p[2 * k];
+        const double phase = kTwoPi * k * v / period;
+        const double c = std::cos(phase), sn = std::sin(phase);
+        r.value += a * c + b * sn;
+        const double d_phase = -a * sn + b * c;  // d(value)/d(phase)
+        r.d_primary += d_phase * kTwoPi * k / period;
+        if (grad) {
+          r.d_parameters[2 * k - 1] = c;
+          r.d_parameters[2 * k] = sn;
+          r.d_parameters[0] += d_phase * (-phase / period);
+        }
+      }
+      break;
+    }
+    case TermForm::reversal:
+      // Half the reversal on each side: the two approach directions differ by r.
+      r.value = 0.5 * p[0] * v;
+      r.d_primary = 0.5 * p[0];
+      if (grad) r.d_parameters[0] = 0.5 * v;
+      break;
+    case TermForm::thermal_linear:
+      r.value = p[0] * (v - s.reference);
+      r.d_primary = p[0];
+      if (grad) r.d_parameters[0] = v - s.reference;
+      break;
+    case TermForm::thermal_warmup: {
+      const double amplitude = p[0], tau = p[1];
+      const double e = std::exp(-v / tau);
+      r.value = amplitude * (1.0 - e);
+      r.d_primary = amplitude * e / tau;
+      if (grad) {
+        r.d_parameters[0] = 1.0 - e;
+        r.d_parameters[1] = -amplitude * e * v / (tau * tau);
+      }
+      break;
+    }
+    case TermForm::scale_expansion: {
+      const double dT = in.secondary - s.reference;
+      r.value = p[0] * v * dT;
+      r.d_primary = p[0] * dT;
+      r.d_secondary = p[0] * v;
+      if (grad) r.d_parameters[0] = v * dT;
+      break;
+    }
+    case TermForm::cross_axis: {
+      const double w = in.secondary;
+      Eigen::Index index = 0;
+      for (int i = 0; i <= s.order_primary; ++i) {
+        for (int j = 1; j <= s.order; ++j, ++index) {
+          const double ui = std::pow(v, i), wj = std::pow(w, j);
+          r.value += p[index] * ui * wj;
+          if (i > 0) r.d_primary += p[index] * i * std::pow(v, i - 1) * wj;
+          r.d_secondary += p[index] * ui * j * std::pow(w, j - 1);
+          if (grad) r.d_parameters[index] = ui * wj;
+        }
+      }
+      break;
+    }
+  }
+  return r;
+}
+
+}  // namespace ccomp::model
