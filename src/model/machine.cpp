@@ -10,16 +10,34 @@
 #include "ccomp/error.hpp"
 #include "ccomp/gcode/dialect.hpp"
 #include "ccomp/util/sha256.hpp"
+#include "model_file.hpp"
 
 namespace ccomp::model {
-namespace {
 
-[[noreturn]] void bad(const std::string& file, const YAML::Node& node, const std::string& message) {
+namespace file {
+
+void bad(const std::string& file, const YAML::Node& node, const std::string& message) {
   const auto mark = node.Mark();
   throw Error(ErrorKind::model, message,
               SourceLocation{file, mark.line >= 0 ? static_cast<std::uint32_t>(mark.line + 1) : 0,
                              mark.column >= 0 ? static_cast<std::uint32_t>(mark.column + 1) : 0});
 }
+
+double quantity(const std::string& file, const YAML::Node& node, const Dimension& expected,
+                std::string_view default_unit, const std::string& what) {
+  if (!node || !node.IsScalar()) bad(file, node, what + " must be a number, with a unit or not");
+  try {
+    return parse_quantity(node.as<std::string>(), expected, default_unit, what);
+  } catch (const Error& e) {
+    bad(file, node, e.message());
+  }
+}
+
+}  // namespace file
+
+namespace {
+
+using file::bad;
 
 double number(const std::string& file, const YAML::Node& node, const std::string& what) {
   try {
@@ -70,6 +88,14 @@ MachineModel parse_machine_model(const std::string& text, const std::string& nam
     }
     m.axes.push_back(a);
   }
+  file::read_chains(name, root["chain"], m);
+  if (const YAML::Node s = root["sensors"]) {
+    if (!s.IsSequence()) bad(name, s, "'sensors' must be a list of sensor names");
+    for (const YAML::Node& n : s) m.sensors.push_back(n.as<std::string>());
+  }
+  if (root["max_correction"])
+    m.max_correction = file::quantity(name, root["max_correction"], kLength, "mm", "max_correction");
+  file::read_terms(name, root["terms"], m);
   validate(m);
   return m;
 }
@@ -96,6 +122,33 @@ void validate(const MachineModel& model) {
     if (std::isnan(a.min) || std::isnan(a.max)) fail(fmt::format("axis {}: a limit is NaN", a.letter));
     if (!(a.min < a.max)) fail(fmt::format("axis {}: min {} is not below max {}", a.letter, a.min, a.max));
   }
+  // The chains: every moving link names an axis of the machine, once; every axis moves a
+  // link; at most one tool link. Every term's link is a link of a chain.
+  if (!model.workpiece_chain.empty() || !model.tool_chain.empty()) {
+    std::string seen;
+    int tools = 0;
+    for (const auto* chain : {&model.workpiece_chain, &model.tool_chain}) {
+      for (const LinkSpec& l : *chain) {
+        tools += l.tool;
+        if (!l.axis) continue;
+        if (!model.axis(*l.axis)) fail(fmt::format("link {} moves axis {}, which is not in 'axes'", l.name, *l.axis));
+        if (seen.find(*l.axis) != std::string::npos) fail(fmt::format("axis {} moves two links", *l.axis));
+        seen.push_back(*l.axis);
+      }
+    }
+    for (const AxisSpec& a : model.axes)
+      if (seen.find(a.letter) == std::string::npos) fail(fmt::format("axis {} moves no link of the chains", a.letter));
+    if (tools > 1) fail("the chains have more than one tool link");
+  }
+  for (const ErrorTermSpec& t : model.terms) {
+    bool found = false;
+    for (const auto* chain : {&model.workpiece_chain, &model.tool_chain})
+      for (const LinkSpec& l : *chain) found = found || l.name == t.link;
+    if (!found) fail(fmt::format("term {} belongs to link {}, which no chain has", t.name, t.link));
+    for (Eigen::Index k = 0; k < t.parameters.size(); ++k)
+      if (!std::isfinite(t.parameters[k])) fail(fmt::format("term {}: parameter {} is not finite", t.name, k));
+  }
+  if (!(model.max_correction > 0)) fail(fmt::format("max_correction must be positive, not {}", model.max_correction));
   if (!gcode::dialect_named(model.dialect))
     fail(fmt::format("unknown dialect '{}' (known: linuxcnc, fanuc, mazak, wincnc)", model.dialect));
 }

@@ -7,6 +7,11 @@
 #include <string>
 #include <vector>
 
+#include <Eigen/Core>
+
+#include "ccomp/model/error_term.hpp"
+#include "ccomp/model/units.hpp"
+
 namespace ccomp::model {
 
 enum class AxisType : std::uint8_t { linear, rotary };
@@ -18,10 +23,47 @@ struct AxisSpec {
   double max = std::numeric_limits<double>::infinity();
 };
 
+/// What a term depends on.
+enum class VariableKind : std::uint8_t { none, axis, tool_length, time, temperature, direction };
+
+struct Variable {
+  VariableKind kind = VariableKind::none;
+  std::size_t index = 0;  ///< axis index (X Y Z A B C U V W) or sensor index
+  std::string text;       ///< as written: "x", "T_spindle", "vx", "L", "t"
+};
+
+/// One link of a chain: an axis moving along or about `direction`, or a fixed link.
+struct LinkSpec {
+  std::string name;                                 ///< "X", "B", "S", "tool"...
+  std::optional<char> axis;                         ///< the program axis that moves it
+  Eigen::Vector3d direction = Eigen::Vector3d::UnitX();
+  Eigen::Vector3d offset = Eigen::Vector3d::Zero();  ///< placement before it moves (mm)
+  bool tool = false;  ///< the tool tip: the tool length L along `direction`
+};
+
+/// An error term: one component of one link's error motion, a form of a variable.
+struct ErrorTermSpec {
+  std::string name;     ///< ISO 230-1 ("EXX", "EC0X", "EBB") as the file names it, or the seed's alias
+  std::string iso;      ///< the ISO 230-1 name
+  std::string link;     ///< the link whose error motion it is
+  int component = 0;    ///< 0 1 2: translation x y z (mm); 3 4 5: rotation about x y z (rad)
+  TermShape shape;
+  Variable primary, secondary;
+  Eigen::VectorXd parameters;          ///< in mm, rad, s, degC
+  std::vector<double> parameter_unit;  ///< internal units per file unit, to write values back
+  bool free = false;                   ///< a fit may change it
+  std::string note;
+};
+
 struct MachineModel {
   std::string name;
   std::string description;
   std::vector<AxisSpec> axes;
+  std::vector<LinkSpec> workpiece_chain;  ///< base W -> workpiece point p
+  std::vector<LinkSpec> tool_chain;       ///< base W -> tool tip
+  std::vector<std::string> sensors;       ///< temperature sensors, for T_<name> variables
+  std::vector<ErrorTermSpec> terms;
+  double max_correction = 0.5;            ///< mm: larger corrections are refused
   std::string dialect = "linuxcnc";
   std::string path;    ///< where it was read from
   std::string sha256;  ///< of the file's bytes: names the model in compensated programs

@@ -1,0 +1,78 @@
+#pragma once
+// The forward model: where the tool tip really is, relative to the workpiece, for axis
+// values q, a tool length, temperatures, a time and approach directions; with the exact
+// Jacobians the inverse solve and the fit need. Built once from a MachineModel
+// (ForwardModel, immutable) and evaluated with a scratch ForwardData.
+#include <array>
+#include <cstddef>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "ccomp/kinematics/chain.hpp"
+#include "ccomp/model/machine.hpp"
+
+namespace ccomp::model {
+
+/// Axis values of the chain: X Y Z A B C U V W, then the tool length L (index 9).
+/// Linear axes and L in mm, rotary axes in rad.
+inline constexpr std::size_t kToolLengthIndex = 9;
+inline constexpr std::size_t kChainVariables = 10;
+using ChainQ = Eigen::Matrix<double, kChainVariables, 1>;
+
+/// What terms depend on besides the axes.
+struct Conditions {
+  double time = 0.0;                   ///< s since the start
+  std::vector<double> temperatures;    ///< degC, one per sensor of the model
+  std::array<double, 9> directions{};  ///< approach sign of each axis: +1, -1, 0 unknown
+};
+
+class ForwardModel {
+ public:
+  explicit ForwardModel(const MachineModel& model);
+
+  [[nodiscard]] const MachineModel& machine() const { return machine_; }
+  [[nodiscard]] const kinematics::ChainModel& chain() const { return chain_; }
+  /// All free and fixed parameters of all terms, concatenated in file order.
+  [[nodiscard]] std::size_t parameter_count() const { return parameter_count_; }
+  [[nodiscard]] std::size_t parameter_offset(std::size_t term) const { return offsets_[term]; }
+  /// Where each term's error enters: side (0 workpiece, 1 tool) and joint index.
+  struct Site {
+    int side = 0;
+    std::size_t joint = 0;
+  };
+  [[nodiscard]] const Site& site(std::size_t term) const { return sites_[term]; }
+  /// Index of the last workpiece-side joint before the workpiece point: the table frame.
+  [[nodiscard]] std::size_t table_joint() const { return chain_.workpiece.joints.size() - 1; }
+
+ private:
+  MachineModel machine_;
+  kinematics::ChainModel chain_;
+  std::vector<Site> sites_;
+  std::vector<std::size_t> offsets_;
+  std::size_t parameter_count_ = 0;
+};
+
+struct ForwardData {
+  explicit ForwardData(const ForwardModel& model);
+
+  Eigen::VectorXd parameters;  ///< the terms' parameters (starts as the model's)
+  // results
+  Eigen::Vector3d actual = Eigen::Vector3d::Zero();   ///< tool tip in the table frame, with errors
+  Eigen::Vector3d nominal = Eigen::Vector3d::Zero();  ///< the same without errors
+  Eigen::Matrix3d R_actual, R_nominal;                ///< the tool's orientation in the table frame
+  Eigen::Matrix<double, 3, kChainVariables> J_q;      ///< d actual / d q
+  Eigen::Matrix<double, 3, Eigen::Dynamic> J_parameters;  ///< d actual / d parameters
+  // scratch
+  kinematics::ChainData actual_chain, nominal_chain;
+  std::vector<Eigen::Matrix<double, 6, 1>> work_error, tool_error;  ///< per joint: delta, epsilon
+};
+
+/// Evaluates the model at q. With `jacobians`, fills J_q and J_parameters.
+void forward(const ForwardModel& model, ForwardData& data, const ChainQ& q, const Conditions& conditions,
+             bool jacobians = false);
+
+/// The deviation of the tool tip (actual - nominal) in machine-axis directions, mm.
+[[nodiscard]] Eigen::Vector3d deviation(const ForwardData& data);
+
+}  // namespace ccomp::model

@@ -1,0 +1,153 @@
+#include "ccomp/model/forward.hpp"
+
+#include <fmt/format.h>
+
+#include "ccomp/error.hpp"
+
+namespace ccomp::model {
+
+using kinematics::Joint;
+using kinematics::JointType;
+using kinematics::Pose;
+
+ForwardModel::ForwardModel(const MachineModel& model) : machine_(model) {
+  chain_.nq = kChainVariables;
+  auto build = [&](const std::vector<LinkSpec>& links, kinematics::Chain& chain) {
+    for (const LinkSpec& l : links) {
+      Joint j;
+      j.name = l.name;
+      j.placement = Pose::translation(l.offset);
+      j.direction = l.direction;
+      if (l.tool) {
+        j.type = JointType::linear;  // the tool length is an axis of its own: L along the tool
+        j.axis = kToolLengthIndex;
+      } else if (l.axis) {
+        const auto* a = machine_.axis(*l.axis);
+        j.type = a && a->type == AxisType::rotary ? JointType::rotary : JointType::linear;
+        j.axis = std::string_view("XYZABCUVW").find(*l.axis);
+      }
+      chain.joints.push_back(j);
+    }
+  };
+  build(machine_.workpiece_chain, chain_.workpiece);
+  build(machine_.tool_chain, chain_.tool);
+  // The workpiece point: the table frame itself (program coordinates are table coordinates).
+  chain_.workpiece.joints.push_back(Joint{"p", JointType::fixed, 0, Eigen::Vector3d::UnitX(), Pose{}});
+  for (const ErrorTermSpec& t : machine_.terms) {
+    Site s;
+    bool found = false;
+    for (int side = 0; side < 2 && !found; ++side) {
+      const auto& joints = side == 0 ? chain_.workpiece.joints : chain_.tool.joints;
+      for (std::size_t j = 0; j < joints.size() && !found; ++j)
+        if (joints[j].name == t.link) s = Site{side, j}, found = true;
+    }
+    if (!found) throw Error(ErrorKind::model, fmt::format("term {}: no link {} in the chains", t.name, t.link));
+    sites_.push_back(s);
+    offsets_.push_back(parameter_count_);
+    parameter_count_ += static_cast<std::size_t>(t.parameters.size());
+  }
+}
+
+ForwardData::ForwardData(const ForwardModel& model)
+    : parameters(static_cast<Eigen::Index>(model.parameter_count())),
+      J_parameters(3, static_cast<Eigen::Index>(model.parameter_count())),
+      actual_chain(model.chain()),
+      nominal_chain(model.chain()),
+      work_error(model.chain().workpiece.joints.size()),
+      tool_error(model.chain().tool.joints.size()) {
+  for (std::size_t i = 0; i < model.machine().terms.size(); ++i)
+    parameters.segment(static_cast<Eigen::Index>(model.parameter_offset(i)), model.machine().terms[i].parameters.size()) =
+        model.machine().terms[i].parameters;
+}
+
+namespace {
+
+double variable_value(const Variable& v, const ChainQ& q, const Conditions& c) {
+  switch (v.kind) {
+    case VariableKind::axis: return q[static_cast<Eigen::Index>(v.index)];
+    case VariableKind::tool_length: return q[static_cast<Eigen::Index>(kToolLengthIndex)];
+    case VariableKind::time: return c.time;
+    case VariableKind::temperature: return v.index < c.temperatures.size() ? c.temperatures[v.index] : 20.0;
+    case VariableKind::direction: return c.directions[v.index];
+    case VariableKind::none: return 0.0;
+  }
+  return 0.0;
+}
+
+/// The chain variable a term variable is, or -1 when it is not one (time, temperature...).
+int chain_index(const Variable& v) {
+  if (v.kind == VariableKind::axis) return static_cast<int>(v.index);
+  if (v.kind == VariableKind::tool_length) return static_cast<int>(kToolLengthIndex);
+  return -1;
+}
+
+}  // namespace
+
+void forward(const ForwardModel& model, ForwardData& d, const ChainQ& q, const Conditions& c, bool jacobians) {
+  const auto& terms = model.machine().terms;
+  for (auto& e : d.work_error) e.setZero();
+  for (auto& e : d.tool_error) e.setZero();
+  // Term values, summed per link component (delta x y z in mm, epsilon a b c in rad).
+  std::vector<TermValue> values(terms.size());
+  for (std::size_t i = 0; i < terms.size(); ++i) {
+    const ErrorTermSpec& t = terms[i];
+    const TermInputs in{variable_value(t.primary, q, c), variable_value(t.secondary, q, c)};
+    const auto params = d.parameters.segment(static_cast<Eigen::Index>(model.parameter_offset(i)), t.parameters.size());
+    values[i] = evaluate(t.shape, params, in, jacobians);
+    const auto& site = model.site(i);
+    auto& e = site.side == 0 ? d.work_error[site.joint] : d.tool_error[site.joint];
+    // ISO 230-1 error motions are the tool's relative to the workpiece: a link on the
+    // workpiece side moves the workpiece, so its error pose carries the opposite sign.
+    e[t.component] += (site.side == 0 ? -1.0 : 1.0) * values[i].value;
+  }
+  // Error poses of the links, with their Jacobians w.r.t. (delta, epsilon).
+  auto set_errors = [&](const std::vector<Eigen::Matrix<double, 6, 1>>& errors, std::vector<Pose>& poses,
+                        std::vector<Eigen::Matrix<double, 6, 6>>* J) {
+    for (std::size_t j = 0; j < errors.size(); ++j) {
+      Eigen::Matrix<double, 6, 3> Jd, Je;
+      poses[j] = kinematics::error_pose(errors[j].head<3>(), errors[j].tail<3>(), &Jd, &Je);
+      if (J) (*J)[j] << Jd, Je;
+    }
+  };
+  std::vector<Eigen::Matrix<double, 6, 6>> J_work(d.work_error.size()), J_tool(d.tool_error.size());
+  set_errors(d.work_error, d.actual_chain.work_error, jacobians ? &J_work : nullptr);
+  set_errors(d.tool_error, d.actual_chain.tool_error, jacobians ? &J_tool : nullptr);
+  const Eigen::VectorXd qx = q;
+  kinematics::error_matrix(model.chain(), d.actual_chain, qx, jacobians);
+  kinematics::error_matrix(model.chain(), d.nominal_chain, qx, false);
+  d.actual = d.actual_chain.E.t;
+  d.R_actual = d.actual_chain.E.R;
+  d.nominal = d.nominal_chain.E.t;
+  d.R_nominal = d.nominal_chain.E.R;
+  if (!jacobians) return;
+  // The translation of E moves by R * rho for a right perturbation (rho, theta).
+  const Eigen::Matrix3d R = d.actual_chain.E.R;
+  auto position_rows = [&](const Eigen::Matrix<double, 6, Eigen::Dynamic>& J6) {
+    return Eigen::Matrix<double, 3, Eigen::Dynamic>(R * J6.topRows<3>());
+  };
+  d.J_q = position_rows(d.actual_chain.J_q);
+  d.J_parameters.setZero();
+  for (std::size_t i = 0; i < terms.size(); ++i) {
+    const ErrorTermSpec& t = terms[i];
+    const auto& site = model.site(i);
+    const Eigen::Matrix<double, 6, 6>& J_link =
+        site.side == 0 ? d.actual_chain.J_work_error[site.joint] : d.actual_chain.J_tool_error[site.joint];
+    const Eigen::Matrix<double, 6, 6>& J_pose = site.side == 0 ? J_work[site.joint] : J_tool[site.joint];
+    // d actual / d (this term's value): through its component of the link's error.
+    const double sign = site.side == 0 ? -1.0 : 1.0;
+    const Eigen::Vector3d column = sign * R * (J_link * J_pose.col(t.component)).head<3>();
+    d.J_parameters.middleCols(static_cast<Eigen::Index>(model.parameter_offset(i)), t.parameters.size()) =
+        column * values[i].d_parameters.transpose();
+    if (const int k = chain_index(t.primary); k >= 0) d.J_q.col(k) += column * values[i].d_primary;
+    if (const int k = chain_index(t.secondary); k >= 0) d.J_q.col(k) += column * values[i].d_secondary;
+  }
+}
+
+Eigen::Vector3d deviation(const ForwardData& d) {
+  // In the table frame; turned into machine-axis directions by the table's nominal
+  // orientation relative to the machine base.
+  const Pose& oMtable = d.nominal_chain.work_oMi.back();
+  return oMtable.R * (d.actual - d.nominal);
+}
+
+}  // namespace ccomp::model

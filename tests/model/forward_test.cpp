@@ -1,0 +1,121 @@
+// The forward model through a parsed model file: signs of the ISO error motions, the Abbe
+// effect of the tool length, and the exact Jacobians against finite differences.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "ccomp/model/forward.hpp"
+
+namespace ccomp::model {
+namespace {
+
+// The seed's horizontal machining centre: X and Z carry the table (workpiece side), B turns
+// it about Y, Y carries the spindle head (tool side); the tool points along -Z.
+const char* kChain = R"(
+name: test-hmc
+axes: {X: {}, Y: {}, Z: {}, B: {type: rotary}}
+sensors: [spindle]
+chain:
+  workpiece:
+    - {link: X, axis: X, direction: [-1, 0, 0]}
+    - {link: Z, axis: Z, direction: [0, 0, -1]}
+    - {link: B, axis: B, direction: [0, -1, 0], offset: [0, 0, -400 mm]}
+  tool:
+    - {link: Y, axis: Y, direction: [0, 1, 0]}
+    - {link: S}
+    - {link: tool, tool_length: [0, 0, -1]}
+)";
+
+ForwardData at(const ForwardModel& m, double x, double y, double z, double b_deg, double L, bool jacobians = false,
+               const Conditions& c = {}) {
+  ForwardData d(m);
+  ChainQ q = ChainQ::Zero();
+  q << x, y, z, 0, b_deg * M_PI / 180, 0, 0, 0, 0, L;
+  forward(m, d, q, c, jacobians);
+  return d;
+}
+
+TEST(Forward, ErrorMotionsShowWithTheirIsoSign) {
+  for (const char* term : {"{name: EXX, value: 10}", "{name: EYY, value: 10}", "{name: EZZ, value: 10}"}) {
+    const MachineModel mm = parse_machine_model(std::string(kChain) + "terms:\n  - " + term + "\n", "m.yaml");
+    const ForwardModel m(mm);
+    const Eigen::Vector3d d = deviation(at(m, 120, -40, 30, 0, 100));
+    const int axis = term[8] - 'X';
+    for (int k = 0; k < 3; ++k) EXPECT_NEAR(d[k], k == axis ? 0.010 : 0.0, 1e-12) << term << " component " << k;
+  }
+}
+
+TEST(Forward, PitchOfTheSpindleHeadActsThroughTheToolLength) {
+  // EAY: the Y carriage pitches about X by 20 urad; the tool tip, L below the head's
+  // frame origin along -Z, moves in Y by 20 urad x L (the Abbe arm).
+  const MachineModel mm = parse_machine_model(std::string(kChain) + "terms:\n  - {name: EAY, value: 20}\n", "m.yaml");
+  const ForwardModel m(mm);
+  for (double L : {0.0, 100.0, 250.0}) {
+    const Eigen::Vector3d d = deviation(at(m, 0, 0, 0, 0, L));
+    EXPECT_NEAR(d.y(), 20e-6 * L, 1e-12) << L;
+    EXPECT_NEAR(d.x(), 0.0, 1e-12);
+  }
+}
+
+TEST(Forward, NominalIsTheProgramPointOnTheRotatedTable) {
+  const MachineModel mm = parse_machine_model(kChain, "m.yaml");
+  const ForwardModel m(mm);
+  // At B = 0 the tool tip sits at (x, y, z + 400 - L) in the table frame: the table moves
+  // -x and -z, the tool hangs L below the head and the B centre is 400 mm off.
+  const ForwardData d0 = at(m, 10, 20, 30, 0, 100);
+  EXPECT_LT((d0.nominal - Eigen::Vector3d(10, 20, 330)).norm(), 1e-12);
+  EXPECT_LT((d0.actual - d0.nominal).norm(), 1e-15) << "no terms, no error";
+  // B = 90 deg about -Y turns that point (v) into (v.z, v.y, -v.x) in the table frame.
+  const ForwardData d90 = at(m, 10, 20, 30, 90, 0);
+  EXPECT_LT((d90.nominal - Eigen::Vector3d(430, 20, -10)).norm(), 1e-12);
+}
+
+TEST(Forward, JacobiansMatchFiniteDifferences) {
+  const std::string terms = R"(terms:
+  - {name: EXX, form: polynomial, coefficients: [1, 0.02, -3.0e-5], fit: true}
+  - {name: EXX, form: periodic, period: 10 mm, harmonics: [[2, -1], [0.5, 0.3]], fit: true}
+  - {name: ECX, form: polynomial, coefficients: [0, 0.05], fit: true}
+  - {name: EBZ, form: table, interpolation: cubic, at: [-300, -100, 0, 200, 300], values: [1, -2, 0, 3, 1], fit: true}
+  - {name: EYZ, form: cross_axis, other: x, coefficients: [[1.0e-3, 2.0e-6]], fit: true}
+  - {name: EAY, value: 12, fit: true}
+  - {name: EZS, variable: T_spindle, form: thermal, coefficient: 1.5, fit: true}
+  - {name: EBB, form: periodic, period: 90 deg, harmonics: [[5, 3]], fit: true}
+  - {name: EC0X, value: 15, fit: true}
+  - {name: EA0B, value: 8, fit: true}
+  - {name: EXB, form: polynomial, coefficients: [2, 0.01], fit: true}
+)";
+  const MachineModel mm = parse_machine_model(std::string(kChain) + terms, "m.yaml");
+  const ForwardModel m(mm);
+  Conditions c;
+  c.temperatures = {27.0};
+  ChainQ q = ChainQ::Zero();
+  q << 137.0, -58.0, 71.0, 0, 0.7, 0, 0, 0, 0, 123.0;
+  ForwardData d(m);
+  forward(m, d, q, c, true);
+  const double h = 1e-5;
+  for (Eigen::Index k : {0, 1, 2, 4, 9}) {
+    ChainQ up = q, down = q;
+    up[k] += h;
+    down[k] -= h;
+    ForwardData a(m), b(m);
+    forward(m, a, up, c);
+    forward(m, b, down, c);
+    const Eigen::Vector3d numeric = (a.actual - b.actual) / (2 * h);
+    EXPECT_LT((d.J_q.col(k) - numeric).norm(), 1e-7 * std::max(1.0, numeric.norm())) << "axis " << k;
+  }
+  for (Eigen::Index k = 0; k < d.parameters.size(); ++k) {
+    // Positions are hundreds of mm: a step of 1e-5 keeps rounding (1e-16 x 400 / 1e-5) far
+    // below the tolerance, and the model is nearly linear in its parameters.
+    const double step = 1e-5;
+    ForwardData a(m), b(m);
+    a.parameters[k] += step;
+    b.parameters[k] -= step;
+    forward(m, a, q, c);
+    forward(m, b, q, c);
+    const Eigen::Vector3d numeric = (a.actual - b.actual) / (2 * step);
+    EXPECT_LT((d.J_parameters.col(k) - numeric).norm(), 1e-8 + 1e-6 * numeric.norm()) << "parameter " << k;
+  }
+}
+
+}  // namespace
+}  // namespace ccomp::model
