@@ -1,0 +1,80 @@
+#include "ccomp/compensate/inverse.hpp"
+
+#include <Eigen/QR>
+
+#include "ccomp/kinematics/pose.hpp"
+
+namespace ccomp::compensate {
+
+using model::ChainQ;
+
+InverseProblem::InverseProblem(const model::ForwardModel& model) {
+  for (const auto* chain : {&model.chain().workpiece, &model.chain().tool}) {
+    for (const kinematics::Joint& j : chain->joints) {
+      if (j.type == kinematics::JointType::fixed || j.axis == model::kToolLengthIndex) continue;
+      unknowns.push_back(static_cast<int>(j.axis));
+      if (j.type == kinematics::JointType::rotary) {
+        rotary_unknowns.push_back(static_cast<int>(j.axis));
+        rotary_directions.push_back(j.direction);
+      }
+    }
+  }
+}
+
+namespace {
+
+/// The rotation of the actual tool relative to the nominal one, as a rotation vector in the
+/// tool frame, with its right Jacobian w.r.t. the actual chain's right perturbation.
+Eigen::Vector3d orientation(const model::ForwardData& d, Eigen::Matrix3d* J_inv) {
+  return kinematics::so3_log(d.R_nominal.transpose() * d.R_actual, J_inv);
+}
+
+}  // namespace
+
+InverseResult solve_inverse(const model::ForwardModel& model, const InverseProblem& problem, model::ForwardData& d,
+                            const ChainQ& q_nominal, const model::Conditions& conditions,
+                            const InverseOptions& options) {
+  InverseResult r;
+  // The target: where the tool tip would be on a perfect machine.
+  model::forward(model, d, q_nominal, conditions, false);
+  const Eigen::Vector3d target = d.nominal;
+  const Eigen::Matrix3d R_target = d.R_nominal;
+  const auto n = static_cast<Eigen::Index>(problem.unknowns.size());
+  const auto m = 3 + static_cast<Eigen::Index>(problem.rotary_unknowns.size());
+  ChainQ q = q_nominal;
+  Eigen::VectorXd residual(m);
+  Eigen::MatrixXd J(m, n);
+  for (r.iterations = 0; r.iterations <= options.max_iterations; ++r.iterations) {
+    model::forward(model, d, q, conditions, true);
+    residual.head<3>() = d.actual - target;
+    Eigen::Matrix3d Jr_inv;
+    const Eigen::Vector3d omega = kinematics::so3_log(R_target.transpose() * d.R_actual, &Jr_inv);
+    // Rotation rows of dE/dq (right tangent of the tool in the table frame).
+    const Eigen::Matrix<double, 3, Eigen::Dynamic> J_rot = Jr_inv * d.actual_chain.J_q.bottomRows<3>();
+    for (std::size_t k = 0; k < problem.rotary_unknowns.size(); ++k) {
+      // The rotary axis seen from the tool: in the table frame it is its own direction (a
+      // rotation about d leaves d in place, and the table frame follows the rotary link),
+      // turned into the tool frame by the target orientation.
+      const Eigen::Vector3d axis = R_target.transpose() * problem.rotary_directions[k];
+      residual[3 + static_cast<Eigen::Index>(k)] = axis.dot(omega);
+      for (Eigen::Index c = 0; c < n; ++c)
+        J(3 + static_cast<Eigen::Index>(k), c) = axis.dot(J_rot.col(problem.unknowns[static_cast<std::size_t>(c)]));
+    }
+    for (Eigen::Index c = 0; c < n; ++c) J.block<3, 1>(0, c) = d.J_q.col(problem.unknowns[static_cast<std::size_t>(c)]);
+    r.position_residual = residual.head<3>();
+    r.orientation_error = omega;
+    const bool position_ok = r.position_residual.norm() < options.position_tolerance;
+    const bool angles_ok = residual.tail(m - 3).size() == 0 || residual.tail(m - 3).cwiseAbs().maxCoeff() < options.angle_tolerance;
+    if (position_ok && angles_ok) {
+      r.converged = true;
+      break;
+    }
+    if (r.iterations == options.max_iterations) break;
+    const Eigen::VectorXd step = J.completeOrthogonalDecomposition().solve(-residual);
+    for (Eigen::Index c = 0; c < n; ++c) q[problem.unknowns[static_cast<std::size_t>(c)]] += step[c];
+  }
+  r.q = q;
+  return r;
+}
+
+}  // namespace ccomp::compensate
