@@ -33,6 +33,10 @@ struct CompensateArgs {
   int jobs = 1;
   bool force = false;
   bool progress = false;
+  double tolerance = 0.001;
+  std::vector<std::string> sensors;  ///< NAME=VALUE (degC)
+  double time = 0.0;
+  bool quiet = false;
   ProgramArgs program;
 };
 void add_compensate(CLI::App& app, CompensateArgs& args);

@@ -3,6 +3,8 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <cmath>
+#include <cstdlib>
 #include <atomic>
 #include <cstdio>
 #include <filesystem>
@@ -27,6 +29,11 @@ void add_compensate(CLI::App& app, CompensateArgs& args) {
   app.add_option("-j,--jobs", args.jobs, "programs compensated at once")->check(CLI::PositiveNumber);
   app.add_flag("--force", args.force, "compensate a program that already carries ccomp's header");
   app.add_flag("--progress", args.progress, "print FILTER_PROGRESS=N lines on stderr (LinuxCNC filters)");
+  app.add_option("--tolerance", args.tolerance, "mm: largest distance of the executed path from the nominal (0.001)")
+      ->check(CLI::PositiveNumber);
+  app.add_option("--sensor", args.sensors, "a temperature reading for the model's thermal terms: NAME=DEGC");
+  app.add_option("--time", args.time, "s since the machine's warm-up started, for warm-up terms");
+  app.add_flag("-q,--quiet", args.quiet, "no summary line per program");
   add_program_options(app, args.program);
 }
 
@@ -37,6 +44,18 @@ struct Target {
   std::string output;  ///< "-" for stdout
 };
 
+/// One line per program on stderr: what the machine's error was and what is left.
+void report(const Target& t, const model::MachineModel& model, const compensate::JobReport& r,
+            const CompensateArgs& args) {
+  if (args.quiet || model.terms.empty()) return;
+  fmt::print(stderr,
+             "{}: {} moves compensated ({} lines added) for '{}' at {} um: error before {:.2f} um, after {:.2f} um; "
+             "largest correction {:.1f} um; orientation error left {:.1f} urad\n",
+             t.input == "-" ? "<stdin>" : t.input, r.compensated_moves, r.added_lines, model.name,
+             args.tolerance * 1000.0, r.max_error_before * 1000.0, r.max_error_after * 1000.0,
+             r.max_correction * 1000.0, r.max_orientation_error * 1e6);
+}
+
 /// Writes to `<output>.ccomp-XXXXXX` beside the output and renames it into place only on
 /// success, so a failed run leaves the previous output as it was.
 void compensate_one(const Target& t, const model::MachineModel& model, const compensate::JobOptions& options,
@@ -44,7 +63,7 @@ void compensate_one(const Target& t, const model::MachineModel& model, const com
   gcode::LineSource input = gcode::LineSource::open(t.input);
   if (t.output == "-") {
     std::setvbuf(stdout, nullptr, _IOFBF, 1 << 20);
-    compensate::run_program_job(input, stdout, model, options);
+    report(t, model, compensate::run_program_job(input, stdout, model, options), args);
     return;
   }
   const fs::path out(t.output);
@@ -55,7 +74,7 @@ void compensate_one(const Target& t, const model::MachineModel& model, const com
   std::FILE* f = ::fdopen(fd, "wb");
   std::setvbuf(f, nullptr, _IOFBF, 1 << 20);
   try {
-    compensate::run_program_job(input, f, model, options);
+    const compensate::JobReport r = compensate::run_program_job(input, f, model, options);
     if (std::fclose(f) != 0) throw Error(ErrorKind::io, fmt::format("cannot write '{}'", t.output));
     f = nullptr;
     if (args.in_place) {
@@ -68,6 +87,7 @@ void compensate_one(const Target& t, const model::MachineModel& model, const com
     if (t.input != "-") fs::permissions(temp, fs::status(t.input).permissions(), ec);
     if (std::rename(temp.c_str(), t.output.c_str()) != 0)
       throw Error(ErrorKind::io, fmt::format("cannot move the result into place as '{}'", t.output));
+    report(t, model, r, args);
   } catch (...) {
     if (f) std::fclose(f);
     std::remove(temp.c_str());
@@ -93,6 +113,16 @@ int run_compensate(const CompensateArgs& args) {
   compensate::JobOptions options;
   options.interpreter = interpreter_options(args.program, model.dialect);
   options.force = args.force;
+  options.tolerance = args.tolerance;
+  options.time = args.time;
+  for (const std::string& s : args.sensors) {
+    const auto eq = s.find('=');
+    char* end = nullptr;
+    const double v = eq == std::string::npos ? 0.0 : std::strtod(s.c_str() + eq + 1, &end);
+    if (eq == std::string::npos || eq == 0 || !end || *end != '\0' || !std::isfinite(v))
+      throw Error(ErrorKind::usage, "--sensor takes NAME=DEGC, not '" + s + "'");
+    options.sensors.emplace_back(s.substr(0, eq), v);
+  }
 
   std::vector<Target> targets;
   for (const std::string& in : args.inputs) {

@@ -3,9 +3,12 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
+#include <memory>
 
 #include "ccomp/error.hpp"
+#include "ccomp/compensate/compensator.hpp"
 #include "ccomp/gcode/writer.hpp"
 #include "ccomp/version.hpp"
 
@@ -13,6 +16,30 @@ namespace ccomp::compensate {
 namespace {
 
 constexpr std::string_view kHeaderPrefix = "(ccomp ";
+constexpr double kRadPerDeg = 3.14159265358979323846 / 180.0;
+
+/// Formats a compensated coordinate in the style of the word it replaces: at least as many
+/// decimals as the program wrote, and enough for the tolerance: 4 in mm, 5 in inches, 5 in
+/// degrees (1e-5 deg is 0.07 um at 400 mm from the axis).
+std::string format_value(double v, std::string_view original, bool inch, bool rotary) {
+  int decimals = rotary ? 5 : inch ? 5 : 4;
+  bool leading_zero = true;
+  if (const auto dot = original.find('.'); dot != std::string_view::npos) {
+    int written = 0;
+    for (std::size_t i = dot + 1; i < original.size() && std::isdigit(static_cast<unsigned char>(original[i])); ++i)
+      ++written;
+    decimals = std::max(decimals, written);
+    const auto first_digit = original.find_first_of("0123456789.");
+    leading_zero = !(first_digit != std::string_view::npos && original[first_digit] == '.');
+  }
+  std::string text = fmt::format("{:.{}f}", v, decimals);
+  if (text == fmt::format("-{:.{}f}", 0.0, decimals)) text.erase(0, 1);  // no "-0.0000"
+  if (!leading_zero) {
+    if (text.starts_with("0.")) text.erase(0, 1);
+    else if (text.starts_with("-0.")) text.erase(1, 1);
+  }
+  return text;
+}
 
 class JobSink : public gcode::CanonSink {
  public:
@@ -23,17 +50,38 @@ class JobSink : public gcode::CanonSink {
       machine_axes_ |= 1U << (a.letter - 'A');
       has_limits_ = has_limits_ || std::isfinite(a.min) || std::isfinite(a.max);
     }
+    if (!model.terms.empty()) {
+      forward_ = std::make_unique<model::ForwardModel>(model);
+      CompensationOptions c;
+      c.tolerance = options.tolerance;
+      c.conditions.time = options.time;
+      c.conditions.temperatures.assign(model.sensors.size(), std::nan(""));
+      for (const auto& [name, value] : options.sensors) {
+        const auto it = std::find(model.sensors.begin(), model.sensors.end(), name);
+        if (it == model.sensors.end())
+          throw Error(ErrorKind::usage, fmt::format("--sensor {}: machine '{}' has no sensor of that name", name, model.name));
+        c.conditions.temperatures[static_cast<std::size_t>(it - model.sensors.begin())] = value;
+      }
+      for (const model::ErrorTermSpec& t : model.terms)
+        for (const model::Variable* v : {&t.primary, &t.secondary})
+          if (v->kind == model::VariableKind::temperature && std::isnan(c.conditions.temperatures[v->index]))
+            throw Error(ErrorKind::safety,
+                        fmt::format("term {} depends on sensor '{}', and no reading was given: --sensor {}=VALUE",
+                                    t.name, model.sensors[v->index], model.sensors[v->index]));
+      compensator_ = std::make_unique<Compensator>(*forward_, c);
+    }
   }
 
   void block(const gcode::Block& block, const gcode::SourceLine& line) override {
     writer_.advance_to(line.offset);
     ++report_.blocks;
+    block_ = &block;
+    line_ = line;
     for (const gcode::Word& w : block.words) {
       if (w.letter < 'A' || w.letter > 'Z' || ((machine_axes_ >> (w.letter - 'A')) & 1U) || !gcode::axis_index(w.letter))
         continue;
       throw Error(ErrorKind::safety,
-                  fmt::format("the program uses axis {}, which machine '{}' does not have", w.letter,
-                              model_.name),
+                  fmt::format("the program uses axis {}, which machine '{}' does not have", w.letter, model_.name),
                   SourceLocation{input_.name(), block.line, w.span.begin + 1}, std::string(block.text));
     }
     if (options_.progress && input_.size() > 0) {
@@ -44,20 +92,171 @@ class JobSink : public gcode::CanonSink {
       }
     }
   }
+
   void motion(const gcode::Motion& m) override {
     ++report_.motions;
     if (has_limits_) check_limits(m);
+    if (compensator_) compensate(m);
   }
+
   void warning(const std::string& message, std::uint32_t line) override {
     if (options_.warning) options_.warning(message, line);
   }
 
  private:
-  gcode::ProgramWriter& writer_;
-  const model::MachineModel& model_;
-  const JobOptions& options_;
-  const gcode::LineSource& input_;
-  JobReport& report_;
+  [[noreturn]] void refuse(ErrorKind kind, const std::string& message) const {
+    throw Error(kind, message, SourceLocation{input_.name(), block_->line, 0}, std::string(block_->text));
+  }
+
+  /// Chain values (axes in mm and rad, the tool length) of a controlled point.
+  static model::ChainQ chain_of(const gcode::Axes& controlled, const gcode::Offsets& offsets) {
+    model::ChainQ q = model::ChainQ::Zero();
+    for (std::size_t i = 0; i < gcode::kAxisCount; ++i) {
+      const double axis = controlled[i] + offsets.tool[i];  // the machine axis carries the tool
+      q[static_cast<Eigen::Index>(i)] = gcode::is_rotary(i) ? axis * kRadPerDeg : axis;
+    }
+    q[static_cast<Eigen::Index>(model::kToolLengthIndex)] = offsets.tool[2];
+    return q;
+  }
+
+  /// Program coordinates (program units, degrees) of chain values.
+  static gcode::Axes program_of(const model::ChainQ& q, const gcode::Offsets& offsets, double unit) {
+    gcode::Axes controlled{};
+    for (std::size_t i = 0; i < gcode::kAxisCount; ++i) {
+      const double axis = gcode::is_rotary(i) ? q[static_cast<Eigen::Index>(i)] / kRadPerDeg : q[static_cast<Eigen::Index>(i)];
+      controlled[i] = axis - offsets.tool[i];
+    }
+    gcode::Axes p = offsets.program_of(controlled);
+    for (std::size_t i = 0; i < gcode::kAxisCount; ++i)
+      if (!gcode::is_rotary(i)) p[i] /= unit;
+    return p;
+  }
+
+  void compensate(const gcode::Motion& m) {
+    using gcode::MotionKind;
+    using gcode::MotionSource;
+    // Moves in machine coordinates (G53, G28/G30) go where they say: they are not part of
+    // the workpiece's geometry. Nothing else may go uncompensated.
+    if (m.source == MotionSource::machine_coordinates || m.source == MotionSource::reference_return) {
+      commanded_ = m.end;
+      return;
+    }
+    if (m.kind == MotionKind::arc)
+      refuse(ErrorKind::unsupported, "compensating arcs is not implemented yet (G2/G3 must become segments); "
+                                     "the zero model passes them through");
+    if (m.kind == MotionKind::probe) refuse(ErrorKind::unsupported, "a probe move (G38.x) cannot be compensated");
+    if (m.source == MotionSource::canned_cycle)
+      refuse(ErrorKind::unsupported, "compensating canned cycles is not implemented yet");
+    if (line_.offset < writer_.written_up_to())
+      refuse(ErrorKind::unsupported, "this line runs more than once (a loop or a subroutine) and its correction "
+                                     "differs each time; compensating such programs needs flattening, not "
+                                     "implemented yet");
+    const model::ChainQ start = chain_of(m.start, *m.offsets);
+    const model::ChainQ end = chain_of(m.end, *m.offsets);
+    auto& directions = compensator_->conditions().directions;
+    for (std::size_t i = 0; i < gcode::kAxisCount; ++i) {
+      const double delta = end[static_cast<Eigen::Index>(i)] - start[static_cast<Eigen::Index>(i)];
+      if (std::abs(delta) > 1e-12) directions[i] = delta > 0 ? 1.0 : -1.0;
+    }
+    MoveReport move;
+    if (m.kind == MotionKind::traverse) {  // a rapid's path is the control's: compensate its end
+      move.max_deviation_before = compensator_->error_at(end);
+      points_.assign(1, CompensatedPoint{1.0, compensator_->point(end, move)});
+    } else {
+      compensator_->straight(start, end, points_, move);
+    }
+    if (move.max_correction > model_.max_correction)
+      refuse(ErrorKind::safety, fmt::format("the correction is {:.4f} mm, beyond the model's bound of {} mm "
+                                            "(max_correction): is the model right for this machine?",
+                                            move.max_correction, model_.max_correction));
+    report_.max_error_before = std::max(report_.max_error_before, move.max_deviation_before);
+    report_.max_error_after = std::max(report_.max_error_after, move.max_deviation_after);
+    report_.max_correction = std::max(report_.max_correction, move.max_correction);
+    report_.max_orientation_error = std::max(report_.max_orientation_error, move.max_orientation_error);
+    ++report_.compensated_moves;
+    report_.added_lines += points_.size() - 1;
+    write_edits(m);
+  }
+
+  void write_edits(const gcode::Motion& m) {
+    const gcode::Block& b = *block_;
+    const bool inch = m.units == gcode::Units::inch;
+    const double unit = inch ? 25.4 : 1.0;
+    const bool incremental = m.incremental;
+    const gcode::Axes nominal_program = m.offsets->program_of(m.end);
+    std::vector<gcode::Edit> edits;
+    std::string appended;
+    double previous_s = 0.0;
+    // Words the block lacks go right after its last axis word (or its last word).
+    std::uint32_t insert_at = 0, after_axes = 0;
+    for (const gcode::Word& w : b.words) {
+      insert_at = std::max(insert_at, w.span.end);
+      if (gcode::axis_index(w.letter)) after_axes = std::max(after_axes, w.span.end);
+    }
+    if (after_axes > 0) insert_at = after_axes;
+    for (std::size_t k = 0; k < points_.size(); ++k) {
+      const gcode::Axes p = program_of(points_[k].q, *m.offsets, unit);
+      std::string segment = k == 0 ? "" : (m.kind == gcode::MotionKind::traverse ? "G0" : "G1");
+      for (std::size_t i = 0; i < gcode::kAxisCount; ++i) {
+        const char letter = gcode::kAxisLetters[i];
+        if (!model_.axis(letter)) continue;
+        const gcode::Word* word = k == 0 ? b.find(letter) : nullptr;
+        const double last = program_of(chain_of(commanded_, *m.offsets), *m.offsets, unit)[i];
+        const double value = incremental ? p[i] - last : p[i];
+        const bool rotary = gcode::is_rotary(i);
+        const std::string text =
+            format_value(value, word ? b.slice(word->value_span) : std::string_view(), inch && !rotary, rotary);
+        // An axis the block did not name gets a word when the machine must move it.
+        if (!word) {
+          const double unmoved = incremental ? 0.0 : last;
+          if (text == format_value(unmoved, {}, inch && !rotary, rotary)) continue;
+        }
+        if (word)
+          edits.push_back(gcode::Edit{word->value_span, text});
+        else if (k == 0)
+          edits.push_back(gcode::Edit{{insert_at, insert_at}, std::string(" ") + letter + text});
+        else
+          segment += std::string(" ") + letter + text;
+        (void)nominal_program;
+      }
+      // Inverse time: each piece keeps its share of the block's duration.
+      if (m.feed_mode == gcode::FeedMode::inverse_time && m.kind == gcode::MotionKind::feed) {
+        const double share = points_[k].s - previous_s;
+        const std::string f = fmt::format("{:.4f}", m.feed / share);
+        if (k == 0) {
+          if (const gcode::Word* fw = b.find('F')) edits.push_back(gcode::Edit{fw->value_span, f});
+        } else {
+          segment += " F" + f;
+        }
+      }
+      previous_s = points_[k].s;
+      // The machine is now at the compensated point: incremental words count from there.
+      gcode::Axes controlled{};
+      for (std::size_t i = 0; i < gcode::kAxisCount; ++i) {
+        const double axis = gcode::is_rotary(i) ? points_[k].q[static_cast<Eigen::Index>(i)] / kRadPerDeg
+                                                : points_[k].q[static_cast<Eigen::Index>(i)];
+        controlled[i] = axis - m.offsets->tool[i];
+      }
+      commanded_ = m.offsets->from_machine(m.offsets->to_machine(controlled));
+      if (k > 0) appended += std::string(line_.terminator.empty() ? "\n" : line_.terminator) + segment;
+    }
+    if (points_.size() > 1 && has_stop_code(b))
+      refuse(ErrorKind::unsupported, "a move that must be split shares its block with a program stop (M0 M1 M2 M30 M60)");
+    if (!appended.empty()) edits.push_back(gcode::Edit{{static_cast<std::uint32_t>(b.text.size()),
+                                                        static_cast<std::uint32_t>(b.text.size())}, appended});
+    // Inserted words go before any trailing comment: after the last word.
+    if (!edits.empty()) writer_.edit(line_.offset, std::move(edits));
+  }
+
+  static bool has_stop_code(const gcode::Block& b) {
+    for (const gcode::Word& w : b.words)
+      if (w.letter == 'M' && w.value.is_literal() &&
+          (w.value.literal == 0 || w.value.literal == 1 || w.value.literal == 2 || w.value.literal == 30 ||
+           w.value.literal == 60))
+        return true;
+    return false;
+  }
+
   /// The machine axes (controlled point plus tool offset) must stay within the model's
   /// limits: at every move's end, and for arcs at the extremes they pass through.
   void check_limits(const gcode::Motion& m) const {
@@ -75,7 +274,6 @@ class JobSink : public gcode::CanonSink {
                   SourceLocation{input_.name(), m.line, 0});
     }
   }
-
   /// Widens [low, high] by the points of the arc where its in-plane axes are extreme.
   static void arc_extremes(const gcode::Motion& m, gcode::Axes& low, gcode::Axes& high) {
     const gcode::PlaneAxes pa = gcode::plane_axes(m.arc.plane);
@@ -109,6 +307,17 @@ class JobSink : public gcode::CanonSink {
   int last_percent_ = -1;
   bool has_limits_ = false;
   std::uint32_t machine_axes_ = 0;  ///< bit (letter - 'A') for each axis the machine has
+  gcode::ProgramWriter& writer_;
+  const model::MachineModel& model_;
+  const JobOptions& options_;
+  const gcode::LineSource& input_;
+  JobReport& report_;
+  std::unique_ptr<model::ForwardModel> forward_;
+  std::unique_ptr<Compensator> compensator_;
+  const gcode::Block* block_ = nullptr;
+  gcode::SourceLine line_;
+  std::vector<CompensatedPoint> points_;
+  gcode::Axes commanded_{};  ///< where the rewritten program has sent the controlled point
 };
 
 std::string sanitize(std::string_view s) {

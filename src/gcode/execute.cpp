@@ -379,6 +379,7 @@ void Interpreter::Impl::straight(MotionKind kind, const Axes& target, MotionSour
   m.feed_mode = modal.feed_mode;
   m.feed = modal.feed;
   m.units = modal.units;
+  m.incremental = !modal.absolute;
   m.offsets = &offsets;
   m.line = block.line;
   position = target;
@@ -790,6 +791,7 @@ void Interpreter::Impl::arc(const Block& b, int code, const Axes& target) {
   m.feed_mode = modal.feed_mode;
   m.feed = modal.feed;
   m.units = modal.units;
+  m.incremental = !modal.absolute;
   m.offsets = &offsets;
   m.line = b.line;
   position = target;

@@ -5,6 +5,8 @@
 #include <cstdio>
 #include <functional>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include "ccomp/gcode/interpreter.hpp"
 #include "ccomp/gcode/source.hpp"
@@ -14,6 +16,12 @@ namespace ccomp::compensate {
 
 struct JobOptions {
   gcode::InterpreterOptions interpreter;
+  /// mm: the largest distance the executed path may keep from the nominal one.
+  double tolerance = 0.001;
+  /// Temperature sensor readings (degC) by name, and the time since the start (s), for
+  /// the model's thermal terms.
+  std::vector<std::pair<std::string, double>> sensors;
+  double time = 0.0;
   /// Compensate even when the input already carries ccomp's header (double compensation).
   bool force = false;
   /// Called with the fraction of the input read, at most about a hundred times.
@@ -26,6 +34,12 @@ struct JobReport {
   std::uint64_t blocks = 0;   ///< blocks executed
   std::uint64_t motions = 0;  ///< canonical motions
   std::uint64_t bytes = 0;    ///< input size
+  std::uint64_t compensated_moves = 0;
+  std::uint64_t added_lines = 0;          ///< segments added by splitting moves
+  double max_error_before = 0.0;          ///< mm: the uncompensated machine's largest error
+  double max_error_after = 0.0;           ///< mm: the compensated path's, at the checked points
+  double max_correction = 0.0;            ///< mm
+  double max_orientation_error = 0.0;     ///< rad: what the machine cannot correct
 };
 
 /// The header comment that marks a compensated program and names the model by its hash.

@@ -74,6 +74,7 @@ struct Motion {
   FeedMode feed_mode = FeedMode::units_per_minute;
   double feed = 0.0;  ///< mm/min, or 1/min in inverse time, or mm/rev
   Units units = Units::mm;  ///< the program's units at the time (for printing)
+  bool incremental = false;  ///< G91 in force: the block's axis words are distances
   const Offsets* offsets = nullptr;  ///< in force during the move
   std::uint32_t line = 0;  ///< source line of the block that commanded it
 };

@@ -1,0 +1,66 @@
+#include "ccomp/compensate/compensator.hpp"
+
+#include <fmt/format.h>
+
+#include "ccomp/error.hpp"
+
+namespace ccomp::compensate {
+
+using model::ChainQ;
+
+Compensator::Compensator(const model::ForwardModel& model, CompensationOptions options)
+    : model_(model), options_(std::move(options)), problem_(model), data_(model), check_(model) {}
+
+ChainQ Compensator::point(const ChainQ& nominal, MoveReport& report) {
+  const InverseResult r = solve_inverse(model_, problem_, data_, nominal, options_.conditions);
+  if (!r.converged)
+    throw Error(ErrorKind::safety, fmt::format("the inverse did not converge in {} iterations (residual {:.3g} mm)",
+                                               r.iterations, r.position_residual.norm()));
+  report.max_correction = std::max(report.max_correction, (r.q - nominal).head<3>().cwiseAbs().maxCoeff());
+  report.max_orientation_error = std::max(report.max_orientation_error, r.orientation_error.norm());
+  return r.q;
+}
+
+double Compensator::error_at(const ChainQ& nominal) {
+  model::forward(model_, check_, nominal, options_.conditions);
+  return (check_.actual - check_.nominal).norm();
+}
+
+double Compensator::executed_deviation(const ChainQ& a_nominal, const ChainQ& b_nominal, const ChainQ& a_comp,
+                                       const ChainQ& b_comp, double t) {
+  // The machine interpolates the commanded axis values linearly; the program meant the
+  // nominal tool tip at the same fraction of the nominal move.
+  const ChainQ executed = a_comp + t * (b_comp - a_comp);
+  const ChainQ meant = a_nominal + t * (b_nominal - a_nominal);
+  model::forward(model_, check_, meant, options_.conditions);
+  const Eigen::Vector3d target = check_.nominal;
+  model::forward(model_, check_, executed, options_.conditions);
+  return (check_.actual - target).norm();
+}
+
+void Compensator::split(const ChainQ& a_nominal, const ChainQ& b_nominal, const ChainQ& a_comp, const ChainQ& b_comp,
+                        double s0, double s1, int depth, std::vector<CompensatedPoint>& out, MoveReport& report) {
+  double worst = 0.0;
+  for (double t : {0.25, 0.5, 0.75}) worst = std::max(worst, executed_deviation(a_nominal, b_nominal, a_comp, b_comp, t));
+  if (worst <= options_.tolerance || depth >= options_.max_depth) {
+    report.max_deviation_after = std::max(report.max_deviation_after, worst);
+    out.push_back({s1, b_comp});
+    return;
+  }
+  const ChainQ m_nominal = 0.5 * (a_nominal + b_nominal);
+  const ChainQ m_comp = point(m_nominal, report);
+  const double sm = 0.5 * (s0 + s1);
+  split(a_nominal, m_nominal, a_comp, m_comp, s0, sm, depth + 1, out, report);
+  split(m_nominal, b_nominal, m_comp, b_comp, sm, s1, depth + 1, out, report);
+}
+
+void Compensator::straight(const ChainQ& start, const ChainQ& end, std::vector<CompensatedPoint>& out,
+                           MoveReport& report) {
+  out.clear();
+  for (double t : {0.0, 0.5, 1.0}) report.max_deviation_before = std::max(report.max_deviation_before, error_at(start + t * (end - start)));
+  const ChainQ a = point(start, report);
+  const ChainQ b = point(end, report);
+  split(start, end, a, b, 0.0, 1.0, 0, out, report);
+}
+
+}  // namespace ccomp::compensate
