@@ -39,10 +39,11 @@ double Compensator::executed_deviation(const ChainQ& a_nominal, const ChainQ& b_
 }
 
 void Compensator::split(const ChainQ& a_nominal, const ChainQ& b_nominal, const ChainQ& a_comp, const ChainQ& b_comp,
-                        double s0, double s1, int depth, std::vector<CompensatedPoint>& out, MoveReport& report) {
+                        double s0, double s1, int depth, double tolerance, std::vector<CompensatedPoint>& out,
+                        MoveReport& report) {
   double worst = 0.0;
   for (double t : {0.25, 0.5, 0.75}) worst = std::max(worst, executed_deviation(a_nominal, b_nominal, a_comp, b_comp, t));
-  if (worst <= options_.tolerance || depth >= options_.max_depth) {
+  if (worst <= tolerance || depth >= options_.max_depth) {
     report.max_deviation_after = std::max(report.max_deviation_after, worst);
     out.push_back({s1, b_comp});
     return;
@@ -50,17 +51,18 @@ void Compensator::split(const ChainQ& a_nominal, const ChainQ& b_nominal, const 
   const ChainQ m_nominal = 0.5 * (a_nominal + b_nominal);
   const ChainQ m_comp = point(m_nominal, report);
   const double sm = 0.5 * (s0 + s1);
-  split(a_nominal, m_nominal, a_comp, m_comp, s0, sm, depth + 1, out, report);
-  split(m_nominal, b_nominal, m_comp, b_comp, sm, s1, depth + 1, out, report);
+  split(a_nominal, m_nominal, a_comp, m_comp, s0, sm, depth + 1, tolerance, out, report);
+  split(m_nominal, b_nominal, m_comp, b_comp, sm, s1, depth + 1, tolerance, out, report);
 }
 
 void Compensator::straight(const ChainQ& start, const ChainQ& end, std::vector<CompensatedPoint>& out,
-                           MoveReport& report) {
+                           MoveReport& report, double tolerance) {
   out.clear();
+  if (tolerance <= 0) tolerance = options_.tolerance;
   for (double t : {0.0, 0.5, 1.0}) report.max_deviation_before = std::max(report.max_deviation_before, error_at(start + t * (end - start)));
   const ChainQ a = point(start, report);
   const ChainQ b = point(end, report);
-  split(start, end, a, b, 0.0, 1.0, 0, out, report);
+  split(start, end, a, b, 0.0, 1.0, 0, tolerance, out, report);
 }
 
 }  // namespace ccomp::compensate

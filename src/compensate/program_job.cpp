@@ -73,6 +73,7 @@ class JobSink : public gcode::CanonSink {
   }
 
   void block(const gcode::Block& block, const gcode::SourceLine& line) override {
+    finish_cycle();
     writer_.advance_to(line.offset);
     ++report_.blocks;
     block_ = &block;
@@ -141,12 +142,20 @@ class JobSink : public gcode::CanonSink {
       commanded_ = m.end;
       return;
     }
-    if (m.kind == MotionKind::arc)
-      refuse(ErrorKind::unsupported, "compensating arcs is not implemented yet (G2/G3 must become segments); "
-                                     "the zero model passes them through");
     if (m.kind == MotionKind::probe) refuse(ErrorKind::unsupported, "a probe move (G38.x) cannot be compensated");
-    if (m.source == MotionSource::canned_cycle)
-      refuse(ErrorKind::unsupported, "compensating canned cycles is not implemented yet");
+    if (m.source == MotionSource::canned_cycle) {
+      if (m.incremental) refuse(ErrorKind::unsupported, "compensating incremental (G91) canned cycles is not implemented yet");
+      if (cycle_.motions.empty()) {
+        cycle_.text = std::string(block_->text);
+        cycle_.words = block_->words;
+        cycle_.offset = line_.offset;
+        cycle_.line = block_->line;
+        cycle_.offsets = *m.offsets;
+        cycle_.units = m.units;
+      }
+      cycle_.motions.push_back(m);
+      return;
+    }
     if (line_.offset < writer_.written_up_to())
       refuse(ErrorKind::unsupported, "this line runs more than once (a loop or a subroutine) and its correction "
                                      "differs each time; compensating such programs needs flattening, not "
@@ -162,6 +171,19 @@ class JobSink : public gcode::CanonSink {
     if (m.kind == MotionKind::traverse) {  // a rapid's path is the control's: compensate its end
       move.max_deviation_before = compensator_->error_at(end);
       points_.assign(1, CompensatedPoint{1.0, compensator_->point(end, move)});
+    } else if (m.kind == MotionKind::arc) {
+      // Chords within half the tolerance of the arc, each compensated within the other half.
+      arc_chords(m, options_.tolerance / 2.0, chords_);
+      points_.clear();
+      const auto n = static_cast<double>(chords_.size() - 1);
+      for (std::size_t k = 1; k < chords_.size(); ++k) {
+        compensator_->straight(chain_of(chords_[k - 1], *m.offsets), chain_of(chords_[k], *m.offsets), pieces_, move,
+                               options_.tolerance / 2.0);
+        for (CompensatedPoint& piece : pieces_) {
+          piece.s = (static_cast<double>(k - 1) + piece.s) / n;
+          points_.push_back(piece);
+        }
+      }
     } else {
       compensator_->straight(start, end, points_, move);
     }
@@ -176,6 +198,125 @@ class JobSink : public gcode::CanonSink {
     ++report_.compensated_moves;
     report_.added_lines += points_.size() - 1;
     write_edits(m);
+  }
+
+  /// A canned-cycle block, kept until its last move: its holes' X Y R Z are compensated
+  /// together. The drill feeds along the cycle's axis from R to the bottom; the block can
+  /// take one X Y, so it takes the mean of the R point's and the bottom's corrections and
+  /// reports half their difference as what is left.
+  struct PendingCycle {
+    std::string text;
+    std::vector<gcode::Word> words;
+    std::uint64_t offset = 0;
+    std::uint32_t line = 0;
+    gcode::Offsets offsets;
+    gcode::Units units = gcode::Units::mm;
+    std::vector<gcode::Motion> motions;
+  };
+
+ public:
+  /// Compensates a cycle still waiting for its block's end (call before the writer finishes).
+  void finish_cycle() {
+    if (cycle_.motions.empty()) return;
+    PendingCycle c = std::move(cycle_);
+    cycle_ = PendingCycle{};
+    if (c.offset < writer_.written_up_to())
+      throw Error(ErrorKind::unsupported, "this canned cycle runs more than once (a loop or a subroutine); "
+                  "compensating such programs needs flattening, not implemented yet",
+                  SourceLocation{input_.name(), c.line, 0}, c.text);
+    // The feeds: the first starts at the R point, the last ends at the bottom.
+    const gcode::Motion* first = nullptr;
+    const gcode::Motion* last = nullptr;
+    int holes = 0;
+    for (const gcode::Motion& m : c.motions) {
+      if (m.kind != gcode::MotionKind::feed) continue;
+      if (!first || (last && last->end[0] != m.start[0]) || (last && last->end[1] != m.start[1])) ++holes;
+      if (!first) first = &m;
+      last = &m;
+    }
+    if (!first) return;
+    if (holes > 1)
+      throw Error(ErrorKind::unsupported, "a canned cycle with L repeats drills several holes in one block; "
+                  "compensating it is not implemented yet", SourceLocation{input_.name(), c.line, 0}, c.text);
+    const gcode::PlaneAxes pa = gcode::plane_axes(first->arc.plane);
+    (void)pa;
+    MoveReport move;
+    const model::ChainQ r_nominal = chain_of(first->start, c.offsets), bottom_nominal = chain_of(last->end, c.offsets);
+    move.max_deviation_before = std::max(compensator_->error_at(r_nominal), compensator_->error_at(bottom_nominal));
+    const model::ChainQ r_comp = compensator_->point(r_nominal, move);
+    const model::ChainQ bottom_comp = compensator_->point(bottom_nominal, move);
+    const bool inch = c.units == gcode::Units::inch;
+    const double unit = inch ? 25.4 : 1.0;
+    const gcode::Axes r_prog = program_of(r_comp, c.offsets, unit), bottom_prog = program_of(bottom_comp, c.offsets, unit);
+    // The cycle's axis is the normal of its plane; the hole's position is in the plane.
+    std::size_t normal = 2;
+    for (std::size_t i = 0; i < 3; ++i)
+      if (std::abs(last->end[i] - first->start[i]) > 1e-9) normal = i;
+    gcode::Axes hole = bottom_prog;
+    double left = 0.0;
+    for (std::size_t i = 0; i < 3; ++i) {
+      if (i == normal) continue;
+      hole[i] = 0.5 * (r_prog[i] + bottom_prog[i]);
+      left = std::max(left, 0.5 * std::abs(r_prog[i] - bottom_prog[i]) * unit);
+    }
+    move.max_deviation_after = left;
+    report_.max_error_before = std::max(report_.max_error_before, move.max_deviation_before);
+    report_.max_error_after = std::max(report_.max_error_after, move.max_deviation_after);
+    report_.max_correction = std::max(report_.max_correction, move.max_correction);
+    if (move.max_correction > model_.max_correction)
+      throw Error(ErrorKind::safety, fmt::format("the correction is {:.4f} mm, beyond the model's bound of {} mm",
+                                                 move.max_correction, model_.max_correction),
+                  SourceLocation{input_.name(), c.line, 0}, c.text);
+    ++report_.compensated_moves;
+    std::vector<gcode::Edit> edits;
+    std::uint32_t insert_at = 0;
+    for (const gcode::Word& w : c.words) insert_at = std::max(insert_at, w.span.end);
+    auto set = [&](char letter, double value, bool rotary) {
+      const gcode::Word* word = nullptr;
+      for (const gcode::Word& w : c.words)
+        if (w.letter == letter) word = &w;
+      const std::string original = word ? c.text.substr(word->value_span.begin, word->value_span.size()) : "";
+      const std::string text = format_value(value, original, inch && !rotary, rotary);
+      if (word) edits.push_back(gcode::Edit{word->value_span, text});
+      else edits.push_back(gcode::Edit{{insert_at, insert_at}, std::string(" ") + letter + text});
+    };
+    for (std::size_t i = 0; i < 3; ++i) set(gcode::kAxisLetters[i], i == normal ? bottom_prog[i] : hole[i], false);
+    set('R', r_prog[normal], false);
+    writer_.edit(c.offset, std::move(edits));
+    commanded_ = last->end;  // the retract goes back along the cycle's axis
+  }
+
+ private:
+  PendingCycle cycle_;
+
+  /// Points along an arc (controlled points, machine frame), start and end included, whose
+  /// chords stay within `tolerance` of it (sagitta r (1 - cos(step / 2))).
+  static void arc_chords(const gcode::Motion& m, double tolerance, std::vector<gcode::Axes>& out) {
+    const gcode::PlaneAxes pa = gcode::plane_axes(m.arc.plane);
+    const double c1 = m.arc.center_first, c2 = m.arc.center_second;
+    const double r0 = std::hypot(m.start[pa.first] - c1, m.start[pa.second] - c2);
+    const double r1 = std::hypot(m.end[pa.first] - c1, m.end[pa.second] - c2);
+    const double a0 = std::atan2(m.start[pa.second] - c2, m.start[pa.first] - c1);
+    const double a1 = std::atan2(m.end[pa.second] - c2, m.end[pa.first] - c1);
+    constexpr double kTurn = 2.0 * 3.14159265358979323846;
+    const bool ccw = m.arc.turns > 0;
+    double sweep = ccw ? a1 - a0 : a0 - a1;
+    while (sweep <= 1e-12) sweep += kTurn;
+    sweep += (std::abs(m.arc.turns) - 1) * kTurn;
+    const double r = std::max(r0, r1);
+    const double step = r > tolerance ? 2.0 * std::acos(1.0 - tolerance / r) : kTurn;
+    const auto n = static_cast<std::size_t>(std::max(1.0, std::ceil(sweep / step)));
+    out.resize(n + 1);
+    for (std::size_t k = 0; k <= n; ++k) {
+      const double f = static_cast<double>(k) / static_cast<double>(n);
+      gcode::Axes p;
+      for (std::size_t i = 0; i < gcode::kAxisCount; ++i) p[i] = m.start[i] + f * (m.end[i] - m.start[i]);
+      const double angle = a0 + (ccw ? 1.0 : -1.0) * f * sweep;
+      const double radius = r0 + f * (r1 - r0);
+      p[pa.first] = c1 + radius * std::cos(angle);
+      p[pa.second] = c2 + radius * std::sin(angle);
+      out[k] = k == n ? m.end : p;
+    }
   }
 
   void write_edits(const gcode::Motion& m) {
@@ -242,10 +383,33 @@ class JobSink : public gcode::CanonSink {
     }
     if (points_.size() > 1 && has_stop_code(b))
       refuse(ErrorKind::unsupported, "a move that must be split shares its block with a program stop (M0 M1 M2 M30 M60)");
+    if (m.kind == gcode::MotionKind::arc) arc_to_line_edits(b, edits);
     if (!appended.empty()) edits.push_back(gcode::Edit{{static_cast<std::uint32_t>(b.text.size()),
                                                         static_cast<std::uint32_t>(b.text.size())}, appended});
     // Inserted words go before any trailing comment: after the last word.
     if (!edits.empty()) writer_.edit(line_.offset, std::move(edits));
+  }
+
+  /// An arc block becomes the first of its lines: G2/G3 turns into G1 (written in front when
+  /// the arc was modal), the centre, radius and turns words go.
+  static void arc_to_line_edits(const gcode::Block& b, std::vector<gcode::Edit>& edits) {
+    bool has_motion_code = false;
+    for (const gcode::Word& w : b.words) {
+      if (w.letter == 'G' && w.value.is_literal() && (w.value.literal == 2 || w.value.literal == 3)) {
+        edits.push_back(gcode::Edit{w.value_span, "1"});
+        has_motion_code = true;
+      }
+      if (w.letter == 'I' || w.letter == 'J' || w.letter == 'K' || w.letter == 'R' || w.letter == 'P') {
+        // The word and the blanks before it go (or after it, when it starts the line).
+        gcode::Span s = w.span;
+        while (s.begin > 0 && (b.text[s.begin - 1] == ' ' || b.text[s.begin - 1] == '\t')) --s.begin;
+        if (s.begin == 0)
+          while (s.end < b.text.size() && (b.text[s.end] == ' ' || b.text[s.end] == '\t')) ++s.end;
+        edits.push_back(gcode::Edit{s, ""});
+      }
+    }
+    if (!has_motion_code && !b.words.empty())
+      edits.push_back(gcode::Edit{{b.words.front().span.begin, b.words.front().span.begin}, "G1 "});
   }
 
   static bool has_stop_code(const gcode::Block& b) {
@@ -316,7 +480,8 @@ class JobSink : public gcode::CanonSink {
   std::unique_ptr<Compensator> compensator_;
   const gcode::Block* block_ = nullptr;
   gcode::SourceLine line_;
-  std::vector<CompensatedPoint> points_;
+  std::vector<CompensatedPoint> points_, pieces_;
+  std::vector<gcode::Axes> chords_;
   gcode::Axes commanded_{};  ///< where the rewritten program has sent the controlled point
 };
 
@@ -359,6 +524,7 @@ JobReport run_program_job(gcode::LineSource& input, std::FILE* out, const model:
   JobSink sink(writer, model, options, input, report);
   gcode::Interpreter interpreter(options.interpreter);
   interpreter.run(input, sink);
+  sink.finish_cycle();
   writer.finish();
   if (options.progress) options.progress(1.0);
   return report;

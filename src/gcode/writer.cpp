@@ -9,7 +9,10 @@
 namespace ccomp::gcode {
 
 std::string apply_edits(std::string_view line, std::vector<Edit> edits) {
-  std::sort(edits.begin(), edits.end(), [](const Edit& a, const Edit& b) { return a.span.begin < b.span.begin; });
+  // By position; an insertion before a replacement that starts at the same byte.
+  std::sort(edits.begin(), edits.end(), [](const Edit& a, const Edit& b) {
+    return a.span.begin != b.span.begin ? a.span.begin < b.span.begin : a.span.end < b.span.end;
+  });
   std::string out;
   out.reserve(line.size() + 16);
   std::uint32_t at = 0;

@@ -38,7 +38,7 @@ class Compensator {
   /// values), in order; the last one is the move's end. Throws ccomp::Error when the
   /// inverse does not converge.
   void straight(const model::ChainQ& start, const model::ChainQ& end, std::vector<CompensatedPoint>& out,
-                MoveReport& report);
+                MoveReport& report, double tolerance = -1.0);
   /// The compensated values for one point (used for a move's start).
   [[nodiscard]] model::ChainQ point(const model::ChainQ& nominal, MoveReport& report);
   /// The error of the uncompensated machine at a point: |actual - nominal| (mm).
@@ -48,8 +48,8 @@ class Compensator {
 
  private:
   void split(const model::ChainQ& a_nominal, const model::ChainQ& b_nominal, const model::ChainQ& a_comp,
-             const model::ChainQ& b_comp, double s0, double s1, int depth, std::vector<CompensatedPoint>& out,
-             MoveReport& report);
+             const model::ChainQ& b_comp, double s0, double s1, int depth, double tolerance,
+             std::vector<CompensatedPoint>& out, MoveReport& report);
   double executed_deviation(const model::ChainQ& a_nominal, const model::ChainQ& b_nominal,
                             const model::ChainQ& a_comp, const model::ChainQ& b_comp, double t);
 
