@@ -42,6 +42,20 @@ struct CompensateArgs {
 void add_compensate(CLI::App& app, CompensateArgs& args);
 int run_compensate(const CompensateArgs& args);
 
+struct CheckArgs {
+  std::string input;
+  std::string compensated;
+  std::string model;
+  std::vector<std::string> sensors;
+  double time = 0.0;
+  int samples = 8;
+  ProgramArgs program;
+};
+CLI::App* add_predict(CLI::App& app, CheckArgs& args);
+CLI::App* add_verify(CLI::App& app, CheckArgs& args);
+int run_predict(const CheckArgs& args);
+int run_verify(const CheckArgs& args);
+
 struct TraceArgs {
   std::string input;
   ProgramArgs program;

@@ -32,6 +32,9 @@ int main(int argc, char** argv) {
   ccomp::cli::add_compensate(app, compensate);
   ccomp::cli::TraceArgs trace;
   CLI::App* trace_cmd = ccomp::cli::add_trace(app, trace);
+  ccomp::cli::CheckArgs predict, verify;
+  CLI::App* predict_cmd = ccomp::cli::add_predict(app, predict);
+  CLI::App* verify_cmd = ccomp::cli::add_verify(app, verify);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -40,6 +43,8 @@ int main(int argc, char** argv) {
   }
   try {
     if (trace_cmd->parsed()) return ccomp::cli::run_trace(trace);
+    if (predict_cmd->parsed()) return ccomp::cli::run_predict(predict);
+    if (verify_cmd->parsed()) return ccomp::cli::run_verify(verify);
     return ccomp::cli::run_compensate(compensate);
   } catch (const ccomp::Error& e) {
     fmt::print(stderr, "{}\n", ccomp::format_error(e));

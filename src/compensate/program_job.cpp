@@ -9,6 +9,7 @@
 
 #include "ccomp/error.hpp"
 #include "ccomp/compensate/compensator.hpp"
+#include "ccomp/compensate/verify.hpp"
 #include "ccomp/gcode/writer.hpp"
 #include "ccomp/version.hpp"
 
@@ -107,17 +108,6 @@ class JobSink : public gcode::CanonSink {
  private:
   [[noreturn]] void refuse(ErrorKind kind, const std::string& message) const {
     throw Error(kind, message, SourceLocation{input_.name(), block_->line, 0}, std::string(block_->text));
-  }
-
-  /// Chain values (axes in mm and rad, the tool length) of a controlled point.
-  static model::ChainQ chain_of(const gcode::Axes& controlled, const gcode::Offsets& offsets) {
-    model::ChainQ q = model::ChainQ::Zero();
-    for (std::size_t i = 0; i < gcode::kAxisCount; ++i) {
-      const double axis = controlled[i] + offsets.tool[i];  // the machine axis carries the tool
-      q[static_cast<Eigen::Index>(i)] = gcode::is_rotary(i) ? axis * kRadPerDeg : axis;
-    }
-    q[static_cast<Eigen::Index>(model::kToolLengthIndex)] = offsets.tool[2];
-    return q;
   }
 
   /// Program coordinates (program units, degrees) of chain values.

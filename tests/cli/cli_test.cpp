@@ -163,3 +163,69 @@ TEST(Cli, RefusesMovesBeyondTheAxisLimits) {
 
 }  // namespace
 }  // namespace ccomp::test
+
+namespace ccomp::test {
+namespace {
+
+const char* kThermalModel = R"(name: warm
+axes: {X: {}, Y: {}, Z: {}}
+sensors: [spindle]
+max_correction: 0.05 mm
+chain:
+  workpiece:
+    - {link: X, axis: X, direction: [-1, 0, 0]}
+    - {link: Y, axis: Y, direction: [0, -1, 0]}
+  tool:
+    - {link: Z, axis: Z, direction: [0, 0, 1]}
+    - {link: tool, tool_length: [0, 0, -1]}
+terms:
+  - {name: EZZ, variable: T_spindle, form: thermal, coefficient: 3, unit: um}
+)";
+
+TEST(Cli, RefusesAThermalTermWithoutItsSensorReading) {
+  const std::string dir = temp_dir("cli_sensor");
+  write_file(dir + "/m.yaml", kThermalModel);
+  write_file(dir + "/in.nc", "G21 G0 X10 Y10 Z10\nG1 X20 F100\nM30\n");
+  const std::string base = shell_quote(ccomp_binary()) + " " + dir + "/in.nc -m " + dir + "/m.yaml -o " + dir;
+  const CommandResult missing = run_command(base + "/out.nc");
+  EXPECT_EQ(missing.exit_code, 7);
+  EXPECT_NE(missing.err.find("no reading was given: --sensor spindle=VALUE"), std::string::npos) << missing.err;
+  EXPECT_FALSE(std::filesystem::exists(dir + "/out.nc"));
+  // With the reading: 30 degC is 10 K above the reference, 30 um of Z growth to take out.
+  const CommandResult given = run_command(base + "/out.nc --sensor spindle=30");
+  ASSERT_EQ(given.exit_code, 0) << given.err;
+  EXPECT_NE(read_file(dir + "/out.nc").find("Z9.9700"), std::string::npos) << read_file(dir + "/out.nc");
+  // 30 degC more is 90 um: beyond the model's 0.05 mm bound.
+  const CommandResult hot = run_command(base + "/hot.nc --sensor spindle=50");
+  EXPECT_EQ(hot.exit_code, 7);
+  EXPECT_NE(hot.err.find("beyond the model's bound"), std::string::npos) << hot.err;
+  EXPECT_FALSE(std::filesystem::exists(dir + "/hot.nc"));
+  EXPECT_EQ(run_command(base + "/x.nc --sensor nozzle=30").exit_code, 2) << "an unknown sensor is a usage error";
+}
+
+}  // namespace
+}  // namespace ccomp::test
+
+namespace ccomp::test {
+namespace {
+
+TEST(Cli, PredictAndVerifyProveTheSample) {
+  const std::string dir = temp_dir("cli_verify");
+  const std::string model = source_dir() + "/samples/machines/hmc-xyzb-geometric.yaml";
+  const std::string tools = " --tool-table " + source_dir() + "/samples/tools.tbl";
+  const std::string program = source_dir() + "/samples/programs/pocket-xy.ngc";
+  ASSERT_EQ(run_command(shell_quote(ccomp_binary()) + " " + program + " -m " + model + tools + " -o " + dir + "/out.ngc -q")
+                .exit_code,
+            0);
+  const CommandResult predicted = run_command(shell_quote(ccomp_binary()) + " predict " + program + " -m " + model + tools);
+  ASSERT_EQ(predicted.exit_code, 0) << predicted.err;
+  const CommandResult verified = run_command(shell_quote(ccomp_binary()) + " verify " + program + " " + dir +
+                                             "/out.ngc -m " + model + tools);
+  ASSERT_EQ(verified.exit_code, 0) << verified.err;
+  auto max_um = [](const std::string& text) { return std::stod(text.substr(text.find(" max ") + 5)); };
+  EXPECT_GT(max_um(predicted.out), 10.0) << predicted.out;
+  EXPECT_LT(max_um(verified.out), 1.0 + 0.1) << verified.out;
+}
+
+}  // namespace
+}  // namespace ccomp::test

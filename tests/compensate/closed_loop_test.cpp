@@ -9,110 +9,12 @@
 #include <random>
 
 #include "ccomp/compensate/program_job.hpp"
+#include "ccomp/compensate/verify.hpp"
 #include "ccomp/model/forward.hpp"
 #include "trace_capture.hpp"
 
 namespace ccomp::test {
 namespace {
-
-constexpr double kRadPerDeg = 3.14159265358979323846 / 180.0;
-
-/// Chain values of a motion's end (or start), as the job computes them.
-model::ChainQ chain_of(const gcode::Axes& controlled, const gcode::Offsets& o) {
-  model::ChainQ q = model::ChainQ::Zero();
-  for (std::size_t i = 0; i < gcode::kAxisCount; ++i) {
-    const double axis = controlled[i] + o.tool[i];
-    q[static_cast<Eigen::Index>(i)] = gcode::is_rotary(i) ? axis * kRadPerDeg : axis;
-  }
-  q[static_cast<Eigen::Index>(model::kToolLengthIndex)] = o.tool[2];
-  return q;
-}
-
-/// Points along every feed move (rapids are the control's, not cuts), in the table frame:
-/// nominal (perfect machine) or actual (the model's errors), as the machine interpolates
-/// axis values linearly. Each move is its own polyline.
-using Polyline = std::vector<Eigen::Vector3d>;
-std::vector<Polyline> path(const RunResult& run, const model::ForwardModel& m, bool actual, int samples) {
-  std::vector<Polyline> out;
-  model::ForwardData d(m);
-  for (const auto& rec : run.motions) {
-    if (rec.motion.kind != gcode::MotionKind::feed) continue;
-    out.emplace_back();
-    const model::ChainQ a = chain_of(rec.motion.start, rec.offsets), b = chain_of(rec.motion.end, rec.offsets);
-    for (int k = 0; k <= samples; ++k) {
-      model::forward(m, d, a + (b - a) * (static_cast<double>(k) / samples), {});
-      out.back().push_back(actual ? d.actual : d.nominal);
-    }
-  }
-  return out;
-}
-
-/// A nominal arc (or helix) in the table frame: the nominal map is rigid while the rotary
-/// axes hold still, so the machine-frame arc maps to an arc there.
-struct ArcRef {
-  Eigen::Vector3d centre, e1, e2, n;  ///< in-plane unit vectors, normal
-  double r = 0, a0 = 0, sweep = 0, w0 = 0, dw = 0;
-  bool ccw = true;
-};
-
-std::vector<ArcRef> arcs(const RunResult& run, const model::ForwardModel& m) {
-  std::vector<ArcRef> out;
-  model::ForwardData d(m);
-  for (const auto& rec : run.motions) {
-    if (rec.motion.kind != gcode::MotionKind::arc) continue;
-    const gcode::Motion& mo = rec.motion;
-    const gcode::PlaneAxes pa = gcode::plane_axes(mo.arc.plane);
-    auto table = [&](gcode::Axes p) {
-      model::forward(m, d, chain_of(p, rec.offsets), {});
-      return Eigen::Vector3d(d.nominal);
-    };
-    gcode::Axes c = mo.start;
-    c[pa.first] = mo.arc.center_first;
-    c[pa.second] = mo.arc.center_second;
-    c[pa.normal] = mo.start[pa.normal];
-    ArcRef a;
-    a.centre = table(c);
-    gcode::Axes c1 = c, c2 = c, cn = c;
-    c1[pa.first] += 1, c2[pa.second] += 1, cn[pa.normal] += 1;
-    a.e1 = table(c1) - a.centre, a.e2 = table(c2) - a.centre, a.n = table(cn) - a.centre;
-    a.r = std::hypot(mo.start[pa.first] - c[pa.first], mo.start[pa.second] - c[pa.second]);
-    a.a0 = std::atan2(mo.start[pa.second] - c[pa.second], mo.start[pa.first] - c[pa.first]);
-    const double a1 = std::atan2(mo.end[pa.second] - c[pa.second], mo.end[pa.first] - c[pa.first]);
-    a.ccw = mo.arc.turns > 0;
-    a.sweep = a.ccw ? a1 - a.a0 : a.a0 - a1;
-    while (a.sweep <= 1e-12) a.sweep += 2 * M_PI;
-    a.w0 = 0.0;
-    a.dw = mo.end[pa.normal] - mo.start[pa.normal];
-    out.push_back(a);
-  }
-  return out;
-}
-
-double distance_to_arc(const Eigen::Vector3d& p, const ArcRef& a) {
-  const Eigen::Vector3d v = p - a.centre;
-  const double u = v.dot(a.e1), w = v.dot(a.e2), h = v.dot(a.n);
-  double phi = std::atan2(w, u) - a.a0;
-  if (!a.ccw) phi = -phi;
-  while (phi < 0) phi += 2 * M_PI;
-  while (phi > 2 * M_PI) phi -= 2 * M_PI;
-  if (phi > a.sweep) return 1e300;  // off this arc's span: another piece of the path owns it
-  const double radial = std::hypot(u, w) - a.r;
-  const double along = h - (a.w0 + a.dw * phi / a.sweep);
-  return std::hypot(radial, along);
-}
-
-double distance_to_path(const Eigen::Vector3d& p, const std::vector<Polyline>& lines, const std::vector<ArcRef>& arc_refs) {
-  double best = 1e300;
-  for (const ArcRef& a : arc_refs) best = std::min(best, distance_to_arc(p, a));
-  for (const Polyline& line : lines)
-  for (std::size_t i = 0; i + 1 < line.size(); ++i) {
-    const Eigen::Vector3d ab = line[i + 1] - line[i];
-    const double len2 = ab.squaredNorm();
-    const double t = len2 > 0 ? std::clamp((p - line[i]).dot(ab) / len2, 0.0, 1.0) : 0.0;
-    best = std::min(best, (line[i] + t * ab - p).norm());
-  }
-  return best;
-}
 
 std::string compensate(const std::string& program, const model::MachineModel& mm, double tolerance,
                        compensate::JobReport* report = nullptr) {
@@ -178,17 +80,15 @@ TEST(ClosedLoop, ExecutedPathStaysWithinTheTolerance) {
       const std::string original = random_program(seed);
       compensate::JobReport report;
       const std::string output = compensate(original, mm, tolerance, &report);
-      gcode::InterpreterOptions with_tool;
-      with_tool.tools.tools[1] = gcode::ToolEntry{1, 1, {0, 0, 100.0}, 10, ""};
-      const RunResult nominal_run = run_program(original, with_tool), compensated_run = run_program(output, with_tool);
-      ASSERT_FALSE(compensated_run.error) << format_error(*compensated_run.error) << "\n" << output;
-      const std::vector<Polyline> meant = path(nominal_run, m, false, 64);
-      const std::vector<ArcRef> meant_arcs = arcs(nominal_run, m);
-      double worst = 0.0, worst_before = 0.0;
-      for (const Polyline& move : path(compensated_run, m, true, 8))
-        for (const Eigen::Vector3d& p : move) worst = std::max(worst, distance_to_path(p, meant, meant_arcs));
-      for (const Polyline& move : path(nominal_run, m, true, 8))
-        for (const Eigen::Vector3d& p : move) worst_before = std::max(worst_before, distance_to_path(p, meant, {}));
+      compensate::CheckOptions check;
+      check.interpreter.tools.tools[1] = gcode::ToolEntry{1, 1, {0, 0, 100.0}, 10, ""};
+      gcode::LineSource in = gcode::LineSource::from_string(original, "in.ngc");
+      const double worst_before = compensate::predict(in, m, check).max;
+      gcode::LineSource a = gcode::LineSource::from_string(original, "in.ngc");
+      gcode::LineSource b = gcode::LineSource::from_string(output, "out.ngc");
+      const compensate::PathError left = compensate::verify(a, b, m, check);
+      const double worst = left.max;
+      EXPECT_GT(left.points, 300U);
       EXPECT_LE(worst, tolerance + 1e-4) << "seed " << seed << " tolerance " << tolerance;
       EXPECT_GT(worst_before, 0.010) << "the sample machine's error is tens of um";
       EXPECT_GT(report.compensated_moves, 30U);

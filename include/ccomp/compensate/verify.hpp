@@ -1,0 +1,43 @@
+#pragma once
+// Proving a program before cutting: predict() runs a program through the machine model as
+// it is (the error the machine would make), verify() runs a compensated program through it
+// and measures how far the executed tool tip strays from the path the original meant.
+// Both sample every feed move and arc; rapids are the control's path, not cuts.
+#include <cstdint>
+#include <string>
+
+#include <Eigen/Core>
+
+#include "ccomp/gcode/interpreter.hpp"
+#include "ccomp/gcode/source.hpp"
+#include "ccomp/model/forward.hpp"
+
+namespace ccomp::compensate {
+
+struct PathError {
+  double max = 0.0;             ///< mm
+  double rms = 0.0;             ///< mm, over the sampled points
+  std::uint32_t worst_line = 0;  ///< the block of the worst point (in the program checked)
+  Eigen::Vector3d worst_point = Eigen::Vector3d::Zero();  ///< table frame, mm
+  std::uint64_t points = 0;
+  std::uint64_t moves = 0;
+};
+
+struct CheckOptions {
+  gcode::InterpreterOptions interpreter;
+  model::Conditions conditions;
+  int samples = 8;  ///< points checked inside each move
+};
+
+/// The uncompensated machine's error along the program: |actual - nominal| at each point.
+[[nodiscard]] PathError predict(gcode::LineSource& program, const model::ForwardModel& model,
+                                const CheckOptions& options);
+
+/// The executed path of `compensated` against the nominal path of `original`.
+[[nodiscard]] PathError verify(gcode::LineSource& original, gcode::LineSource& compensated,
+                               const model::ForwardModel& model, const CheckOptions& options);
+
+/// Chain values (axes in mm and rad, tool length) of a controlled point and its offsets.
+[[nodiscard]] model::ChainQ chain_of(const gcode::Axes& controlled, const gcode::Offsets& offsets);
+
+}  // namespace ccomp::compensate

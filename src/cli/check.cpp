@@ -1,0 +1,80 @@
+// ccomp predict (the machine's error on a program as it is) and ccomp verify (what is
+// left on a compensated program), against the machine model.
+#include <fmt/format.h>
+
+#include <algorithm>
+
+#include "ccomp/compensate/verify.hpp"
+#include "ccomp/error.hpp"
+#include "commands.hpp"
+
+namespace ccomp::cli {
+
+namespace {
+
+void add_model_options(CLI::App& cmd, CheckArgs& args) {
+  cmd.add_option("-m,--model", args.model, "machine model (YAML)")->required();
+  cmd.add_option("--sensor", args.sensors, "a temperature reading for the model's thermal terms: NAME=DEGC");
+  cmd.add_option("--time", args.time, "s since the machine's warm-up started");
+  cmd.add_option("--samples", args.samples, "points checked inside each move (8)")->check(CLI::PositiveNumber);
+  add_program_options(cmd, args.program);
+}
+
+compensate::CheckOptions check_options(const CheckArgs& args, const model::MachineModel& m) {
+  compensate::CheckOptions o;
+  o.interpreter = interpreter_options(args.program, m.dialect);
+  o.samples = args.samples;
+  o.conditions.time = args.time;
+  o.conditions.temperatures.assign(m.sensors.size(), 20.0);
+  for (const std::string& s : args.sensors) {
+    const auto eq = s.find('=');
+    const auto it = eq == std::string::npos ? m.sensors.end() : std::find(m.sensors.begin(), m.sensors.end(), s.substr(0, eq));
+    if (it == m.sensors.end()) throw Error(ErrorKind::usage, "--sensor " + s + ": not NAME=DEGC of a sensor of the model");
+    o.conditions.temperatures[static_cast<std::size_t>(it - m.sensors.begin())] = std::stod(s.substr(eq + 1));
+  }
+  return o;
+}
+
+void print(const char* what, const std::string& file, const compensate::PathError& e) {
+  fmt::print("{}: {} over {} moves ({} points): max {:.2f} um at line {} (table point {:.3f} {:.3f} {:.3f}), rms {:.2f} um\n",
+             file, what, e.moves, e.points, e.max * 1000.0, e.worst_line, e.worst_point.x(), e.worst_point.y(),
+             e.worst_point.z(), e.rms * 1000.0);
+}
+
+}  // namespace
+
+CLI::App* add_predict(CLI::App& app, CheckArgs& args) {
+  CLI::App* cmd = app.add_subcommand("predict", "the error the machine would make on a program as it is");
+  cmd->add_option("input", args.input, "G-code program")->required();
+  add_model_options(*cmd, args);
+  return cmd;
+}
+
+CLI::App* add_verify(CLI::App& app, CheckArgs& args) {
+  CLI::App* cmd = app.add_subcommand(
+      "verify", "runs a compensated program through the model: how far the tool strays from the original's path");
+  cmd->add_option("original", args.input, "the program as written")->required();
+  cmd->add_option("compensated", args.compensated, "ccomp's output for it")->required();
+  add_model_options(*cmd, args);
+  return cmd;
+}
+
+int run_predict(const CheckArgs& args) {
+  const model::MachineModel m = model::load_machine_model(args.model);
+  const model::ForwardModel forward(m);
+  gcode::LineSource program = gcode::LineSource::open(args.input);
+  print("machine error", program.name(), compensate::predict(program, forward, check_options(args, m)));
+  return 0;
+}
+
+int run_verify(const CheckArgs& args) {
+  const model::MachineModel m = model::load_machine_model(args.model);
+  const model::ForwardModel forward(m);
+  gcode::LineSource original = gcode::LineSource::open(args.input);
+  gcode::LineSource compensated = gcode::LineSource::open(args.compensated);
+  print("contour error left", compensated.name(),
+        compensate::verify(original, compensated, forward, check_options(args, m)));
+  return 0;
+}
+
+}  // namespace ccomp::cli

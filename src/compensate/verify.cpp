@@ -1,0 +1,183 @@
+#include "ccomp/compensate/verify.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <deque>
+
+namespace ccomp::compensate {
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+
+/// A piece of the nominal path in the table frame: a straight segment, or an arc/helix (the
+/// nominal map is rigid while the rotary axes hold still, so an arc stays an arc).
+struct Piece {
+  bool arc = false;
+  Eigen::Vector3d a, b;                  // segment
+  Eigen::Vector3d centre, e1, e2, n;     // arc frame (unit in-plane axes and normal)
+  double r = 0, a0 = 0, sweep = 0, dw = 0;
+  bool ccw = true;
+
+  [[nodiscard]] double distance(const Eigen::Vector3d& p) const {
+    if (!arc) {
+      const Eigen::Vector3d ab = b - a;
+      const double len2 = ab.squaredNorm();
+      const double t = len2 > 0 ? std::clamp((p - a).dot(ab) / len2, 0.0, 1.0) : 0.0;
+      return (a + t * ab - p).norm();
+    }
+    const Eigen::Vector3d v = p - centre;
+    const double u = v.dot(e1), w = v.dot(e2), h = v.dot(n);
+    double phi = std::atan2(w, u) - a0;
+    if (!ccw) phi = -phi;
+    while (phi < 0) phi += 2 * kPi;
+    while (phi > 2 * kPi) phi -= 2 * kPi;
+    if (phi > sweep) return 1e300;  // off this arc: a neighbouring piece owns the point
+    return std::hypot(std::hypot(u, w) - r, h - dw * phi / sweep);
+  }
+};
+
+/// Collects what the interpreter does into a callback per motion (with its offsets).
+template <typename OnMotion>
+class MotionSink : public gcode::CanonSink {
+ public:
+  explicit MotionSink(OnMotion on) : on_(std::move(on)) {}
+  void motion(const gcode::Motion& m) override { on_(m); }
+
+ private:
+  OnMotion on_;
+};
+
+template <typename OnMotion>
+void each_motion(gcode::LineSource& program, const CheckOptions& options, OnMotion on) {
+  MotionSink<OnMotion> sink(std::move(on));
+  gcode::Interpreter interpreter(options.interpreter);
+  interpreter.run(program, sink);
+}
+
+constexpr double kRadPerDeg = kPi / 180.0;
+
+struct Evaluator {
+  const model::ForwardModel& model;
+  model::ForwardData data;
+  const model::Conditions& conditions;
+  Eigen::Vector3d nominal(const model::ChainQ& q) {
+    model::forward(model, data, q, conditions);
+    return data.nominal;
+  }
+  Eigen::Vector3d actual(const model::ChainQ& q) {
+    model::forward(model, data, q, conditions);
+    return data.actual;
+  }
+};
+
+/// The nominal pieces of one motion: an arc, or a straight move sampled (a move of the
+/// rotary axes curves in the table frame).
+void nominal_pieces(const gcode::Motion& m, Evaluator& ev, int samples, std::deque<Piece>& out) {
+  const gcode::Offsets& o = *m.offsets;
+  if (m.kind == gcode::MotionKind::arc) {
+    const gcode::PlaneAxes pa = gcode::plane_axes(m.arc.plane);
+    gcode::Axes c = m.start;
+    c[pa.first] = m.arc.center_first;
+    c[pa.second] = m.arc.center_second;
+    Piece p;
+    p.arc = true;
+    p.centre = ev.nominal(chain_of(c, o));
+    gcode::Axes c1 = c, c2 = c, cn = c;
+    c1[pa.first] += 1, c2[pa.second] += 1, cn[pa.normal] += 1;
+    p.e1 = ev.nominal(chain_of(c1, o)) - p.centre;
+    p.e2 = ev.nominal(chain_of(c2, o)) - p.centre;
+    p.n = ev.nominal(chain_of(cn, o)) - p.centre;
+    p.r = std::hypot(m.start[pa.first] - c[pa.first], m.start[pa.second] - c[pa.second]);
+    p.a0 = std::atan2(m.start[pa.second] - c[pa.second], m.start[pa.first] - c[pa.first]);
+    const double a1 = std::atan2(m.end[pa.second] - c[pa.second], m.end[pa.first] - c[pa.first]);
+    p.ccw = m.arc.turns > 0;
+    p.sweep = p.ccw ? a1 - p.a0 : p.a0 - a1;
+    while (p.sweep <= 1e-12) p.sweep += 2 * kPi;
+    p.sweep += (std::abs(m.arc.turns) - 1) * 2 * kPi;
+    p.dw = m.end[pa.normal] - m.start[pa.normal];
+    out.push_back(p);
+    return;
+  }
+  const model::ChainQ a = chain_of(m.start, o), b = chain_of(m.end, o);
+  const bool rotary_moves = (b.segment<3>(3) - a.segment<3>(3)).norm() > 1e-12;
+  const int n = rotary_moves ? std::max(samples, 64) : 1;
+  Eigen::Vector3d previous = ev.nominal(a);
+  for (int k = 1; k <= n; ++k) {
+    Piece p;
+    p.a = previous;
+    p.b = previous = ev.nominal(a + (b - a) * (static_cast<double>(k) / n));
+    out.push_back(p);
+  }
+}
+
+}  // namespace
+
+model::ChainQ chain_of(const gcode::Axes& controlled, const gcode::Offsets& o) {
+  model::ChainQ q = model::ChainQ::Zero();
+  for (std::size_t i = 0; i < gcode::kAxisCount; ++i) {
+    const double axis = controlled[i] + o.tool[i];  // the machine axis carries the tool
+    q[static_cast<Eigen::Index>(i)] = gcode::is_rotary(i) ? axis * kRadPerDeg : axis;
+  }
+  q[static_cast<Eigen::Index>(model::kToolLengthIndex)] = o.tool[2];
+  return q;
+}
+
+PathError predict(gcode::LineSource& program, const model::ForwardModel& model, const CheckOptions& options) {
+  PathError e;
+  Evaluator ev{model, model::ForwardData(model), options.conditions};
+  double sum2 = 0.0;
+  each_motion(program, options, [&](const gcode::Motion& m) {
+    if (m.kind == gcode::MotionKind::traverse || m.kind == gcode::MotionKind::probe) return;
+    ++e.moves;
+    const model::ChainQ a = chain_of(m.start, *m.offsets), b = chain_of(m.end, *m.offsets);
+    for (int k = 0; k <= options.samples; ++k) {
+      const model::ChainQ q = a + (b - a) * (static_cast<double>(k) / options.samples);  // arcs: at their chords' ends
+      model::forward(model, ev.data, q, options.conditions);
+      const double d = (ev.data.actual - ev.data.nominal).norm();
+      sum2 += d * d;
+      ++e.points;
+      if (d > e.max) e.max = d, e.worst_line = m.line, e.worst_point = ev.data.nominal;
+    }
+  });
+  e.rms = e.points ? std::sqrt(sum2 / static_cast<double>(e.points)) : 0.0;
+  return e;
+}
+
+PathError verify(gcode::LineSource& original, gcode::LineSource& compensated, const model::ForwardModel& model,
+                 const CheckOptions& options) {
+  // The nominal path, piece by piece, in order. The programs run in the same order, so each
+  // executed point is searched in a window around the piece that fitted the last one.
+  Evaluator ev{model, model::ForwardData(model), options.conditions};
+  std::deque<Piece> pieces;
+  each_motion(original, options, [&](const gcode::Motion& m) {
+    if (m.kind == gcode::MotionKind::feed || m.kind == gcode::MotionKind::arc) nominal_pieces(m, ev, options.samples, pieces);
+  });
+  PathError e;
+  double sum2 = 0.0;
+  std::size_t cursor = 0;
+  each_motion(compensated, options, [&](const gcode::Motion& m) {
+    if (m.kind != gcode::MotionKind::feed && m.kind != gcode::MotionKind::arc) return;
+    ++e.moves;
+    const model::ChainQ a = chain_of(m.start, *m.offsets), b = chain_of(m.end, *m.offsets);
+    for (int k = 0; k <= options.samples; ++k) {
+      const Eigen::Vector3d p = ev.actual(a + (b - a) * (static_cast<double>(k) / options.samples));
+      double best = 1e300;
+      std::size_t best_at = cursor;
+      const std::size_t from = cursor > 16 ? cursor - 16 : 0;
+      const std::size_t to = std::min(pieces.size(), cursor + 256);
+      for (std::size_t i = from; i < to; ++i) {
+        const double d = pieces[i].distance(p);
+        if (d < best) best = d, best_at = i;
+      }
+      if (best > 1e299) continue;  // nothing near: not a cut of the original (a lead-in, say)
+      cursor = best_at;
+      sum2 += best * best;
+      ++e.points;
+      if (best > e.max) e.max = best, e.worst_line = m.line, e.worst_point = p;
+    }
+  });
+  e.rms = e.points ? std::sqrt(sum2 / static_cast<double>(e.points)) : 0.0;
+  return e;
+}
+
+}  // namespace ccomp::compensate
