@@ -152,11 +152,7 @@ class JobSink : public gcode::CanonSink {
                                      "implemented yet");
     const model::ChainQ start = chain_of(m.start, *m.offsets);
     const model::ChainQ end = chain_of(m.end, *m.offsets);
-    auto& directions = compensator_->conditions().directions;
-    for (std::size_t i = 0; i < gcode::kAxisCount; ++i) {
-      const double delta = end[static_cast<Eigen::Index>(i)] - start[static_cast<Eigen::Index>(i)];
-      if (std::abs(delta) > 1e-12) directions[i] = delta > 0 ? 1.0 : -1.0;
-    }
+    model::update_directions(compensator_->conditions(), start, end);
     MoveReport move;
     if (m.kind == MotionKind::traverse) {  // a rapid's path is the control's: compensate its end
       move.max_deviation_before = compensator_->error_at(end);

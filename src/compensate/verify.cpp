@@ -59,7 +59,8 @@ constexpr double kRadPerDeg = kPi / 180.0;
 struct Evaluator {
   const model::ForwardModel& model;
   model::ForwardData data;
-  const model::Conditions& conditions;
+  model::Conditions conditions;
+  void approach(const model::ChainQ& a, const model::ChainQ& b) { model::update_directions(conditions, a, b); }
   Eigen::Vector3d nominal(const model::ChainQ& q) {
     model::forward(model, data, q, conditions);
     return data.nominal;
@@ -127,12 +128,13 @@ PathError predict(gcode::LineSource& program, const model::ForwardModel& model, 
   Evaluator ev{model, model::ForwardData(model), options.conditions};
   double sum2 = 0.0;
   each_motion(program, options, [&](const gcode::Motion& m) {
+    const model::ChainQ a = chain_of(m.start, *m.offsets), b = chain_of(m.end, *m.offsets);
+    ev.approach(a, b);
     if (m.kind == gcode::MotionKind::traverse || m.kind == gcode::MotionKind::probe) return;
     ++e.moves;
-    const model::ChainQ a = chain_of(m.start, *m.offsets), b = chain_of(m.end, *m.offsets);
     for (int k = 0; k <= options.samples; ++k) {
       const model::ChainQ q = a + (b - a) * (static_cast<double>(k) / options.samples);  // arcs: at their chords' ends
-      model::forward(model, ev.data, q, options.conditions);
+      model::forward(model, ev.data, q, ev.conditions);
       const double d = (ev.data.actual - ev.data.nominal).norm();
       sum2 += d * d;
       ++e.points;
@@ -156,9 +158,10 @@ PathError verify(gcode::LineSource& original, gcode::LineSource& compensated, co
   double sum2 = 0.0;
   std::size_t cursor = 0;
   each_motion(compensated, options, [&](const gcode::Motion& m) {
+    const model::ChainQ a = chain_of(m.start, *m.offsets), b = chain_of(m.end, *m.offsets);
+    ev.approach(a, b);
     if (m.kind != gcode::MotionKind::feed && m.kind != gcode::MotionKind::arc) return;
     ++e.moves;
-    const model::ChainQ a = chain_of(m.start, *m.offsets), b = chain_of(m.end, *m.offsets);
     for (int k = 0; k <= options.samples; ++k) {
       const Eigen::Vector3d p = ev.actual(a + (b - a) * (static_cast<double>(k) / options.samples));
       double best = 1e300;

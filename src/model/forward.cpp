@@ -143,6 +143,14 @@ void forward(const ForwardModel& model, ForwardData& d, const ChainQ& q, const C
   }
 }
 
+void update_directions(Conditions& c, const ChainQ& a, const ChainQ& b) {
+  for (std::size_t i = 0; i < c.directions.size(); ++i) {
+    const bool rotary = i >= 3 && i <= 5;
+    const double delta = b[static_cast<Eigen::Index>(i)] - a[static_cast<Eigen::Index>(i)];
+    if (std::abs(delta) > (rotary ? 1e-4 : 0.010)) c.directions[i] = delta > 0 ? 1.0 : -1.0;
+  }
+}
+
 Eigen::Vector3d deviation(const ForwardData& d) {
   // In the table frame; turned into machine-axis directions by the table's nominal
   // orientation relative to the machine base.

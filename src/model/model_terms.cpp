@@ -184,6 +184,14 @@ void read_terms(const std::string& file, const YAML::Node& terms, MachineModel& 
       if (!std::isfinite(x)) bad(file, v, fmt::format("{} {}: {} is not finite", what, field, x));
       return x;
     };
+    // An amount of the term's value: a bare number in `unit`, or a quantity with its own.
+    auto amount = [&](const YAML::Node& v, const std::string& field) {
+      const std::string text = v.IsScalar() ? v.as<std::string>() : std::string();
+      if (text.find_first_of("abcdefghijklmnopqrstuvwxyzµ") != std::string::npos && text.find("e-") == std::string::npos &&
+          text.find("e+") == std::string::npos)
+        return quantity(file, v, out_dim, out_text, what + " " + field);
+      return number(v, field) * out;
+    };
     auto require = [&](const char* key) {
       if (!n[key]) bad(file, n, fmt::format("{}: form {} needs '{}'", what, form, key));
       return n[key];
@@ -194,7 +202,7 @@ void read_terms(const std::string& file, const YAML::Node& terms, MachineModel& 
     std::vector<double> p, scale;
     if (form == "constant") {
       t.shape.form = TermForm::constant;
-      p = {number(require("value"), "value") * out};
+      p = {amount(require("value"), "value")};
       scale = {out};
     } else if (form == "polynomial") {
       need_variable();
@@ -218,7 +226,7 @@ void read_terms(const std::string& file, const YAML::Node& terms, MachineModel& 
         if (k > 0 && !(t.shape.knots[k] > t.shape.knots[k - 1]))
           bad(file, at[k], fmt::format("{}: table positions must increase; at[{}] = {} follows {}", what, k,
                                        t.shape.knots[k] / var, t.shape.knots[k - 1] / var));
-        p.push_back(number(values[k], fmt::format("values[{}]", k)) * out);
+        p.push_back(amount(values[k], fmt::format("values[{}]", k)));
         scale.push_back(out);
       }
       const std::string interp = n["interpolation"] ? n["interpolation"].as<std::string>() : "linear";
@@ -236,8 +244,8 @@ void read_terms(const std::string& file, const YAML::Node& terms, MachineModel& 
       t.shape.order = static_cast<int>(h.size());
       for (std::size_t k = 0; k < h.size(); ++k) {
         if (!h[k].IsSequence() || h[k].size() != 2) bad(file, h[k], what + ": each harmonic is [cos, sin]");
-        p.push_back(number(h[k][0], fmt::format("harmonic {} cos", k + 1)) * out);
-        p.push_back(number(h[k][1], fmt::format("harmonic {} sin", k + 1)) * out);
+        p.push_back(amount(h[k][0], fmt::format("harmonic {} cos", k + 1)));
+        p.push_back(amount(h[k][1], fmt::format("harmonic {} sin", k + 1)));
         scale.insert(scale.end(), {out, out});
       }
     } else if (form == "reversal") {
@@ -247,7 +255,7 @@ void read_terms(const std::string& file, const YAML::Node& terms, MachineModel& 
         t.primary.text = "v" + t.primary.text;
       }
       if (t.primary.kind != VariableKind::direction) bad(file, n, what + ": a reversal depends on a direction (vx..vw)");
-      p = {number(require("reversal"), "reversal") * out};
+      p = {amount(require("reversal"), "reversal")};
       scale = {out};
     } else if (form == "thermal" || form == "thermal_linear") {
       t.shape.form = TermForm::thermal_linear;
@@ -258,7 +266,7 @@ void read_terms(const std::string& file, const YAML::Node& terms, MachineModel& 
     } else if (form == "warmup") {
       t.shape.form = TermForm::thermal_warmup;
       if (t.primary.kind != VariableKind::time) bad(file, n, what + ": a warm-up depends on the time t");
-      p = {number(require("amplitude"), "amplitude") * out,
+      p = {amount(require("amplitude"), "amplitude"),
            quantity(file, require("time_constant"), kTime, "s", what + " time_constant")};
       scale = {out, 1.0};
       if (!(p[1] > 0)) bad(file, n["time_constant"], what + ": time_constant must be positive");

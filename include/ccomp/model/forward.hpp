@@ -68,6 +68,11 @@ struct ForwardData {
   std::vector<Eigen::Matrix<double, 6, 1>> work_error, tool_error;  ///< per joint: delta, epsilon
 };
 
+/// Updates the approach direction of each axis that moves from a to b by more than a
+/// deadband (10 um, 1e-4 rad): the correction moves compensation adds are smaller, and a
+/// reversal's backlash takes them up without the axis turning round.
+void update_directions(Conditions& conditions, const ChainQ& a, const ChainQ& b);
+
 /// Evaluates the model at q. With `jacobians`, fills J_q and J_parameters.
 void forward(const ForwardModel& model, ForwardData& data, const ChainQ& q, const Conditions& conditions,
              bool jacobians = false);
