@@ -1,0 +1,68 @@
+// Speed of the compensation core: the inverse (points/s) and the forward model with its
+// Jacobians, on the full 46-term sample HMC.
+#include <benchmark/benchmark.h>
+
+#include <random>
+
+#include "ccomp/compensate/inverse.hpp"
+#include "ccomp/model/forward.hpp"
+
+namespace {
+
+const ccomp::model::ForwardModel& model() {
+  static const ccomp::model::MachineModel m = ccomp::model::load_machine_model(CCOMP_SOURCE_DIR "/samples/machines/hmc-xyzb.yaml");
+  static const ccomp::model::ForwardModel f(m);
+  return f;
+}
+
+std::vector<ccomp::model::ChainQ> poses(int n) {
+  std::mt19937 rng(1);
+  std::uniform_real_distribution<double> u(-1, 1);
+  std::vector<ccomp::model::ChainQ> out;
+  for (int i = 0; i < n; ++i) {
+    ccomp::model::ChainQ q = ccomp::model::ChainQ::Zero();
+    q << 400 * u(rng), 350 * u(rng), 300 * u(rng), 0, 3 * u(rng), 0, 0, 0, 0, 100;
+    out.push_back(q);
+  }
+  return out;
+}
+
+ccomp::model::Conditions conditions() {
+  ccomp::model::Conditions c;
+  c.temperatures = {24, 23, 31};
+  c.time = 3600;
+  return c;
+}
+
+void Inverse(benchmark::State& state) {
+  const auto& m = model();
+  const ccomp::compensate::InverseProblem problem(m);
+  ccomp::model::ForwardData d(m);
+  const auto qs = poses(1000);
+  const auto c = conditions();
+  std::size_t i = 0;
+  for (auto _ : state) {
+    const auto r = ccomp::compensate::solve_inverse(m, problem, d, qs[i++ % qs.size()], c);
+    benchmark::DoNotOptimize(r.q);
+  }
+  state.SetItemsProcessed(static_cast<std::int64_t>(state.iterations()));
+}
+BENCHMARK(Inverse)->Unit(benchmark::kMicrosecond);
+
+void ForwardWithJacobians(benchmark::State& state) {
+  const auto& m = model();
+  ccomp::model::ForwardData d(m);
+  const auto qs = poses(1000);
+  const auto c = conditions();
+  std::size_t i = 0;
+  for (auto _ : state) {
+    ccomp::model::forward(m, d, qs[i++ % qs.size()], c, state.range(0) != 0);
+    benchmark::DoNotOptimize(d.actual);
+  }
+  state.SetItemsProcessed(static_cast<std::int64_t>(state.iterations()));
+}
+BENCHMARK(ForwardWithJacobians)->Arg(0)->Arg(1)->Unit(benchmark::kMicrosecond);
+
+}  // namespace
+
+BENCHMARK_MAIN();
