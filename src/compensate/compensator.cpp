@@ -12,12 +12,20 @@ Compensator::Compensator(const model::ForwardModel& model, CompensationOptions o
     : model_(model), options_(std::move(options)), problem_(model), data_(model), check_(model) {}
 
 ChainQ Compensator::point(const ChainQ& nominal, MoveReport& report) {
-  const InverseResult r = solve_inverse(model_, problem_, data_, nominal, options_.conditions);
+  const bool same_conditions = options_.conditions.directions == last_directions_;
+  if (same_conditions && nominal == last_nominal_) return last_solution_;
+  // Start from the last solution's correction: neighbouring points correct alike.
+  const ChainQ guess = nominal + (last_solution_ - (last_nominal_.allFinite() ? last_nominal_ : last_solution_));
+  const InverseResult r = solve_inverse(model_, problem_, data_, nominal, options_.conditions, {},
+                                        last_nominal_.allFinite() ? &guess : nullptr);
   if (!r.converged)
     throw Error(ErrorKind::safety, fmt::format("the inverse did not converge in {} iterations (residual {:.3g} mm)",
                                                r.iterations, r.position_residual.norm()));
   report.max_correction = std::max(report.max_correction, (r.q - nominal).head<3>().cwiseAbs().maxCoeff());
   report.max_orientation_error = std::max(report.max_orientation_error, r.orientation_error.norm());
+  last_nominal_ = nominal;
+  last_solution_ = r.q;
+  last_directions_ = options_.conditions.directions;
   return r.q;
 }
 
@@ -32,9 +40,9 @@ double Compensator::executed_deviation(const ChainQ& a_nominal, const ChainQ& b_
   // nominal tool tip at the same fraction of the nominal move.
   const ChainQ executed = a_comp + t * (b_comp - a_comp);
   const ChainQ meant = a_nominal + t * (b_nominal - a_nominal);
-  model::forward(model_, check_, meant, options_.conditions);
+  model::forward(model_, check_, meant, options_.conditions, false, model::Evaluate::nominal);
   const Eigen::Vector3d target = check_.nominal;
-  model::forward(model_, check_, executed, options_.conditions);
+  model::forward(model_, check_, executed, options_.conditions, false, model::Evaluate::actual);
   return (check_.actual - target).norm();
 }
 

@@ -33,19 +33,19 @@ Eigen::Vector3d orientation(const model::ForwardData& d, Eigen::Matrix3d* J_inv)
 
 InverseResult solve_inverse(const model::ForwardModel& model, const InverseProblem& problem, model::ForwardData& d,
                             const ChainQ& q_nominal, const model::Conditions& conditions,
-                            const InverseOptions& options) {
+                            const InverseOptions& options, const ChainQ* guess) {
   InverseResult r;
   // The target: where the tool tip would be on a perfect machine.
-  model::forward(model, d, q_nominal, conditions, false);
+  model::forward(model, d, q_nominal, conditions, false, model::Evaluate::nominal);
   const Eigen::Vector3d target = d.nominal;
   const Eigen::Matrix3d R_target = d.R_nominal;
   const auto n = static_cast<Eigen::Index>(problem.unknowns.size());
   const auto m = 3 + static_cast<Eigen::Index>(problem.rotary_unknowns.size());
-  ChainQ q = q_nominal;
+  ChainQ q = guess ? *guess : q_nominal;
   Eigen::VectorXd residual(m);
   Eigen::MatrixXd J(m, n);
   for (r.iterations = 0; r.iterations <= options.max_iterations; ++r.iterations) {
-    model::forward(model, d, q, conditions, true);
+    model::forward(model, d, q, conditions, true, model::Evaluate::actual);
     residual.head<3>() = d.actual - target;
     Eigen::Matrix3d Jr_inv;
     const Eigen::Vector3d omega = kinematics::so3_log(R_target.transpose() * d.R_actual, &Jr_inv);

@@ -9,7 +9,9 @@ ChainData::ChainData(const ChainModel& model)
       tool_oMi(model.tool.joints.size()),
       J_q(6, static_cast<Eigen::Index>(model.nq)),
       J_work_error(model.workpiece.joints.size()),
-      J_tool_error(model.tool.joints.size()) {}
+      J_tool_error(model.tool.joints.size()),
+      J_q_work_(6, static_cast<Eigen::Index>(model.nq)),
+      J_q_tool_(6, static_cast<Eigen::Index>(model.nq)) {}
 
 Pose joint_motion(const Joint& joint, double q, Vec6* J) {
   switch (joint.type) {
@@ -32,7 +34,7 @@ namespace {
 /// Composes one side, base to end. With `J_end`, fills for each link the Jacobian of the
 /// end pose w.r.t. a right perturbation of the link's error pose (Ad of the suffix
 /// inverse), and adds the link's axis motion into J_q_side.
-Pose compose_side(const Chain& chain, const std::vector<Pose>& errors, const VecQ& q, std::vector<Pose>& oMi,
+Pose compose_side(const Chain& chain, const std::vector<Pose>& errors, const Eigen::Ref<const VecQ>& q, std::vector<Pose>& oMi,
                   std::vector<Pose>& links, std::vector<Mat6>* J_error,
                   Eigen::Matrix<double, 6, Eigen::Dynamic>* J_q) {
   const std::size_t n = chain.joints.size();
@@ -65,9 +67,9 @@ Pose compose_side(const Chain& chain, const std::vector<Pose>& errors, const Vec
 
 }  // namespace
 
-void error_matrix(const ChainModel& model, ChainData& data, const VecQ& q, bool jacobians) {
-  Eigen::Matrix<double, 6, Eigen::Dynamic> Jq_work(6, static_cast<Eigen::Index>(model.nq));
-  Eigen::Matrix<double, 6, Eigen::Dynamic> Jq_tool(6, static_cast<Eigen::Index>(model.nq));
+void error_matrix(const ChainModel& model, ChainData& data, const Eigen::Ref<const VecQ>& q, bool jacobians) {
+  auto& Jq_work = data.J_q_work_;
+  auto& Jq_tool = data.J_q_tool_;
   data.oMp = compose_side(model.workpiece, data.work_error, q, data.work_oMi, data.links_,
                           jacobians ? &data.J_work_error : nullptr, &Jq_work);
   data.oMtool = compose_side(model.tool, data.tool_error, q, data.tool_oMi, data.links_,
@@ -79,7 +81,8 @@ void error_matrix(const ChainModel& model, ChainData& data, const VecQ& q, bool 
   const Mat6 J_E_oMp = J_a * J_inv;  // through the inverse of the workpiece side
   for (Mat6& J : data.J_work_error) J = J_E_oMp * J;
   for (Mat6& J : data.J_tool_error) J = J_b * J;
-  data.J_q = J_E_oMp * Jq_work + J_b * Jq_tool;
+  data.J_q.noalias() = J_E_oMp * Jq_work;
+  data.J_q.noalias() += J_b * Jq_tool;
 }
 
 }  // namespace ccomp::kinematics

@@ -69,7 +69,17 @@ std::size_t parameter_count(const TermShape& s) {
 
 TermValue evaluate(const TermShape& s, const Eigen::VectorXd& p, const TermInputs& in, bool grad) {
   TermValue r;
-  if (grad) r.d_parameters = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(parameter_count(s)));
+  evaluate(s, p, in, grad, r);
+  return r;
+}
+
+void evaluate(const TermShape& s, const Eigen::Ref<const Eigen::VectorXd>& p, const TermInputs& in, bool grad,
+              TermValue& r) {
+  r.value = r.d_primary = r.d_secondary = 0.0;
+  if (grad) {
+    r.d_parameters.resize(static_cast<Eigen::Index>(parameter_count(s)));
+    r.d_parameters.setZero();
+  }
   const double v = in.primary;
   switch (s.form) {
     case TermForm::constant:
@@ -174,7 +184,6 @@ TermValue evaluate(const TermShape& s, const Eigen::VectorXd& p, const TermInput
       break;
     }
   }
-  return r;
 }
 
 }  // namespace ccomp::model

@@ -54,7 +54,10 @@ ForwardData::ForwardData(const ForwardModel& model)
       actual_chain(model.chain()),
       nominal_chain(model.chain()),
       work_error(model.chain().workpiece.joints.size()),
-      tool_error(model.chain().tool.joints.size()) {
+      tool_error(model.chain().tool.joints.size()),
+      values(model.machine().terms.size()),
+      J_work_pose(model.chain().workpiece.joints.size()),
+      J_tool_pose(model.chain().tool.joints.size()) {
   for (std::size_t i = 0; i < model.machine().terms.size(); ++i)
     parameters.segment(static_cast<Eigen::Index>(model.parameter_offset(i)), model.machine().terms[i].parameters.size()) =
         model.machine().terms[i].parameters;
@@ -83,17 +86,24 @@ int chain_index(const Variable& v) {
 
 }  // namespace
 
-void forward(const ForwardModel& model, ForwardData& d, const ChainQ& q, const Conditions& c, bool jacobians) {
+void forward(const ForwardModel& model, ForwardData& d, const ChainQ& q, const Conditions& c, bool jacobians,
+             Evaluate which) {
+  if (which == Evaluate::nominal) {  // the perfect machine: no terms to evaluate
+    kinematics::error_matrix(model.chain(), d.nominal_chain, q, false);
+    d.nominal = d.nominal_chain.E.t;
+    d.R_nominal = d.nominal_chain.E.R;
+    return;
+  }
   const auto& terms = model.machine().terms;
   for (auto& e : d.work_error) e.setZero();
   for (auto& e : d.tool_error) e.setZero();
   // Term values, summed per link component (delta x y z in mm, epsilon a b c in rad).
-  std::vector<TermValue> values(terms.size());
+  auto& values = d.values;
   for (std::size_t i = 0; i < terms.size(); ++i) {
     const ErrorTermSpec& t = terms[i];
     const TermInputs in{variable_value(t.primary, q, c), variable_value(t.secondary, q, c)};
     const auto params = d.parameters.segment(static_cast<Eigen::Index>(model.parameter_offset(i)), t.parameters.size());
-    values[i] = evaluate(t.shape, params, in, jacobians);
+    evaluate(t.shape, params, in, jacobians, values[i]);
     const auto& site = model.site(i);
     auto& e = site.side == 0 ? d.work_error[site.joint] : d.tool_error[site.joint];
     // ISO 230-1 error motions are the tool's relative to the workpiece: a link on the
@@ -109,16 +119,18 @@ void forward(const ForwardModel& model, ForwardData& d, const ChainQ& q, const C
       if (J) (*J)[j] << Jd, Je;
     }
   };
-  std::vector<Eigen::Matrix<double, 6, 6>> J_work(d.work_error.size()), J_tool(d.tool_error.size());
+  auto& J_work = d.J_work_pose;
+  auto& J_tool = d.J_tool_pose;
   set_errors(d.work_error, d.actual_chain.work_error, jacobians ? &J_work : nullptr);
   set_errors(d.tool_error, d.actual_chain.tool_error, jacobians ? &J_tool : nullptr);
-  const Eigen::VectorXd qx = q;
-  kinematics::error_matrix(model.chain(), d.actual_chain, qx, jacobians);
-  kinematics::error_matrix(model.chain(), d.nominal_chain, qx, false);
+  kinematics::error_matrix(model.chain(), d.actual_chain, q, jacobians);
   d.actual = d.actual_chain.E.t;
   d.R_actual = d.actual_chain.E.R;
-  d.nominal = d.nominal_chain.E.t;
-  d.R_nominal = d.nominal_chain.E.R;
+  if (which == Evaluate::both) {
+    kinematics::error_matrix(model.chain(), d.nominal_chain, q, false);
+    d.nominal = d.nominal_chain.E.t;
+    d.R_nominal = d.nominal_chain.E.R;
+  }
   if (!jacobians) return;
   // The translation of E moves by R * rho for a right perturbation (rho, theta).
   const Eigen::Matrix3d R = d.actual_chain.E.R;

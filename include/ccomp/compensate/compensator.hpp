@@ -3,6 +3,8 @@
 // it must be split at so that the path the machine executes (straight in axis space between
 // compensated points) stays within the tolerance of the nominal path. Adaptive: a move is
 // split only where the error field bends it away, at the midpoint of the piece that fails.
+#include <array>
+#include <cmath>
 #include <vector>
 
 #include "ccomp/compensate/inverse.hpp"
@@ -55,6 +57,11 @@ class Compensator {
 
   const model::ForwardModel& model_;
   CompensationOptions options_;
+  // The last point solved: its nominal values, solution and directions. A move usually
+  // starts where the last one ended (reused), and its points are near (warm start).
+  model::ChainQ last_nominal_ = model::ChainQ::Constant(std::nan(""));
+  model::ChainQ last_solution_ = model::ChainQ::Zero();
+  std::array<double, 9> last_directions_{};
   InverseProblem problem_;
   model::ForwardData data_, check_;
 };

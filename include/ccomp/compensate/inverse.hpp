@@ -32,9 +32,11 @@ struct InverseProblem {
   std::vector<int> rotary_unknowns;   ///< their indices into q
 };
 
-/// Solves for q' with actual(q') = nominal(q_nominal). `data` is scratch.
+/// Solves for q' with actual(q') = nominal(q_nominal). `data` is scratch. `guess`, when
+/// given, is where Newton starts (a neighbouring point's solution shifted here).
 [[nodiscard]] InverseResult solve_inverse(const model::ForwardModel& model, const InverseProblem& problem,
                                           model::ForwardData& data, const model::ChainQ& q_nominal,
-                                          const model::Conditions& conditions, const InverseOptions& options = {});
+                                          const model::Conditions& conditions, const InverseOptions& options = {},
+                                          const model::ChainQ* guess = nullptr);
 
 }  // namespace ccomp::compensate

@@ -52,6 +52,7 @@ struct ChainData {
 
   // internal
   std::vector<Pose> links_;
+  Eigen::Matrix<double, 6, Eigen::Dynamic> J_q_work_, J_q_tool_;
 };
 
 /// The nominal motion of one joint at axis value q, and its right Jacobian d/dq (6 x 1).
@@ -59,6 +60,6 @@ struct ChainData {
 
 /// Computes E for axis values q with the error poses in data.work_error / data.tool_error,
 /// and, when `jacobians`, dE/dq and dE/d(each link's error pose).
-void error_matrix(const ChainModel& model, ChainData& data, const VecQ& q, bool jacobians = true);
+void error_matrix(const ChainModel& model, ChainData& data, const Eigen::Ref<const VecQ>& q, bool jacobians = true);
 
 }  // namespace ccomp::kinematics

@@ -58,5 +58,8 @@ struct TermShape {
 /// respect to the parameters are filled when `with_parameter_gradient`.
 [[nodiscard]] TermValue evaluate(const TermShape& shape, const Eigen::VectorXd& parameters, const TermInputs& in,
                                  bool with_parameter_gradient = false);
+/// The same into `out`, reusing its storage (no allocation once sized).
+void evaluate(const TermShape& shape, const Eigen::Ref<const Eigen::VectorXd>& parameters, const TermInputs& in,
+              bool with_parameter_gradient, TermValue& out);
 
 }  // namespace ccomp::model

@@ -66,7 +66,12 @@ struct ForwardData {
   // scratch
   kinematics::ChainData actual_chain, nominal_chain;
   std::vector<Eigen::Matrix<double, 6, 1>> work_error, tool_error;  ///< per joint: delta, epsilon
+  std::vector<TermValue> values;
+  std::vector<Eigen::Matrix<double, 6, 6>> J_work_pose, J_tool_pose;
 };
+
+/// Which poses forward() computes: both, or only the one a caller needs.
+enum class Evaluate : std::uint8_t { both, actual, nominal };
 
 /// Updates the approach direction of each axis that moves from a to b by more than a
 /// deadband (10 um, 1e-4 rad): the correction moves compensation adds are smaller, and a
@@ -75,7 +80,7 @@ void update_directions(Conditions& conditions, const ChainQ& a, const ChainQ& b)
 
 /// Evaluates the model at q. With `jacobians`, fills J_q and J_parameters.
 void forward(const ForwardModel& model, ForwardData& data, const ChainQ& q, const Conditions& conditions,
-             bool jacobians = false);
+             bool jacobians = false, Evaluate which = Evaluate::both);
 
 /// The deviation of the tool tip (actual - nominal) in machine-axis directions, mm.
 [[nodiscard]] Eigen::Vector3d deviation(const ForwardData& data);
