@@ -42,10 +42,11 @@ InverseResult solve_inverse(const model::ForwardModel& model, const InverseProbl
   const auto n = static_cast<Eigen::Index>(problem.unknowns.size());
   const auto m = 3 + static_cast<Eigen::Index>(problem.rotary_unknowns.size());
   ChainQ q = guess ? *guess : q_nominal;
-  Eigen::VectorXd residual(m);
-  Eigen::MatrixXd J(m, n);
+  // At most 3 + 3 equations in at most 9 unknowns: sized on the stack.
+  Eigen::Matrix<double, Eigen::Dynamic, 1, 0, 6, 1> residual(m);
+  Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, 6, 9> J(m, n);
   for (r.iterations = 0; r.iterations <= options.max_iterations; ++r.iterations) {
-    model::forward(model, d, q, conditions, true, model::Evaluate::actual);
+    model::forward(model, d, q, conditions, true, model::Evaluate::actual, false);
     residual.head<3>() = d.actual - target;
     Eigen::Matrix3d Jr_inv;
     const Eigen::Vector3d omega = kinematics::so3_log(R_target.transpose() * d.R_actual, &Jr_inv);
@@ -70,7 +71,7 @@ InverseResult solve_inverse(const model::ForwardModel& model, const InverseProbl
       break;
     }
     if (r.iterations == options.max_iterations) break;
-    const Eigen::VectorXd step = J.completeOrthogonalDecomposition().solve(-residual);
+    const Eigen::Matrix<double, Eigen::Dynamic, 1, 0, 9, 1> step = J.completeOrthogonalDecomposition().solve(-residual);
     for (Eigen::Index c = 0; c < n; ++c) q[problem.unknowns[static_cast<std::size_t>(c)]] += step[c];
   }
   r.q = q;

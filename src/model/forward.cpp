@@ -87,7 +87,7 @@ int chain_index(const Variable& v) {
 }  // namespace
 
 void forward(const ForwardModel& model, ForwardData& d, const ChainQ& q, const Conditions& c, bool jacobians,
-             Evaluate which) {
+             Evaluate which, bool parameter_jacobian) {
   if (which == Evaluate::nominal) {  // the perfect machine: no terms to evaluate
     kinematics::error_matrix(model.chain(), d.nominal_chain, q, false);
     d.nominal = d.nominal_chain.E.t;
@@ -103,7 +103,7 @@ void forward(const ForwardModel& model, ForwardData& d, const ChainQ& q, const C
     const ErrorTermSpec& t = terms[i];
     const TermInputs in{variable_value(t.primary, q, c), variable_value(t.secondary, q, c)};
     const auto params = d.parameters.segment(static_cast<Eigen::Index>(model.parameter_offset(i)), t.parameters.size());
-    evaluate(t.shape, params, in, jacobians, values[i]);
+    evaluate(t.shape, params, in, jacobians && parameter_jacobian, values[i]);
     const auto& site = model.site(i);
     auto& e = site.side == 0 ? d.work_error[site.joint] : d.tool_error[site.joint];
     // ISO 230-1 error motions are the tool's relative to the workpiece: a link on the
@@ -138,7 +138,7 @@ void forward(const ForwardModel& model, ForwardData& d, const ChainQ& q, const C
     return Eigen::Matrix<double, 3, Eigen::Dynamic>(R * J6.topRows<3>());
   };
   d.J_q = position_rows(d.actual_chain.J_q);
-  d.J_parameters.setZero();
+  if (parameter_jacobian) d.J_parameters.setZero();
   for (std::size_t i = 0; i < terms.size(); ++i) {
     const ErrorTermSpec& t = terms[i];
     const auto& site = model.site(i);
@@ -148,8 +148,9 @@ void forward(const ForwardModel& model, ForwardData& d, const ChainQ& q, const C
     // d actual / d (this term's value): through its component of the link's error.
     const double sign = site.side == 0 ? -1.0 : 1.0;
     const Eigen::Vector3d column = sign * R * (J_link * J_pose.col(t.component)).head<3>();
-    d.J_parameters.middleCols(static_cast<Eigen::Index>(model.parameter_offset(i)), t.parameters.size()) =
-        column * values[i].d_parameters.transpose();
+    if (parameter_jacobian)
+      d.J_parameters.middleCols(static_cast<Eigen::Index>(model.parameter_offset(i)), t.parameters.size()) =
+          column * values[i].d_parameters.transpose();
     if (const int k = chain_index(t.primary); k >= 0) d.J_q.col(k) += column * values[i].d_primary;
     if (const int k = chain_index(t.secondary); k >= 0) d.J_q.col(k) += column * values[i].d_secondary;
   }

@@ -79,8 +79,10 @@ enum class Evaluate : std::uint8_t { both, actual, nominal };
 void update_directions(Conditions& conditions, const ChainQ& a, const ChainQ& b);
 
 /// Evaluates the model at q. With `jacobians`, fills J_q and J_parameters.
+/// With `jacobians`, fills J_q and (unless `parameter_jacobian` is false: the inverse
+/// needs only J_q) J_parameters.
 void forward(const ForwardModel& model, ForwardData& data, const ChainQ& q, const Conditions& conditions,
-             bool jacobians = false, Evaluate which = Evaluate::both);
+             bool jacobians = false, Evaluate which = Evaluate::both, bool parameter_jacobian = true);
 
 /// The deviation of the tool tip (actual - nominal) in machine-axis directions, mm.
 [[nodiscard]] Eigen::Vector3d deviation(const ForwardData& data);
