@@ -136,3 +136,101 @@ TEST(ClosedLoop, Refusals) {
 
 }  // namespace
 }  // namespace ccomp::test
+
+namespace ccomp::test {
+namespace {
+
+const char* kRandomChain = R"(name: random
+axes: {X: {}, Y: {}, Z: {}, B: {type: rotary}}
+sensors: [bed, spindle]
+chain:
+  workpiece:
+    - {link: X, axis: X, direction: [-1, 0, 0]}
+    - {link: Z, axis: Z, direction: [0, 0, -1]}
+    - {link: B, axis: B, direction: [0, -1, 0], offset: [0 mm, 0 mm, -400 mm]}
+  tool:
+    - {link: Y, axis: Y, direction: [0, 1, 0]}
+    - {link: S}
+    - {link: tool, tool_length: [0, 0, -1]}
+terms:
+)";
+
+/// A random term of each form (tens of um, tens of urad), on a random link and component.
+std::string random_terms(const std::string& form, std::mt19937& rng) {
+  std::uniform_real_distribution<double> u(-1, 1);
+  const char* motions[] = {"EXX", "EYX", "EZX", "EBX", "ECX", "EYY", "EXY", "EAY", "EZZ", "EXZ", "EBZ", "EBB", "EXB"};
+  std::string out;
+  char line[400];
+  for (int k = 0; k < 4; ++k) {
+    const std::string name = motions[std::uniform_int_distribution<int>(0, 12)(rng)];
+    const bool rotary_axis = name.back() == 'B';
+    if (form == "polynomial") {
+      std::snprintf(line, sizeof line, "  - {name: %s, form: polynomial, coefficients: [%.3f, %.5f, %.3e]}\n",
+                    name.c_str(), 10 * u(rng), 0.05 * u(rng), 1e-4 * u(rng));
+    } else if (form == "table") {
+      std::snprintf(line, sizeof line,
+                    "  - {name: %s, form: table, interpolation: %s, at: [-500, -250, 0, 250, 500], values: [%.2f, "
+                    "%.2f, 0, %.2f, %.2f]}\n",
+                    rotary_axis ? "EXX" : name.c_str(), k % 2 ? "cubic" : "linear", 20 * u(rng), 20 * u(rng),
+                    20 * u(rng), 20 * u(rng));
+    } else if (form == "periodic") {
+      std::snprintf(line, sizeof line, "  - {name: %s, form: periodic, period: %.3f %s, harmonics: [[%.2f, %.2f]]}\n",
+                    name.c_str(), rotary_axis ? 20 + 60 * (u(rng) + 1) : 8 + 20 * (u(rng) + 1),
+                    rotary_axis ? "deg" : "mm", 5 * u(rng), 5 * u(rng));
+    } else if (form == "thermal") {
+      std::snprintf(line, sizeof line, "  - {name: EZ0S, variable: T_spindle, form: thermal, coefficient: %.3f}\n",
+                    3 * u(rng));
+    } else if (form == "warmup") {
+      std::snprintf(line, sizeof line, "  - {name: EY0Y, variable: t, form: warmup, amplitude: %.2f, time_constant: %.0f s}\n",
+                    20 * u(rng), 600 + 1200 * (u(rng) + 1));
+    } else if (form == "scale_expansion") {
+      std::snprintf(line, sizeof line,
+                    "  - {name: EXX, form: scale_expansion, temperature: T_bed, coefficient: %.3e /degC}\n",
+                    11.5e-6 * (1 + 0.2 * u(rng)));
+    } else if (form == "cross_axis") {
+      std::snprintf(line, sizeof line, "  - {name: EBZ, form: cross_axis, other: x, unit: urad, coefficients: [[%.4f]]}\n",
+                    0.05 * u(rng));
+    } else {  // location errors
+      const char* location[] = {"EC0X", "EB0X", "EA0Y", "EA0B", "EC0B", "EX0B", "EZ0B"};
+      std::snprintf(line, sizeof line, "  - {name: %s, value: %.2f}\n", location[k % 7], 30 * u(rng));
+    }
+    out += line;
+  }
+  return out;
+}
+
+TEST(ClosedLoop, RandomModelsOfEveryForm) {
+  std::mt19937 rng(2026);
+  for (const std::string form :
+       {"polynomial", "table", "periodic", "thermal", "warmup", "scale_expansion", "cross_axis", "location"}) {
+    const model::MachineModel mm = model::parse_machine_model(kRandomChain + random_terms(form, rng), form + ".yaml");
+    const model::ForwardModel m(mm);
+    gcode::LineSource in = gcode::LineSource::from_string(random_program(5), "in.ngc");
+    char* buffer = nullptr;
+    std::size_t size = 0;
+    std::FILE* out = open_memstream(&buffer, &size);
+    compensate::JobOptions o;
+    o.tolerance = 0.001;
+    o.time = 1500;
+    o.sensors = {{"bed", 26.0}, {"spindle", 34.0}};
+    o.interpreter.tools.tools[1] = gcode::ToolEntry{1, 1, {0, 0, 100.0}, 10, ""};
+    (void)compensate::run_program_job(in, out, mm, o);
+    std::fclose(out);
+    const std::string output(buffer, size);
+    std::free(buffer);
+    compensate::CheckOptions check;
+    check.interpreter.tools.tools[1] = gcode::ToolEntry{1, 1, {0, 0, 100.0}, 10, ""};
+    check.conditions.time = 1500;
+    check.conditions.temperatures = {26.0, 34.0};
+    gcode::LineSource a = gcode::LineSource::from_string(random_program(5), "in.ngc");
+    gcode::LineSource b = gcode::LineSource::from_string(output, "out.ngc");
+    const compensate::PathError left = compensate::verify(a, b, m, check);
+    gcode::LineSource c = gcode::LineSource::from_string(random_program(5), "in.ngc");
+    const compensate::PathError before = compensate::predict(c, m, check);
+    EXPECT_LE(left.max, 0.001 + 1e-4) << form << ": " << left.max * 1000 << " um left at line " << left.worst_line;
+    EXPECT_GT(before.max, 0.002) << form << ": the random model should make an error worth compensating";
+  }
+}
+
+}  // namespace
+}  // namespace ccomp::test
