@@ -6,6 +6,7 @@
 #include <cctype>
 #include <cmath>
 #include <memory>
+#include <tuple>
 
 #include "ccomp/error.hpp"
 #include "ccomp/compensate/compensator.hpp"
@@ -278,29 +279,16 @@ class JobSink : public gcode::CanonSink {
   /// Points along an arc (controlled points, machine frame), start and end included, whose
   /// chords stay within `tolerance` of it (sagitta r (1 - cos(step / 2))).
   static void arc_chords(const gcode::Motion& m, double tolerance, std::vector<gcode::Axes>& out) {
-    const gcode::PlaneAxes pa = gcode::plane_axes(m.arc.plane);
-    const double c1 = m.arc.center_first, c2 = m.arc.center_second;
-    const double r0 = std::hypot(m.start[pa.first] - c1, m.start[pa.second] - c2);
-    const double r1 = std::hypot(m.end[pa.first] - c1, m.end[pa.second] - c2);
-    const double a0 = std::atan2(m.start[pa.second] - c2, m.start[pa.first] - c1);
-    const double a1 = std::atan2(m.end[pa.second] - c2, m.end[pa.first] - c1);
-    constexpr double kTurn = 2.0 * 3.14159265358979323846;
-    const bool ccw = m.arc.turns > 0;
-    double sweep = ccw ? a1 - a0 : a0 - a1;
-    while (sweep <= 1e-12) sweep += kTurn;
-    sweep += (std::abs(m.arc.turns) - 1) * kTurn;
-    const double r = std::max(r0, r1);
-    const double step = r > tolerance ? 2.0 * std::acos(1.0 - tolerance / r) : kTurn;
-    const auto n = static_cast<std::size_t>(std::max(1.0, std::ceil(sweep / step)));
+    const gcode::ArcGeometry g = gcode::arc_geometry(m);
+    const double r = std::max(g.r_start, g.r_end);
+    const double step = r > tolerance ? 2.0 * std::acos(1.0 - tolerance / r) : 2.0 * 3.14159265358979323846;
+    const auto n = static_cast<std::size_t>(std::max(1.0, std::ceil(g.sweep / step)));
     out.resize(n + 1);
     for (std::size_t k = 0; k <= n; ++k) {
       const double f = static_cast<double>(k) / static_cast<double>(n);
       gcode::Axes p;
       for (std::size_t i = 0; i < gcode::kAxisCount; ++i) p[i] = m.start[i] + f * (m.end[i] - m.start[i]);
-      const double angle = a0 + (ccw ? 1.0 : -1.0) * f * sweep;
-      const double radius = r0 + f * (r1 - r0);
-      p[pa.first] = c1 + radius * std::cos(angle);
-      p[pa.second] = c2 + radius * std::sin(angle);
+      std::tie(p[g.axes.first], p[g.axes.second]) = g.at(f, m.arc.center_first, m.arc.center_second);
       out[k] = k == n ? m.end : p;
     }
   }
@@ -426,17 +414,12 @@ class JobSink : public gcode::CanonSink {
   }
   /// Widens [low, high] by the points of the arc where its in-plane axes are extreme.
   static void arc_extremes(const gcode::Motion& m, gcode::Axes& low, gcode::Axes& high) {
-    const gcode::PlaneAxes pa = gcode::plane_axes(m.arc.plane);
+    const gcode::ArcGeometry g = gcode::arc_geometry(m);
+    const gcode::PlaneAxes pa = g.axes;
     const double c1 = m.arc.center_first, c2 = m.arc.center_second;
-    const double r = std::hypot(m.start[pa.first] - c1, m.start[pa.second] - c2);
-    const double a0 = std::atan2(m.start[pa.second] - c2, m.start[pa.first] - c1);
-    const double a1 = std::atan2(m.end[pa.second] - c2, m.end[pa.first] - c1);
+    const double r = g.r_start, a0 = g.a_start, sweep = g.sweep;
+    const bool ccw = g.ccw;
     constexpr double kTurn = 2.0 * 3.14159265358979323846;
-    const bool ccw = m.arc.turns > 0;
-    // The swept angle, in the arc's direction, with its whole extra turns.
-    double sweep = ccw ? a1 - a0 : a0 - a1;
-    while (sweep <= 1e-12) sweep += kTurn;
-    sweep += (std::abs(m.arc.turns) - 1) * kTurn;
     for (std::size_t axis : {pa.first, pa.second, pa.normal}) {
       low[axis] = std::min({low[axis], m.start[axis], m.end[axis]});
       high[axis] = std::max({high[axis], m.start[axis], m.end[axis]});

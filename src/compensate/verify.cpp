@@ -88,13 +88,11 @@ void nominal_pieces(const gcode::Motion& m, Evaluator& ev, int samples, std::deq
     p.e1 = ev.nominal(chain_of(c1, o)) - p.centre;
     p.e2 = ev.nominal(chain_of(c2, o)) - p.centre;
     p.n = ev.nominal(chain_of(cn, o)) - p.centre;
-    p.r = std::hypot(m.start[pa.first] - c[pa.first], m.start[pa.second] - c[pa.second]);
-    p.a0 = std::atan2(m.start[pa.second] - c[pa.second], m.start[pa.first] - c[pa.first]);
-    const double a1 = std::atan2(m.end[pa.second] - c[pa.second], m.end[pa.first] - c[pa.first]);
-    p.ccw = m.arc.turns > 0;
-    p.sweep = p.ccw ? a1 - p.a0 : p.a0 - a1;
-    while (p.sweep <= 1e-12) p.sweep += 2 * kPi;
-    p.sweep += (std::abs(m.arc.turns) - 1) * 2 * kPi;
+    const gcode::ArcGeometry g = gcode::arc_geometry(m);
+    p.r = g.r_start;
+    p.a0 = g.a_start;
+    p.ccw = g.ccw;
+    p.sweep = g.sweep;
     p.dw = m.end[pa.normal] - m.start[pa.normal];
     out.push_back(p);
     return;

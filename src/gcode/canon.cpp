@@ -15,4 +15,27 @@ Axes Offsets::rotated(const Axes& p, double degrees) const {
   return r;
 }
 
+ArcGeometry arc_geometry(const Motion& m) {
+  ArcGeometry g;
+  g.axes = plane_axes(m.arc.plane);
+  const double c1 = m.arc.center_first, c2 = m.arc.center_second;
+  const std::size_t f = g.axes.first, s = g.axes.second;
+  g.r_start = std::hypot(m.start[f] - c1, m.start[s] - c2);
+  g.r_end = std::hypot(m.end[f] - c1, m.end[s] - c2);
+  g.a_start = std::atan2(m.start[s] - c2, m.start[f] - c1);
+  const double a_end = std::atan2(m.end[s] - c2, m.end[f] - c1);
+  constexpr double kTurn = 2.0 * 3.14159265358979323846;
+  g.ccw = m.arc.turns > 0;
+  g.sweep = g.ccw ? a_end - g.a_start : g.a_start - a_end;
+  while (g.sweep <= 1e-12) g.sweep += kTurn;  // equal ends: a full circle
+  g.sweep += (std::abs(m.arc.turns) - 1) * kTurn;
+  return g;
+}
+
+std::pair<double, double> ArcGeometry::at(double f, double c1, double c2) const {
+  const double angle = a_start + (ccw ? f : -f) * sweep;
+  const double radius = r_start + f * (r_end - r_start);
+  return {c1 + radius * std::cos(angle), c2 + radius * std::sin(angle)};
+}
+
 }  // namespace ccomp::gcode

@@ -6,23 +6,12 @@
 #include <random>
 
 #include "ccomp/compensate/inverse.hpp"
+#include "sample_models.hpp"
 
 namespace ccomp::compensate {
 namespace {
 
-const char* kModel = R"(
-name: test-hmc
-axes: {X: {}, Y: {}, Z: {}, B: {type: rotary}}
-sensors: [spindle]
-chain:
-  workpiece:
-    - {link: X, axis: X, direction: [-1, 0, 0]}
-    - {link: Z, axis: Z, direction: [0, 0, -1]}
-    - {link: B, axis: B, direction: [0, -1, 0], offset: [0, 0, -400 mm]}
-  tool:
-    - {link: Y, axis: Y, direction: [0, 1, 0]}
-    - {link: S}
-    - {link: tool, tool_length: [0, 0, -1]}
+const std::string kModel = std::string(test::kHmcChain) + R"(
 terms:
   - {name: EXX, form: polynomial, coefficients: [3, 0.02, -3.0e-5]}
   - {name: EXX, form: periodic, period: 10 mm, harmonics: [[2, -1], [0.5, 0.3]]}

@@ -5,26 +5,12 @@
 #include <cmath>
 
 #include "ccomp/model/forward.hpp"
+#include "sample_models.hpp"
 
 namespace ccomp::model {
 namespace {
 
-// The seed's horizontal machining centre: X and Z carry the table (workpiece side), B turns
-// it about Y, Y carries the spindle head (tool side); the tool points along -Z.
-const char* kChain = R"(
-name: test-hmc
-axes: {X: {}, Y: {}, Z: {}, B: {type: rotary}}
-sensors: [spindle]
-chain:
-  workpiece:
-    - {link: X, axis: X, direction: [-1, 0, 0]}
-    - {link: Z, axis: Z, direction: [0, 0, -1]}
-    - {link: B, axis: B, direction: [0, -1, 0], offset: [0, 0, -400 mm]}
-  tool:
-    - {link: Y, axis: Y, direction: [0, 1, 0]}
-    - {link: S}
-    - {link: tool, tool_length: [0, 0, -1]}
-)";
+const char* const kChain = test::kHmcChain;
 
 ForwardData at(const ForwardModel& m, double x, double y, double z, double b_deg, double L, bool jacobians = false,
                const Conditions& c = {}) {

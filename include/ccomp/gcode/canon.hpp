@@ -79,6 +79,20 @@ struct Motion {
   std::uint32_t line = 0;  ///< source line of the block that commanded it
 };
 
+/// An arc's geometry in its plane (machine frame): radius at the start and at the end (they
+/// differ within LinuxCNC's tolerance), start angle, and the angle swept in the arc's
+/// direction, with its whole extra turns.
+struct ArcGeometry {
+  PlaneAxes axes;
+  double r_start = 0, r_end = 0;
+  double a_start = 0;
+  double sweep = 0;  ///< > 0
+  bool ccw = true;
+  /// The in-plane point at fraction f of the sweep (radius interpolated).
+  [[nodiscard]] std::pair<double, double> at(double f, double c1, double c2) const;
+};
+[[nodiscard]] ArcGeometry arc_geometry(const Motion& arc);
+
 /// A non-motion canonical call, already formatted as LinuxCNC's rs274 prints it. An empty
 /// name is plain output of (PRINT,...).
 struct CanonCall {
