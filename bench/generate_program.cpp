@@ -18,8 +18,8 @@ int main(int argc, char** argv) {
   const long per_row = 2000;
   for (long i = 0; i < lines; ++i) {
     const long row = i / per_row, col = i % per_row;
-    const double x = (row % 2 == 0 ? col : per_row - 1 - col) * 0.05;
-    const double y = row * 0.2;
+    const double x = static_cast<double>(row % 2 == 0 ? col : per_row - 1 - col) * 0.05;
+    const double y = static_cast<double>(row) * 0.2;
     const double z = -1.0 + 0.5 * std::sin(x * 0.1) * std::cos(y * 0.07);
     std::fprintf(out, "G1 X%.4f Y%.4f Z%.4f\n", x, y, z);
   }

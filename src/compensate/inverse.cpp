@@ -21,15 +21,6 @@ InverseProblem::InverseProblem(const model::ForwardModel& model) {
   }
 }
 
-namespace {
-
-/// The rotation of the actual tool relative to the nominal one, as a rotation vector in the
-/// tool frame, with its right Jacobian w.r.t. the actual chain's right perturbation.
-Eigen::Vector3d orientation(const model::ForwardData& d, Eigen::Matrix3d* J_inv) {
-  return kinematics::so3_log(d.R_nominal.transpose() * d.R_actual, J_inv);
-}
-
-}  // namespace
 
 InverseResult solve_inverse(const model::ForwardModel& model, const InverseProblem& problem, model::ForwardData& d,
                             const ChainQ& q_nominal, const model::Conditions& conditions,

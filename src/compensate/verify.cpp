@@ -13,8 +13,9 @@ constexpr double kPi = 3.14159265358979323846;
 /// nominal map is rigid while the rotary axes hold still, so an arc stays an arc).
 struct Piece {
   bool arc = false;
-  Eigen::Vector3d a, b;                  // segment
-  Eigen::Vector3d centre, e1, e2, n;     // arc frame (unit in-plane axes and normal)
+  Eigen::Vector3d a = Eigen::Vector3d::Zero(), b = Eigen::Vector3d::Zero();  // segment
+  Eigen::Vector3d centre = Eigen::Vector3d::Zero(), e1 = Eigen::Vector3d::Zero(), e2 = Eigen::Vector3d::Zero(),
+                  n = Eigen::Vector3d::Zero();  // arc frame (unit in-plane axes and normal)
   double r = 0, a0 = 0, sweep = 0, dw = 0;
   bool ccw = true;
 

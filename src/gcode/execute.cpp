@@ -962,8 +962,7 @@ void Interpreter::Impl::select_coordinate_system(int system) {
 
 void Interpreter::Impl::reference_return(const Block& b, int code) {
   const int base = code == 280 || code == 281 ? 5161 : 5181;
-  const double u = unit();
-  if (code == 281 || code == 301) {  // store the current position
+    if (code == 281 || code == 301) {  // store the current position
     const Axes machine = offsets.to_machine(position);
     for (std::size_t i = 0; i < kAxisCount; ++i)
       params.set_numbered(base + static_cast<int>(i),

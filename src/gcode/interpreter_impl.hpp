@@ -31,7 +31,7 @@ struct Words {
   bool has_spindle_selector = false;
   std::bitset<1000> g_set;  ///< G codes (times ten) below G100 present, for has_g()
   std::uint32_t groups = 0;  ///< bit g: a G code of modal group g is present
-  [[nodiscard]] bool has_group(int g) const { return (groups >> g) & 1U; }
+  [[nodiscard]] bool has_group(int group) const { return (groups >> group) & 1U; }
   std::bitset<200> m_set;   ///< M codes below M200 present
 
   [[nodiscard]] bool has(char letter) const { return (present >> (letter - 'A')) & 1U; }

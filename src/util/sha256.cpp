@@ -49,7 +49,7 @@ std::string sha256_hex(std::string_view data) {
   std::size_t i = 0;
   for (; i + 64 <= data.size(); i += 64) compress(h, reinterpret_cast<const unsigned char*>(data.data() + i));
   std::array<unsigned char, 128> tail{};
-  const std::size_t rest = data.size() - i;
+  const std::size_t rest = (data.size() - i) & 63U;  // < 64 after the loop; the mask tells the compiler
   for (std::size_t k = 0; k < rest; ++k) tail[k] = static_cast<unsigned char>(data[i + k]);
   tail[rest] = 0x80;
   const std::size_t blocks = rest + 9 > 64 ? 2 : 1;

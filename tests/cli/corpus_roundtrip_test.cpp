@@ -53,8 +53,8 @@ TEST_P(CorpusRoundTrip, ZeroModelGivesTheSameBytesBackWithAHeader) {
   EXPECT_TRUE(result == original) << "output differs from " << p.file;
 }
 
-INSTANTIATE_TEST_SUITE_P(Programs, CorpusRoundTrip, ::testing::ValuesIn(kPrograms), [](const auto& info) {
-  std::string name = info.param.file;
+INSTANTIATE_TEST_SUITE_P(Programs, CorpusRoundTrip, ::testing::ValuesIn(kPrograms), [](const auto& test) {
+  std::string name = test.param.file;
   for (char& c : name)
     if (!std::isalnum(static_cast<unsigned char>(c))) c = '_';
   return name;

@@ -92,7 +92,9 @@ TEST(ClosedLoop, ExecutedPathStaysWithinTheTolerance) {
       EXPECT_LE(worst, tolerance + 1e-4) << "seed " << seed << " tolerance " << tolerance;
       EXPECT_GT(worst_before, 0.010) << "the sample machine's error is tens of um";
       EXPECT_GT(report.compensated_moves, 30U);
-      if (tolerance < 0.001) EXPECT_GT(report.added_lines, 0U) << "a tight tolerance must split some moves";
+      if (tolerance < 0.001) {
+        EXPECT_GT(report.added_lines, 0U) << "a tight tolerance must split some moves";
+      }
     }
   }
 }

@@ -177,12 +177,14 @@ TEST_P(LinuxcncSuite, MatchesLinuxcnc) {
   }
   const auto expected = observable(expected_lines, false);
   const auto actual = observable(actual_lines, c.awk);
-  if (c.expect == Expect::same_motions) EXPECT_FALSE(expected.empty()) << "nothing to compare in " << expected_path;
+  if (c.expect == Expect::same_motions) {
+    EXPECT_FALSE(expected.empty()) << "nothing to compare in " << expected_path;
+  }
   if (auto diff = compare_calls(actual, expected)) ADD_FAILURE() << c.program << ": " << *diff;
 }
 
 INSTANTIATE_TEST_SUITE_P(Corpus, LinuxcncSuite, ::testing::ValuesIn(kCases),
-                         [](const auto& info) { return std::string(info.param.name); });
+                         [](const auto& test) { return std::string(test.param.name); });
 
 // interp/bad: every program must be rejected with a positioned message. ccomp-gouging needs
 // the controller's cutter compensation path to see the gouge, which ccomp does not compute.

@@ -258,7 +258,7 @@ TEST_P(Jacobians, MatchFiniteDifferences) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Kinematics, Jacobians, ::testing::ValuesIn(kCases),
-                         [](const auto& info) { return std::string(info.param.name); });
+                         [](const auto& test) { return std::string(test.param.name); });
 
 TEST(Pose, ExpLogRoundTrip) {
   for (int i = 0; i < 20; ++i) {

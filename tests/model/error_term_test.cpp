@@ -85,7 +85,7 @@ TEST_P(TermForms, DerivativesMatchFiniteDifferences) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Forms, TermForms, ::testing::ValuesIn(kForms),
-                         [](const auto& info) { return std::string(info.param.name); });
+                         [](const auto& test) { return std::string(test.param.name); });
 
 TEST(TermForms, TablesPassThroughTheirValuesAndHoldOutside) {
   for (Interpolation i : {Interpolation::linear, Interpolation::cubic}) {
