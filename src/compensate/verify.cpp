@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <deque>
+#include <functional>
 
 namespace ccomp::compensate {
 namespace {
@@ -99,15 +100,30 @@ void nominal_pieces(const gcode::Motion& m, Evaluator& ev, int samples, std::deq
     return;
   }
   const model::ChainQ a = chain_of(m.start, o), b = chain_of(m.end, o);
-  const bool rotary_moves = (b.segment<3>(3) - a.segment<3>(3)).norm() > 1e-12;
-  const int n = rotary_moves ? std::max(samples, 64) : 1;
-  Eigen::Vector3d previous = ev.nominal(a);
-  for (int k = 1; k <= n; ++k) {
-    Piece p;
-    p.a = previous;
-    p.b = previous = ev.nominal(a + (b - a) * (static_cast<double>(k) / n));
-    out.push_back(p);
-  }
+  (void)samples;
+  // A move of a rotary axis curves in the table frame: bisect until each chord is within
+  // 0.01 um of the path, so the reference is much finer than any tolerance checked.
+  std::function<void(double, double, const Eigen::Vector3d&, const Eigen::Vector3d&, int)> add =
+      [&](double t0, double t1, const Eigen::Vector3d& p0, const Eigen::Vector3d& p1, int depth) {
+        const bool rotary_moves = (b.segment<3>(3) - a.segment<3>(3)).norm() > 1e-12;
+        if (rotary_moves && depth < 24) {
+          const double tm = 0.5 * (t0 + t1);
+          const Eigen::Vector3d pm = ev.nominal(a + (b - a) * tm);
+          Piece chord;
+          chord.a = p0;
+          chord.b = p1;
+          if (depth < 4 || chord.distance(pm) > 1e-5) {
+            add(t0, tm, p0, pm, depth + 1);
+            add(tm, t1, pm, p1, depth + 1);
+            return;
+          }
+        }
+        Piece p;
+        p.a = p0;
+        p.b = p1;
+        out.push_back(p);
+      };
+  add(0.0, 1.0, ev.nominal(a), ev.nominal(b), 0);
 }
 
 }  // namespace
@@ -165,8 +181,8 @@ PathError verify(gcode::LineSource& original, gcode::LineSource& compensated, co
       const Eigen::Vector3d p = ev.actual(a + (b - a) * (static_cast<double>(k) / options.samples));
       double best = 1e300;
       std::size_t best_at = cursor;
-      const std::size_t from = cursor > 16 ? cursor - 16 : 0;
-      const std::size_t to = std::min(pieces.size(), cursor + 256);
+      const std::size_t from = cursor > 64 ? cursor - 64 : 0;
+      const std::size_t to = std::min(pieces.size(), cursor + 4096);
       for (std::size_t i = from; i < to; ++i) {
         const double d = pieces[i].distance(p);
         if (d < best) best = d, best_at = i;

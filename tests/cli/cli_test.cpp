@@ -4,6 +4,8 @@
 
 #include <filesystem>
 
+#include <fmt/format.h>
+
 #include "trace_capture.hpp"
 
 namespace ccomp::test {
@@ -104,7 +106,7 @@ TEST(Cli, InPlaceKeepsABackup) {
 TEST(Cli, BatchWithOutDirAndJobsReportsEveryFailure) {
   const std::string dir = temp_dir("cli_batch");
   fs::create_directories(dir + "/in");
-  for (int i = 0; i < 6; ++i) write_file(dir + "/in/p" + std::to_string(i) + ".nc", kProgram);
+  for (int i = 0; i < 6; ++i) write_file(fmt::format("{}/in/p{}.nc", dir, i), kProgram);
   write_file(dir + "/in/broken.nc", "G0 X1\nG2 X2 F1\nM2\n");
   std::string inputs;
   for (const auto& e : fs::directory_iterator(dir + "/in")) inputs += " " + e.path().string();
