@@ -109,7 +109,10 @@ TEST(Cli, BatchWithOutDirAndJobsReportsEveryFailure) {
   for (int i = 0; i < 6; ++i) write_file(fmt::format("{}/in/p{}.nc", dir, i), kProgram);
   write_file(dir + "/in/broken.nc", "G0 X1\nG2 X2 F1\nM2\n");
   std::string inputs;
-  for (const auto& e : fs::directory_iterator(dir + "/in")) inputs += " " + e.path().string();
+  for (const auto& e : fs::directory_iterator(dir + "/in")) {
+    inputs += ' ';
+    inputs += e.path().string();
+  }
   const CommandResult r = run_command(ccomp() + inputs + " -m " + zero() + " --out-dir " + dir + "/out -j 3");
   EXPECT_EQ(r.exit_code, 3) << r.err;
   EXPECT_NE(r.err.find("broken.nc:2"), std::string::npos) << r.err;
