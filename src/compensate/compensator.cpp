@@ -49,8 +49,11 @@ double Compensator::executed_deviation(const ChainQ& a_nominal, const ChainQ& b_
 void Compensator::split(const ChainQ& a_nominal, const ChainQ& b_nominal, const ChainQ& a_comp, const ChainQ& b_comp,
                         double s0, double s1, int depth, double tolerance, std::vector<CompensatedPoint>& out,
                         MoveReport& report) {
+  // At the quarters, or densely enough not to step over a short periodic error.
   double worst = 0.0;
-  for (double t : {0.25, 0.5, 0.75}) worst = std::max(worst, executed_deviation(a_nominal, b_nominal, a_comp, b_comp, t));
+  const int n = model_.check_points(a_nominal, b_nominal, 3, 64);
+  for (int k = 1; k <= n; ++k)
+    worst = std::max(worst, executed_deviation(a_nominal, b_nominal, a_comp, b_comp, static_cast<double>(k) / (n + 1)));
   if (worst <= tolerance || depth >= options_.max_depth) {
     report.max_deviation_after = std::max(report.max_deviation_after, worst);
     out.push_back({s1, b_comp});

@@ -147,8 +147,9 @@ PathError predict(gcode::LineSource& program, const model::ForwardModel& model, 
     ev.approach(a, b);
     if (m.kind == gcode::MotionKind::traverse || m.kind == gcode::MotionKind::probe) return;
     ++e.moves;
-    for (int k = 0; k <= options.samples; ++k) {
-      const model::ChainQ q = a + (b - a) * (static_cast<double>(k) / options.samples);  // arcs: at their chords' ends
+    const int samples = 2 * model.check_points(a, b, options.samples);
+    for (int k = 0; k <= samples; ++k) {
+      const model::ChainQ q = a + (b - a) * (static_cast<double>(k) / samples);  // arcs: at their chords' ends
       model::forward(model, ev.data, q, ev.conditions);
       const double d = (ev.data.actual - ev.data.nominal).norm();
       sum2 += d * d;
@@ -177,8 +178,9 @@ PathError verify(gcode::LineSource& original, gcode::LineSource& compensated, co
     ev.approach(a, b);
     if (m.kind != gcode::MotionKind::feed && m.kind != gcode::MotionKind::arc) return;
     ++e.moves;
-    for (int k = 0; k <= options.samples; ++k) {
-      const Eigen::Vector3d p = ev.actual(a + (b - a) * (static_cast<double>(k) / options.samples));
+    const int samples = 2 * model.check_points(a, b, options.samples);  // finer than the job checks
+    for (int k = 0; k <= samples; ++k) {
+      const Eigen::Vector3d p = ev.actual(a + (b - a) * (static_cast<double>(k) / samples));
       double best = 1e300;
       std::size_t best_at = cursor;
       const std::size_t from = cursor > 64 ? cursor - 64 : 0;

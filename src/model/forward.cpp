@@ -2,6 +2,9 @@
 
 #include <fmt/format.h>
 
+#include <cmath>
+#include <limits>
+
 #include "ccomp/error.hpp"
 
 namespace ccomp::model {
@@ -46,6 +49,25 @@ ForwardModel::ForwardModel(const MachineModel& model) : machine_(model) {
     offsets_.push_back(parameter_count_);
     parameter_count_ += static_cast<std::size_t>(t.parameters.size());
   }
+  feature_ = ChainQ::Constant(std::numeric_limits<double>::infinity());
+  for (const ErrorTermSpec& t : machine_.terms) {
+    if (t.primary.kind != VariableKind::axis) continue;
+    double feature = std::numeric_limits<double>::infinity();
+    if (t.shape.form == TermForm::periodic)
+      feature = t.parameters[0] / (8.0 * std::max(1, t.shape.order));  // the highest harmonic's period / 8
+    if (t.shape.form == TermForm::table)
+      for (std::size_t k = 1; k < t.shape.knots.size(); ++k)
+        feature = std::min(feature, (t.shape.knots[k] - t.shape.knots[k - 1]) / 4.0);
+    auto& f = feature_[static_cast<Eigen::Index>(t.primary.index)];
+    f = std::min(f, std::abs(feature));
+  }
+}
+
+int ForwardModel::check_points(const ChainQ& a, const ChainQ& b, int minimum, int maximum) const {
+  double n = minimum;
+  for (Eigen::Index i = 0; i < feature_.size(); ++i)
+    if (std::isfinite(feature_[i])) n = std::max(n, std::ceil(std::abs(b[i] - a[i]) / feature_[i]));
+  return static_cast<int>(std::min<double>(n, maximum));
 }
 
 ForwardData::ForwardData(const ForwardModel& model)

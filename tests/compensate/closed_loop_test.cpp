@@ -244,3 +244,42 @@ TEST(ClosedLoop, RandomModelsOfEveryForm) {
 
 }  // namespace
 }  // namespace ccomp::test
+
+namespace ccomp::test {
+namespace {
+
+TEST(ClosedLoop, ShortPeriodErrorsOnLongMovesAreNotSteppedOver) {
+  // A 5 mm lead-screw error of 5 um on 200 mm moves: checks at the quarters of a move all
+  // fall on the same screw phase (50 mm = 10 periods) and would see no error at all.
+  const model::MachineModel mm = model::parse_machine_model(
+      std::string(kRandomChain) + "  - {name: EXX, form: periodic, period: 5 mm, harmonics: [[4, 3]]}\n", "screw.yaml");
+  const model::ForwardModel m(mm);
+  EXPECT_GE(m.check_points(model::ChainQ::Zero(), (model::ChainQ() << 200, 0, 0, 0, 0, 0, 0, 0, 0, 0).finished(), 3),
+            300);
+  const std::string program =
+      "G21 G90 G94 G54\nT1 M6\nG43 H1\nF1200\nG0 X-100 Y0 Z-100 B0\nG1 X100\nG1 Y10\nG1 X-100\nM30\n";
+  gcode::LineSource in = gcode::LineSource::from_string(program, "in.ngc");
+  char* buffer = nullptr;
+  std::size_t size = 0;
+  std::FILE* out = open_memstream(&buffer, &size);
+  compensate::JobOptions o;
+  o.sensors = {{"bed", 20.0}, {"spindle", 20.0}};
+  o.interpreter.tools.tools[1] = gcode::ToolEntry{1, 1, {0, 0, 100.0}, 10, ""};
+  const compensate::JobReport report = compensate::run_program_job(in, out, mm, o);
+  std::fclose(out);
+  const std::string output(buffer, size);
+  std::free(buffer);
+  EXPECT_GT(report.added_lines, 100U) << "every screw period needs pieces of its own";
+  compensate::CheckOptions check;
+  check.interpreter.tools.tools[1] = gcode::ToolEntry{1, 1, {0, 0, 100.0}, 10, ""};
+  check.conditions.temperatures = {20.0, 20.0};
+  gcode::LineSource a = gcode::LineSource::from_string(program, "in.ngc");
+  gcode::LineSource b = gcode::LineSource::from_string(output, "out.ngc");
+  const compensate::PathError left = compensate::verify(a, b, m, check);
+  EXPECT_LE(left.max, 0.001 + 1e-4) << left.max * 1000 << " um left at line " << left.worst_line;
+  gcode::LineSource c = gcode::LineSource::from_string(program, "in.ngc");
+  EXPECT_GT(compensate::predict(c, m, check).max, 0.004) << "predict sees the screw's 5 um";
+}
+
+}  // namespace
+}  // namespace ccomp::test

@@ -44,6 +44,10 @@ class ForwardModel {
   [[nodiscard]] const Site& site(std::size_t term) const { return sites_[term]; }
   /// Index of the last workpiece-side joint before the workpiece point: the table frame.
   [[nodiscard]] std::size_t table_joint() const { return chain_.workpiece.joints.size() - 1; }
+  /// How many points a move from a to b must be checked at so that no error feature is
+  /// missed between them: the shortest feature along each axis (a periodic term's period
+  /// over 8, a table's knot spacing over 4) sets the spacing. At least `minimum`.
+  [[nodiscard]] int check_points(const ChainQ& a, const ChainQ& b, int minimum, int maximum = 1024) const;
 
  private:
   MachineModel machine_;
@@ -51,6 +55,7 @@ class ForwardModel {
   std::vector<Site> sites_;
   std::vector<std::size_t> offsets_;
   std::size_t parameter_count_ = 0;
+  ChainQ feature_;  ///< shortest error feature along each chain variable (mm, rad), or +inf
 };
 
 struct ForwardData {
