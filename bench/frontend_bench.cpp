@@ -2,6 +2,8 @@
 // block model) and parse + interpret, on LinuxCNC's stellabee1.ngc (169,220 lines).
 #include <benchmark/benchmark.h>
 
+#include <cstdio>
+#include <cstdlib>
 #include <fstream>
 #include <sstream>
 #include <string>
@@ -14,7 +16,12 @@ namespace {
 
 const std::string& program() {
   static const std::string text = [] {
-    std::ifstream in(CCOMP_SHARED_DIR "/corpus/programs/stellabee1.ngc", std::ios::binary);
+    const char* path = CCOMP_SHARED_DIR "/corpus/programs/stellabee1.ngc";
+    std::ifstream in(path, std::ios::binary);
+    if (!in) {  // an empty program would benchmark nothing and still print figures
+      std::fprintf(stderr, "ccomp_bench_frontend: cannot read %s\n", path);
+      std::exit(2);
+    }
     std::ostringstream s;
     s << in.rdbuf();
     return s.str();
