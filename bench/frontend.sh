@@ -25,7 +25,7 @@ seconds() {  # median wall time of a command over $repeats runs
 }
 
 printf '%-22s %10s %10s %12s %10s %12s %8s\n' program lines MB "ccomp s" "MB/s" "lines/s" ""
-for program in "${CCOMP_SHARED_DIR:-../shared}/corpus/programs/stellabee1.ngc" "$work/finishing-1M.ngc"; do
+for program in tests/data/corpus/programs/stellabee1.ngc "$work/finishing-1M.ngc"; do
   lines=$(wc -l < "$program")
   bytes=$(stat -c %s "$program")
   ours=$(seconds "$ccomp" "$program" -m samples/machines/zero.yaml -o "$work/out.ngc" --tool-table "$work/tools.tbl" --machine-units inch)

@@ -16,7 +16,7 @@ namespace {
 
 const std::string& program() {
   static const std::string text = [] {
-    const char* path = CCOMP_SHARED_DIR "/corpus/programs/stellabee1.ngc";
+    const char* path = CCOMP_CORPUS_DIR "/programs/stellabee1.ngc";
     std::ifstream in(path, std::ios::binary);
     if (!in) {  // an empty program would benchmark nothing and still print figures
       std::fprintf(stderr, "ccomp_bench_frontend: cannot read %s\n", path);

@@ -1,4 +1,4 @@
-// With the zero model, every real program in ../shared/corpus/programs comes back byte for
+// With the zero model, every real program in tests/data/corpus/programs comes back byte for
 // byte, bar ccomp's header line. Each needs the options its control implies: the dialect,
 // a tool table for G43, the controller values it reads.
 #include <gtest/gtest.h>
@@ -35,7 +35,7 @@ class CorpusRoundTrip : public ::testing::TestWithParam<CorpusProgram> {};
 
 TEST_P(CorpusRoundTrip, ZeroModelGivesTheSameBytesBackWithAHeader) {
   const CorpusProgram& p = GetParam();
-  const std::string in = shared_dir() + "/corpus/programs/" + p.file;
+  const std::string in = corpus_dir() + "/programs/" + p.file;
   const std::string out = temp_dir(std::string("corpus_") + p.file) + "/" + p.file;
   const CommandResult r = run_command(shell_quote(ccomp_binary()) + " " + shell_quote(in) + " -m " +
                                       shell_quote(source_dir() + "/samples/machines/zero.yaml") + " -o " +
@@ -62,7 +62,7 @@ INSTANTIATE_TEST_SUITE_P(Programs, CorpusRoundTrip, ::testing::ValuesIn(kProgram
 
 TEST(CorpusRoundTrip, EveryCorpusProgramIsListed) {
   int listed = 0;
-  for (const auto& e : fs::directory_iterator(shared_dir() + "/corpus/programs")) {
+  for (const auto& e : fs::directory_iterator(corpus_dir() + "/programs")) {
     bool found = false;
     for (const auto& p : kPrograms) found = found || e.path().filename() == p.file;
     EXPECT_TRUE(found) << e.path().filename() << " is not in the round-trip list";

@@ -1,4 +1,4 @@
-// LinuxCNC's own interpreter test suite (../shared/corpus/linuxcnc, from LinuxCNC commit
+// LinuxCNC's own interpreter test suite (tests/data/corpus/linuxcnc, from LinuxCNC commit
 // 5c41560e, tests/interp and tests/ccomp) is ccomp's reference for reading G-code: every
 // test a milling dialect covers must give the same motion calls (STRAIGHT_TRAVERSE,
 // STRAIGHT_FEED, ARC_FEED, STRAIGHT_PROBE, to 1e-4), and every program LinuxCNC rejects
@@ -148,7 +148,7 @@ gcode::InterpreterOptions options_for(const SuiteCase& c, const fs::path& folder
 TEST_P(LinuxcncSuite, MatchesLinuxcnc) {
   const SuiteCase& c = GetParam();
   if (c.expect == Expect::out_of_scope) GTEST_SKIP() << "out of scope: " << c.reason;
-  const fs::path program = fs::path(shared_dir()) / "corpus/linuxcnc" / c.program;
+  const fs::path program = fs::path(corpus_dir()) / "linuxcnc" / c.program;
   ASSERT_TRUE(fs::exists(program)) << program;
   const fs::path folder = program.parent_path();
   const TraceResult result = trace_file(program.string(), options_for(c, folder));
@@ -189,7 +189,7 @@ INSTANTIATE_TEST_SUITE_P(Corpus, LinuxcncSuite, ::testing::ValuesIn(kCases),
 // interp/bad: every program must be rejected with a positioned message. ccomp-gouging needs
 // the controller's cutter compensation path to see the gouge, which ccomp does not compute.
 TEST(LinuxcncBad, EveryBadProgramIsRejectedWithAPosition) {
-  const fs::path dir = fs::path(shared_dir()) / "corpus/linuxcnc/interp/bad";
+  const fs::path dir = fs::path(corpus_dir()) / "linuxcnc/interp/bad";
   int checked = 0;
   for (const auto& entry : fs::directory_iterator(dir)) {
     if (entry.path().extension() != ".ngc") continue;
@@ -207,7 +207,7 @@ TEST(LinuxcncBad, EveryBadProgramIsRejectedWithAPosition) {
 
 // interp/good: accepted, with the motions LinuxCNC gives.
 TEST(LinuxcncGood, EveryGoodProgramMatches) {
-  const fs::path dir = fs::path(shared_dir()) / "corpus/linuxcnc/interp/good";
+  const fs::path dir = fs::path(corpus_dir()) / "linuxcnc/interp/good";
   int checked = 0;
   for (const auto& entry : fs::directory_iterator(dir)) {
     if (entry.path().extension() != ".ngc") continue;

@@ -71,7 +71,7 @@ void compare_file(const fs::path& path, const Dialect& dialect, int& lines, int&
 
 TEST(ParserFastPath, ReadsEveryCorpusLineAsTheGrammarDoes) {
   int lines = 0, fast = 0;
-  for (const auto& e : fs::recursive_directory_iterator(test::shared_dir() + "/corpus")) {
+  for (const auto& e : fs::recursive_directory_iterator(test::corpus_dir())) {
     if (!e.is_regular_file()) continue;
     const std::string ext = e.path().extension().string();
     if (ext != ".ngc" && ext != ".nc" && ext != ".NCF" && ext != ".EIA" && ext != ".tap") continue;

@@ -107,7 +107,7 @@ TEST(Rs274Differential, CorpusProgramsInTheLinuxcncDialect) {
       {"metric_pipe.ngc", {{"#<_hal[plasmac.float-switch-travel]>", "1.5"}}},
   };
   for (const CorpusCase& c : cases) {
-    std::string text = read_file(shared_dir() + "/corpus/programs/" + c.file);
+    std::string text = read_file(corpus_dir() + "/programs/" + c.file);
     for (const auto& [from, to] : c.stubs)
       for (std::size_t at; (at = text.find(from)) != std::string::npos;) text.replace(at, from.size(), to);
     const std::string path = temp_dir(std::string("rs274_") + c.file) + "/" + c.file;

@@ -244,7 +244,7 @@ CommandResult run_command(const std::string& command, const std::string& stdin_t
 }
 
 std::string source_dir() { return CCOMP_SOURCE_DIR; }
-std::string shared_dir() { return CCOMP_SHARED_DIR; }
+std::string corpus_dir() { return CCOMP_CORPUS_DIR; }
 std::string ccomp_binary() { return CCOMP_BINARY; }
 
 std::string temp_dir(const std::string& name) {

@@ -71,7 +71,8 @@ std::string shell_quote(const std::string& s);
 
 /// Paths the build gives the tests.
 std::string source_dir();
-std::string shared_dir();
+/// Real programs and LinuxCNC's test suite (tests/data/corpus, from ../shared/corpus).
+std::string corpus_dir();
 std::string ccomp_binary();
 /// A fresh empty folder under the build's temp area, private to this test process.
 std::string temp_dir(const std::string& name);
