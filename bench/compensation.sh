@@ -4,13 +4,7 @@
 # inverse's points/s; and how many lines compensation adds per move as the tolerance
 # tightens (the table in docs/compensation.md).
 #   bench/compensation.sh    (after tools/build.sh and tools/rs274/fetch.sh build/rs274)
-set -euo pipefail
-cd "$(dirname "$0")/.."
-build=${BUILD:-build}
-ccomp=$build/src/ccomp
-rs274=$build/rs274/rs274
-work=$build/bench-work
-mkdir -p "$work"
+source "$(dirname "$0")/common.sh"
 model=samples/machines/hmc-xyzb.yaml
 sensors=(--sensor bed=24 --sensor column=23 --sensor spindle=31 --time 3600)
 [ -f "$work/finishing-1000000.ngc" ] || "$build/bench/ccomp_bench_generate" 1000000 "$work/finishing-1000000.ngc"

@@ -3,13 +3,7 @@
 # interpret, write) against LinuxCNC's `rs274 -g` on the same files, plus tokenising in
 # memory and peak memory on a 10M-line program. Prints the figures the README quotes.
 #   bench/frontend.sh            (after tools/build.sh and tools/rs274/fetch.sh build/rs274)
-set -euo pipefail
-cd "$(dirname "$0")/.."
-build=${BUILD:-build}
-ccomp=$build/src/ccomp
-rs274=$build/rs274/rs274
-work=$build/bench-work
-mkdir -p "$work"
+source "$(dirname "$0")/common.sh"
 repeats=${REPEATS:-5}
 
 [ -f "$work/finishing-1M.ngc" ] || "$build/bench/ccomp_bench_generate" 1000000 "$work/finishing-1M.ngc"

@@ -6,6 +6,7 @@
 
 #include <fmt/format.h>
 
+#include "sample_models.hpp"
 #include "trace_capture.hpp"
 
 namespace ccomp::test {
@@ -172,17 +173,7 @@ TEST(Cli, RefusesMovesBeyondTheAxisLimits) {
 namespace ccomp::test {
 namespace {
 
-const char* kThermalModel = R"(name: warm
-axes: {X: {}, Y: {}, Z: {}}
-sensors: [spindle]
-max_correction: 0.05 mm
-chain:
-  workpiece:
-    - {link: X, axis: X, direction: [-1, 0, 0]}
-    - {link: Y, axis: Y, direction: [0, -1, 0]}
-  tool:
-    - {link: Z, axis: Z, direction: [0, 0, 1]}
-    - {link: tool, tool_length: [0, 0, -1]}
+const std::string kThermalModel = std::string(kVmcChain) + R"(max_correction: 0.05 mm
 terms:
   - {name: EZZ, variable: T_spindle, form: thermal, coefficient: 3, unit: um}
 )";

@@ -11,6 +11,7 @@
 #include "ccomp/compensate/program_job.hpp"
 #include "ccomp/compensate/verify.hpp"
 #include "ccomp/model/forward.hpp"
+#include "sample_models.hpp"
 #include "trace_capture.hpp"
 
 namespace ccomp::test {
@@ -150,20 +151,7 @@ TEST(ClosedLoop, Refusals) {
 namespace ccomp::test {
 namespace {
 
-const char* kRandomChain = R"(name: random
-axes: {X: {}, Y: {}, Z: {}, B: {type: rotary}}
-sensors: [bed, spindle]
-chain:
-  workpiece:
-    - {link: X, axis: X, direction: [-1, 0, 0]}
-    - {link: Z, axis: Z, direction: [0, 0, -1]}
-    - {link: B, axis: B, direction: [0, -1, 0], offset: [0 mm, 0 mm, -400 mm]}
-  tool:
-    - {link: Y, axis: Y, direction: [0, 1, 0]}
-    - {link: S}
-    - {link: tool, tool_length: [0, 0, -1]}
-terms:
-)";
+const std::string kRandomChain = std::string(kHmcChain) + "terms:\n";
 
 /// A random term of each form (tens of um, tens of urad), on a random link and component.
 std::string random_terms(const std::string& form, std::mt19937& rng) {

@@ -59,16 +59,7 @@ TEST(Inverse, LandsTheToolTipOnTheNominalPointBelowANanometre) {
 }
 
 TEST(Inverse, ThreeAxisMachineHasNoOrientationEquation) {
-  const model::MachineModel mm = model::parse_machine_model(R"(
-name: vmc
-axes: {X: {}, Y: {}, Z: {}}
-chain:
-  workpiece:
-    - {link: X, axis: X, direction: [-1, 0, 0]}
-    - {link: Y, axis: Y, direction: [0, -1, 0]}
-  tool:
-    - {link: Z, axis: Z, direction: [0, 0, 1]}
-    - {link: tool, tool_length: [0, 0, -1]}
+  const model::MachineModel mm = model::parse_machine_model(std::string(test::kVmcChain) + R"(
 terms:
   - {name: EXX, form: polynomial, coefficients: [0, 0.015]}
   - {name: EBX, value: 25}
