@@ -29,6 +29,49 @@ ChainQ Compensator::point(const ChainQ& nominal, MoveReport& report) {
   return r.q;
 }
 
+void Compensator::moved(const ChainQ& q) { command(q); }
+
+void Compensator::command(const ChainQ& q) {
+  if (commanded_.allFinite()) {
+    model::Conditions c;
+    c.directions = play_;
+    model::take_up_play(model_, c, commanded_, q);
+    play_ = c.directions;
+  }
+  commanded_ = q;
+}
+
+namespace {
+/// Below these an axis is taken as not moving: a nanometre, 1e-8 rad.
+double still(std::size_t axis) { return axis >= 3 && axis <= 5 ? 1e-8 : 1e-6; }
+}  // namespace
+
+void Compensator::approach(const ChainQ& start, const ChainQ& end) {
+  auto& need = options_.conditions.directions;
+  for (std::size_t i = 0; i < need.size(); ++i) {
+    if (!model_.has_reversal(i)) continue;
+    const double delta = end[static_cast<Eigen::Index>(i)] - start[static_cast<Eigen::Index>(i)];
+    need[i] = std::abs(delta) > still(i) ? (delta > 0 ? 1.0 : -1.0) : play_[i];
+  }
+}
+
+ChainQ Compensator::rapid(const ChainQ& end, MoveReport& report) {
+  // The rapid's own travel sets the play; a short one may leave an axis part-way through
+  // it, so solve again for the state the commanded end really leaves.
+  approach(commanded_.allFinite() ? commanded_ : end, end);
+  ChainQ q = point(end, report);
+  for (int round = 0; round < 3 && commanded_.allFinite(); ++round) {
+    model::Conditions after;
+    after.directions = play_;
+    model::take_up_play(model_, after, commanded_, q);
+    if (after.directions == options_.conditions.directions) break;
+    options_.conditions.directions = after.directions;
+    q = point(end, report);
+  }
+  command(q);
+  return q;
+}
+
 double Compensator::error_at(const ChainQ& nominal) {
   model::forward(model_, check_, nominal, options_.conditions);
   return (check_.actual - check_.nominal).norm();
@@ -70,10 +113,69 @@ void Compensator::straight(const ChainQ& start, const ChainQ& end, std::vector<C
                            MoveReport& report, double tolerance) {
   out.clear();
   if (tolerance <= 0) tolerance = options_.tolerance;
+  // Uncompensated, each axis' play is what the nominal travel leaves.
+  options_.conditions.directions = play_;
   for (double t : {0.0, 0.5, 1.0}) report.max_deviation_before = std::max(report.max_deviation_before, error_at(start + t * (end - start)));
-  const ChainQ a = point(start, report);
-  const ChainQ b = point(end, report);
+  approach(start, end);
+  ChainQ a = point(start, report);
+  ChainQ b = point(end, report);
+  // An axis the move barely names still travels by its correction: that travel decides
+  // which way it must approach.
+  auto& need = options_.conditions.directions;
+  bool changed = false;
+  for (std::size_t i = 0; i < need.size(); ++i) {
+    const auto k = static_cast<Eigen::Index>(i);
+    if (!model_.has_reversal(i) || std::abs(b[k] - a[k]) <= 10 * still(i)) continue;
+    const double travel = b[k] > a[k] ? 1.0 : -1.0;
+    if (travel != need[i]) need[i] = travel, changed = true;
+  }
+  if (changed) {
+    a = point(start, report);
+    b = point(end, report);
+  }
+  // Settled within 1% of the play: the take-up's travel differs from the lost motion by
+  // what the rest of the error field changes with the approach.
+  auto unsettled = [&] {
+    unsigned axes = 0;
+    for (std::size_t i = 0; i < need.size(); ++i)
+      if (model_.has_reversal(i) && std::abs(play_[i] - need[i]) > 0.02) axes |= 1U << i;
+    return axes;
+  };
+  if (commanded_.allFinite() && unsettled() != 0) {
+    // One turning axis at a time: it travels what its play needs (the tool holds still
+    // against its own backlash) while the settled axes follow the error motions that
+    // switch with its play; each step is solved for the play it leaves. A settled axis
+    // that would have to follow against its approach (B turning the table to correct a
+    // pitch that switched, say) could not: the play would eat it. So it turns round
+    // first, follows freely, and turns back: a machinist's re-approach from one side.
+    const std::array<double, 9> target = need;
+    auto go = [&](const ChainQ& q) {
+      if ((q - commanded_).cwiseAbs().maxCoeff() <= 1e-9) return;  // a zero move takes nothing up
+      out.push_back({0.0, q, true});
+      command(q);
+    };
+    std::vector<std::size_t> turning, re_approach;
+    for (std::size_t i = 0; i < need.size(); ++i) {
+      if (!model_.has_reversal(i)) continue;
+      const auto k = static_cast<Eigen::Index>(i);
+      if (std::abs(play_[i] - target[i]) > 0.02) turning.push_back(i), need[i] = play_[i];
+      else if ((a[k] - commanded_[k]) * target[i] < -10 * still(i)) re_approach.push_back(i);
+    }
+    auto switch_to = [&](std::size_t i, double direction) {
+      need[i] = direction;
+      go(point(start, report));
+    };
+    for (std::size_t i : re_approach) switch_to(i, -target[i]);
+    for (std::size_t i : turning) switch_to(i, target[i]);
+    for (std::size_t i : re_approach) switch_to(i, target[i]);
+    go(a);
+    report.unhidden_reversals |= unsettled();
+  } else if (!commanded_.allFinite()) {
+    commanded_ = a;
+  }
+  const std::size_t first = out.size();
   split(start, end, a, b, 0.0, 1.0, 0, tolerance, out, report);
+  for (std::size_t k = first; k < out.size(); ++k) command(out[k].q);
 }
 
 }  // namespace ccomp::compensate

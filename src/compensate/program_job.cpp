@@ -129,8 +129,13 @@ class JobSink : public gcode::CanonSink {
     using gcode::MotionSource;
     // Moves in machine coordinates (G53, G28/G30) go where they say: they are not part of
     // the workpiece's geometry. Nothing else may go uncompensated.
+    if (!started_) {  // the play is followed from where the program starts
+      compensator_->moved(chain_of(m.start, *m.offsets));
+      started_ = true;
+    }
     if (m.source == MotionSource::machine_coordinates || m.source == MotionSource::reference_return) {
       commanded_ = m.end;
+      compensator_->moved(chain_of(m.end, *m.offsets));
       return;
     }
     if (m.kind == MotionKind::probe) refuse(ErrorKind::unsupported, "a probe move (G38.x) cannot be compensated");
@@ -153,11 +158,10 @@ class JobSink : public gcode::CanonSink {
                                      "implemented yet");
     const model::ChainQ start = chain_of(m.start, *m.offsets);
     const model::ChainQ end = chain_of(m.end, *m.offsets);
-    model::update_directions(compensator_->conditions(), start, end);
     MoveReport move;
     if (m.kind == MotionKind::traverse) {  // a rapid's path is the control's: compensate its end
       move.max_deviation_before = compensator_->error_at(end);
-      points_.assign(1, CompensatedPoint{1.0, compensator_->point(end, move)});
+      points_.assign(1, CompensatedPoint{1.0, compensator_->rapid(end, move)});
     } else if (m.kind == MotionKind::arc) {
       // Chords within half the tolerance of the arc, each compensated within the other half.
       arc_chords(m, options_.tolerance / 2.0, chords_);
@@ -182,8 +186,10 @@ class JobSink : public gcode::CanonSink {
     report_.max_error_after = std::max(report_.max_error_after, move.max_deviation_after);
     report_.max_correction = std::max(report_.max_correction, move.max_correction);
     report_.max_orientation_error = std::max(report_.max_orientation_error, move.max_orientation_error);
+    warn_unhidden_reversals(move.unhidden_reversals);
     ++report_.compensated_moves;
     report_.added_lines += points_.size() - 1;
+    for (const CompensatedPoint& p : points_) report_.take_up_moves += p.take_up ? 1 : 0;
     write_edits(m);
   }
 
@@ -229,6 +235,8 @@ class JobSink : public gcode::CanonSink {
     (void)pa;
     MoveReport move;
     const model::ChainQ r_nominal = chain_of(first->start, c.offsets), bottom_nominal = chain_of(last->end, c.offsets);
+    // The hole is approached the way the cycle travels to it: across to it, then down.
+    compensator_->approach(chain_of(c.motions.front().start, c.offsets), bottom_nominal);
     move.max_deviation_before = std::max(compensator_->error_at(r_nominal), compensator_->error_at(bottom_nominal));
     const model::ChainQ r_comp = compensator_->point(r_nominal, move);
     const model::ChainQ bottom_comp = compensator_->point(bottom_nominal, move);
@@ -271,6 +279,9 @@ class JobSink : public gcode::CanonSink {
     set('R', r_prog[normal], false);
     writer_.edit(c.offset, std::move(edits));
     commanded_ = last->end;  // the retract goes back along the cycle's axis
+    // The machine follows the cycle's motions, shifted by the hole's correction.
+    const model::ChainQ shift = bottom_comp - bottom_nominal;
+    for (const gcode::Motion& m : c.motions) compensator_->moved(chain_of(m.end, c.offsets) + shift);
   }
 
  private:
@@ -312,6 +323,7 @@ class JobSink : public gcode::CanonSink {
     for (std::size_t k = 0; k < points_.size(); ++k) {
       const gcode::Axes p = program_of(points_[k].q, *m.offsets, unit);
       std::string segment = k == 0 ? "" : (m.kind == gcode::MotionKind::traverse ? "G0" : "G1");
+      const std::size_t bare = segment.size();
       for (std::size_t i = 0; i < gcode::kAxisCount; ++i) {
         const char letter = gcode::kAxisLetters[i];
         if (!model_.axis(letter)) continue;
@@ -334,9 +346,12 @@ class JobSink : public gcode::CanonSink {
           segment += std::string(" ") + letter + text;
         (void)nominal_program;
       }
-      // Inverse time: each piece keeps its share of the block's duration.
+      // A take-up finer than the program's digits moves nothing: no line for it.
+      if (k > 0 && points_[k].take_up && segment.size() == bare) continue;
+      // Inverse time: each piece keeps its share of the block's duration; a take-up move
+      // of a few micrometres gets a thousandth of it.
       if (m.feed_mode == gcode::FeedMode::inverse_time && m.kind == gcode::MotionKind::feed) {
-        const double share = points_[k].s - previous_s;
+        const double share = points_[k].take_up ? 1e-3 : points_[k].s - previous_s;
         const std::string f = fmt::format("{:.4f}", m.feed / share);
         if (k == 0) {
           if (const gcode::Word* fw = b.find('F')) edits.push_back(gcode::Edit{fw->value_span, f});
@@ -437,6 +452,22 @@ class JobSink : public gcode::CanonSink {
     }
   }
 
+  /// Once per axis: a reversal the take-up cannot hide stays in the output.
+  void warn_unhidden_reversals(unsigned axes) {
+    axes &= ~warned_reversals_;
+    warned_reversals_ |= axes;
+    for (std::size_t i = 0; i < gcode::kAxisCount && options_.warning; ++i)
+      if (axes >> i & 1U)
+        options_.warning(fmt::format("axis {}'s reversal cannot be fully taken up, so part of each turn's error "
+                                     "stays in the output: the reversal leads the command (a lag, backlash, is "
+                                     "negative), or the axis has no positioning reversal (lost motion) of its own, "
+                                     "or error motions switching with it act along it by more than its lost motion",
+                                     gcode::kAxisLetters[i]),
+                         block_->line);
+  }
+
+  unsigned warned_reversals_ = 0;
+  bool started_ = false;
   int last_percent_ = -1;
   bool has_limits_ = false;
   std::uint32_t machine_axes_ = 0;  ///< bit (letter - 'A') for each axis the machine has

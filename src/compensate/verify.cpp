@@ -62,7 +62,14 @@ struct Evaluator {
   const model::ForwardModel& model;
   model::ForwardData data;
   model::Conditions conditions;
-  void approach(const model::ChainQ& a, const model::ChainQ& b) { model::update_directions(conditions, a, b); }
+  std::array<double, 9> play{};  ///< approach state at the start of the current move
+  /// The conditions a fraction t along the move from a to b: the play follows the travel.
+  const model::Conditions& along(const model::ChainQ& a, const model::ChainQ& b, double t) {
+    conditions.directions = play;
+    model::take_up_play(model, conditions, a, a + t * (b - a));
+    return conditions;
+  }
+  void finish_move(const model::ChainQ& a, const model::ChainQ& b) { play = along(a, b, 1.0).directions; }
   Eigen::Vector3d nominal(const model::ChainQ& q) {
     model::forward(model, data, q, conditions);
     return data.nominal;
@@ -141,16 +148,22 @@ model::ChainQ chain_of(const gcode::Axes& controlled, const gcode::Offsets& o) {
 PathError predict(gcode::LineSource& program, const model::ForwardModel& model, const CheckOptions& options) {
   PathError e;
   Evaluator ev{model, model::ForwardData(model), options.conditions};
+  ev.play = options.conditions.directions;
   double sum2 = 0.0;
   each_motion(program, options, [&](const gcode::Motion& m) {
     const model::ChainQ a = chain_of(m.start, *m.offsets), b = chain_of(m.end, *m.offsets);
-    ev.approach(a, b);
+    struct Finish {  // however the lambda returns, the play has followed the move
+      Evaluator& ev;
+      const model::ChainQ &a, &b;
+      ~Finish() { ev.finish_move(a, b); }
+    } finish{ev, a, b};
     if (m.kind == gcode::MotionKind::traverse || m.kind == gcode::MotionKind::probe) return;
     ++e.moves;
     const int samples = 2 * model.check_points(a, b, options.samples);
     for (int k = 0; k <= samples; ++k) {
-      const model::ChainQ q = a + (b - a) * (static_cast<double>(k) / samples);  // arcs: at their chords' ends
-      model::forward(model, ev.data, q, ev.conditions);
+      const double t = static_cast<double>(k) / samples;
+      const model::ChainQ q = a + (b - a) * t;  // arcs: at their chords' ends
+      model::forward(model, ev.data, q, ev.along(a, b, t));
       const double d = (ev.data.actual - ev.data.nominal).norm();
       sum2 += d * d;
       ++e.points;
@@ -166,6 +179,7 @@ PathError verify(gcode::LineSource& original, gcode::LineSource& compensated, co
   // The nominal path, piece by piece, in order. The programs run in the same order, so each
   // executed point is searched in a window around the piece that fitted the last one.
   Evaluator ev{model, model::ForwardData(model), options.conditions};
+  ev.play = options.conditions.directions;
   std::deque<Piece> pieces;
   each_motion(original, options, [&](const gcode::Motion& m) {
     if (m.kind == gcode::MotionKind::feed || m.kind == gcode::MotionKind::arc) nominal_pieces(m, ev, options.samples, pieces);
@@ -175,12 +189,18 @@ PathError verify(gcode::LineSource& original, gcode::LineSource& compensated, co
   std::size_t cursor = 0;
   each_motion(compensated, options, [&](const gcode::Motion& m) {
     const model::ChainQ a = chain_of(m.start, *m.offsets), b = chain_of(m.end, *m.offsets);
-    ev.approach(a, b);
+    struct Finish {
+      Evaluator& ev;
+      const model::ChainQ &a, &b;
+      ~Finish() { ev.finish_move(a, b); }
+    } finish{ev, a, b};
     if (m.kind != gcode::MotionKind::feed && m.kind != gcode::MotionKind::arc) return;
     ++e.moves;
     const int samples = 2 * model.check_points(a, b, options.samples);  // finer than the job checks
     for (int k = 0; k <= samples; ++k) {
-      const Eigen::Vector3d p = ev.actual(a + (b - a) * (static_cast<double>(k) / samples));
+      const double t = static_cast<double>(k) / samples;
+      ev.along(a, b, t);
+      const Eigen::Vector3d p = ev.actual(a + (b - a) * t);
       double best = 1e300;
       std::size_t best_at = cursor;
       const std::size_t from = cursor > 64 ? cursor - 64 : 0;

@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 
@@ -61,6 +62,22 @@ ForwardModel::ForwardModel(const MachineModel& model) : machine_(model) {
     auto& f = feature_[static_cast<Eigen::Index>(t.primary.index)];
     f = std::min(f, std::abs(feature));
   }
+  // An axis' lost motion is its own positioning reversal: a term on the axis' link, along
+  // (or about) the axis' direction, switched by that axis' approach.
+  std::array<double, 9> own_reversal{};
+  for (std::size_t i = 0; i < machine_.terms.size(); ++i) {
+    const ErrorTermSpec& t = machine_.terms[i];
+    if (t.shape.form != TermForm::reversal || t.primary.kind != VariableKind::direction) continue;
+    reversal_axes_ |= 1U << t.primary.index;
+    const auto& joints = sites_[i].side == 0 ? chain_.workpiece.joints : chain_.tool.joints;
+    const Joint& j = joints[sites_[i].joint];
+    if (j.type == JointType::fixed || j.axis != t.primary.index) continue;
+    Eigen::Index along = 0;
+    j.direction.cwiseAbs().maxCoeff(&along);
+    if (t.component == static_cast<int>(along) + (j.type == JointType::rotary ? 3 : 0))
+      own_reversal[t.primary.index] += t.parameters[0];
+  }
+  for (std::size_t i = 0; i < lost_motion_.size(); ++i) lost_motion_[i] = std::abs(own_reversal[i]);
 }
 
 int ForwardModel::check_points(const ChainQ& a, const ChainQ& b, int minimum, int maximum) const {
@@ -178,11 +195,16 @@ void forward(const ForwardModel& model, ForwardData& d, const ChainQ& q, const C
   }
 }
 
-void update_directions(Conditions& c, const ChainQ& a, const ChainQ& b) {
+void take_up_play(const ForwardModel& model, Conditions& c, const ChainQ& a, const ChainQ& b) {
   for (std::size_t i = 0; i < c.directions.size(); ++i) {
-    const bool rotary = i >= 3 && i <= 5;
     const double delta = b[static_cast<Eigen::Index>(i)] - a[static_cast<Eigen::Index>(i)];
-    if (std::abs(delta) > (rotary ? 1e-4 : 0.010)) c.directions[i] = delta > 0 ? 1.0 : -1.0;
+    const double w = model.lost_motion()[i];
+    if (w > 0) {
+      c.directions[i] = std::clamp(c.directions[i] + 2.0 * delta / w, -1.0, 1.0);
+    } else {
+      const bool rotary = i >= 3 && i <= 5;
+      if (std::abs(delta) > (rotary ? 1e-8 : 1e-6)) c.directions[i] = delta > 0 ? 1.0 : -1.0;
+    }
   }
 }
 

@@ -103,5 +103,67 @@ TEST(Forward, JacobiansMatchFiniteDifferences) {
   }
 }
 
+TEST(Forward, LostMotionIsTheAxisOwnPositioningReversal) {
+  const MachineModel mm = parse_machine_model(std::string(kChain) + R"(terms:
+  - {name: EXX, variable: vx, form: reversal, reversal: -6 um}
+  - {name: EYX, variable: vx, form: reversal, reversal: 2 um}
+  - {name: EZY, variable: vy, form: reversal, reversal: 1 um}
+  - {name: EBB, variable: vb, form: reversal, unit: urad, reversal: -20}
+)", "m.yaml");
+  const ForwardModel m(mm);
+  EXPECT_NEAR(m.lost_motion()[0], 0.006, 1e-15);
+  EXPECT_EQ(m.lost_motion()[1], 0.0) << "EZY is a straightness of Y, not its positioning";
+  EXPECT_NEAR(m.lost_motion()[4], 20e-6, 1e-18);
+  EXPECT_TRUE(m.has_reversal(0));
+  EXPECT_TRUE(m.has_reversal(1));
+  EXPECT_FALSE(m.has_reversal(2));
+  // Negative reversal: approaching upward the tool falls 3 um short (ISO 230-2's B is the
+  // upward mean minus the downward one).
+  Conditions up, down;
+  up.directions[0] = 1;
+  down.directions[0] = -1;
+  EXPECT_NEAR(deviation(at(m, 10, 0, 0, 0, 100, false, up)).x(), -0.003, 1e-12);
+  EXPECT_NEAR(deviation(at(m, 10, 0, 0, 0, 100, false, down)).x(), 0.003, 1e-12);
+}
+
+TEST(Forward, PlayIsTakenUpOverTheLostMotion) {
+  const MachineModel mm = parse_machine_model(std::string(kChain) + R"(terms:
+  - {name: EXX, variable: vx, form: reversal, reversal: -6 um}
+  - {name: EZY, variable: vy, form: reversal, reversal: 1 um}
+)", "m.yaml");
+  const ForwardModel m(mm);
+  auto travel = [&](Conditions& c, double dx, double dy) {
+    ChainQ a = ChainQ::Zero(), b = ChainQ::Zero();
+    b[0] = dx;
+    b[1] = dy;
+    take_up_play(m, c, a, b);
+  };
+  Conditions c;
+  c.directions[0] = -1;
+  travel(c, 0.003, 0);  // half the lost motion: half-way through the play
+  EXPECT_NEAR(c.directions[0], 0.0, 1e-12);
+  travel(c, -0.0015, 0);  // a small move back only eats into the play again
+  EXPECT_NEAR(c.directions[0], -0.5, 1e-12);
+  travel(c, 0.1, 0);
+  EXPECT_EQ(c.directions[0], 1.0) << "stops at +1";
+  // Y has no lost motion of its own: it switches as soon as it moves, not for a rounding.
+  travel(c, 0, -1e-7);
+  EXPECT_EQ(c.directions[1], 0.0);
+  travel(c, 0, -1e-4);
+  EXPECT_EQ(c.directions[1], -1.0);
+  // The tool does not move while the play is taken up: the command's travel and the
+  // reversal's change cancel.
+  Conditions before, after;
+  before.directions[0] = -1;
+  after.directions[0] = -1;
+  ChainQ from = ChainQ::Zero(), to = ChainQ::Zero();
+  from[0] = 50;
+  to[0] = 50.004;
+  take_up_play(m, after, from, to);
+  const double tip_before = at(m, 50, 0, 0, 0, 100, false, before).actual.x();
+  const double tip_after = at(m, 50.004, 0, 0, 0, 100, false, after).actual.x();
+  EXPECT_NEAR(tip_after, tip_before, 1e-12);
+}
+
 }  // namespace
 }  // namespace ccomp::model

@@ -3,6 +3,13 @@
 // it must be split at so that the path the machine executes (straight in axis space between
 // compensated points) stays within the tolerance of the nominal path. Adaptive: a move is
 // split only where the error field bends it away, at the midpoint of the piece that fails.
+//
+// Reversal: the compensator follows the play of every axis through what it commands (the
+// same take_up_play the machine model applies). When a move needs an axis to travel the
+// other way, it first commands a take-up move: at the move's start, from the correction for
+// the old approach to the correction for the new one. With backlash (the axis lags its
+// command) the tool does not move while the play is taken up, and the move then starts
+// with the error of the new direction already corrected.
 #include <array>
 #include <cmath>
 #include <vector>
@@ -23,6 +30,7 @@ struct CompensationOptions {
 struct CompensatedPoint {
   double s = 1.0;
   model::ChainQ q;
+  bool take_up = false;  ///< a take-up move at a reversal (takes no share of the move)
 };
 
 struct MoveReport {
@@ -30,6 +38,9 @@ struct MoveReport {
   double max_deviation_after = 0.0;   ///< mm: the compensated path's, at the checked points
   double max_correction = 0.0;        ///< mm: largest change of a linear axis
   double max_orientation_error = 0.0;  ///< rad: what the machine cannot correct
+  /// Bit i: axis i's reversal could not be taken up (it leads the command, or the axis has
+  /// no lost motion of its own and its other reversal terms switch at once).
+  unsigned unhidden_reversals = 0;
 };
 
 class Compensator {
@@ -41,17 +52,29 @@ class Compensator {
   /// inverse does not converge.
   void straight(const model::ChainQ& start, const model::ChainQ& end, std::vector<CompensatedPoint>& out,
                 MoveReport& report, double tolerance = -1.0);
-  /// The compensated values for one point (used for a move's start).
+  /// The compensated end of a rapid to `end` (the control chooses a rapid's path).
+  [[nodiscard]] model::ChainQ rapid(const model::ChainQ& end, MoveReport& report);
+  /// The compensated values for one point, for the approach the compensator assumes now.
   [[nodiscard]] model::ChainQ point(const model::ChainQ& nominal, MoveReport& report);
+  /// Tells the compensator the machine was commanded to `q` by something it did not plan (a
+  /// move in machine coordinates, a canned cycle's motions, the program's start).
+  void moved(const model::ChainQ& q);
   /// The error of the uncompensated machine at a point: |actual - nominal| (mm).
   [[nodiscard]] double error_at(const model::ChainQ& nominal);
 
   model::Conditions& conditions() { return options_.conditions; }
+  /// Sets the approach the next points are solved for: each axis with reversal terms
+  /// travels the way `end - start` goes (or keeps its state when it does not move).
+  void approach(const model::ChainQ& start, const model::ChainQ& end);
+  /// The approach state of each axis after what was commanded so far.
+  [[nodiscard]] const std::array<double, 9>& play() const { return play_; }
 
  private:
   void split(const model::ChainQ& a_nominal, const model::ChainQ& b_nominal, const model::ChainQ& a_comp,
              const model::ChainQ& b_comp, double s0, double s1, int depth, double tolerance,
              std::vector<CompensatedPoint>& out, MoveReport& report);
+  /// Commands `q`: the play follows.
+  void command(const model::ChainQ& q);
   double executed_deviation(const model::ChainQ& a_nominal, const model::ChainQ& b_nominal,
                             const model::ChainQ& a_comp, const model::ChainQ& b_comp, double t);
 
@@ -62,6 +85,8 @@ class Compensator {
   model::ChainQ last_nominal_ = model::ChainQ::Constant(std::nan(""));
   model::ChainQ last_solution_ = model::ChainQ::Zero();
   std::array<double, 9> last_directions_{};
+  model::ChainQ commanded_ = model::ChainQ::Constant(std::nan(""));  ///< where the machine was sent last
+  std::array<double, 9> play_{};  ///< approach state after the commands so far
   InverseProblem problem_;
   model::ForwardData data_, check_;
 };

@@ -24,7 +24,10 @@ using ChainQ = Eigen::Matrix<double, kChainVariables, 1>;
 struct Conditions {
   double time = 0.0;                   ///< s since the start
   std::vector<double> temperatures;    ///< degC, one per sensor of the model
-  std::array<double, 9> directions{};  ///< approach sign of each axis: +1, -1, 0 unknown
+  /// Approach state of each axis, what reversal terms depend on: +1 after travelling up,
+  /// -1 after travelling down, in between while the axis takes up its lost motion after
+  /// turning round; 0 unknown (the middle of the play).
+  std::array<double, 9> directions{};
 };
 
 class ForwardModel {
@@ -48,6 +51,12 @@ class ForwardModel {
   /// missed between them: the shortest feature along each axis (a periodic term's period
   /// over 8, a table's knot spacing over 4) sets the spacing. At least `minimum`.
   [[nodiscard]] int check_points(const ChainQ& a, const ChainQ& b, int minimum, int maximum = 1024) const;
+  /// Lost motion of each axis (mm, rad): the size of its own positioning reversal (EXX's
+  /// for X, EBB's for B). After turning round, the axis travels this far before its
+  /// reversal terms have switched over; 0 means they switch as soon as it moves.
+  [[nodiscard]] const std::array<double, 9>& lost_motion() const { return lost_motion_; }
+  /// Whether any reversal term depends on the approach state of axis i.
+  [[nodiscard]] bool has_reversal(std::size_t axis) const { return reversal_axes_ >> axis & 1U; }
 
  private:
   MachineModel machine_;
@@ -56,6 +65,8 @@ class ForwardModel {
   std::vector<std::size_t> offsets_;
   std::size_t parameter_count_ = 0;
   ChainQ feature_;  ///< shortest error feature along each chain variable (mm, rad), or +inf
+  std::array<double, 9> lost_motion_{};
+  unsigned reversal_axes_ = 0;  ///< bit i: axis i has reversal terms
 };
 
 struct ForwardData {
@@ -78,10 +89,12 @@ struct ForwardData {
 /// Which poses forward() computes: both, or only the one a caller needs.
 enum class Evaluate : std::uint8_t { both, actual, nominal };
 
-/// Updates the approach direction of each axis that moves from a to b by more than a
-/// deadband (10 um, 1e-4 rad): the correction moves compensation adds are smaller, and a
-/// reversal's backlash takes them up without the axis turning round.
-void update_directions(Conditions& conditions, const ChainQ& a, const ChainQ& b);
+/// Moves the approach state of each axis as the command travels from a to b, the way play
+/// in a drive behaves: the state moves toward the direction of travel by 2 |b - a| / w
+/// (w the axis' lost motion) and stops at +-1, so a reversal completes once the axis has
+/// travelled w the other way, and a small move back only eats into the play. An axis
+/// without lost motion switches as soon as it moves (by more than 1 nm or 1e-8 rad).
+void take_up_play(const ForwardModel& model, Conditions& conditions, const ChainQ& a, const ChainQ& b);
 
 /// Evaluates the model at q. With `jacobians`, fills J_q and J_parameters.
 /// With `jacobians`, fills J_q and (unless `parameter_jacobian` is false: the inverse
