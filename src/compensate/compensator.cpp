@@ -55,21 +55,52 @@ void Compensator::approach(const ChainQ& start, const ChainQ& end) {
   }
 }
 
-ChainQ Compensator::rapid(const ChainQ& end, MoveReport& report) {
-  // The rapid's own travel sets the play; a short one may leave an axis part-way through
-  // it, so solve again for the state the commanded end really leaves.
-  approach(commanded_.allFinite() ? commanded_ : end, end);
+void Compensator::rapid(const ChainQ& end, std::vector<CompensatedPoint>& out, MoveReport& report) {
+  out.clear();
+  if (!commanded_.allFinite()) commanded_ = end;
+  approach(commanded_, end);
   ChainQ q = point(end, report);
-  for (int round = 0; round < 3 && commanded_.allFinite(); ++round) {
-    model::Conditions after;
-    after.directions = play_;
-    model::take_up_play(model_, after, commanded_, q);
-    if (after.directions == options_.conditions.directions) break;
-    options_.conditions.directions = after.directions;
-    q = point(end, report);
+  // An axis the rapid does not move still travels by its correction: that travel decides
+  // which way it approaches.
+  auto& need = options_.conditions.directions;
+  bool changed = false;
+  for (std::size_t i = 0; i < need.size(); ++i) {
+    const auto k = static_cast<Eigen::Index>(i);
+    if (!model_.has_reversal(i) || std::abs(q[k] - commanded_[k]) <= 10 * still(i)) continue;
+    const double travel = q[k] > commanded_[k] ? 1.0 : -1.0;
+    if (travel != need[i]) need[i] = travel, changed = true;
   }
+  if (changed) q = point(end, report);
+  out.push_back({1.0, q, false});
   command(q);
-  return q;
+  // A rapid shorter than an axis' play leaves it part-way through: the axis goes back
+  // past it and approaches again (the control's path does not matter between rapids).
+  const std::array<double, 9> target = need;
+  for (std::size_t i = 0; i < need.size(); ++i) {
+    const auto k = static_cast<Eigen::Index>(i);
+    if (!model_.has_reversal(i) || model_.lost_motion()[i] <= 0 || std::abs(play_[i] - target[i]) <= 0.02) continue;
+    need[i] = -target[i];
+    ChainQ back = commanded_;
+    back[k] = point(end, report)[k];
+    need[i] = target[i];
+    for (const ChainQ& step : {back, q}) {
+      out.push_back({1.0, step, true});
+      command(step);
+    }
+  }
+  report.unhidden_reversals |= unhidden(target);
+}
+
+unsigned Compensator::unhidden(const std::array<double, 9>& target) const {
+  // What a play left short of its target costs: the axis' reversal terms times the
+  // shortfall (a rotary axis' seen 500 mm out). Worth a warning at a quarter of the tolerance.
+  unsigned axes = 0;
+  for (std::size_t i = 0; i < target.size(); ++i) {
+    const double arm = i >= 3 && i <= 5 ? 500.0 : 1.0;
+    if (0.5 * arm * model_.reversal_size()[i] * std::abs(play_[i] - target[i]) > 0.25 * options_.tolerance)
+      axes |= 1U << i;
+  }
+  return axes;
 }
 
 double Compensator::error_at(const ChainQ& nominal) {
@@ -169,7 +200,7 @@ void Compensator::straight(const ChainQ& start, const ChainQ& end, std::vector<C
     for (std::size_t i : turning) switch_to(i, target[i]);
     for (std::size_t i : re_approach) switch_to(i, target[i]);
     go(a);
-    report.unhidden_reversals |= unsettled();
+    report.unhidden_reversals |= unhidden(target);
   } else if (!commanded_.allFinite()) {
     commanded_ = a;
   }

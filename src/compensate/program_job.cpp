@@ -161,7 +161,7 @@ class JobSink : public gcode::CanonSink {
     MoveReport move;
     if (m.kind == MotionKind::traverse) {  // a rapid's path is the control's: compensate its end
       move.max_deviation_before = compensator_->error_at(end);
-      points_.assign(1, CompensatedPoint{1.0, compensator_->rapid(end, move)});
+      compensator_->rapid(end, points_, move);
     } else if (m.kind == MotionKind::arc) {
       // Chords within half the tolerance of the arc, each compensated within the other half.
       arc_chords(m, options_.tolerance / 2.0, chords_);

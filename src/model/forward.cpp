@@ -69,6 +69,7 @@ ForwardModel::ForwardModel(const MachineModel& model) : machine_(model) {
     const ErrorTermSpec& t = machine_.terms[i];
     if (t.shape.form != TermForm::reversal || t.primary.kind != VariableKind::direction) continue;
     reversal_axes_ |= 1U << t.primary.index;
+    reversal_size_[t.primary.index] += std::abs(t.parameters[0]);
     const auto& joints = sites_[i].side == 0 ? chain_.workpiece.joints : chain_.tool.joints;
     const Joint& j = joints[sites_[i].joint];
     if (j.type == JointType::fixed || j.axis != t.primary.index) continue;

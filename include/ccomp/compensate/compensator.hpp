@@ -52,8 +52,9 @@ class Compensator {
   /// inverse does not converge.
   void straight(const model::ChainQ& start, const model::ChainQ& end, std::vector<CompensatedPoint>& out,
                 MoveReport& report, double tolerance = -1.0);
-  /// The compensated end of a rapid to `end` (the control chooses a rapid's path).
-  [[nodiscard]] model::ChainQ rapid(const model::ChainQ& end, MoveReport& report);
+  /// The compensated end of a rapid to `end` (the control chooses a rapid's path), then
+  /// any re-approach an axis needs to leave the rapid with its play settled.
+  void rapid(const model::ChainQ& end, std::vector<CompensatedPoint>& out, MoveReport& report);
   /// The compensated values for one point, for the approach the compensator assumes now.
   [[nodiscard]] model::ChainQ point(const model::ChainQ& nominal, MoveReport& report);
   /// Tells the compensator the machine was commanded to `q` by something it did not plan (a
@@ -73,6 +74,8 @@ class Compensator {
   void split(const model::ChainQ& a_nominal, const model::ChainQ& b_nominal, const model::ChainQ& a_comp,
              const model::ChainQ& b_comp, double s0, double s1, int depth, double tolerance,
              std::vector<CompensatedPoint>& out, MoveReport& report);
+  /// Axes whose play is short of `target` by more than the tolerance can bear.
+  [[nodiscard]] unsigned unhidden(const std::array<double, 9>& target) const;
   /// Commands `q`: the play follows.
   void command(const model::ChainQ& q);
   double executed_deviation(const model::ChainQ& a_nominal, const model::ChainQ& b_nominal,

@@ -55,6 +55,9 @@ class ForwardModel {
   /// for X, EBB's for B). After turning round, the axis travels this far before its
   /// reversal terms have switched over; 0 means they switch as soon as it moves.
   [[nodiscard]] const std::array<double, 9>& lost_motion() const { return lost_motion_; }
+  /// The sum of the sizes of the reversal terms that depend on axis i's approach (mm or
+  /// rad, as the terms are; an upper bound of what a turn of the axis can change).
+  [[nodiscard]] const std::array<double, 9>& reversal_size() const { return reversal_size_; }
   /// Whether any reversal term depends on the approach state of axis i.
   [[nodiscard]] bool has_reversal(std::size_t axis) const { return reversal_axes_ >> axis & 1U; }
 
@@ -65,7 +68,7 @@ class ForwardModel {
   std::vector<std::size_t> offsets_;
   std::size_t parameter_count_ = 0;
   ChainQ feature_;  ///< shortest error feature along each chain variable (mm, rad), or +inf
-  std::array<double, 9> lost_motion_{};
+  std::array<double, 9> lost_motion_{}, reversal_size_{};
   unsigned reversal_axes_ = 0;  ///< bit i: axis i has reversal terms
 };
 
