@@ -16,6 +16,7 @@ enum class ErrorKind : std::uint8_t {
   model = 5,        ///< the machine model file is wrong
   io = 6,           ///< a file could not be read or written
   safety = 7,       ///< refused: compensating would be unsafe
+  data = 8,         ///< a measurement file is wrong
   internal = 70,    ///< a bug in ccomp
 };
 

@@ -63,4 +63,25 @@ struct TraceArgs {
 CLI::App* add_trace(CLI::App& app, TraceArgs& args);
 int run_trace(const TraceArgs& args);
 
+/// fit, check and simulate: the model against measurements.
+struct IdentifyArgs {
+  std::vector<std::string> measurements;
+  std::string model;
+  std::string output;
+  std::vector<std::string> weights;  ///< SOURCE=W
+  bool robust = false;
+  bool json = false;
+  double tool_length = 100.0;
+  // simulate
+  std::vector<std::string> plans{"nine_lines"};
+  double noise_um = 0.2;
+  unsigned seed = 1;
+};
+CLI::App* add_fit(CLI::App& app, IdentifyArgs& args);
+CLI::App* add_check(CLI::App& app, IdentifyArgs& args);
+CLI::App* add_simulate(CLI::App& app, IdentifyArgs& args);
+int run_fit(const IdentifyArgs& args);
+int run_check(const IdentifyArgs& args);
+int run_simulate(const IdentifyArgs& args);
+
 }  // namespace ccomp::cli

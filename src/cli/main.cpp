@@ -17,6 +17,7 @@ constexpr const char* kExitCodes = R"(Exit codes:
   5   model error: the machine model file is wrong
   6   I/O error: a file could not be read or written
   7   refused: compensating would be unsafe (see the message)
+  8   data error: a measurement file is wrong (file:row:column on stderr)
   70  internal error: a bug in ccomp, please report it
 With several inputs the exit code is the highest of the files' codes.)";
 
@@ -35,6 +36,10 @@ int main(int argc, char** argv) {
   ccomp::cli::CheckArgs predict, verify;
   CLI::App* predict_cmd = ccomp::cli::add_predict(app, predict);
   CLI::App* verify_cmd = ccomp::cli::add_verify(app, verify);
+  ccomp::cli::IdentifyArgs fit, check, simulate;
+  CLI::App* fit_cmd = ccomp::cli::add_fit(app, fit);
+  CLI::App* check_cmd = ccomp::cli::add_check(app, check);
+  CLI::App* simulate_cmd = ccomp::cli::add_simulate(app, simulate);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -45,6 +50,9 @@ int main(int argc, char** argv) {
     if (trace_cmd->parsed()) return ccomp::cli::run_trace(trace);
     if (predict_cmd->parsed()) return ccomp::cli::run_predict(predict);
     if (verify_cmd->parsed()) return ccomp::cli::run_verify(verify);
+    if (fit_cmd->parsed()) return ccomp::cli::run_fit(fit);
+    if (check_cmd->parsed()) return ccomp::cli::run_check(check);
+    if (simulate_cmd->parsed()) return ccomp::cli::run_simulate(simulate);
     return ccomp::cli::run_compensate(compensate);
   } catch (const ccomp::Error& e) {
     fmt::print(stderr, "{}\n", ccomp::format_error(e));

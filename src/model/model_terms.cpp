@@ -152,6 +152,7 @@ void read_terms(const std::string& file, const YAML::Node& terms, MachineModel& 
     }
     if (n["note"]) t.note = n["note"].as<std::string>();
     t.free = n["fit"] && n["fit"].as<bool>();
+    t.free_period = n["fit_period"] && n["fit_period"].as<bool>();
     const bool rotation = t.component >= 3;
     const Dimension out_dim = rotation ? kAngle : kLength;
     const std::string out_text = n["unit"] ? n["unit"].as<std::string>() : (rotation ? "urad" : "um");

@@ -52,6 +52,7 @@ struct ErrorTermSpec {
   Eigen::VectorXd parameters;          ///< in mm, rad, s, degC
   std::vector<double> parameter_unit;  ///< internal units per file unit, to write values back
   bool free = false;                   ///< a fit may change it
+  bool free_period = false;            ///< periodic: a fit may change the period too (fit_period: true)
   std::string note;
 };
 
@@ -79,6 +80,13 @@ struct MachineModel {
 /// and the bad value.
 [[nodiscard]] MachineModel load_machine_model(const std::string& path);
 [[nodiscard]] MachineModel parse_machine_model(const std::string& text, const std::string& name);
+
+/// The model file's text with new parameter values for its terms (one vector per term, in
+/// internal units; written back in the file's units) and `record` (YAML lines, a mapping)
+/// under a top-level `fitted:` key. Comments do not survive: yaml-cpp does not keep them.
+[[nodiscard]] std::string rewrite_parameters(const std::string& text, const MachineModel& model,
+                                             const std::vector<Eigen::VectorXd>& parameters,
+                                             const std::string& record);
 
 /// Checks a model: known axis letters, no duplicates, limits ordered and not NaN, a dialect
 /// ccomp knows. Throws ccomp::Error (model) with the offending entry.

@@ -1,0 +1,33 @@
+#pragma once
+// The model as it is against measurements: residuals overall and per source, and the
+// noise floor the residuals cannot go below.
+#include <string>
+#include <vector>
+
+#include "ccomp/identify/measurements.hpp"
+#include "ccomp/model/forward.hpp"
+
+namespace ccomp::identify {
+
+struct SourceResidual {
+  std::string source;
+  std::size_t observations = 0;
+  double rms = 0.0, max = 0.0;  ///< mm
+};
+
+struct CheckReport {
+  std::size_t observations = 0;
+  double rms = 0.0, max = 0.0;  ///< mm
+  std::uint32_t worst_row = 0;
+  std::string worst_file;
+  std::vector<SourceResidual> sources;
+  /// mm: the reading noise. From repeated points (same position, approach and conditions)
+  /// where there are any; otherwise from second differences of the residuals at evenly
+  /// spaced points along lines, which a smooth model error nearly cancels and noise does not.
+  double noise_floor = 0.0;
+  std::string noise_method;  ///< "repeated points" or "second differences along lines"
+};
+
+[[nodiscard]] CheckReport check(const model::ForwardModel& model, const MeasurementSet& data);
+
+}  // namespace ccomp::identify

@@ -1,0 +1,65 @@
+#pragma once
+// Identification: the free parameters of a model's terms from measurements, by weighted
+// least squares on the forward model's exact parameter Jacobians (Gauss-Newton, so a
+// period or a time constant is fitted too). What the data cannot determine is found from
+// the singular values of the column-scaled design matrix and left at its prior value
+// (truncated SVD), never fitted to noise; the report says which parameters, or which
+// combinations of them, those are.
+#include <string>
+#include <utility>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "ccomp/identify/measurements.hpp"
+#include "ccomp/model/forward.hpp"
+
+namespace ccomp::identify {
+
+enum class Loss : std::uint8_t { least_squares, huber };
+
+struct FitOptions {
+  /// Weight of the observations of a source (by label); others weigh 1.
+  std::vector<std::pair<std::string, double>> source_weights;
+  Loss loss = Loss::least_squares;  ///< huber: rows beyond 1.345 robust sigmas count linearly
+  int max_iterations = 30;
+  /// A combination of parameters whose singular value, relative to the largest (columns
+  /// scaled to unit length), is below this is not identifiable from the data.
+  double rank_tolerance = 1e-4;
+};
+
+struct FittedParameter {
+  std::size_t index = 0;  ///< into the model's parameter vector
+  std::size_t term = 0;
+  std::string label;      ///< "EXX.a1", "EBB.period"
+  double before = 0.0, after = 0.0;
+  double uncertainty = 0.0;  ///< one standard deviation (internal units), 0 when not identified
+  bool identified = true;
+};
+
+struct FitReport {
+  std::vector<FittedParameter> parameters;  ///< the free ones
+  Eigen::VectorXd all_parameters;           ///< the model's whole parameter vector after the fit
+  Eigen::VectorXd singular_values;          ///< of the column-scaled weighted design matrix, descending
+  double condition_number = 0.0;            ///< of the identified part
+  std::size_t rank = 0;          ///< combinations the data can determine
+  std::size_t significant = 0;   ///< of those, how many moved by more than the noise (the rest stayed)
+  std::vector<std::string> unidentifiable;  ///< in words, one per combination the data cannot determine
+  double rms_before = 0.0, rms_after = 0.0, max_after = 0.0;  ///< mm
+  std::vector<double> source_rms_before, source_rms_after;     ///< mm, per source
+  int iterations = 0;
+  bool converged = false;
+  std::size_t observations = 0;
+};
+
+/// Fits the free parameters of `model` to `data`.
+[[nodiscard]] FitReport fit(const model::ForwardModel& model, const MeasurementSet& data, const FitOptions& options = {});
+
+/// Residuals (measured - predicted, mm) of every observation with the given parameters.
+[[nodiscard]] Eigen::VectorXd residuals(const model::ForwardModel& model, const Eigen::VectorXd& parameters,
+                                        const MeasurementSet& data);
+
+/// A parameter's name: the term's ISO name and the parameter's role ("EXX.a2", "EBB.b1").
+[[nodiscard]] std::string parameter_label(const model::ErrorTermSpec& term, std::size_t k);
+
+}  // namespace ccomp::identify

@@ -1,0 +1,75 @@
+#pragma once
+// Measurements: the CSV contract of ../shared/physics.md sect. 5, read into observations
+// the forward model can predict. One row is one scalar observation d along a unit
+// direction n (a laser or ballbar reading), or three (a full dx dy dz deviation).
+#include <array>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "ccomp/model/forward.hpp"
+
+namespace ccomp::identify {
+
+/// One scalar observation: the deviation along `direction` at chain values `q`.
+struct Observation {
+  model::ChainQ q = model::ChainQ::Zero();  ///< axes (mm, rad) and the tool length
+  double time = 0.0;                        ///< s
+  std::vector<double> temperatures;         ///< degC, one per sensor of the model
+  std::array<double, 9> directions{};       ///< approach sign of each axis: +1, -1, 0 unknown
+  Eigen::Vector3d direction = Eigen::Vector3d::UnitX();  ///< unit, machine-axis directions
+  double value = 0.0;                       ///< measured deviation along `direction`, mm
+  std::uint32_t source = 0;                 ///< index into MeasurementSet::sources
+  std::uint32_t row = 0;                    ///< line of the file (the header is line 1)
+  std::uint32_t file = 0;                   ///< index into MeasurementSet::files
+};
+
+/// The range one variable spans in the data.
+struct VariableRange {
+  std::string name;  ///< "x", "b", "L", "t", "T_bed", "vx"
+  double min = 0.0, max = 0.0;
+  std::string unit;
+};
+
+struct MeasurementSet {
+  std::vector<std::string> files;
+  std::vector<std::string> sources;  ///< labels from the `source` column (or the file name)
+  std::vector<Observation> observations;
+  std::vector<std::string> notices;  ///< unknown columns, ignored
+  std::vector<VariableRange> ranges;
+
+  /// The conditions of an observation, for the forward model.
+  [[nodiscard]] static model::Conditions conditions(const Observation& o) {
+    model::Conditions c;
+    c.time = o.time;
+    c.temperatures = o.temperatures;
+    c.directions = o.directions;
+    return c;
+  }
+};
+
+struct ReadOptions {
+  /// Tool length (mm) for rows without an L column.
+  double tool_length = 0.0;
+};
+
+/// Reads a measurement file and appends its rows. Throws ccomp::Error (data) naming the
+/// file, the row and the column: a missing column, a value that is not a number, NaN, a
+/// direction that is not a unit vector, a variable the model needs that the file lacks.
+void read_measurements(const std::string& path, const model::MachineModel& model, const ReadOptions& options,
+                       MeasurementSet& into);
+void parse_measurements(const std::string& text, const std::string& name, const model::MachineModel& model,
+                        const ReadOptions& options, MeasurementSet& into);
+
+/// Recomputes `ranges` (after reading all files).
+void summarize(MeasurementSet& set, const model::MachineModel& model);
+
+/// What a model predicts for an observation: n . deviation (mm).
+[[nodiscard]] double predict(const model::ForwardModel& model, model::ForwardData& data, const Observation& o);
+
+/// Writes observations in the CSV contract (one row per observation, n and d).
+[[nodiscard]] std::string to_csv(const MeasurementSet& set, const model::MachineModel& model);
+
+}  // namespace ccomp::identify

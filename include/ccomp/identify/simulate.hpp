@@ -1,0 +1,38 @@
+#pragma once
+// Simulated measurements: a truth model measured by a plan, with noise. Users rehearse the
+// fit-check loop with it; the identification tests are built on it.
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "ccomp/identify/measurements.hpp"
+#include "ccomp/model/forward.hpp"
+
+namespace ccomp::identify {
+
+enum class Plan : std::uint8_t {
+  nine_lines,  ///< seed 003: three laser lines per linear axis, bidirectional passes
+  grid,        ///< a volumetric grid of full deviations at several tool lengths
+  sphere,      ///< a sphere on the table probed at rotary angles
+  thermal,     ///< a drift test: fixed points over hours, sensors warming up
+};
+
+/// "nine_lines" -> Plan; throws ccomp::Error (usage) naming the known plans.
+[[nodiscard]] Plan plan_from_name(const std::string& name);
+
+struct SimulateOptions {
+  std::vector<Plan> plans{Plan::nine_lines};
+  double noise = 0.0002;       ///< mm, standard deviation of every reading
+  unsigned seed = 1;
+  double tool_length = 100.0;  ///< mm, the optic's or probe's length where a plan has one
+  double step = 25.0;          ///< mm between points along a laser line
+  double hours = 4.0;          ///< length of the thermal run
+  /// Sensor temperatures at the end of the thermal run (degC); 20 elsewhere.
+  std::vector<double> warm_temperatures;
+};
+
+/// Measures `truth` along the plans: each observation is the truth's prediction plus
+/// Gaussian noise. The workspace is the axes' limits (a 400 mm cube where unlimited).
+[[nodiscard]] MeasurementSet simulate(const model::ForwardModel& truth, const SimulateOptions& options);
+
+}  // namespace ccomp::identify

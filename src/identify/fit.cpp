@@ -1,0 +1,272 @@
+#include "ccomp/identify/fit.hpp"
+
+#include <fmt/format.h>
+
+#include <Eigen/Eigenvalues>
+#include <algorithm>
+#include <cmath>
+
+namespace ccomp::identify {
+
+using model::TermForm;
+
+std::string parameter_label(const model::ErrorTermSpec& t, std::size_t k) {
+  const std::string& n = t.iso;
+  switch (t.shape.form) {
+    case TermForm::constant: return n;
+    case TermForm::polynomial: return fmt::format("{}.a{}", n, k);
+    case TermForm::table: return fmt::format("{}.value[{}]", n, k);
+    case TermForm::periodic:
+      return k == 0 ? n + ".period" : fmt::format("{}.{}{}", n, k % 2 ? 'a' : 'b', (k + 1) / 2);
+    case TermForm::reversal: return n + ".reversal";
+    case TermForm::thermal_linear: return fmt::format("{}.k_{}", n, t.primary.text);
+    case TermForm::thermal_warmup: return k == 0 ? n + ".amplitude" : n + ".time_constant";
+    case TermForm::scale_expansion: return n + ".alpha";
+    case TermForm::cross_axis: {
+      const auto order = static_cast<std::size_t>(t.shape.order);
+      return fmt::format("{}.c{}{}", n, k / order, k % order + 1);
+    }
+  }
+  return fmt::format("{}[{}]", n, k);
+}
+
+namespace {
+
+/// Residuals and (when asked) the design matrix of the free columns, d prediction / d p.
+void linearize(const model::ForwardModel& model, const Eigen::VectorXd& parameters, const MeasurementSet& data,
+               const std::vector<std::size_t>& free, Eigen::VectorXd& r, Eigen::MatrixXd* J) {
+  model::ForwardData d(model);
+  d.parameters = parameters;
+  const auto n = static_cast<Eigen::Index>(data.observations.size());
+  r.resize(n);
+  if (J) J->resize(n, static_cast<Eigen::Index>(free.size()));
+  for (Eigen::Index i = 0; i < n; ++i) {
+    const Observation& o = data.observations[static_cast<std::size_t>(i)];
+    model::forward(model, d, o.q, MeasurementSet::conditions(o), J != nullptr);
+    const Eigen::Matrix3d& R = d.nominal_chain.work_oMi.back().R;  // table frame -> machine axes
+    r[i] = o.value - o.direction.dot(R * (d.actual - d.nominal));
+    if (!J) continue;
+    const Eigen::RowVector3d nR = o.direction.transpose() * R;
+    for (std::size_t j = 0; j < free.size(); ++j)
+      (*J)(i, static_cast<Eigen::Index>(j)) = nR * d.J_parameters.col(static_cast<Eigen::Index>(free[j]));
+  }
+}
+
+double rms(const Eigen::VectorXd& r) { return r.size() ? std::sqrt(r.squaredNorm() / static_cast<double>(r.size())) : 0.0; }
+
+std::vector<double> rms_by_source(const Eigen::VectorXd& r, const MeasurementSet& data) {
+  std::vector<double> sum(data.sources.size(), 0.0), count(data.sources.size(), 0.0);
+  for (std::size_t i = 0; i < data.observations.size(); ++i) {
+    sum[data.observations[i].source] += r[static_cast<Eigen::Index>(i)] * r[static_cast<Eigen::Index>(i)];
+    count[data.observations[i].source] += 1;
+  }
+  for (std::size_t s = 0; s < sum.size(); ++s) sum[s] = count[s] > 0 ? std::sqrt(sum[s] / count[s]) : 0.0;
+  return sum;
+}
+
+}  // namespace
+
+Eigen::VectorXd residuals(const model::ForwardModel& model, const Eigen::VectorXd& parameters, const MeasurementSet& data) {
+  Eigen::VectorXd r;
+  linearize(model, parameters, data, {}, r, nullptr);
+  return r;
+}
+
+FitReport fit(const model::ForwardModel& model, const MeasurementSet& data, const FitOptions& options) {
+  const model::MachineModel& mm = model.machine();
+  FitReport report;
+  report.observations = data.observations.size();
+  Eigen::VectorXd p(static_cast<Eigen::Index>(model.parameter_count()));
+  std::vector<std::size_t> free;
+  for (std::size_t t = 0; t < mm.terms.size(); ++t) {
+    const auto offset = model.parameter_offset(t);
+    for (Eigen::Index k = 0; k < mm.terms[t].parameters.size(); ++k) {
+      p[static_cast<Eigen::Index>(offset) + k] = mm.terms[t].parameters[k];
+      if (!mm.terms[t].free) continue;
+      // A period is a property of the mechanism (a screw's pitch, 360 deg of a table):
+      // fitted only when the file says so (discovery scans it instead).
+      if (mm.terms[t].shape.form == TermForm::periodic && k == 0 && !mm.terms[t].free_period) continue;
+      free.push_back(offset + static_cast<std::size_t>(k));
+      report.parameters.push_back({offset + static_cast<std::size_t>(k), t,
+                                   parameter_label(mm.terms[t], static_cast<std::size_t>(k)),
+                                   mm.terms[t].parameters[k], mm.terms[t].parameters[k], 0.0, true});
+    }
+  }
+  // Weights per observation: the source's, times the robust loss's.
+  const auto n = static_cast<Eigen::Index>(data.observations.size());
+  Eigen::VectorXd source_weight = Eigen::VectorXd::Ones(n);
+  for (Eigen::Index i = 0; i < n; ++i)
+    for (const auto& [label, w] : options.source_weights)
+      if (data.sources[data.observations[static_cast<std::size_t>(i)].source] == label) source_weight[i] = w;
+  Eigen::VectorXd r;
+  Eigen::MatrixXd J;
+  linearize(model, p, data, free, r, free.empty() ? nullptr : &J);
+  report.rms_before = rms(r);
+  report.source_rms_before = rms_by_source(r, data);
+  const auto m = static_cast<Eigen::Index>(free.size());
+  Eigen::VectorXd weight = source_weight;
+  auto cost = [&](const Eigen::VectorXd& res) { return (weight.cwiseSqrt().asDiagonal() * res).squaredNorm(); };
+  Eigen::VectorXd scale = Eigen::VectorXd::Ones(m), column_norm = Eigen::VectorXd::Zero(m);
+  Eigen::MatrixXd V;
+  Eigen::VectorXd sigma;
+  std::vector<bool> identified_direction;
+  double lambda = 0.0;  // Levenberg-Marquardt damping, relative to the largest singular value squared
+  for (int iteration = 0; iteration < options.max_iterations && m > 0; ++iteration) {
+    report.iterations = iteration + 1;
+    if (options.loss == Loss::huber && iteration > 0) {
+      // Robust scale from the median absolute residual; rows beyond 1.345 of it count linearly.
+      Eigen::VectorXd a = r.cwiseAbs();
+      std::nth_element(a.data(), a.data() + a.size() / 2, a.data() + a.size());
+      const double s = std::max(1.4826 * a[a.size() / 2], 1e-12);
+      for (Eigen::Index i = 0; i < n; ++i)
+        weight[i] = source_weight[i] * std::min(1.0, 1.345 * s / std::max(std::abs(r[i]), 1e-300));
+    }
+    // Columns scaled to unit length, so the singular values compare parameters of any unit.
+    const Eigen::VectorXd sw = weight.cwiseSqrt();
+    for (Eigen::Index j = 0; j < m; ++j) {
+      const double norm = (sw.asDiagonal() * J.col(j)).norm();
+      column_norm[j] = norm;
+      scale[j] = norm > 0 ? norm : 1.0;
+    }
+    const Eigen::MatrixXd A = sw.asDiagonal() * J * scale.cwiseInverse().asDiagonal();
+    const Eigen::MatrixXd N = A.transpose() * A;
+    Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(N);
+    // Descending singular values and their right singular vectors.
+    sigma = eig.eigenvalues().cwiseMax(0.0).cwiseSqrt().reverse();
+    V = eig.eigenvectors().rowwise().reverse();
+    const double largest = sigma.size() ? sigma[0] : 0.0;
+    identified_direction.assign(static_cast<std::size_t>(m), false);
+    const Eigen::VectorXd g = A.transpose() * (sw.asDiagonal() * r);
+    for (Eigen::Index k = 0; k < m; ++k)
+      identified_direction[static_cast<std::size_t>(k)] = sigma[k] > options.rank_tolerance * largest && sigma[k] > 0;
+    // Levenberg-Marquardt in the identified directions: where the cost does not fall, the
+    // weak directions are damped first (lambda), not the whole step (a period far from
+    // its start, a nearly invisible tilt, are not quadratic).
+    auto step_for = [&](double damping) {
+      Eigen::VectorXd step = Eigen::VectorXd::Zero(m);
+      for (Eigen::Index k = 0; k < m; ++k)
+        if (identified_direction[static_cast<std::size_t>(k)])
+          step += V.col(k) * (V.col(k).dot(g) / (sigma[k] * sigma[k] + damping));
+      return Eigen::VectorXd(step.cwiseQuotient(scale));
+    };
+    const double before = cost(r);
+    Eigen::VectorXd trial_p = p, trial_r;
+    bool improved = false;
+    for (int attempt = 0; attempt < 24; ++attempt) {
+      const Eigen::VectorXd dp = step_for(lambda * largest * largest);
+      trial_p = p;
+      for (Eigen::Index j = 0; j < m; ++j) trial_p[static_cast<Eigen::Index>(free[static_cast<std::size_t>(j)])] += dp[j];
+      linearize(model, trial_p, data, free, trial_r, nullptr);
+      if (cost(trial_r) <= before) {
+        improved = true;
+        lambda = std::max(lambda * 0.1, 1e-12);
+        break;
+      }
+      lambda = lambda > 0 ? lambda * 10.0 : 1e-8;
+    }
+    if (!improved) {
+      report.converged = true;
+      break;
+    }
+    const double after = cost(trial_r);
+    p = trial_p;
+    linearize(model, p, data, free, r, &J);
+    // Converged when an iteration gains less than a hundredth of one reading's noise
+    // variance (chi-square by 0.01): what is left to gain cannot matter against the noise.
+    if (before - after <= 1e-2 * before / static_cast<double>(n) + 1e-30) {
+      report.converged = true;
+      break;
+    }
+  }
+  if (m == 0) report.converged = true;
+  // Never fit noise: a combination whose change moves the predictions by no more than the
+  // noise would (3 sigma) is not supported by the data, and goes back to where it was.
+  // Strong effects pass easily; a nearly invisible parameter (a yaw whose arm is zero)
+  // would otherwise take any value the noise suggests.
+  if (m > 0 && !identified_direction.empty()) {
+    const double dof0 = std::max(1.0, static_cast<double>(n) - static_cast<double>(m));
+    const double noise = std::sqrt((weight.cwiseSqrt().asDiagonal() * r).squaredNorm() / dof0);
+    Eigen::VectorXd change(m);
+    for (Eigen::Index j = 0; j < m; ++j)
+      change[j] = (p[static_cast<Eigen::Index>(free[static_cast<std::size_t>(j)])] - report.parameters[static_cast<std::size_t>(j)].before) * scale[j];
+    const Eigen::VectorXd c = V.transpose() * change;
+    Eigen::VectorXd kept = Eigen::VectorXd::Zero(m);
+    bool reverted = false;
+    for (Eigen::Index k = 0; k < m; ++k) {
+      if (!identified_direction[static_cast<std::size_t>(k)]) continue;
+      if (sigma[k] * std::abs(c[k]) > 3.0 * noise) kept[k] = c[k], ++report.significant;
+      else reverted = true;
+    }
+    if (reverted) {
+      // Linear reasoning: a nonlinear parameter (a period) far from where it started may
+      // not come back along a straight line. Keep the fit if reverting costs more than
+      // the noise allows for what was reverted.
+      Eigen::VectorXd back_p = p, back_r;
+      const Eigen::VectorXd back = (V * kept).cwiseQuotient(scale);
+      for (Eigen::Index j = 0; j < m; ++j)
+        back_p[static_cast<Eigen::Index>(free[static_cast<std::size_t>(j)])] = report.parameters[static_cast<std::size_t>(j)].before + back[j];
+      linearize(model, back_p, data, free, back_r, nullptr);
+      const auto identifiable = static_cast<std::size_t>(std::count(identified_direction.begin(), identified_direction.end(), true));
+      const auto reverted_count = static_cast<double>(identifiable - report.significant);
+      if (cost(back_r) - cost(r) <= 9.0 * noise * noise * std::max(1.0, reverted_count)) {
+        p = back_p;
+        r = back_r;
+      } else {
+        report.significant = identifiable;
+      }
+    }
+  }
+  report.all_parameters = p;
+  report.rms_after = rms(r);
+  report.max_after = r.size() ? r.cwiseAbs().maxCoeff() : 0.0;
+  report.source_rms_after = rms_by_source(r, data);
+  report.singular_values = sigma;
+  // Identifiability, in words, and the uncertainty of what was identified.
+  std::size_t rank = 0;
+  for (bool b : identified_direction) rank += b ? 1 : 0;
+  report.rank = rank;
+  report.condition_number = rank > 0 ? sigma[0] / sigma[static_cast<Eigen::Index>(rank - 1)] : 0.0;
+  const double dof = static_cast<double>(n) - static_cast<double>(rank);
+  const double s2 = dof > 0 ? (weight.cwiseSqrt().asDiagonal() * r).squaredNorm() / dof : 0.0;
+  for (Eigen::Index j = 0; j < m; ++j) {
+    FittedParameter& fp = report.parameters[static_cast<std::size_t>(j)];
+    fp.after = p[static_cast<Eigen::Index>(fp.index)];
+    // Determined on its own when its unit vector (scaled) has next to nothing in the
+    // directions the data cannot see: up to 1% of it there.
+    double var = 0.0, unseen = 0.0;
+    for (Eigen::Index k = 0; k < m; ++k) {
+      if (identified_direction[static_cast<std::size_t>(k)]) var += V(j, k) * V(j, k) / (sigma[k] * sigma[k]);
+      else unseen += V(j, k) * V(j, k);
+    }
+    fp.uncertainty = std::sqrt(s2 * var) / scale[j];
+    fp.identified = unseen <= 1e-4;
+  }
+  // In words: parameters the data do not see at all, then the combinations they cannot
+  // separate or that the data do not support above the noise.
+  std::string unseen;
+  for (Eigen::Index j = 0; j < m; ++j)
+    if (column_norm[j] <= 1e-12 * column_norm.maxCoeff())
+      unseen += (unseen.empty() ? "" : ", ") + report.parameters[static_cast<std::size_t>(j)].label;
+  if (!unseen.empty())
+    report.unidentifiable.push_back(fmt::format("{}: no effect on these measurements; left as they were", unseen));
+  for (Eigen::Index k = 0; k < m; ++k) {
+    if (identified_direction[static_cast<std::size_t>(k)]) continue;
+    std::vector<std::pair<double, std::size_t>> members;
+    for (Eigen::Index j = 0; j < m; ++j)
+      if (std::abs(V(j, k)) > 0.1 && column_norm[j] > 1e-12 * column_norm.maxCoeff())
+        members.emplace_back(-std::abs(V(j, k)), static_cast<std::size_t>(j));
+    std::sort(members.begin(), members.end());
+    if (members.empty()) continue;
+    if (members.size() > 6) members.resize(6);
+    std::string combination;
+    for (const auto& [w, j] : members)
+      combination += fmt::format("{}{:+.2f} {}", combination.empty() ? "" : " ", V(static_cast<Eigen::Index>(j), k),
+                                 report.parameters[j].label);
+    report.unidentifiable.push_back(fmt::format("{}: the data cannot separate these (relative singular value {:.1e}); "
+                                                "this combination is left as it was",
+                                                combination, sigma[0] > 0 ? sigma[k] / sigma[0] : 0.0));
+  }
+  return report;
+}
+
+}  // namespace ccomp::identify

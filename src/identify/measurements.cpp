@@ -1,0 +1,263 @@
+#include "ccomp/identify/measurements.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <charconv>
+#include <cmath>
+#include <fstream>
+#include <map>
+#include <sstream>
+
+#include "ccomp/error.hpp"
+
+namespace ccomp::identify {
+namespace {
+
+constexpr double kRadPerDeg = 3.14159265358979323846 / 180.0;
+constexpr std::string_view kAxes = "xyzabcuvw";
+
+/// Splits one CSV line; fields may be double-quoted (a source label with a comma).
+std::vector<std::string> split(std::string_view line) {
+  std::vector<std::string> fields(1);
+  bool quoted = false;
+  for (std::size_t i = 0; i < line.size(); ++i) {
+    const char c = line[i];
+    if (c == '"') {
+      if (quoted && i + 1 < line.size() && line[i + 1] == '"') fields.back() += '"', ++i;
+      else quoted = !quoted;
+    } else if (c == ',' && !quoted) {
+      fields.emplace_back();
+    } else if (c != '\r') {
+      fields.back() += c;
+    }
+  }
+  for (std::string& f : fields) {
+    const auto a = f.find_first_not_of(" \t"), b = f.find_last_not_of(" \t");
+    f = a == std::string::npos ? std::string() : f.substr(a, b - a + 1);
+  }
+  return fields;
+}
+
+struct Columns {
+  std::map<std::string, std::size_t> index;
+  [[nodiscard]] int at(const std::string& name) const {
+    const auto it = index.find(name);
+    return it == index.end() ? -1 : static_cast<int>(it->second);
+  }
+};
+
+}  // namespace
+
+void parse_measurements(const std::string& text, const std::string& name, const model::MachineModel& model,
+                        const ReadOptions& options, MeasurementSet& into) {
+  const auto file_index = static_cast<std::uint32_t>(into.files.size());
+  into.files.push_back(name);
+  std::istringstream in(text);
+  std::string line;
+  std::uint32_t number = 0;
+  auto fail = [&](std::uint32_t row, std::uint32_t column, const std::string& message) {
+    throw Error(ErrorKind::data, message, SourceLocation{name, row, column}, line);
+  };
+  // The header: the first line that is not blank or a # comment.
+  std::vector<std::string> header;
+  while (std::getline(in, line)) {
+    ++number;
+    if (line.find_first_not_of(" \t\r") == std::string::npos || line.front() == '#') continue;
+    header = split(line);
+    break;
+  }
+  if (header.empty()) fail(0, 0, "the file is empty: a measurement file starts with a header row (x,y,z,...)");
+  const std::uint32_t header_line = number;
+  Columns cols;
+  std::vector<std::uint32_t> column_of_field;  // 1-based text column of each header field
+  {
+    std::uint32_t pos = 1;
+    for (const std::string& h : split(line)) column_of_field.push_back(pos), pos += static_cast<std::uint32_t>(h.size()) + 1;
+  }
+  std::vector<int> sensor_column(model.sensors.size(), -1);
+  for (std::size_t i = 0; i < header.size(); ++i) {
+    const std::string& h = header[i];
+    if (h.empty()) fail(header_line, column_of_field[i], fmt::format("column {} has no name", i + 1));
+    if (cols.index.count(h)) fail(header_line, column_of_field[i], fmt::format("column '{}' appears twice", h));
+    cols.index[h] = i;
+    bool known = h == "nx" || h == "ny" || h == "nz" || h == "d" || h == "dx" || h == "dy" || h == "dz" || h == "L" ||
+                 h == "t" || h == "source";
+    if (h.size() == 1 && kAxes.find(h[0]) != std::string_view::npos) known = true;
+    if (h.size() == 2 && h[0] == 'v' && kAxes.find(h[1]) != std::string_view::npos) known = true;
+    if (h.starts_with("T_")) {
+      const auto it = std::find(model.sensors.begin(), model.sensors.end(), h.substr(2));
+      if (it != model.sensors.end()) {
+        sensor_column[static_cast<std::size_t>(it - model.sensors.begin())] = static_cast<int>(i);
+        known = true;
+      }
+    }
+    if (!known) into.notices.push_back(fmt::format("{}: column '{}' is not part of the contract; ignored", name, h));
+  }
+  for (const char* required : {"x", "y", "z"})
+    if (cols.at(required) < 0) fail(header_line, 1, fmt::format("the header has no '{}' column (x, y, z are required)", required));
+  const bool scalar = cols.at("d") >= 0, full = cols.at("dx") >= 0;
+  if (scalar && (cols.at("nx") < 0 || cols.at("ny") < 0 || cols.at("nz") < 0))
+    fail(header_line, 1, "a 'd' column needs its direction in nx, ny, nz");
+  if (full && (cols.at("dy") < 0 || cols.at("dz") < 0)) fail(header_line, 1, "a 'dx' column needs dy and dz too");
+  if (!scalar && !full) fail(header_line, 1, "the header has neither nx,ny,nz,d nor dx,dy,dz: there is nothing measured");
+  // What the model needs that the file must give.
+  for (const model::ErrorTermSpec& t : model.terms)
+    for (const model::Variable* v : {&t.primary, &t.secondary}) {
+      if (v->kind == model::VariableKind::time && cols.at("t") < 0)
+        fail(header_line, 1, fmt::format("term {} depends on the time, and the file has no 't' column", t.name));
+      if (v->kind == model::VariableKind::temperature && sensor_column[v->index] < 0)
+        fail(header_line, 1, fmt::format("term {} depends on sensor '{}', and the file has no 'T_{}' column", t.name,
+                                         model.sensors[v->index], model.sensors[v->index]));
+    }
+  for (std::size_t i = 0; i < header.size(); ++i) {
+    const std::string& h = header[i];
+    if (h.size() == 1 && kAxes.find(h[0]) != std::string_view::npos && !model.axis(static_cast<char>(std::toupper(h[0]))))
+      fail(header_line, column_of_field[i], fmt::format("column '{}' is an axis machine '{}' does not have", h, model.name));
+  }
+
+  std::map<std::string, std::uint32_t> source_index;
+  for (std::size_t s = 0; s < into.sources.size(); ++s) source_index[into.sources[s]] = static_cast<std::uint32_t>(s);
+  while (std::getline(in, line)) {
+    ++number;
+    if (line.find_first_not_of(" \t\r") == std::string::npos || line.front() == '#') continue;
+    const std::vector<std::string> fields = split(line);
+    std::vector<std::uint32_t> at_column;
+    {
+      std::uint32_t pos = 1;
+      for (const std::string& f : split(line)) at_column.push_back(pos), pos += static_cast<std::uint32_t>(f.size()) + 1;
+    }
+    if (fields.size() != header.size())
+      fail(number, 1, fmt::format("this row has {} fields, the header {}", fields.size(), header.size()));
+    auto value = [&](const std::string& column, double fallback) {
+      const int c = cols.at(column);
+      if (c < 0) return fallback;
+      const std::string& f = fields[static_cast<std::size_t>(c)];
+      if (f.empty()) return fallback;
+      double v = 0.0;
+      const auto [end, ec] = std::from_chars(f.data(), f.data() + f.size(), v);
+      if (ec != std::errc() || end != f.data() + f.size())
+        fail(number, at_column[static_cast<std::size_t>(c)], fmt::format("column '{}': '{}' is not a number", column, f));
+      if (!std::isfinite(v))
+        fail(number, at_column[static_cast<std::size_t>(c)], fmt::format("column '{}' is {}: every value must be finite", column, f));
+      return v;
+    };
+    auto required = [&](const std::string& column) {
+      const int c = cols.at(column);
+      if (fields[static_cast<std::size_t>(c)].empty())
+        fail(number, at_column[static_cast<std::size_t>(c)], fmt::format("column '{}' is empty", column));
+      return value(column, 0.0);
+    };
+    Observation o;
+    o.row = number;
+    o.file = file_index;
+    const double tool = value("L", options.tool_length);
+    for (std::size_t i = 0; i < 9; ++i) {
+      const std::string axis(1, kAxes[i]);
+      const bool rotary = i >= 3 && i <= 5;
+      const double v = i < 3 ? required(axis) : value(axis, 0.0);
+      o.q[static_cast<Eigen::Index>(i)] = rotary ? v * kRadPerDeg : v;
+      const double sign = value("v" + axis, 0.0);
+      if (sign != 0.0 && sign != 1.0 && sign != -1.0)
+        fail(number, at_column[static_cast<std::size_t>(cols.at("v" + axis))],
+             fmt::format("column 'v{}' is {}: an approach direction is +1, -1 or 0 (unknown)", axis, sign));
+      o.directions[i] = sign;
+    }
+    // Program coordinates carry the tool length: the Z axis sits L above the tool tip.
+    o.q[2] += tool;
+    o.q[static_cast<Eigen::Index>(model::kToolLengthIndex)] = tool;
+    o.time = value("t", 0.0);
+    o.temperatures.assign(model.sensors.size(), 20.0);
+    for (std::size_t s = 0; s < sensor_column.size(); ++s)
+      if (sensor_column[s] >= 0) o.temperatures[s] = required("T_" + model.sensors[s]);
+    std::string label = name;
+    if (const int c = cols.at("source"); c >= 0 && !fields[static_cast<std::size_t>(c)].empty())
+      label = fields[static_cast<std::size_t>(c)];
+    const auto [it, added] = source_index.try_emplace(label, static_cast<std::uint32_t>(into.sources.size()));
+    if (added) into.sources.push_back(label);
+    o.source = it->second;
+    if (scalar && !fields[static_cast<std::size_t>(cols.at("d"))].empty()) {
+      const Eigen::Vector3d n(required("nx"), required("ny"), required("nz"));
+      if (std::abs(n.norm() - 1.0) > 1e-3)
+        fail(number, at_column[static_cast<std::size_t>(cols.at("nx"))],
+             fmt::format("the direction ({}, {}, {}) is not a unit vector (length {:.6f})", n.x(), n.y(), n.z(), n.norm()));
+      o.direction = n.normalized();
+      o.value = required("d");
+      into.observations.push_back(o);
+    }
+    if (full && !fields[static_cast<std::size_t>(cols.at("dx"))].empty()) {
+      const double d[3] = {required("dx"), required("dy"), required("dz")};
+      for (int k = 0; k < 3; ++k) {
+        Observation along = o;
+        along.direction = Eigen::Vector3d::Unit(k);
+        along.value = d[k];
+        into.observations.push_back(along);
+      }
+    }
+  }
+}
+
+void read_measurements(const std::string& path, const model::MachineModel& model, const ReadOptions& options,
+                       MeasurementSet& into) {
+  std::ifstream f(path, std::ios::binary);
+  if (!f) throw Error(ErrorKind::io, fmt::format("cannot read measurement file '{}'", path));
+  std::ostringstream text;
+  text << f.rdbuf();
+  parse_measurements(text.str(), path, model, options, into);
+}
+
+void summarize(MeasurementSet& set, const model::MachineModel& model) {
+  set.ranges.clear();
+  if (set.observations.empty()) return;
+  auto add = [&](const std::string& name, const std::string& unit, auto get) {
+    VariableRange r{name, get(set.observations.front()), get(set.observations.front()), unit};
+    for (const Observation& o : set.observations) r.min = std::min(r.min, get(o)), r.max = std::max(r.max, get(o));
+    set.ranges.push_back(r);
+  };
+  for (const model::AxisSpec& a : model.axes) {
+    const auto i = static_cast<Eigen::Index>(std::string_view("XYZABCUVW").find(a.letter));
+    const bool rotary = a.type == model::AxisType::rotary;
+    const double tool_z = i == 2 ? 1.0 : 0.0;
+    add(std::string(1, static_cast<char>(std::tolower(a.letter))), rotary ? "deg" : "mm", [&](const Observation& o) {
+      return rotary ? o.q[i] / kRadPerDeg : o.q[i] - tool_z * o.q[static_cast<Eigen::Index>(model::kToolLengthIndex)];
+    });
+  }
+  add("L", "mm", [](const Observation& o) { return o.q[static_cast<Eigen::Index>(model::kToolLengthIndex)]; });
+  add("t", "s", [](const Observation& o) { return o.time; });
+  for (std::size_t s = 0; s < model.sensors.size(); ++s)
+    add("T_" + model.sensors[s], "degC", [&](const Observation& o) { return o.temperatures[s]; });
+}
+
+double predict(const model::ForwardModel& model, model::ForwardData& data, const Observation& o) {
+  model::forward(model, data, o.q, MeasurementSet::conditions(o));
+  return o.direction.dot(model::deviation(data));
+}
+
+std::string to_csv(const MeasurementSet& set, const model::MachineModel& model) {
+  std::string out = "x,y,z";
+  std::vector<std::size_t> rotary;
+  for (const model::AxisSpec& a : model.axes)
+    if (a.type == model::AxisType::rotary) {
+      rotary.push_back(std::string_view("XYZABCUVW").find(a.letter));
+      out += fmt::format(",{}", static_cast<char>(std::tolower(a.letter)));
+    }
+  out += ",L,t";
+  for (const std::string& s : model.sensors) out += ",T_" + s;
+  out += ",vx,vy,vz";
+  for (std::size_t i : rotary) out += fmt::format(",v{}", kAxes[i]);
+  out += ",nx,ny,nz,d,source\n";
+  for (const Observation& o : set.observations) {
+    const double tool = o.q[static_cast<Eigen::Index>(model::kToolLengthIndex)];
+    out += fmt::format("{:.6f},{:.6f},{:.6f}", o.q[0], o.q[1], o.q[2] - tool);
+    for (std::size_t i : rotary) out += fmt::format(",{:.6f}", o.q[static_cast<Eigen::Index>(i)] / kRadPerDeg);
+    out += fmt::format(",{:.3f},{:.3f}", tool, o.time);
+    for (double T : o.temperatures) out += fmt::format(",{:.4f}", T);
+    for (std::size_t i = 0; i < 3; ++i) out += fmt::format(",{:g}", o.directions[i]);
+    for (std::size_t i : rotary) out += fmt::format(",{:g}", o.directions[i]);
+    out += fmt::format(",{:.9g},{:.9g},{:.9g},{:.9e},{}\n", o.direction.x(), o.direction.y(), o.direction.z(), o.value,
+                       set.sources[o.source]);
+  }
+  return out;
+}
+
+}  // namespace ccomp::identify

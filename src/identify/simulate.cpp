@@ -1,0 +1,148 @@
+#include "ccomp/identify/simulate.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+#include <random>
+
+#include "ccomp/error.hpp"
+
+namespace ccomp::identify {
+namespace {
+
+constexpr double kRadPerDeg = 3.14159265358979323846 / 180.0;
+
+/// The span of an axis to measure over: its limits, or +-200 mm (+-180 deg) when unlimited.
+std::pair<double, double> span(const model::MachineModel& m, char letter) {
+  const model::AxisSpec* a = m.axis(letter);
+  if (!a) return {0.0, 0.0};
+  const double fallback = a->type == model::AxisType::rotary ? 180.0 : 200.0;
+  return {std::isfinite(a->min) ? a->min : -fallback, std::isfinite(a->max) ? a->max : fallback};
+}
+
+struct Recorder {
+  const model::ForwardModel& truth;
+  model::ForwardData data;
+  MeasurementSet& set;
+  std::mt19937 rng;
+  std::normal_distribution<double> noise;
+
+  std::uint32_t source(const std::string& label) {
+    const auto it = std::find(set.sources.begin(), set.sources.end(), label);
+    if (it != set.sources.end()) return static_cast<std::uint32_t>(it - set.sources.begin());
+    set.sources.push_back(label);
+    return static_cast<std::uint32_t>(set.sources.size() - 1);
+  }
+  /// Records the reading along each direction at program point (x, y, z, b deg).
+  void record(const std::string& label, double x, double y, double z, double b_deg, double tool, double time,
+              const std::vector<double>& temperatures, const std::array<double, 9>& directions,
+              std::initializer_list<Eigen::Vector3d> along) {
+    Observation o;
+    o.q << x, y, z + tool, 0, b_deg * kRadPerDeg, 0, 0, 0, 0, tool;
+    o.time = time;
+    o.temperatures = temperatures;
+    o.directions = directions;
+    o.source = source(label);
+    o.row = static_cast<std::uint32_t>(set.observations.size() + 2);
+    for (const Eigen::Vector3d& n : along) {
+      o.direction = n;
+      o.value = predict(truth, data, o) + noise(rng);
+      set.observations.push_back(o);
+    }
+  }
+};
+
+}  // namespace
+
+Plan plan_from_name(const std::string& name) {
+  if (name == "nine_lines" || name == "lines") return Plan::nine_lines;
+  if (name == "grid") return Plan::grid;
+  if (name == "sphere") return Plan::sphere;
+  if (name == "thermal") return Plan::thermal;
+  throw Error(ErrorKind::usage, fmt::format("unknown measurement plan '{}' (nine_lines, grid, sphere, thermal)", name));
+}
+
+MeasurementSet simulate(const model::ForwardModel& truth, const SimulateOptions& options) {
+  const model::MachineModel& m = truth.machine();
+  MeasurementSet set;
+  set.files.push_back("simulated");
+  Recorder rec{truth, model::ForwardData(truth), set, std::mt19937(options.seed),
+               std::normal_distribution<double>(0.0, options.noise)};
+  const std::vector<double> cold(m.sensors.size(), 20.0);
+  const bool has_b = m.axis('B') != nullptr;
+  const Eigen::Vector3d e[3] = {Eigen::Vector3d::UnitX(), Eigen::Vector3d::UnitY(), Eigen::Vector3d::UnitZ()};
+  const char letters[3] = {'X', 'Y', 'Z'};
+  std::pair<double, double> s[3];
+  for (int i = 0; i < 3; ++i) s[i] = span(m, letters[i]);
+  auto mid = [&](int i) { return 0.5 * (s[i].first + s[i].second); };
+  auto inset = [&](int i, double f) { return s[i].first + f * (s[i].second - s[i].first); };
+  for (Plan plan : options.plans) {
+    switch (plan) {
+      case Plan::nine_lines: {
+        // Per axis: line 1 with two straightnesses, line 2 with one, line 3 positioning
+        // only; lines 1 and 3 spread across the workspace (seed 003's advice).
+        for (int a = 0; a < 3; ++a) {
+          const int u = (a + 1) % 3, w = (a + 2) % 3;
+          const double offsets[3][2] = {{inset(u, 0.1), inset(w, 0.1)}, {mid(u), mid(w)}, {inset(u, 0.9), inset(w, 0.9)}};
+          for (int line = 0; line < 3; ++line) {
+            const std::string label = fmt::format("{}-line{}", static_cast<char>(std::tolower(letters[a])), line + 1);
+            for (int pass = 0; pass < 2; ++pass) {  // out and back: each approach direction
+              std::array<double, 9> dirs{};
+              dirs[static_cast<std::size_t>(a)] = pass == 0 ? 1.0 : -1.0;
+              const int count = std::max(2, static_cast<int>(std::floor((s[a].second - s[a].first) / options.step)) + 1);
+              for (int k = 0; k < count; ++k) {
+                const double f = static_cast<double>(pass == 0 ? k : count - 1 - k) / (count - 1);
+                double p[3];
+                p[a] = s[a].first + f * (s[a].second - s[a].first);
+                p[u] = offsets[line][0];
+                p[w] = offsets[line][1];
+                if (line == 0) rec.record(label, p[0], p[1], p[2], 0, options.tool_length, 0, cold, dirs, {e[a], e[u], e[w]});
+                else if (line == 1) rec.record(label, p[0], p[1], p[2], 0, options.tool_length, 0, cold, dirs, {e[a], e[u]});
+                else rec.record(label, p[0], p[1], p[2], 0, options.tool_length, 0, cold, dirs, {e[a]});
+              }
+            }
+          }
+        }
+        break;
+      }
+      case Plan::grid: {
+        for (double tool : {0.0, options.tool_length, 2.0 * options.tool_length})
+          for (int i = 0; i < 5; ++i)
+            for (int j = 0; j < 5; ++j)
+              for (int k = 0; k < 5; ++k)
+                rec.record(fmt::format("grid-L{:g}", tool), inset(0, 0.1 + 0.2 * i), inset(1, 0.1 + 0.2 * j),
+                           inset(2, 0.1 + 0.2 * k), 0, tool, 0, cold, {}, {e[0], e[1], e[2]});
+        break;
+      }
+      case Plan::sphere: {
+        if (!has_b) break;
+        // A sphere 150 mm off the table centre, probed every 15 deg of B at two heights.
+        for (int k = 0; k < 24; ++k)
+          for (double y : {mid(1) - 50, mid(1) + 50})
+            rec.record("sphere", 150.0, y, 0.0, -180.0 + 15.0 * k, options.tool_length, 0, cold, {}, {e[0], e[1], e[2]});
+        break;
+      }
+      case Plan::thermal: {
+        // Three fixed points read every 10 minutes while the sensors warm toward their
+        // end values (first order, 1 h time constant).
+        const int samples = static_cast<int>(options.hours * 6) + 1;
+        for (int k = 0; k < samples; ++k) {
+          const double t = 600.0 * k;
+          std::vector<double> T = cold;
+          for (std::size_t i = 0; i < T.size(); ++i) {
+            const double end = i < options.warm_temperatures.size() ? options.warm_temperatures[i] : 20.0 + 4.0 + 2.0 * static_cast<double>(i);
+            T[i] = 20.0 + (end - 20.0) * (1.0 - std::exp(-t / 3600.0));
+          }
+          for (int point = 0; point < 3; ++point)
+            rec.record("thermal", inset(0, 0.2 + 0.3 * point), mid(1), inset(2, 0.2 + 0.3 * point), 0, options.tool_length,
+                       t, T, {}, {e[0], e[1], e[2]});
+        }
+        break;
+      }
+    }
+  }
+  return set;
+}
+
+}  // namespace ccomp::identify

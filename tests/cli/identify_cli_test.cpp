@@ -1,0 +1,65 @@
+// The metrology loop from the command line: simulate measurements, check a model against
+// them, fit it, check again; and the exit code of a bad measurement file.
+#include <gtest/gtest.h>
+
+#include <regex>
+
+#include "trace_capture.hpp"
+
+namespace ccomp::test {
+namespace {
+
+std::string ccomp() { return shell_quote(ccomp_binary()); }
+std::string sample(const std::string& name) { return shell_quote(source_dir() + "/samples/machines/" + name); }
+
+double rms_of(const std::string& check_output) {
+  std::smatch m;
+  const std::regex rms("rms ([0-9.]+) um");
+  return std::regex_search(check_output, m, rms) ? std::stod(m[1]) : -1.0;
+}
+
+TEST(IdentifyCli, SimulateCheckFitCheck) {
+  const std::string dir = temp_dir("identify_cli");
+  const std::string meas = shell_quote(dir + "/meas.csv"), fitted = shell_quote(dir + "/fitted.yaml");
+  CommandResult r = run_command(ccomp() + " simulate -m " + sample("hmc-xyzb-geometric.yaml") +
+                                " --plan nine_lines --plan grid --noise 0.2 --seed 7 -o " + meas);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  // The zero model misses the machine's errors; the fit brings it to the noise.
+  r = run_command(ccomp() + " check " + meas + " -m " + sample("zero.yaml"));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_GT(rms_of(r.out), 5.0) << r.out;
+  // Fitting starts from the geometric model's layout with its values scaled away.
+  std::string start = read_file(source_dir() + "/samples/machines/hmc-xyzb-geometric.yaml");
+  for (std::size_t at = start.find("coefficients: ["); at != std::string::npos; at = start.find("coefficients: [", at + 1)) {
+    const std::size_t open = at + 15, close = start.find(']', open);
+    start.replace(open, close - open, std::regex_replace(start.substr(open, close - open), std::regex("[-0-9.e]+"), "0"));
+  }
+  write_file(dir + "/start.yaml", start);
+  r = run_command(ccomp() + " check " + meas + " -m " + shell_quote(dir + "/start.yaml"));
+  const double before = rms_of(r.out);
+  r = run_command(ccomp() + " fit " + meas + " -m " + shell_quote(dir + "/start.yaml") + " -o " + fitted);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find("singular values"), std::string::npos);
+  EXPECT_NE(read_file(dir + "/fitted.yaml").find("fitted:"), std::string::npos) << "the file records the fit";
+  r = run_command(ccomp() + " check " + meas + " -m " + fitted + " --json");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  std::smatch m;
+  ASSERT_TRUE(std::regex_search(r.out, m, std::regex("\"rms_um\": ([0-9.]+)"))) << r.out;
+  const double after = std::stod(m[1]);
+  EXPECT_GT(before, 5 * after) << "fitting must lower the residual";
+  EXPECT_LT(after, 1.3 * 0.2 + 0.05) << "a quadratic start cannot follow every term, but comes near the noise";
+  ASSERT_TRUE(std::regex_search(r.out, m, std::regex("\"noise_floor_um\": ([0-9.]+)")));
+  EXPECT_NEAR(std::stod(m[1]), 0.2, 0.06);
+}
+
+TEST(IdentifyCli, ABadMeasurementFileExitsWithItsCode) {
+  const std::string dir = temp_dir("identify_cli_bad");
+  write_file(dir + "/bad.csv", "x,y,z,nx,ny,nz,d\n1,2,3,1,0,0,0.001\n1,2,3,0,0,1,abc\n");
+  const CommandResult r = run_command(ccomp() + " check " + shell_quote(dir + "/bad.csv") + " -m " + sample("zero.yaml"));
+  EXPECT_EQ(r.exit_code, 8);
+  EXPECT_NE(r.err.find("bad.csv:3:"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("'abc' is not a number"), std::string::npos) << r.err;
+}
+
+}  // namespace
+}  // namespace ccomp::test

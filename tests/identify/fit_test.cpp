@@ -1,0 +1,159 @@
+// Identification on simulated data: the fit recovers a model to the noise, does not fit
+// noise, says what the data cannot see, fits a period when allowed, resists outliers
+// with the robust loss, and writes its result back into the model file.
+#include <gtest/gtest.h>
+
+#include <fstream>
+#include <sstream>
+
+#include "ccomp/identify/check.hpp"
+#include "ccomp/identify/fit.hpp"
+#include "ccomp/identify/simulate.hpp"
+#include "sample_models.hpp"
+#include "trace_capture.hpp"
+
+namespace ccomp::identify {
+namespace {
+
+constexpr double kNoise = 0.0002;  // 0.2 um
+
+model::MachineModel geometric() {
+  return model::load_machine_model(test::source_dir() + "/samples/machines/hmc-xyzb-geometric.yaml");
+}
+
+/// The model with every free term's amplitudes at zero: nothing known yet (a period or a
+/// time constant stays: it is the mechanism's).
+model::MachineModel blank(model::MachineModel m) {
+  for (model::ErrorTermSpec& t : m.terms) {
+    if (!t.free) continue;
+    for (Eigen::Index k = 0; k < t.parameters.size(); ++k) {
+      const bool scale = (t.shape.form == model::TermForm::periodic && k == 0) ||
+                         (t.shape.form == model::TermForm::thermal_warmup && k == 1);
+      if (!scale) t.parameters[k] = 0.0;
+    }
+  }
+  return m;
+}
+
+MeasurementSet measure(const model::MachineModel& truth, std::vector<Plan> plans, unsigned seed, double step = 25.0) {
+  const model::ForwardModel f(truth);
+  SimulateOptions o;
+  o.plans = std::move(plans);
+  o.noise = kNoise;
+  o.seed = seed;
+  o.step = step;
+  return simulate(f, o);
+}
+
+double truth_value(const model::ForwardModel& truth, const FittedParameter& p) {
+  return truth.machine().terms[p.term].parameters[static_cast<Eigen::Index>(p.index - truth.parameter_offset(p.term))];
+}
+
+TEST(Fit, RecoversTheGeometricModelToTheNoise) {
+  const model::MachineModel truth = geometric();
+  const model::ForwardModel t(truth);
+  const MeasurementSet data = measure(truth, {Plan::nine_lines, Plan::grid, Plan::sphere}, 3);
+  const model::MachineModel start = blank(truth);
+  const model::ForwardModel s(start);
+  const FitReport r = fit(s, data);
+  EXPECT_TRUE(r.converged);
+  EXPECT_GT(r.rms_before, 0.010) << "the blank model misses tens of um";
+  EXPECT_LE(r.rms_after, 1.3 * kNoise);
+  EXPECT_GT(r.significant, 30U);
+  // Every parameter the data determine on its own lands within 5 of its standard
+  // deviations of the truth.
+  int checked = 0;
+  for (const FittedParameter& p : r.parameters) {
+    if (!p.identified) continue;
+    ++checked;
+    EXPECT_LE(std::abs(p.after - truth_value(t, p)), 5 * p.uncertainty + 1e-12)
+        << p.label << ": " << p.after << " vs " << truth_value(t, p) << " +- " << p.uncertainty;
+  }
+  EXPECT_GT(checked, 20);
+  const CheckReport c = check(model::ForwardModel(truth), data);
+  EXPECT_NEAR(c.noise_floor, kNoise, 0.25 * kNoise) << c.noise_method;
+}
+
+TEST(Fit, DoesNotFitNoise) {
+  const model::MachineModel truth = geometric();
+  const model::ForwardModel t(truth);
+  for (unsigned seed : {1U, 2U}) {
+    const FitReport r = fit(t, measure(truth, {Plan::nine_lines, Plan::grid}, seed));
+    EXPECT_EQ(r.significant, 0U) << "the truth is already right: nothing moves";
+    for (const FittedParameter& p : r.parameters) EXPECT_EQ(p.after, p.before) << p.label;
+  }
+}
+
+TEST(Fit, SaysWhatTheDataCannotSeeAndLeavesItAlone) {
+  // Laser lines at B = 0 cannot see the table's sine harmonics (sin 0 = 0), nor tell a
+  // table's cosine term from the carriages' constant offsets.
+  const model::MachineModel truth = geometric();
+  const model::ForwardModel s(blank(truth));
+  const FitReport r = fit(s, measure(truth, {Plan::nine_lines}, 4));
+  bool unseen = false;
+  for (const std::string& u : r.unidentifiable) unseen = unseen || (u.find("EBB.b1") != std::string::npos && u.find("no effect") != std::string::npos);
+  EXPECT_TRUE(unseen) << "EBB.b1 should be named as invisible";
+  for (const FittedParameter& p : r.parameters) {
+    if (p.label == "EBB.b1") {
+      EXPECT_EQ(p.after, 0.0);
+    }
+  }
+  EXPECT_LT(r.rank, r.parameters.size());
+  EXPECT_LE(r.rms_after, 1.3 * kNoise) << "what the lines do see is fitted";
+}
+
+TEST(Fit, FitsAPeriodWhenTheFileAllows) {
+  auto model = [](const char* period, const char* harmonics, bool fit_period) {
+    return model::parse_machine_model(std::string(test::kHmcChain) + "terms:\n  - {name: EXX, form: periodic, period: " +
+                                          period + ", unit: um, harmonics: " + harmonics + ", fit: true" +
+                                          (fit_period ? ", fit_period: true" : "") + "}\n",
+                                      "screw.yaml");
+  };
+  // Laser points 2 mm apart: a 10 mm screw is seen, not aliased.
+  const MeasurementSet data = measure(model("10 mm", "[[2, 1]]", false), {Plan::nine_lines}, 5, 2.0);
+  const FitReport fixed = fit(model::ForwardModel(model("10.05 mm", "[[0, 0]]", false)), data);
+  const FitReport free = fit(model::ForwardModel(model("10.05 mm", "[[0, 0]]", true)), data);
+  ASSERT_EQ(free.parameters.front().label, "EXX.period");
+  EXPECT_NEAR(free.parameters.front().after, 10.0, 0.001);
+  EXPECT_LE(free.rms_after, 1.3 * kNoise);
+  // On the X lines (the others see only noise) a period 0.5% off cannot follow 40 turns.
+  EXPECT_GT(fixed.source_rms_after[0], 1.5 * free.source_rms_after[0]) << data.sources[0];
+}
+
+TEST(Fit, RobustLossIgnoresOutliers) {
+  const model::MachineModel truth = geometric();
+  MeasurementSet data = measure(truth, {Plan::nine_lines}, 6);
+  for (std::size_t i = 0; i < data.observations.size(); i += 97) data.observations[i].value += 0.05;  // bumped optics
+  const model::ForwardModel s(blank(truth));
+  FitOptions robust;
+  robust.loss = Loss::huber;
+  const Eigen::VectorXd plain = residuals(s, fit(s, data).all_parameters, data);
+  const Eigen::VectorXd huber = residuals(s, fit(s, data, robust).all_parameters, data);
+  auto inlier_rms = [&](const Eigen::VectorXd& r) {
+    double sum = 0;
+    int n = 0;
+    for (Eigen::Index i = 0; i < r.size(); ++i)
+      if (i % 97 != 0) sum += r[i] * r[i], ++n;
+    return std::sqrt(sum / n);
+  };
+  EXPECT_LE(inlier_rms(huber), 1.5 * kNoise);
+  EXPECT_GT(inlier_rms(plain), 2 * inlier_rms(huber));
+}
+
+TEST(Fit, WritesTheResultBackInTheFileUnits) {
+  const std::string path = test::source_dir() + "/samples/machines/hmc-xyzb.yaml";
+  const std::string text = test::read_file(path);
+  const model::MachineModel m = model::load_machine_model(path);
+  std::vector<Eigen::VectorXd> changed;
+  for (const model::ErrorTermSpec& t : m.terms) changed.push_back(t.parameters * 1.25);
+  const std::string out = model::rewrite_parameters(text, m, changed, "{data: [a.csv], rms_after_um: 0.2}");
+  EXPECT_NE(out.find("reversal: -5 um"), std::string::npos) << "-4 um, with its unit";
+  EXPECT_NE(out.find("rms_after_um: 0.2"), std::string::npos);
+  const model::MachineModel again = model::parse_machine_model(out, "again.yaml");
+  ASSERT_EQ(again.terms.size(), m.terms.size());
+  for (std::size_t i = 0; i < m.terms.size(); ++i)
+    EXPECT_LT((again.terms[i].parameters - changed[i]).norm(), 1e-9 * (1.0 + changed[i].norm())) << m.terms[i].name;
+}
+
+}  // namespace
+}  // namespace ccomp::identify
