@@ -69,6 +69,7 @@ struct IdentifyArgs {
   std::string model;
   std::string output;
   std::vector<std::string> weights;  ///< SOURCE=W
+  std::vector<std::string> add;      ///< terms to add (YAML flow mappings)
   bool robust = false;
   bool json = false;
   double tool_length = 100.0;
@@ -76,6 +77,7 @@ struct IdentifyArgs {
   std::vector<std::string> plans{"nine_lines"};
   double noise_um = 0.2;
   unsigned seed = 1;
+  double step = 25.0;
 };
 CLI::App* add_fit(CLI::App& app, IdentifyArgs& args);
 CLI::App* add_check(CLI::App& app, IdentifyArgs& args);

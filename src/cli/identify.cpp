@@ -9,6 +9,7 @@
 
 #include "ccomp/error.hpp"
 #include "ccomp/identify/check.hpp"
+#include "ccomp/identify/diagnose.hpp"
 #include "ccomp/identify/fit.hpp"
 #include "ccomp/identify/simulate.hpp"
 #include "commands.hpp"
@@ -79,6 +80,7 @@ CLI::App* add_fit(CLI::App& app, IdentifyArgs& args) {
   cmd->add_option("-o,--output", args.output, "the fitted model (YAML)")->required();
   cmd->add_option("--weight", args.weights, "weight of a source's rows: SOURCE=W");
   cmd->add_flag("--robust", args.robust, "Huber loss: outlying rows count linearly, not squared");
+  cmd->add_option("--add", args.add, "a term to add before fitting, as check suggests it: '{name: EXX, form: ...}'");
   return cmd;
 }
 
@@ -97,11 +99,16 @@ CLI::App* add_simulate(CLI::App& app, IdentifyArgs& args) {
   cmd->add_option("--plan", args.plans, "nine_lines (default), grid, sphere, thermal; repeat for several");
   cmd->add_option("--noise", args.noise_um, "um, standard deviation of each reading (0.2)")->check(CLI::NonNegativeNumber);
   cmd->add_option("--seed", args.seed, "random seed (1)");
+  cmd->add_option("--step", args.step, "mm between points along a laser line (25; finer than half a screw's pitch to see it)")
+      ->check(CLI::PositiveNumber);
   return cmd;
 }
 
 int run_fit(const IdentifyArgs& args) {
-  const model::MachineModel m = model::load_machine_model(args.model);
+  // Terms to add go into the model's text, so the fitted file carries them.
+  std::string text = read_text(args.model);
+  if (!args.add.empty()) text = model::add_terms(text, args.add, args.model);
+  const model::MachineModel m = model::parse_machine_model(text, args.model);
   const model::ForwardModel forward(m);
   const identify::MeasurementSet data = read_all(args, m);
   print_summary(data);
@@ -141,9 +148,20 @@ int run_fit(const IdentifyArgs& args) {
   for (std::size_t i = 0; i < data.files.size(); ++i) record += (i ? ", " : "") + fmt::format("\"{}\"", data.files[i]);
   record += fmt::format("], observations: {}, free_parameters: {}, identified: {}, significant: {}, rms_before_um: {:.4f}, rms_after_um: {:.4f}}}",
                         data.observations.size(), r.parameters.size(), r.rank, r.significant, r.rms_before * 1e3, r.rms_after * 1e3);
-  write_text(args.output, model::rewrite_parameters(read_text(args.model), m, per_term, record));
+  write_text(args.output, model::rewrite_parameters(text, m, per_term, record));
   fmt::print("wrote {}\n", args.output);
   return 0;
+}
+
+/// A string as JSON.
+std::string json_string(const std::string& text) {
+  std::string out = "\"";
+  for (char c : text) {
+    if (c == '"' || c == '\\') out += '\\', out += c;
+    else if (static_cast<unsigned char>(c) < 0x20) out += fmt::format("\\u{:04x}", c);
+    else out += c;
+  }
+  return out + "\"";
 }
 
 int run_check(const IdentifyArgs& args) {
@@ -151,14 +169,31 @@ int run_check(const IdentifyArgs& args) {
   const model::ForwardModel forward(m);
   const identify::MeasurementSet data = read_all(args, m);
   const identify::CheckReport r = identify::check(forward, data);
+  identify::DiagnoseOptions options;
+  options.noise = r.noise_floor;
+  const identify::Diagnosis d = identify::diagnose(forward, data, options);
   if (args.json) {
-    std::string sources;
+    std::string sources, regions, suggestions;
     for (const identify::SourceResidual& s : r.sources)
-      sources += fmt::format("{}{{\"source\": \"{}\", \"observations\": {}, \"rms_um\": {:.6f}, \"max_um\": {:.6f}}}",
-                             sources.empty() ? "" : ", ", s.source, s.observations, s.rms * 1e3, s.max * 1e3);
+      sources += fmt::format("{}{{\"source\": {}, \"observations\": {}, \"rms_um\": {:.6f}, \"max_um\": {:.6f}}}",
+                             sources.empty() ? "" : ", ", json_string(s.source), s.observations, s.rms * 1e3, s.max * 1e3);
+    for (const identify::Region& g : d.regions)
+      regions += fmt::format("{}{{\"variable\": {}, \"from\": {:.6g}, \"to\": {:.6g}, \"rms_um\": {:.6f}, \"ratio\": {:.3f}}}",
+                             regions.empty() ? "" : ", ", json_string(g.variable), g.from, g.to, g.rms * 1e3, g.ratio);
+    for (const identify::Suggestion& s : d.suggestions)
+      suggestions += fmt::format(
+          "{}{{\"rank\": {}, \"effect\": {}, \"error\": {}, \"term\": {}, \"variable\": {}, \"form\": {}, \"period\": {}, "
+          "\"period_uncertainty\": {}, \"spec\": {}, \"rms_before_um\": {:.6f}, \"rms_after_um\": {:.6f}, \"bic_delta\": {:.3f}, "
+          "\"significance\": {:.3f}}}",
+          suggestions.empty() ? "" : ", ", s.rank, json_string(s.effect), json_string(s.error), json_string(s.term),
+          json_string(s.variable), json_string(s.form), s.period > 0 ? fmt::format("{:.8g}", s.period) : "null",
+          s.period > 0 ? fmt::format("{:.3g}", s.period_uncertainty) : "null", json_string(s.spec), s.rms_before * 1e3,
+          s.rms_after * 1e3, s.bic_delta, s.significance);
     fmt::print("{{\"observations\": {}, \"rms_um\": {:.6f}, \"max_um\": {:.6f}, \"noise_floor_um\": {:.6f}, "
-               "\"noise_method\": \"{}\", \"sources\": [{}]}}\n",
-               r.observations, r.rms * 1e3, r.max * 1e3, r.noise_floor * 1e3, r.noise_method, sources);
+               "\"noise_method\": {}, \"rms_refit_um\": {:.6f}, \"sources\": [{}], \"regions\": [{}], "
+               "\"candidates_tried\": {}, \"suggestions\": [{}]}}\n",
+               r.observations, r.rms * 1e3, r.max * 1e3, r.noise_floor * 1e3, json_string(r.noise_method),
+               d.rms_refit * 1e3, sources, regions, d.candidates_tried, suggestions);
     return 0;
   }
   print_summary(data);
@@ -166,6 +201,22 @@ int run_check(const IdentifyArgs& args) {
              r.rms * 1e3, r.max * 1e3, r.worst_file, r.worst_row, r.noise_floor * 1e3, r.noise_method);
   for (const identify::SourceResidual& s : r.sources)
     fmt::print("  {:<16} {:>6} rows  rms {:8.3f} um  max {:8.3f} um\n", s.source, s.observations, s.rms * 1e3, s.max * 1e3);
+  fmt::print("refitted as it is (its free parameters): rms {:.3f} um\n", d.rms_refit * 1e3);
+  for (const identify::Region& g : d.regions)
+    fmt::print("  the residual concentrates at {} in [{:.4g}, {:.4g}]: rms {:.3f} um ({:.1f}x)\n", g.variable, g.from, g.to,
+               g.rms * 1e3, g.ratio);
+  if (d.suggestions.empty()) {
+    fmt::print("missing effects: none of {} candidates is significant against the noise floor\n", d.candidates_tried);
+    return 0;
+  }
+  fmt::print("missing effects, best first ({} candidates tried):\n", d.candidates_tried);
+  for (const identify::Suggestion& s : d.suggestions) {
+    fmt::print("{}. {}\n   term {} ({}), variable {}, form {}", s.rank, s.effect, s.term, s.error, s.variable, s.form);
+    if (s.period > 0)
+      fmt::print(", {} {:.6g} +- {:.2g}", s.form == "exponential" ? "time constant" : "period", s.period, s.period_uncertainty);
+    fmt::print("\n   rms {:.3f} -> {:.3f} um, BIC {:+.1f}\n   add to the model:\n{}\n   or: ccomp fit ... --add '{}'\n",
+               s.rms_before * 1e3, s.rms_after * 1e3, s.bic_delta, s.yaml, s.spec);
+  }
   return 0;
 }
 
@@ -178,6 +229,7 @@ int run_simulate(const IdentifyArgs& args) {
   o.noise = args.noise_um * 1e-3;
   o.seed = args.seed;
   o.tool_length = args.tool_length;
+  o.step = args.step;
   const identify::MeasurementSet set = identify::simulate(forward, o);
   write_text(args.output, identify::to_csv(set, m));
   if (args.output != "-") fmt::print(stderr, "simulated {} observations of '{}' into {}\n", set.observations.size(), m.name, args.output);

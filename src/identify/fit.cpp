@@ -30,6 +30,29 @@ std::string parameter_label(const model::ErrorTermSpec& t, std::size_t k) {
   return fmt::format("{}[{}]", n, k);
 }
 
+std::vector<std::size_t> free_parameters(const model::ForwardModel& model) {
+  std::vector<std::size_t> free;
+  const model::MachineModel& mm = model.machine();
+  for (std::size_t t = 0; t < mm.terms.size(); ++t) {
+    if (!mm.terms[t].free) continue;
+    for (Eigen::Index k = 0; k < mm.terms[t].parameters.size(); ++k) {
+      // A period is a property of the mechanism (a screw's pitch, 360 deg of a table):
+      // fitted only when the file says so (discovery scans it instead).
+      if (mm.terms[t].shape.form == TermForm::periodic && k == 0 && !mm.terms[t].free_period) continue;
+      free.push_back(model.parameter_offset(t) + static_cast<std::size_t>(k));
+    }
+  }
+  return free;
+}
+
+Eigen::VectorXd model_parameters(const model::ForwardModel& model) {
+  Eigen::VectorXd p(static_cast<Eigen::Index>(model.parameter_count()));
+  for (std::size_t t = 0; t < model.machine().terms.size(); ++t)
+    p.segment(static_cast<Eigen::Index>(model.parameter_offset(t)), model.machine().terms[t].parameters.size()) =
+        model.machine().terms[t].parameters;
+  return p;
+}
+
 namespace {
 
 /// Residuals and (when asked) the design matrix of the free columns, d prediction / d p.
@@ -66,6 +89,11 @@ std::vector<double> rms_by_source(const Eigen::VectorXd& r, const MeasurementSet
 
 }  // namespace
 
+void design_matrix(const model::ForwardModel& model, const Eigen::VectorXd& parameters, const MeasurementSet& data,
+                   const std::vector<std::size_t>& free, Eigen::VectorXd& r, Eigen::MatrixXd* J) {
+  linearize(model, parameters, data, free, r, J);
+}
+
 Eigen::VectorXd residuals(const model::ForwardModel& model, const Eigen::VectorXd& parameters, const MeasurementSet& data) {
   Eigen::VectorXd r;
   linearize(model, parameters, data, {}, r, nullptr);
@@ -76,21 +104,14 @@ FitReport fit(const model::ForwardModel& model, const MeasurementSet& data, cons
   const model::MachineModel& mm = model.machine();
   FitReport report;
   report.observations = data.observations.size();
-  Eigen::VectorXd p(static_cast<Eigen::Index>(model.parameter_count()));
-  std::vector<std::size_t> free;
-  for (std::size_t t = 0; t < mm.terms.size(); ++t) {
-    const auto offset = model.parameter_offset(t);
-    for (Eigen::Index k = 0; k < mm.terms[t].parameters.size(); ++k) {
-      p[static_cast<Eigen::Index>(offset) + k] = mm.terms[t].parameters[k];
-      if (!mm.terms[t].free) continue;
-      // A period is a property of the mechanism (a screw's pitch, 360 deg of a table):
-      // fitted only when the file says so (discovery scans it instead).
-      if (mm.terms[t].shape.form == TermForm::periodic && k == 0 && !mm.terms[t].free_period) continue;
-      free.push_back(offset + static_cast<std::size_t>(k));
-      report.parameters.push_back({offset + static_cast<std::size_t>(k), t,
-                                   parameter_label(mm.terms[t], static_cast<std::size_t>(k)),
-                                   mm.terms[t].parameters[k], mm.terms[t].parameters[k], 0.0, true});
-    }
+  Eigen::VectorXd p = model_parameters(model);
+  const std::vector<std::size_t> free = free_parameters(model);
+  for (std::size_t index : free) {
+    std::size_t t = 0;
+    while (t + 1 < mm.terms.size() && model.parameter_offset(t + 1) <= index) ++t;
+    const std::size_t k = index - model.parameter_offset(t);
+    report.parameters.push_back({index, t, parameter_label(mm.terms[t], k), p[static_cast<Eigen::Index>(index)],
+                                 p[static_cast<Eigen::Index>(index)], 0.0, true});
   }
   // Weights per observation: the source's, times the robust loss's.
   const auto n = static_cast<Eigen::Index>(data.observations.size());

@@ -77,4 +77,24 @@ std::string rewrite_parameters(const std::string& text, const MachineModel& mode
   return std::string(out.c_str()) + "\n";
 }
 
+std::string add_terms(const std::string& text, const std::vector<std::string>& specs, const std::string& name) {
+  YAML::Node root = YAML::Load(text);
+  YAML::Node terms = root["terms"];
+  for (const std::string& spec : specs) {
+    YAML::Node term;
+    try {
+      term = YAML::Load(spec);
+    } catch (const YAML::Exception& e) {
+      throw Error(ErrorKind::usage, fmt::format("--add '{}': not YAML: {}", spec, e.msg));
+    }
+    if (!term.IsMap()) throw Error(ErrorKind::usage, fmt::format("--add '{}': a term is a mapping {{name: ..., form: ...}}", spec));
+    terms.push_back(term);
+  }
+  root["terms"] = terms;
+  YAML::Emitter out;
+  out << root;
+  if (!out.good()) throw Error(ErrorKind::internal, fmt::format("adding terms to {}: {}", name, out.GetLastError()));
+  return std::string(out.c_str()) + "\n";
+}
+
 }  // namespace ccomp::model

@@ -55,6 +55,16 @@ struct FitReport {
 /// Fits the free parameters of `model` to `data`.
 [[nodiscard]] FitReport fit(const model::ForwardModel& model, const MeasurementSet& data, const FitOptions& options = {});
 
+/// The indices of the parameters a fit may change (free terms; a period only with
+/// fit_period), and the model's whole parameter vector.
+[[nodiscard]] std::vector<std::size_t> free_parameters(const model::ForwardModel& model);
+[[nodiscard]] Eigen::VectorXd model_parameters(const model::ForwardModel& model);
+
+/// Residuals at `parameters` and, when `J` is given, the design matrix: d prediction /
+/// d parameters[free[j]] for every observation (n x free.size()).
+void design_matrix(const model::ForwardModel& model, const Eigen::VectorXd& parameters, const MeasurementSet& data,
+                   const std::vector<std::size_t>& free, Eigen::VectorXd& r, Eigen::MatrixXd* J);
+
 /// Residuals (measured - predicted, mm) of every observation with the given parameters.
 [[nodiscard]] Eigen::VectorXd residuals(const model::ForwardModel& model, const Eigen::VectorXd& parameters,
                                         const MeasurementSet& data);

@@ -88,6 +88,12 @@ struct MachineModel {
                                              const std::vector<Eigen::VectorXd>& parameters,
                                              const std::string& record);
 
+/// The model file's text with more terms (each a YAML mapping, one line: what `ccomp check`
+/// suggests) appended to its `terms`. Throws ccomp::Error (usage) for a spec that is not
+/// a mapping.
+[[nodiscard]] std::string add_terms(const std::string& text, const std::vector<std::string>& specs,
+                                    const std::string& name);
+
 /// Checks a model: known axis letters, no duplicates, limits ordered and not NaN, a dialect
 /// ccomp knows. Throws ccomp::Error (model) with the offending entry.
 void validate(const MachineModel& model);

@@ -1,0 +1,57 @@
+#pragma once
+// Diagnosis: which physical effect the model lacks. A library of candidate effects (a
+// screw's periodic error, an axis' reversal, a squareness, a tilt growing with the tool
+// length, a table's harmonics or worm wheel, a drift with a temperature or with time, a
+// scale growing with heat, an error motion depending on another axis' position), each a
+// term with a sentence of physics. Each is tried against the residual of the model refitted
+// to the data (its free parameters and the candidate together, by projection), scored by
+// the fall in the residual, the Bayesian information criterion and its significance
+// against the noise floor, and ranked; only the significant are suggested.
+#include <string>
+#include <vector>
+
+#include "ccomp/identify/measurements.hpp"
+#include "ccomp/model/forward.hpp"
+
+namespace ccomp::identify {
+
+struct Suggestion {
+  int rank = 0;
+  std::string effect;     ///< the physics, in words
+  std::string error;      ///< ISO 230-1 name of the term, or "thermal"
+  std::string term;       ///< the ISO name of the term added (also for thermal ones)
+  std::string variable;   ///< "x", "b", "L", "t", "T_bed", "vx", "x,z"
+  std::string form;       ///< polynomial, periodic, reversal, linear, exponential, harmonic, interaction
+  double period = 0.0;    ///< periodic forms: in the variable's unit (mm, deg); warm-up: the time constant (s)
+  double period_uncertainty = 0.0;
+  double rms_before = 0.0, rms_after = 0.0;  ///< mm: the model refitted without, and with, the effect
+  double bic_delta = 0.0;  ///< negative: the effect is worth its parameters
+  double significance = 0.0;  ///< fall in chi-square against the noise floor
+  std::string yaml;       ///< the term to add, with the values the data suggest
+  std::string spec;       ///< the same, one line, for `ccomp fit --add`
+};
+
+struct Region {
+  std::string variable;   ///< where the residual concentrates: "x", "b", "T_bed"...
+  double from = 0.0, to = 0.0;
+  double rms = 0.0;       ///< mm, of the residual there
+  double ratio = 0.0;     ///< against the rms everywhere
+};
+
+struct DiagnoseOptions {
+  double noise = 0.0;     ///< mm: the noise floor (check's estimate); 0 estimates it
+  int max_suggestions = 5;
+};
+
+struct Diagnosis {
+  double noise = 0.0;            ///< mm
+  double rms_refit = 0.0;        ///< mm: the model refitted to the data, without any new effect
+  std::vector<Suggestion> suggestions;  ///< best first, significant only
+  std::vector<Region> regions;
+  std::size_t candidates_tried = 0;
+};
+
+[[nodiscard]] Diagnosis diagnose(const model::ForwardModel& model, const MeasurementSet& data,
+                                 const DiagnoseOptions& options = {});
+
+}  // namespace ccomp::identify

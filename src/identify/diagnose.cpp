@@ -1,0 +1,543 @@
+#include "ccomp/identify/diagnose.hpp"
+
+#include <fmt/format.h>
+
+#include <Eigen/Cholesky>
+#include <Eigen/Eigenvalues>
+#include <algorithm>
+#include <cmath>
+#include <functional>
+#include <map>
+
+#include "ccomp/identify/check.hpp"
+#include "ccomp/identify/fit.hpp"
+
+namespace ccomp::identify {
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+constexpr double kRadPerDeg = kPi / 180.0;
+constexpr std::string_view kComponents = "XYZABC";
+constexpr std::string_view kAxisLetters = "XYZABCUVW";
+
+/// Where a candidate term enters: a link and a component. Its column for an observation
+/// is g (d prediction / d term value) times the candidate's basis function there.
+struct Probe {
+  std::string link;
+  int component = 0;
+  Eigen::VectorXd g;           // per observation
+  std::vector<Eigen::Index> rows;  // where g is not zero
+};
+
+/// A candidate effect: its words, its term, and its basis functions of an observation
+/// (a scanned parameter, a period or a time constant, where it has one).
+struct Candidate {
+  std::string effect, error, term, variable, form;
+  double period = 0.0;  // a harmonic's fixed period (deg)
+  std::size_t probe = 0;
+  int basis_count = 1;
+  std::function<double(const Observation&, int k, double scanned)> basis;
+  double scan_from = 0.0, scan_to = 0.0;  // of the scanned parameter (0, 0: none)
+  bool scan_frequency = true;  // scan evenly in 1/value (periods) or in log value (time constants)
+  int scan_points = 0;
+  /// The YAML term with coefficients (internal units) and the scanned value.
+  std::function<std::string(const Eigen::VectorXd&, double)> yaml;
+};
+
+/// The refitted model's residual and the basis of what its free parameters can absorb.
+struct Projector {
+  Eigen::VectorXd r;  // residual, orthogonal to the base columns
+  Eigen::MatrixXd U;  // orthonormal basis of the identifiable base columns (n x k)
+
+  /// The fall in the sum of squares when columns C (given on `rows` only, zero elsewhere)
+  /// join the base fit, and their coefficients.
+  double gain(const std::vector<Eigen::Index>& rows, const Eigen::MatrixXd& C, Eigen::VectorXd* coefficients) const {
+    const Eigen::Index k = C.cols();
+    Eigen::VectorXd b = Eigen::VectorXd::Zero(k);
+    Eigen::MatrixXd UtC = Eigen::MatrixXd::Zero(U.cols(), k);
+    Eigen::MatrixXd CtC = C.transpose() * C;
+    for (std::size_t i = 0; i < rows.size(); ++i) {
+      const Eigen::Index row = rows[i];
+      b += C.row(static_cast<Eigen::Index>(i)).transpose() * r[row];
+      if (U.cols() > 0) UtC += U.row(row).transpose() * C.row(static_cast<Eigen::Index>(i));
+    }
+    const Eigen::MatrixXd N = CtC - UtC.transpose() * UtC;
+    // Columns scaled to unit diagonal; a column the base already spans gains nothing.
+    Eigen::VectorXd d = N.diagonal().cwiseMax(0.0).cwiseSqrt();
+    for (Eigen::Index j = 0; j < k; ++j)
+      if (!(d[j] > 1e-9 * std::sqrt(std::max(CtC(j, j), 1e-300)))) return 0.0;
+    const Eigen::MatrixXd Ns = d.cwiseInverse().asDiagonal() * N * d.cwiseInverse().asDiagonal();
+    const Eigen::VectorXd bs = b.cwiseQuotient(d);
+    Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(Ns);
+    if (eig.eigenvalues().minCoeff() < 1e-10) return 0.0;
+    const Eigen::VectorXd xs = eig.eigenvectors() * (eig.eigenvectors().transpose() * bs).cwiseQuotient(eig.eigenvalues());
+    if (coefficients) *coefficients = xs.cwiseQuotient(d);
+    return bs.dot(xs);
+  }
+};
+
+std::string axis_name(std::size_t i) { return std::string(1, static_cast<char>(std::tolower(kAxisLetters[i]))); }
+
+}  // namespace
+
+Diagnosis diagnose(const model::ForwardModel& model, const MeasurementSet& data, const DiagnoseOptions& options) {
+  const model::MachineModel& mm = model.machine();
+  Diagnosis out;
+  const auto n = static_cast<Eigen::Index>(data.observations.size());
+  if (n == 0) return out;
+  out.noise = options.noise > 0 ? options.noise : check(model, data).noise_floor;
+  const double sigma2 = std::max(out.noise * out.noise, 1e-18);
+
+  // The base model refitted to the data, and what its free parameters can absorb.
+  Projector base;
+  {
+    const FitReport fitted = fit(model, data);
+    const std::vector<std::size_t> free = free_parameters(model);
+    Eigen::MatrixXd J;
+    design_matrix(model, fitted.all_parameters, data, free, base.r, free.empty() ? nullptr : &J);
+    if (!free.empty()) {
+      Eigen::VectorXd scale(J.cols());
+      for (Eigen::Index j = 0; j < J.cols(); ++j) scale[j] = std::max(J.col(j).norm(), 1e-300);
+      const Eigen::MatrixXd A = J * scale.cwiseInverse().asDiagonal();
+      Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(A.transpose() * A);
+      const double largest = std::sqrt(std::max(eig.eigenvalues().maxCoeff(), 0.0));
+      std::vector<Eigen::Index> kept;
+      for (Eigen::Index k = 0; k < eig.eigenvalues().size(); ++k)
+        if (std::sqrt(std::max(eig.eigenvalues()[k], 0.0)) > 1e-6 * largest) kept.push_back(k);
+      base.U.resize(n, static_cast<Eigen::Index>(kept.size()));
+      for (std::size_t c = 0; c < kept.size(); ++c)
+        base.U.col(static_cast<Eigen::Index>(c)) = A * eig.eigenvectors().col(kept[c]) / std::sqrt(eig.eigenvalues()[kept[c]]);
+      // The refit's residual, made exactly orthogonal to what the base absorbs.
+      base.r -= base.U * (base.U.transpose() * base.r);
+    }
+    out.rms_refit = std::sqrt(base.r.squaredNorm() / static_cast<double>(n));
+  }
+  const double sse0 = base.r.squaredNorm();
+
+  // Probes: d prediction / d (a term's value) at the links and components candidates use.
+  const auto& tool_chain = mm.tool_chain;
+  std::string spindle;  // the tool side's last link before the tool: where the spindle tilts and drifts
+  for (const model::LinkSpec& l : tool_chain)
+    if (!l.tool) spindle = l.name;
+  std::vector<Probe> probes;
+  auto probe = [&](const std::string& link, int component) {
+    for (std::size_t i = 0; i < probes.size(); ++i)
+      if (probes[i].link == link && probes[i].component == component) return i;
+    probes.push_back({link, component, {}, {}});
+    return probes.size() - 1;
+  };
+  // The axes the model has, with their links.
+  struct AxisInfo {
+    std::size_t index = 0;
+    std::string link;
+    bool rotary = false;
+    int own = 0;  // the component along (or about) the axis
+    double from = 0, to = 0;  // range in the data (mm, deg)
+    double step = 0;          // the typical spacing of the data along it (mm, deg)
+  };
+  std::vector<AxisInfo> axes;
+  for (const auto* chain : {&mm.workpiece_chain, &mm.tool_chain})
+    for (const model::LinkSpec& l : *chain) {
+      if (!l.axis) continue;
+      AxisInfo a;
+      a.index = kAxisLetters.find(*l.axis);
+      a.link = l.name;
+      a.rotary = mm.axis(*l.axis) && mm.axis(*l.axis)->type == model::AxisType::rotary;
+      Eigen::Index along = 0;
+      l.direction.cwiseAbs().maxCoeff(&along);
+      a.own = static_cast<int>(along) + (a.rotary ? 3 : 0);
+      a.from = 1e300, a.to = -1e300;
+      const auto qi = static_cast<Eigen::Index>(a.index);
+      for (const Observation& o : data.observations) {
+        const double v = a.rotary ? o.q[qi] / kRadPerDeg : o.q[qi] - (a.index == 2 ? o.q[9] : 0.0);
+        a.from = std::min(a.from, v), a.to = std::max(a.to, v);
+      }
+      // The median spacing between consecutive readings that differ along this axis only.
+      std::vector<double> steps;
+      for (std::size_t i = 1; i < data.observations.size(); ++i) {
+        const model::ChainQ d = data.observations[i].q - data.observations[i - 1].q;
+        const double travel = std::abs(d[qi]);
+        if (travel > 1e-9 && d.norm() - travel < 1e-9 * (1.0 + travel)) steps.push_back(a.rotary ? travel / kRadPerDeg : travel);
+      }
+      if (!steps.empty()) {
+        std::nth_element(steps.begin(), steps.begin() + static_cast<std::ptrdiff_t>(steps.size() / 2), steps.end());
+        a.step = steps[steps.size() / 2];
+      }
+      axes.push_back(a);
+    }
+  auto position = [](const Observation& o, const AxisInfo& a) {  // internal units: mm, rad
+    return o.q[static_cast<Eigen::Index>(a.index)];
+  };
+  auto varies = [&](auto get) {
+    double lo = 1e300, hi = -1e300;
+    for (const Observation& o : data.observations) lo = std::min(lo, get(o)), hi = std::max(hi, get(o));
+    return hi > lo + 1e-12;
+  };
+  const bool tool_length_varies = varies([](const Observation& o) { return o.q[9]; });
+  const bool time_varies = varies([](const Observation& o) { return o.time; });
+  auto unit = [](int component) { return component < 3 ? "um" : "urad"; };
+  auto file_value = [](int component, double internal) { return internal * (component < 3 ? 1e3 : 1e6); };
+  auto name = [&](int component, const std::string& link, bool location) {
+    return fmt::format("E{}{}{}", kComponents[static_cast<std::size_t>(component)], location ? "0" : "", link);
+  };
+
+  std::vector<Candidate> candidates;
+  for (const AxisInfo& a : axes) {
+    const std::string v = axis_name(a.index);
+    const double span = a.to - a.from;
+    if (!(span > 0)) continue;
+    const std::string own = name(a.own, a.link, false);
+    if (!a.rotary) {
+      // Periodic positioning error: the lead screw's pitch, or the scale's.
+      Candidate c;
+      c.effect = fmt::format("periodic error of the {} axis' positioning (lead-screw pitch or scale pitch)", kAxisLetters[a.index]);
+      c.error = own, c.term = own, c.variable = v, c.form = "periodic";
+      c.probe = probe(a.link, a.own);
+      c.basis_count = 2;
+      c.basis = [&a, position](const Observation& o, int k, double period) {
+        const double phase = 2 * kPi * position(o, a) / period;
+        return k == 0 ? std::cos(phase) : std::sin(phase);
+      };
+      // Periods below 2.5 steps of the data along the axis would alias.
+      c.scan_from = std::max(2.0, 2.5 * a.step), c.scan_to = span / 2.0;
+      c.scan_points = static_cast<int>(std::clamp(4.0 * span / c.scan_from, 50.0, 6000.0));
+      c.yaml = [own, component = a.own, file_value](const Eigen::VectorXd& x, double period) {
+        return fmt::format("{{name: {}, form: periodic, period: {:.6g} mm, unit: um, harmonics: [[{:.4g}, {:.4g}]], fit: true}}",
+                           own, period, file_value(component, x[0]), file_value(component, x[1]));
+      };
+      candidates.push_back(c);
+      // Reversal: the axis' positioning differs with the approach direction (backlash).
+      const std::size_t vi = a.index;
+      if (varies([vi](const Observation& o) { return o.directions[vi]; })) {
+        Candidate r;
+        r.effect = fmt::format("reversal of the {} axis: its position depends on the approach direction (backlash, lost motion)",
+                               kAxisLetters[a.index]);
+        r.error = own, r.term = own, r.variable = "v" + v, r.form = "reversal";
+        r.probe = probe(a.link, a.own);
+        r.basis = [vi](const Observation& o, int, double) { return 0.5 * o.directions[vi]; };
+        r.yaml = [own, v, file_value, component = a.own](const Eigen::VectorXd& x, double) {
+          return fmt::format("{{name: {}, variable: v{}, form: reversal, unit: um, reversal: {:.4g}, fit: true}}", own, v,
+                             file_value(component, x[0]));
+        };
+        candidates.push_back(r);
+      }
+      // Higher order: positioning and straightness, one degree above what the model has.
+      for (int component = 0; component < 3; ++component) {
+        const std::string term = name(component, a.link, false);
+        int degree = 2;
+        for (const model::ErrorTermSpec& t : mm.terms)
+          if (t.iso == term && t.shape.form == model::TermForm::polynomial) degree = std::max(degree, t.shape.order);
+        const int power = degree + 1;
+        Candidate h;
+        h.effect = fmt::format("{} of the {} axis of higher order (degree {})",
+                               component == a.own ? "positioning error" : "straightness", kAxisLetters[a.index], power);
+        h.error = term, h.term = term, h.variable = v, h.form = "polynomial";
+        h.probe = probe(a.link, component);
+        h.basis = [&a, position, power](const Observation& o, int, double) { return std::pow(position(o, a), power); };
+        h.yaml = [term, power, file_value, component](const Eigen::VectorXd& x, double) {
+          std::string coefficients;
+          for (int k = 0; k < power; ++k) coefficients += "0, ";
+          return fmt::format("{{name: {}, form: polynomial, unit: um, coefficients: [{}{:.4g}], fit: true}}", term,
+                             coefficients, file_value(component, x[0]));
+        };
+        candidates.push_back(h);
+      }
+      // Squareness: the axis' reference line turned about the other two.
+      for (int component = 3; component < 6; ++component) {
+        if (component == a.own + 3) continue;
+        const std::string term = name(component, a.link, true);
+        Candidate s;
+        s.effect = fmt::format("out-of-squareness of the {} axis (its line of motion turned about {})", kAxisLetters[a.index],
+                               kComponents[static_cast<std::size_t>(component - 3)]);
+        s.error = term, s.term = term, s.variable = v, s.form = "polynomial";
+        s.probe = probe(a.link, component);
+        // A constant angle of the link: what the model file calls a squareness (EC0X).
+        s.basis = [](const Observation&, int, double) { return 1.0; };
+        s.yaml = [term, file_value, component](const Eigen::VectorXd& x, double) {
+          return fmt::format("{{name: {}, value: {:.4g}, unit: urad, fit: true}}", term, file_value(component, x[0]));
+        };
+        candidates.push_back(s);
+      }
+      // Scale expansion: the positioning grows with the temperature of a sensor.
+      for (std::size_t sensor = 0; sensor < mm.sensors.size(); ++sensor) {
+        if (!varies([sensor](const Observation& o) { return o.temperatures[sensor]; })) continue;
+        Candidate e;
+        e.effect = fmt::format("thermal expansion of the {} axis' scale with {} (the error grows with the position and the temperature)",
+                               kAxisLetters[a.index], mm.sensors[sensor]);
+        e.error = own, e.term = own, e.variable = v + ",T_" + mm.sensors[sensor], e.form = "interaction";
+        e.probe = probe(a.link, a.own);
+        e.basis = [&a, position, sensor](const Observation& o, int, double) { return position(o, a) * (o.temperatures[sensor] - 20.0); };
+        e.yaml = [own, sensor_name = mm.sensors[sensor]](const Eigen::VectorXd& x, double) {
+          return fmt::format("{{name: {}, form: scale_expansion, temperature: T_{}, coefficient: {:.4g} /degC, fit: true}}", own,
+                             sensor_name, x[0]);
+        };
+        candidates.push_back(e);
+      }
+      // Cross-axis: an error motion of this axis that varies with another axis' position.
+      for (const AxisInfo& w : axes) {
+        if (w.rotary || w.index == a.index || !(w.to > w.from)) continue;
+        for (int component = 0; component < 6; ++component) {
+          const std::string term = name(component, a.link, false);
+          Candidate x;
+          x.effect = fmt::format("{} of the {} carriage that changes with the {} position (load, overhang: a 2-D Abbe error)",
+                                 component < 3 ? "straightness/positioning" : "angular error motion", kAxisLetters[a.index],
+                                 kAxisLetters[w.index]);
+          x.error = term, x.term = term, x.variable = v + "," + axis_name(w.index), x.form = "interaction";
+          x.probe = probe(a.link, component);
+          x.basis_count = 2;
+          x.basis = [&a, &w, position](const Observation& o, int k, double) {
+            return k == 0 ? position(o, w) : position(o, a) * position(o, w);
+          };
+          x.yaml = [term, component, file_value, other = axis_name(w.index), unit](const Eigen::VectorXd& coefficient, double) {
+            return fmt::format("{{name: {}, form: cross_axis, other: {}, unit: {}, coefficients: [[{:.4g}], [{:.4g}]], fit: true}}",
+                               term, other, unit(component), file_value(component, coefficient[0]),
+                               file_value(component, coefficient[1]));
+          };
+          candidates.push_back(x);
+        }
+      }
+    } else {
+      // The table: harmonics of its error motions, its worm wheel, tilt and eccentricity.
+      for (int component = 0; component < 6; ++component) {
+        const std::string term = name(component, a.link, false);
+        for (int harmonic = 1; harmonic <= 3; ++harmonic) {
+          Candidate h;
+          h.effect = fmt::format("error motion {} of the {} table, {} per turn", term, kAxisLetters[a.index],
+                                 harmonic == 1 ? "once" : harmonic == 2 ? "twice" : "three times");
+          h.error = term, h.term = term, h.variable = v, h.form = "harmonic", h.period = 360.0 / harmonic;
+          h.probe = probe(a.link, component);
+          h.basis_count = 2;
+          h.basis = [&a, position, harmonic](const Observation& o, int k, double) {
+            return k == 0 ? std::cos(harmonic * position(o, a)) : std::sin(harmonic * position(o, a));
+          };
+          h.yaml = [term, harmonic, file_value, component, unit](const Eigen::VectorXd& x, double) {
+            return fmt::format("{{name: {}, form: periodic, period: {:g} deg, unit: {}, harmonics: [[{:.4g}, {:.4g}]], fit: true}}",
+                               term, 360.0 / harmonic, unit(component), file_value(component, x[0]), file_value(component, x[1]));
+          };
+          candidates.push_back(h);
+        }
+      }
+      Candidate w;
+      w.effect = fmt::format("periodic indexing error of the {} table (a worm wheel's tooth period)", kAxisLetters[a.index]);
+      w.error = own, w.term = own, w.variable = v, w.form = "periodic";
+      w.probe = probe(a.link, a.own);
+      w.basis_count = 2;
+      w.basis = [&a, position](const Observation& o, int k, double period) {
+        const double phase = 2 * kPi * (position(o, a) / kRadPerDeg) / period;
+        return k == 0 ? std::cos(phase) : std::sin(phase);
+      };
+      w.scan_from = 1.0, w.scan_to = std::min(90.0, span / 2.0), w.scan_points = 4000;
+      w.yaml = [own, file_value, component = a.own](const Eigen::VectorXd& x, double period) {
+        return fmt::format("{{name: {}, form: periodic, period: {:.6g} deg, unit: urad, harmonics: [[{:.4g}, {:.4g}]], fit: true}}",
+                           own, period, file_value(component, x[0]), file_value(component, x[1]));
+      };
+      candidates.push_back(w);
+      for (int component = 0; component < 6; ++component) {
+        if (component == a.own) continue;
+        const std::string term = name(component, a.link, true);
+        Candidate l;
+        l.effect = component < 3 ? fmt::format("the {} axis' centre is off in {} (eccentricity, location)", kAxisLetters[a.index],
+                                               kComponents[static_cast<std::size_t>(component)])
+                                 : fmt::format("the {} axis is tilted about {}", kAxisLetters[a.index],
+                                               kComponents[static_cast<std::size_t>(component - 3)]);
+        l.error = term, l.term = term, l.variable = v, l.form = "polynomial";
+        l.probe = probe(a.link, component);
+        l.basis = [](const Observation&, int, double) { return 1.0; };
+        l.yaml = [term, file_value, component, unit](const Eigen::VectorXd& x, double) {
+          return fmt::format("{{name: {}, value: {:.4g}, unit: {}, fit: true}}", term, file_value(component, x[0]), unit(component));
+        };
+        candidates.push_back(l);
+      }
+    }
+  }
+  // The tool: a tilt of the spindle shows as an error growing with the tool length (Abbe).
+  if (!spindle.empty() && tool_length_varies) {
+    for (int component = 3; component < 5; ++component) {
+      const std::string term = name(component, spindle, true);
+      Candidate t;
+      t.effect = fmt::format("the spindle is tilted about {}: the error grows with the tool length (Abbe arm)",
+                             kComponents[static_cast<std::size_t>(component - 3)]);
+      t.error = term, t.term = term, t.variable = "L", t.form = "linear";
+      t.probe = probe(spindle, component);
+      t.basis = [](const Observation&, int, double) { return 1.0; };
+      t.yaml = [term, file_value, component](const Eigen::VectorXd& x, double) {
+        return fmt::format("{{name: {}, value: {:.4g}, unit: urad, fit: true}}", term, file_value(component, x[0]));
+      };
+      candidates.push_back(t);
+    }
+  }
+  // Heat: a drift of the tool against the workpiece with a sensor's temperature, or in time.
+  if (!spindle.empty()) {
+    for (int component = 0; component < 3; ++component) {
+      const std::string term = name(component, spindle, false);
+      for (std::size_t sensor = 0; sensor < mm.sensors.size(); ++sensor) {
+        if (!varies([sensor](const Observation& o) { return o.temperatures[sensor]; })) continue;
+        Candidate d;
+        d.effect = fmt::format("thermal drift in {} with the temperature at {}", kComponents[static_cast<std::size_t>(component)],
+                               mm.sensors[sensor]);
+        d.error = "thermal", d.term = term, d.variable = "T_" + mm.sensors[sensor], d.form = "linear";
+        d.probe = probe(spindle, component);
+        d.basis = [sensor](const Observation& o, int, double) { return o.temperatures[sensor] - 20.0; };
+        d.yaml = [term, sensor_name = mm.sensors[sensor], file_value, component](const Eigen::VectorXd& x, double) {
+          return fmt::format("{{name: {}, variable: T_{}, form: thermal, unit: um, coefficient: {:.4g}, fit: true}}", term,
+                             sensor_name, file_value(component, x[0]));
+        };
+        candidates.push_back(d);
+      }
+      if (time_varies) {
+        Candidate w;
+        w.effect = fmt::format("warm-up drift in {}: first order in time since the start", kComponents[static_cast<std::size_t>(component)]);
+        w.error = "thermal", w.term = term, w.variable = "t", w.form = "exponential";
+        w.probe = probe(spindle, component);
+        w.basis = [](const Observation& o, int, double tau) { return 1.0 - std::exp(-o.time / tau); };
+        w.scan_from = 120.0, w.scan_to = 4 * 3600.0, w.scan_points = 60, w.scan_frequency = false;
+        w.yaml = [term, file_value, component](const Eigen::VectorXd& x, double tau) {
+          return fmt::format("{{name: {}, variable: t, form: warmup, unit: um, amplitude: {:.4g}, time_constant: {:.0f} s, fit: true}}",
+                             term, file_value(component, x[0]), tau);
+        };
+        candidates.push_back(w);
+      }
+    }
+  }
+  out.candidates_tried = candidates.size();
+
+  // The probes' columns, one pass over the data with a model that has them as terms.
+  {
+    model::MachineModel probing = mm;
+    const std::size_t first = probing.terms.size();
+    for (const Probe& p : probes) {
+      model::ErrorTermSpec t;
+      t.name = t.iso = name(p.component, p.link, true);
+      t.link = p.link;
+      t.component = p.component;
+      t.parameters = Eigen::VectorXd::Zero(1);
+      t.parameter_unit = {1.0};
+      probing.terms.push_back(t);
+    }
+    const model::ForwardModel f(probing);
+    model::ForwardData d(f);
+    for (Probe& p : probes) p.g.resize(n);
+    for (Eigen::Index i = 0; i < n; ++i) {
+      const Observation& o = data.observations[static_cast<std::size_t>(i)];
+      model::forward(f, d, o.q, MeasurementSet::conditions(o), true);
+      const Eigen::RowVector3d nR = o.direction.transpose() * d.nominal_chain.work_oMi.back().R;
+      for (std::size_t k = 0; k < probes.size(); ++k)
+        probes[k].g[i] = nR * d.J_parameters.col(static_cast<Eigen::Index>(f.parameter_offset(first + k)));
+    }
+    for (Probe& p : probes) {
+      const double largest = p.g.cwiseAbs().maxCoeff();
+      for (Eigen::Index i = 0; i < n; ++i)
+        if (std::abs(p.g[i]) > 1e-9 * largest) p.rows.push_back(i);
+    }
+  }
+
+  // Score every candidate (scanning its period or time constant), then rank.
+  std::vector<Suggestion> scored;
+  for (const Candidate& c : candidates) {
+    const Probe& p = probes[c.probe];
+    if (p.rows.empty()) continue;
+    Eigen::MatrixXd C(static_cast<Eigen::Index>(p.rows.size()), c.basis_count);
+    auto evaluate = [&](double scanned, Eigen::VectorXd* x) {
+      for (std::size_t i = 0; i < p.rows.size(); ++i) {
+        const Observation& o = data.observations[static_cast<std::size_t>(p.rows[i])];
+        for (int k = 0; k < c.basis_count; ++k) C(static_cast<Eigen::Index>(i), k) = p.g[p.rows[i]] * c.basis(o, k, scanned);
+      }
+      return base.gain(p.rows, C, x);
+    };
+    double best_value = c.period, best_gain = 0.0, trials = 1.0;
+    double uncertainty = 0.0;
+    if (c.scan_points > 0) {
+      // Evenly in frequency for periods (each step shifts the phase at the far end by
+      // the same amount), in log for time constants.
+      std::vector<double> values(static_cast<std::size_t>(c.scan_points)), gains(values.size());
+      for (std::size_t k = 0; k < values.size(); ++k) {
+        const double f = static_cast<double>(k) / static_cast<double>(values.size() - 1);
+        values[k] = c.scan_frequency ? 1.0 / (1.0 / c.scan_from + f * (1.0 / c.scan_to - 1.0 / c.scan_from))
+                                     : c.scan_from * std::pow(c.scan_to / c.scan_from, f);
+        gains[k] = evaluate(values[k], nullptr);
+      }
+      const auto top = static_cast<std::size_t>(std::max_element(gains.begin(), gains.end()) - gains.begin());
+      best_value = values[top];
+      best_gain = gains[top];
+      trials = static_cast<double>(values.size());
+      // Refine by golden section between the neighbours, then the uncertainty from the
+      // curvature of the sum of squares (a chi-square rise of 1).
+      double lo = values[top > 0 ? top - 1 : top], hi = values[top + 1 < values.size() ? top + 1 : top];
+      if (lo > hi) std::swap(lo, hi);
+      for (int it = 0; it < 40 && hi - lo > 1e-9 * hi; ++it) {
+        const double m1 = hi - 0.618 * (hi - lo), m2 = lo + 0.618 * (hi - lo);
+        if (evaluate(m1, nullptr) > evaluate(m2, nullptr)) hi = m2;
+        else lo = m1;
+      }
+      best_value = 0.5 * (lo + hi);
+      best_gain = evaluate(best_value, nullptr);
+      const double h = 1e-4 * best_value;
+      const double curvature = (2 * best_gain - evaluate(best_value + h, nullptr) - evaluate(best_value - h, nullptr)) / (h * h);
+      uncertainty = curvature > 0 ? std::sqrt(2.0 * sigma2 / curvature) : 0.0;
+    }
+    Eigen::VectorXd x;
+    best_gain = evaluate(best_value, &x);
+    if (!(best_gain > 0)) continue;
+    Suggestion s;
+    s.effect = c.effect, s.error = c.error, s.term = c.term, s.variable = c.variable, s.form = c.form;
+    s.period = c.scan_points > 0 || c.form == "harmonic" ? best_value : 0.0;
+    s.period_uncertainty = uncertainty;
+    s.rms_before = out.rms_refit;
+    const double sse1 = std::max(sse0 - best_gain, 0.0);
+    s.rms_after = std::sqrt(sse1 / static_cast<double>(n));
+    const auto k = static_cast<double>(c.basis_count + (c.scan_points > 0 ? 1 : 0));
+    s.bic_delta = static_cast<double>(n) * std::log(std::max(sse1, 1e-300) / std::max(sse0, 1e-300)) + k * std::log(static_cast<double>(n));
+    // Against the noise floor: the fall in chi-square, less what the parameters and the
+    // scan would win from noise alone (2 ln(trials) for the look-elsewhere effect).
+    s.significance = best_gain / sigma2 - k - 2.0 * std::log(trials);
+    s.yaml = "  - " + c.yaml(x, best_value);
+    s.spec = c.yaml(x, best_value);
+    scored.push_back(s);
+  }
+  // Significant: the chi-square falls by 25 (five sigma) beyond what noise and the scan
+  // would give, the information criterion agrees, and the rms falls by 3% at least.
+  std::vector<Suggestion> kept;
+  for (const Suggestion& s : scored)
+    if (s.significance > 25.0 && s.bic_delta < -10.0 && s.rms_after < 0.97 * s.rms_before) kept.push_back(s);
+  std::sort(kept.begin(), kept.end(), [](const Suggestion& a, const Suggestion& b) { return a.bic_delta < b.bic_delta; });
+  if (kept.size() > static_cast<std::size_t>(options.max_suggestions)) kept.resize(static_cast<std::size_t>(options.max_suggestions));
+  for (std::size_t i = 0; i < kept.size(); ++i) kept[i].rank = static_cast<int>(i + 1);
+  out.suggestions = std::move(kept);
+
+  // Where the residual concentrates: eight bins along every variable that varies.
+  const double overall = out.rms_refit;
+  auto add_regions = [&](const std::string& variable, auto get) {
+    double lo = 1e300, hi = -1e300;
+    for (const Observation& o : data.observations) lo = std::min(lo, get(o)), hi = std::max(hi, get(o));
+    if (!(hi > lo)) return;
+    constexpr int kBins = 8;
+    std::vector<double> sum(kBins, 0.0), count(kBins, 0.0);
+    for (Eigen::Index i = 0; i < n; ++i) {
+      const Observation& o = data.observations[static_cast<std::size_t>(i)];
+      const int bin = std::min(kBins - 1, static_cast<int>((get(o) - lo) / (hi - lo) * kBins));
+      sum[static_cast<std::size_t>(bin)] += base.r[i] * base.r[i];
+      count[static_cast<std::size_t>(bin)] += 1;
+    }
+    for (int b = 0; b < kBins; ++b) {
+      const auto bi = static_cast<std::size_t>(b);
+      if (count[bi] < 10) continue;
+      const double rms = std::sqrt(sum[bi] / count[bi]);
+      if (overall > 0 && rms > 1.5 * overall && rms > 3 * out.noise)
+        out.regions.push_back({variable, lo + (hi - lo) * b / kBins, lo + (hi - lo) * (b + 1) / kBins, rms, rms / overall});
+    }
+  };
+  for (const AxisInfo& a : axes)
+    add_regions(axis_name(a.index), [&a](const Observation& o) {
+      return a.rotary ? o.q[static_cast<Eigen::Index>(a.index)] / kRadPerDeg
+                      : o.q[static_cast<Eigen::Index>(a.index)] - (a.index == 2 ? o.q[9] : 0.0);
+    });
+  add_regions("L", [](const Observation& o) { return o.q[9]; });
+  add_regions("t", [](const Observation& o) { return o.time; });
+  for (std::size_t s = 0; s < mm.sensors.size(); ++s)
+    add_regions("T_" + mm.sensors[s], [s](const Observation& o) { return o.temperatures[s]; });
+  std::sort(out.regions.begin(), out.regions.end(), [](const Region& a, const Region& b) { return a.ratio > b.ratio; });
+  if (out.regions.size() > 8) out.regions.resize(8);
+  return out;
+}
+
+}  // namespace ccomp::identify
