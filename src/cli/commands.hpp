@@ -78,6 +78,7 @@ struct IdentifyArgs {
   double noise_um = 0.2;
   unsigned seed = 1;
   double step = 25.0;
+  double rotary_step = 15.0;
 };
 CLI::App* add_fit(CLI::App& app, IdentifyArgs& args);
 CLI::App* add_check(CLI::App& app, IdentifyArgs& args);

@@ -101,6 +101,7 @@ CLI::App* add_simulate(CLI::App& app, IdentifyArgs& args) {
   cmd->add_option("--seed", args.seed, "random seed (1)");
   cmd->add_option("--step", args.step, "mm between points along a laser line (25; finer than half a screw's pitch to see it)")
       ->check(CLI::PositiveNumber);
+  cmd->add_option("--rotary-step", args.rotary_step, "deg between the sphere's probings (15)")->check(CLI::PositiveNumber);
   return cmd;
 }
 
@@ -230,6 +231,7 @@ int run_simulate(const IdentifyArgs& args) {
   o.seed = args.seed;
   o.tool_length = args.tool_length;
   o.step = args.step;
+  o.rotary_step = args.rotary_step;
   const identify::MeasurementSet set = identify::simulate(forward, o);
   write_text(args.output, identify::to_csv(set, m));
   if (args.output != "-") fmt::print(stderr, "simulated {} observations of '{}' into {}\n", set.observations.size(), m.name, args.output);

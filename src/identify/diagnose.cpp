@@ -69,7 +69,8 @@ struct Projector {
     const Eigen::MatrixXd Ns = d.cwiseInverse().asDiagonal() * N * d.cwiseInverse().asDiagonal();
     const Eigen::VectorXd bs = b.cwiseQuotient(d);
     Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(Ns);
-    if (eig.eigenvalues().minCoeff() < 1e-10) return 0.0;
+    // Columns that are nearly one another once the base is out: the candidate is not one effect.
+    if (eig.eigenvalues().minCoeff() < 1e-6) return 0.0;
     const Eigen::VectorXd xs = eig.eigenvectors() * (eig.eigenvectors().transpose() * bs).cwiseQuotient(eig.eigenvalues());
     if (coefficients) *coefficients = xs.cwiseQuotient(d);
     return bs.dot(xs);

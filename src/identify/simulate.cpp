@@ -117,22 +117,26 @@ MeasurementSet simulate(const model::ForwardModel& truth, const SimulateOptions&
       }
       case Plan::sphere: {
         if (!has_b) break;
-        // A sphere 150 mm off the table centre, probed every 15 deg of B at two heights.
-        for (int k = 0; k < 24; ++k)
-          for (double y : {mid(1) - 50, mid(1) + 50})
-            rec.record("sphere", 150.0, y, 0.0, -180.0 + 15.0 * k, options.tool_length, 0, cold, {}, {e[0], e[1], e[2]});
+        // Two spheres on the table, at different radii and bearings (one point alone cannot
+        // tell the table's X error motion from its Z one), probed at two heights as B turns.
+        const int count = std::max(4, static_cast<int>(std::lround(360.0 / options.rotary_step)));
+        for (int k = 0; k < count; ++k)
+          for (const auto& [px, pz] : {std::pair{150.0, 0.0}, std::pair{-60.0, 100.0}})
+            for (double y : {mid(1) - 50, mid(1) + 50})
+              rec.record("sphere", px, y, pz, -180.0 + 360.0 * k / count, options.tool_length, 0, cold, {}, {e[0], e[1], e[2]});
         break;
       }
       case Plan::thermal: {
         // Three fixed points read every 10 minutes while the sensors warm toward their
-        // end values (first order, 1 h time constant).
+        // end values, each at its own pace (first order, time constants 40, 70, 100...
+        // minutes): sensors that warm alike could not be told apart.
         const int samples = static_cast<int>(options.hours * 6) + 1;
         for (int k = 0; k < samples; ++k) {
           const double t = 600.0 * k;
           std::vector<double> T = cold;
           for (std::size_t i = 0; i < T.size(); ++i) {
             const double end = i < options.warm_temperatures.size() ? options.warm_temperatures[i] : 20.0 + 4.0 + 2.0 * static_cast<double>(i);
-            T[i] = 20.0 + (end - 20.0) * (1.0 - std::exp(-t / 3600.0));
+            T[i] = 20.0 + (end - 20.0) * (1.0 - std::exp(-t / (2400.0 + 1800.0 * static_cast<double>(i))));
           }
           for (int point = 0; point < 3; ++point)
             rec.record("thermal", inset(0, 0.2 + 0.3 * point), mid(1), inset(2, 0.2 + 0.3 * point), 0, options.tool_length,

@@ -26,6 +26,7 @@ struct SimulateOptions {
   unsigned seed = 1;
   double tool_length = 100.0;  ///< mm, the optic's or probe's length where a plan has one
   double step = 25.0;          ///< mm between points along a laser line
+  double rotary_step = 15.0;   ///< deg between the sphere's probings
   double hours = 4.0;          ///< length of the thermal run
   /// Sensor temperatures at the end of the thermal run (degC); 20 elsewhere.
   std::vector<double> warm_temperatures;
