@@ -27,6 +27,8 @@ struct Probe {
   int component = 0;
   Eigen::VectorXd g;           // per observation
   std::vector<Eigen::Index> rows;  // where g is not zero
+  Eigen::MatrixXd U_rows;      // the base's basis on those rows
+  Eigen::VectorXd r_rows;      // the residual there
 };
 
 /// A candidate effect: its words, its term, and its basis functions of an observation
@@ -49,18 +51,15 @@ struct Projector {
   Eigen::VectorXd r;  // residual, orthogonal to the base columns
   Eigen::MatrixXd U;  // orthonormal basis of the identifiable base columns (n x k)
 
-  /// The fall in the sum of squares when columns C (given on `rows` only, zero elsewhere)
-  /// join the base fit, and their coefficients.
-  double gain(const std::vector<Eigen::Index>& rows, const Eigen::MatrixXd& C, Eigen::VectorXd* coefficients) const {
+  /// The fall in the sum of squares when columns C join the base fit, and their
+  /// coefficients. C is given on a probe's rows only (zero elsewhere); `U_rows` and
+  /// `r_rows` are U and r on those rows.
+  double gain(const Eigen::MatrixXd& U_rows, const Eigen::VectorXd& r_rows, const Eigen::MatrixXd& C,
+              Eigen::VectorXd* coefficients) const {
     const Eigen::Index k = C.cols();
-    Eigen::VectorXd b = Eigen::VectorXd::Zero(k);
-    Eigen::MatrixXd UtC = Eigen::MatrixXd::Zero(U.cols(), k);
-    Eigen::MatrixXd CtC = C.transpose() * C;
-    for (std::size_t i = 0; i < rows.size(); ++i) {
-      const Eigen::Index row = rows[i];
-      b += C.row(static_cast<Eigen::Index>(i)).transpose() * r[row];
-      if (U.cols() > 0) UtC += U.row(row).transpose() * C.row(static_cast<Eigen::Index>(i));
-    }
+    const Eigen::VectorXd b = C.transpose() * r_rows;
+    const Eigen::MatrixXd UtC = U_rows.transpose() * C;
+    const Eigen::MatrixXd CtC = C.transpose() * C;
     const Eigen::MatrixXd N = CtC - UtC.transpose() * UtC;
     // Columns scaled to unit diagonal; a column the base already spans gains nothing.
     Eigen::VectorXd d = N.diagonal().cwiseMax(0.0).cwiseSqrt();
@@ -124,7 +123,7 @@ Diagnosis diagnose(const model::ForwardModel& model, const MeasurementSet& data,
   auto probe = [&](const std::string& link, int component) {
     for (std::size_t i = 0; i < probes.size(); ++i)
       if (probes[i].link == link && probes[i].component == component) return i;
-    probes.push_back({link, component, {}, {}});
+    probes.push_back(Probe{link, component, {}, {}, {}, {}});
     return probes.size() - 1;
   };
   // The axes the model has, with their links.
@@ -201,7 +200,9 @@ Diagnosis diagnose(const model::ForwardModel& model, const MeasurementSet& data,
       };
       // Periods below 2.5 steps of the data along the axis would alias.
       c.scan_from = std::max(2.0, 2.5 * a.step), c.scan_to = span / 2.0;
-      c.scan_points = static_cast<int>(std::clamp(4.0 * span / c.scan_from, 50.0, 6000.0));
+      // Two frequencies per peak width (1 / span): a peak is seen at 80% of its height or
+      // better, and refined between its neighbours.
+      c.scan_points = static_cast<int>(std::clamp(2.0 * span / c.scan_from, 50.0, 6000.0));
       c.yaml = [own, component = a.own, file_value](const Eigen::VectorXd& x, double period) {
         return fmt::format("{{name: {}, form: periodic, period: {:.6g} mm, unit: um, harmonics: [[{:.4g}, {:.4g}]], fit: true}}",
                            own, period, file_value(component, x[0]), file_value(component, x[1]));
@@ -327,7 +328,8 @@ Diagnosis diagnose(const model::ForwardModel& model, const MeasurementSet& data,
         const double phase = 2 * kPi * (position(o, a) / kRadPerDeg) / period;
         return k == 0 ? std::cos(phase) : std::sin(phase);
       };
-      w.scan_from = 1.0, w.scan_to = std::min(90.0, span / 2.0), w.scan_points = 4000;
+      w.scan_from = std::max(1.0, 2.5 * a.step), w.scan_to = std::min(90.0, span / 2.0);
+      w.scan_points = static_cast<int>(std::clamp(2.0 * span / w.scan_from, 50.0, 6000.0));
       w.yaml = [own, file_value, component = a.own](const Eigen::VectorXd& x, double period) {
         return fmt::format("{{name: {}, form: periodic, period: {:.6g} deg, unit: urad, harmonics: [[{:.4g}, {:.4g}]], fit: true}}",
                            own, period, file_value(component, x[0]), file_value(component, x[1]));
@@ -429,6 +431,12 @@ Diagnosis diagnose(const model::ForwardModel& model, const MeasurementSet& data,
       const double largest = p.g.cwiseAbs().maxCoeff();
       for (Eigen::Index i = 0; i < n; ++i)
         if (std::abs(p.g[i]) > 1e-9 * largest) p.rows.push_back(i);
+      p.U_rows.resize(static_cast<Eigen::Index>(p.rows.size()), base.U.cols());
+      p.r_rows.resize(static_cast<Eigen::Index>(p.rows.size()));
+      for (std::size_t i = 0; i < p.rows.size(); ++i) {
+        if (base.U.cols() > 0) p.U_rows.row(static_cast<Eigen::Index>(i)) = base.U.row(p.rows[i]);
+        p.r_rows[static_cast<Eigen::Index>(i)] = base.r[p.rows[i]];
+      }
     }
   }
 
@@ -443,7 +451,7 @@ Diagnosis diagnose(const model::ForwardModel& model, const MeasurementSet& data,
         const Observation& o = data.observations[static_cast<std::size_t>(p.rows[i])];
         for (int k = 0; k < c.basis_count; ++k) C(static_cast<Eigen::Index>(i), k) = p.g[p.rows[i]] * c.basis(o, k, scanned);
       }
-      return base.gain(p.rows, C, x);
+      return base.gain(p.U_rows, p.r_rows, C, x);
     };
     double best_value = c.period, best_gain = 0.0, trials = 1.0;
     double uncertainty = 0.0;
