@@ -91,11 +91,13 @@ CheckReport check(const model::ForwardModel& model, const MeasurementSet& data) 
   }
   // The median, not the mean: where the error bends sharply (a table turning) the second
   // difference is not noise, and those few places must not set the floor.
-  if (!seconds.empty()) {
+  if (seconds.size() >= 10) {
     std::nth_element(seconds.begin(), seconds.begin() + static_cast<std::ptrdiff_t>(seconds.size() / 2), seconds.end());
     report.noise_floor = 1.4826 * seconds[seconds.size() / 2] / std::sqrt(6.0);
+    report.noise_method = "second differences along lines";
+  } else {
+    report.noise_method = "none: no repeated points and no evenly spaced lines in the data";
   }
-  report.noise_method = "second differences along lines";
   return report;
 }
 

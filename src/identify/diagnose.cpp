@@ -27,7 +27,7 @@ struct Probe {
   int component = 0;
   Eigen::VectorXd g;           // per observation
   std::vector<Eigen::Index> rows;  // where g is not zero
-  Eigen::MatrixXd U_rows;      // the base's basis on those rows
+  Eigen::MatrixXd U_rows;      // the base's basis on those rows (empty when they are all rows)
   Eigen::VectorXd r_rows;      // the residual there
 };
 
@@ -42,6 +42,9 @@ struct Candidate {
   double scan_from = 0.0, scan_to = 0.0;  // of the scanned parameter (0, 0: none)
   bool scan_frequency = true;  // scan evenly in 1/value (periods) or in log value (time constants)
   int scan_points = 0;
+  /// Periodic candidates: the variable the period is in (mm, deg); the coarse scan steps
+  /// the phase of every row by rotation instead of calling the basis.
+  std::function<double(const Observation&)> phase_variable;
   /// The YAML term with coefficients (internal units) and the scanned value.
   std::function<std::string(const Eigen::VectorXd&, double)> yaml;
 };
@@ -54,11 +57,16 @@ struct Projector {
   /// The fall in the sum of squares when columns C join the base fit, and their
   /// coefficients. C is given on a probe's rows only (zero elsewhere); `U_rows` and
   /// `r_rows` are U and r on those rows.
+  /// `exact` false leaves out what the base absorbs of C (cheap, and never more than the
+  /// true gain when C and the base share little): a scan's coarse pass.
   double gain(const Eigen::MatrixXd& U_rows, const Eigen::VectorXd& r_rows, const Eigen::MatrixXd& C,
-              Eigen::VectorXd* coefficients) const {
+              Eigen::VectorXd* coefficients, bool exact = true) const {
     const Eigen::Index k = C.cols();
     const Eigen::VectorXd b = C.transpose() * r_rows;
-    const Eigen::MatrixXd UtC = U_rows.transpose() * C;
+    // Column by column: a matrix product would repack U_rows on every call of the scan.
+    Eigen::MatrixXd UtC = Eigen::MatrixXd::Zero(U_rows.cols(), k);
+    if (exact)
+      for (Eigen::Index j = 0; j < k; ++j) UtC.col(j).noalias() = U_rows.transpose() * C.col(j);
     const Eigen::MatrixXd CtC = C.transpose() * C;
     const Eigen::MatrixXd N = CtC - UtC.transpose() * UtC;
     // Columns scaled to unit diagonal; a column the base already spans gains nothing.
@@ -86,7 +94,6 @@ Diagnosis diagnose(const model::ForwardModel& model, const MeasurementSet& data,
   const auto n = static_cast<Eigen::Index>(data.observations.size());
   if (n == 0) return out;
   out.noise = options.noise > 0 ? options.noise : check(model, data).noise_floor;
-  const double sigma2 = std::max(out.noise * out.noise, 1e-18);
 
   // The base model refitted to the data, and what its free parameters can absorb.
   Projector base;
@@ -113,6 +120,10 @@ Diagnosis diagnose(const model::ForwardModel& model, const MeasurementSet& data,
     out.rms_refit = std::sqrt(base.r.squaredNorm() / static_cast<double>(n));
   }
   const double sse0 = base.r.squaredNorm();
+  // Without a noise floor from the data's structure, the refitted residual stands in for
+  // it: an upper bound, so fewer effects pass, never more.
+  if (!(out.noise > 0)) out.noise = out.rms_refit;
+  const double sigma2 = std::max(out.noise * out.noise, 1e-18);
 
   // Probes: d prediction / d (a term's value) at the links and components candidates use.
   const auto& tool_chain = mm.tool_chain;
@@ -198,6 +209,7 @@ Diagnosis diagnose(const model::ForwardModel& model, const MeasurementSet& data,
         const double phase = 2 * kPi * position(o, a) / period;
         return k == 0 ? std::cos(phase) : std::sin(phase);
       };
+      c.phase_variable = [&a, position](const Observation& o) { return position(o, a); };
       // Periods below 2.5 steps of the data along the axis would alias.
       c.scan_from = std::max(2.0, 2.5 * a.step), c.scan_to = span / 2.0;
       // Two frequencies per peak width (1 / span): a peak is seen at 80% of its height or
@@ -328,6 +340,7 @@ Diagnosis diagnose(const model::ForwardModel& model, const MeasurementSet& data,
         const double phase = 2 * kPi * (position(o, a) / kRadPerDeg) / period;
         return k == 0 ? std::cos(phase) : std::sin(phase);
       };
+      w.phase_variable = [&a, position](const Observation& o) { return position(o, a) / kRadPerDeg; };
       w.scan_from = std::max(1.0, 2.5 * a.step), w.scan_to = std::min(90.0, span / 2.0);
       w.scan_points = static_cast<int>(std::clamp(2.0 * span / w.scan_from, 50.0, 6000.0));
       w.yaml = [own, file_value, component = a.own](const Eigen::VectorXd& x, double period) {
@@ -431,6 +444,7 @@ Diagnosis diagnose(const model::ForwardModel& model, const MeasurementSet& data,
       const double largest = p.g.cwiseAbs().maxCoeff();
       for (Eigen::Index i = 0; i < n; ++i)
         if (std::abs(p.g[i]) > 1e-9 * largest) p.rows.push_back(i);
+      if (static_cast<Eigen::Index>(p.rows.size()) == n) continue;  // every row: the base's own U and r serve
       p.U_rows.resize(static_cast<Eigen::Index>(p.rows.size()), base.U.cols());
       p.r_rows.resize(static_cast<Eigen::Index>(p.rows.size()));
       for (std::size_t i = 0; i < p.rows.size(); ++i) {
@@ -446,12 +460,13 @@ Diagnosis diagnose(const model::ForwardModel& model, const MeasurementSet& data,
     const Probe& p = probes[c.probe];
     if (p.rows.empty()) continue;
     Eigen::MatrixXd C(static_cast<Eigen::Index>(p.rows.size()), c.basis_count);
-    auto evaluate = [&](double scanned, Eigen::VectorXd* x) {
+    auto evaluate = [&](double scanned, Eigen::VectorXd* x, bool exact = true) {
       for (std::size_t i = 0; i < p.rows.size(); ++i) {
         const Observation& o = data.observations[static_cast<std::size_t>(p.rows[i])];
         for (int k = 0; k < c.basis_count; ++k) C(static_cast<Eigen::Index>(i), k) = p.g[p.rows[i]] * c.basis(o, k, scanned);
       }
-      return base.gain(p.U_rows, p.r_rows, C, x);
+      const bool all = static_cast<Eigen::Index>(p.rows.size()) == n;
+      return base.gain(all ? base.U : p.U_rows, all ? base.r : p.r_rows, C, x, exact);
     };
     double best_value = c.period, best_gain = 0.0, trials = 1.0;
     double uncertainty = 0.0;
@@ -463,9 +478,52 @@ Diagnosis diagnose(const model::ForwardModel& model, const MeasurementSet& data,
         const double f = static_cast<double>(k) / static_cast<double>(values.size() - 1);
         values[k] = c.scan_frequency ? 1.0 / (1.0 / c.scan_from + f * (1.0 / c.scan_to - 1.0 / c.scan_from))
                                      : c.scan_from * std::pow(c.scan_to / c.scan_from, f);
-        gains[k] = evaluate(values[k], nullptr);
       }
-      const auto top = static_cast<std::size_t>(std::max_element(gains.begin(), gains.end()) - gains.begin());
+      if (c.scan_frequency && c.phase_variable) {
+        // A long frequency scan's coarse pass leaves out what the base absorbs (cheap);
+        // its eight best local peaks are then weighed exactly. The frequencies are evenly
+        // spaced, so each row's (cos, sin) steps by one rotation per frequency.
+        const std::size_t rows = p.rows.size();
+        std::vector<double> cs(rows), sn(rows), step_c(rows), step_s(rows), g(rows), res(rows);
+        const double f0 = 1.0 / values[0], df = 1.0 / values[1] - f0;
+        const Eigen::VectorXd& r_all = static_cast<Eigen::Index>(rows) == n ? base.r : p.r_rows;
+        for (std::size_t i = 0; i < rows; ++i) {
+          const double v = c.phase_variable(data.observations[static_cast<std::size_t>(p.rows[i])]);
+          cs[i] = std::cos(2 * kPi * v * f0), sn[i] = std::sin(2 * kPi * v * f0);
+          step_c[i] = std::cos(2 * kPi * v * df), step_s[i] = std::sin(2 * kPi * v * df);
+          g[i] = p.g[p.rows[i]];
+          res[i] = r_all[static_cast<Eigen::Index>(i)];
+        }
+        for (std::size_t k = 0; k < values.size(); ++k) {
+          double b0 = 0, b1 = 0, n00 = 0, n01 = 0, n11 = 0;
+          for (std::size_t i = 0; i < rows; ++i) {
+            const double x0 = g[i] * cs[i], x1 = g[i] * sn[i];
+            b0 += x0 * res[i], b1 += x1 * res[i];
+            n00 += x0 * x0, n01 += x0 * x1, n11 += x1 * x1;
+            const double c2 = cs[i] * step_c[i] - sn[i] * step_s[i];
+            sn[i] = sn[i] * step_c[i] + cs[i] * step_s[i];
+            cs[i] = c2;
+          }
+          const double det = n00 * n11 - n01 * n01;
+          gains[k] = det > 1e-12 * n00 * n11 ? (n11 * b0 * b0 - 2 * n01 * b0 * b1 + n00 * b1 * b1) / det : 0.0;
+        }
+      } else {
+        for (std::size_t k = 0; k < values.size(); ++k) gains[k] = evaluate(values[k], nullptr);
+      }
+      std::size_t top = static_cast<std::size_t>(std::max_element(gains.begin(), gains.end()) - gains.begin());
+      if (c.scan_frequency) {
+        std::vector<std::pair<double, std::size_t>> peaks;
+        for (std::size_t k = 0; k < gains.size(); ++k)
+          if ((k == 0 || gains[k] >= gains[k - 1]) && (k + 1 == gains.size() || gains[k] >= gains[k + 1]))
+            peaks.emplace_back(-gains[k], k);
+        std::sort(peaks.begin(), peaks.end());
+        double best = -1.0;
+        for (std::size_t i = 0; i < peaks.size() && i < 8; ++i) {
+          const double exact = evaluate(values[peaks[i].second], nullptr);
+          gains[peaks[i].second] = exact;
+          if (exact > best) best = exact, top = peaks[i].second;
+        }
+      }
       best_value = values[top];
       best_gain = gains[top];
       trials = static_cast<double>(values.size());
@@ -473,10 +531,17 @@ Diagnosis diagnose(const model::ForwardModel& model, const MeasurementSet& data,
       // curvature of the sum of squares (a chi-square rise of 1).
       double lo = values[top > 0 ? top - 1 : top], hi = values[top + 1 < values.size() ? top + 1 : top];
       if (lo > hi) std::swap(lo, hi);
-      for (int it = 0; it < 40 && hi - lo > 1e-9 * hi; ++it) {
-        const double m1 = hi - 0.618 * (hi - lo), m2 = lo + 0.618 * (hi - lo);
-        if (evaluate(m1, nullptr) > evaluate(m2, nullptr)) hi = m2;
-        else lo = m1;
+      constexpr double kGolden = 0.6180339887498949;
+      double m1 = hi - kGolden * (hi - lo), m2 = lo + kGolden * (hi - lo);
+      double f1 = evaluate(m1, nullptr), f2 = evaluate(m2, nullptr);
+      for (int it = 0; it < 24 && hi - lo > 1e-7 * hi; ++it) {  // one new evaluation a step
+        if (f1 > f2) {
+          hi = m2, m2 = m1, f2 = f1;
+          m1 = hi - kGolden * (hi - lo), f1 = evaluate(m1, nullptr);
+        } else {
+          lo = m1, m1 = m2, f1 = f2;
+          m2 = lo + kGolden * (hi - lo), f2 = evaluate(m2, nullptr);
+        }
       }
       best_value = 0.5 * (lo + hi);
       best_gain = evaluate(best_value, nullptr);

@@ -131,6 +131,7 @@ FitReport fit(const model::ForwardModel& model, const MeasurementSet& data, cons
   Eigen::MatrixXd V;
   Eigen::VectorXd sigma;
   std::vector<bool> identified_direction;
+  Eigen::MatrixXd subspace;  // the identified directions (scaled coordinates), columns
   double lambda = 0.0;  // Levenberg-Marquardt damping, relative to the largest singular value squared
   for (int iteration = 0; iteration < options.max_iterations && m > 0; ++iteration) {
     report.iterations = iteration + 1;
@@ -144,37 +145,63 @@ FitReport fit(const model::ForwardModel& model, const MeasurementSet& data, cons
     }
     // Columns scaled to unit length, so the singular values compare parameters of any unit.
     const Eigen::VectorXd sw = weight.cwiseSqrt();
-    for (Eigen::Index j = 0; j < m; ++j) {
-      const double norm = (sw.asDiagonal() * J.col(j)).norm();
-      column_norm[j] = norm;
-      scale[j] = norm > 0 ? norm : 1.0;
+    // What the data determine is decided from the start, and once more after the first
+    // step if a period or a time constant was blind then (until its amplitudes move):
+    // deciding again every iteration lets combinations at the threshold drift in and fit
+    // noise.
+    bool blind_shape = false;  // a period or time constant whose column was zero at the start
+    for (Eigen::Index j = 0; j < m && iteration == 1; ++j) {
+      const FittedParameter& fp = report.parameters[static_cast<std::size_t>(j)];
+      const model::ErrorTermSpec& t = mm.terms[fp.term];
+      const std::size_t k = fp.index - model.parameter_offset(fp.term);
+      const bool shape = (t.shape.form == TermForm::periodic && k == 0) || (t.shape.form == TermForm::thermal_warmup && k == 1);
+      blind_shape = blind_shape || (shape && column_norm[j] == 0.0);
     }
+    const bool decide = iteration == 0 || blind_shape;
+    if (decide)
+      for (Eigen::Index j = 0; j < m; ++j) {
+        const double norm = (sw.asDiagonal() * J.col(j)).norm();
+        column_norm[j] = norm;
+        scale[j] = norm > 0 ? norm : 1.0;
+      }
     const Eigen::MatrixXd A = sw.asDiagonal() * J * scale.cwiseInverse().asDiagonal();
-    const Eigen::MatrixXd N = A.transpose() * A;
-    Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(N);
-    // Descending singular values and their right singular vectors.
-    sigma = eig.eigenvalues().cwiseMax(0.0).cwiseSqrt().reverse();
-    V = eig.eigenvectors().rowwise().reverse();
-    const double largest = sigma.size() ? sigma[0] : 0.0;
-    identified_direction.assign(static_cast<std::size_t>(m), false);
+    Eigen::MatrixXd N = Eigen::MatrixXd::Zero(m, m);
+    N.selfadjointView<Eigen::Lower>().rankUpdate(A.transpose());
+    N = N.selfadjointView<Eigen::Lower>();
     const Eigen::VectorXd g = A.transpose() * (sw.asDiagonal() * r);
-    for (Eigen::Index k = 0; k < m; ++k)
-      identified_direction[static_cast<std::size_t>(k)] = sigma[k] > options.rank_tolerance * largest && sigma[k] > 0;
-    // Levenberg-Marquardt in the identified directions: where the cost does not fall, the
-    // weak directions are damped first (lambda), not the whole step (a period far from
-    // its start, a nearly invisible tilt, are not quadratic).
-    auto step_for = [&](double damping) {
-      Eigen::VectorXd step = Eigen::VectorXd::Zero(m);
+    if (decide) {
+      // Descending singular values and their right singular vectors.
+      Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(N);
+      sigma = eig.eigenvalues().cwiseMax(0.0).cwiseSqrt().reverse();
+      V = eig.eigenvectors().rowwise().reverse();
+      const double largest = sigma.size() ? sigma[0] : 0.0;
+      identified_direction.assign(static_cast<std::size_t>(m), false);
+      std::vector<Eigen::Index> kept;
       for (Eigen::Index k = 0; k < m; ++k)
-        if (identified_direction[static_cast<std::size_t>(k)])
-          step += V.col(k) * (V.col(k).dot(g) / (sigma[k] * sigma[k] + damping));
+        if (sigma[k] > options.rank_tolerance * largest && sigma[k] > 0) {
+          identified_direction[static_cast<std::size_t>(k)] = true;
+          kept.push_back(k);
+        }
+      subspace.resize(m, static_cast<Eigen::Index>(kept.size()));
+      for (std::size_t c = 0; c < kept.size(); ++c) subspace.col(static_cast<Eigen::Index>(c)) = V.col(kept[c]);
+    }
+    // Levenberg-Marquardt within the identified subspace: where the cost does not fall,
+    // the weak directions are damped first (lambda), not the whole step (a period far
+    // from its start is not quadratic).
+    Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> reduced(subspace.transpose() * N * subspace);
+    const Eigen::VectorXd mu = reduced.eigenvalues().cwiseMax(0.0);
+    const Eigen::MatrixXd Q = subspace * reduced.eigenvectors();
+    const Eigen::VectorXd Qg = Q.transpose() * g;
+    const double largest = mu.size() ? mu.maxCoeff() : 0.0;
+    auto step_for = [&](double damping) {
+      const Eigen::VectorXd step = Q * Qg.cwiseQuotient((mu.array() + damping).max(1e-300).matrix());
       return Eigen::VectorXd(step.cwiseQuotient(scale));
     };
     const double before = cost(r);
     Eigen::VectorXd trial_p = p, trial_r;
     bool improved = false;
     for (int attempt = 0; attempt < 24; ++attempt) {
-      const Eigen::VectorXd dp = step_for(lambda * largest * largest);
+      const Eigen::VectorXd dp = step_for(lambda * largest);
       trial_p = p;
       for (Eigen::Index j = 0; j < m; ++j) trial_p[static_cast<Eigen::Index>(free[static_cast<std::size_t>(j)])] += dp[j];
       linearize(model, trial_p, data, free, trial_r, nullptr);
