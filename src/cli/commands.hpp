@@ -79,6 +79,10 @@ struct IdentifyArgs {
   unsigned seed = 1;
   double step = 25.0;
   double rotary_step = 15.0;
+  int runs = 1;
+  // positioning
+  std::string axis;
+  std::string source;
 };
 CLI::App* add_fit(CLI::App& app, IdentifyArgs& args);
 CLI::App* add_check(CLI::App& app, IdentifyArgs& args);
@@ -86,5 +90,7 @@ CLI::App* add_simulate(CLI::App& app, IdentifyArgs& args);
 int run_fit(const IdentifyArgs& args);
 int run_check(const IdentifyArgs& args);
 int run_simulate(const IdentifyArgs& args);
+CLI::App* add_positioning(CLI::App& app, IdentifyArgs& args);
+int run_positioning(const IdentifyArgs& args);
 
 }  // namespace ccomp::cli

@@ -11,6 +11,7 @@
 #include "ccomp/identify/check.hpp"
 #include "ccomp/identify/diagnose.hpp"
 #include "ccomp/identify/fit.hpp"
+#include "ccomp/identify/positioning.hpp"
 #include "ccomp/identify/simulate.hpp"
 #include "commands.hpp"
 
@@ -100,6 +101,8 @@ CLI::App* add_simulate(CLI::App& app, IdentifyArgs& args) {
   cmd->add_option("--noise", args.noise_um, "um, standard deviation of each reading (0.2)")->check(CLI::NonNegativeNumber);
   cmd->add_option("--seed", args.seed, "random seed (1)");
   cmd->add_option("--step", args.step, "mm between points along a laser line (25; finer than half a screw's pitch to see it)")
+      ->check(CLI::PositiveNumber);
+  cmd->add_option("--runs", args.runs, "out-and-back runs of each laser line (1; ISO 230-2 asks for 5)")
       ->check(CLI::PositiveNumber);
   cmd->add_option("--rotary-step", args.rotary_step, "deg between the sphere's probings (15)")->check(CLI::PositiveNumber);
   return cmd;
@@ -221,6 +224,49 @@ int run_check(const IdentifyArgs& args) {
   return 0;
 }
 
+CLI::App* add_positioning(CLI::App& app, IdentifyArgs& args) {
+  CLI::App* cmd = app.add_subcommand("positioning", "ISO 230-2 positioning figures of a linear axis from bidirectional runs");
+  cmd->add_option("measurements", args.measurements, "measurement files (CSV)")->required();
+  add_common(*cmd, args);
+  cmd->add_option("--axis", args.axis, "x, y or z")->required()->check(CLI::IsMember({"x", "y", "z"}));
+  cmd->add_option("--source", args.source, "only the rows of this source (a laser line)");
+  cmd->add_flag("--json", args.json, "the figures as JSON on stdout");
+  return cmd;
+}
+
+int run_positioning(const IdentifyArgs& args) {
+  const model::MachineModel m = model::load_machine_model(args.model);
+  identify::MeasurementSet data;
+  identify::ReadOptions o;
+  o.tool_length = args.tool_length;
+  for (const std::string& path : args.measurements) identify::read_measurements(path, m, o, data);
+  const auto axis = static_cast<std::size_t>(args.axis[0] - 'x');
+  const identify::PositioningReport r = identify::analyse_positioning(data, axis, args.source);
+  const double um = 1e3;
+  if (args.json) {
+    fmt::print("{{\"axis\": \"{}\", \"targets\": {}, \"runs\": {}, \"A_um\": {:.4f}, \"A_up_um\": {:.4f}, \"A_down_um\": {:.4f}, "
+               "\"B_um\": {:.4f}, \"B_mean_um\": {:.4f}, \"E_um\": {:.4f}, \"E_up_um\": {:.4f}, \"E_down_um\": {:.4f}, "
+               "\"M_um\": {:.4f}, \"R_um\": {:.4f}, \"R_up_um\": {:.4f}, \"R_down_um\": {:.4f}, \"period_mm\": {:.6g}, "
+               "\"periodic_amplitude_um\": {:.4f}, \"rms_left_um\": {:.4f}}}\n",
+               args.axis, r.targets.size(), r.runs, r.A * um, r.A_up * um, r.A_down * um, r.B * um, r.B_mean * um, r.E * um,
+               r.E_up * um, r.E_down * um, r.M * um, r.R * um, r.R_up * um, r.R_down * um, r.period, r.periodic_amplitude * um,
+               r.rms_left * um);
+    return 0;
+  }
+  fmt::print("ISO 230-2, axis {}: {} targets, {} run(s) each way{}\n", static_cast<char>(std::toupper(args.axis[0])),
+             r.targets.size(), r.runs, r.runs < 5 ? " (the standard asks for 5; repeatability needs 2 or more)" : "");
+  fmt::print("  accuracy            A  {:8.3f} um  (up {:.3f}, down {:.3f})\n", r.A * um, r.A_up * um, r.A_down * um);
+  fmt::print("  reversal            B  {:8.3f} um  (mean {:+.3f})\n", r.B * um, r.B_mean * um);
+  fmt::print("  systematic          E  {:8.3f} um  (up {:.3f}, down {:.3f})\n", r.E * um, r.E_up * um, r.E_down * um);
+  fmt::print("  mean bidirectional  M  {:8.3f} um\n", r.M * um);
+  fmt::print("  repeatability       R  {:8.3f} um  (up {:.3f}, down {:.3f})\n", r.R * um, r.R_up * um, r.R_down * um);
+  fmt::print("seed 002's parts of the mean deviation: cumulative cubic [{:.4g}, {:.4g}, {:.4g}, {:.4g}] um/mm^k", r.cumulative[0] * um,
+             r.cumulative[1] * um, r.cumulative[2] * um, r.cumulative[3] * um);
+  if (r.period > 0) fmt::print("; periodic {:.4g} mm, {:.3f} um", r.period, r.periodic_amplitude * um);
+  fmt::print("; reversal {:+.3f} um; {:.3f} um left\n", r.B_mean * um, r.rms_left * um);
+  return 0;
+}
+
 int run_simulate(const IdentifyArgs& args) {
   const model::MachineModel m = model::load_machine_model(args.model);
   const model::ForwardModel forward(m);
@@ -232,6 +278,7 @@ int run_simulate(const IdentifyArgs& args) {
   o.tool_length = args.tool_length;
   o.step = args.step;
   o.rotary_step = args.rotary_step;
+  o.runs = args.runs;
   const identify::MeasurementSet set = identify::simulate(forward, o);
   write_text(args.output, identify::to_csv(set, m));
   if (args.output != "-") fmt::print(stderr, "simulated {} observations of '{}' into {}\n", set.observations.size(), m.name, args.output);

@@ -87,12 +87,12 @@ MeasurementSet simulate(const model::ForwardModel& truth, const SimulateOptions&
           const double offsets[3][2] = {{inset(u, 0.1), inset(w, 0.1)}, {mid(u), mid(w)}, {inset(u, 0.9), inset(w, 0.9)}};
           for (int line = 0; line < 3; ++line) {
             const std::string label = fmt::format("{}-line{}", static_cast<char>(std::tolower(letters[a])), line + 1);
-            for (int pass = 0; pass < 2; ++pass) {  // out and back: each approach direction
+            for (int pass = 0; pass < 2 * std::max(1, options.runs); ++pass) {  // out and back, each run
               std::array<double, 9> dirs{};
-              dirs[static_cast<std::size_t>(a)] = pass == 0 ? 1.0 : -1.0;
+              dirs[static_cast<std::size_t>(a)] = pass % 2 == 0 ? 1.0 : -1.0;
               const int count = std::max(2, static_cast<int>(std::floor((s[a].second - s[a].first) / options.step)) + 1);
               for (int k = 0; k < count; ++k) {
-                const double f = static_cast<double>(pass == 0 ? k : count - 1 - k) / (count - 1);
+                const double f = static_cast<double>(pass % 2 == 0 ? k : count - 1 - k) / (count - 1);
                 double p[3];
                 p[a] = s[a].first + f * (s[a].second - s[a].first);
                 p[u] = offsets[line][0];

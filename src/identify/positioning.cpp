@@ -1,0 +1,150 @@
+#include "ccomp/identify/positioning.hpp"
+
+#include <fmt/format.h>
+
+#include <Eigen/Dense>
+#include <algorithm>
+#include <cmath>
+#include <map>
+
+#include "ccomp/error.hpp"
+
+namespace ccomp::identify {
+
+PositioningReport analyse_positioning(const MeasurementSet& data, std::size_t axis, const std::string& source) {
+  PositioningReport report;
+  report.axis = axis;
+  const char letter = "XYZ"[axis];
+  // Deviations by target (integer um) and direction.
+  std::map<long long, std::pair<std::vector<double>, std::vector<double>>> at;
+  for (const Observation& o : data.observations) {
+    if (!source.empty() && data.sources[o.source] != source) continue;
+    const double along = o.direction[static_cast<Eigen::Index>(axis)];
+    if (std::abs(std::abs(along) - 1.0) > 1e-6 || o.directions[axis] == 0.0) continue;
+    double target = o.q[static_cast<Eigen::Index>(axis)];
+    if (axis == 2) target -= o.q[9];  // program z
+    auto& runs = at[std::llround(target * 1000.0)];
+    (o.directions[axis] > 0 ? runs.first : runs.second).push_back(o.value * along);
+  }
+  if (at.empty())
+    throw Error(ErrorKind::data, fmt::format("no readings along {} with an approach direction (v{}){}", letter,
+                                             static_cast<char>(std::tolower(letter)),
+                                             source.empty() ? "" : " in source '" + source + "'"));
+  auto mean = [](const std::vector<double>& v) {
+    double s = 0;
+    for (double x : v) s += x;
+    return s / static_cast<double>(v.size());
+  };
+  auto deviation = [&](const std::vector<double>& v) {
+    if (v.size() < 2) return 0.0;
+    const double m = mean(v);
+    double s = 0;
+    for (double x : v) s += (x - m) * (x - m);
+    return std::sqrt(s / static_cast<double>(v.size() - 1));
+  };
+  report.runs = 1 << 30;
+  for (const auto& [key, runs] : at) {
+    if (runs.first.empty() || runs.second.empty()) continue;
+    PositioningTarget t;
+    t.position = static_cast<double>(key) / 1000.0;
+    t.runs_up = static_cast<int>(runs.first.size()), t.runs_down = static_cast<int>(runs.second.size());
+    t.mean_up = mean(runs.first), t.mean_down = mean(runs.second);
+    t.s_up = deviation(runs.first), t.s_down = deviation(runs.second);
+    t.reversal = t.mean_up - t.mean_down;
+    t.repeatability = std::max({2 * t.s_up + 2 * t.s_down + std::abs(t.reversal), 4 * t.s_up, 4 * t.s_down});
+    report.runs = std::min({report.runs, t.runs_up, t.runs_down});
+    report.targets.push_back(t);
+  }
+  if (report.targets.empty())
+    throw Error(ErrorKind::data, fmt::format("no target along {} is approached from both sides: ISO 230-2 needs "
+                                             "bidirectional runs", letter));
+  // The axis' figures (ISO 230-2 sect. 3).
+  double up_hi = -1e300, up_lo = 1e300, down_hi = -1e300, down_lo = 1e300, mean_hi = -1e300, mean_lo = 1e300;
+  double a_up_hi = -1e300, a_up_lo = 1e300, a_down_hi = -1e300, a_down_lo = 1e300, b_sum = 0;
+  for (const PositioningTarget& t : report.targets) {
+    up_hi = std::max(up_hi, t.mean_up), up_lo = std::min(up_lo, t.mean_up);
+    down_hi = std::max(down_hi, t.mean_down), down_lo = std::min(down_lo, t.mean_down);
+    const double bidirectional = 0.5 * (t.mean_up + t.mean_down);
+    mean_hi = std::max(mean_hi, bidirectional), mean_lo = std::min(mean_lo, bidirectional);
+    a_up_hi = std::max(a_up_hi, t.mean_up + 2 * t.s_up), a_up_lo = std::min(a_up_lo, t.mean_up - 2 * t.s_up);
+    a_down_hi = std::max(a_down_hi, t.mean_down + 2 * t.s_down), a_down_lo = std::min(a_down_lo, t.mean_down - 2 * t.s_down);
+    report.B = std::max(report.B, std::abs(t.reversal));
+    b_sum += t.reversal;
+    report.R_up = std::max(report.R_up, 4 * t.s_up), report.R_down = std::max(report.R_down, 4 * t.s_down);
+    report.R = std::max(report.R, t.repeatability);
+  }
+  report.B_mean = b_sum / static_cast<double>(report.targets.size());
+  report.E_up = up_hi - up_lo, report.E_down = down_hi - down_lo;
+  report.E = std::max(up_hi, down_hi) - std::min(up_lo, down_lo);
+  report.M = mean_hi - mean_lo;
+  report.A_up = a_up_hi - a_up_lo, report.A_down = a_down_hi - a_down_lo;
+  report.A = std::max(a_up_hi, a_down_hi) - std::min(a_up_lo, a_down_lo);
+
+  // Seed 002: the mean deviation is cumulative (a smooth curve: a cubic here) plus periodic
+  // (the pitch); the reversal is B_mean. The period is the best of a scan from 2.5 target
+  // spacings to half the travel, kept when it takes a third of what the cubic leaves.
+  const auto n = static_cast<Eigen::Index>(report.targets.size());
+  Eigen::VectorXd x(n), y(n);
+  for (Eigen::Index i = 0; i < n; ++i) {
+    const PositioningTarget& t = report.targets[static_cast<std::size_t>(i)];
+    x[i] = t.position;
+    y[i] = 0.5 * (t.mean_up + t.mean_down);
+  }
+  const double centre = 0.5 * (x.maxCoeff() + x.minCoeff()), half = std::max(0.5 * (x.maxCoeff() - x.minCoeff()), 1e-9);
+  auto design = [&](double period) {
+    Eigen::MatrixXd D(n, period > 0 ? 6 : 4);
+    for (Eigen::Index i = 0; i < n; ++i) {
+      const double u = (x[i] - centre) / half;
+      D(i, 0) = 1, D(i, 1) = u, D(i, 2) = u * u, D(i, 3) = u * u * u;
+      if (period > 0) D(i, 4) = std::cos(2 * M_PI * x[i] / period), D(i, 5) = std::sin(2 * M_PI * x[i] / period);
+    }
+    return D;
+  };
+  auto solve = [&](double period, Eigen::VectorXd& c) {
+    const Eigen::MatrixXd D = design(period);
+    if (n <= D.cols()) return 1e300;
+    c = D.colPivHouseholderQr().solve(y);
+    return (y - D * c).squaredNorm();
+  };
+  report.cumulative.assign(4, 0.0);
+  if (n < 5) {  // too few targets for a cubic: the mean deviation is the cumulative part
+    report.cumulative[0] = y.mean();
+    report.rms_left = std::sqrt((y.array() - y.mean()).square().mean());
+    return report;
+  }
+  Eigen::VectorXd cubic, with_period;
+  const double sse_cubic = solve(0.0, cubic);
+  double best_sse = sse_cubic, best_period = 0.0;
+  const double spacing = (x.maxCoeff() - x.minCoeff()) / std::max<double>(1.0, static_cast<double>(n - 1));
+  const double from = 2.5 * spacing, to = half;
+  if (n > 8 && to > from) {
+    const int points = static_cast<int>(std::clamp(4.0 * (2 * half) / from, 20.0, 4000.0));
+    for (int k = 0; k < points; ++k) {
+      const double f = 1.0 / from + (1.0 / to - 1.0 / from) * k / (points - 1);
+      Eigen::VectorXd c;
+      const double sse = solve(1.0 / f, c);
+      if (sse < best_sse) best_sse = sse, best_period = 1.0 / f;
+    }
+  }
+  if (best_period > 0 && best_sse < sse_cubic / 3.0) {
+    solve(best_period, with_period);
+    report.period = best_period;
+    report.periodic_amplitude = std::hypot(with_period[4], with_period[5]);
+    cubic = with_period.head(4);
+  } else {
+    best_sse = sse_cubic;
+  }
+  // The cubic back in mm per mm^k (from the centred, scaled position).
+  for (int k = 0; k < 4; ++k) {
+    // sum_k c_k ((x - centre) / half)^k, expanded in powers of x
+    for (int j = 0; j <= k; ++j) {
+      const double binomial = k == 3 ? (j == 0 || j == 3 ? 1 : 3) : k == 2 ? (j == 1 ? 2 : 1) : 1;
+      report.cumulative[static_cast<std::size_t>(j)] +=
+          cubic[k] * binomial * std::pow(-centre, k - j) / std::pow(half, k);
+    }
+  }
+  report.rms_left = std::sqrt(best_sse / static_cast<double>(n));
+  return report;
+}
+
+}  // namespace ccomp::identify
