@@ -5,6 +5,8 @@ set -euo pipefail
 packages=(cmake ninja-build g++ pkg-config
           libeigen3-dev libcli11-dev libfmt-dev libyaml-cpp-dev tao-pegtl-dev
           libgtest-dev libgmock-dev libbenchmark-dev bc time
+          # headless Chromium renders the HTML report in its test
+          chromium
           # what LinuxCNC's rs274 (the differential-test oracle) links against
           libpython3.11 libedit2 libtirpc3)
 missing=()

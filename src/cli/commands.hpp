@@ -72,6 +72,7 @@ struct IdentifyArgs {
   std::vector<std::string> add;      ///< terms to add (YAML flow mappings)
   bool robust = false;
   bool json = false;
+  std::string report;  ///< check: the HTML page to write
   double tool_length = 100.0;
   // simulate
   std::vector<std::string> plans{"nine_lines"};

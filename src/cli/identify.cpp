@@ -13,6 +13,7 @@
 #include "ccomp/identify/fit.hpp"
 #include "ccomp/identify/positioning.hpp"
 #include "ccomp/identify/simulate.hpp"
+#include "ccomp/report/html_report.hpp"
 #include "commands.hpp"
 
 namespace ccomp::cli {
@@ -90,6 +91,7 @@ CLI::App* add_check(CLI::App& app, IdentifyArgs& args) {
   cmd->add_option("measurements", args.measurements, "measurement files (CSV)")->required();
   add_common(*cmd, args);
   cmd->add_flag("--json", args.json, "the report as JSON on stdout");
+  cmd->add_option("--report", args.report, "also write the check as one self-contained HTML page");
   return cmd;
 }
 
@@ -176,6 +178,13 @@ int run_check(const IdentifyArgs& args) {
   identify::DiagnoseOptions options;
   options.noise = r.noise_floor;
   const identify::Diagnosis d = identify::diagnose(forward, data, options);
+  if (!args.report.empty()) {
+    const identify::FitReport refit = identify::fit(forward, data);
+    const Eigen::VectorXd before = identify::residuals(forward, identify::model_parameters(forward), data);
+    const Eigen::VectorXd after = identify::residuals(forward, refit.all_parameters, data);
+    write_text(args.report, report::html_check_report({m, data, r, d, refit, before, after}));
+    if (!args.json) fmt::print("wrote {}\n", args.report);
+  }
   if (args.json) {
     std::string sources, regions, suggestions;
     for (const identify::SourceResidual& s : r.sources)

@@ -1,0 +1,30 @@
+#pragma once
+// The check as one self-contained HTML page (no network: inline SVG, no scripts): the
+// residual against every variable before and after refitting, error maps over the
+// workspace, spectra along each linear axis, the missing effects, the regions, the
+// identifiability of the model's parameters.
+#include <string>
+
+#include <Eigen/Core>
+
+#include "ccomp/identify/check.hpp"
+#include "ccomp/identify/diagnose.hpp"
+#include "ccomp/identify/fit.hpp"
+#include "ccomp/identify/measurements.hpp"
+#include "ccomp/model/machine.hpp"
+
+namespace ccomp::report {
+
+struct CheckReportInput {
+  const model::MachineModel& model;
+  const identify::MeasurementSet& data;
+  const identify::CheckReport& check;
+  const identify::Diagnosis& diagnosis;
+  const identify::FitReport& fit;          ///< the model refitted to the data
+  const Eigen::VectorXd& residual_before;  ///< mm, the model as it is
+  const Eigen::VectorXd& residual_after;   ///< mm, refitted
+};
+
+[[nodiscard]] std::string html_check_report(const CheckReportInput& in);
+
+}  // namespace ccomp::report
