@@ -92,6 +92,8 @@ int run_fit(const IdentifyArgs& args);
 int run_check(const IdentifyArgs& args);
 int run_simulate(const IdentifyArgs& args);
 CLI::App* add_positioning(CLI::App& app, IdentifyArgs& args);
+CLI::App* add_nine_line(CLI::App& app, IdentifyArgs& args);
+int run_nine_line(const IdentifyArgs& args);
 int run_positioning(const IdentifyArgs& args);
 
 }  // namespace ccomp::cli

@@ -11,6 +11,7 @@
 #include "ccomp/identify/check.hpp"
 #include "ccomp/identify/diagnose.hpp"
 #include "ccomp/identify/fit.hpp"
+#include "ccomp/identify/nine_line.hpp"
 #include "ccomp/identify/positioning.hpp"
 #include "ccomp/identify/simulate.hpp"
 #include "ccomp/report/html_report.hpp"
@@ -273,6 +274,57 @@ int run_positioning(const IdentifyArgs& args) {
              r.cumulative[1] * um, r.cumulative[2] * um, r.cumulative[3] * um);
   if (r.period > 0) fmt::print("; periodic {:.4g} mm, {:.3f} um", r.period, r.periodic_amplitude * um);
   fmt::print("; reversal {:+.3f} um; {:.3f} um left\n", r.B_mean * um, r.rms_left * um);
+  return 0;
+}
+
+CLI::App* add_nine_line(CLI::App& app, IdentifyArgs& args) {
+  CLI::App* cmd = app.add_subcommand("nine-line", "seed 003: a 3-axis machine's geometric errors from nine laser lines, "
+                                                  "their sensitivity to line placement, and a better placement");
+  cmd->add_option("measurements", args.measurements, "the nine lines (CSV; sources x-line1 .. z-line3)")->required();
+  add_common(*cmd, args);
+  cmd->add_option("-o,--output", args.output, "the fitted model (YAML)");
+  return cmd;
+}
+
+int run_nine_line(const IdentifyArgs& args) {
+  const std::string text = read_text(args.model);
+  const model::MachineModel m = model::parse_machine_model(text, args.model);
+  const model::ForwardModel forward(m);
+  const identify::MeasurementSet data = read_all(args, m);
+  print_summary(data);
+  const identify::NineLineReport r = identify::nine_line(forward, data);
+  fmt::print("fit: {} free parameters, {} combinations determined by the lines; rms {:.3f} -> {:.3f} um\n",
+             r.fit.parameters.size(), r.fit.rank, r.fit.rms_before * 1e3, r.fit.rms_after * 1e3);
+  for (const identify::FittedParameter& p : r.fit.parameters) {
+    const model::ErrorTermSpec& t = m.terms[p.term];
+    const std::size_t k = p.index - forward.parameter_offset(p.term);
+    fmt::print("  {:<14} {:>12} +- {:<10} {}\n", p.label, readable(t, k, p.after), readable(t, k, p.uncertainty),
+               p.identified ? "" : "(not determined by nine lines alone)");
+  }
+  fmt::print("placement sensitivity (change of the fitted value per mm a line sits off, in the file's units):\n");
+  for (const identify::PlacementSensitivity& s : r.sensitivity) {
+    std::size_t term = 0;
+    for (const identify::FittedParameter& p : r.fit.parameters)
+      if (p.label == s.parameter) term = p.term;
+    const model::ErrorTermSpec& t = m.terms[term];
+    std::size_t k = 0;
+    for (const identify::FittedParameter& p : r.fit.parameters)
+      if (p.label == s.parameter) k = p.index - forward.parameter_offset(p.term);
+    fmt::print("  {:<14} {:>12} per mm  (most by {})\n", s.parameter, readable(t, k, s.per_mm), s.line);
+  }
+  fmt::print("placement of lines 1 and 3 (fraction of the workspace from its edges) against overall sensitivity:\n");
+  for (const auto& [inset, value] : r.placements) fmt::print("  {:4.2f}  {:.4g}\n", inset, value);
+  fmt::print("recommended: lines 1 and 3 at {:.2f} of the workspace from its edges (seed 003: spread them across it)\n",
+             r.recommended_inset);
+  if (!args.output.empty()) {
+    std::vector<Eigen::VectorXd> per_term;
+    for (std::size_t t = 0; t < m.terms.size(); ++t)
+      per_term.push_back(r.fit.all_parameters.segment(static_cast<Eigen::Index>(forward.parameter_offset(t)), m.terms[t].parameters.size()));
+    write_text(args.output, model::rewrite_parameters(text, m, per_term,
+                                                      fmt::format("{{method: nine-line, observations: {}, rms_after_um: {:.4f}}}",
+                                                                  data.observations.size(), r.fit.rms_after * 1e3)));
+    fmt::print("wrote {}\n", args.output);
+  }
   return 0;
 }
 

@@ -36,11 +36,12 @@ int main(int argc, char** argv) {
   ccomp::cli::CheckArgs predict, verify;
   CLI::App* predict_cmd = ccomp::cli::add_predict(app, predict);
   CLI::App* verify_cmd = ccomp::cli::add_verify(app, verify);
-  ccomp::cli::IdentifyArgs fit, check, simulate, positioning;
+  ccomp::cli::IdentifyArgs fit, check, simulate, positioning, nine_line;
   CLI::App* fit_cmd = ccomp::cli::add_fit(app, fit);
   CLI::App* check_cmd = ccomp::cli::add_check(app, check);
   CLI::App* simulate_cmd = ccomp::cli::add_simulate(app, simulate);
   CLI::App* positioning_cmd = ccomp::cli::add_positioning(app, positioning);
+  CLI::App* nine_line_cmd = ccomp::cli::add_nine_line(app, nine_line);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -55,6 +56,7 @@ int main(int argc, char** argv) {
     if (check_cmd->parsed()) return ccomp::cli::run_check(check);
     if (simulate_cmd->parsed()) return ccomp::cli::run_simulate(simulate);
     if (positioning_cmd->parsed()) return ccomp::cli::run_positioning(positioning);
+    if (nine_line_cmd->parsed()) return ccomp::cli::run_nine_line(nine_line);
     return ccomp::cli::run_compensate(compensate);
   } catch (const ccomp::Error& e) {
     fmt::print(stderr, "{}\n", ccomp::format_error(e));

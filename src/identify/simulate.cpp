@@ -84,7 +84,9 @@ MeasurementSet simulate(const model::ForwardModel& truth, const SimulateOptions&
         // only; lines 1 and 3 spread across the workspace (seed 003's advice).
         for (int a = 0; a < 3; ++a) {
           const int u = (a + 1) % 3, w = (a + 2) % 3;
-          const double offsets[3][2] = {{inset(u, 0.1), inset(w, 0.1)}, {mid(u), mid(w)}, {inset(u, 0.9), inset(w, 0.9)}};
+          const double edge = options.line_inset;
+          const double offsets[3][2] = {
+              {inset(u, edge), inset(w, edge)}, {mid(u), mid(w)}, {inset(u, 1 - edge), inset(w, 1 - edge)}};
           for (int line = 0; line < 3; ++line) {
             const std::string label = fmt::format("{}-line{}", static_cast<char>(std::tolower(letters[a])), line + 1);
             for (int pass = 0; pass < 2 * std::max(1, options.runs); ++pass) {  // out and back, each run

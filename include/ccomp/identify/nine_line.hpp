@@ -1,0 +1,35 @@
+#pragma once
+// Seed 003's nine-line method as a workflow: from nine laser lines alone (three per axis,
+// positioning on all, straightness on lines 1 and 2) the geometric errors of a 3-axis
+// machine are fitted; then how far each identified error moves per millimetre that a
+// line was placed off its assumed position, and which placement of lines 1 and 3 would
+// make that smallest.
+#include <string>
+#include <vector>
+
+#include "ccomp/identify/fit.hpp"
+#include "ccomp/identify/measurements.hpp"
+#include "ccomp/model/forward.hpp"
+
+namespace ccomp::identify {
+
+struct PlacementSensitivity {
+  std::string parameter;  ///< "EYX.a1", "EC0X"
+  double per_mm = 0.0;    ///< change of the fitted value per mm of line misplacement (internal units per mm)
+  std::string line;       ///< the source (line) and direction whose misplacement moves it most
+};
+
+struct NineLineReport {
+  FitReport fit;
+  std::vector<PlacementSensitivity> sensitivity;  ///< the identified parameters, largest first
+  /// Placement study: lines 1 and 3 at `inset` of the workspace from its edges, and the
+  /// root-sum-square sensitivity (scaled by each parameter's effect) that gives.
+  std::vector<std::pair<double, double>> placements;
+  double recommended_inset = 0.0;
+};
+
+/// Fits `model` to the nine-line `data` (sources named like "x-line1") and studies the
+/// placement. The model's free terms are what is identified.
+[[nodiscard]] NineLineReport nine_line(const model::ForwardModel& model, const MeasurementSet& data);
+
+}  // namespace ccomp::identify
