@@ -60,7 +60,9 @@ Plan plan_from_name(const std::string& name) {
   if (name == "grid") return Plan::grid;
   if (name == "sphere") return Plan::sphere;
   if (name == "thermal") return Plan::thermal;
-  throw Error(ErrorKind::usage, fmt::format("unknown measurement plan '{}' (nine_lines, grid, sphere, thermal)", name));
+  if (name == "test_piece") return Plan::test_piece;
+  throw Error(ErrorKind::usage,
+              fmt::format("unknown measurement plan '{}' (nine_lines, grid, sphere, thermal, test_piece)", name));
 }
 
 MeasurementSet simulate(const model::ForwardModel& truth, const SimulateOptions& options) {
@@ -126,6 +128,20 @@ MeasurementSet simulate(const model::ForwardModel& truth, const SimulateOptions&
           for (const auto& [px, pz] : {std::pair{150.0, 0.0}, std::pair{-60.0, 100.0}})
             for (double y : {mid(1) - 50, mid(1) + 50})
               rec.record("sphere", px, y, pz, -180.0 + 360.0 * k / count, options.tool_length, 0, cold, {}, {e[0], e[1], e[2]});
+        break;
+      }
+      case Plan::test_piece: {
+        if (!has_b) break;
+        // Seed 001: a cube on the table centre; at B = 0, 90, 180, 270 deg the face toward
+        // the spindle (+Z) and a side face (+X) are cut, then probed on a CMM at 3 x 3
+        // points along their normals: the error-sensitive directions of the cut.
+        for (double b : {0.0, 90.0, 180.0, 270.0})
+          for (int i = 0; i < 3; ++i)
+            for (int j = 0; j < 3; ++j) {
+              const double u = -40.0 + 40.0 * i, v = -40.0 + 40.0 * j;
+              rec.record(fmt::format("face-b{:g}-top", b), u, v, 60.0, b, options.tool_length, 0, cold, {}, {e[2]});
+              rec.record(fmt::format("face-b{:g}-side", b), 60.0, v, u, b, options.tool_length, 0, cold, {}, {e[0]});
+            }
         break;
       }
       case Plan::thermal: {

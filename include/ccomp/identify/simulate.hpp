@@ -15,6 +15,7 @@ enum class Plan : std::uint8_t {
   grid,        ///< a volumetric grid of full deviations at several tool lengths
   sphere,      ///< a sphere on the table probed at rotary angles
   thermal,     ///< a drift test: fixed points over hours, sensors warming up
+  test_piece,  ///< seed 001: faces cut at B 0/90/180/270 deg, probed on a CMM along their normals
 };
 
 /// "nine_lines" -> Plan; throws ccomp::Error (usage) naming the known plans.
