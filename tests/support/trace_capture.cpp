@@ -10,6 +10,8 @@
 #include <regex>
 #include <sstream>
 
+#include <gtest/gtest.h>
+
 #include "ccomp/gcode/trace.hpp"
 
 namespace ccomp::test {
@@ -204,8 +206,11 @@ std::optional<std::string> compare_calls(const std::vector<std::string>& actual,
   return std::nullopt;
 }
 
+// The file helpers fail the test that calls them when the file cannot be opened: a
+// missing fixture or an unwritable folder must not pass as an empty text.
 std::vector<std::string> read_lines(const std::string& path) {
   std::ifstream in(path);
+  if (!in) ADD_FAILURE() << "cannot read " << path;
   std::vector<std::string> lines;
   for (std::string l; std::getline(in, l);) lines.push_back(l);
   return lines;
@@ -213,6 +218,7 @@ std::vector<std::string> read_lines(const std::string& path) {
 
 std::string read_file(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
+  if (!in) ADD_FAILURE() << "cannot read " << path;
   std::ostringstream s;
   s << in.rdbuf();
   return s.str();
@@ -220,7 +226,7 @@ std::string read_file(const std::string& path) {
 
 void write_file(const std::string& path, const std::string& text) {
   std::ofstream out(path, std::ios::binary);
-  out << text;
+  if (!(out << text)) ADD_FAILURE() << "cannot write " << path;
 }
 
 std::string shell_quote(const std::string& s) {
@@ -236,6 +242,7 @@ CommandResult run_command(const std::string& command, const std::string& stdin_t
   const std::string full = "(" + command + ") < " + shell_quote(dir + "/in") + " > " + shell_quote(dir + "/out") +
                            " 2> " + shell_quote(dir + "/err");
   const int status = std::system(full.c_str());
+  EXPECT_NE(status, -1) << "the shell could not be started for: " << command;
   CommandResult r;
   r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
   r.out = read_file(dir + "/out");

@@ -2,6 +2,7 @@
 // rest on must report a difference when there is one, or every test built on them passes.
 #include "trace_capture.hpp"
 
+#include <gtest/gtest-spi.h>
 #include <gtest/gtest.h>
 
 namespace ccomp::test {
@@ -53,6 +54,16 @@ TEST(RunProgram, RecordsTheMotionsOfAProgramAndRefusesABadOne) {
   const RunResult bad = run_program("G21\nG1 X1\nM2\n");  // a feed move without a feed rate
   EXPECT_TRUE(bad.error);
   EXPECT_DOUBLE_EQ(evaluate("[2 + 3] * 4"), 20.0);
+}
+
+TEST(TraceCapture, FileHelpersFailTheTestOnAMissingFile) {
+  EXPECT_NONFATAL_FAILURE((void)read_file("/nonexistent/fixture.ngc"), "cannot read /nonexistent/fixture.ngc");
+  EXPECT_NONFATAL_FAILURE((void)read_lines("/nonexistent/expected"), "cannot read");
+  EXPECT_NONFATAL_FAILURE(write_file("/nonexistent/dir/out.ngc", "x"), "cannot write");
+  const std::string path = temp_dir("helpers") + "/round.txt";
+  write_file(path, "a\nb\n");
+  EXPECT_EQ(read_file(path), "a\nb\n");
+  EXPECT_EQ(read_lines(path), (std::vector<std::string>{"a", "b"}));
 }
 
 }  // namespace
