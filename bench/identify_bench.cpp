@@ -6,6 +6,7 @@
 
 #include <chrono>
 #include <cstdlib>
+#include <fstream>
 #include <random>
 #include <string>
 
@@ -14,25 +15,19 @@
 
 namespace {
 
-constexpr const char* kChain = R"(
-name: bench-hmc
-axes: {X: {min: -500, max: 500}, Y: {min: -450, max: 450}, Z: {min: -500, max: 500}, B: {type: rotary}}
-chain:
-  workpiece:
-    - {link: X, axis: X, direction: [-1, 0, 0]}
-    - {link: Z, axis: Z, direction: [0, 0, -1]}
-    - {link: B, axis: B, direction: [0, -1, 0], offset: [0, 0, -400 mm]}
-  tool:
-    - {link: Y, axis: Y, direction: [0, 1, 0]}
-    - {link: S}
-    - {link: tool, tool_length: [0, 0, -1]}
-terms:
-)";
+/// The sample HMC's axes and chains (everything before its terms), to which the bench
+/// adds terms of its own.
+std::string sample_chain() {
+  std::ifstream in(CCOMP_SOURCE_DIR "/samples/machines/hmc-xyzb-geometric.yaml");
+  std::string text, line;
+  while (std::getline(in, line) && line != "terms:") text += line + "\n";
+  return text + "terms:\n";
+}
 
 /// The 18 error motions of X, Y, Z as laser-run tables of `knots` values each, and the 12
 /// table errors as harmonics: 18 knots + 12 x 2 parameters, all free.
 std::string model_text(int knots, double scale) {
-  std::string text = kChain;
+  std::string text = sample_chain();
   std::mt19937 rng(3);
   std::uniform_real_distribution<double> u(-1, 1);
   const char* axes = "XYZ";

@@ -55,22 +55,27 @@ void Compensator::approach(const ChainQ& start, const ChainQ& end) {
   }
 }
 
-void Compensator::rapid(const ChainQ& end, std::vector<CompensatedPoint>& out, MoveReport& report) {
-  out.clear();
-  if (!commanded_.allFinite()) commanded_ = end;
-  approach(commanded_, end);
-  ChainQ q = point(end, report);
-  // An axis the rapid does not move still travels by its correction: that travel decides
+bool Compensator::approach_by_travel(const ChainQ& from, const ChainQ& to) {
+  // An axis the move barely names still travels by its correction: that travel decides
   // which way it approaches.
   auto& need = options_.conditions.directions;
   bool changed = false;
   for (std::size_t i = 0; i < need.size(); ++i) {
     const auto k = static_cast<Eigen::Index>(i);
-    if (!model_.has_reversal(i) || std::abs(q[k] - commanded_[k]) <= 10 * still(i)) continue;
-    const double travel = q[k] > commanded_[k] ? 1.0 : -1.0;
+    if (!model_.has_reversal(i) || std::abs(to[k] - from[k]) <= 10 * still(i)) continue;
+    const double travel = to[k] > from[k] ? 1.0 : -1.0;
     if (travel != need[i]) need[i] = travel, changed = true;
   }
-  if (changed) q = point(end, report);
+  return changed;
+}
+
+void Compensator::rapid(const ChainQ& end, std::vector<CompensatedPoint>& out, MoveReport& report) {
+  out.clear();
+  if (!commanded_.allFinite()) commanded_ = end;
+  approach(commanded_, end);
+  ChainQ q = point(end, report);
+  if (approach_by_travel(commanded_, q)) q = point(end, report);
+  auto& need = options_.conditions.directions;
   out.push_back({1.0, q, false});
   command(q);
   // A rapid shorter than an axis' play leaves it part-way through: the axis goes back
@@ -150,20 +155,11 @@ void Compensator::straight(const ChainQ& start, const ChainQ& end, std::vector<C
   approach(start, end);
   ChainQ a = point(start, report);
   ChainQ b = point(end, report);
-  // An axis the move barely names still travels by its correction: that travel decides
-  // which way it must approach.
-  auto& need = options_.conditions.directions;
-  bool changed = false;
-  for (std::size_t i = 0; i < need.size(); ++i) {
-    const auto k = static_cast<Eigen::Index>(i);
-    if (!model_.has_reversal(i) || std::abs(b[k] - a[k]) <= 10 * still(i)) continue;
-    const double travel = b[k] > a[k] ? 1.0 : -1.0;
-    if (travel != need[i]) need[i] = travel, changed = true;
-  }
-  if (changed) {
+  if (approach_by_travel(a, b)) {
     a = point(start, report);
     b = point(end, report);
   }
+  auto& need = options_.conditions.directions;
   // Settled within 1% of the play: the take-up's travel differs from the lost motion by
   // what the rest of the error field changes with the approach.
   auto unsettled = [&] {

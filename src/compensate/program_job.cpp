@@ -231,8 +231,6 @@ class JobSink : public gcode::CanonSink {
     if (holes > 1)
       throw Error(ErrorKind::unsupported, "a canned cycle with L repeats drills several holes in one block; "
                   "compensating it is not implemented yet", SourceLocation{input_.name(), c.line, 0}, c.text);
-    const gcode::PlaneAxes pa = gcode::plane_axes(first->arc.plane);
-    (void)pa;
     MoveReport move;
     const model::ChainQ r_nominal = chain_of(first->start, c.offsets), bottom_nominal = chain_of(last->end, c.offsets);
     // The hole is approached the way the cycle travels to it: across to it, then down.
@@ -309,7 +307,6 @@ class JobSink : public gcode::CanonSink {
     const bool inch = m.units == gcode::Units::inch;
     const double unit = inch ? 25.4 : 1.0;
     const bool incremental = m.incremental;
-    const gcode::Axes nominal_program = m.offsets->program_of(m.end);
     std::vector<gcode::Edit> edits;
     std::string appended;
     double previous_s = 0.0;
@@ -344,7 +341,6 @@ class JobSink : public gcode::CanonSink {
           edits.push_back(gcode::Edit{{insert_at, insert_at}, std::string(" ") + letter + text});
         else
           segment += std::string(" ") + letter + text;
-        (void)nominal_program;
       }
       // A take-up finer than the program's digits moves nothing: no line for it.
       if (k > 0 && points_[k].take_up && segment.size() == bare) continue;

@@ -80,9 +80,16 @@ struct Evaluator {
   }
 };
 
+/// However a motion's callback returns, the play has followed the move.
+struct FollowPlay {
+  Evaluator& ev;
+  const model::ChainQ &a, &b;
+  ~FollowPlay() { ev.finish_move(a, b); }
+};
+
 /// The nominal pieces of one motion: an arc, or a straight move sampled (a move of the
 /// rotary axes curves in the table frame).
-void nominal_pieces(const gcode::Motion& m, Evaluator& ev, int samples, std::deque<Piece>& out) {
+void nominal_pieces(const gcode::Motion& m, Evaluator& ev, std::deque<Piece>& out) {
   const gcode::Offsets& o = *m.offsets;
   if (m.kind == gcode::MotionKind::arc) {
     const gcode::PlaneAxes pa = gcode::plane_axes(m.arc.plane);
@@ -107,7 +114,6 @@ void nominal_pieces(const gcode::Motion& m, Evaluator& ev, int samples, std::deq
     return;
   }
   const model::ChainQ a = chain_of(m.start, o), b = chain_of(m.end, o);
-  (void)samples;
   // A move of a rotary axis curves in the table frame: bisect until each chord is within
   // 0.01 um of the path, so the reference is much finer than any tolerance checked.
   std::function<void(double, double, const Eigen::Vector3d&, const Eigen::Vector3d&, int)> add =
@@ -152,11 +158,7 @@ PathError predict(gcode::LineSource& program, const model::ForwardModel& model, 
   double sum2 = 0.0;
   each_motion(program, options, [&](const gcode::Motion& m) {
     const model::ChainQ a = chain_of(m.start, *m.offsets), b = chain_of(m.end, *m.offsets);
-    struct Finish {  // however the lambda returns, the play has followed the move
-      Evaluator& ev;
-      const model::ChainQ &a, &b;
-      ~Finish() { ev.finish_move(a, b); }
-    } finish{ev, a, b};
+    const FollowPlay follow{ev, a, b};
     if (m.kind == gcode::MotionKind::traverse || m.kind == gcode::MotionKind::probe) return;
     ++e.moves;
     const int samples = 2 * model.check_points(a, b, options.samples);
@@ -182,18 +184,14 @@ PathError verify(gcode::LineSource& original, gcode::LineSource& compensated, co
   ev.play = options.conditions.directions;
   std::deque<Piece> pieces;
   each_motion(original, options, [&](const gcode::Motion& m) {
-    if (m.kind == gcode::MotionKind::feed || m.kind == gcode::MotionKind::arc) nominal_pieces(m, ev, options.samples, pieces);
+    if (m.kind == gcode::MotionKind::feed || m.kind == gcode::MotionKind::arc) nominal_pieces(m, ev, pieces);
   });
   PathError e;
   double sum2 = 0.0;
   std::size_t cursor = 0;
   each_motion(compensated, options, [&](const gcode::Motion& m) {
     const model::ChainQ a = chain_of(m.start, *m.offsets), b = chain_of(m.end, *m.offsets);
-    struct Finish {
-      Evaluator& ev;
-      const model::ChainQ &a, &b;
-      ~Finish() { ev.finish_move(a, b); }
-    } finish{ev, a, b};
+    const FollowPlay follow{ev, a, b};
     if (m.kind != gcode::MotionKind::feed && m.kind != gcode::MotionKind::arc) return;
     ++e.moves;
     const int samples = 2 * model.check_points(a, b, options.samples);  // finer than the job checks

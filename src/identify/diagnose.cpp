@@ -49,6 +49,16 @@ struct Candidate {
   std::function<std::string(const Eigen::VectorXd&, double)> yaml;
 };
 
+/// Makes `c` a sinusoid of a scanned period in `variable` (mm, deg): cos and sin.
+void periodic_in(Candidate& c, std::function<double(const Observation&)> variable) {
+  c.basis_count = 2;
+  c.basis = [variable](const Observation& o, int k, double period) {
+    const double phase = 2 * kPi * variable(o) / period;
+    return k == 0 ? std::cos(phase) : std::sin(phase);
+  };
+  c.phase_variable = std::move(variable);
+}
+
 /// The refitted model's residual and the basis of what its free parameters can absorb.
 struct Projector {
   Eigen::VectorXd r;  // residual, orthogonal to the base columns
@@ -98,10 +108,10 @@ Diagnosis diagnose(const model::ForwardModel& model, const MeasurementSet& data,
   // The base model refitted to the data, and what its free parameters can absorb.
   Projector base;
   {
-    const FitReport fitted = fit(model, data);
+    out.refit = fit(model, data);
     const std::vector<std::size_t> free = free_parameters(model);
     Eigen::MatrixXd J;
-    design_matrix(model, fitted.all_parameters, data, free, base.r, free.empty() ? nullptr : &J);
+    design_matrix(model, out.refit.all_parameters, data, free, base.r, free.empty() ? nullptr : &J);
     if (!free.empty()) {
       Eigen::VectorXd scale(J.cols());
       for (Eigen::Index j = 0; j < J.cols(); ++j) scale[j] = std::max(J.col(j).norm(), 1e-300);
@@ -204,12 +214,7 @@ Diagnosis diagnose(const model::ForwardModel& model, const MeasurementSet& data,
       c.effect = fmt::format("periodic error of the {} axis' positioning (lead-screw pitch or scale pitch)", kAxisLetters[a.index]);
       c.error = own, c.term = own, c.variable = v, c.form = "periodic";
       c.probe = probe(a.link, a.own);
-      c.basis_count = 2;
-      c.basis = [&a, position](const Observation& o, int k, double period) {
-        const double phase = 2 * kPi * position(o, a) / period;
-        return k == 0 ? std::cos(phase) : std::sin(phase);
-      };
-      c.phase_variable = [&a, position](const Observation& o) { return position(o, a); };
+      periodic_in(c, [&a, position](const Observation& o) { return position(o, a); });
       // Periods below 2.5 steps of the data along the axis would alias.
       c.scan_from = std::max(2.0, 2.5 * a.step), c.scan_to = span / 2.0;
       // Two frequencies per peak width (1 / span): a peak is seen at 80% of its height or
@@ -335,12 +340,7 @@ Diagnosis diagnose(const model::ForwardModel& model, const MeasurementSet& data,
       w.effect = fmt::format("periodic indexing error of the {} table (a worm wheel's tooth period)", kAxisLetters[a.index]);
       w.error = own, w.term = own, w.variable = v, w.form = "periodic";
       w.probe = probe(a.link, a.own);
-      w.basis_count = 2;
-      w.basis = [&a, position](const Observation& o, int k, double period) {
-        const double phase = 2 * kPi * (position(o, a) / kRadPerDeg) / period;
-        return k == 0 ? std::cos(phase) : std::sin(phase);
-      };
-      w.phase_variable = [&a, position](const Observation& o) { return position(o, a) / kRadPerDeg; };
+      periodic_in(w, [&a, position](const Observation& o) { return position(o, a) / kRadPerDeg; });
       w.scan_from = std::max(1.0, 2.5 * a.step), w.scan_to = std::min(90.0, span / 2.0);
       w.scan_points = static_cast<int>(std::clamp(2.0 * span / w.scan_from, 50.0, 6000.0));
       w.yaml = [own, file_value, component = a.own](const Eigen::VectorXd& x, double period) {

@@ -17,9 +17,11 @@ namespace {
 constexpr double kRadPerDeg = 3.14159265358979323846 / 180.0;
 constexpr std::string_view kAxes = "xyzabcuvw";
 
-/// Splits one CSV line; fields may be double-quoted (a source label with a comma).
-std::vector<std::string> split(std::string_view line) {
-  std::vector<std::string> fields(1);
+/// Splits one CSV line into its fields (blanks around them trimmed; double quotes allow a
+/// comma in a source label) and the 1-based column where each starts in the line.
+void split(std::string_view line, std::vector<std::string>& fields, std::vector<std::uint32_t>& columns) {
+  fields.assign(1, std::string());
+  columns.assign(1, 1);
   bool quoted = false;
   for (std::size_t i = 0; i < line.size(); ++i) {
     const char c = line[i];
@@ -28,15 +30,13 @@ std::vector<std::string> split(std::string_view line) {
       else quoted = !quoted;
     } else if (c == ',' && !quoted) {
       fields.emplace_back();
+      columns.push_back(static_cast<std::uint32_t>(i + 2));
     } else if (c != '\r') {
-      fields.back() += c;
+      if (fields.back().empty() && (c == ' ' || c == '\t')) ++columns.back();  // leading blanks
+      else fields.back() += c;
     }
   }
-  for (std::string& f : fields) {
-    const auto a = f.find_first_not_of(" \t"), b = f.find_last_not_of(" \t");
-    f = a == std::string::npos ? std::string() : f.substr(a, b - a + 1);
-  }
-  return fields;
+  for (std::string& f : fields) f.erase(f.find_last_not_of(" \t") + 1);
 }
 
 struct Columns {
@@ -61,20 +61,16 @@ void parse_measurements(const std::string& text, const std::string& name, const 
   };
   // The header: the first line that is not blank or a # comment.
   std::vector<std::string> header;
+  std::vector<std::uint32_t> column_of_field;  // 1-based text column of each header field
   while (std::getline(in, line)) {
     ++number;
     if (line.find_first_not_of(" \t\r") == std::string::npos || line.front() == '#') continue;
-    header = split(line);
+    split(line, header, column_of_field);
     break;
   }
   if (header.empty()) fail(0, 0, "the file is empty: a measurement file starts with a header row (x,y,z,...)");
   const std::uint32_t header_line = number;
   Columns cols;
-  std::vector<std::uint32_t> column_of_field;  // 1-based text column of each header field
-  {
-    std::uint32_t pos = 1;
-    for (const std::string& h : split(line)) column_of_field.push_back(pos), pos += static_cast<std::uint32_t>(h.size()) + 1;
-  }
   std::vector<int> sensor_column(model.sensors.size(), -1);
   for (std::size_t i = 0; i < header.size(); ++i) {
     const std::string& h = header[i];
@@ -118,15 +114,12 @@ void parse_measurements(const std::string& text, const std::string& name, const 
 
   std::map<std::string, std::uint32_t> source_index;
   for (std::size_t s = 0; s < into.sources.size(); ++s) source_index[into.sources[s]] = static_cast<std::uint32_t>(s);
+  std::vector<std::string> fields;  // reused row after row
+  std::vector<std::uint32_t> at_column;
   while (std::getline(in, line)) {
     ++number;
     if (line.find_first_not_of(" \t\r") == std::string::npos || line.front() == '#') continue;
-    const std::vector<std::string> fields = split(line);
-    std::vector<std::uint32_t> at_column;
-    {
-      std::uint32_t pos = 1;
-      for (const std::string& f : split(line)) at_column.push_back(pos), pos += static_cast<std::uint32_t>(f.size()) + 1;
-    }
+    split(line, fields, at_column);
     if (fields.size() != header.size())
       fail(number, 1, fmt::format("this row has {} fields, the header {}", fields.size(), header.size()));
     auto value = [&](const std::string& column, double fallback) {

@@ -206,22 +206,22 @@ std::string html_check_report(const CheckReportInput& in) {
   // Identifiability.
   html += fmt::format("<h2>Identifiability</h2>\n<p>{} free parameters; the data determine {} combinations "
                       "(condition number {:.3g}), {} of which changed by more than the noise.</p>\n",
-                      in.fit.parameters.size(), in.fit.rank, in.fit.condition_number, in.fit.significant);
-  if (in.fit.singular_values.size() > 0) {
+                      in.diagnosis.refit.parameters.size(), in.diagnosis.refit.rank, in.diagnosis.refit.condition_number, in.diagnosis.refit.significant);
+  if (in.diagnosis.refit.singular_values.size() > 0) {
     Series sv{{}, {}, "#2e7d32", false};
-    for (Eigen::Index k = 0; k < in.fit.singular_values.size(); ++k)
-      if (in.fit.singular_values[k] > 0) {
+    for (Eigen::Index k = 0; k < in.diagnosis.refit.singular_values.size(); ++k)
+      if (in.diagnosis.refit.singular_values[k] > 0) {
         sv.x.push_back(static_cast<double>(k + 1));
-        sv.y.push_back(std::log10(in.fit.singular_values[k] / in.fit.singular_values[0]));
+        sv.y.push_back(std::log10(in.diagnosis.refit.singular_values[k] / in.diagnosis.refit.singular_values[0]));
       }
     html += "<div class=\"charts\">" + chart("singular values (log10, relative)", "combination", "log10 relative", {sv}) + "</div>\n";
   }
   html += "<table><tr><th>parameter</th><th>refitted value (mm, rad)</th><th>uncertainty (1 sigma)</th><th>determined alone</th></tr>\n";
-  for (const identify::FittedParameter& p : in.fit.parameters)
+  for (const identify::FittedParameter& p : in.diagnosis.refit.parameters)
     html += fmt::format("<tr><td>{}</td><td>{:.6g}</td><td>{:.3g}</td><td>{}</td></tr>\n", escape(p.label), p.after,
                         p.uncertainty, p.identified ? "yes" : "no");
   html += "</table>\n";
-  for (const std::string& u : in.fit.unidentifiable) html += "<p>" + escape(u) + "</p>\n";
+  for (const std::string& u : in.diagnosis.refit.unidentifiable) html += "<p>" + escape(u) + "</p>\n";
   return html + "</body></html>\n";
 }
 

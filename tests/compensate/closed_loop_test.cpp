@@ -17,21 +17,47 @@
 namespace ccomp::test {
 namespace {
 
-std::string compensate(const std::string& program, const model::MachineModel& mm, double tolerance,
+const gcode::ToolEntry kTool1{1, 1, {0, 0, 100.0}, 10, ""};  // H1: 100 mm, as in every program here
+
+/// The main job on `program` in memory, with tool 1 in the table.
+std::string compensate(const std::string& program, const model::MachineModel& mm, compensate::JobOptions o,
                        compensate::JobReport* report = nullptr) {
   gcode::LineSource in = gcode::LineSource::from_string(program, "in.ngc");
   char* buffer = nullptr;
   std::size_t size = 0;
   std::FILE* out = open_memstream(&buffer, &size);
-  compensate::JobOptions o;
-  o.tolerance = tolerance;
-  o.interpreter.tools.tools[1] = gcode::ToolEntry{1, 1, {0, 0, 100.0}, 10, ""};
+  o.interpreter.tools.tools[1] = kTool1;
   const compensate::JobReport r = compensate::run_program_job(in, out, mm, o);
   std::fclose(out);
   std::string text(buffer, size);
   std::free(buffer);
   if (report) *report = r;
   return text;
+}
+
+std::string compensate(const std::string& program, const model::MachineModel& mm, double tolerance,
+                       compensate::JobReport* report = nullptr) {
+  compensate::JobOptions o;
+  o.tolerance = tolerance;
+  return compensate(program, mm, o, report);
+}
+
+/// The machine's error on the original (predict) and what is left on the output (verify).
+struct BeforeAfter {
+  compensate::PathError before, after;
+};
+BeforeAfter measure(const std::string& original, const std::string& output, const model::ForwardModel& m,
+                    const model::Conditions& conditions) {
+  compensate::CheckOptions check;
+  check.interpreter.tools.tools[1] = kTool1;
+  check.conditions = conditions;
+  gcode::LineSource a = gcode::LineSource::from_string(original, "in.ngc");
+  gcode::LineSource b = gcode::LineSource::from_string(output, "out.ngc");
+  BeforeAfter r;
+  r.after = compensate::verify(a, b, m, check);
+  gcode::LineSource c = gcode::LineSource::from_string(original, "in.ngc");
+  r.before = compensate::predict(c, m, check);
+  return r;
 }
 
 /// Random straight moves over the workspace at several table angles, G90 and G91.
@@ -84,13 +110,8 @@ TEST(ClosedLoop, ExecutedPathStaysWithinTheTolerance) {
       const std::string original = random_program(seed);
       compensate::JobReport report;
       const std::string output = compensate(original, mm, tolerance, &report);
-      compensate::CheckOptions check;
-      check.interpreter.tools.tools[1] = gcode::ToolEntry{1, 1, {0, 0, 100.0}, 10, ""};
-      gcode::LineSource in = gcode::LineSource::from_string(original, "in.ngc");
-      const double worst_before = compensate::predict(in, m, check).max;
-      gcode::LineSource a = gcode::LineSource::from_string(original, "in.ngc");
-      gcode::LineSource b = gcode::LineSource::from_string(output, "out.ngc");
-      const compensate::PathError left = compensate::verify(a, b, m, check);
+      const auto [before, left] = measure(original, output, m, {});
+      const double worst_before = before.max;
       const double worst = left.max;
       EXPECT_GT(left.points, 300U);
       EXPECT_LE(worst, tolerance + 1e-4) << "seed " << seed << " tolerance " << tolerance << ", worst at line "
@@ -218,28 +239,15 @@ TEST(ClosedLoop, RandomModelsOfEveryForm) {
     const std::string random_terms_text = random_terms(form, rng);
     const model::MachineModel mm = model::parse_machine_model(kRandomChain + random_terms_text, form + ".yaml");
     const model::ForwardModel m(mm);
-    gcode::LineSource in = gcode::LineSource::from_string(random_program(5), "in.ngc");
-    char* buffer = nullptr;
-    std::size_t size = 0;
-    std::FILE* out = open_memstream(&buffer, &size);
     compensate::JobOptions o;
     o.tolerance = 0.001;
     o.time = 1500;
     o.sensors = {{"bed", 26.0}, {"spindle", 34.0}};
-    o.interpreter.tools.tools[1] = gcode::ToolEntry{1, 1, {0, 0, 100.0}, 10, ""};
-    (void)compensate::run_program_job(in, out, mm, o);
-    std::fclose(out);
-    const std::string output(buffer, size);
-    std::free(buffer);
-    compensate::CheckOptions check;
-    check.interpreter.tools.tools[1] = gcode::ToolEntry{1, 1, {0, 0, 100.0}, 10, ""};
-    check.conditions.time = 1500;
-    check.conditions.temperatures = {26.0, 34.0};
-    gcode::LineSource a = gcode::LineSource::from_string(random_program(5), "in.ngc");
-    gcode::LineSource b = gcode::LineSource::from_string(output, "out.ngc");
-    const compensate::PathError left = compensate::verify(a, b, m, check);
-    gcode::LineSource c = gcode::LineSource::from_string(random_program(5), "in.ngc");
-    const compensate::PathError before = compensate::predict(c, m, check);
+    const std::string output = compensate(random_program(5), mm, o);
+    model::Conditions conditions;
+    conditions.time = 1500;
+    conditions.temperatures = {26.0, 34.0};
+    const auto [before, left] = measure(random_program(5), output, m, conditions);
     EXPECT_LE(left.max, 0.001 + 1e-4) << form << ": " << left.max * 1000 << " um left at line " << left.worst_line;
     if (left.max > 0.001 + 1e-4) {  // keep the case for a person to rerun with ccomp verify
       const std::string dir = temp_dir("closed_loop_" + form);
@@ -267,27 +275,16 @@ TEST(ClosedLoop, ShortPeriodErrorsOnLongMovesAreNotSteppedOver) {
             300);
   const std::string program =
       "G21 G90 G94 G54\nT1 M6\nG43 H1\nF1200\nG0 X-100 Y0 Z-100 B0\nG1 X100\nG1 Y10\nG1 X-100\nM30\n";
-  gcode::LineSource in = gcode::LineSource::from_string(program, "in.ngc");
-  char* buffer = nullptr;
-  std::size_t size = 0;
-  std::FILE* out = open_memstream(&buffer, &size);
   compensate::JobOptions o;
   o.sensors = {{"bed", 20.0}, {"spindle", 20.0}};
-  o.interpreter.tools.tools[1] = gcode::ToolEntry{1, 1, {0, 0, 100.0}, 10, ""};
-  const compensate::JobReport report = compensate::run_program_job(in, out, mm, o);
-  std::fclose(out);
-  const std::string output(buffer, size);
-  std::free(buffer);
+  compensate::JobReport report;
+  const std::string output = compensate(program, mm, o, &report);
   EXPECT_GT(report.added_lines, 100U) << "every screw period needs pieces of its own";
-  compensate::CheckOptions check;
-  check.interpreter.tools.tools[1] = gcode::ToolEntry{1, 1, {0, 0, 100.0}, 10, ""};
-  check.conditions.temperatures = {20.0, 20.0};
-  gcode::LineSource a = gcode::LineSource::from_string(program, "in.ngc");
-  gcode::LineSource b = gcode::LineSource::from_string(output, "out.ngc");
-  const compensate::PathError left = compensate::verify(a, b, m, check);
+  model::Conditions conditions;
+  conditions.temperatures = {20.0, 20.0};
+  const auto [before, left] = measure(program, output, m, conditions);
   EXPECT_LE(left.max, 0.001 + 1e-4) << left.max * 1000 << " um left at line " << left.worst_line;
-  gcode::LineSource c = gcode::LineSource::from_string(program, "in.ngc");
-  EXPECT_GT(compensate::predict(c, m, check).max, 0.004) << "predict sees the screw's 5 um";
+  EXPECT_GT(before.max, 0.004) << "predict sees the screw's 5 um";
 }
 
 }  // namespace
@@ -306,26 +303,15 @@ Backlash run_backlash(const std::string& terms, const std::string& program) {
   const model::MachineModel mm = model::parse_machine_model(std::string(kRandomChain) + terms, "backlash.yaml");
   const model::ForwardModel m(mm);
   Backlash r;
-  gcode::LineSource in = gcode::LineSource::from_string(program, "in.ngc");
-  char* buffer = nullptr;
-  std::size_t size = 0;
-  std::FILE* out = open_memstream(&buffer, &size);
   compensate::JobOptions o;
   o.sensors = {{"bed", 20.0}, {"spindle", 20.0}};
-  o.interpreter.tools.tools[1] = gcode::ToolEntry{1, 1, {0, 0, 100.0}, 10, ""};
   o.warning = [&](const std::string& message, std::uint32_t) { r.warnings.push_back(message); };
-  r.report = compensate::run_program_job(in, out, mm, o);
-  std::fclose(out);
-  const std::string output(buffer, size);
-  std::free(buffer);
-  compensate::CheckOptions check;
-  check.interpreter.tools.tools[1] = gcode::ToolEntry{1, 1, {0, 0, 100.0}, 10, ""};
-  check.conditions.temperatures = {20.0, 20.0};
-  gcode::LineSource a = gcode::LineSource::from_string(program, "in.ngc");
-  gcode::LineSource b = gcode::LineSource::from_string(output, "out.ngc");
-  r.after = compensate::verify(a, b, m, check).max;
-  gcode::LineSource c = gcode::LineSource::from_string(program, "in.ngc");
-  r.before = compensate::predict(c, m, check).max;
+  const std::string output = compensate(program, mm, o, &r.report);
+  model::Conditions conditions;
+  conditions.temperatures = {20.0, 20.0};
+  const BeforeAfter e = measure(program, output, m, conditions);
+  r.before = e.before.max;
+  r.after = e.after.max;
   return r;
 }
 

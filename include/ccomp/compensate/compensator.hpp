@@ -76,6 +76,9 @@ class Compensator {
              std::vector<CompensatedPoint>& out, MoveReport& report);
   /// Axes whose play is short of `target` by more than the tolerance can bear.
   [[nodiscard]] unsigned unhidden(const std::array<double, 9>& target) const;
+  /// Sets each reversal axis' approach from its compensated travel `from` -> `to` where it
+  /// moves at all; true when that changed an approach (the points must be solved again).
+  bool approach_by_travel(const model::ChainQ& from, const model::ChainQ& to);
   /// Commands `q`: the play follows.
   void command(const model::ChainQ& q);
   double executed_deviation(const model::ChainQ& a_nominal, const model::ChainQ& b_nominal,

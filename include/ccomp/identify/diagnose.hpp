@@ -10,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include "ccomp/identify/fit.hpp"
 #include "ccomp/identify/measurements.hpp"
 #include "ccomp/model/forward.hpp"
 
@@ -46,6 +47,7 @@ struct DiagnoseOptions {
 struct Diagnosis {
   double noise = 0.0;            ///< mm
   double rms_refit = 0.0;        ///< mm: the model refitted to the data, without any new effect
+  FitReport refit;               ///< that refit: its parameters and identifiability
   std::vector<Suggestion> suggestions;  ///< best first, significant only
   std::vector<Region> regions;
   std::size_t candidates_tried = 0;

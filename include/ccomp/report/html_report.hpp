@@ -19,8 +19,7 @@ struct CheckReportInput {
   const model::MachineModel& model;
   const identify::MeasurementSet& data;
   const identify::CheckReport& check;
-  const identify::Diagnosis& diagnosis;
-  const identify::FitReport& fit;          ///< the model refitted to the data
+  const identify::Diagnosis& diagnosis;    ///< with the model refitted to the data
   const Eigen::VectorXd& residual_before;  ///< mm, the model as it is
   const Eigen::VectorXd& residual_after;   ///< mm, refitted
 };
