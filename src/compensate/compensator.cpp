@@ -17,7 +17,7 @@ ChainQ Compensator::point(const ChainQ& nominal, MoveReport& report) {
   // Start from the last solution's correction: neighbouring points correct alike.
   const ChainQ guess = nominal + (last_solution_ - (last_nominal_.allFinite() ? last_nominal_ : last_solution_));
   const InverseResult r = solve_inverse(model_, problem_, data_, nominal, options_.conditions, {},
-                                        last_nominal_.allFinite() ? &guess : nullptr);
+                                        last_nominal_.allFinite() ? &guess : nullptr, &workspace_);
   if (!r.converged)
     throw Error(ErrorKind::safety, fmt::format("the inverse did not converge in {} iterations (residual {:.3g} mm)",
                                                r.iterations, r.position_residual.norm()));
@@ -128,11 +128,19 @@ double Compensator::executed_deviation(const ChainQ& a_nominal, const ChainQ& b_
 void Compensator::split(const ChainQ& a_nominal, const ChainQ& b_nominal, const ChainQ& a_comp, const ChainQ& b_comp,
                         double s0, double s1, int depth, double tolerance, std::vector<CompensatedPoint>& out,
                         MoveReport& report) {
-  // At the quarters, or densely enough not to step over a short periodic error.
-  double worst = 0.0;
-  const int n = model_.check_points(a_nominal, b_nominal, 3, 64);
-  for (int k = 1; k <= n; ++k)
-    worst = std::max(worst, executed_deviation(a_nominal, b_nominal, a_comp, b_comp, static_cast<double>(k) / (n + 1)));
+  // A piece shorter than the error field's finest feature (the highest harmonic's period
+  // / 8, a table's knot spacing / 4) bends like a parabola or, across a table's knot, like
+  // a kink: the midpoint sees at least half the worst deviation, so half the tolerance
+  // there is enough. Otherwise at the quarters, or densely enough not to step over a short
+  // periodic error.
+  const int n = model_.check_points(a_nominal, b_nominal, 1, 64);
+  double worst = executed_deviation(a_nominal, b_nominal, a_comp, b_comp, 0.5);
+  if (n > 1 || worst > 0.5 * tolerance) {
+    const int dense = std::max(n, 3) | 1;  // odd: the midpoint is one of them, already checked
+    for (int k = 1; k <= dense; ++k)
+      if (2 * k != dense + 1)
+        worst = std::max(worst, executed_deviation(a_nominal, b_nominal, a_comp, b_comp, static_cast<double>(k) / (dense + 1)));
+  }
   if (worst <= tolerance || depth >= options_.max_depth) {
     report.max_deviation_after = std::max(report.max_deviation_after, worst);
     out.push_back({s1, b_comp});
@@ -149,9 +157,15 @@ void Compensator::straight(const ChainQ& start, const ChainQ& end, std::vector<C
                            MoveReport& report, double tolerance) {
   out.clear();
   if (tolerance <= 0) tolerance = options_.tolerance;
-  // Uncompensated, each axis' play is what the nominal travel leaves.
+  // Uncompensated, each axis' play is what the nominal travel leaves. The error before is
+  // taken at the move's end (its start was the last move's end), and between where the
+  // error field has features shorter than the move.
   options_.conditions.directions = play_;
-  for (double t : {0.0, 0.5, 1.0}) report.max_deviation_before = std::max(report.max_deviation_before, error_at(start + t * (end - start)));
+  if (start != last_straight_end_) report.max_deviation_before = std::max(report.max_deviation_before, error_at(start));
+  if (model_.check_points(start, end, 1) > 1)
+    report.max_deviation_before = std::max(report.max_deviation_before, error_at(0.5 * (start + end)));
+  report.max_deviation_before = std::max(report.max_deviation_before, error_at(end));
+  last_straight_end_ = end;
   approach(start, end);
   ChainQ a = point(start, report);
   ChainQ b = point(end, report);

@@ -2,6 +2,8 @@
 
 #include <Eigen/QR>
 
+#include <limits>
+
 #include "ccomp/kinematics/pose.hpp"
 
 namespace ccomp::compensate {
@@ -24,7 +26,7 @@ InverseProblem::InverseProblem(const model::ForwardModel& model) {
 
 InverseResult solve_inverse(const model::ForwardModel& model, const InverseProblem& problem, model::ForwardData& d,
                             const ChainQ& q_nominal, const model::Conditions& conditions,
-                            const InverseOptions& options, const ChainQ* guess) {
+                            const InverseOptions& options, const ChainQ* guess, InverseWorkspace* workspace) {
   InverseResult r;
   // The target: where the tool tip would be on a perfect machine.
   model::forward(model, d, q_nominal, conditions, false, model::Evaluate::nominal);
@@ -33,39 +35,109 @@ InverseResult solve_inverse(const model::ForwardModel& model, const InverseProbl
   const auto n = static_cast<Eigen::Index>(problem.unknowns.size());
   const auto m = 3 + static_cast<Eigen::Index>(problem.rotary_unknowns.size());
   ChainQ q = guess ? *guess : q_nominal;
+  InverseWorkspace scratch;
+  InverseWorkspace& ws = workspace ? *workspace : scratch;
+  const bool have_solve_matrix = ws.solve_matrix.size() != 0;
+  ChainQ first_order = q;
+  // The same orientation to reach, under the same approach: the last solution moved by the
+  // target's shift through the last Jacobian (first order; its rotary equations are
+  // unchanged), plus the last miss where this step repeats the last one (within 10% and
+  // 2.5 degrees). What the solve does not move (the tool length) is this point's.
+  const bool predicted = have_solve_matrix && ws.last_solution.allFinite() && R_target == ws.last_target_orientation &&
+                         conditions.directions == ws.last_directions;
+  const Eigen::Vector3d shift = target - ws.last_target;
+  if (predicted) {
+    const Eigen::Matrix<double, Eigen::Dynamic, 1, 0, 9, 1> step = ws.solve_matrix.leftCols<3>() * shift;
+    q = q_nominal;
+    for (Eigen::Index c = 0; c < n; ++c) {
+      const auto k = problem.unknowns[static_cast<std::size_t>(c)];
+      q[k] = ws.last_solution[k] + step[c];
+    }
+    first_order = q;
+    const double last_length = ws.last_shift.norm(), length = shift.norm();
+    if (last_length > 0 && std::abs(length / last_length - 1.0) < 0.1 && shift.dot(ws.last_shift) > 0.999 * length * last_length)
+      q += ws.last_miss * (length * length) / (last_length * last_length);
+  }
+  const ChainQ prediction = q;
   // At most 3 + 3 equations in at most 9 unknowns: sized on the stack.
   Eigen::Matrix<double, Eigen::Dynamic, 1, 0, 6, 1> residual(m);
   Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, 6, 9> J(m, n);
+  bool fresh = !have_solve_matrix;  // evaluate the Jacobian at this iteration
+  double last_norm = std::numeric_limits<double>::infinity();
   for (r.iterations = 0; r.iterations <= options.max_iterations; ++r.iterations) {
-    model::forward(model, d, q, conditions, true, model::Evaluate::actual, false);
+    model::forward(model, d, q, conditions, fresh, model::Evaluate::actual, false);
     residual.head<3>() = d.actual - target;
     Eigen::Matrix3d Jr_inv;
-    const Eigen::Vector3d omega = kinematics::so3_log(R_target.transpose() * d.R_actual, &Jr_inv);
-    // Rotation rows of dE/dq (right tangent of the tool in the table frame).
-    const Eigen::Matrix<double, 3, Eigen::Dynamic> J_rot = Jr_inv * d.actual_chain.J_q.bottomRows<3>();
+    const Eigen::Vector3d omega = kinematics::so3_log(R_target.transpose() * d.R_actual, fresh ? &Jr_inv : nullptr);
     for (std::size_t k = 0; k < problem.rotary_unknowns.size(); ++k) {
       // The rotary axis seen from the tool: in the table frame it is its own direction (a
       // rotation about d leaves d in place, and the table frame follows the rotary link),
       // turned into the tool frame by the target orientation.
       const Eigen::Vector3d axis = R_target.transpose() * problem.rotary_directions[k];
       residual[3 + static_cast<Eigen::Index>(k)] = axis.dot(omega);
-      for (Eigen::Index c = 0; c < n; ++c)
-        J(3 + static_cast<Eigen::Index>(k), c) = axis.dot(J_rot.col(problem.unknowns[static_cast<std::size_t>(c)]));
     }
-    for (Eigen::Index c = 0; c < n; ++c) J.block<3, 1>(0, c) = d.J_q.col(problem.unknowns[static_cast<std::size_t>(c)]);
     r.position_residual = residual.head<3>();
     r.orientation_error = omega;
     const bool position_ok = r.position_residual.norm() < options.position_tolerance;
     const bool angles_ok = residual.tail(m - 3).size() == 0 || residual.tail(m - 3).cwiseAbs().maxCoeff() < options.angle_tolerance;
     if (position_ok && angles_ok) {
       r.converged = true;
+      // One more step on the residual already known (no evaluation): what is left is the
+      // Jacobian's error times it, far below the tolerance, and the next prediction
+      // extrapolates from this solution.
+      if (ws.solve_matrix.size() != 0) {
+        const Eigen::Matrix<double, Eigen::Dynamic, 1, 0, 9, 1> step = ws.solve_matrix * residual;
+        for (Eigen::Index c = 0; c < n; ++c) q[problem.unknowns[static_cast<std::size_t>(c)]] -= step[c];
+      }
       break;
     }
     if (r.iterations == options.max_iterations) break;
-    const Eigen::Matrix<double, Eigen::Dynamic, 1, 0, 9, 1> step = J.completeOrthogonalDecomposition().solve(-residual);
-    for (Eigen::Index c = 0; c < n; ++c) q[problem.unknowns[static_cast<std::size_t>(c)]] += step[c];
+    // A step with an old Jacobian that did not cut the residual tenfold: evaluate afresh here.
+    const double norm = residual.norm();
+    if (!fresh && norm > 0.1 * last_norm) {
+      last_norm = std::numeric_limits<double>::infinity();
+      fresh = true;
+      continue;
+    }
+    last_norm = norm;
+    if (fresh) {
+      // Rotation rows of dE/dq (right tangent of the tool in the table frame).
+      const Eigen::Matrix<double, 3, Eigen::Dynamic> J_rot = Jr_inv * d.actual_chain.J_q.bottomRows<3>();
+      for (std::size_t k = 0; k < problem.rotary_unknowns.size(); ++k) {
+        const Eigen::Vector3d axis = R_target.transpose() * problem.rotary_directions[k];
+        for (Eigen::Index c = 0; c < n; ++c)
+          J(3 + static_cast<Eigen::Index>(k), c) = axis.dot(J_rot.col(problem.unknowns[static_cast<std::size_t>(c)]));
+      }
+      for (Eigen::Index c = 0; c < n; ++c) J.block<3, 1>(0, c) = d.J_q.col(problem.unknowns[static_cast<std::size_t>(c)]);
+      ws.solve_matrix = J.completeOrthogonalDecomposition().pseudoInverse();
+      ++ws.jacobian_evaluations;
+      fresh = false;
+    }
+    const Eigen::Matrix<double, Eigen::Dynamic, 1, 0, 9, 1> step = ws.solve_matrix * residual;
+    for (Eigen::Index c = 0; c < n; ++c) q[problem.unknowns[static_cast<std::size_t>(c)]] -= step[c];
   }
   r.q = q;
+  if (r.converged && predicted && shift.norm() > 1e-6) {
+    // Broyden's update: the solve matrix made exact along the step just taken (the target
+    // shift maps to the solution's shift), so it follows the Jacobian along the path.
+    Eigen::Matrix<double, Eigen::Dynamic, 1, 0, 9, 1> s_step(n);
+    for (Eigen::Index c = 0; c < n; ++c) {
+      const auto k = problem.unknowns[static_cast<std::size_t>(c)];
+      s_step[c] = q[k] - ws.last_solution[k];
+    }
+    const Eigen::Matrix<double, Eigen::Dynamic, 1, 0, 9, 1> gap = s_step - ws.solve_matrix.leftCols<3>() * shift;
+    // A secant far from the matrix is not the Jacobian's drift (a jump of the solution):
+    // left out.
+    if (gap.norm() < 0.1 * s_step.norm()) ws.solve_matrix.leftCols<3>() += gap * shift.transpose() / shift.squaredNorm();
+  }
+  if (r.converged) {
+    ws.last_miss = predicted ? ChainQ(q - first_order) : ChainQ(ChainQ::Zero());
+    ws.last_shift = shift;
+    ws.last_solution = q;
+    ws.last_directions = conditions.directions;
+    ws.last_target = target;
+    ws.last_target_orientation = R_target;
+  }
   return r;
 }
 

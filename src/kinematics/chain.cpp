@@ -1,5 +1,7 @@
 #include "ccomp/kinematics/chain.hpp"
 
+#include <cmath>
+
 namespace ccomp::kinematics {
 
 ChainData::ChainData(const ChainModel& model)
@@ -11,7 +13,17 @@ ChainData::ChainData(const ChainModel& model)
       J_work_error(model.workpiece.joints.size()),
       J_tool_error(model.tool.joints.size()),
       J_q_work_(6, static_cast<Eigen::Index>(model.nq)),
-      J_q_tool_(6, static_cast<Eigen::Index>(model.nq)) {}
+      J_q_tool_(6, static_cast<Eigen::Index>(model.nq)) {
+  auto prepare = [](const Chain& chain, SideCache& cache) {
+    const std::size_t n = chain.joints.size();
+    cache.links.resize(n);
+    cache.errors.assign(n, Pose{Mat3::Constant(std::nan("")), Vec3::Zero()});  // matches no pose
+    cache.q.assign(n, 0.0);
+    for (const Joint& j : chain.joints) cache.offset_only.push_back(j.placement.R.isIdentity(0.0));
+  };
+  prepare(model.workpiece, work_cache_);
+  prepare(model.tool, tool_cache_);
+}
 
 Pose joint_motion(const Joint& joint, double q, Vec6* J) {
   switch (joint.type) {
@@ -31,22 +43,49 @@ Pose joint_motion(const Joint& joint, double q, Vec6* J) {
 
 namespace {
 
+/// placement * motion(q) * error, skipping the products by identities that machine files
+/// make the rule: placements are offsets, a linear motion is a translation.
+Pose link_pose(const Joint& j, bool offset_only, double q, const Pose& error) {
+  Pose m = j.placement;  // placement * motion
+  switch (j.type) {
+    case JointType::linear:
+      if (offset_only) return Pose{error.R, m.t + q * j.direction + error.t};
+      m.t += j.placement.R * (q * j.direction);
+      break;
+    case JointType::rotary:
+      m.R = offset_only ? so3_exp(q * j.direction) : Mat3(j.placement.R * so3_exp(q * j.direction));
+      break;
+    case JointType::fixed:
+      if (offset_only) return Pose{error.R, m.t + error.t};
+      break;
+  }
+  return compose(m, error);
+}
+
+bool same(const Pose& a, const Pose& b) { return a.R == b.R && a.t == b.t; }
+
 /// Composes one side, base to end. With `J_end`, fills for each link the Jacobian of the
 /// end pose w.r.t. a right perturbation of the link's error pose (Ad of the suffix
 /// inverse), and adds the link's axis motion into J_q_side.
 Pose compose_side(const Chain& chain, const std::vector<Pose>& errors, const Eigen::Ref<const VecQ>& q, std::vector<Pose>& oMi,
-                  std::vector<Pose>& links, std::vector<Mat6>* J_error,
+                  ChainData::SideCache& cache, std::vector<Mat6>* J_error,
                   Eigen::Matrix<double, 6, Eigen::Dynamic>* J_q) {
   const std::size_t n = chain.joints.size();
-  links.resize(n);
-  Pose oM;
+  std::vector<Pose>& links = cache.links;
+  bool changed = false;  // a link before this one changed: the poses from here on must follow
   for (std::size_t i = 0; i < n; ++i) {
     const Joint& j = chain.joints[i];
     const double qi = j.type == JointType::fixed ? 0.0 : q[static_cast<Eigen::Index>(j.axis)];
-    links[i] = compose(compose(j.placement, joint_motion(j, qi)), errors[i]);
-    oM = compose(oM, links[i]);
-    oMi[i] = oM;
+    if (!changed && qi == cache.q[i] && same(errors[i], cache.errors[i])) continue;
+    if (qi != cache.q[i] || !same(errors[i], cache.errors[i])) {
+      links[i] = link_pose(j, cache.offset_only[i], qi, errors[i]);
+      cache.q[i] = qi;
+      cache.errors[i] = errors[i];
+    }
+    oMi[i] = i == 0 ? links[i] : compose(oMi[i - 1], links[i]);
+    changed = true;
   }
+  const Pose oM = n == 0 ? Pose{} : oMi[n - 1];
   if (!J_error) return oM;
   J_q->setZero();
   Pose suffix;  // links i+1 .. n-1
@@ -70,9 +109,9 @@ Pose compose_side(const Chain& chain, const std::vector<Pose>& errors, const Eig
 void error_matrix(const ChainModel& model, ChainData& data, const Eigen::Ref<const VecQ>& q, bool jacobians) {
   auto& Jq_work = data.J_q_work_;
   auto& Jq_tool = data.J_q_tool_;
-  data.oMp = compose_side(model.workpiece, data.work_error, q, data.work_oMi, data.links_,
+  data.oMp = compose_side(model.workpiece, data.work_error, q, data.work_oMi, data.work_cache_,
                           jacobians ? &data.J_work_error : nullptr, &Jq_work);
-  data.oMtool = compose_side(model.tool, data.tool_error, q, data.tool_oMi, data.links_,
+  data.oMtool = compose_side(model.tool, data.tool_error, q, data.tool_oMi, data.tool_cache_,
                              jacobians ? &data.J_tool_error : nullptr, &Jq_tool);
   Mat6 J_inv, J_a, J_b;
   const Pose pMo = inverse(data.oMp, jacobians ? &J_inv : nullptr);

@@ -172,14 +172,19 @@ void evaluate(const TermShape& s, const Eigen::Ref<const Eigen::VectorXd>& p, co
     case TermForm::cross_axis: {
       const double w = in.secondary;
       Eigen::Index index = 0;
+      double ui = 1.0, ui_1 = 0.0;  // v^i and v^(i-1)
       for (int i = 0; i <= s.order_primary; ++i) {
+        double wj_1 = 1.0;  // w^(j-1)
         for (int j = 1; j <= s.order; ++j, ++index) {
-          const double ui = std::pow(v, i), wj = std::pow(w, j);
+          const double wj = wj_1 * w;
           r.value += p[index] * ui * wj;
-          if (i > 0) r.d_primary += p[index] * i * std::pow(v, i - 1) * wj;
-          r.d_secondary += p[index] * ui * j * std::pow(w, j - 1);
+          r.d_primary += p[index] * i * ui_1 * wj;
+          r.d_secondary += p[index] * ui * j * wj_1;
           if (grad) r.d_parameters[index] = ui * wj;
+          wj_1 = wj;
         }
+        ui_1 = ui;
+        ui *= v;
       }
       break;
     }

@@ -95,7 +95,11 @@ ForwardData::ForwardData(const ForwardModel& model)
       nominal_chain(model.chain()),
       work_error(model.chain().workpiece.joints.size()),
       tool_error(model.chain().tool.joints.size()),
+      posed_work_error(work_error.size(), Eigen::Matrix<double, 6, 1>::Constant(std::nan(""))),
+      posed_tool_error(tool_error.size(), Eigen::Matrix<double, 6, 1>::Constant(std::nan(""))),
       values(model.machine().terms.size()),
+      evaluated_inputs(values.size(), TermInputs{std::nan(""), std::nan("")}),
+      evaluated_parameters(values.size()),
       J_work_pose(model.chain().workpiece.joints.size()),
       J_tool_pose(model.chain().tool.joints.size()) {
   for (std::size_t i = 0; i < model.machine().terms.size(); ++i)
@@ -143,7 +147,15 @@ void forward(const ForwardModel& model, ForwardData& d, const ChainQ& q, const C
     const ErrorTermSpec& t = terms[i];
     const TermInputs in{variable_value(t.primary, q, c), variable_value(t.secondary, q, c)};
     const auto params = d.parameters.segment(static_cast<Eigen::Index>(model.parameter_offset(i)), t.parameters.size());
-    evaluate(t.shape, params, in, jacobians && parameter_jacobian, values[i]);
+    const bool gradient = jacobians && parameter_jacobian;
+    TermInputs& last = d.evaluated_inputs[i];
+    Eigen::VectorXd& last_parameters = d.evaluated_parameters[i];
+    if (gradient || in.primary != last.primary || in.secondary != last.secondary ||
+        last_parameters.size() != params.size() || params != last_parameters) {
+      evaluate(t.shape, params, in, gradient, values[i]);
+      last = in;
+      last_parameters = params;
+    }
     const auto& site = model.site(i);
     auto& e = site.side == 0 ? d.work_error[site.joint] : d.tool_error[site.joint];
     // ISO 230-1 error motions are the tool's relative to the workpiece: a link on the
@@ -152,17 +164,23 @@ void forward(const ForwardModel& model, ForwardData& d, const ChainQ& q, const C
   }
   // Error poses of the links, with their Jacobians w.r.t. (delta, epsilon).
   auto set_errors = [&](const std::vector<Eigen::Matrix<double, 6, 1>>& errors, std::vector<Pose>& poses,
-                        std::vector<Eigen::Matrix<double, 6, 6>>* J) {
+                        std::vector<Eigen::Matrix<double, 6, 1>>& posed, std::vector<Eigen::Matrix<double, 6, 6>>* J) {
     for (std::size_t j = 0; j < errors.size(); ++j) {
+      if (!J && errors[j] == posed[j]) continue;
+      posed[j] = errors[j];
+      if (!J) {
+        poses[j] = kinematics::error_pose(errors[j].head<3>(), errors[j].tail<3>());
+        continue;
+      }
       Eigen::Matrix<double, 6, 3> Jd, Je;
       poses[j] = kinematics::error_pose(errors[j].head<3>(), errors[j].tail<3>(), &Jd, &Je);
-      if (J) (*J)[j] << Jd, Je;
+      (*J)[j] << Jd, Je;
     }
   };
   auto& J_work = d.J_work_pose;
   auto& J_tool = d.J_tool_pose;
-  set_errors(d.work_error, d.actual_chain.work_error, jacobians ? &J_work : nullptr);
-  set_errors(d.tool_error, d.actual_chain.tool_error, jacobians ? &J_tool : nullptr);
+  set_errors(d.work_error, d.actual_chain.work_error, d.posed_work_error, jacobians ? &J_work : nullptr);
+  set_errors(d.tool_error, d.actual_chain.tool_error, d.posed_tool_error, jacobians ? &J_tool : nullptr);
   kinematics::error_matrix(model.chain(), d.actual_chain, q, jacobians);
   d.actual = d.actual_chain.E.t;
   d.R_actual = d.actual_chain.E.R;

@@ -278,6 +278,7 @@ TEST(Chain, ErrorMatrixIsIdentityWithoutErrorsAndSeesEachError) {
   // The workpiece point p is where the error-free tool tip is, in the table's frame.
   error_matrix(m, d, q, false);
   m.workpiece.joints.back().placement = compose(inverse(d.work_oMi[2]), d.oMtool);
+  d = ChainData(m);  // data belongs to the model as it was built from
   error_matrix(m, d, q, false);
   EXPECT_LT((d.E.matrix() - Eigen::Matrix4d::Identity()).norm(), 1e-9);
   // A 10 um positioning error of the tool side's first link shows in E's translation.

@@ -93,7 +93,9 @@ class Compensator {
   std::array<double, 9> last_directions_{};
   model::ChainQ commanded_ = model::ChainQ::Constant(std::nan(""));  ///< where the machine was sent last
   std::array<double, 9> play_{};  ///< approach state after the commands so far
+  model::ChainQ last_straight_end_ = model::ChainQ::Constant(std::nan(""));  ///< its error before is counted
   InverseProblem problem_;
+  InverseWorkspace workspace_;
   model::ForwardData data_, check_;
 };
 

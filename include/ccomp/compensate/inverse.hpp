@@ -6,6 +6,9 @@
 // correct is reported.
 #include <Eigen/Core>
 
+#include <array>
+#include <cmath>
+
 #include "ccomp/model/forward.hpp"
 
 namespace ccomp::compensate {
@@ -32,11 +35,34 @@ struct InverseProblem {
   std::vector<int> rotary_unknowns;   ///< their indices into q
 };
 
+/// What one solve leaves for the next, when points come in a stream of neighbours: the
+/// solve matrix of the last Jacobian evaluated (its pseudo-inverse) and the last solution
+/// with its target. The error field changes slowly, so a Jacobian from a nearby point
+/// serves many solves (quasi-Newton: each step costs a forward evaluation without
+/// Jacobians), and the last solution predicts the next to first order. A fresh Jacobian is
+/// evaluated whenever a step fails to cut the residual tenfold; convergence is always
+/// judged on the exact model.
+struct InverseWorkspace {
+  Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, 9, 6> solve_matrix;  ///< n x m, empty until a Jacobian
+  model::ChainQ last_solution = model::ChainQ::Constant(std::nan(""));
+  Eigen::Vector3d last_target = Eigen::Vector3d::Zero();
+  Eigen::Matrix3d last_target_orientation = Eigen::Matrix3d::Zero();
+  std::array<double, 9> last_directions{};  ///< the approach the last solution was for
+  /// The last prediction's miss (solution - prediction) and the target shift it was made
+  /// for: along a path of even steps the next miss is alike (the error field's curvature
+  /// and the Jacobian's age), so it is added to the next prediction.
+  model::ChainQ last_miss = model::ChainQ::Zero();
+  Eigen::Vector3d last_shift = Eigen::Vector3d::Zero();
+  std::size_t jacobian_evaluations = 0;  ///< how often the exact Jacobian was evaluated
+};
+
 /// Solves for q' with actual(q') = nominal(q_nominal). `data` is scratch. `guess`, when
-/// given, is where Newton starts (a neighbouring point's solution shifted here).
+/// given, is where Newton starts (a neighbouring point's solution shifted here). With a
+/// `workspace`, the solve reuses and updates it (see InverseWorkspace); a prediction from
+/// its last solution replaces `guess` where the orientation target is the same.
 [[nodiscard]] InverseResult solve_inverse(const model::ForwardModel& model, const InverseProblem& problem,
                                           model::ForwardData& data, const model::ChainQ& q_nominal,
                                           const model::Conditions& conditions, const InverseOptions& options = {},
-                                          const model::ChainQ* guess = nullptr);
+                                          const model::ChainQ* guess = nullptr, InverseWorkspace* workspace = nullptr);
 
 }  // namespace ccomp::compensate

@@ -39,7 +39,8 @@ struct ChainModel {
 
 using VecQ = Eigen::VectorXd;  ///< axis values: linear in mm, rotary in rad
 
-/// Scratch for error_matrix(): poses along both chains and the Jacobians of E.
+/// Scratch for error_matrix(): poses along both chains and the Jacobians of E. It belongs
+/// to the model it was built from, as it was then: a changed model needs new data.
 struct ChainData {
   explicit ChainData(const ChainModel& model);
 
@@ -50,8 +51,15 @@ struct ChainData {
   Eigen::Matrix<double, 6, Eigen::Dynamic> J_q;  ///< dE/dq (6 x nq)
   std::vector<Mat6> J_work_error, J_tool_error;  ///< dE/d(error pose of each link)
 
-  // internal
-  std::vector<Pose> links_;
+  // internal: each side's links as last composed, with what they were composed from. A
+  // link whose axis value and error pose are unchanged is not composed again, nor are the
+  // poses before the first link that changed (in a program most axes stand still).
+  struct SideCache {
+    std::vector<Pose> links, errors;
+    std::vector<double> q;
+    std::vector<bool> offset_only;  ///< the joint's placement is a translation
+  };
+  SideCache work_cache_, tool_cache_;
   Eigen::Matrix<double, 6, Eigen::Dynamic> J_q_work_, J_q_tool_;
 };
 

@@ -40,9 +40,12 @@ struct Pose {
 /// Ad(X): maps a right tangent of X to its left tangent; Ad(X) tau = X tau X^-1.
 [[nodiscard]] Mat6 adjoint(const Pose& X);
 /// a * b; J_a, J_b: right Jacobians Ad(b^-1) and I.
-[[nodiscard]] Pose compose(const Pose& a, const Pose& b, Mat6* J_a = nullptr, Mat6* J_b = nullptr);
+[[nodiscard]] Pose compose(const Pose& a, const Pose& b, Mat6* J_a, Mat6* J_b = nullptr);
 /// X^-1; J: -Ad(X).
-[[nodiscard]] Pose inverse(const Pose& X, Mat6* J = nullptr);
+[[nodiscard]] Pose inverse(const Pose& X, Mat6* J);
+// Without Jacobians, inline: the chain composes these in its innermost loop.
+[[nodiscard]] inline Pose compose(const Pose& a, const Pose& b) { return Pose{a.R * b.R, a.t + a.R * b.t}; }
+[[nodiscard]] inline Pose inverse(const Pose& X) { return Pose{X.R.transpose(), -(X.R.transpose() * X.t)}; }
 /// X * p; J_X = [R, -R hat(p)], J_p = R.
 [[nodiscard]] Vec3 act(const Pose& X, const Vec3& p, Mat36* J_X = nullptr, Mat3* J_p = nullptr);
 /// Exp(tau) and Log(X), with right Jacobians (used to perturb and compare poses).

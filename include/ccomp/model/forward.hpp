@@ -85,7 +85,14 @@ struct ForwardData {
   // scratch
   kinematics::ChainData actual_chain, nominal_chain;
   std::vector<Eigen::Matrix<double, 6, 1>> work_error, tool_error;  ///< per joint: delta, epsilon
+  /// What the error poses in actual_chain were built from: a link whose error motions did
+  /// not change since (an axis standing still, a thermal drift) keeps its pose.
+  std::vector<Eigen::Matrix<double, 6, 1>> posed_work_error, posed_tool_error;
   std::vector<TermValue> values;
+  /// What each term's value was last evaluated from: a term whose inputs and parameters are
+  /// unchanged keeps its value (without parameter gradients: those are always evaluated).
+  std::vector<TermInputs> evaluated_inputs;
+  std::vector<Eigen::VectorXd> evaluated_parameters;
   std::vector<Eigen::Matrix<double, 6, 6>> J_work_pose, J_tool_pose;
 };
 
