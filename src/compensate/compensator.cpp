@@ -21,6 +21,7 @@ ChainQ Compensator::point(const ChainQ& nominal, MoveReport& report) {
   if (!r.converged)
     throw Error(ErrorKind::safety, fmt::format("the inverse did not converge in {} iterations (residual {:.3g} mm)",
                                                r.iterations, r.position_residual.norm()));
+  remember_tip(nominal, r.target);
   report.max_correction = std::max(report.max_correction, (r.q - nominal).head<3>().cwiseAbs().maxCoeff());
   report.max_orientation_error = std::max(report.max_orientation_error, r.orientation_error.norm());
   last_nominal_ = nominal;
@@ -108,19 +109,40 @@ unsigned Compensator::unhidden(const std::array<double, 9>& target) const {
   return axes;
 }
 
+Eigen::Vector3d Compensator::nominal_tip(const ChainQ& q) {
+  for (const auto& [at, tip] : tips_)
+    if (at == q) return tip;
+  model::forward(model_, check_, q, options_.conditions, false, model::Evaluate::nominal);
+  remember_tip(q, check_.nominal);
+  return check_.nominal;
+}
+
+void Compensator::remember_tip(const ChainQ& q, const Eigen::Vector3d& tip) {
+  tips_[next_tip_] = {q, tip};
+  next_tip_ = (next_tip_ + 1) % tips_.size();
+}
+
 double Compensator::error_at(const ChainQ& nominal) {
-  model::forward(model_, check_, nominal, options_.conditions);
-  return (check_.actual - check_.nominal).norm();
+  const Eigen::Vector3d tip = nominal_tip(nominal);
+  model::forward(model_, check_, nominal, options_.conditions, false, model::Evaluate::actual);
+  return (check_.actual - tip).norm();
 }
 
 double Compensator::executed_deviation(const ChainQ& a_nominal, const ChainQ& b_nominal, const ChainQ& a_comp,
                                        const ChainQ& b_comp, double t) {
   // The machine interpolates the commanded axis values linearly; the program meant the
-  // nominal tool tip at the same fraction of the nominal move.
+  // nominal tool tip at the same fraction of the nominal move. With the rotary axes and
+  // the tool length still, that tip is affine in the linear axes: between the ends' tips.
   const ChainQ executed = a_comp + t * (b_comp - a_comp);
-  const ChainQ meant = a_nominal + t * (b_nominal - a_nominal);
-  model::forward(model_, check_, meant, options_.conditions, false, model::Evaluate::nominal);
-  const Eigen::Vector3d target = check_.nominal;
+  Eigen::Vector3d target;
+  if (a_nominal.segment<3>(3) == b_nominal.segment<3>(3) && a_nominal[model::kToolLengthIndex] == b_nominal[model::kToolLengthIndex]) {
+    const Eigen::Vector3d a_tip = nominal_tip(a_nominal);
+    target = a_tip + t * (nominal_tip(b_nominal) - a_tip);
+  } else {
+    model::forward(model_, check_, a_nominal + t * (b_nominal - a_nominal), options_.conditions, false,
+                   model::Evaluate::nominal);
+    target = check_.nominal;
+  }
   model::forward(model_, check_, executed, options_.conditions, false, model::Evaluate::actual);
   return (check_.actual - target).norm();
 }
@@ -157,15 +179,10 @@ void Compensator::straight(const ChainQ& start, const ChainQ& end, std::vector<C
                            MoveReport& report, double tolerance) {
   out.clear();
   if (tolerance <= 0) tolerance = options_.tolerance;
-  // Uncompensated, each axis' play is what the nominal travel leaves. The error before is
-  // taken at the move's end (its start was the last move's end), and between where the
-  // error field has features shorter than the move.
+  // Uncompensated, each axis' play is what the nominal travel leaves: the error before is
+  // taken with it once the points are solved (their nominal tips serve both).
+  const std::array<double, 9> uncompensated = play_;
   options_.conditions.directions = play_;
-  if (start != last_straight_end_) report.max_deviation_before = std::max(report.max_deviation_before, error_at(start));
-  if (model_.check_points(start, end, 1) > 1)
-    report.max_deviation_before = std::max(report.max_deviation_before, error_at(0.5 * (start + end)));
-  report.max_deviation_before = std::max(report.max_deviation_before, error_at(end));
-  last_straight_end_ = end;
   approach(start, end);
   ChainQ a = point(start, report);
   ChainQ b = point(end, report);
@@ -216,7 +233,20 @@ void Compensator::straight(const ChainQ& start, const ChainQ& end, std::vector<C
   }
   const std::size_t first = out.size();
   split(start, end, a, b, 0.0, 1.0, 0, tolerance, out, report);
+  error_before(start, end, uncompensated, report);
   for (std::size_t k = first; k < out.size(); ++k) command(out[k].q);
+}
+
+void Compensator::error_before(const ChainQ& start, const ChainQ& end, const std::array<double, 9>& play,
+                               MoveReport& report) {
+  const std::array<double, 9> need = options_.conditions.directions;
+  options_.conditions.directions = play;
+  double& before = report.max_deviation_before;
+  if (start != last_straight_end_) before = std::max(before, error_at(start));
+  if (model_.check_points(start, end, 1) > 1) before = std::max(before, error_at(0.5 * (start + end)));
+  before = std::max(before, error_at(end));
+  last_straight_end_ = end;
+  options_.conditions.directions = need;
 }
 
 }  // namespace ccomp::compensate

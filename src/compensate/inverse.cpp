@@ -117,6 +117,7 @@ InverseResult solve_inverse(const model::ForwardModel& model, const InverseProbl
     for (Eigen::Index c = 0; c < n; ++c) q[problem.unknowns[static_cast<std::size_t>(c)]] -= step[c];
   }
   r.q = q;
+  r.target = target;
   if (r.converged && predicted && shift.norm() > 1e-6) {
     // Broyden's update: the solve matrix made exact along the step just taken (the target
     // shift maps to the solution's shift), so it follows the Jacobian along the path.

@@ -50,6 +50,34 @@ void cubic_weights(const std::vector<double>& x, double v, Eigen::VectorXd& w, E
   dw += ((-(3 * a * a - 1)) * Mbasis.row(k).transpose() + (3 * b * b - 1) * Mbasis.row(k + 1).transpose()) * h / 6.0;
 }
 
+/// A table's value: kept out of evaluate() so its dynamic vectors do not weigh on the
+/// other forms' calls (the forward model evaluates every term at every point).
+[[gnu::noinline]] void evaluate_table(const TermShape& s, const Eigen::Ref<const Eigen::VectorXd>& p, double v, bool grad,
+                                      TermValue& r) {
+  const auto n = static_cast<Eigen::Index>(s.knots.size());
+  Eigen::VectorXd w, dw;
+  if (s.interpolation == Interpolation::cubic) {
+    cubic_weights(s.knots, v, w, dw);
+  } else {
+    w = dw = Eigen::VectorXd::Zero(n);
+    const double vc = std::clamp(v, s.knots.front(), s.knots.back());
+    if (n == 1) {
+      w[0] = 1.0;
+    } else {
+      auto k = static_cast<Eigen::Index>(std::upper_bound(s.knots.begin(), s.knots.end(), vc) - s.knots.begin()) - 1;
+      k = std::clamp<Eigen::Index>(k, 0, n - 2);
+      const double h = s.knots[static_cast<std::size_t>(k + 1)] - s.knots[static_cast<std::size_t>(k)];
+      const double b = (vc - s.knots[static_cast<std::size_t>(k)]) / h;
+      w[k] = 1.0 - b;
+      w[k + 1] = b;
+      if (v == vc) dw[k] = -1.0 / h, dw[k + 1] = 1.0 / h;
+    }
+  }
+  r.value = w.dot(p);
+  r.d_primary = dw.dot(p);
+  if (grad) r.d_parameters = w;
+}
+
 }  // namespace
 
 std::size_t parameter_count(const TermShape& s) {
@@ -97,31 +125,9 @@ void evaluate(const TermShape& s, const Eigen::Ref<const Eigen::VectorXd>& p, co
       }
       break;
     }
-    case TermForm::table: {
-      const auto n = static_cast<Eigen::Index>(s.knots.size());
-      Eigen::VectorXd w, dw;
-      if (s.interpolation == Interpolation::cubic) {
-        cubic_weights(s.knots, v, w, dw);
-      } else {
-        w = dw = Eigen::VectorXd::Zero(n);
-        const double vc = std::clamp(v, s.knots.front(), s.knots.back());
-        if (n == 1) {
-          w[0] = 1.0;
-        } else {
-          auto k = static_cast<Eigen::Index>(std::upper_bound(s.knots.begin(), s.knots.end(), vc) - s.knots.begin()) - 1;
-          k = std::clamp<Eigen::Index>(k, 0, n - 2);
-          const double h = s.knots[static_cast<std::size_t>(k + 1)] - s.knots[static_cast<std::size_t>(k)];
-          const double b = (vc - s.knots[static_cast<std::size_t>(k)]) / h;
-          w[k] = 1.0 - b;
-          w[k + 1] = b;
-          if (v == vc) dw[k] = -1.0 / h, dw[k + 1] = 1.0 / h;
-        }
-      }
-      r.value = w.dot(p);
-      r.d_primary = dw.dot(p);
-      if (grad) r.d_parameters = w;
+    case TermForm::table:
+      evaluate_table(s, p, v, grad, r);
       break;
-    }
     case TermForm::periodic: {
       const double period = p[0];
       for (int k = 1; k <= s.order; ++k) {

@@ -81,6 +81,13 @@ class Compensator {
   bool approach_by_travel(const model::ChainQ& from, const model::ChainQ& to);
   /// Commands `q`: the play follows.
   void command(const model::ChainQ& q);
+  /// The nominal tool tip at q: from the points solved last, else evaluated.
+  Eigen::Vector3d nominal_tip(const model::ChainQ& q);
+  void remember_tip(const model::ChainQ& q, const Eigen::Vector3d& tip);
+  /// Where a move's error before is taken: its end, its start when the last move did not
+  /// end there, and its middle where the error field has features shorter than the move.
+  void error_before(const model::ChainQ& start, const model::ChainQ& end, const std::array<double, 9>& play,
+                    MoveReport& report);
   double executed_deviation(const model::ChainQ& a_nominal, const model::ChainQ& b_nominal,
                             const model::ChainQ& a_comp, const model::ChainQ& b_comp, double t);
 
@@ -94,6 +101,9 @@ class Compensator {
   model::ChainQ commanded_ = model::ChainQ::Constant(std::nan(""));  ///< where the machine was sent last
   std::array<double, 9> play_{};  ///< approach state after the commands so far
   model::ChainQ last_straight_end_ = model::ChainQ::Constant(std::nan(""));  ///< its error before is counted
+  // The nominal tips of the last points solved (a move's ends and midpoints), round robin.
+  std::array<std::pair<model::ChainQ, Eigen::Vector3d>, 4> tips_;
+  std::size_t next_tip_ = 0;
   InverseProblem problem_;
   InverseWorkspace workspace_;
   model::ForwardData data_, check_;

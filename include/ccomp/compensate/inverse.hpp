@@ -21,6 +21,7 @@ struct InverseOptions {
 
 struct InverseResult {
   model::ChainQ q;                 ///< the commanded axis values (mm, rad; L unchanged)
+  Eigen::Vector3d target = Eigen::Vector3d::Zero();  ///< the nominal tool tip it lands on (table frame, mm)
   Eigen::Vector3d position_residual = Eigen::Vector3d::Zero();  ///< actual - target, mm
   Eigen::Vector3d orientation_error = Eigen::Vector3d::Zero();  ///< rotation left, rad (table frame)
   int iterations = 0;
