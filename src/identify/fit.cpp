@@ -198,6 +198,16 @@ FitReport fit(const model::ForwardModel& model, const MeasurementSet& data, cons
       return Eigen::VectorXd(step.cwiseQuotient(scale));
     };
     const double before = cost(r);
+    // What a full Gauss-Newton step would gain on the local linear model. Below what counts
+    // as convergence (see below) no trial is worth its pass over the data: at the optimum
+    // every trial fails, and each costs one.
+    double predicted_gain = 0.0;
+    for (Eigen::Index k = 0; k < mu.size(); ++k)
+      if (mu[k] > 0) predicted_gain += Qg[k] * Qg[k] / mu[k];
+    if (predicted_gain <= 1e-2 * before / static_cast<double>(n) + 1e-30) {
+      report.converged = true;
+      break;
+    }
     Eigen::VectorXd trial_p = p, trial_r;
     bool improved = false;
     for (int attempt = 0; attempt < 24; ++attempt) {
