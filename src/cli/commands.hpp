@@ -32,6 +32,7 @@ struct CompensateArgs {
   std::string backup_suffix = ".orig";
   int jobs = 1;
   bool force = false;
+  bool expand_cycles = false;
   bool progress = false;
   double tolerance = 0.001;
   std::vector<std::string> sensors;  ///< NAME=VALUE (degC)

@@ -28,6 +28,9 @@ void add_compensate(CLI::App& app, CompensateArgs& args) {
   app.add_option("--backup-suffix", args.backup_suffix, "suffix of --in-place backups (default .orig)");
   app.add_option("-j,--jobs", args.jobs, "programs compensated at once")->check(CLI::PositiveNumber);
   app.add_flag("--force", args.force, "compensate a program that already carries ccomp's header");
+  app.add_flag("--expand-cycles", args.expand_cycles,
+               "write canned cycles (G73 G81 G83 G85) as the compensated moves they make; takes L repeats "
+               "and G91 cycles");
   app.add_flag("--progress", args.progress, "print FILTER_PROGRESS=N lines on stderr (LinuxCNC filters)");
   app.add_option("--tolerance", args.tolerance, "mm: largest distance of the executed path from the nominal (0.001)")
       ->check(CLI::PositiveNumber);
@@ -113,6 +116,7 @@ int run_compensate(const CompensateArgs& args) {
   compensate::JobOptions options;
   options.interpreter = interpreter_options(args.program, model.dialect);
   options.force = args.force;
+  options.expand_cycles = args.expand_cycles;
   options.tolerance = args.tolerance;
   options.time = args.time;
   for (const std::string& s : args.sensors) {

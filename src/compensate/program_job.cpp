@@ -7,6 +7,7 @@
 #include <charconv>
 #include <cctype>
 #include <cmath>
+#include <cstdlib>
 #include <memory>
 #include <tuple>
 
@@ -82,6 +83,8 @@ class JobSink : public gcode::CanonSink {
 
   void block(const gcode::Block& block, const gcode::SourceLine& line) override {
     finish_cycle();
+    for (const gcode::Word& w : block.words)  // the cycle a modal repeat line drills
+      if (w.letter == 'G' && w.value.is_literal() && is_cycle_code(w.value.literal)) cycle_code_ = w.value.literal;
     writer_.advance_to(line.offset);
     ++report_.blocks;
     block_ = &block;
@@ -141,13 +144,19 @@ class JobSink : public gcode::CanonSink {
     }
     if (m.source == MotionSource::machine_coordinates || m.source == MotionSource::reference_return) {
       commanded_ = m.end;
+      rounding_ = {};  // the block's own words, as written
       compensator_->moved(chain_of(m.end, *m.offsets));
       return;
     }
     if (m.kind == MotionKind::probe) refuse(ErrorKind::unsupported, "a probe move (G38.x) cannot be compensated");
     if (m.source == MotionSource::canned_cycle) {
-      if (m.incremental) refuse(ErrorKind::unsupported, "compensating incremental (G91) canned cycles is not implemented yet");
+      if (m.incremental && !options_.expand_cycles)
+        refuse(ErrorKind::unsupported, "compensating incremental (G91) canned cycles in the block's words is not "
+                                       "implemented; --expand-cycles writes them as compensated moves");
       if (cycle_.motions.empty()) {
+        cycle_.code = cycle_code_;
+        cycle_.terminator = std::string(line_.terminator);
+        cycle_.incremental = m.incremental;
         cycle_.text = std::string(block_->text);
         cycle_.words = block_->words;
         cycle_.offset = line_.offset;
@@ -184,16 +193,7 @@ class JobSink : public gcode::CanonSink {
     } else {
       compensator_->straight(start, end, points_, move);
     }
-    if (move.max_correction > model_.max_correction)
-      refuse(ErrorKind::safety, fmt::format("the correction is {:.4f} mm, beyond the model's bound of {} mm "
-                                            "(max_correction): is the model right for this machine?",
-                                            move.max_correction, model_.max_correction));
-    report_.max_error_before = std::max(report_.max_error_before, move.max_deviation_before);
-    report_.max_error_after = std::max(report_.max_error_after, move.max_deviation_after);
-    report_.max_correction = std::max(report_.max_correction, move.max_correction);
-    report_.max_orientation_error = std::max(report_.max_orientation_error, move.max_orientation_error);
-    warn_unhidden_reversals(move.unhidden_reversals);
-    ++report_.compensated_moves;
+    account(move, block_->line, std::string(block_->text));
     report_.added_lines += points_.size() - 1;
     for (const CompensatedPoint& p : points_) report_.take_up_moves += p.take_up ? 1 : 0;
     write_edits(m);
@@ -211,6 +211,9 @@ class JobSink : public gcode::CanonSink {
     gcode::Offsets offsets;
     gcode::Units units = gcode::Units::mm;
     std::vector<gcode::Motion> motions;
+    double code = 0;  ///< the cycle's G number
+    std::string terminator;
+    bool incremental = false;
   };
 
  public:
@@ -234,9 +237,14 @@ class JobSink : public gcode::CanonSink {
       last = &m;
     }
     if (!first) return;
+    if (options_.expand_cycles) {
+      expand_cycle(c);
+      return;
+    }
     if (holes > 1)
       throw Error(ErrorKind::unsupported, "a canned cycle with L repeats drills several holes in one block; "
-                  "compensating it is not implemented yet", SourceLocation{input_.name(), c.line, 0}, c.text);
+                  "compensating it in the block's words is not implemented; --expand-cycles writes it as "
+                  "compensated moves", SourceLocation{input_.name(), c.line, 0}, c.text);
     MoveReport move;
     const model::ChainQ r_nominal = chain_of(first->start, c.offsets), bottom_nominal = chain_of(last->end, c.offsets);
     // The hole is approached the way the cycle travels to it: across to it, then down.
@@ -259,14 +267,7 @@ class JobSink : public gcode::CanonSink {
       left = std::max(left, 0.5 * std::abs(r_prog[i] - bottom_prog[i]) * unit);
     }
     move.max_deviation_after = left;
-    report_.max_error_before = std::max(report_.max_error_before, move.max_deviation_before);
-    report_.max_error_after = std::max(report_.max_error_after, move.max_deviation_after);
-    report_.max_correction = std::max(report_.max_correction, move.max_correction);
-    if (move.max_correction > model_.max_correction)
-      throw Error(ErrorKind::safety, fmt::format("the correction is {:.4f} mm, beyond the model's bound of {} mm",
-                                                 move.max_correction, model_.max_correction),
-                  SourceLocation{input_.name(), c.line, 0}, c.text);
-    ++report_.compensated_moves;
+    account(move, c.line, c.text);
     std::vector<gcode::Edit> edits;
     std::uint32_t insert_at = 0;
     for (const gcode::Word& w : c.words) insert_at = std::max(insert_at, w.span.end);
@@ -290,6 +291,96 @@ class JobSink : public gcode::CanonSink {
 
  private:
   PendingCycle cycle_;
+  double cycle_code_ = 0;  ///< the last canned cycle's G number
+
+  static bool is_cycle_code(double g) { return g == 73 || g == 74 || g == 76 || (g >= 81 && g <= 89); }
+
+  /// The cycle as the moves it makes: its block keeps every word but the cycle's own (the
+  /// G code, the axes, R Q L P), and the compensated moves follow it, one line a point, in
+  /// absolute coordinates (G90 around them when the program is in G91).
+  void expand_cycle(const PendingCycle& c) {
+    const double g = c.code;
+    if (g != 73 && g != 81 && g != 83 && g != 85)
+      throw Error(ErrorKind::unsupported,
+                  fmt::format("--expand-cycles writes G73 G81 G83 G85 as moves; G{:g} also dwells or turns the "
+                              "spindle, which moves cannot say (compensate it without --expand-cycles)", g),
+                  SourceLocation{input_.name(), c.line, 0}, c.text);
+    std::vector<gcode::Edit> edits;
+    for (const gcode::Word& w : c.words) {
+      const bool cycle_word = std::string_view("XYZABCUVWRQLP").find(w.letter) != std::string_view::npos ||
+                              (w.letter == 'G' && w.value.is_literal() && is_cycle_code(w.value.literal));
+      if (!cycle_word) continue;
+      gcode::Span span = w.span;  // the word and the blanks before it
+      while (span.begin > 0 && (c.text[span.begin - 1] == ' ' || c.text[span.begin - 1] == '\t')) --span.begin;
+      edits.push_back(gcode::Edit{span, ""});
+    }
+    const bool inch = c.units == gcode::Units::inch;
+    const double unit = inch ? 25.4 : 1.0;
+    const std::string eol = c.terminator.empty() ? "\n" : c.terminator;
+    std::string appended;
+    if (c.incremental) appended += eol + "G90";
+    gcode::Axes written = program_of(chain_of(commanded_, c.offsets), c.offsets, unit);
+    for (const gcode::Motion& m : c.motions) {
+      const model::ChainQ start = chain_of(m.start, c.offsets), end = chain_of(m.end, c.offsets);
+      MoveReport move;
+      if (m.kind == gcode::MotionKind::traverse) {
+        move.max_deviation_before = compensator_->error_at(end);
+        compensator_->rapid(end, points_, move);
+      } else {
+        compensator_->straight(start, end, points_, move);
+      }
+      account(move, c.line, c.text);
+      for (const CompensatedPoint& point : points_) {
+        const gcode::Axes p = program_of(point.q, c.offsets, unit);
+        std::string text = m.kind == gcode::MotionKind::traverse ? "G0" : "G1";
+        const std::size_t bare = text.size();
+        for (std::size_t i = 0; i < gcode::kAxisCount; ++i) {
+          const char letter = gcode::kAxisLetters[i];
+          if (!model_.axis(letter)) continue;
+          const bool rotary = gcode::is_rotary(i);
+          const std::string value = format_value(p[i], {}, inch && !rotary, rotary);
+          if (value != format_value(written[i], {}, inch && !rotary, rotary)) {
+            text += std::string(" ") + letter + value;
+            rounding_[i] = std::strtod(value.c_str(), nullptr) - p[i];
+          } else {
+            rounding_[i] += written[i] - p[i];
+          }
+          written[i] = p[i];
+        }
+        if (text.size() > bare) appended += eol + text, ++report_.added_lines;
+        if (point.take_up) ++report_.take_up_moves;
+      }
+      commanded_ = controlled_of(points_.back().q, c.offsets);
+    }
+    if (c.incremental) appended += eol + "G91";
+    edits.push_back(gcode::Edit{{static_cast<std::uint32_t>(c.text.size()), static_cast<std::uint32_t>(c.text.size())}, appended});
+    writer_.edit(c.offset, std::move(edits));
+  }
+
+  /// The controlled point (program frame, machine units) the machine is at after commanding q.
+  static gcode::Axes controlled_of(const model::ChainQ& q, const gcode::Offsets& offsets) {
+    gcode::Axes controlled{};
+    for (std::size_t i = 0; i < gcode::kAxisCount; ++i) {
+      const double axis = gcode::is_rotary(i) ? q[static_cast<Eigen::Index>(i)] / kRadPerDeg : q[static_cast<Eigen::Index>(i)];
+      controlled[i] = axis - offsets.tool[i];
+    }
+    return offsets.from_machine(offsets.to_machine(controlled));
+  }
+
+  /// Adds a move's figures to the report and refuses a correction beyond the model's bound.
+  void account(const MoveReport& move, std::uint32_t line, const std::string& text) {
+    if (move.max_correction > model_.max_correction)
+      throw Error(ErrorKind::safety,
+                  fmt::format("the correction is {:.4f} mm, beyond the model's bound of {} mm (max_correction): is "
+                              "the model right for this machine?", move.max_correction, model_.max_correction),
+                  SourceLocation{input_.name(), line, 0}, text);
+    report_.max_error_before = std::max(report_.max_error_before, move.max_deviation_before);
+    report_.max_error_after = std::max(report_.max_error_after, move.max_deviation_after);
+    report_.max_correction = std::max(report_.max_correction, move.max_correction);
+    report_.max_orientation_error = std::max(report_.max_orientation_error, move.max_orientation_error);
+    warn_unhidden_reversals(move.unhidden_reversals);
+    ++report_.compensated_moves;
+  }
 
   /// Points along an arc (controlled points, machine frame), start and end included, whose
   /// chords stay within `tolerance` of it (sagitta r (1 - cos(step / 2))).
@@ -332,15 +423,22 @@ class JobSink : public gcode::CanonSink {
         if (!model_.axis(letter)) continue;
         const gcode::Word* word = k == 0 ? b.find(letter) : nullptr;
         const double last = program_of(chain_of(commanded_, *m.offsets), *m.offsets, unit)[i];
-        const double value = incremental ? p[i] - last : p[i];
+        // Incremental words count from where the written digits put the machine: the
+        // rounding of the last words is carried, not summed over a split move's pieces.
+        const double value = incremental ? p[i] - last - rounding_[i] : p[i];
         const bool rotary = gcode::is_rotary(i);
         const std::string text =
             format_value(value, word ? b.slice(word->value_span) : std::string_view(), inch && !rotary, rotary);
         // An axis the block did not name gets a word when the machine must move it.
         if (!word) {
-          const double unmoved = incremental ? 0.0 : last;
-          if (text == format_value(unmoved, {}, inch && !rotary, rotary)) continue;
+          const double unmoved = incremental ? 0.0 : last + rounding_[i];
+          if (text == format_value(unmoved, {}, inch && !rotary, rotary)) {
+            rounding_[i] += last - p[i];
+            continue;
+          }
         }
+        const double written = std::strtod(text.c_str(), nullptr);
+        rounding_[i] = incremental ? rounding_[i] + written - (p[i] - last) : written - p[i];
         if (word)
           edits.push_back(gcode::Edit{word->value_span, text});
         else if (k == 0)
@@ -363,13 +461,7 @@ class JobSink : public gcode::CanonSink {
       }
       previous_s = points_[k].s;
       // The machine is now at the compensated point: incremental words count from there.
-      gcode::Axes controlled{};
-      for (std::size_t i = 0; i < gcode::kAxisCount; ++i) {
-        const double axis = gcode::is_rotary(i) ? points_[k].q[static_cast<Eigen::Index>(i)] / kRadPerDeg
-                                                : points_[k].q[static_cast<Eigen::Index>(i)];
-        controlled[i] = axis - m.offsets->tool[i];
-      }
-      commanded_ = m.offsets->from_machine(m.offsets->to_machine(controlled));
+      commanded_ = controlled_of(points_[k].q, *m.offsets);
       if (k > 0) appended += std::string(line_.terminator.empty() ? "\n" : line_.terminator) + segment;
     }
     if (points_.size() > 1 && has_stop_code(b))
@@ -485,6 +577,8 @@ class JobSink : public gcode::CanonSink {
   std::vector<CompensatedPoint> points_, pieces_;
   std::vector<gcode::Axes> chords_;
   gcode::Axes commanded_{};  ///< where the rewritten program has sent the controlled point
+  /// Per axis, program units: where the written digits put the machine less commanded_.
+  gcode::Axes rounding_{};
 };
 
 std::string sanitize(std::string_view s) {

@@ -4,6 +4,7 @@
 // plus 0.1 um.
 #include <gtest/gtest.h>
 
+#include <array>
 #include <cstdio>
 #include <cstdlib>
 #include <random>
@@ -60,13 +61,27 @@ BeforeAfter measure(const std::string& original, const std::string& output, cons
   return r;
 }
 
-/// Random straight moves over the workspace at several table angles, G90 and G91.
-std::string random_program(unsigned seed) {
-  std::mt19937 rng(seed);
+/// Random straight moves over the workspace at several table angles, G90 and G91; with
+/// `cycles`, drilling cycles too (absolute, and incremental with L repeats), which the job
+/// must then expand (--expand-cycles).
+std::string random_program(unsigned seed, bool cycles = false) {
+  std::mt19937 rng(seed), cycle_rng(seed + 1000);  // the cycles leave the other moves as they were
   std::uniform_real_distribution<double> u(-1, 1);
   std::string p = "G21 G90 G94 G54\nT1 M6\nG43 H1\nF1200\nG0 X0 Y0 Z-100 B0\n";
   for (int i = 0; i < 40; ++i) {
-    char line[160];
+    char line[240];
+    if (cycles && i % 10 == 6) {
+      auto v = [&] { return u(cycle_rng); };
+      const double r = -120 + 40 * v();
+      const int code = std::array{73, 81, 83, 85}[static_cast<std::size_t>(2 * (v() + 1)) % 4];
+      if (v() > 0)
+        std::snprintf(line, sizeof line, "G0 Z%.4f\nG98 G%d X%.4f Y%.4f Z%.4f R%.4f Q4 F300\nX%.4f Y%.4f\nG80\n",
+                      r + 20, code, 150 * v(), 120 * v(), r - 15, r, 150 * v(), 120 * v());
+      else
+        std::snprintf(line, sizeof line, "G0 X%.4f Y%.4f Z%.4f\nG91 G99 G%d X%.4f Y%.4f Z-15 R-20 Q4 L3 F300\nG90 G80\n",
+                      100 * v(), 80 * v(), r + 20, code, 20 * v(), 20 * v());
+      p += line;
+    }
     if (i % 10 == 9) {
       std::snprintf(line, sizeof line, "G0 B%.3f\n", 180 * u(rng));
     } else if (i % 10 == 4) {  // a 4-axis simultaneous move in inverse time
@@ -166,6 +181,40 @@ TEST(ClosedLoop, Refusals) {
   }
 }
 
+TEST(ClosedLoop, ExpandedCyclesAreCompensatedMovesAndTheBlocksKeepTheirOtherWords) {
+  const model::MachineModel mm = model::load_machine_model(source_dir() + "/samples/machines/hmc-xyzb-geometric.yaml");
+  const model::ForwardModel m(mm);
+  const std::string program =
+      "G21 G17 G90 G94 G54\nT1 M6\nG43 H1\nS3000 M3\nG0 X0 Y0 Z-80 B30\n"
+      "G98 G81 X50 Y30 Z-110 R-98 F200 M8\nX-60 Y40\n"
+      "G91 G81 X15 Y0 Z-12 R-18 L3\nG90 G80\nG0 Z-80\n"
+      "G99 G83 X-100 Y-50 Z-125 R-98 Q5 F150\nG80\nG0 Z-60\nM30\n";
+  compensate::JobOptions o;
+  try {
+    (void)compensate(program, mm, o);
+    ADD_FAILURE() << "an incremental cycle with L repeats was compensated in its words";
+  } catch (const Error& e) {
+    EXPECT_NE(e.message().find("--expand-cycles"), std::string::npos) << e.message();
+  }
+  o.expand_cycles = true;
+  compensate::JobReport report;
+  const std::string output = compensate(program, mm, o, &report);
+  for (const char* cycle : {"G81", "G83"}) EXPECT_EQ(output.find(cycle), std::string::npos) << output;
+  for (const char* kept : {"G98 F200 M8", "G99 F150", "\nG91\nG90\nG0 ", "\nG91\nG90 G80"})
+    EXPECT_NE(output.find(kept), std::string::npos) << kept << " in\n" << output;
+  const auto [before, left] = measure(program, output, m, {});
+  EXPECT_GT(before.max, 0.010);
+  EXPECT_LE(left.max, 0.001 + 1e-4) << left.max * 1000 << " um left at line " << left.worst_line << " of\n" << output;
+  EXPECT_GE(left.moves, 5U + 6U) << "five G81 holes fed once each, and the G83 hole's six pecks (27 mm by 5)";
+  // G82 dwells at the bottom: moves cannot say that.
+  try {
+    (void)compensate("G21 G90 G0 X0 Y0 Z-80\nG82 X10 Y10 Z-110 R-98 P0.5 F100\nG80\nM30\n", mm, o);
+    ADD_FAILURE() << "G82 was expanded without its dwell";
+  } catch (const Error& e) {
+    EXPECT_NE(e.message().find("G82"), std::string::npos) << e.message();
+  }
+}
+
 }  // namespace
 }  // namespace ccomp::test
 
@@ -243,16 +292,19 @@ TEST(ClosedLoop, RandomModelsOfEveryForm) {
     o.tolerance = 0.001;
     o.time = 1500;
     o.sensors = {{"bed", 26.0}, {"spindle", 34.0}};
-    const std::string output = compensate(random_program(5), mm, o);
+    o.expand_cycles = true;
+    const std::string program = random_program(5, true);
+    const std::string output = compensate(program, mm, o);
+    EXPECT_EQ(output.find("G81"), std::string::npos) << form << ": the cycles are written as moves";
     model::Conditions conditions;
     conditions.time = 1500;
     conditions.temperatures = {26.0, 34.0};
-    const auto [before, left] = measure(random_program(5), output, m, conditions);
+    const auto [before, left] = measure(program, output, m, conditions);
     EXPECT_LE(left.max, 0.001 + 1e-4) << form << ": " << left.max * 1000 << " um left at line " << left.worst_line;
     if (left.max > 0.001 + 1e-4) {  // keep the case for a person to rerun with ccomp verify
       const std::string dir = temp_dir("closed_loop_" + form);
       write_file(dir + "/model.yaml", kRandomChain + random_terms_text);
-      write_file(dir + "/in.ngc", random_program(5));
+      write_file(dir + "/in.ngc", program);
       write_file(dir + "/out.ngc", output);
     }
     EXPECT_GT(before.max, 0.002) << form << ": the random model should make an error worth compensating";
@@ -285,6 +337,26 @@ TEST(ClosedLoop, ShortPeriodErrorsOnLongMovesAreNotSteppedOver) {
   const auto [before, left] = measure(program, output, m, conditions);
   EXPECT_LE(left.max, 0.001 + 1e-4) << left.max * 1000 << " um left at line " << left.worst_line;
   EXPECT_GT(before.max, 0.004) << "predict sees the screw's 5 um";
+}
+
+TEST(ClosedLoop, IncrementalPiecesCarryTheirRoundingInsteadOfSummingIt) {
+  // The same screw in G91: each piece of a split move is written as a distance rounded to
+  // the program's digits, and hundreds of them would add up their roundings.
+  const model::MachineModel mm = model::parse_machine_model(
+      std::string(kRandomChain) + "  - {name: EXX, form: periodic, period: 5 mm, harmonics: [[4, 3]]}\n", "screw.yaml");
+  const model::ForwardModel m(mm);
+  const std::string program =
+      "G21 G90 G94 G54\nT1 M6\nG43 H1\nF1200\nG0 X-100 Y0 Z-100 B0\nG91 G1 X200.000\nG1 Y10.000\nG1 X-200.000\nG90\nM30\n";
+  compensate::JobOptions o;
+  o.sensors = {{"bed", 20.0}, {"spindle", 20.0}};
+  o.tolerance = 0.0005;
+  compensate::JobReport report;
+  const std::string output = compensate(program, mm, o, &report);
+  EXPECT_GT(report.added_lines, 300U);
+  model::Conditions conditions;
+  conditions.temperatures = {20.0, 20.0};
+  const auto [before, left] = measure(program, output, m, conditions);
+  EXPECT_LE(left.max, 0.0005 + 1e-4) << left.max * 1000 << " um left at line " << left.worst_line;
 }
 
 }  // namespace

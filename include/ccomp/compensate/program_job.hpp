@@ -24,6 +24,11 @@ struct JobOptions {
   double time = 0.0;
   /// Compensate even when the input already carries ccomp's header (double compensation).
   bool force = false;
+  /// Write each canned cycle (G73 G81 G83 G85) as the G0/G1 moves it makes, each one
+  /// compensated like any move, instead of compensating the cycle block's words. Takes
+  /// what the block form cannot: L repeats, G91 cycles, and a hole whose correction
+  /// differs between its R plane and its bottom.
+  bool expand_cycles = false;
   /// Called with the fraction of the input read, at most about a hundred times.
   std::function<void(double)> progress;
   /// Called for every warning, with the line it concerns.
