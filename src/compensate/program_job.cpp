@@ -7,7 +7,6 @@
 #include <charconv>
 #include <cctype>
 #include <cmath>
-#include <cstdlib>
 #include <memory>
 #include <tuple>
 
@@ -48,6 +47,15 @@ std::string format_value(double v, std::string_view original, bool inch, bool ro
     else if (text.starts_with("-0.")) text.erase(1, 1);
   }
   return text;
+}
+
+/// The number a value as written means (".5", "-.25", "12.0000").
+double number_of(std::string_view text) {
+  double value = 0.0;
+  const bool negative = text.starts_with('-');
+  if (negative) text.remove_prefix(1);
+  std::from_chars(text.data(), text.data() + text.size(), value);
+  return negative ? -value : value;
 }
 
 class JobSink : public gcode::CanonSink {
@@ -341,7 +349,7 @@ class JobSink : public gcode::CanonSink {
           const std::string value = format_value(p[i], {}, inch && !rotary, rotary);
           if (value != format_value(written[i], {}, inch && !rotary, rotary)) {
             text += std::string(" ") + letter + value;
-            rounding_[i] = std::strtod(value.c_str(), nullptr) - p[i];
+            rounding_[i] = number_of(value) - p[i];
           } else {
             rounding_[i] += written[i] - p[i];
           }
@@ -437,7 +445,7 @@ class JobSink : public gcode::CanonSink {
             continue;
           }
         }
-        const double written = std::strtod(text.c_str(), nullptr);
+        const double written = number_of(text);
         rounding_[i] = incremental ? rounding_[i] + written - (p[i] - last) : written - p[i];
         if (word)
           edits.push_back(gcode::Edit{word->value_span, text});

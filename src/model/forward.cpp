@@ -121,6 +121,23 @@ double variable_value(const Variable& v, const ChainQ& q, const Conditions& c) {
   return 0.0;
 }
 
+/// The value of a term of a cheap form (constant, polynomial by Horner, reversal, thermal,
+/// scale expansion); false for the others, which evaluate() takes.
+bool inline_value(const ErrorTermSpec& t, const double* p, const TermInputs& in, double& value) {
+  const double v = in.primary;
+  switch (t.shape.form) {
+    case TermForm::constant: value = p[0]; return true;
+    case TermForm::polynomial:
+      value = p[t.shape.order];
+      for (int k = t.shape.order - 1; k >= 0; --k) value = value * v + p[k];
+      return true;
+    case TermForm::reversal: value = 0.5 * p[0] * v; return true;
+    case TermForm::thermal_linear: value = p[0] * (v - t.shape.reference); return true;
+    case TermForm::scale_expansion: value = p[0] * v * (in.secondary - t.shape.reference); return true;
+    default: return false;
+  }
+}
+
 /// The chain variable a term variable is, or -1 when it is not one (time, temperature...).
 int chain_index(const Variable& v) {
   if (v.kind == VariableKind::axis) return static_cast<int>(v.index);
@@ -143,24 +160,40 @@ void forward(const ForwardModel& model, ForwardData& d, const ChainQ& q, const C
   for (auto& e : d.tool_error) e.setZero();
   // Term values, summed per link component (delta x y z in mm, epsilon a b c in rad).
   auto& values = d.values;
+  const bool gradient = jacobians && parameter_jacobian;
   for (std::size_t i = 0; i < terms.size(); ++i) {
     const ErrorTermSpec& t = terms[i];
-    const TermInputs in{variable_value(t.primary, q, c), variable_value(t.secondary, q, c)};
-    const auto params = d.parameters.segment(static_cast<Eigen::Index>(model.parameter_offset(i)), t.parameters.size());
-    const bool gradient = jacobians && parameter_jacobian;
-    TermInputs& last = d.evaluated_inputs[i];
-    Eigen::VectorXd& last_parameters = d.evaluated_parameters[i];
-    if (gradient || in.primary != last.primary || in.secondary != last.secondary ||
-        last_parameters.size() != params.size() || params != last_parameters) {
+    const double v = t.primary.kind == VariableKind::axis ? q[static_cast<Eigen::Index>(t.primary.index)]
+                                                          : variable_value(t.primary, q, c);
+    const TermInputs in{v, t.secondary.kind == VariableKind::none ? 0.0 : variable_value(t.secondary, q, c)};
+    const std::size_t offset = model.parameter_offset(i);
+    // Without derivatives the cheap forms are evaluated here (the forward model runs this
+    // for every term at every point the compensation checks); the others through
+    // evaluate(), kept while their inputs and parameters stand still.
+    double value = 0.0;
+    if (!jacobians && !inline_value(t, d.parameters.data() + offset, in, value)) {
+      const auto params = d.parameters.segment(static_cast<Eigen::Index>(offset), t.parameters.size());
+      TermInputs& last = d.evaluated_inputs[i];
+      Eigen::VectorXd& last_parameters = d.evaluated_parameters[i];
+      if (in.primary != last.primary || in.secondary != last.secondary || last_parameters.size() != params.size() ||
+          params != last_parameters) {
+        evaluate(t.shape, params, in, false, values[i]);
+        last = in;
+        last_parameters = params;
+      }
+      value = values[i].value;
+    } else if (jacobians) {
+      const auto params = d.parameters.segment(static_cast<Eigen::Index>(offset), t.parameters.size());
       evaluate(t.shape, params, in, gradient, values[i]);
-      last = in;
-      last_parameters = params;
+      d.evaluated_inputs[i] = in;
+      d.evaluated_parameters[i] = params;
+      value = values[i].value;
     }
     const auto& site = model.site(i);
     auto& e = site.side == 0 ? d.work_error[site.joint] : d.tool_error[site.joint];
     // ISO 230-1 error motions are the tool's relative to the workpiece: a link on the
     // workpiece side moves the workpiece, so its error pose carries the opposite sign.
-    e[t.component] += (site.side == 0 ? -1.0 : 1.0) * values[i].value;
+    e[t.component] += (site.side == 0 ? -1.0 : 1.0) * value;
   }
   // Error poses of the links, with their Jacobians w.r.t. (delta, epsilon).
   auto set_errors = [&](const std::vector<Eigen::Matrix<double, 6, 1>>& errors, std::vector<Pose>& poses,
