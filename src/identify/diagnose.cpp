@@ -5,16 +5,14 @@
 #include <Eigen/Cholesky>
 #include <Eigen/Eigenvalues>
 #include <algorithm>
-#include <atomic>
-#include <exception>
 #include <optional>
-#include <thread>
 #include <cmath>
 #include <functional>
 #include <map>
 
 #include "ccomp/identify/check.hpp"
 #include "ccomp/identify/fit.hpp"
+#include "ccomp/util/parallel.hpp"
 
 namespace ccomp::identify {
 namespace {
@@ -120,14 +118,16 @@ Diagnosis diagnose(const model::ForwardModel& model, const MeasurementSet& data,
       Eigen::VectorXd scale(J.cols());
       for (Eigen::Index j = 0; j < J.cols(); ++j) scale[j] = std::max(J.col(j).norm(), 1e-300);
       const Eigen::MatrixXd A = J * scale.cwiseInverse().asDiagonal();
-      Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(A.transpose() * A);
+      Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(normal_matrix(A));
       const double largest = std::sqrt(std::max(eig.eigenvalues().maxCoeff(), 0.0));
       std::vector<Eigen::Index> kept;
       for (Eigen::Index k = 0; k < eig.eigenvalues().size(); ++k)
         if (std::sqrt(std::max(eig.eigenvalues()[k], 0.0)) > 1e-6 * largest) kept.push_back(k);
-      base.U.resize(n, static_cast<Eigen::Index>(kept.size()));
+      // U = A V S^-1 in one product (column by column it would read A once per column).
+      Eigen::MatrixXd W(A.cols(), static_cast<Eigen::Index>(kept.size()));
       for (std::size_t c = 0; c < kept.size(); ++c)
-        base.U.col(static_cast<Eigen::Index>(c)) = A * eig.eigenvectors().col(kept[c]) / std::sqrt(eig.eigenvalues()[kept[c]]);
+        W.col(static_cast<Eigen::Index>(c)) = eig.eigenvectors().col(kept[c]) / std::sqrt(eig.eigenvalues()[kept[c]]);
+      base.U = tall_product(A, W);
       // The refit's residual, made exactly orthogonal to what the base absorbs.
       base.r -= base.U * (base.U.transpose() * base.r);
     }
@@ -574,24 +574,7 @@ Diagnosis diagnose(const model::ForwardModel& model, const MeasurementSet& data,
     return s;
   };
   std::vector<std::optional<Suggestion>> results(candidates.size());
-  {
-    std::atomic<std::size_t> next{0};
-    std::vector<std::exception_ptr> failures(static_cast<std::size_t>(std::max(options.threads, 1)));
-    auto worker = [&](std::size_t id) {
-      try {
-        for (std::size_t i = next++; i < candidates.size(); i = next++) results[i] = score(candidates[i]);
-      } catch (...) {
-        failures[id] = std::current_exception();
-        next = candidates.size();
-      }
-    };
-    std::vector<std::thread> pool;
-    for (std::size_t t = 1; t < failures.size(); ++t) pool.emplace_back(worker, t);
-    worker(0);
-    for (std::thread& t : pool) t.join();
-    for (const std::exception_ptr& e : failures)
-      if (e) std::rethrow_exception(e);
-  }
+  util::for_each_index(candidates.size(), options.threads, [&](std::size_t i) { results[i] = score(candidates[i]); });
   std::vector<Suggestion> scored;
   for (std::optional<Suggestion>& r : results)
     if (r) scored.push_back(std::move(*r));

@@ -6,6 +6,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "ccomp/util/parallel.hpp"
+
 namespace ccomp::identify {
 
 using model::TermForm;
@@ -58,21 +60,24 @@ namespace {
 /// Residuals and (when asked) the design matrix of the free columns, d prediction / d p.
 void linearize(const model::ForwardModel& model, const Eigen::VectorXd& parameters, const MeasurementSet& data,
                const std::vector<std::size_t>& free, Eigen::VectorXd& r, Eigen::MatrixXd* J) {
-  model::ForwardData d(model);
-  d.parameters = parameters;
   const auto n = static_cast<Eigen::Index>(data.observations.size());
   r.resize(n);
   if (J) J->resize(n, static_cast<Eigen::Index>(free.size()));
-  for (Eigen::Index i = 0; i < n; ++i) {
-    const Observation& o = data.observations[static_cast<std::size_t>(i)];
-    model::forward(model, d, o.q, MeasurementSet::conditions(o), J != nullptr);
-    const Eigen::Matrix3d& R = d.nominal_chain.work_oMi.back().R;  // table frame -> machine axes
-    r[i] = o.value - o.direction.dot(R * (d.actual - d.nominal));
-    if (!J) continue;
-    const Eigen::RowVector3d nR = o.direction.transpose() * R;
-    for (std::size_t j = 0; j < free.size(); ++j)
-      (*J)(i, static_cast<Eigen::Index>(j)) = nR * d.J_parameters.col(static_cast<Eigen::Index>(free[j]));
-  }
+  // Rows are independent: each piece of them on a thread, with its own scratch.
+  util::for_each_piece(data.observations.size(), util::hardware_threads(), [&](std::size_t begin, std::size_t end) {
+    model::ForwardData d(model);
+    d.parameters = parameters;
+    for (auto i = static_cast<Eigen::Index>(begin); i < static_cast<Eigen::Index>(end); ++i) {
+      const Observation& o = data.observations[static_cast<std::size_t>(i)];
+      model::forward(model, d, o.q, MeasurementSet::conditions(o), J != nullptr);
+      const Eigen::Matrix3d& R = d.nominal_chain.work_oMi.back().R;  // table frame -> machine axes
+      r[i] = o.value - o.direction.dot(R * (d.actual - d.nominal));
+      if (!J) continue;
+      const Eigen::RowVector3d nR = o.direction.transpose() * R;
+      for (std::size_t j = 0; j < free.size(); ++j)
+        (*J)(i, static_cast<Eigen::Index>(j)) = nR * d.J_parameters.col(static_cast<Eigen::Index>(free[j]));
+    }
+  });
 }
 
 double rms(const Eigen::VectorXd& r) { return r.size() ? std::sqrt(r.squaredNorm() / static_cast<double>(r.size())) : 0.0; }
@@ -92,6 +97,34 @@ std::vector<double> rms_by_source(const Eigen::VectorXd& r, const MeasurementSet
 void design_matrix(const model::ForwardModel& model, const Eigen::VectorXd& parameters, const MeasurementSet& data,
                    const std::vector<std::size_t>& free, Eigen::VectorXd& r, Eigen::MatrixXd* J) {
   linearize(model, parameters, data, free, r, J);
+}
+
+namespace {
+constexpr std::size_t kRowBlocks = 8;
+Eigen::Index block_begin(Eigen::Index rows, std::size_t b) {
+  return rows * static_cast<Eigen::Index>(b) / static_cast<Eigen::Index>(kRowBlocks);
+}
+}  // namespace
+
+Eigen::MatrixXd normal_matrix(const Eigen::MatrixXd& A) {
+  std::vector<Eigen::MatrixXd> part(kRowBlocks);
+  util::for_each_index(kRowBlocks, util::hardware_threads(), [&](std::size_t b) {
+    const Eigen::Index begin = block_begin(A.rows(), b), end = block_begin(A.rows(), b + 1);
+    part[b] = Eigen::MatrixXd::Zero(A.cols(), A.cols());
+    part[b].selfadjointView<Eigen::Lower>().rankUpdate(A.middleRows(begin, end - begin).transpose());
+  });
+  Eigen::MatrixXd N = Eigen::MatrixXd::Zero(A.cols(), A.cols());
+  for (const Eigen::MatrixXd& p : part) N += p;  // in block order: the same sum everywhere
+  return N.selfadjointView<Eigen::Lower>();
+}
+
+Eigen::MatrixXd tall_product(const Eigen::MatrixXd& A, const Eigen::MatrixXd& B) {
+  Eigen::MatrixXd C(A.rows(), B.cols());
+  util::for_each_index(kRowBlocks, util::hardware_threads(), [&](std::size_t b) {
+    const Eigen::Index begin = block_begin(A.rows(), b), end = block_begin(A.rows(), b + 1);
+    C.middleRows(begin, end - begin).noalias() = A.middleRows(begin, end - begin) * B;
+  });
+  return C;
 }
 
 Eigen::VectorXd residuals(const model::ForwardModel& model, const Eigen::VectorXd& parameters, const MeasurementSet& data) {
@@ -165,9 +198,7 @@ FitReport fit(const model::ForwardModel& model, const MeasurementSet& data, cons
         scale[j] = norm > 0 ? norm : 1.0;
       }
     const Eigen::MatrixXd A = sw.asDiagonal() * J * scale.cwiseInverse().asDiagonal();
-    Eigen::MatrixXd N = Eigen::MatrixXd::Zero(m, m);
-    N.selfadjointView<Eigen::Lower>().rankUpdate(A.transpose());
-    N = N.selfadjointView<Eigen::Lower>();
+    const Eigen::MatrixXd N = normal_matrix(A);
     const Eigen::VectorXd g = A.transpose() * (sw.asDiagonal() * r);
     if (decide) {
       // Descending singular values and their right singular vectors.

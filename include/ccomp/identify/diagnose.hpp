@@ -7,14 +7,13 @@
 // to the data (its free parameters and the candidate together, by projection), scored by
 // the fall in the residual, the Bayesian information criterion and its significance
 // against the noise floor, and ranked; only the significant are suggested.
-#include <algorithm>
 #include <string>
-#include <thread>
 #include <vector>
 
 #include "ccomp/identify/fit.hpp"
 #include "ccomp/identify/measurements.hpp"
 #include "ccomp/model/forward.hpp"
+#include "ccomp/util/parallel.hpp"
 
 namespace ccomp::identify {
 
@@ -45,7 +44,7 @@ struct DiagnoseOptions {
   double noise = 0.0;     ///< mm: the noise floor (check's estimate); 0 estimates it
   int max_suggestions = 5;
   /// Threads scoring the candidates (results do not depend on it).
-  int threads = static_cast<int>(std::max(1U, std::thread::hardware_concurrency()));
+  int threads = util::hardware_threads();
 };
 
 struct Diagnosis {

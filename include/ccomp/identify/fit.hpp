@@ -65,6 +65,12 @@ struct FitReport {
 void design_matrix(const model::ForwardModel& model, const Eigen::VectorXd& parameters, const MeasurementSet& data,
                    const std::vector<std::size_t>& free, Eigen::VectorXd& r, Eigen::MatrixXd* J);
 
+/// A^T A, summed over a fixed number of row blocks on the cores: the same sums on any
+/// machine, whatever its core count.
+[[nodiscard]] Eigen::MatrixXd normal_matrix(const Eigen::MatrixXd& A);
+/// A * B by row blocks on the cores (A tall: a design matrix).
+[[nodiscard]] Eigen::MatrixXd tall_product(const Eigen::MatrixXd& A, const Eigen::MatrixXd& B);
+
 /// Residuals (measured - predicted, mm) of every observation with the given parameters.
 [[nodiscard]] Eigen::VectorXd residuals(const model::ForwardModel& model, const Eigen::VectorXd& parameters,
                                         const MeasurementSet& data);
