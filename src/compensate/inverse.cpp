@@ -58,7 +58,6 @@ InverseResult solve_inverse(const model::ForwardModel& model, const InverseProbl
     if (last_length > 0 && std::abs(length / last_length - 1.0) < 0.1 && shift.dot(ws.last_shift) > 0.999 * length * last_length)
       q += ws.last_miss * (length * length) / (last_length * last_length);
   }
-  const ChainQ prediction = q;
   // At most 3 + 3 equations in at most 9 unknowns: sized on the stack.
   Eigen::Matrix<double, Eigen::Dynamic, 1, 0, 6, 1> residual(m);
   Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, 6, 9> J(m, n);
@@ -79,7 +78,8 @@ InverseResult solve_inverse(const model::ForwardModel& model, const InverseProbl
     r.position_residual = residual.head<3>();
     r.orientation_error = omega;
     const bool position_ok = r.position_residual.norm() < options.position_tolerance;
-    const bool angles_ok = residual.tail(m - 3).size() == 0 || residual.tail(m - 3).cwiseAbs().maxCoeff() < options.angle_tolerance;
+    bool angles_ok = true;
+    for (Eigen::Index k = 3; k < m; ++k) angles_ok = angles_ok && std::abs(residual[k]) < options.angle_tolerance;
     if (position_ok && angles_ok) {
       r.converged = true;
       // One more step on the residual already known (no evaluation): what is left is the

@@ -130,10 +130,27 @@ void evaluate(const TermShape& s, const Eigen::Ref<const Eigen::VectorXd>& p, co
       break;
     case TermForm::periodic: {
       const double period = p[0];
+      // The first harmonic's cosine and sine, turned from the reference phase when it is
+      // near; the higher harmonics by the angle-sum recurrence.
+      const double phase1 = kTwoPi * v / period;
+      double c1 = 0.0, s1 = 0.0;
+      if (const double delta = phase1 - r.phase_reference; std::abs(delta) < 0.05) {
+        const double d2 = delta * delta;
+        const double cd = 1.0 - d2 / 2.0 * (1.0 - d2 / 12.0 * (1.0 - d2 / 30.0 * (1.0 - d2 / 56.0 * (1.0 - d2 / 90.0))));
+        const double sd = delta * (1.0 - d2 / 6.0 * (1.0 - d2 / 20.0 * (1.0 - d2 / 42.0 * (1.0 - d2 / 72.0))));
+        c1 = r.cos_reference * cd - r.sin_reference * sd;
+        s1 = r.sin_reference * cd + r.cos_reference * sd;
+      } else {
+        c1 = std::cos(phase1), s1 = std::sin(phase1);
+        r.phase_reference = phase1, r.cos_reference = c1, r.sin_reference = s1;
+      }
+      double c = 1.0, sn = 0.0;  // cos and sin of k phase1
       for (int k = 1; k <= s.order; ++k) {
         const double a = p[2 * k - 1], b = p[2 * k];
-        const double phase = kTwoPi * k * v / period;
-        const double c = std::cos(phase), sn = std::sin(phase);
+        const double phase = k * phase1;
+        const double c_next = c * c1 - sn * s1;
+        sn = sn * c1 + c * s1;
+        c = c_next;
         r.value += a * c + b * sn;
         const double d_phase = -a * sn + b * c;  // d(value)/d(phase)
         r.d_primary += d_phase * kTwoPi * k / period;

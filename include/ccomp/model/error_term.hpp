@@ -8,6 +8,7 @@
 // checks them against finite differences. Units inside are mm, rad, s, degC.
 #include <cstdint>
 #include <string>
+#include <limits>
 #include <vector>
 
 #include <Eigen/Core>
@@ -40,6 +41,11 @@ struct TermValue {
   double d_primary = 0.0;
   double d_secondary = 0.0;
   Eigen::VectorXd d_parameters;  ///< one entry per parameter (when asked)
+  /// Periodic forms: a phase whose cosine and sine were computed exactly. A value reused
+  /// for the next evaluation turns from there by the (small) difference, whose cosine and
+  /// sine a short series gives to double precision: neighbouring points cost no sine.
+  double phase_reference = std::numeric_limits<double>::quiet_NaN();
+  double cos_reference = 1.0, sin_reference = 0.0;
 };
 
 struct TermShape {
