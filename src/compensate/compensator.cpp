@@ -12,21 +12,16 @@ Compensator::Compensator(const model::ForwardModel& model, CompensationOptions o
     : model_(model), options_(std::move(options)), problem_(model), data_(model), check_(model) {}
 
 ChainQ Compensator::point(const ChainQ& nominal, MoveReport& report) {
-  const bool same_conditions = options_.conditions.directions == last_directions_;
-  if (same_conditions && nominal == last_nominal_) return last_solution_;
-  // Start from the last solution's correction: neighbouring points correct alike.
-  const ChainQ guess = nominal + (last_solution_ - (last_nominal_.allFinite() ? last_nominal_ : last_solution_));
-  const InverseResult r = solve_inverse(model_, problem_, data_, nominal, options_.conditions, {},
-                                        last_nominal_.allFinite() ? &guess : nullptr, &workspace_);
+  // A move usually starts where the last one ended: that point is solved already.
+  if (nominal == workspace_.last_nominal && options_.conditions.directions == workspace_.last_directions)
+    return workspace_.last_solution;
+  const InverseResult r = solve_inverse(model_, problem_, data_, nominal, options_.conditions, {}, nullptr, &workspace_);
   if (!r.converged)
     throw Error(ErrorKind::safety, fmt::format("the inverse did not converge in {} iterations (residual {:.3g} mm)",
                                                r.iterations, r.position_residual.norm()));
   remember_tip(nominal, r.target);
   report.max_correction = std::max(report.max_correction, (r.q - nominal).head<3>().cwiseAbs().maxCoeff());
   report.max_orientation_error = std::max(report.max_orientation_error, r.orientation_error.norm());
-  last_nominal_ = nominal;
-  last_solution_ = r.q;
-  last_directions_ = options_.conditions.directions;
   return r.q;
 }
 

@@ -2,6 +2,7 @@
 
 #include <Eigen/QR>
 
+#include <array>
 #include <limits>
 
 #include "ccomp/kinematics/pose.hpp"
@@ -24,6 +25,15 @@ InverseProblem::InverseProblem(const model::ForwardModel& model) {
 }
 
 
+namespace {
+using Step = Eigen::Matrix<double, Eigen::Dynamic, 1, 0, 9, 1>;
+
+/// q += sign * step, the step given over the problem's unknowns.
+void move_unknowns(const InverseProblem& problem, ChainQ& q, const Step& step, double sign) {
+  for (std::size_t c = 0; c < problem.unknowns.size(); ++c) q[problem.unknowns[c]] += sign * step[static_cast<Eigen::Index>(c)];
+}
+}  // namespace
+
 InverseResult solve_inverse(const model::ForwardModel& model, const InverseProblem& problem, model::ForwardData& d,
                             const ChainQ& q_nominal, const model::Conditions& conditions,
                             const InverseOptions& options, const ChainQ* guess, InverseWorkspace* workspace) {
@@ -34,9 +44,11 @@ InverseResult solve_inverse(const model::ForwardModel& model, const InverseProbl
   const Eigen::Matrix3d R_target = d.R_nominal;
   const auto n = static_cast<Eigen::Index>(problem.unknowns.size());
   const auto m = 3 + static_cast<Eigen::Index>(problem.rotary_unknowns.size());
-  ChainQ q = guess ? *guess : q_nominal;
   InverseWorkspace scratch;
   InverseWorkspace& ws = workspace ? *workspace : scratch;
+  // Without a prediction: the guess, else this point shifted by the last solution's
+  // correction (neighbouring points correct alike), else the nominal point.
+  ChainQ q = guess ? *guess : ws.last_nominal.allFinite() ? ChainQ(q_nominal + ws.last_solution - ws.last_nominal) : q_nominal;
   const bool have_solve_matrix = ws.solve_matrix.size() != 0;
   ChainQ first_order = q;
   // The same orientation to reach, under the same approach: the last solution moved by the
@@ -47,12 +59,9 @@ InverseResult solve_inverse(const model::ForwardModel& model, const InverseProbl
                          conditions.directions == ws.last_directions;
   const Eigen::Vector3d shift = target - ws.last_target;
   if (predicted) {
-    const Eigen::Matrix<double, Eigen::Dynamic, 1, 0, 9, 1> step = ws.solve_matrix.leftCols<3>() * shift;
     q = q_nominal;
-    for (Eigen::Index c = 0; c < n; ++c) {
-      const auto k = problem.unknowns[static_cast<std::size_t>(c)];
-      q[k] = ws.last_solution[k] + step[c];
-    }
+    for (const int k : problem.unknowns) q[k] = ws.last_solution[k];
+    move_unknowns(problem, q, ws.solve_matrix.leftCols<3>() * shift, 1.0);
     first_order = q;
     const double last_length = ws.last_shift.norm(), length = shift.norm();
     if (last_length > 0 && std::abs(length / last_length - 1.0) < 0.1 && shift.dot(ws.last_shift) > 0.999 * length * last_length)
@@ -63,18 +72,19 @@ InverseResult solve_inverse(const model::ForwardModel& model, const InverseProbl
   Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, 6, 9> J(m, n);
   bool fresh = !have_solve_matrix;  // evaluate the Jacobian at this iteration
   double last_norm = std::numeric_limits<double>::infinity();
+  // Each rotary axis seen from the tool: in the table frame it is its own direction (a
+  // rotation about d leaves d in place, and the table frame follows the rotary link),
+  // turned into the tool frame by the target orientation.
+  std::array<Eigen::Vector3d, 3> rotary_axes;
+  for (std::size_t k = 0; k < problem.rotary_unknowns.size(); ++k)
+    rotary_axes[k] = R_target.transpose() * problem.rotary_directions[k];
   for (r.iterations = 0; r.iterations <= options.max_iterations; ++r.iterations) {
     model::forward(model, d, q, conditions, fresh, model::Evaluate::actual, false);
     residual.head<3>() = d.actual - target;
     Eigen::Matrix3d Jr_inv;
     const Eigen::Vector3d omega = kinematics::so3_log(R_target.transpose() * d.R_actual, fresh ? &Jr_inv : nullptr);
-    for (std::size_t k = 0; k < problem.rotary_unknowns.size(); ++k) {
-      // The rotary axis seen from the tool: in the table frame it is its own direction (a
-      // rotation about d leaves d in place, and the table frame follows the rotary link),
-      // turned into the tool frame by the target orientation.
-      const Eigen::Vector3d axis = R_target.transpose() * problem.rotary_directions[k];
-      residual[3 + static_cast<Eigen::Index>(k)] = axis.dot(omega);
-    }
+    for (std::size_t k = 0; k < problem.rotary_unknowns.size(); ++k)
+      residual[3 + static_cast<Eigen::Index>(k)] = rotary_axes[k].dot(omega);
     r.position_residual = residual.head<3>();
     r.orientation_error = omega;
     const bool position_ok = r.position_residual.norm() < options.position_tolerance;
@@ -85,10 +95,7 @@ InverseResult solve_inverse(const model::ForwardModel& model, const InverseProbl
       // One more step on the residual already known (no evaluation): what is left is the
       // Jacobian's error times it, far below the tolerance, and the next prediction
       // extrapolates from this solution.
-      if (ws.solve_matrix.size() != 0) {
-        const Eigen::Matrix<double, Eigen::Dynamic, 1, 0, 9, 1> step = ws.solve_matrix * residual;
-        for (Eigen::Index c = 0; c < n; ++c) q[problem.unknowns[static_cast<std::size_t>(c)]] -= step[c];
-      }
+      if (ws.solve_matrix.size() != 0) move_unknowns(problem, q, ws.solve_matrix * residual, -1.0);
       break;
     }
     if (r.iterations == options.max_iterations) break;
@@ -103,30 +110,27 @@ InverseResult solve_inverse(const model::ForwardModel& model, const InverseProbl
     if (fresh) {
       // Rotation rows of dE/dq (right tangent of the tool in the table frame).
       const Eigen::Matrix<double, 3, Eigen::Dynamic> J_rot = Jr_inv * d.actual_chain.J_q.bottomRows<3>();
-      for (std::size_t k = 0; k < problem.rotary_unknowns.size(); ++k) {
-        const Eigen::Vector3d axis = R_target.transpose() * problem.rotary_directions[k];
+      for (std::size_t k = 0; k < problem.rotary_unknowns.size(); ++k)
         for (Eigen::Index c = 0; c < n; ++c)
-          J(3 + static_cast<Eigen::Index>(k), c) = axis.dot(J_rot.col(problem.unknowns[static_cast<std::size_t>(c)]));
-      }
+          J(3 + static_cast<Eigen::Index>(k), c) = rotary_axes[k].dot(J_rot.col(problem.unknowns[static_cast<std::size_t>(c)]));
       for (Eigen::Index c = 0; c < n; ++c) J.block<3, 1>(0, c) = d.J_q.col(problem.unknowns[static_cast<std::size_t>(c)]);
       ws.solve_matrix = J.completeOrthogonalDecomposition().pseudoInverse();
       ++ws.jacobian_evaluations;
       fresh = false;
     }
-    const Eigen::Matrix<double, Eigen::Dynamic, 1, 0, 9, 1> step = ws.solve_matrix * residual;
-    for (Eigen::Index c = 0; c < n; ++c) q[problem.unknowns[static_cast<std::size_t>(c)]] -= step[c];
+    move_unknowns(problem, q, ws.solve_matrix * residual, -1.0);
   }
   r.q = q;
   r.target = target;
   if (r.converged && predicted && shift.norm() > 1e-6) {
     // Broyden's update: the solve matrix made exact along the step just taken (the target
     // shift maps to the solution's shift), so it follows the Jacobian along the path.
-    Eigen::Matrix<double, Eigen::Dynamic, 1, 0, 9, 1> s_step(n);
+    Step s_step(n);
     for (Eigen::Index c = 0; c < n; ++c) {
       const auto k = problem.unknowns[static_cast<std::size_t>(c)];
       s_step[c] = q[k] - ws.last_solution[k];
     }
-    const Eigen::Matrix<double, Eigen::Dynamic, 1, 0, 9, 1> gap = s_step - ws.solve_matrix.leftCols<3>() * shift;
+    const Step gap = s_step - ws.solve_matrix.leftCols<3>() * shift;
     // A secant far from the matrix is not the Jacobian's drift (a jump of the solution):
     // left out.
     if (gap.norm() < 0.1 * s_step.norm()) ws.solve_matrix.leftCols<3>() += gap * shift.transpose() / shift.squaredNorm();
@@ -135,6 +139,7 @@ InverseResult solve_inverse(const model::ForwardModel& model, const InverseProbl
     ws.last_miss = predicted ? ChainQ(q - first_order) : ChainQ(ChainQ::Zero());
     ws.last_shift = shift;
     ws.last_solution = q;
+    ws.last_nominal = q_nominal;
     ws.last_directions = conditions.directions;
     ws.last_target = target;
     ws.last_target_orientation = R_target;

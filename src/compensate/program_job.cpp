@@ -8,6 +8,7 @@
 #include <cctype>
 #include <cmath>
 #include <memory>
+#include <optional>
 #include <tuple>
 
 #include "ccomp/error.hpp"
@@ -52,10 +53,8 @@ std::string format_value(double v, std::string_view original, bool inch, bool ro
 /// The number a value as written means (".5", "-.25", "12.0000").
 double number_of(std::string_view text) {
   double value = 0.0;
-  const bool negative = text.starts_with('-');
-  if (negative) text.remove_prefix(1);
   std::from_chars(text.data(), text.data() + text.size(), value);
-  return negative ? -value : value;
+  return value;
 }
 
 class JobSink : public gcode::CanonSink {
@@ -179,28 +178,8 @@ class JobSink : public gcode::CanonSink {
       refuse(ErrorKind::unsupported, "this line runs more than once (a loop or a subroutine) and its correction "
                                      "differs each time; compensating such programs needs flattening, not "
                                      "implemented yet");
-    const model::ChainQ start = chain_of(m.start, *m.offsets);
-    const model::ChainQ end = chain_of(m.end, *m.offsets);
     MoveReport move;
-    if (m.kind == MotionKind::traverse) {  // a rapid's path is the control's: compensate its end
-      move.max_deviation_before = compensator_->error_at(end);
-      compensator_->rapid(end, points_, move);
-    } else if (m.kind == MotionKind::arc) {
-      // Chords within half the tolerance of the arc, each compensated within the other half.
-      arc_chords(m, options_.tolerance / 2.0, chords_);
-      points_.clear();
-      const auto n = static_cast<double>(chords_.size() - 1);
-      for (std::size_t k = 1; k < chords_.size(); ++k) {
-        compensator_->straight(chain_of(chords_[k - 1], *m.offsets), chain_of(chords_[k], *m.offsets), pieces_, move,
-                               options_.tolerance / 2.0);
-        for (CompensatedPoint& piece : pieces_) {
-          piece.s = (static_cast<double>(k - 1) + piece.s) / n;
-          points_.push_back(piece);
-        }
-      }
-    } else {
-      compensator_->straight(start, end, points_, move);
-    }
+    solve_move(m, *m.offsets, move);
     account(move, block_->line, std::string(block_->text));
     report_.added_lines += points_.size() - 1;
     for (const CompensatedPoint& p : points_) report_.take_up_moves += p.take_up ? 1 : 0;
@@ -313,52 +292,35 @@ class JobSink : public gcode::CanonSink {
                   fmt::format("--expand-cycles writes G73 G81 G83 G85 as moves; G{:g} also dwells or turns the "
                               "spindle, which moves cannot say (compensate it without --expand-cycles)", g),
                   SourceLocation{input_.name(), c.line, 0}, c.text);
+    std::vector<gcode::Span> cycle_words;
+    for (const gcode::Word& w : c.words)
+      if (std::string_view("XYZABCUVWRQLP").find(w.letter) != std::string_view::npos ||
+          (w.letter == 'G' && w.value.is_literal() && is_cycle_code(w.value.literal)))
+        cycle_words.push_back(w.span);
     std::vector<gcode::Edit> edits;
-    for (const gcode::Word& w : c.words) {
-      const bool cycle_word = std::string_view("XYZABCUVWRQLP").find(w.letter) != std::string_view::npos ||
-                              (w.letter == 'G' && w.value.is_literal() && is_cycle_code(w.value.literal));
-      if (!cycle_word) continue;
-      gcode::Span span = w.span;  // the word and the blanks before it
-      while (span.begin > 0 && (c.text[span.begin - 1] == ' ' || c.text[span.begin - 1] == '\t')) --span.begin;
-      edits.push_back(gcode::Edit{span, ""});
-    }
+    remove_words(c.text, cycle_words, edits);
     const bool inch = c.units == gcode::Units::inch;
     const double unit = inch ? 25.4 : 1.0;
     const std::string eol = c.terminator.empty() ? "\n" : c.terminator;
     std::string appended;
     if (c.incremental) appended += eol + "G90";
-    gcode::Axes written = program_of(chain_of(commanded_, c.offsets), c.offsets, unit);
     for (const gcode::Motion& m : c.motions) {
-      const model::ChainQ start = chain_of(m.start, c.offsets), end = chain_of(m.end, c.offsets);
       MoveReport move;
-      if (m.kind == gcode::MotionKind::traverse) {
-        move.max_deviation_before = compensator_->error_at(end);
-        compensator_->rapid(end, points_, move);
-      } else {
-        compensator_->straight(start, end, points_, move);
-      }
+      solve_move(m, c.offsets, move);
       account(move, c.line, c.text);
       for (const CompensatedPoint& point : points_) {
         const gcode::Axes p = program_of(point.q, c.offsets, unit);
+        const gcode::Axes last = program_of(chain_of(commanded_, c.offsets), c.offsets, unit);
         std::string text = m.kind == gcode::MotionKind::traverse ? "G0" : "G1";
         const std::size_t bare = text.size();
-        for (std::size_t i = 0; i < gcode::kAxisCount; ++i) {
-          const char letter = gcode::kAxisLetters[i];
-          if (!model_.axis(letter)) continue;
-          const bool rotary = gcode::is_rotary(i);
-          const std::string value = format_value(p[i], {}, inch && !rotary, rotary);
-          if (value != format_value(written[i], {}, inch && !rotary, rotary)) {
-            text += std::string(" ") + letter + value;
-            rounding_[i] = number_of(value) - p[i];
-          } else {
-            rounding_[i] += written[i] - p[i];
-          }
-          written[i] = p[i];
-        }
+        for (std::size_t i = 0; i < gcode::kAxisCount; ++i)
+          if (model_.axis(gcode::kAxisLetters[i]))
+            if (const auto word = axis_word(i, p[i], last[i], false, nullptr, nullptr, inch))
+              text += std::string(" ") + gcode::kAxisLetters[i] + *word;
         if (text.size() > bare) appended += eol + text, ++report_.added_lines;
         if (point.take_up) ++report_.take_up_moves;
+        commanded_ = controlled_of(point.q, c.offsets);
       }
-      commanded_ = controlled_of(points_.back().q, c.offsets);
     }
     if (c.incremental) appended += eol + "G91";
     edits.push_back(gcode::Edit{{static_cast<std::uint32_t>(c.text.size()), static_cast<std::uint32_t>(c.text.size())}, appended});
@@ -388,6 +350,73 @@ class JobSink : public gcode::CanonSink {
     report_.max_orientation_error = std::max(report_.max_orientation_error, move.max_orientation_error);
     warn_unhidden_reversals(move.unhidden_reversals);
     ++report_.compensated_moves;
+  }
+
+  /// The compensated points of a motion into points_: a rapid's end (its path is the
+  /// control's), a feed move split as its error field needs, an arc as chords within half
+  /// the tolerance, each compensated within the other half.
+  void solve_move(const gcode::Motion& m, const gcode::Offsets& offsets, MoveReport& move) {
+    const model::ChainQ start = chain_of(m.start, offsets), end = chain_of(m.end, offsets);
+    if (m.kind == gcode::MotionKind::traverse) {
+      move.max_deviation_before = compensator_->error_at(end);
+      compensator_->rapid(end, points_, move);
+    } else if (m.kind == gcode::MotionKind::arc) {
+      arc_chords(m, options_.tolerance / 2.0, chords_);
+      points_.clear();
+      const auto n = static_cast<double>(chords_.size() - 1);
+      for (std::size_t k = 1; k < chords_.size(); ++k) {
+        compensator_->straight(chain_of(chords_[k - 1], offsets), chain_of(chords_[k], offsets), pieces_, move,
+                               options_.tolerance / 2.0);
+        for (CompensatedPoint& piece : pieces_) {
+          piece.s = (static_cast<double>(k - 1) + piece.s) / n;
+          points_.push_back(piece);
+        }
+      }
+    } else {
+      compensator_->straight(start, end, points_, move);
+    }
+  }
+
+  /// Edits removing `words` from a line, each with the blanks before it (after it, when it
+  /// starts the line); neighbours' blanks merge into one edit, as edits may not overlap.
+  static void remove_words(std::string_view text, const std::vector<gcode::Span>& words, std::vector<gcode::Edit>& edits) {
+    std::vector<gcode::Span> spans;
+    for (gcode::Span s : words) {
+      while (s.begin > 0 && (text[s.begin - 1] == ' ' || text[s.begin - 1] == '\t')) --s.begin;
+      if (s.begin == 0)
+        while (s.end < text.size() && (text[s.end] == ' ' || text[s.end] == '\t')) ++s.end;
+      spans.push_back(s);
+    }
+    std::sort(spans.begin(), spans.end(), [](const gcode::Span& a, const gcode::Span& b) { return a.begin < b.begin; });
+    for (std::size_t k = 0; k < spans.size(); ++k) {
+      if (k > 0 && spans[k].begin <= edits.back().span.end) {
+        edits.back().span.end = std::max(edits.back().span.end, spans[k].end);
+        continue;
+      }
+      edits.push_back(gcode::Edit{spans[k], ""});
+    }
+  }
+
+  /// The word for axis i at program value p (program units, degrees), or nothing for an
+  /// axis the block did not name that need not move. Counted from where the written digits
+  /// put the machine (commanded_ at `last`, plus rounding_): incremental distances carry
+  /// their rounding instead of summing it over a split move's pieces.
+  std::optional<std::string> axis_word(std::size_t i, double p, double last, bool incremental, const gcode::Word* named,
+                                       const gcode::Block* block, bool inch) {
+    const bool rotary = gcode::is_rotary(i);
+    const double value = incremental ? p - last - rounding_[i] : p;
+    const std::string text =
+        format_value(value, named ? block->slice(named->value_span) : std::string_view(), inch && !rotary, rotary);
+    if (!named) {
+      const double unmoved = incremental ? 0.0 : last + rounding_[i];
+      if (text == format_value(unmoved, {}, inch && !rotary, rotary)) {
+        rounding_[i] += last - p;
+        return std::nullopt;
+      }
+    }
+    const double written = number_of(text);
+    rounding_[i] = incremental ? rounding_[i] + written - (p - last) : written - p;
+    return text;
   }
 
   /// Points along an arc (controlled points, machine frame), start and end included, whose
@@ -426,33 +455,19 @@ class JobSink : public gcode::CanonSink {
       const gcode::Axes p = program_of(points_[k].q, *m.offsets, unit);
       std::string segment = k == 0 ? "" : (m.kind == gcode::MotionKind::traverse ? "G0" : "G1");
       const std::size_t bare = segment.size();
+      const gcode::Axes last = program_of(chain_of(commanded_, *m.offsets), *m.offsets, unit);
       for (std::size_t i = 0; i < gcode::kAxisCount; ++i) {
         const char letter = gcode::kAxisLetters[i];
         if (!model_.axis(letter)) continue;
         const gcode::Word* word = k == 0 ? b.find(letter) : nullptr;
-        const double last = program_of(chain_of(commanded_, *m.offsets), *m.offsets, unit)[i];
-        // Incremental words count from where the written digits put the machine: the
-        // rounding of the last words is carried, not summed over a split move's pieces.
-        const double value = incremental ? p[i] - last - rounding_[i] : p[i];
-        const bool rotary = gcode::is_rotary(i);
-        const std::string text =
-            format_value(value, word ? b.slice(word->value_span) : std::string_view(), inch && !rotary, rotary);
-        // An axis the block did not name gets a word when the machine must move it.
-        if (!word) {
-          const double unmoved = incremental ? 0.0 : last + rounding_[i];
-          if (text == format_value(unmoved, {}, inch && !rotary, rotary)) {
-            rounding_[i] += last - p[i];
-            continue;
-          }
-        }
-        const double written = number_of(text);
-        rounding_[i] = incremental ? rounding_[i] + written - (p[i] - last) : written - p[i];
+        const std::optional<std::string> text = axis_word(i, p[i], last[i], incremental, word, &b, inch);
+        if (!text) continue;
         if (word)
-          edits.push_back(gcode::Edit{word->value_span, text});
+          edits.push_back(gcode::Edit{word->value_span, *text});
         else if (k == 0)
-          edits.push_back(gcode::Edit{{insert_at, insert_at}, std::string(" ") + letter + text});
+          edits.push_back(gcode::Edit{{insert_at, insert_at}, std::string(" ") + letter + *text});
         else
-          segment += std::string(" ") + letter + text;
+          segment += std::string(" ") + letter + *text;
       }
       // A take-up finer than the program's digits moves nothing: no line for it.
       if (k > 0 && points_[k].take_up && segment.size() == bare) continue;
@@ -485,20 +500,15 @@ class JobSink : public gcode::CanonSink {
   /// the arc was modal), the centre, radius and turns words go.
   static void arc_to_line_edits(const gcode::Block& b, std::vector<gcode::Edit>& edits) {
     bool has_motion_code = false;
+    std::vector<gcode::Span> arc_words;
     for (const gcode::Word& w : b.words) {
       if (w.letter == 'G' && w.value.is_literal() && (w.value.literal == 2 || w.value.literal == 3)) {
         edits.push_back(gcode::Edit{w.value_span, "1"});
         has_motion_code = true;
       }
-      if (w.letter == 'I' || w.letter == 'J' || w.letter == 'K' || w.letter == 'R' || w.letter == 'P') {
-        // The word and the blanks before it go (or after it, when it starts the line).
-        gcode::Span s = w.span;
-        while (s.begin > 0 && (b.text[s.begin - 1] == ' ' || b.text[s.begin - 1] == '\t')) --s.begin;
-        if (s.begin == 0)
-          while (s.end < b.text.size() && (b.text[s.end] == ' ' || b.text[s.end] == '\t')) ++s.end;
-        edits.push_back(gcode::Edit{s, ""});
-      }
+      if (w.letter == 'I' || w.letter == 'J' || w.letter == 'K' || w.letter == 'R' || w.letter == 'P') arc_words.push_back(w.span);
     }
+    remove_words(b.text, arc_words, edits);
     if (!has_motion_code && !b.words.empty())
       edits.push_back(gcode::Edit{{b.words.front().span.begin, b.words.front().span.begin}, "G1 "});
   }

@@ -76,14 +76,13 @@ Pose compose_side(const Chain& chain, const std::vector<Pose>& errors, const Eig
   for (std::size_t i = 0; i < n; ++i) {
     const Joint& j = chain.joints[i];
     const double qi = j.type == JointType::fixed ? 0.0 : q[static_cast<Eigen::Index>(j.axis)];
-    if (!changed && qi == cache.q[i] && same(errors[i], cache.errors[i])) continue;
     if (qi != cache.q[i] || !same(errors[i], cache.errors[i])) {
       links[i] = link_pose(j, cache.offset_only[i], qi, errors[i]);
       cache.q[i] = qi;
       cache.errors[i] = errors[i];
+      changed = true;
     }
-    oMi[i] = i == 0 ? links[i] : compose(oMi[i - 1], links[i]);
-    changed = true;
+    if (changed) oMi[i] = i == 0 ? links[i] : compose(oMi[i - 1], links[i]);
   }
   const Pose oM = n == 0 ? Pose{} : oMi[n - 1];
   if (!J_error) return oM;

@@ -171,22 +171,16 @@ void forward(const ForwardModel& model, ForwardData& d, const ChainQ& q, const C
     // for every term at every point the compensation checks); the others through
     // evaluate(), kept while their inputs and parameters stand still.
     double value = 0.0;
-    if (!jacobians && !inline_value(t, d.parameters.data() + offset, in, value)) {
+    if (jacobians || !inline_value(t, d.parameters.data() + offset, in, value)) {
       const auto params = d.parameters.segment(static_cast<Eigen::Index>(offset), t.parameters.size());
       TermInputs& last = d.evaluated_inputs[i];
       Eigen::VectorXd& last_parameters = d.evaluated_parameters[i];
-      if (in.primary != last.primary || in.secondary != last.secondary || last_parameters.size() != params.size() ||
-          params != last_parameters) {
-        evaluate(t.shape, params, in, false, values[i]);
+      if (jacobians || in.primary != last.primary || in.secondary != last.secondary ||
+          last_parameters.size() != params.size() || params != last_parameters) {
+        evaluate(t.shape, params, in, gradient, values[i]);
         last = in;
         last_parameters = params;
       }
-      value = values[i].value;
-    } else if (jacobians) {
-      const auto params = d.parameters.segment(static_cast<Eigen::Index>(offset), t.parameters.size());
-      evaluate(t.shape, params, in, gradient, values[i]);
-      d.evaluated_inputs[i] = in;
-      d.evaluated_parameters[i] = params;
       value = values[i].value;
     }
     const auto& site = model.site(i);

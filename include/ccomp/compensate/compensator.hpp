@@ -93,11 +93,6 @@ class Compensator {
 
   const model::ForwardModel& model_;
   CompensationOptions options_;
-  // The last point solved: its nominal values, solution and directions. A move usually
-  // starts where the last one ended (reused), and its points are near (warm start).
-  model::ChainQ last_nominal_ = model::ChainQ::Constant(std::nan(""));
-  model::ChainQ last_solution_ = model::ChainQ::Zero();
-  std::array<double, 9> last_directions_{};
   model::ChainQ commanded_ = model::ChainQ::Constant(std::nan(""));  ///< where the machine was sent last
   std::array<double, 9> play_{};  ///< approach state after the commands so far
   model::ChainQ last_straight_end_ = model::ChainQ::Constant(std::nan(""));  ///< its error before is counted
@@ -105,7 +100,7 @@ class Compensator {
   std::array<std::pair<model::ChainQ, Eigen::Vector3d>, 4> tips_;
   std::size_t next_tip_ = 0;
   InverseProblem problem_;
-  InverseWorkspace workspace_;
+  InverseWorkspace workspace_;  ///< the last point solved, its solution and the solve matrix
   model::ForwardData data_, check_;
 };
 

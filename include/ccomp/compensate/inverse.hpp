@@ -46,6 +46,7 @@ struct InverseProblem {
 struct InverseWorkspace {
   Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, 9, 6> solve_matrix;  ///< n x m, empty until a Jacobian
   model::ChainQ last_solution = model::ChainQ::Constant(std::nan(""));
+  model::ChainQ last_nominal = model::ChainQ::Constant(std::nan(""));  ///< the point it was solved for
   Eigen::Vector3d last_target = Eigen::Vector3d::Zero();
   Eigen::Matrix3d last_target_orientation = Eigen::Matrix3d::Zero();
   std::array<double, 9> last_directions{};  ///< the approach the last solution was for
@@ -58,9 +59,10 @@ struct InverseWorkspace {
 };
 
 /// Solves for q' with actual(q') = nominal(q_nominal). `data` is scratch. `guess`, when
-/// given, is where Newton starts (a neighbouring point's solution shifted here). With a
-/// `workspace`, the solve reuses and updates it (see InverseWorkspace); a prediction from
-/// its last solution replaces `guess` where the orientation target is the same.
+/// given, is where Newton starts. With a `workspace`, the solve reuses and updates it (see
+/// InverseWorkspace): a prediction from its last solution replaces `guess` where the
+/// orientation target and the approach are the same, and without a guess the last
+/// solution's correction starts it.
 [[nodiscard]] InverseResult solve_inverse(const model::ForwardModel& model, const InverseProblem& problem,
                                           model::ForwardData& data, const model::ChainQ& q_nominal,
                                           const model::Conditions& conditions, const InverseOptions& options = {},
