@@ -435,15 +435,13 @@ Diagnosis diagnose(const model::ForwardModel& model, const MeasurementSet& data,
       probing.terms.push_back(t);
     }
     const model::ForwardModel f(probing);
-    model::ForwardData d(f);
-    for (Probe& p : probes) p.g.resize(n);
-    for (Eigen::Index i = 0; i < n; ++i) {
-      const Observation& o = data.observations[static_cast<std::size_t>(i)];
-      model::forward(f, d, o.q, MeasurementSet::conditions(o), true);
-      const Eigen::RowVector3d nR = o.direction.transpose() * d.nominal_chain.work_oMi.back().R;
-      for (std::size_t k = 0; k < probes.size(); ++k)
-        probes[k].g[i] = nR * d.J_parameters.col(static_cast<Eigen::Index>(f.parameter_offset(first + k)));
-    }
+    // The probes' columns are the probing model's design matrix for their parameters.
+    std::vector<std::size_t> columns;
+    for (std::size_t k = 0; k < probes.size(); ++k) columns.push_back(f.parameter_offset(first + k));
+    Eigen::VectorXd unused;
+    Eigen::MatrixXd G;
+    design_matrix(f, model_parameters(f), data, columns, unused, &G);
+    for (std::size_t k = 0; k < probes.size(); ++k) probes[k].g = G.col(static_cast<Eigen::Index>(k));
     for (Probe& p : probes) {
       const double largest = p.g.cwiseAbs().maxCoeff();
       for (Eigen::Index i = 0; i < n; ++i)

@@ -57,9 +57,22 @@ Eigen::VectorXd model_parameters(const model::ForwardModel& model) {
 
 namespace {
 
-/// Residuals and (when asked) the design matrix of the free columns, d prediction / d p.
-void linearize(const model::ForwardModel& model, const Eigen::VectorXd& parameters, const MeasurementSet& data,
-               const std::vector<std::size_t>& free, Eigen::VectorXd& r, Eigen::MatrixXd* J) {
+double rms(const Eigen::VectorXd& r) { return r.size() ? std::sqrt(r.squaredNorm() / static_cast<double>(r.size())) : 0.0; }
+
+std::vector<double> rms_by_source(const Eigen::VectorXd& r, const MeasurementSet& data) {
+  std::vector<double> sum(data.sources.size(), 0.0), count(data.sources.size(), 0.0);
+  for (std::size_t i = 0; i < data.observations.size(); ++i) {
+    sum[data.observations[i].source] += r[static_cast<Eigen::Index>(i)] * r[static_cast<Eigen::Index>(i)];
+    count[data.observations[i].source] += 1;
+  }
+  for (std::size_t s = 0; s < sum.size(); ++s) sum[s] = count[s] > 0 ? std::sqrt(sum[s] / count[s]) : 0.0;
+  return sum;
+}
+
+}  // namespace
+
+void design_matrix(const model::ForwardModel& model, const Eigen::VectorXd& parameters, const MeasurementSet& data,
+                   const std::vector<std::size_t>& free, Eigen::VectorXd& r, Eigen::MatrixXd* J) {
   const auto n = static_cast<Eigen::Index>(data.observations.size());
   r.resize(n);
   if (J) J->resize(n, static_cast<Eigen::Index>(free.size()));
@@ -78,25 +91,6 @@ void linearize(const model::ForwardModel& model, const Eigen::VectorXd& paramete
         (*J)(i, static_cast<Eigen::Index>(j)) = nR * d.J_parameters.col(static_cast<Eigen::Index>(free[j]));
     }
   });
-}
-
-double rms(const Eigen::VectorXd& r) { return r.size() ? std::sqrt(r.squaredNorm() / static_cast<double>(r.size())) : 0.0; }
-
-std::vector<double> rms_by_source(const Eigen::VectorXd& r, const MeasurementSet& data) {
-  std::vector<double> sum(data.sources.size(), 0.0), count(data.sources.size(), 0.0);
-  for (std::size_t i = 0; i < data.observations.size(); ++i) {
-    sum[data.observations[i].source] += r[static_cast<Eigen::Index>(i)] * r[static_cast<Eigen::Index>(i)];
-    count[data.observations[i].source] += 1;
-  }
-  for (std::size_t s = 0; s < sum.size(); ++s) sum[s] = count[s] > 0 ? std::sqrt(sum[s] / count[s]) : 0.0;
-  return sum;
-}
-
-}  // namespace
-
-void design_matrix(const model::ForwardModel& model, const Eigen::VectorXd& parameters, const MeasurementSet& data,
-                   const std::vector<std::size_t>& free, Eigen::VectorXd& r, Eigen::MatrixXd* J) {
-  linearize(model, parameters, data, free, r, J);
 }
 
 namespace {
@@ -129,7 +123,7 @@ Eigen::MatrixXd tall_product(const Eigen::MatrixXd& A, const Eigen::MatrixXd& B)
 
 Eigen::VectorXd residuals(const model::ForwardModel& model, const Eigen::VectorXd& parameters, const MeasurementSet& data) {
   Eigen::VectorXd r;
-  linearize(model, parameters, data, {}, r, nullptr);
+  design_matrix(model, parameters, data, {}, r, nullptr);
   return r;
 }
 
@@ -154,7 +148,7 @@ FitReport fit(const model::ForwardModel& model, const MeasurementSet& data, cons
       if (data.sources[data.observations[static_cast<std::size_t>(i)].source] == label) source_weight[i] = w;
   Eigen::VectorXd r;
   Eigen::MatrixXd J;
-  linearize(model, p, data, free, r, free.empty() ? nullptr : &J);
+  design_matrix(model, p, data, free, r, free.empty() ? nullptr : &J);
   report.rms_before = rms(r);
   report.source_rms_before = rms_by_source(r, data);
   const auto m = static_cast<Eigen::Index>(free.size());
@@ -245,7 +239,7 @@ FitReport fit(const model::ForwardModel& model, const MeasurementSet& data, cons
       const Eigen::VectorXd dp = step_for(lambda * largest);
       trial_p = p;
       for (Eigen::Index j = 0; j < m; ++j) trial_p[static_cast<Eigen::Index>(free[static_cast<std::size_t>(j)])] += dp[j];
-      linearize(model, trial_p, data, free, trial_r, nullptr);
+      design_matrix(model, trial_p, data, free, trial_r, nullptr);
       if (cost(trial_r) <= before) {
         improved = true;
         lambda = std::max(lambda * 0.1, 1e-12);
@@ -259,7 +253,7 @@ FitReport fit(const model::ForwardModel& model, const MeasurementSet& data, cons
     }
     const double after = cost(trial_r);
     p = trial_p;
-    linearize(model, p, data, free, r, &J);
+    design_matrix(model, p, data, free, r, &J);
     // Converged when an iteration gains less than one reading's noise variance (chi-square
     // by 1, what a single parameter's one-sigma change is worth): what is left to gain is
     // not information the data hold. (A hundredth, as before, spent five more iterations
@@ -296,7 +290,7 @@ FitReport fit(const model::ForwardModel& model, const MeasurementSet& data, cons
       const Eigen::VectorXd back = (V * kept).cwiseQuotient(scale);
       for (Eigen::Index j = 0; j < m; ++j)
         back_p[static_cast<Eigen::Index>(free[static_cast<std::size_t>(j)])] = report.parameters[static_cast<std::size_t>(j)].before + back[j];
-      linearize(model, back_p, data, free, back_r, nullptr);
+      design_matrix(model, back_p, data, free, back_r, nullptr);
       const auto identifiable = static_cast<std::size_t>(std::count(identified_direction.begin(), identified_direction.end(), true));
       const auto reverted_count = static_cast<double>(identifiable - report.significant);
       if (cost(back_r) - cost(r) <= 9.0 * noise * noise * std::max(1.0, reverted_count)) {
