@@ -19,6 +19,9 @@ namespace {
 
 constexpr double kPi = 3.14159265358979323846;
 constexpr double kRadPerDeg = kPi / 180.0;
+/// A candidate is suggested when the chi-square falls by this much (five sigma) beyond
+/// what noise and its scan would give.
+constexpr double kSignificance = 25.0;
 constexpr std::string_view kComponents = "XYZABC";
 constexpr std::string_view kAxisLetters = "XYZABCUVW";
 
@@ -29,7 +32,7 @@ struct Probe {
   int component = 0;
   Eigen::VectorXd g;           // per observation
   std::vector<Eigen::Index> rows;  // where g is not zero
-  Eigen::MatrixXd U_rows;      // the base's basis on those rows (empty when they are all rows)
+  Eigen::MatrixXd A_rows;      // the base's columns on those rows (empty when they are all rows)
   Eigen::VectorXd r_rows;      // the residual there
 };
 
@@ -61,25 +64,22 @@ void periodic_in(Candidate& c, std::function<double(const Observation&)> variabl
   c.phase_variable = std::move(variable);
 }
 
-/// The refitted model's residual and the basis of what its free parameters can absorb.
+/// The refitted model's residual and what its free parameters can absorb.
 struct Projector {
   Eigen::VectorXd r;  // residual, orthogonal to the base columns
-  Eigen::MatrixXd U;  // orthonormal basis of the identifiable base columns (n x k)
+  Eigen::MatrixXd A;  // the base's columns (the refit's design matrix), scaled to unit length: n x m
+  Eigen::MatrixXd W;  // m x k: A W is an orthonormal basis of the combinations the data identify
 
   /// The fall in the sum of squares when columns C join the base fit, and their
-  /// coefficients. C is given on a probe's rows only (zero elsewhere); `U_rows` and
-  /// `r_rows` are U and r on those rows.
-  /// `exact` false leaves out what the base absorbs of C (cheap, and never more than the
-  /// true gain when C and the base share little): a scan's coarse pass.
-  double gain(const Eigen::MatrixXd& U_rows, const Eigen::VectorXd& r_rows, const Eigen::MatrixXd& C,
-              Eigen::VectorXd* coefficients, bool exact = true) const {
+  /// coefficients. C is given on some rows (a probe's), `r_rows` is the residual there
+  /// and `AtC` is A^T C over the same rows (m x C.cols()). U = A W is never formed: what
+  /// the base absorbs of C is W^T (A^T C), and A^T C is one product for many candidates.
+  double gain(const Eigen::Ref<const Eigen::MatrixXd>& C, const Eigen::Ref<const Eigen::VectorXd>& r_rows,
+              const Eigen::Ref<const Eigen::MatrixXd>& AtC, Eigen::VectorXd* coefficients) const {
     const Eigen::Index k = C.cols();
     const Eigen::VectorXd b = C.transpose() * r_rows;
-    // Column by column: a matrix product would repack U_rows on every call of the scan.
-    Eigen::MatrixXd UtC = Eigen::MatrixXd::Zero(U_rows.cols(), k);
-    if (exact)
-      for (Eigen::Index j = 0; j < k; ++j) UtC.col(j).noalias() = U_rows.transpose() * C.col(j);
     const Eigen::MatrixXd CtC = C.transpose() * C;
+    const Eigen::MatrixXd UtC = W.transpose() * AtC;
     const Eigen::MatrixXd N = CtC - UtC.transpose() * UtC;
     // Columns scaled to unit diagonal; a column the base already spans gains nothing.
     Eigen::VectorXd d = N.diagonal().cwiseMax(0.0).cwiseSqrt();
@@ -110,26 +110,25 @@ Diagnosis diagnose(const model::ForwardModel& model, const MeasurementSet& data,
   // The base model refitted to the data, and what its free parameters can absorb.
   Projector base;
   {
-    out.refit = fit(model, data);
-    const std::vector<std::size_t> free = free_parameters(model);
-    Eigen::MatrixXd J;
-    design_matrix(model, out.refit.all_parameters, data, free, base.r, free.empty() ? nullptr : &J);
-    if (!free.empty()) {
-      Eigen::VectorXd scale(J.cols());
-      for (Eigen::Index j = 0; j < J.cols(); ++j) scale[j] = std::max(J.col(j).norm(), 1e-300);
-      const Eigen::MatrixXd A = J * scale.cwiseInverse().asDiagonal();
-      Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(normal_matrix(A));
+    Linearization at_fit;  // the refit's residual and design matrix: no second pass over the data
+    out.refit = fit(model, data, {}, &at_fit);
+    base.r = std::move(at_fit.residuals);
+    base.A = std::move(at_fit.jacobian);
+    if (base.A.cols() > 0) {
+      for (Eigen::Index j = 0; j < base.A.cols(); ++j) base.A.col(j) /= std::max(base.A.col(j).norm(), 1e-300);
+      Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(normal_matrix(base.A));
       const double largest = std::sqrt(std::max(eig.eigenvalues().maxCoeff(), 0.0));
       std::vector<Eigen::Index> kept;
       for (Eigen::Index k = 0; k < eig.eigenvalues().size(); ++k)
         if (std::sqrt(std::max(eig.eigenvalues()[k], 0.0)) > 1e-6 * largest) kept.push_back(k);
-      // U = A V S^-1 in one product (column by column it would read A once per column).
-      Eigen::MatrixXd W(A.cols(), static_cast<Eigen::Index>(kept.size()));
+      base.W.resize(base.A.cols(), static_cast<Eigen::Index>(kept.size()));
       for (std::size_t c = 0; c < kept.size(); ++c)
-        W.col(static_cast<Eigen::Index>(c)) = eig.eigenvectors().col(kept[c]) / std::sqrt(eig.eigenvalues()[kept[c]]);
-      base.U = tall_product(A, W);
+        base.W.col(static_cast<Eigen::Index>(c)) = eig.eigenvectors().col(kept[c]) / std::sqrt(eig.eigenvalues()[kept[c]]);
       // The refit's residual, made exactly orthogonal to what the base absorbs.
-      base.r -= base.U * (base.U.transpose() * base.r);
+      const Eigen::VectorXd absorbed = base.W * (base.W.transpose() * (base.A.transpose() * base.r));
+      base.r -= base.A * absorbed;
+    } else {
+      base.W.resize(0, 0);
     }
     out.rms_refit = std::sqrt(base.r.squaredNorm() / static_cast<double>(n));
   }
@@ -447,132 +446,186 @@ Diagnosis diagnose(const model::ForwardModel& model, const MeasurementSet& data,
       for (Eigen::Index i = 0; i < n; ++i)
         if (std::abs(p.g[i]) > 1e-9 * largest) p.rows.push_back(i);
       if (static_cast<Eigen::Index>(p.rows.size()) == n) continue;  // every row: the base's own U and r serve
-      p.U_rows.resize(static_cast<Eigen::Index>(p.rows.size()), base.U.cols());
+      p.A_rows.resize(static_cast<Eigen::Index>(p.rows.size()), base.A.cols());
       p.r_rows.resize(static_cast<Eigen::Index>(p.rows.size()));
       for (std::size_t i = 0; i < p.rows.size(); ++i) {
-        if (base.U.cols() > 0) p.U_rows.row(static_cast<Eigen::Index>(i)) = base.U.row(p.rows[i]);
+        if (base.A.cols() > 0) p.A_rows.row(static_cast<Eigen::Index>(i)) = base.A.row(p.rows[i]);
         p.r_rows[static_cast<Eigen::Index>(i)] = base.r[p.rows[i]];
       }
     }
   }
 
-  // Score every candidate (scanning its period or time constant), then rank. Candidates
-  // are independent given the base and the probes: scored on all cores, kept in order.
-  auto score = [&](const Candidate& c) -> std::optional<Suggestion> {
-    const Probe& p = probes[c.probe];
-    if (p.rows.empty()) return std::nullopt;
-    Eigen::MatrixXd C(static_cast<Eigen::Index>(p.rows.size()), c.basis_count);
-    auto evaluate = [&](double scanned, Eigen::VectorXd* x, bool exact = true) {
-      for (std::size_t i = 0; i < p.rows.size(); ++i) {
-        const Observation& o = data.observations[static_cast<std::size_t>(p.rows[i])];
-        for (int k = 0; k < c.basis_count; ++k) C(static_cast<Eigen::Index>(i), k) = p.g[p.rows[i]] * c.basis(o, k, scanned);
-      }
-      const bool all = static_cast<Eigen::Index>(p.rows.size()) == n;
-      return base.gain(all ? base.U : p.U_rows, all ? base.r : p.r_rows, C, x, exact);
-    };
-    double best_value = c.period, best_gain = 0.0, trials = 1.0;
-    double uncertainty = 0.0;
-    if (c.scan_points > 0) {
-      // Evenly in frequency for periods (each step shifts the phase at the far end by
-      // the same amount), in log for time constants.
-      std::vector<double> values(static_cast<std::size_t>(c.scan_points)), gains(values.size());
-      for (std::size_t k = 0; k < values.size(); ++k) {
-        const double f = static_cast<double>(k) / static_cast<double>(values.size() - 1);
-        values[k] = c.scan_frequency ? 1.0 / (1.0 / c.scan_from + f * (1.0 / c.scan_to - 1.0 / c.scan_from))
-                                     : c.scan_from * std::pow(c.scan_to / c.scan_from, f);
-      }
-      if (c.scan_frequency && c.phase_variable) {
-        // A long frequency scan's coarse pass leaves out what the base absorbs (cheap);
-        // its eight best local peaks are then weighed exactly. The frequencies are evenly
-        // spaced, so each row's (cos, sin) steps by one rotation per frequency.
-        const std::size_t rows = p.rows.size();
-        std::vector<double> cs(rows), sn(rows), step_c(rows), step_s(rows), g(rows), res(rows);
-        const double f0 = 1.0 / values[0], df = 1.0 / values[1] - f0;
-        const Eigen::VectorXd& r_all = static_cast<Eigen::Index>(rows) == n ? base.r : p.r_rows;
-        for (std::size_t i = 0; i < rows; ++i) {
-          const double v = c.phase_variable(data.observations[static_cast<std::size_t>(p.rows[i])]);
-          cs[i] = std::cos(2 * kPi * v * f0), sn[i] = std::sin(2 * kPi * v * f0);
-          step_c[i] = std::cos(2 * kPi * v * df), step_s[i] = std::sin(2 * kPi * v * df);
-          g[i] = p.g[p.rows[i]];
-          res[i] = r_all[static_cast<Eigen::Index>(i)];
-        }
-        for (std::size_t k = 0; k < values.size(); ++k) {
-          double b0 = 0, b1 = 0, n00 = 0, n01 = 0, n11 = 0;
-          for (std::size_t i = 0; i < rows; ++i) {
-            const double x0 = g[i] * cs[i], x1 = g[i] * sn[i];
-            b0 += x0 * res[i], b1 += x1 * res[i];
-            n00 += x0 * x0, n01 += x0 * x1, n11 += x1 * x1;
-            const double c2 = cs[i] * step_c[i] - sn[i] * step_s[i];
-            sn[i] = sn[i] * step_c[i] + cs[i] * step_s[i];
-            cs[i] = c2;
-          }
-          const double det = n00 * n11 - n01 * n01;
-          gains[k] = det > 1e-12 * n00 * n11 ? (n11 * b0 * b0 - 2 * n01 * b0 * b1 + n00 * b1 * b1) / det : 0.0;
-        }
-      } else {
-        for (std::size_t k = 0; k < values.size(); ++k) gains[k] = evaluate(values[k], nullptr);
-      }
-      std::size_t top = static_cast<std::size_t>(std::max_element(gains.begin(), gains.end()) - gains.begin());
-      if (c.scan_frequency) {
-        std::vector<std::pair<double, std::size_t>> peaks;
-        for (std::size_t k = 0; k < gains.size(); ++k)
-          if ((k == 0 || gains[k] >= gains[k - 1]) && (k + 1 == gains.size() || gains[k] >= gains[k + 1]))
-            peaks.emplace_back(-gains[k], k);
-        std::sort(peaks.begin(), peaks.end());
-        double best = -1.0;
-        for (std::size_t i = 0; i < peaks.size() && i < 8; ++i) {
-          const double exact = evaluate(values[peaks[i].second], nullptr);
-          gains[peaks[i].second] = exact;
-          if (exact > best) best = exact, top = peaks[i].second;
-        }
-      }
-      best_value = values[top];
-      best_gain = gains[top];
-      trials = static_cast<double>(values.size());
-      // Refine by golden section between the neighbours, then the uncertainty from the
-      // curvature of the sum of squares (a chi-square rise of 1).
-      double lo = values[top > 0 ? top - 1 : top], hi = values[top + 1 < values.size() ? top + 1 : top];
-      if (lo > hi) std::swap(lo, hi);
-      constexpr double kGolden = 0.6180339887498949;
-      double m1 = hi - kGolden * (hi - lo), m2 = lo + kGolden * (hi - lo);
-      double f1 = evaluate(m1, nullptr), f2 = evaluate(m2, nullptr);
-      // To 10 ppm of the period: far inside any period's uncertainty from real data.
-      for (int it = 0; it < 24 && hi - lo > 1e-5 * hi; ++it) {  // one new evaluation a step
-        if (f1 > f2) {
-          hi = m2, m2 = m1, f2 = f1;
-          m1 = hi - kGolden * (hi - lo), f1 = evaluate(m1, nullptr);
-        } else {
-          lo = m1, m1 = m2, f1 = f2;
-          m2 = lo + kGolden * (hi - lo), f2 = evaluate(m2, nullptr);
-        }
-      }
-      best_value = 0.5 * (lo + hi);
-      best_gain = evaluate(best_value, nullptr);
-      const double h = 1e-4 * best_value;
-      const double curvature = (2 * best_gain - evaluate(best_value + h, nullptr) - evaluate(best_value - h, nullptr)) / (h * h);
-      uncertainty = curvature > 0 ? std::sqrt(2.0 * sigma2 / curvature) : 0.0;
-    }
-    Eigen::VectorXd x;
-    best_gain = evaluate(best_value, &x);
-    if (!(best_gain > 0)) return std::nullopt;
+  // A candidate's suggestion from its best value (a period, a time constant), the gain
+  // there and its coefficients.
+  auto suggestion = [&](const Candidate& c, double value, double gain, const Eigen::VectorXd& x, double uncertainty,
+                        double trials) -> std::optional<Suggestion> {
+    if (!(gain > 0)) return std::nullopt;
     Suggestion s;
     s.effect = c.effect, s.error = c.error, s.term = c.term, s.variable = c.variable, s.form = c.form;
-    s.period = c.scan_points > 0 || c.form == "harmonic" ? best_value : 0.0;
+    s.period = c.scan_points > 0 || c.form == "harmonic" ? value : 0.0;
     s.period_uncertainty = uncertainty;
     s.rms_before = out.rms_refit;
-    const double sse1 = std::max(sse0 - best_gain, 0.0);
+    const double sse1 = std::max(sse0 - gain, 0.0);
     s.rms_after = std::sqrt(sse1 / static_cast<double>(n));
     const auto k = static_cast<double>(c.basis_count + (c.scan_points > 0 ? 1 : 0));
     s.bic_delta = static_cast<double>(n) * std::log(std::max(sse1, 1e-300) / std::max(sse0, 1e-300)) + k * std::log(static_cast<double>(n));
     // Against the noise floor: the fall in chi-square, less what the parameters and the
     // scan would win from noise alone (2 ln(trials) for the look-elsewhere effect).
-    s.significance = best_gain / sigma2 - k - 2.0 * std::log(trials);
-    s.yaml = "  - " + c.yaml(x, best_value);
-    s.spec = c.yaml(x, best_value);
+    s.significance = gain / sigma2 - k - 2.0 * std::log(trials);
+    s.yaml = "  - " + c.yaml(x, value);
+    s.spec = c.yaml(x, value);
     return s;
   };
+
+  // Candidates without a scan: all their columns (over every row, zero off their probe's
+  // rows) in one matrix, and what the base absorbs of them in one product over the data,
+  // instead of a pass over the base's columns per candidate.
+  std::vector<Eigen::Index> fixed_column(candidates.size(), -1);
+  Eigen::Index fixed_columns = 0;
+  for (std::size_t i = 0; i < candidates.size(); ++i)
+    if (candidates[i].scan_points == 0 && !probes[candidates[i].probe].rows.empty())
+      fixed_column[i] = fixed_columns, fixed_columns += candidates[i].basis_count;
+  Eigen::MatrixXd C_fixed = Eigen::MatrixXd::Zero(n, fixed_columns);
+  util::for_each_index(candidates.size(), options.threads, [&](std::size_t i) {
+    if (fixed_column[i] < 0) return;
+    const Candidate& c = candidates[i];
+    const Probe& p = probes[c.probe];
+    for (Eigen::Index row : p.rows)
+      for (int k = 0; k < c.basis_count; ++k)
+        C_fixed(row, fixed_column[i] + k) = p.g[row] * c.basis(data.observations[static_cast<std::size_t>(row)], k, c.period);
+  });
+  const Eigen::MatrixXd AtC_fixed = transpose_product(base.A, C_fixed);
+  auto score_fixed = [&](std::size_t i) {
+    const Candidate& c = candidates[i];
+    Eigen::VectorXd x;
+    const double gain = base.gain(C_fixed.middleCols(fixed_column[i], c.basis_count), base.r,
+                                  AtC_fixed.middleCols(fixed_column[i], c.basis_count), &x);
+    return suggestion(c, c.period, gain, x, 0.0, 1.0);
+  };
+
+  // Candidates with a scan (a period, a time constant): a coarse pass, then the best
+  // values weighed exactly, a few at a time in one product.
+  auto score_scanned = [&](const Candidate& c) -> std::optional<Suggestion> {
+    const Probe& p = probes[c.probe];
+    if (p.rows.empty()) return std::nullopt;
+    const bool all_rows = static_cast<Eigen::Index>(p.rows.size()) == n;
+    const Eigen::MatrixXd& A_rows = all_rows ? base.A : p.A_rows;
+    const Eigen::VectorXd& r_rows = all_rows ? base.r : p.r_rows;
+    // The exact gains at `values`; the coefficients at the first of them into `x`.
+    auto exact_gains = [&](const std::vector<double>& values, Eigen::VectorXd* x) {
+      const int bc = c.basis_count;
+      Eigen::MatrixXd C(static_cast<Eigen::Index>(p.rows.size()), static_cast<Eigen::Index>(values.size()) * bc);
+      for (std::size_t v = 0; v < values.size(); ++v)
+        for (std::size_t i = 0; i < p.rows.size(); ++i) {
+          const Observation& o = data.observations[static_cast<std::size_t>(p.rows[i])];
+          for (int k = 0; k < bc; ++k)
+            C(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(v) * bc + k) = p.g[p.rows[i]] * c.basis(o, k, values[v]);
+        }
+      const Eigen::MatrixXd AtC = A_rows.transpose() * C;
+      std::vector<double> gains(values.size());
+      for (std::size_t v = 0; v < values.size(); ++v) {
+        const Eigen::Index first = static_cast<Eigen::Index>(v) * bc;
+        gains[v] = base.gain(C.middleCols(first, bc), r_rows, AtC.middleCols(first, bc), v == 0 ? x : nullptr);
+      }
+      return gains;
+    };
+    // Evenly in frequency for periods (each step shifts the phase at the far end by the
+    // same amount), in log for time constants.
+    std::vector<double> values(static_cast<std::size_t>(c.scan_points)), gains(values.size());
+    for (std::size_t k = 0; k < values.size(); ++k) {
+      const double f = static_cast<double>(k) / static_cast<double>(values.size() - 1);
+      values[k] = c.scan_frequency ? 1.0 / (1.0 / c.scan_from + f * (1.0 / c.scan_to - 1.0 / c.scan_from))
+                                   : c.scan_from * std::pow(c.scan_to / c.scan_from, f);
+    }
+    if (c.scan_frequency && c.phase_variable) {
+      // A long frequency scan's coarse pass leaves out what the base absorbs (cheap);
+      // its eight best local peaks are then weighed exactly. The frequencies are evenly
+      // spaced, so each row's (cos, sin) steps by one rotation per frequency.
+      const std::size_t rows = p.rows.size();
+      std::vector<double> cs(rows), sn(rows), step_c(rows), step_s(rows), g(rows), res(rows);
+      const double f0 = 1.0 / values[0], df = 1.0 / values[1] - f0;
+      for (std::size_t i = 0; i < rows; ++i) {
+        const double v = c.phase_variable(data.observations[static_cast<std::size_t>(p.rows[i])]);
+        cs[i] = std::cos(2 * kPi * v * f0), sn[i] = std::sin(2 * kPi * v * f0);
+        step_c[i] = std::cos(2 * kPi * v * df), step_s[i] = std::sin(2 * kPi * v * df);
+        g[i] = p.g[p.rows[i]];
+        res[i] = r_rows[static_cast<Eigen::Index>(i)];
+      }
+      for (std::size_t k = 0; k < values.size(); ++k) {
+        double b0 = 0, b1 = 0, n00 = 0, n01 = 0, n11 = 0;
+        for (std::size_t i = 0; i < rows; ++i) {
+          const double x0 = g[i] * cs[i], x1 = g[i] * sn[i];
+          b0 += x0 * res[i], b1 += x1 * res[i];
+          n00 += x0 * x0, n01 += x0 * x1, n11 += x1 * x1;
+          const double c2 = cs[i] * step_c[i] - sn[i] * step_s[i];
+          sn[i] = sn[i] * step_c[i] + cs[i] * step_s[i];
+          cs[i] = c2;
+        }
+        const double det = n00 * n11 - n01 * n01;
+        gains[k] = det > 1e-12 * n00 * n11 ? (n11 * b0 * b0 - 2 * n01 * b0 * b1 + n00 * b1 * b1) / det : 0.0;
+      }
+      std::vector<std::pair<double, std::size_t>> peaks;
+      for (std::size_t k = 0; k < gains.size(); ++k)
+        if ((k == 0 || gains[k] >= gains[k - 1]) && (k + 1 == gains.size() || gains[k] >= gains[k + 1]))
+          peaks.emplace_back(-gains[k], k);
+      std::sort(peaks.begin(), peaks.end());
+      if (peaks.size() > 8) peaks.resize(8);
+      std::vector<double> peak_values;
+      for (const auto& peak : peaks) peak_values.push_back(values[peak.second]);
+      const std::vector<double> exact = exact_gains(peak_values, nullptr);
+      for (std::size_t i = 0; i < peaks.size(); ++i) gains[peaks[i].second] = exact[i];
+      // Only the weighed peaks compete: the coarse gains elsewhere are not comparable.
+      for (std::size_t k = 0; k < gains.size(); ++k)
+        if (std::none_of(peaks.begin(), peaks.end(), [k](const auto& peak) { return peak.second == k; })) gains[k] = -1.0;
+    } else {
+      gains = exact_gains(values, nullptr);
+    }
+    const auto top = static_cast<std::size_t>(std::max_element(gains.begin(), gains.end()) - gains.begin());
+    // Refining moves the peak by less than half a step, which raises its gain by a
+    // quarter at most: a candidate that could not pass with twice its gain is not
+    // refined (it is not suggested either way).
+    const double trials = static_cast<double>(values.size());
+    const auto parameters = static_cast<double>(c.basis_count + 1);
+    if (2.0 * gains[top] / sigma2 - parameters - 2.0 * std::log(trials) <= kSignificance) return std::nullopt;
+    // Refine between the neighbours on a grid, three times narrower each round, and put
+    // the peak on the parabola through the best point and its neighbours.
+    double lo = values[top > 0 ? top - 1 : top], hi = values[top + 1 < values.size() ? top + 1 : top];
+    if (lo > hi) std::swap(lo, hi);
+    constexpr int kGrid = 12;
+    std::vector<double> grid(kGrid), grid_gains;
+    std::size_t best = 0;
+    for (int round = 0; round < 3; ++round) {
+      for (int j = 0; j < kGrid; ++j) grid[static_cast<std::size_t>(j)] = lo + (hi - lo) * j / (kGrid - 1);
+      grid_gains = exact_gains(grid, nullptr);
+      best = static_cast<std::size_t>(std::max_element(grid_gains.begin(), grid_gains.end()) - grid_gains.begin());
+      lo = grid[best > 0 ? best - 1 : best], hi = grid[std::min<std::size_t>(best + 1, kGrid - 1)];
+    }
+    double value = grid[best];
+    if (best > 0 && best + 1 < kGrid) {
+      const double bend = grid_gains[best - 1] - 2 * grid_gains[best] + grid_gains[best + 1];
+      if (bend < 0) value += 0.5 * (grid[1] - grid[0]) * (grid_gains[best - 1] - grid_gains[best + 1]) / bend;
+    }
+    // The gain and coefficients there, and the uncertainty from the curvature of the sum
+    // of squares (a chi-square rise of 1).
+    const double h = 1e-4 * value;
+    Eigen::VectorXd x;
+    const std::vector<double> last = exact_gains({value, value + h, value - h}, &x);
+    const double curvature = (2 * last[0] - last[1] - last[2]) / (h * h);
+    const double uncertainty = curvature > 0 ? std::sqrt(2.0 * sigma2 / curvature) : 0.0;
+    return suggestion(c, value, last[0], x, uncertainty, trials);
+  };
+
+  // Scanned candidates first: they are the long ones, and the threads take indices in order.
+  std::vector<std::size_t> order;
+  for (std::size_t i = 0; i < candidates.size(); ++i)
+    if (candidates[i].scan_points > 0) order.push_back(i);
+  for (std::size_t i = 0; i < candidates.size(); ++i)
+    if (fixed_column[i] >= 0) order.push_back(i);
   std::vector<std::optional<Suggestion>> results(candidates.size());
-  util::for_each_index(candidates.size(), options.threads, [&](std::size_t i) { results[i] = score(candidates[i]); });
+  util::for_each_index(order.size(), options.threads, [&](std::size_t j) {
+    const std::size_t i = order[j];
+    results[i] = fixed_column[i] >= 0 ? score_fixed(i) : score_scanned(candidates[i]);
+  });
   std::vector<Suggestion> scored;
   for (std::optional<Suggestion>& r : results)
     if (r) scored.push_back(std::move(*r));
@@ -580,7 +633,7 @@ Diagnosis diagnose(const model::ForwardModel& model, const MeasurementSet& data,
   // would give, the information criterion agrees, and the rms falls by 3% at least.
   std::vector<Suggestion> kept;
   for (const Suggestion& s : scored)
-    if (s.significance > 25.0 && s.bic_delta < -10.0 && s.rms_after < 0.97 * s.rms_before) kept.push_back(s);
+    if (s.significance > kSignificance && s.bic_delta < -10.0 && s.rms_after < 0.97 * s.rms_before) kept.push_back(s);
   std::sort(kept.begin(), kept.end(), [](const Suggestion& a, const Suggestion& b) { return a.bic_delta < b.bic_delta; });
   if (kept.size() > static_cast<std::size_t>(options.max_suggestions)) kept.resize(static_cast<std::size_t>(options.max_suggestions));
   for (std::size_t i = 0; i < kept.size(); ++i) kept[i].rank = static_cast<int>(i + 1);

@@ -80,6 +80,11 @@ void design_matrix(const model::ForwardModel& model, const Eigen::VectorXd& para
   util::for_each_piece(data.observations.size(), util::hardware_threads(), [&](std::size_t begin, std::size_t end) {
     model::ForwardData d(model);
     d.parameters = parameters;
+    // J's rows gathered a few at a time and stored as a block: a row written straight
+    // into the column-major J touches one cache line (and page) per column.
+    constexpr Eigen::Index kChunk = 64;
+    Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> rows(J ? kChunk : 0, J ? J->cols() : 0);
+    Eigen::Index chunk_begin = static_cast<Eigen::Index>(begin);
     for (auto i = static_cast<Eigen::Index>(begin); i < static_cast<Eigen::Index>(end); ++i) {
       const Observation& o = data.observations[static_cast<std::size_t>(i)];
       model::forward(model, d, o.q, MeasurementSet::conditions(o), J != nullptr);
@@ -88,7 +93,11 @@ void design_matrix(const model::ForwardModel& model, const Eigen::VectorXd& para
       if (!J) continue;
       const Eigen::RowVector3d nR = o.direction.transpose() * R;
       for (std::size_t j = 0; j < free.size(); ++j)
-        (*J)(i, static_cast<Eigen::Index>(j)) = nR * d.J_parameters.col(static_cast<Eigen::Index>(free[j]));
+        rows(i - chunk_begin, static_cast<Eigen::Index>(j)) = nR * d.J_parameters.col(static_cast<Eigen::Index>(free[j]));
+      if (i - chunk_begin + 1 == kChunk || i + 1 == static_cast<Eigen::Index>(end)) {
+        J->middleRows(chunk_begin, i - chunk_begin + 1) = rows.topRows(i - chunk_begin + 1);
+        chunk_begin = i + 1;
+      }
     }
   });
 }
@@ -100,24 +109,30 @@ Eigen::Index block_begin(Eigen::Index rows, std::size_t b) {
 }
 }  // namespace
 
-Eigen::MatrixXd normal_matrix(const Eigen::MatrixXd& A) {
+Eigen::MatrixXd normal_matrix(const Eigen::MatrixXd& A, const Eigen::VectorXd* weights) {
   std::vector<Eigen::MatrixXd> part(kRowBlocks);
   util::for_each_index(kRowBlocks, util::hardware_threads(), [&](std::size_t b) {
     const Eigen::Index begin = block_begin(A.rows(), b), end = block_begin(A.rows(), b + 1);
     part[b] = Eigen::MatrixXd::Zero(A.cols(), A.cols());
-    part[b].selfadjointView<Eigen::Lower>().rankUpdate(A.middleRows(begin, end - begin).transpose());
+    if (weights)
+      part[b].selfadjointView<Eigen::Lower>().rankUpdate(
+          (weights->segment(begin, end - begin).cwiseSqrt().asDiagonal() * A.middleRows(begin, end - begin)).transpose());
+    else
+      part[b].selfadjointView<Eigen::Lower>().rankUpdate(A.middleRows(begin, end - begin).transpose());
   });
   Eigen::MatrixXd N = Eigen::MatrixXd::Zero(A.cols(), A.cols());
   for (const Eigen::MatrixXd& p : part) N += p;  // in block order: the same sum everywhere
   return N.selfadjointView<Eigen::Lower>();
 }
 
-Eigen::MatrixXd tall_product(const Eigen::MatrixXd& A, const Eigen::MatrixXd& B) {
-  Eigen::MatrixXd C(A.rows(), B.cols());
+Eigen::MatrixXd transpose_product(const Eigen::MatrixXd& A, const Eigen::MatrixXd& B) {
+  std::vector<Eigen::MatrixXd> part(kRowBlocks);
   util::for_each_index(kRowBlocks, util::hardware_threads(), [&](std::size_t b) {
     const Eigen::Index begin = block_begin(A.rows(), b), end = block_begin(A.rows(), b + 1);
-    C.middleRows(begin, end - begin).noalias() = A.middleRows(begin, end - begin) * B;
+    part[b].noalias() = A.middleRows(begin, end - begin).transpose() * B.middleRows(begin, end - begin);
   });
+  Eigen::MatrixXd C = Eigen::MatrixXd::Zero(A.cols(), B.cols());
+  for (const Eigen::MatrixXd& p : part) C += p;  // in block order, as normal_matrix
   return C;
 }
 
@@ -127,7 +142,8 @@ Eigen::VectorXd residuals(const model::ForwardModel& model, const Eigen::VectorX
   return r;
 }
 
-FitReport fit(const model::ForwardModel& model, const MeasurementSet& data, const FitOptions& options) {
+FitReport fit(const model::ForwardModel& model, const MeasurementSet& data, const FitOptions& options,
+              Linearization* at_fit) {
   const model::MachineModel& mm = model.machine();
   FitReport report;
   report.observations = data.observations.size();
@@ -159,6 +175,19 @@ FitReport fit(const model::ForwardModel& model, const MeasurementSet& data, cons
   Eigen::VectorXd sigma;
   std::vector<bool> identified_direction;
   Eigen::MatrixXd subspace;  // the identified directions (scaled coordinates), columns
+  bool jacobian_current = true;  // J is at p (a converged last step or a revert moves p on)
+  // A period or time constant whose column was zero when the rank was decided (its
+  // amplitudes were zero): blind then, decided again once they have moved.
+  auto has_blind_shape = [&] {
+    for (Eigen::Index j = 0; j < m; ++j) {
+      const FittedParameter& fp = report.parameters[static_cast<std::size_t>(j)];
+      const model::ErrorTermSpec& t = mm.terms[fp.term];
+      const std::size_t k = fp.index - model.parameter_offset(fp.term);
+      const bool shape = (t.shape.form == TermForm::periodic && k == 0) || (t.shape.form == TermForm::thermal_warmup && k == 1);
+      if (shape && column_norm[j] == 0.0) return true;
+    }
+    return false;
+  };
   double lambda = 0.0;  // Levenberg-Marquardt damping, relative to the largest singular value squared
   for (int iteration = 0; iteration < options.max_iterations && m > 0; ++iteration) {
     report.iterations = iteration + 1;
@@ -171,29 +200,24 @@ FitReport fit(const model::ForwardModel& model, const MeasurementSet& data, cons
         weight[i] = source_weight[i] * std::min(1.0, 1.345 * s / std::max(std::abs(r[i]), 1e-300));
     }
     // Columns scaled to unit length, so the singular values compare parameters of any unit.
-    const Eigen::VectorXd sw = weight.cwiseSqrt();
     // What the data determine is decided from the start, and once more after the first
     // step if a period or a time constant was blind then (until its amplitudes move):
     // deciding again every iteration lets combinations at the threshold drift in and fit
     // noise.
-    bool blind_shape = false;  // a period or time constant whose column was zero at the start
-    for (Eigen::Index j = 0; j < m && iteration == 1; ++j) {
-      const FittedParameter& fp = report.parameters[static_cast<std::size_t>(j)];
-      const model::ErrorTermSpec& t = mm.terms[fp.term];
-      const std::size_t k = fp.index - model.parameter_offset(fp.term);
-      const bool shape = (t.shape.form == TermForm::periodic && k == 0) || (t.shape.form == TermForm::thermal_warmup && k == 1);
-      blind_shape = blind_shape || (shape && column_norm[j] == 0.0);
-    }
+    const bool blind_shape = iteration == 1 && has_blind_shape();
     const bool decide = iteration == 0 || blind_shape;
     if (decide)
       for (Eigen::Index j = 0; j < m; ++j) {
-        const double norm = (sw.asDiagonal() * J.col(j)).norm();
+        const double norm = std::sqrt(weight.dot(J.col(j).cwiseAbs2()));
         column_norm[j] = norm;
         scale[j] = norm > 0 ? norm : 1.0;
       }
-    const Eigen::MatrixXd A = sw.asDiagonal() * J * scale.cwiseInverse().asDiagonal();
-    const Eigen::MatrixXd N = normal_matrix(A);
-    const Eigen::VectorXd g = A.transpose() * (sw.asDiagonal() * r);
+    // A = sqrt(W) J S^-1 is never formed (a copy of the whole design matrix): its normal
+    // matrix and gradient come from J and are scaled after.
+    const bool unit_weights = (weight.array() == 1.0).all();
+    const Eigen::MatrixXd N =
+        scale.cwiseInverse().asDiagonal() * normal_matrix(J, unit_weights ? nullptr : &weight) * scale.cwiseInverse().asDiagonal();
+    const Eigen::VectorXd g = (J.transpose() * weight.cwiseProduct(r)).cwiseQuotient(scale);
     if (decide) {
       // Descending singular values and their right singular vectors.
       Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(N);
@@ -218,25 +242,45 @@ FitReport fit(const model::ForwardModel& model, const MeasurementSet& data, cons
     const Eigen::MatrixXd Q = subspace * reduced.eigenvectors();
     const Eigen::VectorXd Qg = Q.transpose() * g;
     const double largest = mu.size() ? mu.maxCoeff() : 0.0;
-    auto step_for = [&](double damping) {
-      const Eigen::VectorXd step = Q * Qg.cwiseQuotient((mu.array() + damping).max(1e-300).matrix());
-      return Eigen::VectorXd(step.cwiseQuotient(scale));
-    };
     const double before = cost(r);
-    // What a full Gauss-Newton step would gain on the local linear model. Below what counts
-    // as convergence (see below) no trial is worth its pass over the data: at the optimum
+    // Only directions whose step gains more than the noise would (chi-square by 9, the
+    // test the end of the fit applies before keeping a change) are stepped along. The
+    // rest is noise: there the least-squares step is long (noise over a small singular
+    // value), the model is no longer linear that far out, and the full step fails and is
+    // damped back over several passes over the data, only to be reverted at the end.
+    // The noise: what the linear model leaves after the full step (from a poor start the
+    // residual now is mostly model error, and would hide real effects).
+    const Eigen::VectorXd direction_gain = (mu.array() > 0).select(Qg.cwiseAbs2().cwiseQuotient(mu.cwiseMax(1e-300)), 0.0);
+    const double noise2 = std::max(before - direction_gain.sum(), 0.0) /
+                          std::max(1.0, static_cast<double>(n) - static_cast<double>(subspace.cols()));
+    Eigen::VectorXd stepped_Qg = Qg;
+    // What the step would gain on the local linear model. Below what counts as
+    // convergence (see below) no trial is worth its pass over the data: at the optimum
     // every trial fails, and each costs one.
     double predicted_gain = 0.0;
-    for (Eigen::Index k = 0; k < mu.size(); ++k)
-      if (mu[k] > 0) predicted_gain += Qg[k] * Qg[k] / mu[k];
+    for (Eigen::Index k = 0; k < mu.size(); ++k) {
+      if (direction_gain[k] > 9.0 * noise2) predicted_gain += direction_gain[k];
+      else stepped_Qg[k] = 0.0;
+    }
+    auto step_for = [&](double damping) {
+      const Eigen::VectorXd step = Q * stepped_Qg.cwiseQuotient((mu.array() + damping).max(1e-300).matrix());
+      return Eigen::VectorXd(step.cwiseQuotient(scale));
+    };
     if (predicted_gain <= before / static_cast<double>(n) + 1e-30) {
       report.converged = true;
       break;
     }
+    // What the step with a damping gains on the linear model.
+    auto linear_gain = [&](double damping) {
+      const Eigen::ArrayXd y = stepped_Qg.array() / (mu.array() + damping).max(1e-300);
+      return (y * (2.0 * stepped_Qg.array() - mu.array() * y)).sum();
+    };
     Eigen::VectorXd trial_p = p, trial_r;
     bool improved = false;
+    double damping = 0.0;
     for (int attempt = 0; attempt < 24; ++attempt) {
-      const Eigen::VectorXd dp = step_for(lambda * largest);
+      damping = lambda * largest;
+      const Eigen::VectorXd dp = step_for(damping);
       trial_p = p;
       for (Eigen::Index j = 0; j < m; ++j) trial_p[static_cast<Eigen::Index>(free[static_cast<std::size_t>(j)])] += dp[j];
       design_matrix(model, trial_p, data, free, trial_r, nullptr);
@@ -253,15 +297,25 @@ FitReport fit(const model::ForwardModel& model, const MeasurementSet& data, cons
     }
     const double after = cost(trial_r);
     p = trial_p;
-    design_matrix(model, p, data, free, r, &J);
+    r = std::move(trial_r);
     // Converged when an iteration gains less than one reading's noise variance (chi-square
     // by 1, what a single parameter's one-sigma change is worth): what is left to gain is
     // not information the data hold. (A hundredth, as before, spent five more iterations
     // at an optimum damping weak directions into place, each a design matrix.)
-    if (before - after <= before / static_cast<double>(n) + 1e-30) {
+    const double chi1 = before / static_cast<double>(n) + 1e-30;
+    // Also converged when the step took (nearly) all the linear model promised and the
+    // cost fell by what it predicted, to one noise variance: the model is linear over
+    // the step, so a further step would gain less than that (and the design matrix for
+    // it is half a fit's time). Not with a robust loss: its weights move each step.
+    const double taken = linear_gain(damping);
+    const bool linear = options.loss == Loss::least_squares && taken >= predicted_gain - chi1 &&
+                        std::abs((before - after) - taken) <= chi1 && !has_blind_shape();
+    if (before - after <= chi1 || linear) {
       report.converged = true;
+      jacobian_current = false;  // not needed for another step: built only if asked for
       break;
     }
+    design_matrix(model, p, data, free, r, &J);
   }
   if (m == 0) report.converged = true;
   // Never fit noise: a combination whose change moves the predictions by no more than the
@@ -296,6 +350,7 @@ FitReport fit(const model::ForwardModel& model, const MeasurementSet& data, cons
       if (cost(back_r) - cost(r) <= 9.0 * noise * noise * std::max(1.0, reverted_count)) {
         p = back_p;
         r = back_r;
+        jacobian_current = false;
       } else {
         report.significant = identifiable;
       }
@@ -303,6 +358,11 @@ FitReport fit(const model::ForwardModel& model, const MeasurementSet& data, cons
   }
   report.all_parameters = p;
   report.rms_after = rms(r);
+  if (at_fit) {
+    if (!jacobian_current) design_matrix(model, p, data, free, r, m > 0 ? &J : nullptr);
+    at_fit->residuals = r;
+    at_fit->jacobian = std::move(J);
+  }
   report.max_after = r.size() ? r.cwiseAbs().maxCoeff() : 0.0;
   report.source_rms_after = rms_by_source(r, data);
   report.singular_values = sigma;

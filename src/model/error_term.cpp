@@ -55,27 +55,29 @@ void cubic_weights(const std::vector<double>& x, double v, Eigen::VectorXd& w, E
 [[gnu::noinline]] void evaluate_table(const TermShape& s, const Eigen::Ref<const Eigen::VectorXd>& p, double v, bool grad,
                                       TermValue& r) {
   const auto n = static_cast<Eigen::Index>(s.knots.size());
-  Eigen::VectorXd w, dw;
   if (s.interpolation == Interpolation::cubic) {
+    Eigen::VectorXd w, dw;
     cubic_weights(s.knots, v, w, dw);
-  } else {
-    w = dw = Eigen::VectorXd::Zero(n);
-    const double vc = std::clamp(v, s.knots.front(), s.knots.back());
-    if (n == 1) {
-      w[0] = 1.0;
-    } else {
-      auto k = static_cast<Eigen::Index>(std::upper_bound(s.knots.begin(), s.knots.end(), vc) - s.knots.begin()) - 1;
-      k = std::clamp<Eigen::Index>(k, 0, n - 2);
-      const double h = s.knots[static_cast<std::size_t>(k + 1)] - s.knots[static_cast<std::size_t>(k)];
-      const double b = (vc - s.knots[static_cast<std::size_t>(k)]) / h;
-      w[k] = 1.0 - b;
-      w[k + 1] = b;
-      if (v == vc) dw[k] = -1.0 / h, dw[k + 1] = 1.0 / h;
-    }
+    r.value = w.dot(p);
+    r.d_primary = dw.dot(p);
+    if (grad) r.d_parameters = w;
+    return;
   }
-  r.value = w.dot(p);
-  r.d_primary = dw.dot(p);
-  if (grad) r.d_parameters = w;
+  // Linear: two knots, no vectors (a fit evaluates every table at every reading).
+  if (grad) r.d_parameters.setZero(n);
+  const double vc = std::clamp(v, s.knots.front(), s.knots.back());
+  if (n == 1) {
+    r.value = p[0], r.d_primary = 0.0;
+    if (grad) r.d_parameters[0] = 1.0;
+    return;
+  }
+  auto k = static_cast<Eigen::Index>(std::upper_bound(s.knots.begin(), s.knots.end(), vc) - s.knots.begin()) - 1;
+  k = std::clamp<Eigen::Index>(k, 0, n - 2);
+  const double h = s.knots[static_cast<std::size_t>(k + 1)] - s.knots[static_cast<std::size_t>(k)];
+  const double b = (vc - s.knots[static_cast<std::size_t>(k)]) / h;
+  r.value = (1.0 - b) * p[k] + b * p[k + 1];
+  r.d_primary = v == vc ? (p[k + 1] - p[k]) / h : 0.0;  // held constant outside the table
+  if (grad) r.d_parameters[k] = 1.0 - b, r.d_parameters[k + 1] = b;
 }
 
 }  // namespace

@@ -52,8 +52,18 @@ struct FitReport {
   std::size_t observations = 0;
 };
 
-/// Fits the free parameters of `model` to `data`.
-[[nodiscard]] FitReport fit(const model::ForwardModel& model, const MeasurementSet& data, const FitOptions& options = {});
+/// Residuals (measured - predicted, mm) and the design matrix (d prediction / d free
+/// parameter, one column per free parameter in free_parameters() order) at some parameters.
+struct Linearization {
+  Eigen::VectorXd residuals;
+  Eigen::MatrixXd jacobian;
+};
+
+/// Fits the free parameters of `model` to `data`. `at_fit`, when given, receives the
+/// residuals and the design matrix at the fitted parameters (the fit has them: a caller
+/// saves a pass over the data).
+[[nodiscard]] FitReport fit(const model::ForwardModel& model, const MeasurementSet& data, const FitOptions& options = {},
+                            Linearization* at_fit = nullptr);
 
 /// The indices of the parameters a fit may change (free terms; a period only with
 /// fit_period), and the model's whole parameter vector.
@@ -65,11 +75,12 @@ struct FitReport {
 void design_matrix(const model::ForwardModel& model, const Eigen::VectorXd& parameters, const MeasurementSet& data,
                    const std::vector<std::size_t>& free, Eigen::VectorXd& r, Eigen::MatrixXd* J);
 
-/// A^T A, summed over a fixed number of row blocks on the cores: the same sums on any
-/// machine, whatever its core count.
-[[nodiscard]] Eigen::MatrixXd normal_matrix(const Eigen::MatrixXd& A);
-/// A * B by row blocks on the cores (A tall: a design matrix).
-[[nodiscard]] Eigen::MatrixXd tall_product(const Eigen::MatrixXd& A, const Eigen::MatrixXd& B);
+/// A^T A (A^T diag(weights) A when given), summed over a fixed number of row blocks on
+/// the cores: the same sums on any machine, whatever its core count.
+[[nodiscard]] Eigen::MatrixXd normal_matrix(const Eigen::MatrixXd& A, const Eigen::VectorXd* weights = nullptr);
+/// A^T B for tall A and B of the same rows (a design matrix and columns on its rows),
+/// summed over the same fixed row blocks as normal_matrix().
+[[nodiscard]] Eigen::MatrixXd transpose_product(const Eigen::MatrixXd& A, const Eigen::MatrixXd& B);
 
 /// Residuals (measured - predicted, mm) of every observation with the given parameters.
 [[nodiscard]] Eigen::VectorXd residuals(const model::ForwardModel& model, const Eigen::VectorXd& parameters,
