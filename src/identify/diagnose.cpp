@@ -455,11 +455,13 @@ Diagnosis diagnose(const model::ForwardModel& model, const MeasurementSet& data,
     }
   }
 
+  std::vector<Eigen::VectorXd> coefficients(candidates.size());  // of each suggestion's basis functions
   // A candidate's suggestion from its best value (a period, a time constant), the gain
   // there and its coefficients.
   auto suggestion = [&](const Candidate& c, double value, double gain, const Eigen::VectorXd& x, double uncertainty,
                         double trials) -> std::optional<Suggestion> {
     if (!(gain > 0)) return std::nullopt;
+    coefficients[static_cast<std::size_t>(&c - candidates.data())] = x;
     Suggestion s;
     s.effect = c.effect, s.error = c.error, s.term = c.term, s.variable = c.variable, s.form = c.form;
     s.period = c.scan_points > 0 || c.form == "harmonic" ? value : 0.0;
@@ -626,18 +628,32 @@ Diagnosis diagnose(const model::ForwardModel& model, const MeasurementSet& data,
     const std::size_t i = order[j];
     results[i] = fixed_column[i] >= 0 ? score_fixed(i) : score_scanned(candidates[i]);
   });
-  std::vector<Suggestion> scored;
-  for (std::optional<Suggestion>& r : results)
-    if (r) scored.push_back(std::move(*r));
   // Significant: the chi-square falls by 25 (five sigma) beyond what noise and the scan
   // would give, the information criterion agrees, and the rms falls by 3% at least.
-  std::vector<Suggestion> kept;
-  for (const Suggestion& s : scored)
-    if (s.significance > kSignificance && s.bic_delta < -10.0 && s.rms_after < 0.97 * s.rms_before) kept.push_back(s);
-  std::sort(kept.begin(), kept.end(), [](const Suggestion& a, const Suggestion& b) { return a.bic_delta < b.bic_delta; });
+  std::vector<std::size_t> kept;  // candidates
+  for (std::size_t i = 0; i < results.size(); ++i)
+    if (const auto& s = results[i];
+        s && s->significance > kSignificance && s->bic_delta < -10.0 && s->rms_after < 0.97 * s->rms_before)
+      kept.push_back(i);
+  std::stable_sort(kept.begin(), kept.end(), [&](std::size_t a, std::size_t b) { return results[a]->bic_delta < results[b]->bic_delta; });
   if (kept.size() > static_cast<std::size_t>(options.max_suggestions)) kept.resize(static_cast<std::size_t>(options.max_suggestions));
-  for (std::size_t i = 0; i < kept.size(); ++i) kept[i].rank = static_cast<int>(i + 1);
-  out.suggestions = std::move(kept);
+  for (std::size_t rank = 0; rank < kept.size(); ++rank) {
+    const Candidate& c = candidates[kept[rank]];
+    Suggestion& s = *results[kept[rank]];
+    s.rank = static_cast<int>(rank + 1);
+    // The residual with the effect added: what its terms take, less what the base's free
+    // parameters had taken of it (the linear fit of both, whose rms is rms_after).
+    const Probe& p = probes[c.probe];
+    const Eigen::VectorXd& x = coefficients[kept[rank]];
+    const double value = s.period > 0 ? s.period : c.period;
+    Eigen::VectorXd taken = Eigen::VectorXd::Zero(n);
+    for (Eigen::Index row : p.rows)
+      for (int k = 0; k < c.basis_count; ++k)
+        taken[row] += p.g[row] * c.basis(data.observations[static_cast<std::size_t>(row)], k, value) * x[k];
+    if (base.A.cols() > 0) taken -= base.A * (base.W * (base.W.transpose() * (base.A.transpose() * taken)));
+    s.residual = base.r - taken;
+    out.suggestions.push_back(std::move(s));
+  }
 
   // Where the residual concentrates: eight bins along every variable that varies.
   const double overall = out.rms_refit;

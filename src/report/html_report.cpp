@@ -151,6 +151,29 @@ std::string html_check_report(const CheckReportInput& in) {
     html += chart("residual against " + v.name, v.name, "residual (um)", {before, after});
   }
   html += "</div>\n";
+  // Each missing effect added: the refitted residual against the effect's variable, and
+  // what is left with the effect's terms fitted too.
+  if (!in.diagnosis.suggestions.empty()) {
+    html += "<h2>Each missing effect, added</h2>\n<p>Blue: refitted; green: refitted with the effect added.</p>\n"
+            "<div class=\"charts\">\n";
+    for (const identify::Suggestion& s : in.diagnosis.suggestions) {
+      if (s.residual.size() != static_cast<Eigen::Index>(obs.size())) continue;
+      // The effect's first variable ("x,T_bed" -> x; an approach direction "vy" -> y).
+      std::string name = s.variable.substr(0, s.variable.find(','));
+      if (name.size() == 2 && name[0] == 'v') name.erase(0, 1);
+      const auto v = std::find_if(variables.begin(), variables.end(),
+                                  [&](const Variable& candidate) { return candidate.name.starts_with(name + " "); });
+      if (v == variables.end()) continue;
+      Series refitted{{}, {}, "#1565c0", false}, added{{}, {}, "#2e7d32", false};
+      for (std::size_t i : shown) {
+        refitted.x.push_back(v->get(obs[i])), refitted.y.push_back(in.residual_after[static_cast<Eigen::Index>(i)] * um);
+        added.x.push_back(v->get(obs[i])), added.y.push_back(s.residual[static_cast<Eigen::Index>(i)] * um);
+      }
+      html += chart(fmt::format("{}: {} {} ({:.3f} -> {:.3f} um)", s.rank, s.term, s.form, s.rms_before * um, s.rms_after * um),
+                    v->name, "residual (um)", {refitted, added});
+    }
+    html += "</div>\n";
+  }
   // Error maps: the residual over the workspace, coloured (blue negative, red positive).
   html += "<h2>Error maps over the workspace</h2>\n<p>Each reading at its position, coloured by the refitted residual "
           "(blue below zero, red above; full colour at 3 noise floors).</p>\n<div class=\"charts\">\n";

@@ -37,6 +37,11 @@ TEST(HtmlReport, IsSelfContainedAndRendersInChromium) {
   EXPECT_GE(charts, 10U) << "residual against x y z b, three maps, three spectra, singular values";
   EXPECT_NE(page.find("Missing effects"), std::string::npos);
   EXPECT_NE(page.find("reversal of the Y axis"), std::string::npos) << "the truth's backlash is named";
+  // Each suggestion has its chart: what is left with it added.
+  const auto added = page.find("Each missing effect, added");
+  ASSERT_NE(added, std::string::npos);
+  EXPECT_GE(count(page.substr(added), "<svg class=\"chart\""), 1U);
+  EXPECT_NE(page.find("1: EYY reversal"), std::string::npos);
   EXPECT_NE(page.find("Identifiability"), std::string::npos);
 
   const std::string chromium = "/usr/bin/chromium";

@@ -31,6 +31,9 @@ struct Suggestion {
   double significance = 0.0;  ///< fall in chi-square against the noise floor
   std::string yaml;       ///< the term to add, with the values the data suggest
   std::string spec;       ///< the same, one line, for `ccomp fit --add`
+  /// mm, per reading: the refitted residual with the effect added (the linear fit of the
+  /// base's free parameters and the effect together; its rms is rms_after).
+  Eigen::VectorXd residual;
 };
 
 struct Region {

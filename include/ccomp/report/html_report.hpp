@@ -1,8 +1,8 @@
 #pragma once
 // The check as one self-contained HTML page (no network: inline SVG, no scripts): the
 // residual against every variable before and after refitting, error maps over the
-// workspace, spectra along each linear axis, the missing effects, the regions, the
-// identifiability of the model's parameters.
+// workspace, spectra along each linear axis, the missing effects (each with the residual
+// left once it is added), the regions, the identifiability of the model's parameters.
 #include <string>
 
 #include <Eigen/Core>
