@@ -5,10 +5,10 @@
 #include <Eigen/Cholesky>
 #include <Eigen/Eigenvalues>
 #include <algorithm>
-#include <optional>
 #include <cmath>
 #include <functional>
 #include <map>
+#include <optional>
 
 #include "ccomp/identify/check.hpp"
 #include "ccomp/identify/fit.hpp"
@@ -30,10 +30,10 @@ constexpr std::string_view kAxisLetters = "XYZABCUVW";
 struct Probe {
   std::string link;
   int component = 0;
-  Eigen::VectorXd g;           // per observation
+  Eigen::VectorXd g;               // per observation
   std::vector<Eigen::Index> rows;  // where g is not zero
-  Eigen::MatrixXd A_rows;      // the base's columns on those rows (empty when they are all rows)
-  Eigen::VectorXd r_rows;      // the residual there
+  Eigen::MatrixXd A_rows;          // the base's columns on those rows (empty when they are all rows)
+  Eigen::VectorXd r_rows;          // the residual there
 };
 
 /// A candidate effect: its words, its term, and its basis functions of an observation
@@ -45,7 +45,7 @@ struct Candidate {
   int basis_count = 1;
   std::function<double(const Observation&, int k, double scanned)> basis;
   double scan_from = 0.0, scan_to = 0.0;  // of the scanned parameter (0, 0: none)
-  bool scan_frequency = true;  // scan evenly in 1/value (periods) or in log value (time constants)
+  bool scan_frequency = true;             // scan evenly in 1/value (periods) or in log value (time constants)
   int scan_points = 0;
   /// Periodic candidates: the variable the period is in (mm, deg); the coarse scan steps
   /// the phase of every row by rotation instead of calling the basis.
@@ -90,75 +90,28 @@ struct Projector {
     Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(Ns);
     // Columns that are nearly one another once the base is out: the candidate is not one effect.
     if (eig.eigenvalues().minCoeff() < 1e-6) return 0.0;
-    const Eigen::VectorXd xs = eig.eigenvectors() * (eig.eigenvectors().transpose() * bs).cwiseQuotient(eig.eigenvalues());
+    const Eigen::VectorXd xs =
+        eig.eigenvectors() * (eig.eigenvectors().transpose() * bs).cwiseQuotient(eig.eigenvalues());
     if (coefficients) *coefficients = xs.cwiseQuotient(d);
     return bs.dot(xs);
   }
 };
 
-std::string axis_name(std::size_t i) { return std::string(1, static_cast<char>(std::tolower(kAxisLetters[i]))); }
+std::string axis_name(std::size_t i) {
+  return std::string(1, static_cast<char>(std::tolower(kAxisLetters[i])));
+}
 
-}  // namespace
+/// An axis the model has, with its link and what the data cover of it.
+struct AxisInfo {
+  std::size_t index = 0;
+  std::string link;
+  bool rotary = false;
+  int own = 0;              // the component along (or about) the axis
+  double from = 0, to = 0;  // range in the data (mm, deg)
+  double step = 0;          // the typical spacing of the data along it (mm, deg)
+};
 
-Diagnosis diagnose(const model::ForwardModel& model, const MeasurementSet& data, const DiagnoseOptions& options) {
-  const model::MachineModel& mm = model.machine();
-  Diagnosis out;
-  const auto n = static_cast<Eigen::Index>(data.observations.size());
-  if (n == 0) return out;
-  out.noise = options.noise > 0 ? options.noise : check(model, data).noise_floor;
-
-  // The base model refitted to the data, and what its free parameters can absorb.
-  Projector base;
-  {
-    Linearization at_fit;  // the refit's residual and design matrix: no second pass over the data
-    out.refit = fit(model, data, {}, &at_fit);
-    base.r = std::move(at_fit.residuals);
-    base.A = std::move(at_fit.jacobian);
-    if (base.A.cols() > 0) {
-      for (Eigen::Index j = 0; j < base.A.cols(); ++j) base.A.col(j) /= std::max(base.A.col(j).norm(), 1e-300);
-      Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(normal_matrix(base.A));
-      const double largest = std::sqrt(std::max(eig.eigenvalues().maxCoeff(), 0.0));
-      std::vector<Eigen::Index> kept;
-      for (Eigen::Index k = 0; k < eig.eigenvalues().size(); ++k)
-        if (std::sqrt(std::max(eig.eigenvalues()[k], 0.0)) > 1e-6 * largest) kept.push_back(k);
-      base.W.resize(base.A.cols(), static_cast<Eigen::Index>(kept.size()));
-      for (std::size_t c = 0; c < kept.size(); ++c)
-        base.W.col(static_cast<Eigen::Index>(c)) = eig.eigenvectors().col(kept[c]) / std::sqrt(eig.eigenvalues()[kept[c]]);
-      // The refit's residual, made exactly orthogonal to what the base absorbs.
-      const Eigen::VectorXd absorbed = base.W * (base.W.transpose() * (base.A.transpose() * base.r));
-      base.r -= base.A * absorbed;
-    } else {
-      base.W.resize(0, 0);
-    }
-    out.rms_refit = std::sqrt(base.r.squaredNorm() / static_cast<double>(n));
-  }
-  const double sse0 = base.r.squaredNorm();
-  // Without a noise floor from the data's structure, the refitted residual stands in for
-  // it: an upper bound, so fewer effects pass, never more.
-  if (!(out.noise > 0)) out.noise = out.rms_refit;
-  const double sigma2 = std::max(out.noise * out.noise, 1e-18);
-
-  // Probes: d prediction / d (a term's value) at the links and components candidates use.
-  const auto& tool_chain = mm.tool_chain;
-  std::string spindle;  // the tool side's last link before the tool: where the spindle tilts and drifts
-  for (const model::LinkSpec& l : tool_chain)
-    if (!l.tool) spindle = l.name;
-  std::vector<Probe> probes;
-  auto probe = [&](const std::string& link, int component) {
-    for (std::size_t i = 0; i < probes.size(); ++i)
-      if (probes[i].link == link && probes[i].component == component) return i;
-    probes.push_back(Probe{link, component, {}, {}, {}, {}});
-    return probes.size() - 1;
-  };
-  // The axes the model has, with their links.
-  struct AxisInfo {
-    std::size_t index = 0;
-    std::string link;
-    bool rotary = false;
-    int own = 0;  // the component along (or about) the axis
-    double from = 0, to = 0;  // range in the data (mm, deg)
-    double step = 0;          // the typical spacing of the data along it (mm, deg)
-  };
+std::vector<AxisInfo> axes_of(const model::MachineModel& mm, const MeasurementSet& data) {
   std::vector<AxisInfo> axes;
   for (const auto* chain : {&mm.workpiece_chain, &mm.tool_chain})
     for (const model::LinkSpec& l : *chain) {
@@ -181,7 +134,8 @@ Diagnosis diagnose(const model::ForwardModel& model, const MeasurementSet& data,
       for (std::size_t i = 1; i < data.observations.size(); ++i) {
         const model::ChainQ d = data.observations[i].q - data.observations[i - 1].q;
         const double travel = std::abs(d[qi]);
-        if (travel > 1e-9 && d.norm() - travel < 1e-9 * (1.0 + travel)) steps.push_back(a.rotary ? travel / kRadPerDeg : travel);
+        if (travel > 1e-9 && d.norm() - travel < 1e-9 * (1.0 + travel))
+          steps.push_back(a.rotary ? travel / kRadPerDeg : travel);
       }
       if (!steps.empty()) {
         std::nth_element(steps.begin(), steps.begin() + static_cast<std::ptrdiff_t>(steps.size() / 2), steps.end());
@@ -189,6 +143,27 @@ Diagnosis diagnose(const model::ForwardModel& model, const MeasurementSet& data,
       }
       axes.push_back(a);
     }
+  return axes;
+}
+
+/// A term's ISO name: "EXX", a location error "EC0X".
+std::string term_name(int component, const std::string& link, bool location) {
+  return fmt::format("E{}{}{}", kComponents[static_cast<std::size_t>(component)], location ? "0" : "", link);
+}
+
+/// The candidate effects the data can show, with the probes (links and components) they enter.
+std::vector<Candidate> candidate_library(const model::MachineModel& mm, const MeasurementSet& data,
+                                         const std::vector<AxisInfo>& axes, std::vector<Probe>& probes) {
+  const auto& tool_chain = mm.tool_chain;
+  std::string spindle;  // the tool side's last link before the tool: where the spindle tilts and drifts
+  for (const model::LinkSpec& l : tool_chain)
+    if (!l.tool) spindle = l.name;
+  auto probe = [&](const std::string& link, int component) {
+    for (std::size_t i = 0; i < probes.size(); ++i)
+      if (probes[i].link == link && probes[i].component == component) return i;
+    probes.push_back(Probe{link, component, {}, {}, {}, {}});
+    return probes.size() - 1;
+  };
   auto position = [](const Observation& o, const AxisInfo& a) {  // internal units: mm, rad
     return o.q[static_cast<Eigen::Index>(a.index)];
   };
@@ -201,9 +176,7 @@ Diagnosis diagnose(const model::ForwardModel& model, const MeasurementSet& data,
   const bool time_varies = varies([](const Observation& o) { return o.time; });
   auto unit = [](int component) { return component < 3 ? "um" : "urad"; };
   auto file_value = [](int component, double internal) { return internal * (component < 3 ? 1e3 : 1e6); };
-  auto name = [&](int component, const std::string& link, bool location) {
-    return fmt::format("E{}{}{}", kComponents[static_cast<std::size_t>(component)], location ? "0" : "", link);
-  };
+  auto name = term_name;
 
   std::vector<Candidate> candidates;
   for (const AxisInfo& a : axes) {
@@ -214,7 +187,8 @@ Diagnosis diagnose(const model::ForwardModel& model, const MeasurementSet& data,
     if (!a.rotary) {
       // Periodic positioning error: the lead screw's pitch, or the scale's.
       Candidate c;
-      c.effect = fmt::format("periodic error of the {} axis' positioning (lead-screw pitch or scale pitch)", kAxisLetters[a.index]);
+      c.effect = fmt::format("periodic error of the {} axis' positioning (lead-screw pitch or scale pitch)",
+                             kAxisLetters[a.index]);
       c.error = own, c.term = own, c.variable = v, c.form = "periodic";
       c.probe = probe(a.link, a.own);
       periodic_in(c, [&a, position](const Observation& o) { return position(o, a); });
@@ -224,22 +198,26 @@ Diagnosis diagnose(const model::ForwardModel& model, const MeasurementSet& data,
       // better, and refined between its neighbours.
       c.scan_points = static_cast<int>(std::clamp(2.0 * span / c.scan_from, 50.0, 6000.0));
       c.yaml = [own, component = a.own, file_value](const Eigen::VectorXd& x, double period) {
-        return fmt::format("{{name: {}, form: periodic, period: {:.6g} mm, unit: um, harmonics: [[{:.4g}, {:.4g}]], fit: true}}",
-                           own, period, file_value(component, x[0]), file_value(component, x[1]));
+        return fmt::format(
+            "{{name: {}, form: periodic, period: {:.6g} mm, unit: um, harmonics: [[{:.4g}, "
+            "{:.4g}]], fit: true}}",
+            own, period, file_value(component, x[0]), file_value(component, x[1]));
       };
       candidates.push_back(c);
       // Reversal: the axis' positioning differs with the approach direction (backlash).
       const std::size_t vi = a.index;
       if (varies([vi](const Observation& o) { return o.directions[vi]; })) {
         Candidate r;
-        r.effect = fmt::format("reversal of the {} axis: its position depends on the approach direction (backlash, lost motion)",
-                               kAxisLetters[a.index]);
+        r.effect = fmt::format(
+            "reversal of the {} axis: its position depends on the approach direction (backlash, "
+            "lost motion)",
+            kAxisLetters[a.index]);
         r.error = own, r.term = own, r.variable = "v" + v, r.form = "reversal";
         r.probe = probe(a.link, a.own);
         r.basis = [vi](const Observation& o, int, double) { return 0.5 * o.directions[vi]; };
         r.yaml = [own, v, file_value, component = a.own](const Eigen::VectorXd& x, double) {
-          return fmt::format("{{name: {}, variable: v{}, form: reversal, unit: um, reversal: {:.4g}, fit: true}}", own, v,
-                             file_value(component, x[0]));
+          return fmt::format("{{name: {}, variable: v{}, form: reversal, unit: um, reversal: {:.4g}, fit: true}}", own,
+                             v, file_value(component, x[0]));
         };
         candidates.push_back(r);
       }
@@ -269,8 +247,8 @@ Diagnosis diagnose(const model::ForwardModel& model, const MeasurementSet& data,
         if (component == a.own + 3) continue;
         const std::string term = name(component, a.link, true);
         Candidate s;
-        s.effect = fmt::format("out-of-squareness of the {} axis (its line of motion turned about {})", kAxisLetters[a.index],
-                               kComponents[static_cast<std::size_t>(component - 3)]);
+        s.effect = fmt::format("out-of-squareness of the {} axis (its line of motion turned about {})",
+                               kAxisLetters[a.index], kComponents[static_cast<std::size_t>(component - 3)]);
         s.error = term, s.term = term, s.variable = v, s.form = "polynomial";
         s.probe = probe(a.link, component);
         // A constant angle of the link: what the model file calls a squareness (EC0X).
@@ -284,14 +262,20 @@ Diagnosis diagnose(const model::ForwardModel& model, const MeasurementSet& data,
       for (std::size_t sensor = 0; sensor < mm.sensors.size(); ++sensor) {
         if (!varies([sensor](const Observation& o) { return o.temperatures[sensor]; })) continue;
         Candidate e;
-        e.effect = fmt::format("thermal expansion of the {} axis' scale with {} (the error grows with the position and the temperature)",
-                               kAxisLetters[a.index], mm.sensors[sensor]);
+        e.effect = fmt::format(
+            "thermal expansion of the {} axis' scale with {} (the error grows with the position "
+            "and the temperature)",
+            kAxisLetters[a.index], mm.sensors[sensor]);
         e.error = own, e.term = own, e.variable = v + ",T_" + mm.sensors[sensor], e.form = "interaction";
         e.probe = probe(a.link, a.own);
-        e.basis = [&a, position, sensor](const Observation& o, int, double) { return position(o, a) * (o.temperatures[sensor] - 20.0); };
+        e.basis = [&a, position, sensor](const Observation& o, int, double) {
+          return position(o, a) * (o.temperatures[sensor] - 20.0);
+        };
         e.yaml = [own, sensor_name = mm.sensors[sensor]](const Eigen::VectorXd& x, double) {
-          return fmt::format("{{name: {}, form: scale_expansion, temperature: T_{}, coefficient: {:.4g} /degC, fit: true}}", own,
-                             sensor_name, x[0]);
+          return fmt::format(
+              "{{name: {}, form: scale_expansion, temperature: T_{}, coefficient: {:.4g} /degC, "
+              "fit: true}}",
+              own, sensor_name, x[0]);
         };
         candidates.push_back(e);
       }
@@ -301,19 +285,24 @@ Diagnosis diagnose(const model::ForwardModel& model, const MeasurementSet& data,
         for (int component = 0; component < 6; ++component) {
           const std::string term = name(component, a.link, false);
           Candidate x;
-          x.effect = fmt::format("{} of the {} carriage that changes with the {} position (load, overhang: a 2-D Abbe error)",
-                                 component < 3 ? "straightness/positioning" : "angular error motion", kAxisLetters[a.index],
-                                 kAxisLetters[w.index]);
+          x.effect = fmt::format(
+              "{} of the {} carriage that changes with the {} position (load, overhang: a 2-D Abbe "
+              "error)",
+              component < 3 ? "straightness/positioning" : "angular error motion", kAxisLetters[a.index],
+              kAxisLetters[w.index]);
           x.error = term, x.term = term, x.variable = v + "," + axis_name(w.index), x.form = "interaction";
           x.probe = probe(a.link, component);
           x.basis_count = 2;
           x.basis = [&a, &w, position](const Observation& o, int k, double) {
             return k == 0 ? position(o, w) : position(o, a) * position(o, w);
           };
-          x.yaml = [term, component, file_value, other = axis_name(w.index), unit](const Eigen::VectorXd& coefficient, double) {
-            return fmt::format("{{name: {}, form: cross_axis, other: {}, unit: {}, coefficients: [[{:.4g}], [{:.4g}]], fit: true}}",
-                               term, other, unit(component), file_value(component, coefficient[0]),
-                               file_value(component, coefficient[1]));
+          x.yaml = [term, component, file_value, other = axis_name(w.index), unit](const Eigen::VectorXd& coefficient,
+                                                                                   double) {
+            return fmt::format(
+                "{{name: {}, form: cross_axis, other: {}, unit: {}, coefficients: [[{:.4g}], "
+                "[{:.4g}]], fit: true}}",
+                term, other, unit(component), file_value(component, coefficient[0]),
+                file_value(component, coefficient[1]));
           };
           candidates.push_back(x);
         }
@@ -325,7 +314,9 @@ Diagnosis diagnose(const model::ForwardModel& model, const MeasurementSet& data,
         for (int harmonic = 1; harmonic <= 3; ++harmonic) {
           Candidate h;
           h.effect = fmt::format("error motion {} of the {} table, {} per turn", term, kAxisLetters[a.index],
-                                 harmonic == 1 ? "once" : harmonic == 2 ? "twice" : "three times");
+                                 harmonic == 1   ? "once"
+                                 : harmonic == 2 ? "twice"
+                                                 : "three times");
           h.error = term, h.term = term, h.variable = v, h.form = "harmonic", h.period = 360.0 / harmonic;
           h.probe = probe(a.link, component);
           h.basis_count = 2;
@@ -333,37 +324,43 @@ Diagnosis diagnose(const model::ForwardModel& model, const MeasurementSet& data,
             return k == 0 ? std::cos(harmonic * position(o, a)) : std::sin(harmonic * position(o, a));
           };
           h.yaml = [term, harmonic, file_value, component, unit](const Eigen::VectorXd& x, double) {
-            return fmt::format("{{name: {}, form: periodic, period: {:g} deg, unit: {}, harmonics: [[{:.4g}, {:.4g}]], fit: true}}",
-                               term, 360.0 / harmonic, unit(component), file_value(component, x[0]), file_value(component, x[1]));
+            return fmt::format(
+                "{{name: {}, form: periodic, period: {:g} deg, unit: {}, harmonics: [[{:.4g}, "
+                "{:.4g}]], fit: true}}",
+                term, 360.0 / harmonic, unit(component), file_value(component, x[0]), file_value(component, x[1]));
           };
           candidates.push_back(h);
         }
       }
       Candidate w;
-      w.effect = fmt::format("periodic indexing error of the {} table (a worm wheel's tooth period)", kAxisLetters[a.index]);
+      w.effect =
+          fmt::format("periodic indexing error of the {} table (a worm wheel's tooth period)", kAxisLetters[a.index]);
       w.error = own, w.term = own, w.variable = v, w.form = "periodic";
       w.probe = probe(a.link, a.own);
       periodic_in(w, [&a, position](const Observation& o) { return position(o, a) / kRadPerDeg; });
       w.scan_from = std::max(1.0, 2.5 * a.step), w.scan_to = std::min(90.0, span / 2.0);
       w.scan_points = static_cast<int>(std::clamp(2.0 * span / w.scan_from, 50.0, 6000.0));
       w.yaml = [own, file_value, component = a.own](const Eigen::VectorXd& x, double period) {
-        return fmt::format("{{name: {}, form: periodic, period: {:.6g} deg, unit: urad, harmonics: [[{:.4g}, {:.4g}]], fit: true}}",
-                           own, period, file_value(component, x[0]), file_value(component, x[1]));
+        return fmt::format(
+            "{{name: {}, form: periodic, period: {:.6g} deg, unit: urad, harmonics: [[{:.4g}, "
+            "{:.4g}]], fit: true}}",
+            own, period, file_value(component, x[0]), file_value(component, x[1]));
       };
       candidates.push_back(w);
       for (int component = 0; component < 6; ++component) {
         if (component == a.own) continue;
         const std::string term = name(component, a.link, true);
         Candidate l;
-        l.effect = component < 3 ? fmt::format("the {} axis' centre is off in {} (eccentricity, location)", kAxisLetters[a.index],
-                                               kComponents[static_cast<std::size_t>(component)])
+        l.effect = component < 3 ? fmt::format("the {} axis' centre is off in {} (eccentricity, location)",
+                                               kAxisLetters[a.index], kComponents[static_cast<std::size_t>(component)])
                                  : fmt::format("the {} axis is tilted about {}", kAxisLetters[a.index],
                                                kComponents[static_cast<std::size_t>(component - 3)]);
         l.error = term, l.term = term, l.variable = v, l.form = "polynomial";
         l.probe = probe(a.link, component);
         l.basis = [](const Observation&, int, double) { return 1.0; };
         l.yaml = [term, file_value, component, unit](const Eigen::VectorXd& x, double) {
-          return fmt::format("{{name: {}, value: {:.4g}, unit: {}, fit: true}}", term, file_value(component, x[0]), unit(component));
+          return fmt::format("{{name: {}, value: {:.4g}, unit: {}, fit: true}}", term, file_value(component, x[0]),
+                             unit(component));
         };
         candidates.push_back(l);
       }
@@ -392,68 +389,168 @@ Diagnosis diagnose(const model::ForwardModel& model, const MeasurementSet& data,
       for (std::size_t sensor = 0; sensor < mm.sensors.size(); ++sensor) {
         if (!varies([sensor](const Observation& o) { return o.temperatures[sensor]; })) continue;
         Candidate d;
-        d.effect = fmt::format("thermal drift in {} with the temperature at {}", kComponents[static_cast<std::size_t>(component)],
-                               mm.sensors[sensor]);
+        d.effect = fmt::format("thermal drift in {} with the temperature at {}",
+                               kComponents[static_cast<std::size_t>(component)], mm.sensors[sensor]);
         d.error = "thermal", d.term = term, d.variable = "T_" + mm.sensors[sensor], d.form = "linear";
         d.probe = probe(spindle, component);
         d.basis = [sensor](const Observation& o, int, double) { return o.temperatures[sensor] - 20.0; };
         d.yaml = [term, sensor_name = mm.sensors[sensor], file_value, component](const Eigen::VectorXd& x, double) {
-          return fmt::format("{{name: {}, variable: T_{}, form: thermal, unit: um, coefficient: {:.4g}, fit: true}}", term,
-                             sensor_name, file_value(component, x[0]));
+          return fmt::format(
+              "{{name: {}, variable: T_{}, form: thermal, unit: um, coefficient: {:.4g}, fit: "
+              "true}}",
+              term, sensor_name, file_value(component, x[0]));
         };
         candidates.push_back(d);
       }
       if (time_varies) {
         Candidate w;
-        w.effect = fmt::format("warm-up drift in {}: first order in time since the start", kComponents[static_cast<std::size_t>(component)]);
+        w.effect = fmt::format("warm-up drift in {}: first order in time since the start",
+                               kComponents[static_cast<std::size_t>(component)]);
         w.error = "thermal", w.term = term, w.variable = "t", w.form = "exponential";
         w.probe = probe(spindle, component);
         w.basis = [](const Observation& o, int, double tau) { return 1.0 - std::exp(-o.time / tau); };
         w.scan_from = 120.0, w.scan_to = 4 * 3600.0, w.scan_points = 60, w.scan_frequency = false;
         w.yaml = [term, file_value, component](const Eigen::VectorXd& x, double tau) {
-          return fmt::format("{{name: {}, variable: t, form: warmup, unit: um, amplitude: {:.4g}, time_constant: {:.0f} s, fit: true}}",
-                             term, file_value(component, x[0]), tau);
+          return fmt::format(
+              "{{name: {}, variable: t, form: warmup, unit: um, amplitude: {:.4g}, time_constant: "
+              "{:.0f} s, fit: true}}",
+              term, file_value(component, x[0]), tau);
         };
         candidates.push_back(w);
       }
     }
   }
-  out.candidates_tried = candidates.size();
+  return candidates;
+}
 
-  // The probes' columns, one pass over the data with a model that has them as terms.
-  {
-    model::MachineModel probing = mm;
-    const std::size_t first = probing.terms.size();
-    for (const Probe& p : probes) {
-      model::ErrorTermSpec t;
-      t.name = t.iso = name(p.component, p.link, true);
-      t.link = p.link;
-      t.component = p.component;
-      t.parameters = Eigen::VectorXd::Zero(1);
-      t.parameter_unit = {1.0};
-      probing.terms.push_back(t);
-    }
-    const model::ForwardModel f(probing);
-    // The probes' columns are the probing model's design matrix for their parameters.
-    std::vector<std::size_t> columns;
-    for (std::size_t k = 0; k < probes.size(); ++k) columns.push_back(f.parameter_offset(first + k));
-    Eigen::VectorXd unused;
-    Eigen::MatrixXd G;
-    design_matrix(f, model_parameters(f), data, columns, unused, &G);
-    for (std::size_t k = 0; k < probes.size(); ++k) probes[k].g = G.col(static_cast<Eigen::Index>(k));
-    for (Probe& p : probes) {
-      const double largest = p.g.cwiseAbs().maxCoeff();
-      for (Eigen::Index i = 0; i < n; ++i)
-        if (std::abs(p.g[i]) > 1e-9 * largest) p.rows.push_back(i);
-      if (static_cast<Eigen::Index>(p.rows.size()) == n) continue;  // every row: the base's own U and r serve
-      p.A_rows.resize(static_cast<Eigen::Index>(p.rows.size()), base.A.cols());
-      p.r_rows.resize(static_cast<Eigen::Index>(p.rows.size()));
-      for (std::size_t i = 0; i < p.rows.size(); ++i) {
-        if (base.A.cols() > 0) p.A_rows.row(static_cast<Eigen::Index>(i)) = base.A.row(p.rows[i]);
-        p.r_rows[static_cast<Eigen::Index>(i)] = base.r[p.rows[i]];
-      }
+/// The base model refitted to the data, and what its free parameters can absorb.
+Projector refitted_base(const model::ForwardModel& model, const MeasurementSet& data, Diagnosis& out) {
+  const auto n = static_cast<Eigen::Index>(data.observations.size());
+  Projector base;
+  Linearization at_fit;  // the refit's residual and design matrix: no second pass over the data
+  out.refit = fit(model, data, {}, &at_fit);
+  base.r = std::move(at_fit.residuals);
+  base.A = std::move(at_fit.jacobian);
+  if (base.A.cols() > 0) {
+    for (Eigen::Index j = 0; j < base.A.cols(); ++j) base.A.col(j) /= std::max(base.A.col(j).norm(), 1e-300);
+    Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(normal_matrix(base.A));
+    const double largest = std::sqrt(std::max(eig.eigenvalues().maxCoeff(), 0.0));
+    std::vector<Eigen::Index> kept;
+    for (Eigen::Index k = 0; k < eig.eigenvalues().size(); ++k)
+      if (std::sqrt(std::max(eig.eigenvalues()[k], 0.0)) > 1e-6 * largest) kept.push_back(k);
+    base.W.resize(base.A.cols(), static_cast<Eigen::Index>(kept.size()));
+    for (std::size_t c = 0; c < kept.size(); ++c)
+      base.W.col(static_cast<Eigen::Index>(c)) =
+          eig.eigenvectors().col(kept[c]) / std::sqrt(eig.eigenvalues()[kept[c]]);
+    // The refit's residual, made exactly orthogonal to what the base absorbs.
+    const Eigen::VectorXd absorbed = base.W * (base.W.transpose() * (base.A.transpose() * base.r));
+    base.r -= base.A * absorbed;
+  } else {
+    base.W.resize(0, 0);
+  }
+  out.rms_refit = std::sqrt(base.r.squaredNorm() / static_cast<double>(n));
+  return base;
+}
+
+/// The probes' columns, one pass over the data with a model that has them as terms, and
+/// the base on their rows.
+void probe_columns(const model::MachineModel& mm, const MeasurementSet& data, const Projector& base,
+                   std::vector<Probe>& probes) {
+  const auto n = static_cast<Eigen::Index>(data.observations.size());
+  model::MachineModel probing = mm;
+  const std::size_t first = probing.terms.size();
+  for (const Probe& p : probes) {
+    model::ErrorTermSpec t;
+    t.name = t.iso = term_name(p.component, p.link, true);
+    t.link = p.link;
+    t.component = p.component;
+    t.parameters = Eigen::VectorXd::Zero(1);
+    t.parameter_unit = {1.0};
+    probing.terms.push_back(t);
+  }
+  const model::ForwardModel f(probing);
+  // The probes' columns are the probing model's design matrix for their parameters.
+  std::vector<std::size_t> columns;
+  for (std::size_t k = 0; k < probes.size(); ++k) columns.push_back(f.parameter_offset(first + k));
+  Eigen::VectorXd unused;
+  Eigen::MatrixXd G;
+  design_matrix(f, model_parameters(f), data, columns, unused, &G);
+  for (std::size_t k = 0; k < probes.size(); ++k) probes[k].g = G.col(static_cast<Eigen::Index>(k));
+  for (Probe& p : probes) {
+    const double largest = p.g.cwiseAbs().maxCoeff();
+    for (Eigen::Index i = 0; i < n; ++i)
+      if (std::abs(p.g[i]) > 1e-9 * largest) p.rows.push_back(i);
+    if (static_cast<Eigen::Index>(p.rows.size()) == n) continue;  // every row: the base's own U and r serve
+    p.A_rows.resize(static_cast<Eigen::Index>(p.rows.size()), base.A.cols());
+    p.r_rows.resize(static_cast<Eigen::Index>(p.rows.size()));
+    for (std::size_t i = 0; i < p.rows.size(); ++i) {
+      if (base.A.cols() > 0) p.A_rows.row(static_cast<Eigen::Index>(i)) = base.A.row(p.rows[i]);
+      p.r_rows[static_cast<Eigen::Index>(i)] = base.r[p.rows[i]];
     }
   }
+}
+
+/// Where the residual concentrates: eight bins along every variable that varies.
+std::vector<Region> residual_regions(const model::MachineModel& mm, const MeasurementSet& data,
+                                     const std::vector<AxisInfo>& axes, const Eigen::VectorXd& r, double overall,
+                                     double noise) {
+  const auto n = static_cast<Eigen::Index>(data.observations.size());
+  std::vector<Region> regions;
+  auto add_regions = [&](const std::string& variable, auto get) {
+    double lo = 1e300, hi = -1e300;
+    for (const Observation& o : data.observations) lo = std::min(lo, get(o)), hi = std::max(hi, get(o));
+    if (!(hi > lo)) return;
+    constexpr int kBins = 8;
+    std::vector<double> sum(kBins, 0.0), count(kBins, 0.0);
+    for (Eigen::Index i = 0; i < n; ++i) {
+      const Observation& o = data.observations[static_cast<std::size_t>(i)];
+      const int bin = std::min(kBins - 1, static_cast<int>((get(o) - lo) / (hi - lo) * kBins));
+      sum[static_cast<std::size_t>(bin)] += r[i] * r[i];
+      count[static_cast<std::size_t>(bin)] += 1;
+    }
+    for (int b = 0; b < kBins; ++b) {
+      const auto bi = static_cast<std::size_t>(b);
+      if (count[bi] < 10) continue;
+      const double rms = std::sqrt(sum[bi] / count[bi]);
+      if (overall > 0 && rms > 1.5 * overall && rms > 3 * noise)
+        regions.push_back({variable, lo + (hi - lo) * b / kBins, lo + (hi - lo) * (b + 1) / kBins, rms, rms / overall});
+    }
+  };
+  for (const AxisInfo& a : axes)
+    add_regions(axis_name(a.index), [&a](const Observation& o) {
+      return a.rotary ? o.q[static_cast<Eigen::Index>(a.index)] / kRadPerDeg
+                      : o.q[static_cast<Eigen::Index>(a.index)] - (a.index == 2 ? o.q[9] : 0.0);
+    });
+  add_regions("L", [](const Observation& o) { return o.q[9]; });
+  add_regions("t", [](const Observation& o) { return o.time; });
+  for (std::size_t s = 0; s < mm.sensors.size(); ++s)
+    add_regions("T_" + mm.sensors[s], [s](const Observation& o) { return o.temperatures[s]; });
+  std::sort(regions.begin(), regions.end(), [](const Region& a, const Region& b) { return a.ratio > b.ratio; });
+  if (regions.size() > 8) regions.resize(8);
+  return regions;
+}
+
+}  // namespace
+
+Diagnosis diagnose(const model::ForwardModel& model, const MeasurementSet& data, const DiagnoseOptions& options) {
+  const model::MachineModel& mm = model.machine();
+  Diagnosis out;
+  const auto n = static_cast<Eigen::Index>(data.observations.size());
+  if (n == 0) return out;
+  out.noise = options.noise > 0 ? options.noise : check(model, data).noise_floor;
+
+  Projector base = refitted_base(model, data, out);
+  const double sse0 = base.r.squaredNorm();
+  // Without a noise floor from the data's structure, the refitted residual stands in for
+  // it: an upper bound, so fewer effects pass, never more.
+  if (!(out.noise > 0)) out.noise = out.rms_refit;
+  const double sigma2 = std::max(out.noise * out.noise, 1e-18);
+
+  const std::vector<AxisInfo> axes = axes_of(mm, data);
+  std::vector<Probe> probes;
+  const std::vector<Candidate> candidates = candidate_library(mm, data, axes, probes);
+  out.candidates_tried = candidates.size();
+  probe_columns(mm, data, base, probes);
 
   std::vector<Eigen::VectorXd> coefficients(candidates.size());  // of each suggestion's basis functions
   // A candidate's suggestion from its best value (a period, a time constant), the gain
@@ -470,7 +567,8 @@ Diagnosis diagnose(const model::ForwardModel& model, const MeasurementSet& data,
     const double sse1 = std::max(sse0 - gain, 0.0);
     s.rms_after = std::sqrt(sse1 / static_cast<double>(n));
     const auto k = static_cast<double>(c.basis_count + (c.scan_points > 0 ? 1 : 0));
-    s.bic_delta = static_cast<double>(n) * std::log(std::max(sse1, 1e-300) / std::max(sse0, 1e-300)) + k * std::log(static_cast<double>(n));
+    s.bic_delta = static_cast<double>(n) * std::log(std::max(sse1, 1e-300) / std::max(sse0, 1e-300)) +
+                  k * std::log(static_cast<double>(n));
     // Against the noise floor: the fall in chi-square, less what the parameters and the
     // scan would win from noise alone (2 ln(trials) for the look-elsewhere effect).
     s.significance = gain / sigma2 - k - 2.0 * std::log(trials);
@@ -494,7 +592,8 @@ Diagnosis diagnose(const model::ForwardModel& model, const MeasurementSet& data,
     const Probe& p = probes[c.probe];
     for (Eigen::Index row : p.rows)
       for (int k = 0; k < c.basis_count; ++k)
-        C_fixed(row, fixed_column[i] + k) = p.g[row] * c.basis(data.observations[static_cast<std::size_t>(row)], k, c.period);
+        C_fixed(row, fixed_column[i] + k) =
+            p.g[row] * c.basis(data.observations[static_cast<std::size_t>(row)], k, c.period);
   });
   const Eigen::MatrixXd AtC_fixed = transpose_product(base.A, C_fixed);
   auto score_fixed = [&](std::size_t i) {
@@ -521,7 +620,8 @@ Diagnosis diagnose(const model::ForwardModel& model, const MeasurementSet& data,
         for (std::size_t i = 0; i < p.rows.size(); ++i) {
           const Observation& o = data.observations[static_cast<std::size_t>(p.rows[i])];
           for (int k = 0; k < bc; ++k)
-            C(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(v) * bc + k) = p.g[p.rows[i]] * c.basis(o, k, values[v]);
+            C(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(v) * bc + k) =
+                p.g[p.rows[i]] * c.basis(o, k, values[v]);
         }
       const Eigen::MatrixXd AtC = A_rows.transpose() * C;
       std::vector<double> gains(values.size());
@@ -578,7 +678,8 @@ Diagnosis diagnose(const model::ForwardModel& model, const MeasurementSet& data,
       for (std::size_t i = 0; i < peaks.size(); ++i) gains[peaks[i].second] = exact[i];
       // Only the weighed peaks compete: the coarse gains elsewhere are not comparable.
       for (std::size_t k = 0; k < gains.size(); ++k)
-        if (std::none_of(peaks.begin(), peaks.end(), [k](const auto& peak) { return peak.second == k; })) gains[k] = -1.0;
+        if (std::none_of(peaks.begin(), peaks.end(), [k](const auto& peak) { return peak.second == k; }))
+          gains[k] = -1.0;
     } else {
       gains = exact_gains(values, nullptr);
     }
@@ -635,8 +736,10 @@ Diagnosis diagnose(const model::ForwardModel& model, const MeasurementSet& data,
     if (const auto& s = results[i];
         s && s->significance > kSignificance && s->bic_delta < -10.0 && s->rms_after < 0.97 * s->rms_before)
       kept.push_back(i);
-  std::stable_sort(kept.begin(), kept.end(), [&](std::size_t a, std::size_t b) { return results[a]->bic_delta < results[b]->bic_delta; });
-  if (kept.size() > static_cast<std::size_t>(options.max_suggestions)) kept.resize(static_cast<std::size_t>(options.max_suggestions));
+  std::stable_sort(kept.begin(), kept.end(),
+                   [&](std::size_t a, std::size_t b) { return results[a]->bic_delta < results[b]->bic_delta; });
+  if (kept.size() > static_cast<std::size_t>(options.max_suggestions))
+    kept.resize(static_cast<std::size_t>(options.max_suggestions));
   for (std::size_t rank = 0; rank < kept.size(); ++rank) {
     const Candidate& c = candidates[kept[rank]];
     Suggestion& s = *results[kept[rank]];
@@ -655,39 +758,7 @@ Diagnosis diagnose(const model::ForwardModel& model, const MeasurementSet& data,
     out.suggestions.push_back(std::move(s));
   }
 
-  // Where the residual concentrates: eight bins along every variable that varies.
-  const double overall = out.rms_refit;
-  auto add_regions = [&](const std::string& variable, auto get) {
-    double lo = 1e300, hi = -1e300;
-    for (const Observation& o : data.observations) lo = std::min(lo, get(o)), hi = std::max(hi, get(o));
-    if (!(hi > lo)) return;
-    constexpr int kBins = 8;
-    std::vector<double> sum(kBins, 0.0), count(kBins, 0.0);
-    for (Eigen::Index i = 0; i < n; ++i) {
-      const Observation& o = data.observations[static_cast<std::size_t>(i)];
-      const int bin = std::min(kBins - 1, static_cast<int>((get(o) - lo) / (hi - lo) * kBins));
-      sum[static_cast<std::size_t>(bin)] += base.r[i] * base.r[i];
-      count[static_cast<std::size_t>(bin)] += 1;
-    }
-    for (int b = 0; b < kBins; ++b) {
-      const auto bi = static_cast<std::size_t>(b);
-      if (count[bi] < 10) continue;
-      const double rms = std::sqrt(sum[bi] / count[bi]);
-      if (overall > 0 && rms > 1.5 * overall && rms > 3 * out.noise)
-        out.regions.push_back({variable, lo + (hi - lo) * b / kBins, lo + (hi - lo) * (b + 1) / kBins, rms, rms / overall});
-    }
-  };
-  for (const AxisInfo& a : axes)
-    add_regions(axis_name(a.index), [&a](const Observation& o) {
-      return a.rotary ? o.q[static_cast<Eigen::Index>(a.index)] / kRadPerDeg
-                      : o.q[static_cast<Eigen::Index>(a.index)] - (a.index == 2 ? o.q[9] : 0.0);
-    });
-  add_regions("L", [](const Observation& o) { return o.q[9]; });
-  add_regions("t", [](const Observation& o) { return o.time; });
-  for (std::size_t s = 0; s < mm.sensors.size(); ++s)
-    add_regions("T_" + mm.sensors[s], [s](const Observation& o) { return o.temperatures[s]; });
-  std::sort(out.regions.begin(), out.regions.end(), [](const Region& a, const Region& b) { return a.ratio > b.ratio; });
-  if (out.regions.size() > 8) out.regions.resize(8);
+  out.regions = residual_regions(mm, data, axes, base.r, out.rms_refit, out.noise);
   return out;
 }
 
