@@ -378,22 +378,29 @@ class JobSink : public gcode::CanonSink {
   }
 
   /// Edits removing `words` from a line, each with the blanks before it (after it, when it
-  /// starts the line); neighbours' blanks merge into one edit, as edits may not overlap.
+  /// starts the line: the line's indentation stays); neighbours' blanks merge into one
+  /// edit, as edits may not overlap.
   static void remove_words(std::string_view text, const std::vector<gcode::Span>& words, std::vector<gcode::Edit>& edits) {
+    const auto first_word = static_cast<std::uint32_t>(std::min(text.find_first_not_of(" \t"), text.size()));
+    auto blank = [&](std::uint32_t i) { return i < text.size() && (text[i] == ' ' || text[i] == '\t'); };
     std::vector<gcode::Span> spans;
     for (gcode::Span s : words) {
-      while (s.begin > 0 && (text[s.begin - 1] == ' ' || text[s.begin - 1] == '\t')) --s.begin;
-      if (s.begin == 0)
-        while (s.end < text.size() && (text[s.end] == ' ' || text[s.end] == '\t')) ++s.end;
+      if (s.begin == first_word)
+        while (blank(s.end)) ++s.end;
+      else
+        while (s.begin > first_word && blank(s.begin - 1)) --s.begin;
       spans.push_back(s);
     }
     std::sort(spans.begin(), spans.end(), [](const gcode::Span& a, const gcode::Span& b) { return a.begin < b.begin; });
     for (std::size_t k = 0; k < spans.size(); ++k) {
       if (k > 0 && spans[k].begin <= edits.back().span.end) {
         edits.back().span.end = std::max(edits.back().span.end, spans[k].end);
-        continue;
+      } else {
+        edits.push_back(gcode::Edit{spans[k], ""});
       }
-      edits.push_back(gcode::Edit{spans[k], ""});
+      // A removal that now starts the line takes the blanks after it, not one before the next word.
+      if (edits.back().span.begin == first_word && edits.back().text.empty())
+        while (blank(edits.back().span.end)) ++edits.back().span.end;
     }
   }
 

@@ -186,12 +186,18 @@ TEST(ClosedLoop, AModalArcLineThatStartsWithItsCentreWords) {
   // their removals touch and must be one edit (the writer refuses overlapping ones).
   const model::MachineModel mm = model::load_machine_model(source_dir() + "/samples/machines/hmc-xyzb-geometric.yaml");
   const model::ForwardModel m(mm);
-  const std::string program = "G21 G90 G54\nT1 M6\nG43 H1\nF500\nG0 X0 Y0 Z-100\nG2 X10 Y0 I5 J0\nI-5 J0 X0 Y0\nM30\n";
-  const std::string output = compensate(program, mm, 0.001);
-  EXPECT_EQ(output.find("I-5"), std::string::npos) << output;
-  const auto [before, left] = measure(program, output, m, {});
-  EXPECT_GT(before.max, 0.010);
-  EXPECT_LE(left.max, 0.001 + 1e-4) << left.max * 1000 << " um left at line " << left.worst_line;
+  // Indented, the line keeps its indentation and "G1" goes where "I" was, one blank after.
+  for (const std::string line : {"I-5 J0 X0 Y0", "  I-5 J0 X0 Y0", "\tI-5\tJ0 X0 Y0 (back)"}) {
+    const std::string program = "G21 G90 G54\nT1 M6\nG43 H1\nF500\nG0 X0 Y0 Z-100\nG2 X10 Y0 I5 J0\n" + line + "\nM30\n";
+    const std::string output = compensate(program, mm, 0.001);
+    EXPECT_EQ(output.find("I-5"), std::string::npos) << output;
+    EXPECT_EQ(output.find("G1  "), std::string::npos) << output;
+    const std::string indent = line.substr(0, line.find('I'));
+    EXPECT_NE(output.find("\n" + indent + "G1 X"), std::string::npos) << output;
+    const auto [before, left] = measure(program, output, m, {});
+    EXPECT_GT(before.max, 0.010);
+    EXPECT_LE(left.max, 0.001 + 1e-4) << left.max * 1000 << " um left at line " << left.worst_line;
+  }
 }
 
 TEST(ClosedLoop, ExpandedCyclesAreCompensatedMovesAndTheBlocksKeepTheirOtherWords) {
