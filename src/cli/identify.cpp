@@ -180,9 +180,7 @@ int run_check(const IdentifyArgs& args) {
   options.noise = r.noise_floor;
   const identify::Diagnosis d = identify::diagnose(forward, data, options);
   if (!args.report.empty()) {
-    const Eigen::VectorXd before = identify::residuals(forward, identify::model_parameters(forward), data);
-    const Eigen::VectorXd after = identify::residuals(forward, d.refit.all_parameters, data);
-    write_text(args.report, report::html_check_report({m, data, r, d, before, after}));
+    write_text(args.report, report::html_check_report({m, data, r, d}));
     if (!args.json) fmt::print("wrote {}\n", args.report);
   }
   if (args.json) {

@@ -19,6 +19,7 @@ CheckReport check(const model::ForwardModel& model, const MeasurementSet& data) 
     return p;
   }(), data);
   report.observations = data.observations.size();
+  report.residual = r;
   report.sources.resize(data.sources.size());
   for (std::size_t s = 0; s < data.sources.size(); ++s) report.sources[s].source = data.sources[s];
   double sum2 = 0.0;

@@ -759,6 +759,7 @@ Diagnosis diagnose(const model::ForwardModel& model, const MeasurementSet& data,
   }
 
   out.regions = residual_regions(mm, data, axes, base.r, out.rms_refit, out.noise);
+  out.residual = std::move(base.r);
   return out;
 }
 

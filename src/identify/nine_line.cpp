@@ -29,7 +29,7 @@ Sensitivity sensitivity(const model::ForwardModel& model, const Eigen::VectorXd&
   out.scale.resize(m);
   for (Eigen::Index j = 0; j < m; ++j) out.scale[j] = std::max(J.col(j).norm(), 1e-300);
   const Eigen::MatrixXd A = J * out.scale.cwiseInverse().asDiagonal();
-  Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(A.transpose() * A);
+  Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(normal_matrix(A));
   const double largest = eig.eigenvalues().maxCoeff();
   Eigen::MatrixXd pinv = Eigen::MatrixXd::Zero(m, m);  // (A^T A)^+ on the identified directions
   Eigen::VectorXd unseen = Eigen::VectorXd::Zero(m);

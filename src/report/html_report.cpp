@@ -145,8 +145,8 @@ std::string html_check_report(const CheckReportInput& in) {
     if (!(hi > lo)) continue;
     Series before{{}, {}, "#aaa", false}, after{{}, {}, "#1565c0", false};
     for (std::size_t i : shown) {
-      before.x.push_back(v.get(obs[i])), before.y.push_back(in.residual_before[static_cast<Eigen::Index>(i)] * um);
-      after.x.push_back(v.get(obs[i])), after.y.push_back(in.residual_after[static_cast<Eigen::Index>(i)] * um);
+      before.x.push_back(v.get(obs[i])), before.y.push_back(in.check.residual[static_cast<Eigen::Index>(i)] * um);
+      after.x.push_back(v.get(obs[i])), after.y.push_back(in.diagnosis.residual[static_cast<Eigen::Index>(i)] * um);
     }
     html += chart("residual against " + v.name, v.name, "residual (um)", {before, after});
   }
@@ -166,7 +166,7 @@ std::string html_check_report(const CheckReportInput& in) {
       if (v == variables.end()) continue;
       Series refitted{{}, {}, "#1565c0", false}, added{{}, {}, "#2e7d32", false};
       for (std::size_t i : shown) {
-        refitted.x.push_back(v->get(obs[i])), refitted.y.push_back(in.residual_after[static_cast<Eigen::Index>(i)] * um);
+        refitted.x.push_back(v->get(obs[i])), refitted.y.push_back(in.diagnosis.residual[static_cast<Eigen::Index>(i)] * um);
         added.x.push_back(v->get(obs[i])), added.y.push_back(s.residual[static_cast<Eigen::Index>(i)] * um);
       }
       html += chart(fmt::format("{}: {} {} ({:.3f} -> {:.3f} um)", s.rank, s.term, s.form, s.rms_before * um, s.rms_after * um),
@@ -187,7 +187,7 @@ std::string html_check_report(const CheckReportInput& in) {
       cells.push_back({{}, {}, fmt::format("rgb({},{},{})", red * 85 / 100, std::min(red, blue) * 85 / 100, blue * 85 / 100), false});
     }
     for (std::size_t i : shown) {
-      const double f = std::clamp(in.residual_after[static_cast<Eigen::Index>(i)] / full, -1.0, 1.0);
+      const double f = std::clamp(in.diagnosis.residual[static_cast<Eigen::Index>(i)] / full, -1.0, 1.0);
       Series& s = cells[static_cast<std::size_t>(std::lround(f * 4) + 4)];
       s.x.push_back(variables[static_cast<std::size_t>(a)].get(obs[i]));
       s.y.push_back(variables[static_cast<std::size_t>(b)].get(obs[i]));
@@ -204,7 +204,7 @@ std::string html_check_report(const CheckReportInput& in) {
     std::vector<std::pair<double, double>> rows;  // position, residual
     for (std::size_t i = 0; i < obs.size(); ++i)
       if (std::abs(std::abs(obs[i].direction[static_cast<Eigen::Index>(axis)]) - 1.0) < 1e-6)
-        rows.emplace_back(variables[axis].get(obs[i]), in.residual_after[static_cast<Eigen::Index>(i)]);
+        rows.emplace_back(variables[axis].get(obs[i]), in.diagnosis.residual[static_cast<Eigen::Index>(i)]);
     if (rows.size() < 20) continue;
     double lo = 1e300, hi = -1e300;
     for (const auto& [p, r] : rows) lo = std::min(lo, p), hi = std::max(hi, p);

@@ -26,6 +26,7 @@ struct CheckReport {
   /// spaced points along lines, which a smooth model error nearly cancels and noise does not.
   double noise_floor = 0.0;
   std::string noise_method;  ///< "repeated points" or "second differences along lines"
+  Eigen::VectorXd residual;  ///< mm, per reading: measured - predicted by the model as it is
 };
 
 [[nodiscard]] CheckReport check(const model::ForwardModel& model, const MeasurementSet& data);

@@ -54,6 +54,7 @@ struct Diagnosis {
   double noise = 0.0;            ///< mm
   double rms_refit = 0.0;        ///< mm: the model refitted to the data, without any new effect
   FitReport refit;               ///< that refit: its parameters and identifiability
+  Eigen::VectorXd residual;      ///< mm, per reading: the refitted model's (what the suggestions start from)
   std::vector<Suggestion> suggestions;  ///< best first, significant only
   std::vector<Region> regions;
   std::size_t candidates_tried = 0;

@@ -18,10 +18,8 @@ namespace ccomp::report {
 struct CheckReportInput {
   const model::MachineModel& model;
   const identify::MeasurementSet& data;
-  const identify::CheckReport& check;
-  const identify::Diagnosis& diagnosis;    ///< with the model refitted to the data
-  const Eigen::VectorXd& residual_before;  ///< mm, the model as it is
-  const Eigen::VectorXd& residual_after;   ///< mm, refitted
+  const identify::CheckReport& check;      ///< with the residual of the model as it is
+  const identify::Diagnosis& diagnosis;    ///< with the model refitted to the data, and its residual
 };
 
 [[nodiscard]] std::string html_check_report(const CheckReportInput& in);
