@@ -12,7 +12,8 @@
 namespace {
 
 const ccomp::model::ForwardModel& model() {
-  static const ccomp::model::MachineModel m = ccomp::model::load_machine_model(CCOMP_SOURCE_DIR "/samples/machines/hmc-xyzb.yaml");
+  static const ccomp::model::MachineModel m =
+      ccomp::model::load_machine_model(CCOMP_SOURCE_DIR "/samples/machines/hmc-xyzb.yaml");
   static const ccomp::model::ForwardModel f(m);
   return f;
 }

@@ -39,14 +39,15 @@ std::string model_text(int knots, double scale) {
         at += fmt::format("{}{:.3f}", k ? ", " : "", -stroke + 2 * stroke * k / (knots - 1));
         values += fmt::format("{}{:.3f}", k ? ", " : "", scale * 5 * u(rng));
       }
-      text += fmt::format("  - {{name: E{}{}, form: table, at: [{}], values: [{}], unit: {}, fit: true}}\n", c, axes[a], at,
-                          values, std::string("XYZ").find(c[0]) != std::string::npos ? "um" : "urad");
+      text += fmt::format("  - {{name: E{}{}, form: table, at: [{}], values: [{}], unit: {}, fit: true}}\n", c, axes[a],
+                          at, values, std::string("XYZ").find(c[0]) != std::string::npos ? "um" : "urad");
     }
   for (const char* c : {"X", "Y", "Z", "A", "C", "B"})
     for (int h = 1; h <= 2; ++h)
-      text += fmt::format("  - {{name: E{}B, form: periodic, period: {} deg, unit: {}, harmonics: [[{:.2f}, {:.2f}]], fit: true}}\n",
-                          c, 360 / h, std::string("XYZ").find(c[0]) != std::string::npos ? "um" : "urad", scale * 3 * u(rng),
-                          scale * 3 * u(rng));
+      text += fmt::format(
+          "  - {{name: E{}B, form: periodic, period: {} deg, unit: {}, harmonics: [[{:.2f}, {:.2f}]], fit: true}}\n", c,
+          360 / h, std::string("XYZ").find(c[0]) != std::string::npos ? "um" : "urad", scale * 3 * u(rng),
+          scale * 3 * u(rng));
   return text;
 }
 
@@ -79,7 +80,8 @@ int main(int argc, char** argv) {
     o.row = static_cast<std::uint32_t>(i + 2);
     data.observations.push_back(o);
   }
-  fmt::print("identification, {} observations, {} free parameters:\n", observations, ccomp::identify::free_parameters(s).size());
+  fmt::print("identification, {} observations, {} free parameters:\n", observations,
+             ccomp::identify::free_parameters(s).size());
   auto t0 = std::chrono::steady_clock::now();
   const ccomp::identify::FitReport r = ccomp::identify::fit(s, data);
   fmt::print("  fit       {:7.2f} s  ({} iterations, rms {:.3f} -> {:.3f} um, {} combinations identified)\n",

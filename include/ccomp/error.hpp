@@ -21,7 +21,9 @@ enum class ErrorKind : std::uint8_t {
 };
 
 /// The process exit code for an error of this kind (0 is success, 1 is "warnings").
-[[nodiscard]] constexpr int exit_code(ErrorKind kind) { return static_cast<int>(kind); }
+[[nodiscard]] constexpr int exit_code(ErrorKind kind) {
+  return static_cast<int>(kind);
+}
 
 /// A position in a source file; line and column count from 1, 0 means unknown.
 struct SourceLocation {
@@ -33,8 +35,7 @@ struct SourceLocation {
 class Error : public std::runtime_error {
  public:
   /// `source_line` is the text the location points into, shown under the message.
-  Error(ErrorKind kind, std::string message, SourceLocation where = {},
-        std::string source_line = {});
+  Error(ErrorKind kind, std::string message, SourceLocation where = {}, std::string source_line = {});
 
   [[nodiscard]] ErrorKind kind() const noexcept { return kind_; }
   [[nodiscard]] const std::string& message() const noexcept { return message_; }

@@ -29,8 +29,10 @@ compensate::CheckOptions check_options(const CheckArgs& args, const model::Machi
   o.conditions.temperatures.assign(m.sensors.size(), std::nan(""));
   for (const std::string& s : args.sensors) {
     const auto eq = s.find('=');
-    const auto it = eq == std::string::npos ? m.sensors.end() : std::find(m.sensors.begin(), m.sensors.end(), s.substr(0, eq));
-    if (it == m.sensors.end()) throw Error(ErrorKind::usage, "--sensor " + s + ": not NAME=DEGC of a sensor of the model");
+    const auto it =
+        eq == std::string::npos ? m.sensors.end() : std::find(m.sensors.begin(), m.sensors.end(), s.substr(0, eq));
+    if (it == m.sensors.end())
+      throw Error(ErrorKind::usage, "--sensor " + s + ": not NAME=DEGC of a sensor of the model");
     o.conditions.temperatures[static_cast<std::size_t>(it - m.sensors.begin())] = std::stod(s.substr(eq + 1));
   }
   // As the main job: a thermal term needs its reading (the same one the program was
@@ -44,9 +46,10 @@ compensate::CheckOptions check_options(const CheckArgs& args, const model::Machi
 }
 
 void print(const char* what, const std::string& file, const compensate::PathError& e) {
-  fmt::print("{}: {} over {} moves ({} points): max {:.2f} um at line {} (table point {:.3f} {:.3f} {:.3f}), rms {:.2f} um\n",
-             file, what, e.moves, e.points, e.max * 1000.0, e.worst_line, e.worst_point.x(), e.worst_point.y(),
-             e.worst_point.z(), e.rms * 1000.0);
+  fmt::print(
+      "{}: {} over {} moves ({} points): max {:.2f} um at line {} (table point {:.3f} {:.3f} {:.3f}), rms {:.2f} um\n",
+      file, what, e.moves, e.points, e.max * 1000.0, e.worst_line, e.worst_point.x(), e.worst_point.y(),
+      e.worst_point.z(), e.rms * 1000.0);
 }
 
 }  // namespace

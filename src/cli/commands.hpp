@@ -20,8 +20,7 @@ struct ProgramArgs {
 };
 void add_program_options(CLI::App& cmd, ProgramArgs& args);
 /// Interpreter options from the shared arguments; `model_dialect` when none is given.
-[[nodiscard]] gcode::InterpreterOptions interpreter_options(const ProgramArgs& args,
-                                                            const std::string& model_dialect);
+[[nodiscard]] gcode::InterpreterOptions interpreter_options(const ProgramArgs& args, const std::string& model_dialect);
 
 struct CompensateArgs {
   std::vector<std::string> inputs;

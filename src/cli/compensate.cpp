@@ -1,14 +1,14 @@
 // The main job: ccomp in.nc -m machine.yaml -o out.nc (and its batch and filter forms).
 #include <fcntl.h>
+#include <fmt/format.h>
 #include <unistd.h>
 
 #include <algorithm>
-#include <cmath>
-#include <cstdlib>
 #include <atomic>
+#include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
-#include <fmt/format.h>
 #include <mutex>
 #include <thread>
 
@@ -70,8 +70,8 @@ void compensate_one(const Target& t, const model::MachineModel& model, const com
     return;
   }
   const fs::path out(t.output);
-  std::string temp = (out.parent_path().empty() ? fs::path(".") : out.parent_path()) /
-                     (out.filename().string() + ".ccomp-XXXXXX");
+  std::string temp =
+      (out.parent_path().empty() ? fs::path(".") : out.parent_path()) / (out.filename().string() + ".ccomp-XXXXXX");
   const int fd = ::mkstemp(temp.data());
   if (fd < 0) throw Error(ErrorKind::io, fmt::format("cannot create a temporary file beside '{}'", t.output));
   std::FILE* f = ::fdopen(fd, "wb");
@@ -83,7 +83,9 @@ void compensate_one(const Target& t, const model::MachineModel& model, const com
     if (args.in_place) {
       std::error_code ec;
       fs::copy_file(t.input, t.input + args.backup_suffix, fs::copy_options::overwrite_existing, ec);
-      if (ec) throw Error(ErrorKind::io, fmt::format("cannot write the backup '{}': {}", t.input + args.backup_suffix, ec.message()));
+      if (ec)
+        throw Error(ErrorKind::io,
+                    fmt::format("cannot write the backup '{}': {}", t.input + args.backup_suffix, ec.message()));
     }
     // Keep the input's permissions on the output (post processors may mark files executable).
     std::error_code ec;
@@ -166,7 +168,8 @@ int run_compensate(const CompensateArgs& args) {
         fmt::print(stderr, "{}\n", format_error(e));
         int code = exit_code(e.kind());
         int seen = worst.load();
-        while (code > seen && !worst.compare_exchange_weak(seen, code)) {}
+        while (code > seen && !worst.compare_exchange_weak(seen, code)) {
+        }
       }
     }
   };

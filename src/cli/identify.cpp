@@ -65,7 +65,8 @@ void write_text(const std::string& path, const std::string& text) {
     std::ofstream f(temporary, std::ios::binary);
     if (!f || !(f << text)) throw Error(ErrorKind::io, fmt::format("cannot write '{}'", path));
   }
-  if (std::rename(temporary.c_str(), path.c_str()) != 0) throw Error(ErrorKind::io, fmt::format("cannot write '{}'", path));
+  if (std::rename(temporary.c_str(), path.c_str()) != 0)
+    throw Error(ErrorKind::io, fmt::format("cannot write '{}'", path));
 }
 
 /// A parameter in the units a person reads: um, urad, or as is.
@@ -101,13 +102,16 @@ CLI::App* add_simulate(CLI::App& app, IdentifyArgs& args) {
   add_common(*cmd, args);
   cmd->add_option("-o,--output", args.output, "measurement file to write (- for stdout)")->required();
   cmd->add_option("--plan", args.plans, "nine_lines (default), grid, sphere, thermal; repeat for several");
-  cmd->add_option("--noise", args.noise_um, "um, standard deviation of each reading (0.2)")->check(CLI::NonNegativeNumber);
+  cmd->add_option("--noise", args.noise_um, "um, standard deviation of each reading (0.2)")
+      ->check(CLI::NonNegativeNumber);
   cmd->add_option("--seed", args.seed, "random seed (1)");
-  cmd->add_option("--step", args.step, "mm between points along a laser line (25; finer than half a screw's pitch to see it)")
+  cmd->add_option("--step", args.step,
+                  "mm between points along a laser line (25; finer than half a screw's pitch to see it)")
       ->check(CLI::PositiveNumber);
   cmd->add_option("--runs", args.runs, "out-and-back runs of each laser line (1; ISO 230-2 asks for 5)")
       ->check(CLI::PositiveNumber);
-  cmd->add_option("--rotary-step", args.rotary_step, "deg between the sphere's probings (15)")->check(CLI::PositiveNumber);
+  cmd->add_option("--rotary-step", args.rotary_step, "deg between the sphere's probings (15)")
+      ->check(CLI::PositiveNumber);
   return cmd;
 }
 
@@ -127,13 +131,16 @@ int run_fit(const IdentifyArgs& args) {
     options.source_weights.emplace_back(w.substr(0, eq), std::stod(w.substr(eq + 1)));
   }
   const identify::FitReport r = identify::fit(forward, data, options);
-  fmt::print("fit: {} free parameters; the data determine {} combinations of them (condition number {:.3g}), {} of "
-             "which changed by more than the noise; {} iterations{}\n",
-             r.parameters.size(), r.rank, r.condition_number, r.significant, r.iterations,
-             r.converged ? "" : " (not converged)");
-  fmt::print("  rms {:.3f} um -> {:.3f} um, max left {:.3f} um\n", r.rms_before * 1e3, r.rms_after * 1e3, r.max_after * 1e3);
+  fmt::print(
+      "fit: {} free parameters; the data determine {} combinations of them (condition number {:.3g}), {} of "
+      "which changed by more than the noise; {} iterations{}\n",
+      r.parameters.size(), r.rank, r.condition_number, r.significant, r.iterations,
+      r.converged ? "" : " (not converged)");
+  fmt::print("  rms {:.3f} um -> {:.3f} um, max left {:.3f} um\n", r.rms_before * 1e3, r.rms_after * 1e3,
+             r.max_after * 1e3);
   for (std::size_t s = 0; s < data.sources.size(); ++s)
-    fmt::print("    {}: rms {:.3f} -> {:.3f} um\n", data.sources[s], r.source_rms_before[s] * 1e3, r.source_rms_after[s] * 1e3);
+    fmt::print("    {}: rms {:.3f} -> {:.3f} um\n", data.sources[s], r.source_rms_before[s] * 1e3,
+               r.source_rms_after[s] * 1e3);
   for (const identify::FittedParameter& p : r.parameters) {
     const model::ErrorTermSpec& t = m.terms[p.term];
     const std::size_t k = p.index - forward.parameter_offset(p.term);
@@ -143,18 +150,22 @@ int run_fit(const IdentifyArgs& args) {
   if (r.singular_values.size() > 0) {
     fmt::print("  singular values (relative to the largest, columns scaled):");
     for (Eigen::Index k = 0; k < r.singular_values.size(); ++k)
-      fmt::print("{}{:.1e}", k == static_cast<Eigen::Index>(r.rank) ? " | dropped:" : " ", r.singular_values[k] / r.singular_values[0]);
+      fmt::print("{}{:.1e}", k == static_cast<Eigen::Index>(r.rank) ? " | dropped:" : " ",
+                 r.singular_values[k] / r.singular_values[0]);
     fmt::print("\n");
   }
   for (const std::string& u : r.unidentifiable) fmt::print("  identifiability: {}\n", u);
   // The fitted file, with a record of what was fitted from which data.
   std::vector<Eigen::VectorXd> per_term;
   for (std::size_t t = 0; t < m.terms.size(); ++t)
-    per_term.push_back(r.all_parameters.segment(static_cast<Eigen::Index>(forward.parameter_offset(t)), m.terms[t].parameters.size()));
+    per_term.push_back(
+        r.all_parameters.segment(static_cast<Eigen::Index>(forward.parameter_offset(t)), m.terms[t].parameters.size()));
   std::string record = "{data: [";
   for (std::size_t i = 0; i < data.files.size(); ++i) record += (i ? ", " : "") + fmt::format("\"{}\"", data.files[i]);
-  record += fmt::format("], observations: {}, free_parameters: {}, identified: {}, significant: {}, rms_before_um: {:.4f}, rms_after_um: {:.4f}}}",
-                        data.observations.size(), r.parameters.size(), r.rank, r.significant, r.rms_before * 1e3, r.rms_after * 1e3);
+  record += fmt::format(
+      "], observations: {}, free_parameters: {}, identified: {}, significant: {}, rms_before_um: {:.4f}, rms_after_um: "
+      "{:.4f}}}",
+      data.observations.size(), r.parameters.size(), r.rank, r.significant, r.rms_before * 1e3, r.rms_after * 1e3);
   write_text(args.output, model::rewrite_parameters(text, m, per_term, record));
   fmt::print("wrote {}\n", args.output);
   return 0;
@@ -164,9 +175,12 @@ int run_fit(const IdentifyArgs& args) {
 std::string json_string(const std::string& text) {
   std::string out = "\"";
   for (char c : text) {
-    if (c == '"' || c == '\\') out += '\\', out += c;
-    else if (static_cast<unsigned char>(c) < 0x20) out += fmt::format("\\u{:04x}", c);
-    else out += c;
+    if (c == '"' || c == '\\')
+      out += '\\', out += c;
+    else if (static_cast<unsigned char>(c) < 0x20)
+      out += fmt::format("\\u{:04x}", c);
+    else
+      out += c;
   }
   return out + "\"";
 }
@@ -186,36 +200,42 @@ int run_check(const IdentifyArgs& args) {
   if (args.json) {
     std::string sources, regions, suggestions;
     for (const identify::SourceResidual& s : r.sources)
-      sources += fmt::format("{}{{\"source\": {}, \"observations\": {}, \"rms_um\": {:.6f}, \"max_um\": {:.6f}}}",
-                             sources.empty() ? "" : ", ", json_string(s.source), s.observations, s.rms * 1e3, s.max * 1e3);
+      sources +=
+          fmt::format("{}{{\"source\": {}, \"observations\": {}, \"rms_um\": {:.6f}, \"max_um\": {:.6f}}}",
+                      sources.empty() ? "" : ", ", json_string(s.source), s.observations, s.rms * 1e3, s.max * 1e3);
     for (const identify::Region& g : d.regions)
-      regions += fmt::format("{}{{\"variable\": {}, \"from\": {:.6g}, \"to\": {:.6g}, \"rms_um\": {:.6f}, \"ratio\": {:.3f}}}",
-                             regions.empty() ? "" : ", ", json_string(g.variable), g.from, g.to, g.rms * 1e3, g.ratio);
+      regions +=
+          fmt::format("{}{{\"variable\": {}, \"from\": {:.6g}, \"to\": {:.6g}, \"rms_um\": {:.6f}, \"ratio\": {:.3f}}}",
+                      regions.empty() ? "" : ", ", json_string(g.variable), g.from, g.to, g.rms * 1e3, g.ratio);
     for (const identify::Suggestion& s : d.suggestions)
       suggestions += fmt::format(
-          "{}{{\"rank\": {}, \"effect\": {}, \"error\": {}, \"term\": {}, \"variable\": {}, \"form\": {}, \"period\": {}, "
-          "\"period_uncertainty\": {}, \"spec\": {}, \"rms_before_um\": {:.6f}, \"rms_after_um\": {:.6f}, \"bic_delta\": {:.3f}, "
+          "{}{{\"rank\": {}, \"effect\": {}, \"error\": {}, \"term\": {}, \"variable\": {}, \"form\": {}, \"period\": "
+          "{}, "
+          "\"period_uncertainty\": {}, \"spec\": {}, \"rms_before_um\": {:.6f}, \"rms_after_um\": {:.6f}, "
+          "\"bic_delta\": {:.3f}, "
           "\"significance\": {:.3f}}}",
           suggestions.empty() ? "" : ", ", s.rank, json_string(s.effect), json_string(s.error), json_string(s.term),
           json_string(s.variable), json_string(s.form), s.period > 0 ? fmt::format("{:.8g}", s.period) : "null",
           s.period > 0 ? fmt::format("{:.3g}", s.period_uncertainty) : "null", json_string(s.spec), s.rms_before * 1e3,
           s.rms_after * 1e3, s.bic_delta, s.significance);
-    fmt::print("{{\"observations\": {}, \"rms_um\": {:.6f}, \"max_um\": {:.6f}, \"noise_floor_um\": {:.6f}, "
-               "\"noise_method\": {}, \"rms_refit_um\": {:.6f}, \"sources\": [{}], \"regions\": [{}], "
-               "\"candidates_tried\": {}, \"suggestions\": [{}]}}\n",
-               r.observations, r.rms * 1e3, r.max * 1e3, r.noise_floor * 1e3, json_string(r.noise_method),
-               d.rms_refit * 1e3, sources, regions, d.candidates_tried, suggestions);
+    fmt::print(
+        "{{\"observations\": {}, \"rms_um\": {:.6f}, \"max_um\": {:.6f}, \"noise_floor_um\": {:.6f}, "
+        "\"noise_method\": {}, \"rms_refit_um\": {:.6f}, \"sources\": [{}], \"regions\": [{}], "
+        "\"candidates_tried\": {}, \"suggestions\": [{}]}}\n",
+        r.observations, r.rms * 1e3, r.max * 1e3, r.noise_floor * 1e3, json_string(r.noise_method), d.rms_refit * 1e3,
+        sources, regions, d.candidates_tried, suggestions);
     return 0;
   }
   print_summary(data);
   fmt::print("model '{}' against the data: rms {:.3f} um, max {:.3f} um ({}:{}); noise floor {:.3f} um ({})\n", m.name,
              r.rms * 1e3, r.max * 1e3, r.worst_file, r.worst_row, r.noise_floor * 1e3, r.noise_method);
   for (const identify::SourceResidual& s : r.sources)
-    fmt::print("  {:<16} {:>6} rows  rms {:8.3f} um  max {:8.3f} um\n", s.source, s.observations, s.rms * 1e3, s.max * 1e3);
+    fmt::print("  {:<16} {:>6} rows  rms {:8.3f} um  max {:8.3f} um\n", s.source, s.observations, s.rms * 1e3,
+               s.max * 1e3);
   fmt::print("refitted as it is (its free parameters): rms {:.3f} um\n", d.rms_refit * 1e3);
   for (const identify::Region& g : d.regions)
-    fmt::print("  the residual concentrates at {} in [{:.4g}, {:.4g}]: rms {:.3f} um ({:.1f}x)\n", g.variable, g.from, g.to,
-               g.rms * 1e3, g.ratio);
+    fmt::print("  the residual concentrates at {} in [{:.4g}, {:.4g}]: rms {:.3f} um ({:.1f}x)\n", g.variable, g.from,
+               g.to, g.rms * 1e3, g.ratio);
   if (d.suggestions.empty()) {
     fmt::print("missing effects: none of {} candidates is significant against the noise floor\n", d.candidates_tried);
     return 0;
@@ -224,7 +244,8 @@ int run_check(const IdentifyArgs& args) {
   for (const identify::Suggestion& s : d.suggestions) {
     fmt::print("{}. {}\n   term {} ({}), variable {}, form {}", s.rank, s.effect, s.term, s.error, s.variable, s.form);
     if (s.period > 0)
-      fmt::print(", {} {:.6g} +- {:.2g}", s.form == "exponential" ? "time constant" : "period", s.period, s.period_uncertainty);
+      fmt::print(", {} {:.6g} +- {:.2g}", s.form == "exponential" ? "time constant" : "period", s.period,
+                 s.period_uncertainty);
     fmt::print("\n   rms {:.3f} -> {:.3f} um, BIC {:+.1f}\n   add to the model:\n{}\n   or: ccomp fit ... --add '{}'\n",
                s.rms_before * 1e3, s.rms_after * 1e3, s.bic_delta, s.yaml, s.spec);
   }
@@ -232,7 +253,8 @@ int run_check(const IdentifyArgs& args) {
 }
 
 CLI::App* add_positioning(CLI::App& app, IdentifyArgs& args) {
-  CLI::App* cmd = app.add_subcommand("positioning", "ISO 230-2 positioning figures of a linear axis from bidirectional runs");
+  CLI::App* cmd =
+      app.add_subcommand("positioning", "ISO 230-2 positioning figures of a linear axis from bidirectional runs");
   cmd->add_option("measurements", args.measurements, "measurement files (CSV)")->required();
   add_common(*cmd, args);
   cmd->add_option("--axis", args.axis, "x, y or z")->required()->check(CLI::IsMember({"x", "y", "z"}));
@@ -251,13 +273,15 @@ int run_positioning(const IdentifyArgs& args) {
   const identify::PositioningReport r = identify::analyse_positioning(data, axis, args.source);
   const double um = 1e3;
   if (args.json) {
-    fmt::print("{{\"axis\": \"{}\", \"targets\": {}, \"runs\": {}, \"A_um\": {:.4f}, \"A_up_um\": {:.4f}, \"A_down_um\": {:.4f}, "
-               "\"B_um\": {:.4f}, \"B_mean_um\": {:.4f}, \"E_um\": {:.4f}, \"E_up_um\": {:.4f}, \"E_down_um\": {:.4f}, "
-               "\"M_um\": {:.4f}, \"R_um\": {:.4f}, \"R_up_um\": {:.4f}, \"R_down_um\": {:.4f}, \"period_mm\": {:.6g}, "
-               "\"periodic_amplitude_um\": {:.4f}, \"rms_left_um\": {:.4f}}}\n",
-               args.axis, r.targets.size(), r.runs, r.A * um, r.A_up * um, r.A_down * um, r.B * um, r.B_mean * um, r.E * um,
-               r.E_up * um, r.E_down * um, r.M * um, r.R * um, r.R_up * um, r.R_down * um, r.period, r.periodic_amplitude * um,
-               r.rms_left * um);
+    fmt::print(
+        "{{\"axis\": \"{}\", \"targets\": {}, \"runs\": {}, \"A_um\": {:.4f}, \"A_up_um\": {:.4f}, \"A_down_um\": "
+        "{:.4f}, "
+        "\"B_um\": {:.4f}, \"B_mean_um\": {:.4f}, \"E_um\": {:.4f}, \"E_up_um\": {:.4f}, \"E_down_um\": {:.4f}, "
+        "\"M_um\": {:.4f}, \"R_um\": {:.4f}, \"R_up_um\": {:.4f}, \"R_down_um\": {:.4f}, \"period_mm\": {:.6g}, "
+        "\"periodic_amplitude_um\": {:.4f}, \"rms_left_um\": {:.4f}}}\n",
+        args.axis, r.targets.size(), r.runs, r.A * um, r.A_up * um, r.A_down * um, r.B * um, r.B_mean * um, r.E * um,
+        r.E_up * um, r.E_down * um, r.M * um, r.R * um, r.R_up * um, r.R_down * um, r.period, r.periodic_amplitude * um,
+        r.rms_left * um);
     return 0;
   }
   fmt::print("ISO 230-2, axis {}: {} targets, {} run(s) each way{}\n", static_cast<char>(std::toupper(args.axis[0])),
@@ -267,16 +291,17 @@ int run_positioning(const IdentifyArgs& args) {
   fmt::print("  systematic          E  {:8.3f} um  (up {:.3f}, down {:.3f})\n", r.E * um, r.E_up * um, r.E_down * um);
   fmt::print("  mean bidirectional  M  {:8.3f} um\n", r.M * um);
   fmt::print("  repeatability       R  {:8.3f} um  (up {:.3f}, down {:.3f})\n", r.R * um, r.R_up * um, r.R_down * um);
-  fmt::print("seed 002's parts of the mean deviation: cumulative cubic [{:.4g}, {:.4g}, {:.4g}, {:.4g}] um/mm^k", r.cumulative[0] * um,
-             r.cumulative[1] * um, r.cumulative[2] * um, r.cumulative[3] * um);
+  fmt::print("seed 002's parts of the mean deviation: cumulative cubic [{:.4g}, {:.4g}, {:.4g}, {:.4g}] um/mm^k",
+             r.cumulative[0] * um, r.cumulative[1] * um, r.cumulative[2] * um, r.cumulative[3] * um);
   if (r.period > 0) fmt::print("; periodic {:.4g} mm, {:.3f} um", r.period, r.periodic_amplitude * um);
   fmt::print("; reversal {:+.3f} um; {:.3f} um left\n", r.B_mean * um, r.rms_left * um);
   return 0;
 }
 
 CLI::App* add_nine_line(CLI::App& app, IdentifyArgs& args) {
-  CLI::App* cmd = app.add_subcommand("nine-line", "seed 003: a 3-axis machine's geometric errors from nine laser lines, "
-                                                  "their sensitivity to line placement, and a better placement");
+  CLI::App* cmd = app.add_subcommand("nine-line",
+                                     "seed 003: a 3-axis machine's geometric errors from nine laser lines, "
+                                     "their sensitivity to line placement, and a better placement");
   cmd->add_option("measurements", args.measurements, "the nine lines (CSV; sources x-line1 .. z-line3)")->required();
   add_common(*cmd, args);
   cmd->add_option("-o,--output", args.output, "the fitted model (YAML)");
@@ -316,10 +341,12 @@ int run_nine_line(const IdentifyArgs& args) {
   if (!args.output.empty()) {
     std::vector<Eigen::VectorXd> per_term;
     for (std::size_t t = 0; t < m.terms.size(); ++t)
-      per_term.push_back(r.fit.all_parameters.segment(static_cast<Eigen::Index>(forward.parameter_offset(t)), m.terms[t].parameters.size()));
-    write_text(args.output, model::rewrite_parameters(text, m, per_term,
-                                                      fmt::format("{{method: nine-line, observations: {}, rms_after_um: {:.4f}}}",
-                                                                  data.observations.size(), r.fit.rms_after * 1e3)));
+      per_term.push_back(r.fit.all_parameters.segment(static_cast<Eigen::Index>(forward.parameter_offset(t)),
+                                                      m.terms[t].parameters.size()));
+    write_text(args.output,
+               model::rewrite_parameters(text, m, per_term,
+                                         fmt::format("{{method: nine-line, observations: {}, rms_after_um: {:.4f}}}",
+                                                     data.observations.size(), r.fit.rms_after * 1e3)));
     fmt::print("wrote {}\n", args.output);
   }
   return 0;
@@ -339,7 +366,8 @@ int run_simulate(const IdentifyArgs& args) {
   o.runs = args.runs;
   const identify::MeasurementSet set = identify::simulate(forward, o);
   write_text(args.output, identify::to_csv(set, m));
-  if (args.output != "-") fmt::print(stderr, "simulated {} observations of '{}' into {}\n", set.observations.size(), m.name, args.output);
+  if (args.output != "-")
+    fmt::print(stderr, "simulated {} observations of '{}' into {}\n", set.observations.size(), m.name, args.output);
   return 0;
 }
 

@@ -1,7 +1,8 @@
 // The ccomp command line: a thin layer over the library. Each subcommand lives in its own
 // file under src/cli/; this one wires them up and maps errors to exit codes.
-#include <CLI/CLI.hpp>
 #include <fmt/format.h>
+
+#include <CLI/CLI.hpp>
 
 #include "ccomp/error.hpp"
 #include "ccomp/version.hpp"
@@ -24,8 +25,9 @@ With several inputs the exit code is the highest of the files' codes.)";
 }  // namespace
 
 int main(int argc, char** argv) {
-  CLI::App app{"ccomp: rewrites G-code so a real machine cuts what the program means.\n"
-               "  ccomp in.nc -m machine.yaml -o out.nc"};
+  CLI::App app{
+      "ccomp: rewrites G-code so a real machine cuts what the program means.\n"
+      "  ccomp in.nc -m machine.yaml -o out.nc"};
   app.footer(kExitCodes);
   app.set_version_flag("--version", std::string("ccomp ") + ccomp::kVersion);
   app.require_subcommand(0, 1);

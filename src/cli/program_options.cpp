@@ -34,8 +34,7 @@ gcode::InterpreterOptions interpreter_options(const ProgramArgs& args, const std
   for (const std::string& p : args.params) {
     const auto eq = p.rfind('=');
     double v = 0.0;
-    if (eq == std::string::npos || eq == 0)
-      throw Error(ErrorKind::usage, "--param takes NAME=VALUE, not '" + p + "'");
+    if (eq == std::string::npos || eq == 0) throw Error(ErrorKind::usage, "--param takes NAME=VALUE, not '" + p + "'");
     const std::string value = p.substr(eq + 1);
     const auto [ptr, ec] = std::from_chars(value.data(), value.data() + value.size(), v);
     if (ec != std::errc() || ptr != value.data() + value.size() || !std::isfinite(v))

@@ -1,13 +1,14 @@
+#include "ccomp/gcode/trace.hpp"
+
 #include <cstdio>
 
-#include "ccomp/gcode/trace.hpp"
 #include "commands.hpp"
 
 namespace ccomp::cli {
 
 CLI::App* add_trace(CLI::App& app, TraceArgs& args) {
-  CLI::App* cmd = app.add_subcommand(
-      "trace", "print what the interpreter does, in the canonical format of LinuxCNC's rs274 -g");
+  CLI::App* cmd =
+      app.add_subcommand("trace", "print what the interpreter does, in the canonical format of LinuxCNC's rs274 -g");
   cmd->add_option("input", args.input, "G-code program ('-' for standard input)")->required();
   add_program_options(*cmd, args.program);
   return cmd;

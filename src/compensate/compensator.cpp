@@ -15,7 +15,8 @@ ChainQ Compensator::point(const ChainQ& nominal, MoveReport& report) {
   // A move usually starts where the last one ended: that point is solved already.
   if (nominal == workspace_.last_nominal && options_.conditions.directions == workspace_.last_directions)
     return workspace_.last_solution;
-  const InverseResult r = solve_inverse(model_, problem_, data_, nominal, options_.conditions, {}, nullptr, &workspace_);
+  const InverseResult r =
+      solve_inverse(model_, problem_, data_, nominal, options_.conditions, {}, nullptr, &workspace_);
   if (!r.converged)
     throw Error(ErrorKind::safety, fmt::format("the inverse did not converge in {} iterations (residual {:.3g} mm)",
                                                r.iterations, r.position_residual.norm()));
@@ -25,7 +26,9 @@ ChainQ Compensator::point(const ChainQ& nominal, MoveReport& report) {
   return r.q;
 }
 
-void Compensator::moved(const ChainQ& q) { command(q); }
+void Compensator::moved(const ChainQ& q) {
+  command(q);
+}
 
 void Compensator::command(const ChainQ& q) {
   if (commanded_.allFinite()) {
@@ -39,7 +42,9 @@ void Compensator::command(const ChainQ& q) {
 
 namespace {
 /// Below these an axis is taken as not moving: a nanometre, 1e-8 rad.
-double still(std::size_t axis) { return axis >= 3 && axis <= 5 ? 1e-8 : 1e-6; }
+double still(std::size_t axis) {
+  return axis >= 3 && axis <= 5 ? 1e-8 : 1e-6;
+}
 }  // namespace
 
 void Compensator::approach(const ChainQ& start, const ChainQ& end) {
@@ -130,7 +135,8 @@ double Compensator::executed_deviation(const ChainQ& a_nominal, const ChainQ& b_
   // the tool length still, that tip is affine in the linear axes: between the ends' tips.
   const ChainQ executed = a_comp + t * (b_comp - a_comp);
   Eigen::Vector3d target;
-  if (a_nominal.segment<3>(3) == b_nominal.segment<3>(3) && a_nominal[model::kToolLengthIndex] == b_nominal[model::kToolLengthIndex]) {
+  if (a_nominal.segment<3>(3) == b_nominal.segment<3>(3) &&
+      a_nominal[model::kToolLengthIndex] == b_nominal[model::kToolLengthIndex]) {
     const Eigen::Vector3d a_tip = nominal_tip(a_nominal);
     target = a_tip + t * (nominal_tip(b_nominal) - a_tip);
   } else {
@@ -156,7 +162,8 @@ void Compensator::split(const ChainQ& a_nominal, const ChainQ& b_nominal, const 
     const int dense = std::max(n, 3) | 1;  // odd: the midpoint is one of them, already checked
     for (int k = 1; k <= dense; ++k)
       if (2 * k != dense + 1)
-        worst = std::max(worst, executed_deviation(a_nominal, b_nominal, a_comp, b_comp, static_cast<double>(k) / (dense + 1)));
+        worst = std::max(
+            worst, executed_deviation(a_nominal, b_nominal, a_comp, b_comp, static_cast<double>(k) / (dense + 1)));
   }
   if (worst <= tolerance || depth >= options_.max_depth) {
     report.max_deviation_after = std::max(report.max_deviation_after, worst);
@@ -211,8 +218,10 @@ void Compensator::straight(const ChainQ& start, const ChainQ& end, std::vector<C
     for (std::size_t i = 0; i < need.size(); ++i) {
       if (!model_.has_reversal(i)) continue;
       const auto k = static_cast<Eigen::Index>(i);
-      if (std::abs(play_[i] - target[i]) > 0.02) turning.push_back(i), need[i] = play_[i];
-      else if ((a[k] - commanded_[k]) * target[i] < -10 * still(i)) re_approach.push_back(i);
+      if (std::abs(play_[i] - target[i]) > 0.02)
+        turning.push_back(i), need[i] = play_[i];
+      else if ((a[k] - commanded_[k]) * target[i] < -10 * still(i))
+        re_approach.push_back(i);
     }
     auto switch_to = [&](std::size_t i, double direction) {
       need[i] = direction;

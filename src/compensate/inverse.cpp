@@ -1,7 +1,6 @@
 #include "ccomp/compensate/inverse.hpp"
 
 #include <Eigen/QR>
-
 #include <array>
 #include <limits>
 
@@ -24,19 +23,19 @@ InverseProblem::InverseProblem(const model::ForwardModel& model) {
   }
 }
 
-
 namespace {
 using Step = Eigen::Matrix<double, Eigen::Dynamic, 1, 0, 9, 1>;
 
 /// q += sign * step, the step given over the problem's unknowns.
 void move_unknowns(const InverseProblem& problem, ChainQ& q, const Step& step, double sign) {
-  for (std::size_t c = 0; c < problem.unknowns.size(); ++c) q[problem.unknowns[c]] += sign * step[static_cast<Eigen::Index>(c)];
+  for (std::size_t c = 0; c < problem.unknowns.size(); ++c)
+    q[problem.unknowns[c]] += sign * step[static_cast<Eigen::Index>(c)];
 }
 }  // namespace
 
 InverseResult solve_inverse(const model::ForwardModel& model, const InverseProblem& problem, model::ForwardData& d,
-                            const ChainQ& q_nominal, const model::Conditions& conditions,
-                            const InverseOptions& options, const ChainQ* guess, InverseWorkspace* workspace) {
+                            const ChainQ& q_nominal, const model::Conditions& conditions, const InverseOptions& options,
+                            const ChainQ* guess, InverseWorkspace* workspace) {
   InverseResult r;
   // The target: where the tool tip would be on a perfect machine.
   model::forward(model, d, q_nominal, conditions, false, model::Evaluate::nominal);
@@ -48,7 +47,9 @@ InverseResult solve_inverse(const model::ForwardModel& model, const InverseProbl
   InverseWorkspace& ws = workspace ? *workspace : scratch;
   // Without a prediction: the guess, else this point shifted by the last solution's
   // correction (neighbouring points correct alike), else the nominal point.
-  ChainQ q = guess ? *guess : ws.last_nominal.allFinite() ? ChainQ(q_nominal + ws.last_solution - ws.last_nominal) : q_nominal;
+  ChainQ q = guess                         ? *guess
+             : ws.last_nominal.allFinite() ? ChainQ(q_nominal + ws.last_solution - ws.last_nominal)
+                                           : q_nominal;
   const bool have_solve_matrix = ws.solve_matrix.size() != 0;
   ChainQ first_order = q;
   // The same orientation to reach, under the same approach: the last solution moved by the
@@ -64,7 +65,8 @@ InverseResult solve_inverse(const model::ForwardModel& model, const InverseProbl
     move_unknowns(problem, q, ws.solve_matrix.leftCols<3>() * shift, 1.0);
     first_order = q;
     const double last_length = ws.last_shift.norm(), length = shift.norm();
-    if (last_length > 0 && std::abs(length / last_length - 1.0) < 0.1 && shift.dot(ws.last_shift) > 0.999 * length * last_length)
+    if (last_length > 0 && std::abs(length / last_length - 1.0) < 0.1 &&
+        shift.dot(ws.last_shift) > 0.999 * length * last_length)
       q += ws.last_miss * (length * length) / (last_length * last_length);
   }
   // At most 3 + 3 equations in at most 9 unknowns: sized on the stack.
@@ -112,8 +114,10 @@ InverseResult solve_inverse(const model::ForwardModel& model, const InverseProbl
       const Eigen::Matrix<double, 3, Eigen::Dynamic> J_rot = Jr_inv * d.actual_chain.J_q.bottomRows<3>();
       for (std::size_t k = 0; k < problem.rotary_unknowns.size(); ++k)
         for (Eigen::Index c = 0; c < n; ++c)
-          J(3 + static_cast<Eigen::Index>(k), c) = rotary_axes[k].dot(J_rot.col(problem.unknowns[static_cast<std::size_t>(c)]));
-      for (Eigen::Index c = 0; c < n; ++c) J.block<3, 1>(0, c) = d.J_q.col(problem.unknowns[static_cast<std::size_t>(c)]);
+          J(3 + static_cast<Eigen::Index>(k), c) =
+              rotary_axes[k].dot(J_rot.col(problem.unknowns[static_cast<std::size_t>(c)]));
+      for (Eigen::Index c = 0; c < n; ++c)
+        J.block<3, 1>(0, c) = d.J_q.col(problem.unknowns[static_cast<std::size_t>(c)]);
       ws.solve_matrix = J.completeOrthogonalDecomposition().pseudoInverse();
       ++ws.jacobian_evaluations;
       fresh = false;
@@ -133,7 +137,12 @@ InverseResult solve_inverse(const model::ForwardModel& model, const InverseProbl
     const Step gap = s_step - ws.solve_matrix.leftCols<3>() * shift;
     // A secant far from the matrix is not the Jacobian's drift (a jump of the solution):
     // left out.
-    if (gap.norm() < 0.1 * s_step.norm()) ws.solve_matrix.leftCols<3>() += gap * shift.transpose() / shift.squaredNorm();
+    // (Squared lengths summed by hand: GCC 12 takes Eigen's packet loop over a vector of
+    // dynamic size and capacity 9 for a read past it, and warns with -Warray-bounds.)
+    double gap2 = 0.0, step2 = 0.0;
+    for (Eigen::Index c = 0; c < n; ++c) gap2 += gap[c] * gap[c], step2 += s_step[c] * s_step[c];
+    if (gap2 < 0.01 * step2)
+      ws.solve_matrix.leftCols<3>() += gap * shift.transpose() / shift.squaredNorm();
   }
   if (r.converged) {
     ws.last_miss = predicted ? ChainQ(q - first_order) : ChainQ(ChainQ::Zero());

@@ -4,16 +4,16 @@
 
 #include <algorithm>
 #include <array>
-#include <charconv>
 #include <cctype>
+#include <charconv>
 #include <cmath>
 #include <memory>
 #include <optional>
 #include <tuple>
 
-#include "ccomp/error.hpp"
 #include "ccomp/compensate/compensator.hpp"
 #include "ccomp/compensate/verify.hpp"
+#include "ccomp/error.hpp"
 #include "ccomp/gcode/writer.hpp"
 #include "ccomp/version.hpp"
 
@@ -40,12 +40,15 @@ std::string format_value(double v, std::string_view original, bool inch, bool ro
   // to_chars rounds the exact binary value as fmt does, without parsing a format string:
   // this runs for every number the job writes.
   std::array<char, 128> buffer{};
-  const auto [end, error] = std::to_chars(buffer.data(), buffer.data() + buffer.size(), v, std::chars_format::fixed, decimals);
+  const auto [end, error] =
+      std::to_chars(buffer.data(), buffer.data() + buffer.size(), v, std::chars_format::fixed, decimals);
   std::string text = error == std::errc{} ? std::string(buffer.data(), end) : fmt::format("{:.{}f}", v, decimals);
   if (text.starts_with('-') && text.find_first_not_of("0.", 1) == std::string::npos) text.erase(0, 1);  // no "-0.0000"
   if (!leading_zero) {
-    if (text.starts_with("0.")) text.erase(0, 1);
-    else if (text.starts_with("-0.")) text.erase(1, 1);
+    if (text.starts_with("0."))
+      text.erase(0, 1);
+    else if (text.starts_with("-0."))
+      text.erase(1, 1);
   }
   return text;
 }
@@ -75,7 +78,8 @@ class JobSink : public gcode::CanonSink {
       for (const auto& [name, value] : options.sensors) {
         const auto it = std::find(model.sensors.begin(), model.sensors.end(), name);
         if (it == model.sensors.end())
-          throw Error(ErrorKind::usage, fmt::format("--sensor {}: machine '{}' has no sensor of that name", name, model.name));
+          throw Error(ErrorKind::usage,
+                      fmt::format("--sensor {}: machine '{}' has no sensor of that name", name, model.name));
         c.conditions.temperatures[static_cast<std::size_t>(it - model.sensors.begin())] = value;
       }
       for (const model::ErrorTermSpec& t : model.terms)
@@ -97,14 +101,16 @@ class JobSink : public gcode::CanonSink {
     block_ = &block;
     line_ = line;
     for (const gcode::Word& w : block.words) {
-      if (w.letter < 'A' || w.letter > 'Z' || ((machine_axes_ >> (w.letter - 'A')) & 1U) || !gcode::axis_index(w.letter))
+      if (w.letter < 'A' || w.letter > 'Z' || ((machine_axes_ >> (w.letter - 'A')) & 1U) ||
+          !gcode::axis_index(w.letter))
         continue;
       throw Error(ErrorKind::safety,
                   fmt::format("the program uses axis {}, which machine '{}' does not have", w.letter, model_.name),
                   SourceLocation{input_.name(), block.line, w.span.begin + 1}, std::string(block.text));
     }
     if (options_.progress && input_.size() > 0) {
-      const auto percent = static_cast<int>(100.0 * static_cast<double>(line.offset) / static_cast<double>(input_.size()));
+      const auto percent =
+          static_cast<int>(100.0 * static_cast<double>(line.offset) / static_cast<double>(input_.size()));
       if (percent != last_percent_) {
         last_percent_ = percent;
         options_.progress(percent / 100.0);
@@ -131,7 +137,8 @@ class JobSink : public gcode::CanonSink {
   static gcode::Axes program_of(const model::ChainQ& q, const gcode::Offsets& offsets, double unit) {
     gcode::Axes controlled{};
     for (std::size_t i = 0; i < gcode::kAxisCount; ++i) {
-      const double axis = gcode::is_rotary(i) ? q[static_cast<Eigen::Index>(i)] / kRadPerDeg : q[static_cast<Eigen::Index>(i)];
+      const double axis =
+          gcode::is_rotary(i) ? q[static_cast<Eigen::Index>(i)] / kRadPerDeg : q[static_cast<Eigen::Index>(i)];
       controlled[i] = axis - offsets.tool[i];
     }
     gcode::Axes p = offsets.program_of(controlled);
@@ -158,8 +165,9 @@ class JobSink : public gcode::CanonSink {
     if (m.kind == MotionKind::probe) refuse(ErrorKind::unsupported, "a probe move (G38.x) cannot be compensated");
     if (m.source == MotionSource::canned_cycle) {
       if (m.incremental && !options_.expand_cycles)
-        refuse(ErrorKind::unsupported, "compensating incremental (G91) canned cycles in the block's words is not "
-                                       "implemented; --expand-cycles writes them as compensated moves");
+        refuse(ErrorKind::unsupported,
+               "compensating incremental (G91) canned cycles in the block's words is not "
+               "implemented; --expand-cycles writes them as compensated moves");
       if (cycle_.motions.empty()) {
         cycle_.code = cycle_code_;
         cycle_.terminator = std::string(line_.terminator);
@@ -175,9 +183,10 @@ class JobSink : public gcode::CanonSink {
       return;
     }
     if (line_.offset < writer_.written_up_to())
-      refuse(ErrorKind::unsupported, "this line runs more than once (a loop or a subroutine) and its correction "
-                                     "differs each time; compensating such programs needs flattening, not "
-                                     "implemented yet");
+      refuse(ErrorKind::unsupported,
+             "this line runs more than once (a loop or a subroutine) and its correction "
+             "differs each time; compensating such programs needs flattening, not "
+             "implemented yet");
     MoveReport move;
     solve_move(m, *m.offsets, move);
     account(move, block_->line, std::string(block_->text));
@@ -210,7 +219,8 @@ class JobSink : public gcode::CanonSink {
     PendingCycle c = std::move(cycle_);
     cycle_ = PendingCycle{};
     if (c.offset < writer_.written_up_to())
-      throw Error(ErrorKind::unsupported, "this canned cycle runs more than once (a loop or a subroutine); "
+      throw Error(ErrorKind::unsupported,
+                  "this canned cycle runs more than once (a loop or a subroutine); "
                   "compensating such programs needs flattening, not implemented yet",
                   SourceLocation{input_.name(), c.line, 0}, c.text);
     // The feeds: the first starts at the R point, the last ends at the bottom.
@@ -229,9 +239,11 @@ class JobSink : public gcode::CanonSink {
       return;
     }
     if (holes > 1)
-      throw Error(ErrorKind::unsupported, "a canned cycle with L repeats drills several holes in one block; "
+      throw Error(ErrorKind::unsupported,
+                  "a canned cycle with L repeats drills several holes in one block; "
                   "compensating it in the block's words is not implemented; --expand-cycles writes it as "
-                  "compensated moves", SourceLocation{input_.name(), c.line, 0}, c.text);
+                  "compensated moves",
+                  SourceLocation{input_.name(), c.line, 0}, c.text);
     MoveReport move;
     const model::ChainQ r_nominal = chain_of(first->start, c.offsets), bottom_nominal = chain_of(last->end, c.offsets);
     // The hole is approached the way the cycle travels to it: across to it, then down.
@@ -241,7 +253,8 @@ class JobSink : public gcode::CanonSink {
     const model::ChainQ bottom_comp = compensator_->point(bottom_nominal, move);
     const bool inch = c.units == gcode::Units::inch;
     const double unit = inch ? 25.4 : 1.0;
-    const gcode::Axes r_prog = program_of(r_comp, c.offsets, unit), bottom_prog = program_of(bottom_comp, c.offsets, unit);
+    const gcode::Axes r_prog = program_of(r_comp, c.offsets, unit),
+                      bottom_prog = program_of(bottom_comp, c.offsets, unit);
     // The cycle's axis is the normal of its plane; the hole's position is in the plane.
     std::size_t normal = 2;
     for (std::size_t i = 0; i < 3; ++i)
@@ -264,8 +277,10 @@ class JobSink : public gcode::CanonSink {
         if (w.letter == letter) word = &w;
       const std::string original = word ? c.text.substr(word->value_span.begin, word->value_span.size()) : "";
       const std::string text = format_value(value, original, inch && !rotary, rotary);
-      if (word) edits.push_back(gcode::Edit{word->value_span, text});
-      else edits.push_back(gcode::Edit{{insert_at, insert_at}, std::string(" ") + letter + text});
+      if (word)
+        edits.push_back(gcode::Edit{word->value_span, text});
+      else
+        edits.push_back(gcode::Edit{{insert_at, insert_at}, std::string(" ") + letter + text});
     };
     for (std::size_t i = 0; i < 3; ++i) set(gcode::kAxisLetters[i], i == normal ? bottom_prog[i] : hole[i], false);
     set('R', r_prog[normal], false);
@@ -290,7 +305,8 @@ class JobSink : public gcode::CanonSink {
     if (g != 73 && g != 81 && g != 83 && g != 85)
       throw Error(ErrorKind::unsupported,
                   fmt::format("--expand-cycles writes G73 G81 G83 G85 as moves; G{:g} also dwells or turns the "
-                              "spindle, which moves cannot say (compensate it without --expand-cycles)", g),
+                              "spindle, which moves cannot say (compensate it without --expand-cycles)",
+                              g),
                   SourceLocation{input_.name(), c.line, 0}, c.text);
     std::vector<gcode::Span> cycle_words;
     for (const gcode::Word& w : c.words)
@@ -323,7 +339,8 @@ class JobSink : public gcode::CanonSink {
       }
     }
     if (c.incremental) appended += eol + "G91";
-    edits.push_back(gcode::Edit{{static_cast<std::uint32_t>(c.text.size()), static_cast<std::uint32_t>(c.text.size())}, appended});
+    edits.push_back(
+        gcode::Edit{{static_cast<std::uint32_t>(c.text.size()), static_cast<std::uint32_t>(c.text.size())}, appended});
     writer_.edit(c.offset, std::move(edits));
   }
 
@@ -331,7 +348,8 @@ class JobSink : public gcode::CanonSink {
   static gcode::Axes controlled_of(const model::ChainQ& q, const gcode::Offsets& offsets) {
     gcode::Axes controlled{};
     for (std::size_t i = 0; i < gcode::kAxisCount; ++i) {
-      const double axis = gcode::is_rotary(i) ? q[static_cast<Eigen::Index>(i)] / kRadPerDeg : q[static_cast<Eigen::Index>(i)];
+      const double axis =
+          gcode::is_rotary(i) ? q[static_cast<Eigen::Index>(i)] / kRadPerDeg : q[static_cast<Eigen::Index>(i)];
       controlled[i] = axis - offsets.tool[i];
     }
     return offsets.from_machine(offsets.to_machine(controlled));
@@ -342,7 +360,8 @@ class JobSink : public gcode::CanonSink {
     if (move.max_correction > model_.max_correction)
       throw Error(ErrorKind::safety,
                   fmt::format("the correction is {:.4f} mm, beyond the model's bound of {} mm (max_correction): is "
-                              "the model right for this machine?", move.max_correction, model_.max_correction),
+                              "the model right for this machine?",
+                              move.max_correction, model_.max_correction),
                   SourceLocation{input_.name(), line, 0}, text);
     report_.max_error_before = std::max(report_.max_error_before, move.max_deviation_before);
     report_.max_error_after = std::max(report_.max_error_after, move.max_deviation_after);
@@ -380,7 +399,8 @@ class JobSink : public gcode::CanonSink {
   /// Edits removing `words` from a line, each with the blanks before it (after it, when it
   /// starts the line: the line's indentation stays); neighbours' blanks merge into one
   /// edit, as edits may not overlap.
-  static void remove_words(std::string_view text, const std::vector<gcode::Span>& words, std::vector<gcode::Edit>& edits) {
+  static void remove_words(std::string_view text, const std::vector<gcode::Span>& words,
+                           std::vector<gcode::Edit>& edits) {
     const auto first_word = static_cast<std::uint32_t>(std::min(text.find_first_not_of(" \t"), text.size()));
     auto blank = [&](std::uint32_t i) { return i < text.size() && (text[i] == ' ' || text[i] == '\t'); };
     std::vector<gcode::Span> spans;
@@ -495,10 +515,12 @@ class JobSink : public gcode::CanonSink {
       if (k > 0) appended += std::string(line_.terminator.empty() ? "\n" : line_.terminator) + segment;
     }
     if (points_.size() > 1 && has_stop_code(b))
-      refuse(ErrorKind::unsupported, "a move that must be split shares its block with a program stop (M0 M1 M2 M30 M60)");
+      refuse(ErrorKind::unsupported,
+             "a move that must be split shares its block with a program stop (M0 M1 M2 M30 M60)");
     if (m.kind == gcode::MotionKind::arc) arc_to_line_edits(b, edits);
-    if (!appended.empty()) edits.push_back(gcode::Edit{{static_cast<std::uint32_t>(b.text.size()),
-                                                        static_cast<std::uint32_t>(b.text.size())}, appended});
+    if (!appended.empty())
+      edits.push_back(gcode::Edit{
+          {static_cast<std::uint32_t>(b.text.size()), static_cast<std::uint32_t>(b.text.size())}, appended});
     // Inserted words go before any trailing comment: after the last word.
     if (!edits.empty()) writer_.edit(line_.offset, std::move(edits));
   }
@@ -513,7 +535,8 @@ class JobSink : public gcode::CanonSink {
         edits.push_back(gcode::Edit{w.value_span, "1"});
         has_motion_code = true;
       }
-      if (w.letter == 'I' || w.letter == 'J' || w.letter == 'K' || w.letter == 'R' || w.letter == 'P') arc_words.push_back(w.span);
+      if (w.letter == 'I' || w.letter == 'J' || w.letter == 'K' || w.letter == 'R' || w.letter == 'P')
+        arc_words.push_back(w.span);
     }
     remove_words(b.text, arc_words, edits);
     if (!has_motion_code && !b.words.empty())

@@ -36,6 +36,8 @@ std::optional<Dialect> dialect_named(std::string_view name) {
   return std::nullopt;
 }
 
-std::vector<std::string> dialect_names() { return {"linuxcnc", "fanuc", "mazak", "wincnc"}; }
+std::vector<std::string> dialect_names() {
+  return {"linuxcnc", "fanuc", "mazak", "wincnc"};
+}
 
 }  // namespace ccomp::gcode

@@ -166,8 +166,7 @@ bool is_cycle(int code) {
 }
 
 std::string g_name(int code) {
-  return code % 10 == 0 ? fmt::format("G{}", code / 10)
-                        : fmt::format("G{}.{}", code / 10, code % 10);
+  return code % 10 == 0 ? fmt::format("G{}", code / 10) : fmt::format("G{}.{}", code / 10, code % 10);
 }
 
 std::string fixed4(double v) {
@@ -200,16 +199,14 @@ void Interpreter::Impl::decode(const Block& b) {
       const double scaled = v * 10.0;
       const auto code = static_cast<int>(std::lround(scaled));
       if (std::abs(scaled - code) > 1e-4 || code < 0) fail(b, &w, fmt::format("bad G code G{}", v));
-      if (words.g_count == static_cast<int>(words.g.size()))
-        fail(b, &w, "too many G codes on one line");
+      if (words.g_count == static_cast<int>(words.g.size())) fail(b, &w, "too many G codes on one line");
       words.g[static_cast<std::size_t>(words.g_count)] = code;
       if (code < 1000) words.g_set.set(static_cast<std::size_t>(code));
       words.g_word[static_cast<std::size_t>(words.g_count++)] = &w;
     } else if (w.letter == 'M') {
       const auto code = static_cast<int>(std::lround(v));
       if (std::abs(v - code) > 1e-4 || code < 0) fail(b, &w, fmt::format("bad M code M{}", v));
-      if (words.m_count == static_cast<int>(words.m.size()))
-        fail(b, &w, "too many M codes on one line");
+      if (words.m_count == static_cast<int>(words.m.size())) fail(b, &w, "too many M codes on one line");
       words.m[static_cast<std::size_t>(words.m_count)] = code;
       if (code < 200) words.m_set.set(static_cast<std::size_t>(code));
       words.m_word[static_cast<std::size_t>(words.m_count++)] = &w;
@@ -244,9 +241,7 @@ void Interpreter::Impl::decode(const Block& b) {
       group = 9;  // Fanuc's canned-cycle group
     int& s = seen_g[static_cast<std::size_t>(group)];
     if (s >= 0 && !(s == code && options.dialect.repeated_modal_codes))
-      fail(b, w,
-           fmt::format("two G codes used from the same modal group: {} and {}", g_name(s),
-                       g_name(code)));
+      fail(b, w, fmt::format("two G codes used from the same modal group: {} and {}", g_name(s), g_name(code)));
     s = code;
   }
   std::array<int, 16> seen_m;
@@ -287,8 +282,7 @@ void Interpreter::Impl::comment(const Block& b) {
     if (c.end_of_line) continue;
     const std::string_view text = b.slice(c.text);
     std::string upper;
-    for (char ch : text.substr(0, 6))
-      upper.push_back(static_cast<char>(std::toupper(static_cast<unsigned char>(ch))));
+    for (char ch : text.substr(0, 6)) upper.push_back(static_cast<char>(std::toupper(static_cast<unsigned char>(ch))));
     if (upper.starts_with("ABORT,")) {
       fail_at(b, c.span, fmt::format("(ABORT) {}", substitute_parameters(b, text.substr(6))));
     } else if (upper.starts_with("MSG,")) {
@@ -324,8 +318,7 @@ std::string Interpreter::Impl::substitute_parameters(const Block& b, std::string
           }
           std::string name;
           for (char ch : body.substr(j + 1, close - j - 1))
-            if (ch != ' ')
-              name.push_back(static_cast<char>(std::toupper(static_cast<unsigned char>(ch))));
+            if (ch != ' ') name.push_back(static_cast<char>(std::toupper(static_cast<unsigned char>(ch))));
           if (named_exists(name))
             out += fmt::format("{:f}", read_named(b, name));
           else
@@ -337,8 +330,7 @@ std::string Interpreter::Impl::substitute_parameters(const Block& b, std::string
             out.push_back('#');
             continue;
           }
-          out += fmt::format(
-              "{:f}", read_numbered(b, std::stod(std::string(body.substr(i + 1, j - i - 1)))));
+          out += fmt::format("{:f}", read_numbered(b, std::stod(std::string(body.substr(i + 1, j - i - 1)))));
           i = j - 1;
         }
       }
@@ -408,8 +400,7 @@ void Interpreter::Impl::execute(const Block& b) {
     if (group == 0 && code != 530) {
       if (non_modal >= 0 && non_modal != 40)
         fail(b, words.g_word[static_cast<std::size_t>(i)],
-             fmt::format("two G codes used from the same modal group: {} and {}", g_name(non_modal),
-                         g_name(code)));
+             fmt::format("two G codes used from the same modal group: {} and {}", g_name(non_modal), g_name(code)));
       if (non_modal != 40 || code == 40)
         non_modal = code;
       else
@@ -419,14 +410,14 @@ void Interpreter::Impl::execute(const Block& b) {
   if (motion_code == -2) motion_code = words.axis_mask() != 0 ? modal.motion : -1;
   const bool g53 = words.has_g(530);
   const int passthrough = passthrough_code();
-  const bool axes_used_by_non_modal = non_modal == 100 || non_modal == 280 || non_modal == 300 ||
-                                      non_modal == 520 || non_modal == 920 || passthrough >= 0 ||
+  const bool axes_used_by_non_modal = non_modal == 100 || non_modal == 280 || non_modal == 300 || non_modal == 520 ||
+                                      non_modal == 920 || passthrough >= 0 ||
                                       words.has_g(431);  // G43.1 takes its offsets as axis words
   if (g53 && motion_code < 0 && options.dialect.g53_alone_is_rapid) motion_code = 0;
   if (motion_code >= 0 && axes_used_by_non_modal && words.axis_mask() != 0)
     fail(b, nullptr,
-         fmt::format("cannot use two G codes that both use axis values: {} and {}",
-                     g_name(motion_code), g_name(passthrough >= 0 ? passthrough : non_modal)));
+         fmt::format("cannot use two G codes that both use axis values: {} and {}", g_name(motion_code),
+                     g_name(passthrough >= 0 ? passthrough : non_modal)));
   check_unused_words(b, motion_code, non_modal);
 
   // 1. comments
@@ -434,8 +425,7 @@ void Interpreter::Impl::execute(const Block& b) {
   // 2. feed rate mode
   if (words.has_group(5)) {
     if (words.has_g(930)) modal.feed_mode = FeedMode::inverse_time, emit("SET_FEED_MODE", "0, 1");
-    if (words.has_g(940))
-      modal.feed_mode = FeedMode::units_per_minute, emit("SET_FEED_MODE", "0, 0");
+    if (words.has_g(940)) modal.feed_mode = FeedMode::units_per_minute, emit("SET_FEED_MODE", "0, 0");
     if (words.has_g(950)) modal.feed_mode = FeedMode::units_per_rev, emit("SET_FEED_MODE", "0, 2");
   }
   // 3. feed rate
@@ -458,8 +448,7 @@ void Interpreter::Impl::execute(const Block& b) {
   // 5. select tool
   if (words.has('T')) {
     const double t = words['T'];
-    if (t < 0 || t != std::floor(t))
-      fail(b, words.word['T' - 'A'], fmt::format("bad tool number T{}", t));
+    if (t < 0 || t != std::floor(t)) fail(b, words.word['T' - 'A'], fmt::format("bad tool number T{}", t));
     modal.selected_tool = static_cast<int>(t);
     emit_lazy("SELECT_TOOL", [&] { return fmt::format("{}", modal.selected_tool); });
   }
@@ -487,9 +476,8 @@ void Interpreter::Impl::execute(const Block& b) {
     emit("DWELL", fixed4(words['P']));
   }
   // 11.-18. modal settings, only when the block has a G code of those groups
-  constexpr std::uint32_t kSettingGroups = (1U << 2) | (1U << 3) | (1U << 4) | (1U << 6) |
-                                           (1U << 7) | (1U << 8) | (1U << 10) | (1U << 12) |
-                                           (1U << 13);
+  constexpr std::uint32_t kSettingGroups =
+      (1U << 2) | (1U << 3) | (1U << 4) | (1U << 6) | (1U << 7) | (1U << 8) | (1U << 10) | (1U << 12) | (1U << 13);
   if (words.groups & kSettingGroups) {
     // 11. plane
     if (words.has_g(170)) modal.plane = Plane::xy, emit("SELECT_PLANE", "CANON_PLANE_XY");
@@ -533,20 +521,18 @@ void Interpreter::Impl::execute(const Block& b) {
   }
   // 19. reference return, coordinate data, axis offsets
   if (non_modal == 100) g10(b);
-  if (non_modal == 280 || non_modal == 300 || non_modal == 281 || non_modal == 301)
-    reference_return(b, non_modal);
+  if (non_modal == 280 || non_modal == 300 || non_modal == 281 || non_modal == 301) reference_return(b, non_modal);
   if (non_modal == 520 || (non_modal >= 920 && non_modal <= 923)) set_g92(b, non_modal);
   if (passthrough >= 0 && words.axis_mask() != 0) {
     // The controller moves these axes in a way ccomp does not model.
     position_unknown |= words.axis_mask();
-    warn(fmt::format("{} is passed through unmodelled: ccomp does not know where it moves {}",
-                     g_name(passthrough), axis_letters(words.axis_mask())),
+    warn(fmt::format("{} is passed through unmodelled: ccomp does not know where it moves {}", g_name(passthrough),
+                     axis_letters(words.axis_mask())),
          b.line);
   }
   // 20. motion
   if (motion_code >= 0 || (!axes_used_by_non_modal && words.axis_mask() != 0)) {
-    if (g53 && motion_code != 0 && motion_code != 10 &&
-        !(motion_code < 0 && (modal.motion == 0 || modal.motion == 10)))
+    if (g53 && motion_code != 0 && motion_code != 10 && !(motion_code < 0 && (modal.motion == 0 || modal.motion == 10)))
       fail(b, nullptr, "must use G0 or G1 with G53");
     if (g53 && !modal.absolute) fail(b, nullptr, "cannot use G53 incremental");
     motion(b, motion_code >= 0 ? motion_code : modal.motion, non_modal);
@@ -556,16 +542,12 @@ void Interpreter::Impl::execute(const Block& b) {
     if (!words.has('P')) fail(b, words.m_word[0], "M98 needs a P word: the subprogram number");
     const double p = words['P'];
     const int repeats = words.has('L') ? static_cast<int>(std::lround(words['L'])) : 1;
-    if (repeats > 0)
-      call_sub(std::to_string(static_cast<std::uint32_t>(std::lround(p))), true, b, nullptr,
-               repeats);
+    if (repeats > 0) call_sub(std::to_string(static_cast<std::uint32_t>(std::lround(p))), true, b, nullptr, repeats);
     return;
   }
   if (words.has_m(99)) {
     if (calls.empty()) {
-      warn(
-          "M99 in the main program: read as the end of the program (a controller would restart it)",
-          b.line);
+      warn("M99 in the main program: read as the end of the program (a controller would restart it)", b.line);
       end_program(b);
     } else if (!calls.back().fanuc) {
       fail(b, nullptr, "an 'O.... sub' subroutine must end with 'O.... endsub', not M99");
@@ -581,16 +563,15 @@ void Interpreter::Impl::execute(const Block& b) {
 int Interpreter::Impl::passthrough_code() const {
   const auto& moving = options.dialect.passthrough_moving_g_codes;
   for (int i = 0; i < words.g_count; ++i)
-    if (std::find(moving.begin(), moving.end(), words.g[static_cast<std::size_t>(i)]) !=
-        moving.end())
+    if (std::find(moving.begin(), moving.end(), words.g[static_cast<std::size_t>(i)]) != moving.end())
       return words.g[static_cast<std::size_t>(i)];
   return -1;
 }
 
 void Interpreter::Impl::check_unused_words(const Block& b, int motion_code, int non_modal) {
   constexpr auto bit = [](char c) { return 1U << (c - 'A'); };
-  constexpr std::uint32_t kChecked = bit('R') | bit('I') | bit('J') | bit('K') | bit('L') |
-                                     bit('Q') | bit('P') | bit('D') | bit('H');
+  constexpr std::uint32_t kChecked =
+      bit('R') | bit('I') | bit('J') | bit('K') | bit('L') | bit('Q') | bit('P') | bit('D') | bit('H');
   if ((words.present & kChecked) == 0) return;  // the common block: nothing to check
   const int motion_mode = motion_code >= 0 ? motion_code : modal.motion;
   const bool arc = motion_mode == 20 || motion_mode == 30;
@@ -599,8 +580,7 @@ void Interpreter::Impl::check_unused_words(const Block& b, int motion_code, int 
   auto unused = [&](char letter, const char* users) {
     if (!words.has(letter)) return;
     const std::string what = fmt::format("{} word with no G code that uses it ({})", letter, users);
-    if (options.dialect.unused_words_are_errors)
-      fail(b, words.word[static_cast<std::size_t>(letter - 'A')], what);
+    if (options.dialect.unused_words_are_errors) fail(b, words.word[static_cast<std::size_t>(letter - 'A')], what);
     warn(what + ": passed through", b.line);
   };
   if (!(arc || cycle || g10 || words.has_m(19) || words.has_g(640)))
@@ -611,18 +591,15 @@ void Interpreter::Impl::check_unused_words(const Block& b, int motion_code, int 
   }
   if (!(arc || (cycle && motion_mode == 870) || motion_mode == 331 || motion_mode == 330))
     unused('K', "G2, G3, G33, G87");
-  if (!(cycle || g10 || words.has_m(98) || motion_mode == 760))
-    unused('L', "canned cycles, G10, M98");
-  if (!(cycle || words.has_m(61) || words.has_m(66) || words.has_m(19) || words.has_g(640) || g10 ||
-        words.has_g(50)))
+  if (!(cycle || g10 || words.has_m(98) || motion_mode == 760)) unused('L', "canned cycles, G10, M98");
+  if (!(cycle || words.has_m(61) || words.has_m(66) || words.has_m(19) || words.has_g(640) || g10 || words.has_g(50)))
     unused('Q', "G73, G83, G64, M61, M66, G10");
-  const bool p_user = non_modal == 40 || g10 || arc || cycle || words.has_g(640) ||
-                      words.has_m(98) || words.has_m(66) || words.has_m(19) || words.has_m(62) ||
-                      words.has_m(63) || words.has_m(64) || words.has_m(65) || words.has_g(50) ||
-                      motion_mode == 760;
+  const bool p_user = non_modal == 40 || g10 || arc || cycle || words.has_g(640) || words.has_m(98) ||
+                      words.has_m(66) || words.has_m(19) || words.has_m(62) || words.has_m(63) || words.has_m(64) ||
+                      words.has_m(65) || words.has_g(50) || motion_mode == 760;
   if (!p_user) unused('P', "G4, G10, G64, G2/G3 turns, dwelling cycles, M98, M66");
-  const bool d_user = words.has_g(410) || words.has_g(420) || words.has_g(411) ||
-                      words.has_g(421) || words.has_g(960) || words.has_g(432);
+  const bool d_user = words.has_g(410) || words.has_g(420) || words.has_g(411) || words.has_g(421) ||
+                      words.has_g(960) || words.has_g(432);
   if (!d_user) unused('D', "G41, G42, G96");
   if (!(words.has_g(430) || words.has_g(432))) unused('H', "G43");
 }
@@ -639,8 +616,7 @@ void Interpreter::Impl::motion(const Block& b, int code, int non_modal) {
       if (words.axis_mask() == 0) {
         // An explicit G0/G1 without axis words moves nowhere, yet LinuxCNC still issues it.
         if (words.has_g(code))
-          straight(code == 0 ? MotionKind::traverse : MotionKind::feed, position,
-                   MotionSource::program);
+          straight(code == 0 ? MotionKind::traverse : MotionKind::feed, position, MotionSource::program);
         return;
       }
       if (code == 10 && modal.feed == 0.0 && modal.feed_mode != FeedMode::inverse_time)
@@ -699,8 +675,7 @@ void Interpreter::Impl::motion(const Block& b, int code, int non_modal) {
         break;
       }
       throw Error(ErrorKind::unsupported,
-                  fmt::format("{} is not supported (spindle-synchronised, lathe or spline motion)",
-                              g_name(code)),
+                  fmt::format("{} is not supported (spindle-synchronised, lathe or spline motion)", g_name(code)),
                   SourceLocation{file_name(), b.line, 0}, std::string(b.text));
     default:
       break;
@@ -719,8 +694,7 @@ void Interpreter::Impl::arc(const Block& b, int code, const Axes& target) {
   if (words.has('P')) {
     const double p = words['P'];
     if (p < 1 || p != std::floor(p))
-      fail(b, words.word['P' - 'A'],
-           fmt::format("P value for arc turns must be a positive integer, not {}", p));
+      fail(b, words.word['P' - 'A'], fmt::format("P value for arc turns must be a positive integer, not {}", p));
     turns = static_cast<int>(p);
   }
   if (words.has('R')) {
@@ -732,8 +706,7 @@ void Interpreter::Impl::arc(const Block& b, int code, const Axes& target) {
     double half = std::hypot(mid1 - e1, mid2 - e2);
     if (half / abs_radius > 1.0 + 1e-12)
       fail(b, words.word['R' - 'A'],
-           fmt::format("arc radius {} too small to reach the end point (half chord {})", words['R'],
-                       half / u));
+           fmt::format("arc radius {} too small to reach the end point (half chord {})", words['R'], half / u));
     if (half / abs_radius > 1.0 - 1e-12) half = abs_radius;  // a semicircle within rounding
     const double theta = std::atan2(e2 - s2, e1 - s1) + ((cw == (radius > 0)) ? -kPi / 2 : kPi / 2);
     const double offset = abs_radius * std::cos(std::asin(half / abs_radius));
@@ -766,17 +739,15 @@ void Interpreter::Impl::arc(const Block& b, int code, const Axes& target) {
       const char* l2 = modal.plane == Plane::xy ? "Y" : modal.plane == Plane::zx ? "X" : "Z";
       const double o1p = offsets.origin(pa.first), o2p = offsets.origin(pa.second);
       fail(b, nullptr,
-           fmt::format(
-               "radius to end of arc differs from radius to start: start=({0}{2:.4f},{1}{3:.4f}) "
-               "center=({0}{4:.4f},{1}{5:.4f}) end=({0}{6:.4f},{1}{7:.4f}) r1={8:.4f} r2={9:.4f} "
-               "abs_err={10:.4g} rel_err={11:.4f}%",
-               l1, l2, (s1 - o1p) / u, (s2 - o2p) / u, (c1 - o1p) / u, (c2 - o2p) / u,
-               (e1 - o1p) / u, (e2 - o2p) / u, r1, r2, abs_err, rel_err * 100.0));
+           fmt::format("radius to end of arc differs from radius to start: start=({0}{2:.4f},{1}{3:.4f}) "
+                       "center=({0}{4:.4f},{1}{5:.4f}) end=({0}{6:.4f},{1}{7:.4f}) r1={8:.4f} r2={9:.4f} "
+                       "abs_err={10:.4g} rel_err={11:.4f}%",
+                       l1, l2, (s1 - o1p) / u, (s2 - o2p) / u, (c1 - o1p) / u, (c2 - o2p) / u, (e1 - o1p) / u,
+                       (e2 - o2p) / u, r1, r2, abs_err, rel_err * 100.0));
     }
   }
   if (offsets.rotation != 0.0 && modal.plane != Plane::xy)
-    throw Error(ErrorKind::unsupported,
-                "arcs outside the XY plane with a rotated coordinate system are not supported",
+    throw Error(ErrorKind::unsupported, "arcs outside the XY plane with a rotated coordinate system are not supported",
                 SourceLocation{file_name(), b.line, 0}, std::string(b.text));
   Axes centre = target;
   centre[pa.first] = c1;
@@ -798,8 +769,8 @@ void Interpreter::Impl::arc(const Block& b, int code, const Axes& target) {
   if (sink) sink->motion(m);
 }
 
-void Interpreter::Impl::cycle_move(MotionKind kind, std::size_t first, std::size_t second,
-                                   std::size_t normal, double a, double b, double c) {
+void Interpreter::Impl::cycle_move(MotionKind kind, std::size_t first, std::size_t second, std::size_t normal, double a,
+                                   double b, double c) {
   Axes t = position;
   t[first] = a + offsets.origin(first);
   t[second] = b + offsets.origin(second);
@@ -813,8 +784,7 @@ void Interpreter::Impl::canned_cycle(const Block& b, int code) {
   for (std::size_t i = 3; i < kAxisCount; ++i)
     if (words.has(kAxisLetters[i]))
       fail(b, words.word[static_cast<std::size_t>(kAxisLetters[i] - 'A')],
-           fmt::format("cannot put an {} in canned cycle",
-                       static_cast<char>(std::tolower(kAxisLetters[i]))));
+           fmt::format("cannot put an {} in canned cycle", static_cast<char>(std::tolower(kAxisLetters[i]))));
   if (modal.cutter_compensation != 400)
     fail(b, nullptr, "cannot use a canned cycle with cutter radius compensation on");
   const char first_letter = kAxisLetters[pa.first], second_letter = kAxisLetters[pa.second];
@@ -835,8 +805,7 @@ void Interpreter::Impl::canned_cycle(const Block& b, int code) {
   if (words.has('L')) {
     const double l = words['L'];
     if (l < 0 || l != std::floor(l))
-      fail(b, words.word['L' - 'A'],
-           "L word for canned cycle repeats must be a non-negative integer");
+      fail(b, words.word['L' - 'A'], "L word for canned cycle repeats must be a non-negative integer");
     repeats = static_cast<int>(l);
   }
   double old_cc = program(pa.normal);
@@ -854,16 +823,15 @@ void Interpreter::Impl::canned_cycle(const Block& b, int code) {
     cc = r + cycle_bottom;
   }
   if (r < cc) {
-    const std::string what = fmt::format("R value ({}) less than {} value ({}) in canned cycle",
-                                         r / u, depth_letter, cc / u);
+    const std::string what =
+        fmt::format("R value ({}) less than {} value ({}) in canned cycle", r / u, depth_letter, cc / u);
     // LinuxCNC refuses this; Fanuc-family controls feed "down" to a bottom above R.
     if (!options.dialect.cycles_own_modal_group) fail(b, nullptr, what);
     warn(what + ": the hole's bottom is above the R plane", b.line);
   }
   if ((code == 730 || code == 830) && cycle_q <= 0.0)
     fail(b, nullptr, fmt::format("Q word missing or not positive with {}", g_name(code)));
-  if ((code == 840 || code == 860 || code == 880) && modal.spindle == 0 &&
-      options.dialect.cycles_need_spindle)
+  if ((code == 840 || code == 860 || code == 880) && modal.spindle == 0 && options.dialect.cycles_need_spindle)
     fail(b, nullptr, fmt::format("spindle not turning in {}", g_name(code)));
   position_unknown &= ~((1U << pa.first) | (1U << pa.second) | (1U << pa.normal));
   auto traverse = [&](double a, double bv, double c) {
@@ -927,8 +895,7 @@ void Interpreter::Impl::canned_cycle(const Block& b, int code) {
         emit("PROGRAM_STOP", "");
         // The operator retracts by hand: the program resumes at the clearance level.
         position[pa.normal] = clear + offsets.origin(pa.normal);
-        warn("G88: the operator retracts by hand; ccomp continues from the clearance level",
-             b.line);
+        warn("G88: the operator retracts by hand; ccomp continues from the clearance level", b.line);
         break;
       }
       case 890:
@@ -954,23 +921,20 @@ void Interpreter::Impl::select_coordinate_system(int system) {
     offsets.rotation = params.numbered(base + 9);
   });
   emit("SET_G5X_OFFSET",
-       fmt::format("{}, {}, {}, {}, {}, {}, {}", system, fixed4(offsets.g5x[0] / u),
-                   fixed4(offsets.g5x[1] / u), fixed4(offsets.g5x[2] / u), fixed4(offsets.g5x[3]),
-                   fixed4(offsets.g5x[4]), fixed4(offsets.g5x[5])));
+       fmt::format("{}, {}, {}, {}, {}, {}, {}", system, fixed4(offsets.g5x[0] / u), fixed4(offsets.g5x[1] / u),
+                   fixed4(offsets.g5x[2] / u), fixed4(offsets.g5x[3]), fixed4(offsets.g5x[4]), fixed4(offsets.g5x[5])));
   emit("SET_XY_ROTATION", fixed4(offsets.rotation));
 }
 
 void Interpreter::Impl::reference_return(const Block& b, int code) {
   const int base = code == 280 || code == 281 ? 5161 : 5181;
-    if (code == 281 || code == 301) {  // store the current position
+  if (code == 281 || code == 301) {  // store the current position
     const Axes machine = offsets.to_machine(position);
     for (std::size_t i = 0; i < kAxisCount; ++i)
-      params.set_numbered(base + static_cast<int>(i),
-                          (machine[i] + offsets.tool[i]) / stored_scale(i));
+      params.set_numbered(base + static_cast<int>(i), (machine[i] + offsets.tool[i]) / stored_scale(i));
     return;
   }
-  if (modal.cutter_compensation != 400)
-    fail(b, nullptr, "cannot use G28 or G30 with cutter radius compensation on");
+  if (modal.cutter_compensation != 400) fail(b, nullptr, "cannot use G28 or G30 with cutter radius compensation on");
   const std::uint32_t mask = words.axis_mask();
   const Axes intermediate = target_of(b, false);
   straight(MotionKind::traverse, intermediate, MotionSource::reference_return);
@@ -987,10 +951,9 @@ void Interpreter::Impl::set_g92(const Block& b, int code) {
   auto publish = [&]() {
     for (std::size_t i = 0; i < kAxisCount; ++i)
       params.set_numbered(5211 + static_cast<int>(i), offsets.g92[i] / stored_scale(i));
-    emit("SET_G92_OFFSET",
-         fmt::format("{}, {}, {}, {}, {}, {}", fixed4(offsets.g92[0] / u),
-                     fixed4(offsets.g92[1] / u), fixed4(offsets.g92[2] / u), fixed4(offsets.g92[3]),
-                     fixed4(offsets.g92[4]), fixed4(offsets.g92[5])));
+    emit("SET_G92_OFFSET", fmt::format("{}, {}, {}, {}, {}, {}", fixed4(offsets.g92[0] / u), fixed4(offsets.g92[1] / u),
+                                       fixed4(offsets.g92[2] / u), fixed4(offsets.g92[3]), fixed4(offsets.g92[4]),
+                                       fixed4(offsets.g92[5])));
   };
   switch (code) {
     case 920:
@@ -1034,8 +997,7 @@ void Interpreter::Impl::g10(const Block& b) {
   if (!words.has('P')) fail(b, nullptr, fmt::format("G10 L{} needs a P word", l));
   const int p = static_cast<int>(std::lround(words['P']));
   if (l == 2 || l == 20) {
-    if (p < 0 || p > 9)
-      fail(b, words.word['P' - 'A'], fmt::format("P value out of range with G10 L{}: {}", l, p));
+    if (p < 0 || p > 9) fail(b, words.word['P' - 'A'], fmt::format("P value out of range with G10 L{}: {}", l, p));
     const int system = p == 0 ? offsets.coordinate_system : p;
     const int base = 5221 + (system - 1) * 20;
     const double rotation = words.has('R') ? words['R'] : params.numbered(base + 9);
@@ -1046,8 +1008,7 @@ void Interpreter::Impl::g10(const Block& b) {
     // not given (with a rotation, X and Y offsets both change when either is given).
     Axes local{};  // value + G92, rotated into the machine frame
     for (std::size_t i = 0; i < kAxisCount; ++i)
-      local[i] = (words.has(kAxisLetters[i]) ? words[kAxisLetters[i]] * (is_rotary(i) ? 1.0 : u)
-                                             : program(i)) +
+      local[i] = (words.has(kAxisLetters[i]) ? words[kAxisLetters[i]] * (is_rotary(i) ? 1.0 : u) : program(i)) +
                  offsets.g92[i];
     const bool xy_given = words.has('X') || words.has('Y');
     const double lx = std::cos(a) * local[0] - std::sin(a) * local[1];
@@ -1057,8 +1018,7 @@ void Interpreter::Impl::g10(const Block& b) {
     for (std::size_t i = 0; i < kAxisCount; ++i) {
       const char letter = kAxisLetters[i];
       if (!words.has(letter) && !(l == 20 && i < 2 && xy_given)) continue;
-      const double offset =
-          l == 2 ? words[letter] * (is_rotary(i) ? 1.0 : u) : machine[i] - local[i];
+      const double offset = l == 2 ? words[letter] * (is_rotary(i) ? 1.0 : u) : machine[i] - local[i];
       params.set_numbered(base + static_cast<int>(i), offset / stored_scale(i));
     }
     params.set_numbered(base + 9, rotation);
@@ -1098,8 +1058,7 @@ void Interpreter::Impl::g10(const Block& b) {
     emit("SET_TOOL_TABLE_ENTRY", fmt::format("{}", p));
     return;  // the active offset changes only with the next G43, as in LinuxCNC
   }
-  fail(b, words.word['L' - 'A'],
-       fmt::format("G10 L{} is not supported (L1, L2, L10, L11, L20 are)", l));
+  fail(b, words.word['L' - 'A'], fmt::format("G10 L{} is not supported (L1, L2, L10, L11, L20 are)", l));
 }
 
 void Interpreter::Impl::tool_length(const Block& b, int code) {
@@ -1137,10 +1096,9 @@ void Interpreter::Impl::tool_length(const Block& b, int code) {
   position = offsets.from_machine(machine);
   offsets.tool = next;
   modal.tool_length_mode = code;
-  emit("USE_TOOL_LENGTH_OFFSET",
-       fmt::format("{} {} {}, {} {} {}, {} {} {}", fixed4(next[0] / u), fixed4(next[1] / u),
-                   fixed4(next[2] / u), fixed4(next[3]), fixed4(next[4]), fixed4(next[5]),
-                   fixed4(next[6] / u), fixed4(next[7] / u), fixed4(next[8] / u)));
+  emit("USE_TOOL_LENGTH_OFFSET", fmt::format("{} {} {}, {} {} {}, {} {} {}", fixed4(next[0] / u), fixed4(next[1] / u),
+                                             fixed4(next[2] / u), fixed4(next[3]), fixed4(next[4]), fixed4(next[5]),
+                                             fixed4(next[6] / u), fixed4(next[7] / u), fixed4(next[8] / u)));
 }
 
 void Interpreter::Impl::end_program(const Block& /*b*/) {

@@ -21,38 +21,30 @@ struct real_value;
 struct expression;
 
 struct digits : pegtl::plus<pegtl::digit> {};
-struct unsigned_real
-    : pegtl::sor<pegtl::seq<digits, pegtl::opt<pegtl::one<'.'>, pegtl::opt<digits>>>,
-                 pegtl::seq<pegtl::one<'.'>, digits>> {};
+struct unsigned_real : pegtl::sor<pegtl::seq<digits, pegtl::opt<pegtl::one<'.'>, pegtl::opt<digits>>>,
+                                  pegtl::seq<pegtl::one<'.'>, digits>> {};
 
 struct parameter_name : pegtl::plus<pegtl::not_one<'>'>> {};
-struct named_parameter
-    : pegtl::seq<pegtl::one<'<'>, pegtl::must<parameter_name>, pegtl::must<pegtl::one<'>'>>> {};
-struct parameter_value
-    : pegtl::seq<pegtl::one<'#'>, pegtl::must<pegtl::sor<named_parameter, real_value>>> {};
+struct named_parameter : pegtl::seq<pegtl::one<'<'>, pegtl::must<parameter_name>, pegtl::must<pegtl::one<'>'>>> {};
+struct parameter_value : pegtl::seq<pegtl::one<'#'>, pegtl::must<pegtl::sor<named_parameter, real_value>>> {};
 
 struct operand : pegtl::seq<real_value> {};
 struct binary_operator
-    : pegtl::sor<TAO_PEGTL_STRING("**"), pegtl::one<'*'>, pegtl::one<'/'>, TAO_PEGTL_STRING("MOD"),
-                 pegtl::one<'+'>, pegtl::one<'-'>, TAO_PEGTL_STRING("EQ"), TAO_PEGTL_STRING("NE"),
-                 TAO_PEGTL_STRING("GT"), TAO_PEGTL_STRING("GE"), TAO_PEGTL_STRING("LT"),
-                 TAO_PEGTL_STRING("LE"), TAO_PEGTL_STRING("AND"), TAO_PEGTL_STRING("OR"),
-                 TAO_PEGTL_STRING("XOR")> {};
-struct expression
-    : pegtl::seq<pegtl::one<'['>, pegtl::must<operand>,
-                 pegtl::star<binary_operator, pegtl::must<operand>>, pegtl::must<pegtl::one<']'>>> {};
+    : pegtl::sor<TAO_PEGTL_STRING("**"), pegtl::one<'*'>, pegtl::one<'/'>, TAO_PEGTL_STRING("MOD"), pegtl::one<'+'>,
+                 pegtl::one<'-'>, TAO_PEGTL_STRING("EQ"), TAO_PEGTL_STRING("NE"), TAO_PEGTL_STRING("GT"),
+                 TAO_PEGTL_STRING("GE"), TAO_PEGTL_STRING("LT"), TAO_PEGTL_STRING("LE"), TAO_PEGTL_STRING("AND"),
+                 TAO_PEGTL_STRING("OR"), TAO_PEGTL_STRING("XOR")> {};
+struct expression : pegtl::seq<pegtl::one<'['>, pegtl::must<operand>,
+                               pegtl::star<binary_operator, pegtl::must<operand>>, pegtl::must<pegtl::one<']'>>> {};
 
-struct atan_call : pegtl::seq<TAO_PEGTL_STRING("ATAN"), pegtl::must<expression>,
-                              pegtl::must<pegtl::one<'/'>>, pegtl::must<expression>> {};
-struct exists_call
-    : pegtl::seq<TAO_PEGTL_STRING("EXISTS"), pegtl::must<pegtl::one<'['>>,
-                 pegtl::must<pegtl::one<'#'>>, pegtl::must<pegtl::sor<named_parameter, real_value>>,
-                 pegtl::must<pegtl::one<']'>>> {};
-struct unary_function
-    : pegtl::sor<TAO_PEGTL_STRING("ABS"), TAO_PEGTL_STRING("ACOS"), TAO_PEGTL_STRING("ASIN"),
-                 TAO_PEGTL_STRING("COS"), TAO_PEGTL_STRING("EXP"), TAO_PEGTL_STRING("FIX"),
-                 TAO_PEGTL_STRING("FUP"), TAO_PEGTL_STRING("LN"), TAO_PEGTL_STRING("ROUND"),
-                 TAO_PEGTL_STRING("SIN"), TAO_PEGTL_STRING("SQRT"), TAO_PEGTL_STRING("TAN")> {};
+struct atan_call : pegtl::seq<TAO_PEGTL_STRING("ATAN"), pegtl::must<expression>, pegtl::must<pegtl::one<'/'>>,
+                              pegtl::must<expression>> {};
+struct exists_call : pegtl::seq<TAO_PEGTL_STRING("EXISTS"), pegtl::must<pegtl::one<'['>>, pegtl::must<pegtl::one<'#'>>,
+                                pegtl::must<pegtl::sor<named_parameter, real_value>>, pegtl::must<pegtl::one<']'>>> {};
+struct unary_function : pegtl::sor<TAO_PEGTL_STRING("ABS"), TAO_PEGTL_STRING("ACOS"), TAO_PEGTL_STRING("ASIN"),
+                                   TAO_PEGTL_STRING("COS"), TAO_PEGTL_STRING("EXP"), TAO_PEGTL_STRING("FIX"),
+                                   TAO_PEGTL_STRING("FUP"), TAO_PEGTL_STRING("LN"), TAO_PEGTL_STRING("ROUND"),
+                                   TAO_PEGTL_STRING("SIN"), TAO_PEGTL_STRING("SQRT"), TAO_PEGTL_STRING("TAN")> {};
 struct unary_call : pegtl::seq<unary_function, pegtl::must<expression>> {};
 struct function_call : pegtl::seq<pegtl::at<pegtl::upper>, pegtl::sor<atan_call, exists_call, unary_call>> {};
 
@@ -81,13 +73,12 @@ struct empty_value {
   }
 };
 
-struct word
-    : pegtl::seq<word_letter, pegtl::must<pegtl::sor<real_value, empty_value>>> {};
+struct word : pegtl::seq<word_letter, pegtl::must<pegtl::sor<real_value, empty_value>>> {};
 
 struct parameter_index : pegtl::sor<named_parameter, real_value> {};
 struct parameter_setting
-    : pegtl::seq<pegtl::one<'#'>, pegtl::must<parameter_index>, pegtl::must<pegtl::one<'='>>,
-                 pegtl::must<real_value>> {};
+    : pegtl::seq<pegtl::one<'#'>, pegtl::must<parameter_index>, pegtl::must<pegtl::one<'='>>, pegtl::must<real_value>> {
+};
 
 struct segment : pegtl::sor<word, comment, parameter_setting> {};
 
@@ -108,18 +99,15 @@ struct o_break : TAO_PEGTL_STRING("BREAK") {};
 struct o_continue : TAO_PEGTL_STRING("CONTINUE") {};
 struct o_repeat : pegtl::seq<TAO_PEGTL_STRING("REPEAT"), pegtl::must<expression>> {};
 struct o_endrepeat : TAO_PEGTL_STRING("ENDREPEAT") {};
-struct o_keyword : pegtl::sor<o_sub, o_endsub, o_call, o_return, o_if, o_elseif, o_else, o_endif,
-                              o_while, o_endwhile, o_do, o_break, o_continue, o_repeat,
-                              o_endrepeat> {};
-struct o_statement : pegtl::seq<pegtl::one<'O'>, pegtl::must<o_label>, pegtl::opt<o_keyword>,
-                                pegtl::star<segment>> {};
+struct o_keyword : pegtl::sor<o_sub, o_endsub, o_call, o_return, o_if, o_elseif, o_else, o_endif, o_while, o_endwhile,
+                              o_do, o_break, o_continue, o_repeat, o_endrepeat> {};
+struct o_statement : pegtl::seq<pegtl::one<'O'>, pegtl::must<o_label>, pegtl::opt<o_keyword>, pegtl::star<segment>> {};
 
 struct block_delete : pegtl::one<'/'> {};
 struct line_number : pegtl::seq<pegtl::one<'N'>, pegtl::must<unsigned_real>> {};
 struct end_of_block : pegtl::seq<pegtl::opt<eol_comment>, pegtl::eof> {};
 struct block : pegtl::seq<pegtl::opt<block_delete>, pegtl::opt<line_number>,
-                          pegtl::sor<o_statement, pegtl::star<segment>>,
-                          pegtl::must<end_of_block>> {};
+                          pegtl::sor<o_statement, pegtl::star<segment>>, pegtl::must<end_of_block>> {};
 struct program_delimiter : pegtl::seq<pegtl::one<'%'>, pegtl::star<pegtl::any>> {};
 struct line : pegtl::sor<program_delimiter, block> {};
 

@@ -1,8 +1,9 @@
 #include "ccomp/gcode/interpreter.hpp"
 
+#include <fmt/format.h>
+
 #include <cmath>
 #include <filesystem>
-#include <fmt/format.h>
 
 #include "interpreter_impl.hpp"
 
@@ -14,7 +15,9 @@ std::string label_of(const OStatement& o) {
   return o.named ? "<" + o.name + ">" : std::to_string(o.number);
 }
 
-std::string label_of_number(double v) { return std::to_string(static_cast<long long>(std::lround(v))); }
+std::string label_of_number(double v) {
+  return std::to_string(static_cast<long long>(std::lround(v)));
+}
 
 constexpr double kDegree = 3.14159265358979323846 / 180.0;
 
@@ -26,8 +29,7 @@ bool controller_only(int n) {
 
 }  // namespace
 
-Interpreter::Impl::Impl(InterpreterOptions o)
-    : options(std::move(o)), parser(options.dialect), tools(options.tools) {
+Interpreter::Impl::Impl(InterpreterOptions o) : options(std::move(o)), parser(options.dialect), tools(options.tools) {
   // Hold the tool table in mm, like every other length inside the interpreter.
   for (auto& [number, entry] : tools.tools)
     for (std::size_t i = 0; i < kAxisCount; ++i)
@@ -38,8 +40,7 @@ Interpreter::Impl::Impl(InterpreterOptions o)
       if (c != ' ' && c != '\t') folded.push_back(static_cast<char>(std::toupper(static_cast<unsigned char>(c))));
     overrides[folded] = value;
     int n = 0;
-    if (std::sscanf(folded.c_str(), "%d", &n) == 1 && std::to_string(n) == folded && n > 0 &&
-        n < kParameterCount)
+    if (std::sscanf(folded.c_str(), "%d", &n) == 1 && std::to_string(n) == folded && n > 0 && n < kParameterCount)
       params.set_numbered(n, value);
   }
   params.set_numbered(5220, 1.0);
@@ -55,8 +56,7 @@ void Interpreter::Impl::fail(const Block& b, const Word* where, const std::strin
 
 void Interpreter::Impl::fail_at(const Block& b, Span span, const std::string& message) const {
   const std::uint32_t column = span.empty() && span.begin == 0 ? 0 : span.begin + 1;
-  throw Error(ErrorKind::program, message, SourceLocation{file_name(), b.line, column},
-              std::string(b.text));
+  throw Error(ErrorKind::program, message, SourceLocation{file_name(), b.line, column}, std::string(b.text));
 }
 
 void Interpreter::Impl::warn(const std::string& message, std::uint32_t line_no) const {
@@ -85,7 +85,8 @@ Span Interpreter::Impl::locate_name(const Block& b, std::string_view folded) con
       ++i, ++k;
     }
     while (i < t.size() && (t[i] == ' ' || t[i] == '\t')) ++i;
-    if (k == folded.size() && i < t.size() && t[i] == '>') return Span{static_cast<std::uint32_t>(at + 1), static_cast<std::uint32_t>(i)};
+    if (k == folded.size() && i < t.size() && t[i] == '>')
+      return Span{static_cast<std::uint32_t>(at + 1), static_cast<std::uint32_t>(i)};
   }
   return Span{};
 }
@@ -107,8 +108,8 @@ double Interpreter::Impl::read_named(const Block& b, std::string_view name) {
   if (name.starts_with("_HAL[") || name.starts_with("_INI[")) {
     const Span at = locate_name(b, name);
     const std::string spelled = at.empty() ? std::string(name) : std::string(b.slice(at));
-    fail_at(b, at, fmt::format("#<{}> is a value only the controller has; give it with --param '{}=VALUE'",
-                               spelled, spelled));
+    fail_at(b, at,
+            fmt::format("#<{}> is a value only the controller has; give it with --param '{}=VALUE'", spelled, spelled));
   }
   const double u = unit();
   static constexpr std::string_view kAxisNames[] = {"X", "Y", "Z", "A", "B", "C", "U", "V", "W"};
@@ -148,7 +149,9 @@ double Interpreter::Impl::read_named(const Block& b, std::string_view name) {
   if (name == "_REMAP_LEVEL") return 0.0;
   if (name == "_TASK") return 1.0;  // ccomp reads a program as the machine will run it
   const Span at = locate_name(b, name);
-  fail_at(b, at, fmt::format("named parameter #<{}> is not defined", at.empty() ? std::string(name) : std::string(b.slice(at))));
+  fail_at(
+      b, at,
+      fmt::format("named parameter #<{}> is not defined", at.empty() ? std::string(name) : std::string(b.slice(at))));
 }
 
 double Interpreter::Impl::read_numbered(const Block& b, double index) {
@@ -173,7 +176,8 @@ double Interpreter::Impl::read_numbered(const Block& b, double index) {
     const double v = e ? e->offset[axis] : 0.0;
     return is_rotary(axis) ? v : v / machine_unit();
   }
-  if (n >= 5420 && n <= 5428) return length(static_cast<std::size_t>(n - 5420), program(static_cast<std::size_t>(n - 5420)));
+  if (n >= 5420 && n <= 5428)
+    return length(static_cast<std::size_t>(n - 5420), program(static_cast<std::size_t>(n - 5420)));
   if (n >= 5021 && n <= 5029) {  // machine axis positions: the controlled point plus the tool
     const auto axis = static_cast<std::size_t>(n - 5021);
     return length(axis, offsets.to_machine(position)[axis] + offsets.tool[axis]);
@@ -193,8 +197,10 @@ void Interpreter::Impl::write_numbered(const Block& b, double index, double v) {
     const auto field = static_cast<std::size_t>((n - 5221) % 20);
     if (system == offsets.coordinate_system && field <= kAxisCount)
       change_offsets([&] {
-        if (field == kAxisCount) offsets.rotation = v;
-        else offsets.g5x[field] = is_rotary(field) ? v : v * u;
+        if (field == kAxisCount)
+          offsets.rotation = v;
+        else
+          offsets.g5x[field] = is_rotary(field) ? v : v * u;
       });
   }
 }
@@ -217,18 +223,31 @@ double Interpreter::Impl::evaluate(const Block& b, const Value& v) {
   for (std::uint32_t i = v.rpn_begin; i < v.rpn_end; ++i) {
     const ExprNode& n = b.rpn[i];
     switch (n.op) {
-      case ExprOp::number: push(n.number); break;
-      case ExprOp::name: break;
-      case ExprOp::read_named: push(read_named(b, b.name(n.name_begin, n.name_size))); break;
-      case ExprOp::read_numbered: push(read_numbered(b, pop())); break;
-      case ExprOp::exists: push(named_exists(b.name(n.name_begin, n.name_size)) ? 1.0 : 0.0); break;
+      case ExprOp::number:
+        push(n.number);
+        break;
+      case ExprOp::name:
+        break;
+      case ExprOp::read_named:
+        push(read_named(b, b.name(n.name_begin, n.name_size)));
+        break;
+      case ExprOp::read_numbered:
+        push(read_numbered(b, pop()));
+        break;
+      case ExprOp::exists:
+        push(named_exists(b.name(n.name_begin, n.name_size)) ? 1.0 : 0.0);
+        break;
       case ExprOp::exists_numbered: {
         const double index = pop();
         push(index >= 1 && index < kParameterCount && index == std::floor(index) ? 1.0 : 0.0);
         break;
       }
-      case ExprOp::negate: push(-pop()); break;
-      case ExprOp::abs: push(std::abs(pop())); break;
+      case ExprOp::negate:
+        push(-pop());
+        break;
+      case ExprOp::abs:
+        push(std::abs(pop()));
+        break;
       case ExprOp::acos: {
         const double x = pop();
         if (x < -1.0 || x > 1.0) fail(b, nullptr, fmt::format("argument to ACOS out of range: {}", x));
@@ -241,25 +260,39 @@ double Interpreter::Impl::evaluate(const Block& b, const Value& v) {
         push(std::asin(x) / kDegree);
         break;
       }
-      case ExprOp::cos: push(std::cos(pop() * kDegree)); break;
-      case ExprOp::exp: push(std::exp(pop())); break;
-      case ExprOp::fix: push(std::floor(pop())); break;
-      case ExprOp::fup: push(std::ceil(pop())); break;
+      case ExprOp::cos:
+        push(std::cos(pop() * kDegree));
+        break;
+      case ExprOp::exp:
+        push(std::exp(pop()));
+        break;
+      case ExprOp::fix:
+        push(std::floor(pop()));
+        break;
+      case ExprOp::fup:
+        push(std::ceil(pop()));
+        break;
       case ExprOp::ln: {
         const double x = pop();
         if (x <= 0.0) fail(b, nullptr, fmt::format("zero or negative argument to LN: {}", x));
         push(std::log(x));
         break;
       }
-      case ExprOp::round: push(std::round(pop())); break;
-      case ExprOp::sin: push(std::sin(pop() * kDegree)); break;
+      case ExprOp::round:
+        push(std::round(pop()));
+        break;
+      case ExprOp::sin:
+        push(std::sin(pop() * kDegree));
+        break;
       case ExprOp::sqrt: {
         const double x = pop();
         if (x < 0.0) fail(b, nullptr, fmt::format("negative argument to SQRT: {}", x));
         push(std::sqrt(x));
         break;
       }
-      case ExprOp::tan: push(std::tan(pop() * kDegree)); break;
+      case ExprOp::tan:
+        push(std::tan(pop() * kDegree));
+        break;
       default: {  // binary
         const double rhs = pop();
         const double lhs = pop();
@@ -270,26 +303,56 @@ double Interpreter::Impl::evaluate(const Block& b, const Value& v) {
               fail(b, nullptr, "attempt to raise a negative number to a non-integer power");
             r = std::pow(lhs, rhs);
             break;
-          case ExprOp::times: r = lhs * rhs; break;
+          case ExprOp::times:
+            r = lhs * rhs;
+            break;
           case ExprOp::divide:
             if (rhs == 0.0) fail(b, nullptr, "attempt to divide by zero");
             r = lhs / rhs;
             break;
-          case ExprOp::modulo: r = std::fmod(lhs, rhs); if (r < 0.0) r += std::abs(rhs); break;
-          case ExprOp::plus: r = lhs + rhs; break;
-          case ExprOp::minus: r = lhs - rhs; break;
+          case ExprOp::modulo:
+            r = std::fmod(lhs, rhs);
+            if (r < 0.0) r += std::abs(rhs);
+            break;
+          case ExprOp::plus:
+            r = lhs + rhs;
+            break;
+          case ExprOp::minus:
+            r = lhs - rhs;
+            break;
           // Comparisons tolerate the same 1e-6 as rs274ngc (TOLERANCE_EQUAL).
-          case ExprOp::eq: r = std::abs(lhs - rhs) < 1e-6; break;
-          case ExprOp::ne: r = std::abs(lhs - rhs) >= 1e-6; break;
-          case ExprOp::gt: r = lhs > rhs; break;
-          case ExprOp::ge: r = lhs >= rhs; break;
-          case ExprOp::lt: r = lhs < rhs; break;
-          case ExprOp::le: r = lhs <= rhs; break;
-          case ExprOp::logical_and: r = lhs != 0.0 && rhs != 0.0; break;
-          case ExprOp::logical_or: r = lhs != 0.0 || rhs != 0.0; break;
-          case ExprOp::logical_xor: r = (lhs != 0.0) != (rhs != 0.0); break;
-          case ExprOp::atan2: r = std::atan2(lhs, rhs) / kDegree; break;
-          default: fail(b, nullptr, "internal: bad expression node");
+          case ExprOp::eq:
+            r = std::abs(lhs - rhs) < 1e-6;
+            break;
+          case ExprOp::ne:
+            r = std::abs(lhs - rhs) >= 1e-6;
+            break;
+          case ExprOp::gt:
+            r = lhs > rhs;
+            break;
+          case ExprOp::ge:
+            r = lhs >= rhs;
+            break;
+          case ExprOp::lt:
+            r = lhs < rhs;
+            break;
+          case ExprOp::le:
+            r = lhs <= rhs;
+            break;
+          case ExprOp::logical_and:
+            r = lhs != 0.0 && rhs != 0.0;
+            break;
+          case ExprOp::logical_or:
+            r = lhs != 0.0 || rhs != 0.0;
+            break;
+          case ExprOp::logical_xor:
+            r = (lhs != 0.0) != (rhs != 0.0);
+            break;
+          case ExprOp::atan2:
+            r = std::atan2(lhs, rhs) / kDegree;
+            break;
+          default:
+            fail(b, nullptr, "internal: bad expression node");
         }
         push(r);
       }
@@ -354,7 +417,9 @@ void Interpreter::Impl::run(LineSource& source, CanonSink& out) {
     const ControlFrame& open = controls.back();
     throw Error(ErrorKind::program,
                 fmt::format("O{} {} is never closed: the file ends inside it", open.label,
-                            open.kind == OKeyword::if_ ? "if" : open.kind == OKeyword::repeat ? "repeat" : "loop"),
+                            open.kind == OKeyword::if_      ? "if"
+                            : open.kind == OKeyword::repeat ? "repeat"
+                                                            : "loop"),
                 SourceLocation{file_name(), line.number, 0});
   }
   if (!calls.empty()) warn("program ended inside a subroutine call", line.number);
@@ -373,8 +438,7 @@ void Interpreter::Impl::define_sub(const Block& b, bool fanuc) {
   for (;;) {
     if (!sources[current_source]->next(line)) {
       throw Error(ErrorKind::program,
-                  fanuc ? "Fanuc subprogram O" + label + " has no M99"
-                        : "subroutine O" + label + " has no endsub",
+                  fanuc ? "Fanuc subprogram O" + label + " has no M99" : "subroutine O" + label + " has no endsub",
                   SourceLocation{file_name(), start_line, 1}, start_text);
     }
     parser.parse(line.text, line.number, file_name(), block);
@@ -397,8 +461,7 @@ void Interpreter::Impl::skip_to(const std::string& label, std::initializer_list<
   const std::uint32_t start_line = block.line;
   for (;;) {
     if (!sources[current_source]->next(line))
-      throw Error(ErrorKind::program, "no matching end for O" + label,
-                  SourceLocation{file_name(), start_line, 0});
+      throw Error(ErrorKind::program, "no matching end for O" + label, SourceLocation{file_name(), start_line, 0});
     parser.parse(line.text, line.number, file_name(), block);
     if (sink) sink->block(block, line);
     if (!block.o.present || label_of(block.o) != label) continue;
@@ -407,8 +470,7 @@ void Interpreter::Impl::skip_to(const std::string& label, std::initializer_list<
   }
 }
 
-SubDefinition Interpreter::Impl::find_sub(const std::string& label, bool fanuc, const Block& b,
-                                          const Word* where) {
+SubDefinition Interpreter::Impl::find_sub(const std::string& label, bool fanuc, const Block& b, const Word* where) {
   if (auto it = subs.find(label); it != subs.end()) return it->second;
   // Defined later in the main file: scan ahead, then come back. (Not in a subroutine's own
   // file: LinuxCNC looks for those on the subroutine path only.)
@@ -458,13 +520,13 @@ SubDefinition Interpreter::Impl::find_sub(const std::string& label, bool fanuc, 
   fail(b, where, fmt::format("unknown subroutine O{}", label));
 }
 
-void Interpreter::Impl::call_sub(const std::string& label, bool fanuc, const Block& b,
-                                 const Word* where, int repeats) {
+void Interpreter::Impl::call_sub(const std::string& label, bool fanuc, const Block& b, const Word* where, int repeats) {
   if (calls.size() >= 64) fail(b, where, "subroutines nested too deeply (64 levels)");
   const SubDefinition d = find_sub(label, fanuc, b, where);
   if (d.fanuc != fanuc)
-    fail(b, where, fanuc ? "'O.... sub' subroutine must be called with 'O.... call'"
-                         : "Fanuc 'O....' subroutine must be called with 'M98'");
+    fail(b, where,
+         fanuc ? "'O.... sub' subroutine must be called with 'O.... call'"
+               : "Fanuc 'O....' subroutine must be called with 'M98'");
   CallFrame f;
   f.label = label;
   f.source = d.source;
@@ -476,8 +538,7 @@ void Interpreter::Impl::call_sub(const std::string& label, bool fanuc, const Blo
   f.fanuc = fanuc;
   if (!fanuc) {
     std::array<double, 30> args{};
-    for (std::size_t i = 0; i < b.o.arguments.size() && i < args.size(); ++i)
-      args[i] = evaluate(b, b.o.arguments[i]);
+    for (std::size_t i = 0; i < b.o.arguments.size() && i < args.size(); ++i) args[i] = evaluate(b, b.o.arguments[i]);
     params.push_scope();
     for (std::size_t i = 0; i < args.size(); ++i)
       params.set_numbered(static_cast<int>(i + 1), i < b.o.arguments.size() ? args[i] : 0.0);
@@ -506,8 +567,7 @@ void Interpreter::Impl::execute_o(const Block& b) {
   const std::string label = o.computed ? label_of_number(evaluate(b, o.label_value)) : label_of(o);
   auto condition = [&]() { return o.arguments.empty() ? 0.0 : evaluate(b, o.arguments.front()); };
   for (const Word& w : b.words)
-    if (o.keyword != OKeyword::none)
-      fail(b, &w, "an O-word statement cannot carry other words");
+    if (o.keyword != OKeyword::none) fail(b, &w, "an O-word statement cannot carry other words");
   switch (o.keyword) {
     case OKeyword::none:
       // A Fanuc program number: the program's name at the start, a subprogram later.
@@ -545,8 +605,7 @@ void Interpreter::Impl::execute_o(const Block& b) {
       for (;;) {
         skip_to(label, {OKeyword::elseif, OKeyword::else_, OKeyword::endif});
         if (block.o.keyword == OKeyword::endif) return;
-        if (block.o.keyword == OKeyword::else_ ||
-            evaluate(block, block.o.arguments.front()) != 0.0) {
+        if (block.o.keyword == OKeyword::else_ || evaluate(block, block.o.arguments.front()) != 0.0) {
           controls.push_back({OKeyword::if_, label, {}, 0});
           return;
         }
@@ -554,8 +613,7 @@ void Interpreter::Impl::execute_o(const Block& b) {
     case OKeyword::elseif:
     case OKeyword::else_:
       // Reached the end of the branch that ran: skip the rest of the if.
-      if (controls.empty() || controls.back().label != label)
-        fail(b, nullptr, "else or elseif without a matching if");
+      if (controls.empty() || controls.back().label != label) fail(b, nullptr, "else or elseif without a matching if");
       controls.pop_back();
       skip_to(label, {OKeyword::endif});
       return;
@@ -563,8 +621,7 @@ void Interpreter::Impl::execute_o(const Block& b) {
       if (!controls.empty() && controls.back().label == label) controls.pop_back();
       return;
     case OKeyword::while_: {
-      if (!controls.empty() && controls.back().label == label &&
-          controls.back().kind == OKeyword::do_) {
+      if (!controls.empty() && controls.back().label == label && controls.back().kind == OKeyword::do_) {
         if (condition() != 0.0)
           sources[current_source]->seek(controls.back().start);
         else
@@ -580,8 +637,7 @@ void Interpreter::Impl::execute_o(const Block& b) {
       return;
     }
     case OKeyword::endwhile:
-      if (controls.empty() || controls.back().label != label)
-        fail(b, nullptr, "endwhile without a matching while");
+      if (controls.empty() || controls.back().label != label) fail(b, nullptr, "endwhile without a matching while");
       sources[current_source]->seek(controls.back().start);
       controls.pop_back();
       return;
@@ -598,8 +654,7 @@ void Interpreter::Impl::execute_o(const Block& b) {
       return;
     }
     case OKeyword::endrepeat:
-      if (controls.empty() || controls.back().label != label)
-        fail(b, nullptr, "endrepeat without a matching repeat");
+      if (controls.empty() || controls.back().label != label) fail(b, nullptr, "endrepeat without a matching repeat");
       if (--controls.back().remaining > 0)
         sources[current_source]->seek(controls.back().start);
       else
@@ -644,15 +699,22 @@ void Interpreter::Impl::execute_o(const Block& b) {
 
 // ----------------------------------------------------------------------------------------
 
-Interpreter::Interpreter(InterpreterOptions options)
-    : impl_(std::make_unique<Impl>(std::move(options))) {}
+Interpreter::Interpreter(InterpreterOptions options) : impl_(std::make_unique<Impl>(std::move(options))) {}
 Interpreter::~Interpreter() = default;
 Interpreter::Interpreter(Interpreter&&) noexcept = default;
 Interpreter& Interpreter::operator=(Interpreter&&) noexcept = default;
 
-void Interpreter::run(LineSource& source, CanonSink& sink) { impl_->run(source, sink); }
-const ModalState& Interpreter::modal() const { return impl_->modal; }
-const Offsets& Interpreter::offsets() const { return impl_->offsets; }
-const Axes& Interpreter::position() const { return impl_->position; }
+void Interpreter::run(LineSource& source, CanonSink& sink) {
+  impl_->run(source, sink);
+}
+const ModalState& Interpreter::modal() const {
+  return impl_->modal;
+}
+const Offsets& Interpreter::offsets() const {
+  return impl_->offsets;
+}
+const Axes& Interpreter::position() const {
+  return impl_->position;
+}
 
 }  // namespace ccomp::gcode

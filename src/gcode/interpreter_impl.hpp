@@ -29,10 +29,10 @@ struct Words {
   std::array<const Word*, 8> m_word{};
   int m_count = 0;
   bool has_spindle_selector = false;
-  std::bitset<1000> g_set;  ///< G codes (times ten) below G100 present, for has_g()
+  std::bitset<1000> g_set;   ///< G codes (times ten) below G100 present, for has_g()
   std::uint32_t groups = 0;  ///< bit g: a G code of modal group g is present
   [[nodiscard]] bool has_group(int group) const { return (groups >> group) & 1U; }
-  std::bitset<200> m_set;   ///< M codes below M200 present
+  std::bitset<200> m_set;  ///< M codes below M200 present
 
   [[nodiscard]] bool has(char letter) const { return (present >> (letter - 'A')) & 1U; }
   [[nodiscard]] double operator[](char letter) const { return value[static_cast<std::size_t>(letter - 'A')]; }
@@ -54,10 +54,10 @@ struct Words {
 /// A subroutine call in progress.
 struct CallFrame {
   std::string label;
-  std::size_t source = 0;        ///< index into Impl::sources
-  SourcePosition return_to;      ///< the line after the call
+  std::size_t source = 0;    ///< index into Impl::sources
+  SourcePosition return_to;  ///< the line after the call
   std::size_t return_source = 0;
-  SourcePosition body;           ///< the first line of the body (for Fanuc L repeats)
+  SourcePosition body;  ///< the first line of the body (for Fanuc L repeats)
   std::size_t control_depth = 0;
   int repeats_left = 0;
   bool fanuc = false;
@@ -86,7 +86,7 @@ struct Interpreter::Impl {
   NamedValues overrides;  ///< --param values
   ModalState modal;
   Offsets offsets;
-  Axes position{};             ///< controlled point, machine frame, no tool length
+  Axes position{};                     ///< controlled point, machine frame, no tool length
   std::uint32_t position_unknown = 0;  ///< axes whose place only a probe knows
   ToolTable tools;
 
@@ -147,8 +147,8 @@ struct Interpreter::Impl {
   void straight(MotionKind kind, const Axes& target, MotionSource source);
   void arc(const Block& b, int code, const Axes& target);
   void canned_cycle(const Block& b, int code);
-  void cycle_move(MotionKind kind, std::size_t first, std::size_t second, std::size_t normal,
-                  double a, double b, double c);
+  void cycle_move(MotionKind kind, std::size_t first, std::size_t second, std::size_t normal, double a, double b,
+                  double c);
   void reference_return(const Block& b, int code);
   void set_g92(const Block& b, int code);
   void g10(const Block& b);
@@ -171,9 +171,7 @@ struct Interpreter::Impl {
   [[nodiscard]] double machine_unit() const { return options.machine_units == Units::inch ? 25.4 : 1.0; }
   /// mm or deg per stored unit of a parameter for `axis` (machine units; degrees for A B C).
   [[nodiscard]] double stored_scale(std::size_t axis) const { return is_rotary(axis) ? 1.0 : machine_unit(); }
-  [[nodiscard]] double program(std::size_t axis) const {
-    return position[axis] - offsets.origin(axis);
-  }
+  [[nodiscard]] double program(std::size_t axis) const { return position[axis] - offsets.origin(axis); }
   [[nodiscard]] const std::string& file_name() const { return sources[current_source]->name(); }
   /// Changes offsets without moving the machine: the interpreter-frame point follows.
   template <typename Change>

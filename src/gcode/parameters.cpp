@@ -4,7 +4,9 @@
 
 namespace ccomp::gcode {
 
-Parameters::Parameters() { locals_.emplace_back(); }
+Parameters::Parameters() {
+  locals_.emplace_back();
+}
 
 std::optional<double> Parameters::named(std::string_view name) const {
   const NamedValues& scope = name.starts_with('_') ? globals_ : locals_.back();

@@ -19,44 +19,51 @@ namespace g = grammar;
 template <typename Rule>
 inline constexpr const char* kMessage = nullptr;
 
-template <> inline constexpr const char* kMessage<g::end_of_block> =
+template <>
+inline constexpr const char* kMessage<g::end_of_block> =
     "unexpected text: expected a word (a letter and a value), a comment or the end of the line";
-template <> inline constexpr const char* kMessage<pegtl::sor<g::real_value, g::empty_value>> =
+template <>
+inline constexpr const char* kMessage<pegtl::sor<g::real_value, g::empty_value>> =
     "expected a value after the letter: a number, [expression], #parameter or function";
-template <> inline constexpr const char* kMessage<g::unsigned_real> =
-    "expected a number";
-template <> inline constexpr const char* kMessage<g::unsigned_value> =
+template <>
+inline constexpr const char* kMessage<g::unsigned_real> = "expected a number";
+template <>
+inline constexpr const char* kMessage<g::unsigned_value> =
     "expected a number, [expression], #parameter or function after the sign";
-template <> inline constexpr const char* kMessage<g::operand> =
+template <>
+inline constexpr const char* kMessage<g::operand> =
     "expected a value (number, [expression], #parameter or function) in the expression";
-template <> inline constexpr const char* kMessage<pegtl::one<']'>> =
-    "expected ']' (or a binary operator) to close the bracket";
-template <> inline constexpr const char* kMessage<pegtl::one<')'>> =
+template <>
+inline constexpr const char* kMessage<pegtl::one<']'>> = "expected ']' (or a binary operator) to close the bracket";
+template <>
+inline constexpr const char* kMessage<pegtl::one<')'>> =
     "unclosed comment: expected ')' before the end of the line (comments cannot nest)";
-template <> inline constexpr const char* kMessage<pegtl::one<'/'>> =
-    "expected '/' between the two arguments of ATAN[y]/[x]";
-template <> inline constexpr const char* kMessage<pegtl::one<'['>> =
-    "expected '[' after the function name";
-template <> inline constexpr const char* kMessage<pegtl::one<'#'>> =
-    "expected '#' reading a parameter: EXISTS takes #<name>";
-template <> inline constexpr const char* kMessage<pegtl::one<'>'>> =
-    "expected '>' to close the parameter name";
-template <> inline constexpr const char* kMessage<pegtl::one<'='>> =
-    "expected '=' after the parameter in a parameter setting";
-template <> inline constexpr const char* kMessage<g::parameter_name> =
-    "expected a parameter name between '<' and '>'";
-template <> inline constexpr const char* kMessage<g::named_parameter> =
-    "expected a named parameter #<name>";
-template <> inline constexpr const char* kMessage<pegtl::sor<g::named_parameter, g::real_value>> =
+template <>
+inline constexpr const char* kMessage<pegtl::one<'/'>> = "expected '/' between the two arguments of ATAN[y]/[x]";
+template <>
+inline constexpr const char* kMessage<pegtl::one<'['>> = "expected '[' after the function name";
+template <>
+inline constexpr const char* kMessage<pegtl::one<'#'>> = "expected '#' reading a parameter: EXISTS takes #<name>";
+template <>
+inline constexpr const char* kMessage<pegtl::one<'>'>> = "expected '>' to close the parameter name";
+template <>
+inline constexpr const char* kMessage<pegtl::one<'='>> = "expected '=' after the parameter in a parameter setting";
+template <>
+inline constexpr const char* kMessage<g::parameter_name> = "expected a parameter name between '<' and '>'";
+template <>
+inline constexpr const char* kMessage<g::named_parameter> = "expected a named parameter #<name>";
+template <>
+inline constexpr const char* kMessage<pegtl::sor<g::named_parameter, g::real_value>> =
     "expected a parameter number or <name> after '#'";
-template <> inline constexpr const char* kMessage<g::parameter_index> =
-    "expected a parameter number or <name> after '#'";
-template <> inline constexpr const char* kMessage<g::real_value> =
+template <>
+inline constexpr const char* kMessage<g::parameter_index> = "expected a parameter number or <name> after '#'";
+template <>
+inline constexpr const char* kMessage<g::real_value> =
     "expected a value (number, [expression], #parameter or function)";
-template <> inline constexpr const char* kMessage<g::expression> =
-    "expected a bracketed expression [ ... ]";
-template <> inline constexpr const char* kMessage<g::o_label> =
-    "expected a number or <name> after O";
+template <>
+inline constexpr const char* kMessage<g::expression> = "expected a bracketed expression [ ... ]";
+template <>
+inline constexpr const char* kMessage<g::o_label> = "expected a number or <name> after O";
 
 struct Errors {
   template <typename Rule>
@@ -70,7 +77,7 @@ struct Errors {
 struct State {
   const Dialect* dialect = nullptr;  // read by the dialect-dependent custom rules
   Block* block = nullptr;
-  const char* base = nullptr;             // the folded line
+  const char* base = nullptr;              // the folded line
   const std::uint32_t* offsets = nullptr;  // folded index -> original index (+ sentinel)
   std::vector<std::uint32_t>& marks;       // rpn size when a marked rule started
   std::vector<std::uint8_t>& operators;    // shunting-yard stack; kMarker opens a bracket
@@ -81,17 +88,14 @@ struct State {
   std::uint32_t index_name_begin = 0;
   std::uint32_t index_name_size = 0;
 
-  [[nodiscard]] std::uint32_t original(const char* p) const {
-    return offsets[static_cast<std::size_t>(p - base)];
-  }
+  [[nodiscard]] std::uint32_t original(const char* p) const { return offsets[static_cast<std::size_t>(p - base)]; }
   [[nodiscard]] Span span(const char* begin, const char* end) const {
     if (end == begin) return {original(begin), original(begin)};
     return {original(begin), offsets[static_cast<std::size_t>(end - base) - 1] + 1};
   }
   [[nodiscard]] auto rpn_size() const { return static_cast<std::uint32_t>(block->rpn.size()); }
   [[nodiscard]] Value value(std::uint32_t begin, std::uint32_t end) const {
-    if (end - begin == 1 && block->rpn[begin].op == ExprOp::number)
-      return Value{block->rpn[begin].number, 0, 0};
+    if (end - begin == 1 && block->rpn[begin].op == ExprOp::number) return Value{block->rpn[begin].number, 0, 0};
     return Value{0.0, begin, end};
   }
 };
@@ -100,19 +104,24 @@ constexpr std::uint8_t kMarker = 0xff;
 
 int precedence(ExprOp op) {
   switch (op) {
-    case ExprOp::power: return 6;
+    case ExprOp::power:
+      return 6;
     case ExprOp::times:
     case ExprOp::divide:
-    case ExprOp::modulo: return 5;
+    case ExprOp::modulo:
+      return 5;
     case ExprOp::plus:
-    case ExprOp::minus: return 4;
+    case ExprOp::minus:
+      return 4;
     case ExprOp::eq:
     case ExprOp::ne:
     case ExprOp::gt:
     case ExprOp::ge:
     case ExprOp::lt:
-    case ExprOp::le: return 3;
-    default: return 2;  // and, or, xor
+    case ExprOp::le:
+      return 3;
+    default:
+      return 2;  // and, or, xor
   }
 }
 
@@ -121,8 +130,7 @@ template <typename Rule>
 inline constexpr bool kMarked =
     std::is_same_v<Rule, g::word> || std::is_same_v<Rule, g::signed_value> ||
     std::is_same_v<Rule, g::parameter_value> || std::is_same_v<Rule, g::parameter_setting> ||
-    std::is_same_v<Rule, g::expression> || std::is_same_v<Rule, g::exists_call> ||
-    std::is_same_v<Rule, g::o_label>;
+    std::is_same_v<Rule, g::expression> || std::is_same_v<Rule, g::exists_call> || std::is_same_v<Rule, g::o_label>;
 
 template <typename Rule>
 struct Control : pegtl::must_if<Errors>::control<Rule> {
@@ -460,21 +468,36 @@ struct KeywordAction {
     st.block->o.keyword = K;
   }
 };
-template <> struct Action<g::o_sub> : KeywordAction<OKeyword::sub> {};
-template <> struct Action<g::o_endsub> : KeywordAction<OKeyword::endsub> {};
-template <> struct Action<g::o_call> : KeywordAction<OKeyword::call> {};
-template <> struct Action<g::o_return> : KeywordAction<OKeyword::return_> {};
-template <> struct Action<g::o_if> : KeywordAction<OKeyword::if_> {};
-template <> struct Action<g::o_elseif> : KeywordAction<OKeyword::elseif> {};
-template <> struct Action<g::o_else> : KeywordAction<OKeyword::else_> {};
-template <> struct Action<g::o_endif> : KeywordAction<OKeyword::endif> {};
-template <> struct Action<g::o_while> : KeywordAction<OKeyword::while_> {};
-template <> struct Action<g::o_endwhile> : KeywordAction<OKeyword::endwhile> {};
-template <> struct Action<g::o_do> : KeywordAction<OKeyword::do_> {};
-template <> struct Action<g::o_break> : KeywordAction<OKeyword::break_> {};
-template <> struct Action<g::o_continue> : KeywordAction<OKeyword::continue_> {};
-template <> struct Action<g::o_repeat> : KeywordAction<OKeyword::repeat> {};
-template <> struct Action<g::o_endrepeat> : KeywordAction<OKeyword::endrepeat> {};
+template <>
+struct Action<g::o_sub> : KeywordAction<OKeyword::sub> {};
+template <>
+struct Action<g::o_endsub> : KeywordAction<OKeyword::endsub> {};
+template <>
+struct Action<g::o_call> : KeywordAction<OKeyword::call> {};
+template <>
+struct Action<g::o_return> : KeywordAction<OKeyword::return_> {};
+template <>
+struct Action<g::o_if> : KeywordAction<OKeyword::if_> {};
+template <>
+struct Action<g::o_elseif> : KeywordAction<OKeyword::elseif> {};
+template <>
+struct Action<g::o_else> : KeywordAction<OKeyword::else_> {};
+template <>
+struct Action<g::o_endif> : KeywordAction<OKeyword::endif> {};
+template <>
+struct Action<g::o_while> : KeywordAction<OKeyword::while_> {};
+template <>
+struct Action<g::o_endwhile> : KeywordAction<OKeyword::endwhile> {};
+template <>
+struct Action<g::o_do> : KeywordAction<OKeyword::do_> {};
+template <>
+struct Action<g::o_break> : KeywordAction<OKeyword::break_> {};
+template <>
+struct Action<g::o_continue> : KeywordAction<OKeyword::continue_> {};
+template <>
+struct Action<g::o_repeat> : KeywordAction<OKeyword::repeat> {};
+template <>
+struct Action<g::o_endrepeat> : KeywordAction<OKeyword::endrepeat> {};
 
 // How the lexical layer treats each byte: copied (folded to upper case), dropped (blank),
 // or the start of a comment.
@@ -484,7 +507,8 @@ struct ByteClasses {
   std::array<std::uint8_t, 256> kind{};
   std::array<char, 256> upper{};
   constexpr ByteClasses() {
-    for (int c = 0; c < 256; ++c) upper[static_cast<std::size_t>(c)] = static_cast<char>(c >= 'a' && c <= 'z' ? c - 'a' + 'A' : c);
+    for (int c = 0; c < 256; ++c)
+      upper[static_cast<std::size_t>(c)] = static_cast<char>(c >= 'a' && c <= 'z' ? c - 'a' + 'A' : c);
     kind[' '] = kind['\t'] = kBlank;
     kind['('] = kind[';'] = kind['['] = kComment;
   }
@@ -493,8 +517,7 @@ constexpr ByteClasses kBytes;
 
 // The lexical layer: blanks out, letters up, comments verbatim; remember where each kept
 // byte came from.
-void fold(std::string_view line, const Dialect& dialect, std::string& folded,
-          std::vector<std::uint32_t>& offsets) {
+void fold(std::string_view line, const Dialect& dialect, std::string& folded, std::vector<std::uint32_t>& offsets) {
   const std::size_t n = line.size();
   folded.resize(n);
   offsets.resize(n + 1);
@@ -618,7 +641,8 @@ bool Parser::parse_simple(std::string_view t, Block& out) const {
       if (close == std::string_view::npos) return false;
       if (t.substr(i + 1, close - i - 1).find('(') != std::string_view::npos) return false;
       out.comments.push_back(Comment{Span{static_cast<std::uint32_t>(i), static_cast<std::uint32_t>(close + 1)},
-                                     Span{static_cast<std::uint32_t>(i + 1), static_cast<std::uint32_t>(close)}, false});
+                                     Span{static_cast<std::uint32_t>(i + 1), static_cast<std::uint32_t>(close)},
+                                     false});
       i = close + 1;
       continue;
     }
@@ -663,15 +687,14 @@ void Parser::parse(std::string_view text, std::uint32_t line, std::string_view f
   State st{&dialect_, &out, nullptr, nullptr, marks_, operators_};
   st.base = folded_.data();
   st.offsets = offsets_.data();
-  pegtl::memory_input<pegtl::tracking_mode::lazy, pegtl::eol::lf_crlf> in(
-      folded_.data(), folded_.size(), "");
+  pegtl::memory_input<pegtl::tracking_mode::lazy, pegtl::eol::lf_crlf> in(folded_.data(), folded_.size(), "");
   try {
     pegtl::parse<g::line, Action, Control>(in, st);
   } catch (const pegtl::parse_error& e) {
     const auto& pos = e.positions().front();
     const std::uint32_t column = offsets_[std::min(pos.byte, folded_.size())] + 1;
-    throw Error(ErrorKind::program, std::string(e.message()),
-                SourceLocation{std::string(file), line, column}, std::string(text));
+    throw Error(ErrorKind::program, std::string(e.message()), SourceLocation{std::string(file), line, column},
+                std::string(text));
   }
 }
 

@@ -40,10 +40,20 @@ ToolTable read_tool_table(std::istream& in, const std::string& name) {
                     "tool table: bad number in field '" + std::string(line.substr(start, i - start)) + "'",
                     SourceLocation{name, line_no, static_cast<std::uint32_t>(start + 1)}, text);
       switch (letter) {
-        case 'T': entry.tool = static_cast<int>(value); has_tool = true; break;
-        case 'P': entry.pocket = static_cast<int>(value); break;
-        case 'D': entry.diameter = value; break;
-        case 'I': case 'J': case 'Q': break;  // lathe orientation and angles: not used here
+        case 'T':
+          entry.tool = static_cast<int>(value);
+          has_tool = true;
+          break;
+        case 'P':
+          entry.pocket = static_cast<int>(value);
+          break;
+        case 'D':
+          entry.diameter = value;
+          break;
+        case 'I':
+        case 'J':
+        case 'Q':
+          break;  // lathe orientation and angles: not used here
         default:
           if (auto axis = axis_index(letter)) {
             entry.offset[*axis] = value;

@@ -39,8 +39,8 @@ void TracePrinter::motion(const Motion& m) {
     case MotionKind::traverse:
     case MotionKind::feed:
     case MotionKind::probe: {
-      const std::string args = fmt::format("{:.4f}, {:.4f}, {:.4f}, {:.4f}, {:.4f}, {:.4f}", p(0, e[0]),
-                                           p(1, e[1]), p(2, e[2]), p(3, e[3]), p(4, e[4]), p(5, e[5]));
+      const std::string args = fmt::format("{:.4f}, {:.4f}, {:.4f}, {:.4f}, {:.4f}, {:.4f}", p(0, e[0]), p(1, e[1]),
+                                           p(2, e[2]), p(3, e[3]), p(4, e[4]), p(5, e[5]));
       if (m.kind == MotionKind::probe) {
         print("TURN_PROBE_ON", "");
         print("STRAIGHT_PROBE", args);
@@ -57,9 +57,8 @@ void TracePrinter::motion(const Motion& m) {
       centre[pa.second] = m.arc.center_second;
       centre = m.offsets->program_of(centre);
       print("ARC_FEED",
-            fmt::format("{:.4f}, {:.4f}, {:.4f}, {:.4f}, {}, {:.4f}, {:.4f}, {:.4f}, {:.4f}",
-                        p(pa.first, e[pa.first]), p(pa.second, e[pa.second]),
-                        p(pa.first, centre[pa.first]), p(pa.second, centre[pa.second]),
+            fmt::format("{:.4f}, {:.4f}, {:.4f}, {:.4f}, {}, {:.4f}, {:.4f}, {:.4f}, {:.4f}", p(pa.first, e[pa.first]),
+                        p(pa.second, e[pa.second]), p(pa.first, centre[pa.first]), p(pa.second, centre[pa.second]),
                         m.arc.turns, p(pa.normal, e[pa.normal]), p(3, e[3]), p(4, e[4]), p(5, e[5])));
       return;
     }

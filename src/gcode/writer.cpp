@@ -31,8 +31,7 @@ ProgramWriter::ProgramWriter(LineSource reader, std::FILE* out, std::string head
     : reader_(std::move(reader)), out_(out), header_(std::move(header)) {}
 
 void ProgramWriter::edit(std::uint64_t line_offset, std::vector<Edit> edits) {
-  if (line_offset < next_offset_)
-    throw Error(ErrorKind::internal, "an edit arrived for a line already written");
+  if (line_offset < next_offset_) throw Error(ErrorKind::internal, "an edit arrived for a line already written");
   auto& slot = edits_[line_offset];
   for (Edit& e : edits) slot.push_back(std::move(e));
 }

@@ -31,12 +31,15 @@ CheckReport check(const model::ForwardModel& model, const MeasurementSet& data) 
     ++s.observations;
     s.rms += e * e;
     s.max = std::max(s.max, std::abs(e));
-    if (std::abs(e) > report.max) report.max = std::abs(e), report.worst_row = o.row, report.worst_file = data.files[o.file];
+    if (std::abs(e) > report.max)
+      report.max = std::abs(e), report.worst_row = o.row, report.worst_file = data.files[o.file];
   }
-  for (SourceResidual& s : report.sources) s.rms = s.observations ? std::sqrt(s.rms / static_cast<double>(s.observations)) : 0.0;
+  for (SourceResidual& s : report.sources)
+    s.rms = s.observations ? std::sqrt(s.rms / static_cast<double>(s.observations)) : 0.0;
   report.rms = data.observations.empty() ? 0.0 : std::sqrt(sum2 / static_cast<double>(data.observations.size()));
   // Repeated points: the same position (to 1 um), direction, approach and conditions.
-  using Key = std::tuple<long long, long long, long long, long long, long long, long long, long long, long long, long long>;
+  using Key =
+      std::tuple<long long, long long, long long, long long, long long, long long, long long, long long, long long>;
   std::map<Key, std::vector<double>> groups;
   for (std::size_t i = 0; i < data.observations.size(); ++i) {
     const Observation& o = data.observations[i];
@@ -73,7 +76,8 @@ CheckReport check(const model::ForwardModel& model, const MeasurementSet& data) 
   for (std::size_t i = 0; i < data.observations.size(); ++i) {
     const Observation& o = data.observations[i];
     const long long direction = std::llround((o.direction.x() + 3 * o.direction.y() + 9 * o.direction.z()) * 1e6);
-    const long long approach = std::llround(o.directions[0] + 3 * o.directions[1] + 9 * o.directions[2] + 27 * o.directions[4]);
+    const long long approach =
+        std::llround(o.directions[0] + 3 * o.directions[1] + 9 * o.directions[2] + 27 * o.directions[4]);
     Series& s = series[{o.source, direction, approach}];
     if (s.last.size() == 2) {
       const Observation& a = data.observations[s.last[0]];

@@ -15,15 +15,22 @@ using model::TermForm;
 std::string parameter_label(const model::ErrorTermSpec& t, std::size_t k) {
   const std::string& n = t.iso;
   switch (t.shape.form) {
-    case TermForm::constant: return n;
-    case TermForm::polynomial: return fmt::format("{}.a{}", n, k);
-    case TermForm::table: return fmt::format("{}.value[{}]", n, k);
+    case TermForm::constant:
+      return n;
+    case TermForm::polynomial:
+      return fmt::format("{}.a{}", n, k);
+    case TermForm::table:
+      return fmt::format("{}.value[{}]", n, k);
     case TermForm::periodic:
       return k == 0 ? n + ".period" : fmt::format("{}.{}{}", n, k % 2 ? 'a' : 'b', (k + 1) / 2);
-    case TermForm::reversal: return n + ".reversal";
-    case TermForm::thermal_linear: return fmt::format("{}.k_{}", n, t.primary.text);
-    case TermForm::thermal_warmup: return k == 0 ? n + ".amplitude" : n + ".time_constant";
-    case TermForm::scale_expansion: return n + ".alpha";
+    case TermForm::reversal:
+      return n + ".reversal";
+    case TermForm::thermal_linear:
+      return fmt::format("{}.k_{}", n, t.primary.text);
+    case TermForm::thermal_warmup:
+      return k == 0 ? n + ".amplitude" : n + ".time_constant";
+    case TermForm::scale_expansion:
+      return n + ".alpha";
     case TermForm::cross_axis: {
       const auto order = static_cast<std::size_t>(t.shape.order);
       return fmt::format("{}.c{}{}", n, k / order, k % order + 1);
@@ -57,7 +64,9 @@ Eigen::VectorXd model_parameters(const model::ForwardModel& model) {
 
 namespace {
 
-double rms(const Eigen::VectorXd& r) { return r.size() ? std::sqrt(r.squaredNorm() / static_cast<double>(r.size())) : 0.0; }
+double rms(const Eigen::VectorXd& r) {
+  return r.size() ? std::sqrt(r.squaredNorm() / static_cast<double>(r.size())) : 0.0;
+}
 
 std::vector<double> rms_by_source(const Eigen::VectorXd& r, const MeasurementSet& data) {
   std::vector<double> sum(data.sources.size(), 0.0), count(data.sources.size(), 0.0);
@@ -93,7 +102,8 @@ void design_matrix(const model::ForwardModel& model, const Eigen::VectorXd& para
       if (!J) continue;
       const Eigen::RowVector3d nR = o.direction.transpose() * R;
       for (std::size_t j = 0; j < free.size(); ++j)
-        rows(i - chunk_begin, static_cast<Eigen::Index>(j)) = nR * d.J_parameters.col(static_cast<Eigen::Index>(free[j]));
+        rows(i - chunk_begin, static_cast<Eigen::Index>(j)) =
+            nR * d.J_parameters.col(static_cast<Eigen::Index>(free[j]));
       if (i - chunk_begin + 1 == kChunk || i + 1 == static_cast<Eigen::Index>(end)) {
         J->middleRows(chunk_begin, i - chunk_begin + 1) = rows.topRows(i - chunk_begin + 1);
         chunk_begin = i + 1;
@@ -116,7 +126,8 @@ Eigen::MatrixXd normal_matrix(const Eigen::MatrixXd& A, const Eigen::VectorXd* w
     part[b] = Eigen::MatrixXd::Zero(A.cols(), A.cols());
     if (weights)
       part[b].selfadjointView<Eigen::Lower>().rankUpdate(
-          (weights->segment(begin, end - begin).cwiseSqrt().asDiagonal() * A.middleRows(begin, end - begin)).transpose());
+          (weights->segment(begin, end - begin).cwiseSqrt().asDiagonal() * A.middleRows(begin, end - begin))
+              .transpose());
     else
       part[b].selfadjointView<Eigen::Lower>().rankUpdate(A.middleRows(begin, end - begin).transpose());
   });
@@ -136,7 +147,8 @@ Eigen::MatrixXd transpose_product(const Eigen::MatrixXd& A, const Eigen::MatrixX
   return C;
 }
 
-Eigen::VectorXd residuals(const model::ForwardModel& model, const Eigen::VectorXd& parameters, const MeasurementSet& data) {
+Eigen::VectorXd residuals(const model::ForwardModel& model, const Eigen::VectorXd& parameters,
+                          const MeasurementSet& data) {
   Eigen::VectorXd r;
   design_matrix(model, parameters, data, {}, r, nullptr);
   return r;
@@ -174,7 +186,7 @@ FitReport fit(const model::ForwardModel& model, const MeasurementSet& data, cons
   Eigen::MatrixXd V;
   Eigen::VectorXd sigma;
   std::vector<bool> identified_direction;
-  Eigen::MatrixXd subspace;  // the identified directions (scaled coordinates), columns
+  Eigen::MatrixXd subspace;      // the identified directions (scaled coordinates), columns
   bool jacobian_current = true;  // J is at p (a converged last step or a revert moves p on)
   // A period or time constant whose column was zero when the rank was decided (its
   // amplitudes were zero): blind then, decided again once they have moved.
@@ -183,7 +195,8 @@ FitReport fit(const model::ForwardModel& model, const MeasurementSet& data, cons
       const FittedParameter& fp = report.parameters[static_cast<std::size_t>(j)];
       const model::ErrorTermSpec& t = mm.terms[fp.term];
       const std::size_t k = fp.index - model.parameter_offset(fp.term);
-      const bool shape = (t.shape.form == TermForm::periodic && k == 0) || (t.shape.form == TermForm::thermal_warmup && k == 1);
+      const bool shape =
+          (t.shape.form == TermForm::periodic && k == 0) || (t.shape.form == TermForm::thermal_warmup && k == 1);
       if (shape && column_norm[j] == 0.0) return true;
     }
     return false;
@@ -215,8 +228,8 @@ FitReport fit(const model::ForwardModel& model, const MeasurementSet& data, cons
     // A = sqrt(W) J S^-1 is never formed (a copy of the whole design matrix): its normal
     // matrix and gradient come from J and are scaled after.
     const bool unit_weights = (weight.array() == 1.0).all();
-    const Eigen::MatrixXd N =
-        scale.cwiseInverse().asDiagonal() * normal_matrix(J, unit_weights ? nullptr : &weight) * scale.cwiseInverse().asDiagonal();
+    const Eigen::MatrixXd N = scale.cwiseInverse().asDiagonal() * normal_matrix(J, unit_weights ? nullptr : &weight) *
+                              scale.cwiseInverse().asDiagonal();
     const Eigen::VectorXd g = (J.transpose() * weight.cwiseProduct(r)).cwiseQuotient(scale);
     if (decide) {
       // Descending singular values and their right singular vectors.
@@ -250,7 +263,8 @@ FitReport fit(const model::ForwardModel& model, const MeasurementSet& data, cons
     // damped back over several passes over the data, only to be reverted at the end.
     // The noise: what the linear model leaves after the full step (from a poor start the
     // residual now is mostly model error, and would hide real effects).
-    const Eigen::VectorXd direction_gain = (mu.array() > 0).select(Qg.cwiseAbs2().cwiseQuotient(mu.cwiseMax(1e-300)), 0.0);
+    const Eigen::VectorXd direction_gain =
+        (mu.array() > 0).select(Qg.cwiseAbs2().cwiseQuotient(mu.cwiseMax(1e-300)), 0.0);
     const double noise2 = std::max(before - direction_gain.sum(), 0.0) /
                           std::max(1.0, static_cast<double>(n) - static_cast<double>(subspace.cols()));
     Eigen::VectorXd stepped_Qg = Qg;
@@ -259,8 +273,10 @@ FitReport fit(const model::ForwardModel& model, const MeasurementSet& data, cons
     // every trial fails, and each costs one.
     double predicted_gain = 0.0;
     for (Eigen::Index k = 0; k < mu.size(); ++k) {
-      if (direction_gain[k] > 9.0 * noise2) predicted_gain += direction_gain[k];
-      else stepped_Qg[k] = 0.0;
+      if (direction_gain[k] > 9.0 * noise2)
+        predicted_gain += direction_gain[k];
+      else
+        stepped_Qg[k] = 0.0;
     }
     auto step_for = [&](double damping) {
       const Eigen::VectorXd step = Q * stepped_Qg.cwiseQuotient((mu.array() + damping).max(1e-300).matrix());
@@ -282,7 +298,8 @@ FitReport fit(const model::ForwardModel& model, const MeasurementSet& data, cons
       damping = lambda * largest;
       const Eigen::VectorXd dp = step_for(damping);
       trial_p = p;
-      for (Eigen::Index j = 0; j < m; ++j) trial_p[static_cast<Eigen::Index>(free[static_cast<std::size_t>(j)])] += dp[j];
+      for (Eigen::Index j = 0; j < m; ++j)
+        trial_p[static_cast<Eigen::Index>(free[static_cast<std::size_t>(j)])] += dp[j];
       design_matrix(model, trial_p, data, free, trial_r, nullptr);
       if (cost(trial_r) <= before) {
         improved = true;
@@ -327,14 +344,18 @@ FitReport fit(const model::ForwardModel& model, const MeasurementSet& data, cons
     const double noise = std::sqrt((weight.cwiseSqrt().asDiagonal() * r).squaredNorm() / dof0);
     Eigen::VectorXd change(m);
     for (Eigen::Index j = 0; j < m; ++j)
-      change[j] = (p[static_cast<Eigen::Index>(free[static_cast<std::size_t>(j)])] - report.parameters[static_cast<std::size_t>(j)].before) * scale[j];
+      change[j] = (p[static_cast<Eigen::Index>(free[static_cast<std::size_t>(j)])] -
+                   report.parameters[static_cast<std::size_t>(j)].before) *
+                  scale[j];
     const Eigen::VectorXd c = V.transpose() * change;
     Eigen::VectorXd kept = Eigen::VectorXd::Zero(m);
     bool reverted = false;
     for (Eigen::Index k = 0; k < m; ++k) {
       if (!identified_direction[static_cast<std::size_t>(k)]) continue;
-      if (sigma[k] * std::abs(c[k]) > 3.0 * noise) kept[k] = c[k], ++report.significant;
-      else reverted = true;
+      if (sigma[k] * std::abs(c[k]) > 3.0 * noise)
+        kept[k] = c[k], ++report.significant;
+      else
+        reverted = true;
     }
     if (reverted) {
       // Linear reasoning: a nonlinear parameter (a period) far from where it started may
@@ -343,9 +364,11 @@ FitReport fit(const model::ForwardModel& model, const MeasurementSet& data, cons
       Eigen::VectorXd back_p = p, back_r;
       const Eigen::VectorXd back = (V * kept).cwiseQuotient(scale);
       for (Eigen::Index j = 0; j < m; ++j)
-        back_p[static_cast<Eigen::Index>(free[static_cast<std::size_t>(j)])] = report.parameters[static_cast<std::size_t>(j)].before + back[j];
+        back_p[static_cast<Eigen::Index>(free[static_cast<std::size_t>(j)])] =
+            report.parameters[static_cast<std::size_t>(j)].before + back[j];
       design_matrix(model, back_p, data, free, back_r, nullptr);
-      const auto identifiable = static_cast<std::size_t>(std::count(identified_direction.begin(), identified_direction.end(), true));
+      const auto identifiable =
+          static_cast<std::size_t>(std::count(identified_direction.begin(), identified_direction.end(), true));
       const auto reverted_count = static_cast<double>(identifiable - report.significant);
       if (cost(back_r) - cost(r) <= 9.0 * noise * noise * std::max(1.0, reverted_count)) {
         p = back_p;
@@ -380,8 +403,10 @@ FitReport fit(const model::ForwardModel& model, const MeasurementSet& data, cons
     // directions the data cannot see: up to 1% of it there.
     double var = 0.0, unseen = 0.0;
     for (Eigen::Index k = 0; k < m; ++k) {
-      if (identified_direction[static_cast<std::size_t>(k)]) var += V(j, k) * V(j, k) / (sigma[k] * sigma[k]);
-      else unseen += V(j, k) * V(j, k);
+      if (identified_direction[static_cast<std::size_t>(k)])
+        var += V(j, k) * V(j, k) / (sigma[k] * sigma[k]);
+      else
+        unseen += V(j, k) * V(j, k);
     }
     fp.uncertainty = std::sqrt(s2 * var) / scale[j];
     fp.identified = unseen <= 1e-4;
@@ -407,9 +432,10 @@ FitReport fit(const model::ForwardModel& model, const MeasurementSet& data, cons
     for (const auto& [w, j] : members)
       combination += fmt::format("{}{:+.2f} {}", combination.empty() ? "" : " ", V(static_cast<Eigen::Index>(j), k),
                                  report.parameters[j].label);
-    report.unidentifiable.push_back(fmt::format("{}: the data cannot separate these (relative singular value {:.1e}); "
-                                                "this combination is left as it was",
-                                                combination, sigma[0] > 0 ? sigma[k] / sigma[0] : 0.0));
+    report.unidentifiable.push_back(
+        fmt::format("{}: the data cannot separate these (relative singular value {:.1e}); "
+                    "this combination is left as it was",
+                    combination, sigma[0] > 0 ? sigma[k] / sigma[0] : 0.0));
   }
   return report;
 }

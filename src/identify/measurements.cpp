@@ -26,14 +26,18 @@ void split(std::string_view line, std::vector<std::string>& fields, std::vector<
   for (std::size_t i = 0; i < line.size(); ++i) {
     const char c = line[i];
     if (c == '"') {
-      if (quoted && i + 1 < line.size() && line[i + 1] == '"') fields.back() += '"', ++i;
-      else quoted = !quoted;
+      if (quoted && i + 1 < line.size() && line[i + 1] == '"')
+        fields.back() += '"', ++i;
+      else
+        quoted = !quoted;
     } else if (c == ',' && !quoted) {
       fields.emplace_back();
       columns.push_back(static_cast<std::uint32_t>(i + 2));
     } else if (c != '\r') {
-      if (fields.back().empty() && (c == ' ' || c == '\t')) ++columns.back();  // leading blanks
-      else fields.back() += c;
+      if (fields.back().empty() && (c == ' ' || c == '\t'))
+        ++columns.back();  // leading blanks
+      else
+        fields.back() += c;
     }
   }
   for (std::string& f : fields) f.erase(f.find_last_not_of(" \t") + 1);
@@ -91,25 +95,30 @@ void parse_measurements(const std::string& text, const std::string& name, const 
     if (!known) into.notices.push_back(fmt::format("{}: column '{}' is not part of the contract; ignored", name, h));
   }
   for (const char* required : {"x", "y", "z"})
-    if (cols.at(required) < 0) fail(header_line, 1, fmt::format("the header has no '{}' column (x, y, z are required)", required));
+    if (cols.at(required) < 0)
+      fail(header_line, 1, fmt::format("the header has no '{}' column (x, y, z are required)", required));
   const bool scalar = cols.at("d") >= 0, full = cols.at("dx") >= 0;
   if (scalar && (cols.at("nx") < 0 || cols.at("ny") < 0 || cols.at("nz") < 0))
     fail(header_line, 1, "a 'd' column needs its direction in nx, ny, nz");
   if (full && (cols.at("dy") < 0 || cols.at("dz") < 0)) fail(header_line, 1, "a 'dx' column needs dy and dz too");
-  if (!scalar && !full) fail(header_line, 1, "the header has neither nx,ny,nz,d nor dx,dy,dz: there is nothing measured");
+  if (!scalar && !full)
+    fail(header_line, 1, "the header has neither nx,ny,nz,d nor dx,dy,dz: there is nothing measured");
   // What the model needs that the file must give.
   for (const model::ErrorTermSpec& t : model.terms)
     for (const model::Variable* v : {&t.primary, &t.secondary}) {
       if (v->kind == model::VariableKind::time && cols.at("t") < 0)
         fail(header_line, 1, fmt::format("term {} depends on the time, and the file has no 't' column", t.name));
       if (v->kind == model::VariableKind::temperature && sensor_column[v->index] < 0)
-        fail(header_line, 1, fmt::format("term {} depends on sensor '{}', and the file has no 'T_{}' column", t.name,
-                                         model.sensors[v->index], model.sensors[v->index]));
+        fail(header_line, 1,
+             fmt::format("term {} depends on sensor '{}', and the file has no 'T_{}' column", t.name,
+                         model.sensors[v->index], model.sensors[v->index]));
     }
   for (std::size_t i = 0; i < header.size(); ++i) {
     const std::string& h = header[i];
-    if (h.size() == 1 && kAxes.find(h[0]) != std::string_view::npos && !model.axis(static_cast<char>(std::toupper(h[0]))))
-      fail(header_line, column_of_field[i], fmt::format("column '{}' is an axis machine '{}' does not have", h, model.name));
+    if (h.size() == 1 && kAxes.find(h[0]) != std::string_view::npos &&
+        !model.axis(static_cast<char>(std::toupper(h[0]))))
+      fail(header_line, column_of_field[i],
+           fmt::format("column '{}' is an axis machine '{}' does not have", h, model.name));
   }
 
   std::map<std::string, std::uint32_t> source_index;
@@ -130,9 +139,11 @@ void parse_measurements(const std::string& text, const std::string& name, const 
       double v = 0.0;
       const auto [end, ec] = std::from_chars(f.data(), f.data() + f.size(), v);
       if (ec != std::errc() || end != f.data() + f.size())
-        fail(number, at_column[static_cast<std::size_t>(c)], fmt::format("column '{}': '{}' is not a number", column, f));
+        fail(number, at_column[static_cast<std::size_t>(c)],
+             fmt::format("column '{}': '{}' is not a number", column, f));
       if (!std::isfinite(v))
-        fail(number, at_column[static_cast<std::size_t>(c)], fmt::format("column '{}' is {}: every value must be finite", column, f));
+        fail(number, at_column[static_cast<std::size_t>(c)],
+             fmt::format("column '{}' is {}: every value must be finite", column, f));
       return v;
     };
     auto required = [&](const std::string& column) {
@@ -173,7 +184,8 @@ void parse_measurements(const std::string& text, const std::string& name, const 
       const Eigen::Vector3d n(required("nx"), required("ny"), required("nz"));
       if (std::abs(n.norm() - 1.0) > 1e-3)
         fail(number, at_column[static_cast<std::size_t>(cols.at("nx"))],
-             fmt::format("the direction ({}, {}, {}) is not a unit vector (length {:.6f})", n.x(), n.y(), n.z(), n.norm()));
+             fmt::format("the direction ({}, {}, {}) is not a unit vector (length {:.6f})", n.x(), n.y(), n.z(),
+                         n.norm()));
       o.direction = n.normalized();
       o.value = required("d");
       into.observations.push_back(o);

@@ -19,7 +19,8 @@ struct Sensitivity {
   std::vector<bool> identified;
 };
 
-Sensitivity sensitivity(const model::ForwardModel& model, const Eigen::VectorXd& parameters, const MeasurementSet& data) {
+Sensitivity sensitivity(const model::ForwardModel& model, const Eigen::VectorXd& parameters,
+                        const MeasurementSet& data) {
   const std::vector<std::size_t> free = free_parameters(model);
   Eigen::VectorXd r;
   Eigen::MatrixXd J;
@@ -35,8 +36,10 @@ Sensitivity sensitivity(const model::ForwardModel& model, const Eigen::VectorXd&
   Eigen::VectorXd unseen = Eigen::VectorXd::Zero(m);
   for (Eigen::Index k = 0; k < m; ++k) {
     const Eigen::VectorXd v = eig.eigenvectors().col(k);
-    if (eig.eigenvalues()[k] > 1e-8 * largest) pinv += v * v.transpose() / eig.eigenvalues()[k];
-    else unseen += v.cwiseProduct(v);
+    if (eig.eigenvalues()[k] > 1e-8 * largest)
+      pinv += v * v.transpose() / eig.eigenvalues()[k];
+    else
+      unseen += v.cwiseProduct(v);
   }
   for (Eigen::Index j = 0; j < m; ++j) out.identified.push_back(unseen[j] <= 1e-4);
   // The predictions with every reading shifted 1 mm across its line.
@@ -94,8 +97,9 @@ NineLineReport nine_line(const model::ForwardModel& model, const MeasurementSet&
     const std::size_t source = static_cast<std::size_t>(worst / 2);
     const char* across[3][2] = {{"y", "z"}, {"z", "x"}, {"x", "y"}};
     const auto axis = std::string_view("xyz").find(data.sources[source].empty() ? ' ' : data.sources[source][0]);
-    report.sensitivity.push_back({s.labels[static_cast<std::size_t>(j)], per_mm,
-                                  data.sources[source] + (axis < 3 ? std::string(" along ") + across[axis][worst % 2] : "")});
+    report.sensitivity.push_back(
+        {s.labels[static_cast<std::size_t>(j)], per_mm,
+         data.sources[source] + (axis < 3 ? std::string(" along ") + across[axis][worst % 2] : "")});
   }
   std::sort(report.sensitivity.begin(), report.sensitivity.end(),
             [&](const PlacementSensitivity& a, const PlacementSensitivity& b) { return a.per_mm > b.per_mm; });

@@ -57,7 +57,8 @@ PositioningReport analyse_positioning(const MeasurementSet& data, std::size_t ax
   }
   if (report.targets.empty())
     throw Error(ErrorKind::data, fmt::format("no target along {} is approached from both sides: ISO 230-2 needs "
-                                             "bidirectional runs", letter));
+                                             "bidirectional runs",
+                                             letter));
   // The axis' figures (ISO 230-2 sect. 3).
   double up_hi = -1e300, up_lo = 1e300, down_hi = -1e300, down_lo = 1e300, mean_hi = -1e300, mean_lo = 1e300;
   double a_up_hi = -1e300, a_up_lo = 1e300, a_down_hi = -1e300, a_down_lo = 1e300, b_sum = 0;
@@ -67,7 +68,8 @@ PositioningReport analyse_positioning(const MeasurementSet& data, std::size_t ax
     const double bidirectional = 0.5 * (t.mean_up + t.mean_down);
     mean_hi = std::max(mean_hi, bidirectional), mean_lo = std::min(mean_lo, bidirectional);
     a_up_hi = std::max(a_up_hi, t.mean_up + 2 * t.s_up), a_up_lo = std::min(a_up_lo, t.mean_up - 2 * t.s_up);
-    a_down_hi = std::max(a_down_hi, t.mean_down + 2 * t.s_down), a_down_lo = std::min(a_down_lo, t.mean_down - 2 * t.s_down);
+    a_down_hi = std::max(a_down_hi, t.mean_down + 2 * t.s_down),
+    a_down_lo = std::min(a_down_lo, t.mean_down - 2 * t.s_down);
     report.B = std::max(report.B, std::abs(t.reversal));
     b_sum += t.reversal;
     report.R_up = std::max(report.R_up, 4 * t.s_up), report.R_down = std::max(report.R_down, 4 * t.s_down);

@@ -94,16 +94,20 @@ MeasurementSet simulate(const model::ForwardModel& truth, const SimulateOptions&
             for (int pass = 0; pass < 2 * std::max(1, options.runs); ++pass) {  // out and back, each run
               std::array<double, 9> dirs{};
               dirs[static_cast<std::size_t>(a)] = pass % 2 == 0 ? 1.0 : -1.0;
-              const int count = std::max(2, static_cast<int>(std::floor((s[a].second - s[a].first) / options.step)) + 1);
+              const int count =
+                  std::max(2, static_cast<int>(std::floor((s[a].second - s[a].first) / options.step)) + 1);
               for (int k = 0; k < count; ++k) {
                 const double f = static_cast<double>(pass % 2 == 0 ? k : count - 1 - k) / (count - 1);
                 double p[3];
                 p[a] = s[a].first + f * (s[a].second - s[a].first);
                 p[u] = offsets[line][0];
                 p[w] = offsets[line][1];
-                if (line == 0) rec.record(label, p[0], p[1], p[2], 0, options.tool_length, 0, cold, dirs, {e[a], e[u], e[w]});
-                else if (line == 1) rec.record(label, p[0], p[1], p[2], 0, options.tool_length, 0, cold, dirs, {e[a], e[u]});
-                else rec.record(label, p[0], p[1], p[2], 0, options.tool_length, 0, cold, dirs, {e[a]});
+                if (line == 0)
+                  rec.record(label, p[0], p[1], p[2], 0, options.tool_length, 0, cold, dirs, {e[a], e[u], e[w]});
+                else if (line == 1)
+                  rec.record(label, p[0], p[1], p[2], 0, options.tool_length, 0, cold, dirs, {e[a], e[u]});
+                else
+                  rec.record(label, p[0], p[1], p[2], 0, options.tool_length, 0, cold, dirs, {e[a]});
               }
             }
           }
@@ -127,7 +131,8 @@ MeasurementSet simulate(const model::ForwardModel& truth, const SimulateOptions&
         for (int k = 0; k < count; ++k)
           for (const auto& [px, pz] : {std::pair{150.0, 0.0}, std::pair{-60.0, 100.0}})
             for (double y : {mid(1) - 50, mid(1) + 50})
-              rec.record("sphere", px, y, pz, -180.0 + 360.0 * k / count, options.tool_length, 0, cold, {}, {e[0], e[1], e[2]});
+              rec.record("sphere", px, y, pz, -180.0 + 360.0 * k / count, options.tool_length, 0, cold, {},
+                         {e[0], e[1], e[2]});
         break;
       }
       case Plan::test_piece: {
@@ -153,12 +158,13 @@ MeasurementSet simulate(const model::ForwardModel& truth, const SimulateOptions&
           const double t = 600.0 * k;
           std::vector<double> T = cold;
           for (std::size_t i = 0; i < T.size(); ++i) {
-            const double end = i < options.warm_temperatures.size() ? options.warm_temperatures[i] : 20.0 + 4.0 + 2.0 * static_cast<double>(i);
+            const double end = i < options.warm_temperatures.size() ? options.warm_temperatures[i]
+                                                                    : 20.0 + 4.0 + 2.0 * static_cast<double>(i);
             T[i] = 20.0 + (end - 20.0) * (1.0 - std::exp(-t / (2400.0 + 1800.0 * static_cast<double>(i))));
           }
           for (int point = 0; point < 3; ++point)
-            rec.record("thermal", inset(0, 0.2 + 0.3 * point), mid(1), inset(2, 0.2 + 0.3 * point), 0, options.tool_length,
-                       t, T, {}, {e[0], e[1], e[2]});
+            rec.record("thermal", inset(0, 0.2 + 0.3 * point), mid(1), inset(2, 0.2 + 0.3 * point), 0,
+                       options.tool_length, t, T, {}, {e[0], e[1], e[2]});
         }
         break;
       }

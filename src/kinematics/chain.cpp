@@ -62,13 +62,15 @@ Pose link_pose(const Joint& j, bool offset_only, double q, const Pose& error) {
   return compose(m, error);
 }
 
-bool same(const Pose& a, const Pose& b) { return a.R == b.R && a.t == b.t; }
+bool same(const Pose& a, const Pose& b) {
+  return a.R == b.R && a.t == b.t;
+}
 
 /// Composes one side, base to end. With `J_end`, fills for each link the Jacobian of the
 /// end pose w.r.t. a right perturbation of the link's error pose (Ad of the suffix
 /// inverse), and adds the link's axis motion into J_q_side.
-Pose compose_side(const Chain& chain, const std::vector<Pose>& errors, const Eigen::Ref<const VecQ>& q, std::vector<Pose>& oMi,
-                  ChainData::SideCache& cache, std::vector<Mat6>* J_error,
+Pose compose_side(const Chain& chain, const std::vector<Pose>& errors, const Eigen::Ref<const VecQ>& q,
+                  std::vector<Pose>& oMi, ChainData::SideCache& cache, std::vector<Mat6>* J_error,
                   Eigen::Matrix<double, 6, Eigen::Dynamic>* J_q) {
   const std::size_t n = chain.joints.size();
   std::vector<Pose>& links = cache.links;

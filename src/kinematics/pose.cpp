@@ -1,7 +1,6 @@
 #include "ccomp/kinematics/pose.hpp"
 
 #include <Eigen/Eigenvalues>
-
 #include <algorithm>
 #include <cmath>
 
@@ -44,7 +43,7 @@ Mat3 identity_plus(const Vec3& w, double th2, double a, double b) {
   const double x = w.x(), y = w.y(), z = w.z();
   Mat3 m;
   m << 1.0 + b * (x * x - th2), -a * z + b * x * y, a * y + b * x * z,  //
-      a * z + b * x * y, 1.0 + b * (y * y - th2), -a * x + b * y * z,  //
+      a * z + b * x * y, 1.0 + b * (y * y - th2), -a * x + b * y * z,   //
       -a * y + b * x * z, a * x + b * y * z, 1.0 + b * (z * z - th2);
   return m;
 }
@@ -59,12 +58,11 @@ Mat3 so3_right_jacobian(const Vec3& w) {
 Mat3 so3_right_jacobian_inverse(const Vec3& w) {
   const double th2 = w.squaredNorm();
   // 1/th^2 - (1 + cos th) / (2 th sin th) = 1/12 + th^2/720 + th^4/30240 + ...
-  const double c = th2 < kSeries * kSeries
-                       ? 1.0 / 12.0 + th2 / 720.0 + th2 * th2 / 30240.0
-                       : 1.0 / th2 - (1.0 + std::cos(std::sqrt(th2))) / (2.0 * std::sqrt(th2) * std::sin(std::sqrt(th2)));
+  const double c = th2 < kSeries * kSeries ? 1.0 / 12.0 + th2 / 720.0 + th2 * th2 / 30240.0
+                                           : 1.0 / th2 - (1.0 + std::cos(std::sqrt(th2))) /
+                                                             (2.0 * std::sqrt(th2) * std::sin(std::sqrt(th2)));
   return identity_plus(w, th2, 0.5, c);
 }
-
 
 Mat3 so3_exp(const Vec3& w, Mat3* J) {
   const double th2 = w.squaredNorm();
@@ -135,9 +133,13 @@ Vec6 se3_log(const Pose& X) {
   return tau;
 }
 
-Pose plus(const Pose& X, const Vec6& tau) { return compose(X, se3_exp(tau)); }
+Pose plus(const Pose& X, const Vec6& tau) {
+  return compose(X, se3_exp(tau));
+}
 
-Vec6 minus(const Pose& Y, const Pose& X) { return se3_log(compose(inverse(X), Y)); }
+Vec6 minus(const Pose& Y, const Pose& X) {
+  return se3_log(compose(inverse(X), Y));
+}
 
 Pose error_pose(const Vec3& delta, const Vec3& epsilon, Eigen::Matrix<double, 6, 3>* J_delta,
                 Eigen::Matrix<double, 6, 3>* J_epsilon) {

@@ -1,7 +1,6 @@
 #include "ccomp/model/error_term.hpp"
 
 #include <Eigen/LU>
-
 #include <algorithm>
 #include <cmath>
 
@@ -52,8 +51,8 @@ void cubic_weights(const std::vector<double>& x, double v, Eigen::VectorXd& w, E
 
 /// A table's value: kept out of evaluate() so its dynamic vectors do not weigh on the
 /// other forms' calls (the forward model evaluates every term at every point).
-[[gnu::noinline]] void evaluate_table(const TermShape& s, const Eigen::Ref<const Eigen::VectorXd>& p, double v, bool grad,
-                                      TermValue& r) {
+[[gnu::noinline]] void evaluate_table(const TermShape& s, const Eigen::Ref<const Eigen::VectorXd>& p, double v,
+                                      bool grad, TermValue& r) {
   const auto n = static_cast<Eigen::Index>(s.knots.size());
   if (s.interpolation == Interpolation::cubic) {
     Eigen::VectorXd w, dw;
@@ -87,12 +86,18 @@ std::size_t parameter_count(const TermShape& s) {
     case TermForm::constant:
     case TermForm::reversal:
     case TermForm::thermal_linear:
-    case TermForm::scale_expansion: return 1;
-    case TermForm::polynomial: return static_cast<std::size_t>(s.order) + 1;
-    case TermForm::table: return s.knots.size();
-    case TermForm::periodic: return 1 + 2 * static_cast<std::size_t>(s.order);
-    case TermForm::thermal_warmup: return 2;
-    case TermForm::cross_axis: return static_cast<std::size_t>(s.order_primary + 1) * static_cast<std::size_t>(s.order);
+    case TermForm::scale_expansion:
+      return 1;
+    case TermForm::polynomial:
+      return static_cast<std::size_t>(s.order) + 1;
+    case TermForm::table:
+      return s.knots.size();
+    case TermForm::periodic:
+      return 1 + 2 * static_cast<std::size_t>(s.order);
+    case TermForm::thermal_warmup:
+      return 2;
+    case TermForm::cross_axis:
+      return static_cast<std::size_t>(s.order_primary + 1) * static_cast<std::size_t>(s.order);
   }
   return 0;
 }
@@ -138,7 +143,8 @@ void evaluate(const TermShape& s, const Eigen::Ref<const Eigen::VectorXd>& p, co
       double c1 = 0.0, s1 = 0.0;
       if (const double delta = phase1 - r.phase_reference; std::abs(delta) < 0.05) {
         const double d2 = delta * delta;
-        const double cd = 1.0 - d2 / 2.0 * (1.0 - d2 / 12.0 * (1.0 - d2 / 30.0 * (1.0 - d2 / 56.0 * (1.0 - d2 / 90.0))));
+        const double cd =
+            1.0 - d2 / 2.0 * (1.0 - d2 / 12.0 * (1.0 - d2 / 30.0 * (1.0 - d2 / 56.0 * (1.0 - d2 / 90.0))));
         const double sd = delta * (1.0 - d2 / 6.0 * (1.0 - d2 / 20.0 * (1.0 - d2 / 42.0 * (1.0 - d2 / 72.0))));
         c1 = r.cos_reference * cd - r.sin_reference * sd;
         s1 = r.sin_reference * cd + r.cos_reference * sd;

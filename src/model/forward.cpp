@@ -103,20 +103,26 @@ ForwardData::ForwardData(const ForwardModel& model)
       J_work_pose(model.chain().workpiece.joints.size()),
       J_tool_pose(model.chain().tool.joints.size()) {
   for (std::size_t i = 0; i < model.machine().terms.size(); ++i)
-    parameters.segment(static_cast<Eigen::Index>(model.parameter_offset(i)), model.machine().terms[i].parameters.size()) =
-        model.machine().terms[i].parameters;
+    parameters.segment(static_cast<Eigen::Index>(model.parameter_offset(i)),
+                       model.machine().terms[i].parameters.size()) = model.machine().terms[i].parameters;
 }
 
 namespace {
 
 double variable_value(const Variable& v, const ChainQ& q, const Conditions& c) {
   switch (v.kind) {
-    case VariableKind::axis: return q[static_cast<Eigen::Index>(v.index)];
-    case VariableKind::tool_length: return q[static_cast<Eigen::Index>(kToolLengthIndex)];
-    case VariableKind::time: return c.time;
-    case VariableKind::temperature: return v.index < c.temperatures.size() ? c.temperatures[v.index] : 20.0;
-    case VariableKind::direction: return c.directions[v.index];
-    case VariableKind::none: return 0.0;
+    case VariableKind::axis:
+      return q[static_cast<Eigen::Index>(v.index)];
+    case VariableKind::tool_length:
+      return q[static_cast<Eigen::Index>(kToolLengthIndex)];
+    case VariableKind::time:
+      return c.time;
+    case VariableKind::temperature:
+      return v.index < c.temperatures.size() ? c.temperatures[v.index] : 20.0;
+    case VariableKind::direction:
+      return c.directions[v.index];
+    case VariableKind::none:
+      return 0.0;
   }
   return 0.0;
 }
@@ -126,15 +132,24 @@ double variable_value(const Variable& v, const ChainQ& q, const Conditions& c) {
 bool inline_value(const ErrorTermSpec& t, const double* p, const TermInputs& in, double& value) {
   const double v = in.primary;
   switch (t.shape.form) {
-    case TermForm::constant: value = p[0]; return true;
+    case TermForm::constant:
+      value = p[0];
+      return true;
     case TermForm::polynomial:
       value = p[t.shape.order];
       for (int k = t.shape.order - 1; k >= 0; --k) value = value * v + p[k];
       return true;
-    case TermForm::reversal: value = 0.5 * p[0] * v; return true;
-    case TermForm::thermal_linear: value = p[0] * (v - t.shape.reference); return true;
-    case TermForm::scale_expansion: value = p[0] * v * (in.secondary - t.shape.reference); return true;
-    default: return false;
+    case TermForm::reversal:
+      value = 0.5 * p[0] * v;
+      return true;
+    case TermForm::thermal_linear:
+      value = p[0] * (v - t.shape.reference);
+      return true;
+    case TermForm::scale_expansion:
+      value = p[0] * v * (in.secondary - t.shape.reference);
+      return true;
+    default:
+      return false;
   }
 }
 

@@ -1,9 +1,9 @@
 #include "ccomp/model/machine.hpp"
 
+#include <fmt/format.h>
 #include <yaml-cpp/yaml.h>
 
 #include <cmath>
-#include <fmt/format.h>
 #include <fstream>
 #include <sstream>
 
@@ -79,9 +79,12 @@ MachineModel parse_machine_model(const std::string& text, const std::string& nam
     if (spec && spec.IsMap()) {
       if (spec["type"]) {
         const std::string type = spec["type"].as<std::string>();
-        if (type == "linear") a.type = AxisType::linear;
-        else if (type == "rotary") a.type = AxisType::rotary;
-        else bad(name, spec["type"], fmt::format("axis {}: type '{}' is neither linear nor rotary", a.letter, type));
+        if (type == "linear")
+          a.type = AxisType::linear;
+        else if (type == "rotary")
+          a.type = AxisType::rotary;
+        else
+          bad(name, spec["type"], fmt::format("axis {}: type '{}' is neither linear nor rotary", a.letter, type));
       }
       if (spec["min"]) a.min = number(name, spec["min"], fmt::format("axis {} min", a.letter));
       if (spec["max"]) a.max = number(name, spec["max"], fmt::format("axis {} max", a.letter));
@@ -109,9 +112,7 @@ MachineModel load_machine_model(const std::string& path) {
 }
 
 void validate(const MachineModel& model) {
-  auto fail = [&](const std::string& message) {
-    throw Error(ErrorKind::model, message, SourceLocation{model.path});
-  };
+  auto fail = [&](const std::string& message) { throw Error(ErrorKind::model, message, SourceLocation{model.path}); };
   if (model.axes.empty()) fail("the model has no axes");
   for (std::size_t i = 0; i < model.axes.size(); ++i) {
     const AxisSpec& a = model.axes[i];

@@ -11,8 +11,8 @@ namespace ccomp::model::file {
 
 [[noreturn]] void bad(const std::string& file, const YAML::Node& node, const std::string& message);
 /// A number, or a quantity with a unit ("350 mm"), as internal units.
-double quantity(const std::string& file, const YAML::Node& node, const Dimension& expected, std::string_view default_unit,
-                const std::string& what);
+double quantity(const std::string& file, const YAML::Node& node, const Dimension& expected,
+                std::string_view default_unit, const std::string& what);
 
 void read_chains(const std::string& file, const YAML::Node& chain, MachineModel& m);
 void read_terms(const std::string& file, const YAML::Node& terms, MachineModel& m);

@@ -1,7 +1,8 @@
 // Writing fitted parameters back into a model file, in the file's own units and keys.
 #include <fmt/format.h>
-#include <cstdlib>
 #include <yaml-cpp/yaml.h>
+
+#include <cstdlib>
 
 #include "ccomp/error.hpp"
 #include "ccomp/model/machine.hpp"
@@ -10,7 +11,9 @@ namespace ccomp::model {
 namespace {
 
 /// A number as the file would write it: enough digits to round-trip.
-std::string number(double v) { return fmt::format("{:.10g}", v); }
+std::string number(double v) {
+  return fmt::format("{:.10g}", v);
+}
 
 /// Replaces a scalar's number. A unit written after it ("-4 um") stays, the number scaled
 /// by what the file's number meant (`before`, internal); without one, or when the file's
@@ -43,7 +46,9 @@ std::string rewrite_parameters(const std::string& text, const MachineModel& mode
       set(node, p[k], t.parameters[k], t.parameter_unit[static_cast<std::size_t>(k)]);
     };
     switch (t.shape.form) {
-      case TermForm::constant: put(n["value"], 0); break;
+      case TermForm::constant:
+        put(n["value"], 0);
+        break;
       case TermForm::polynomial:
         for (Eigen::Index k = 0; k < p.size(); ++k) put(n["coefficients"][static_cast<std::size_t>(k)], k);
         break;
@@ -55,9 +60,13 @@ std::string rewrite_parameters(const std::string& text, const MachineModel& mode
         for (Eigen::Index k = 1; k < p.size(); ++k)
           put(n["harmonics"][static_cast<std::size_t>((k - 1) / 2)][static_cast<std::size_t>((k - 1) % 2)], k);
         break;
-      case TermForm::reversal: put(n["reversal"], 0); break;
+      case TermForm::reversal:
+        put(n["reversal"], 0);
+        break;
       case TermForm::thermal_linear:
-      case TermForm::scale_expansion: put(n["coefficient"], 0); break;
+      case TermForm::scale_expansion:
+        put(n["coefficient"], 0);
+        break;
       case TermForm::thermal_warmup:
         put(n["amplitude"], 0);
         put(n["time_constant"], 1);
@@ -87,7 +96,8 @@ std::string add_terms(const std::string& text, const std::vector<std::string>& s
     } catch (const YAML::Exception& e) {
       throw Error(ErrorKind::usage, fmt::format("--add '{}': not YAML: {}", spec, e.msg));
     }
-    if (!term.IsMap()) throw Error(ErrorKind::usage, fmt::format("--add '{}': a term is a mapping {{name: ..., form: ...}}", spec));
+    if (!term.IsMap())
+      throw Error(ErrorKind::usage, fmt::format("--add '{}': a term is a mapping {{name: ..., form: ...}}", spec));
     terms.push_back(term);
   }
   root["terms"] = terms;

@@ -61,7 +61,8 @@ std::string iso_name(const std::string& name) {
   auto rot = [](char c) { return c == 'x' ? 'A' : c == 'y' ? 'B' : c == 'z' ? 'C' : '?'; };
   if (name.size() == 8 && name.starts_with("delta_"))
     return {'E', static_cast<char>(std::toupper(name[6])), static_cast<char>(std::toupper(name[7]))};
-  if (name.size() == 6 && name.starts_with("eps_")) return {'E', rot(name[4]), static_cast<char>(std::toupper(name[5]))};
+  if (name.size() == 6 && name.starts_with("eps_"))
+    return {'E', rot(name[4]), static_cast<char>(std::toupper(name[5]))};
   return name;
 }
 
@@ -90,13 +91,14 @@ Variable read_variable(const std::string& file, const YAML::Node& node, const st
     v.kind = VariableKind::temperature;
     const std::string sensor = text.substr(2);
     const auto it = std::find(m.sensors.begin(), m.sensors.end(), sensor);
-    if (it == m.sensors.end())
-      bad(file, node, fmt::format("{}: sensor '{}' is not in 'sensors'", what, sensor));
+    if (it == m.sensors.end()) bad(file, node, fmt::format("{}: sensor '{}' is not in 'sensors'", what, sensor));
     v.index = static_cast<std::size_t>(it - m.sensors.begin());
-  } else if (text.size() == 2 && text[0] == 'v' && kAxisLetters.find(static_cast<char>(std::toupper(text[1]))) != std::string_view::npos) {
+  } else if (text.size() == 2 && text[0] == 'v' &&
+             kAxisLetters.find(static_cast<char>(std::toupper(text[1]))) != std::string_view::npos) {
     v.kind = VariableKind::direction;
     v.index = kAxisLetters.find(static_cast<char>(std::toupper(text[1])));
-  } else if (text.size() == 1 && kAxisLetters.find(static_cast<char>(std::toupper(text[0]))) != std::string_view::npos) {
+  } else if (text.size() == 1 &&
+             kAxisLetters.find(static_cast<char>(std::toupper(text[0]))) != std::string_view::npos) {
     v.kind = VariableKind::axis;
     v.index = kAxisLetters.find(static_cast<char>(std::toupper(text[0])));
     if (!m.axis(kAxisLetters[v.index]))
@@ -115,10 +117,14 @@ std::pair<Dimension, std::string_view> variable_unit(const Variable& v, const Ma
       return a && a->type == AxisType::rotary ? std::pair{kAngle, std::string_view("deg")}
                                               : std::pair{kLength, std::string_view("mm")};
     }
-    case VariableKind::tool_length: return {kLength, "mm"};
-    case VariableKind::time: return {kTime, "s"};
-    case VariableKind::temperature: return {kTemperature, "degC"};
-    default: return {kDimensionless, "1"};
+    case VariableKind::tool_length:
+      return {kLength, "mm"};
+    case VariableKind::time:
+      return {kTime, "s"};
+    case VariableKind::temperature:
+      return {kTemperature, "degC"};
+    default:
+      return {kDimensionless, "1"};
   }
 }
 
@@ -141,8 +147,10 @@ void read_terms(const std::string& file, const YAML::Node& terms, MachineModel& 
     const std::string what = "term " + t.name;
     bool location = false;
     if (!decode_iso(t.iso, t.component, t.link, location) && !n["link"])
-      bad(file, n["name"], fmt::format("{}: not an ISO 230-1 name (E<X Y Z A B C><axis> or E<..>0<axis>); give "
-                                       "'link' and 'component'", what));
+      bad(file, n["name"],
+          fmt::format("{}: not an ISO 230-1 name (E<X Y Z A B C><axis> or E<..>0<axis>); give "
+                      "'link' and 'component'",
+                      what));
     if (n["link"]) t.link = n["link"].as<std::string>();
     if (n["component"]) {
       const std::string c = n["component"].as<std::string>();
@@ -159,9 +167,9 @@ void read_terms(const std::string& file, const YAML::Node& terms, MachineModel& 
     const auto out_unit = parse_unit(out_text);
     if (!out_unit) bad(file, n["unit"], fmt::format("{}: unknown unit '{}'", what, out_text));
     if (!(out_unit->dimension == out_dim))
-      bad(file, n["unit"], fmt::format("{}: '{}' measures {}, but the {} of {} is a {}", what, out_text,
-                                       out_unit->dimension.describe(), rotation ? "rotation" : "translation", t.iso,
-                                       out_dim.describe()));
+      bad(file, n["unit"],
+          fmt::format("{}: '{}' measures {}, but the {} of {} is a {}", what, out_text, out_unit->dimension.describe(),
+                      rotation ? "rotation" : "translation", t.iso, out_dim.describe()));
     const double out = out_unit->scale;
 
     const std::string form = n["form"] ? n["form"].as<std::string>() : "constant";
@@ -177,8 +185,9 @@ void read_terms(const std::string& file, const YAML::Node& terms, MachineModel& 
     const std::string vunit_text = n["variable_unit"] ? n["variable_unit"].as<std::string>() : std::string(vdefault);
     const auto vunit = parse_unit(vunit_text);
     if (!vunit || !(vunit->dimension == vdim))
-      bad(file, n, fmt::format("{}: variable_unit '{}' does not fit variable '{}' ({})", what, vunit_text, var_text,
-                               vdim.describe()));
+      bad(file, n,
+          fmt::format("{}: variable_unit '{}' does not fit variable '{}' ({})", what, vunit_text, var_text,
+                      vdim.describe()));
     const double var = vunit->scale;
     auto number = [&](const YAML::Node& v, const std::string& field) {
       const double x = quantity(file, v, kDimensionless, "1", what + " " + field);
@@ -188,8 +197,8 @@ void read_terms(const std::string& file, const YAML::Node& terms, MachineModel& 
     // An amount of the term's value: a bare number in `unit`, or a quantity with its own.
     auto amount = [&](const YAML::Node& v, const std::string& field) {
       const std::string text = v.IsScalar() ? v.as<std::string>() : std::string();
-      if (text.find_first_of("abcdefghijklmnopqrstuvwxyzµ") != std::string::npos && text.find("e-") == std::string::npos &&
-          text.find("e+") == std::string::npos)
+      if (text.find_first_of("abcdefghijklmnopqrstuvwxyzµ") != std::string::npos &&
+          text.find("e-") == std::string::npos && text.find("e+") == std::string::npos)
         return quantity(file, v, out_dim, out_text, what + " " + field);
       return number(v, field) * out;
     };
@@ -225,13 +234,15 @@ void read_terms(const std::string& file, const YAML::Node& terms, MachineModel& 
       for (std::size_t k = 0; k < at.size(); ++k) {
         t.shape.knots.push_back(number(at[k], fmt::format("at[{}]", k)) * var);
         if (k > 0 && !(t.shape.knots[k] > t.shape.knots[k - 1]))
-          bad(file, at[k], fmt::format("{}: table positions must increase; at[{}] = {} follows {}", what, k,
-                                       t.shape.knots[k] / var, t.shape.knots[k - 1] / var));
+          bad(file, at[k],
+              fmt::format("{}: table positions must increase; at[{}] = {} follows {}", what, k, t.shape.knots[k] / var,
+                          t.shape.knots[k - 1] / var));
         p.push_back(amount(values[k], fmt::format("values[{}]", k)));
         scale.push_back(out);
       }
       const std::string interp = n["interpolation"] ? n["interpolation"].as<std::string>() : "linear";
-      if (interp != "linear" && interp != "cubic") bad(file, n["interpolation"], what + ": interpolation is linear or cubic");
+      if (interp != "linear" && interp != "cubic")
+        bad(file, n["interpolation"], what + ": interpolation is linear or cubic");
       t.shape.interpolation = interp == "cubic" ? Interpolation::cubic : Interpolation::linear;
     } else if (form == "periodic") {
       need_variable();
@@ -255,7 +266,8 @@ void read_terms(const std::string& file, const YAML::Node& terms, MachineModel& 
         t.primary.kind = VariableKind::direction;
         t.primary.text = "v" + t.primary.text;
       }
-      if (t.primary.kind != VariableKind::direction) bad(file, n, what + ": a reversal depends on a direction (vx..vw)");
+      if (t.primary.kind != VariableKind::direction)
+        bad(file, n, what + ": a reversal depends on a direction (vx..vw)");
       p = {amount(require("reversal"), "reversal")};
       scale = {out};
     } else if (form == "thermal" || form == "thermal_linear") {
@@ -276,7 +288,8 @@ void read_terms(const std::string& file, const YAML::Node& terms, MachineModel& 
       t.shape.form = TermForm::scale_expansion;
       if (rotation || vdim != kLength) bad(file, n, what + ": scale expansion is a translation along a linear axis");
       t.secondary = read_variable(file, require("temperature"), require("temperature").as<std::string>(), m, what);
-      if (t.secondary.kind != VariableKind::temperature) bad(file, n["temperature"], what + ": temperature is T_<sensor>");
+      if (t.secondary.kind != VariableKind::temperature)
+        bad(file, n["temperature"], what + ": temperature is T_<sensor>");
       if (n["reference"]) t.shape.reference = quantity(file, n["reference"], kTemperature, "degC", what + " reference");
       p = {quantity(file, require("coefficient"), kTemperature.pow(-1), "1/degC", what + " coefficient")};
       scale = {1.0};
@@ -296,14 +309,17 @@ void read_terms(const std::string& file, const YAML::Node& terms, MachineModel& 
         if (!c[i].IsSequence() || static_cast<int>(c[i].size()) != t.shape.order)
           bad(file, c[i], what + ": every row of coefficients has the same length");
         for (std::size_t j = 0; j < c[i].size(); ++j) {
-          const double s = out / (std::pow(var, static_cast<double>(i)) * std::pow(other_unit, static_cast<double>(j + 1)));
+          const double s =
+              out / (std::pow(var, static_cast<double>(i)) * std::pow(other_unit, static_cast<double>(j + 1)));
           p.push_back(number(c[i][j], fmt::format("coefficient [{}][{}]", i, j)) * s);
           scale.push_back(s);
         }
       }
     } else {
-      bad(file, n["form"], fmt::format("{}: unknown form '{}' (constant, polynomial, table, periodic, reversal, "
-                                       "thermal, warmup, scale_expansion, cross_axis)", what, form));
+      bad(file, n["form"],
+          fmt::format("{}: unknown form '{}' (constant, polynomial, table, periodic, reversal, "
+                      "thermal, warmup, scale_expansion, cross_axis)",
+                      what, form));
     }
     t.parameters = Eigen::Map<Eigen::VectorXd>(p.data(), static_cast<Eigen::Index>(p.size()));
     t.parameter_unit = scale;

@@ -1,8 +1,9 @@
 #include "ccomp/model/units.hpp"
 
+#include <fmt/format.h>
+
 #include <charconv>
 #include <cmath>
-#include <fmt/format.h>
 
 #include "ccomp/error.hpp"
 
@@ -18,13 +19,27 @@ constexpr double kPi = 3.14159265358979323846;
 
 // Internal units: mm, rad, s, degC.
 const Named kUnits[] = {
-    {"nm", {1e-6, kLength}},       {"um", {1e-3, kLength}},        {"µm", {1e-3, kLength}},
-    {"mm", {1.0, kLength}},        {"cm", {10.0, kLength}},        {"m", {1000.0, kLength}},
-    {"in", {25.4, kLength}},       {"inch", {25.4, kLength}},      {"nrad", {1e-9, kAngle}},
-    {"urad", {1e-6, kAngle}},      {"µrad", {1e-6, kAngle}},       {"mrad", {1e-3, kAngle}},
-    {"rad", {1.0, kAngle}},        {"arcsec", {kPi / 648000.0, kAngle}}, {"arcmin", {kPi / 10800.0, kAngle}},
-    {"deg", {kPi / 180.0, kAngle}}, {"s", {1.0, kTime}},           {"min", {60.0, kTime}},
-    {"h", {3600.0, kTime}},        {"degC", {1.0, kTemperature}},  {"K", {1.0, kTemperature}},
+    {"nm", {1e-6, kLength}},
+    {"um", {1e-3, kLength}},
+    {"µm", {1e-3, kLength}},
+    {"mm", {1.0, kLength}},
+    {"cm", {10.0, kLength}},
+    {"m", {1000.0, kLength}},
+    {"in", {25.4, kLength}},
+    {"inch", {25.4, kLength}},
+    {"nrad", {1e-9, kAngle}},
+    {"urad", {1e-6, kAngle}},
+    {"µrad", {1e-6, kAngle}},
+    {"mrad", {1e-3, kAngle}},
+    {"rad", {1.0, kAngle}},
+    {"arcsec", {kPi / 648000.0, kAngle}},
+    {"arcmin", {kPi / 10800.0, kAngle}},
+    {"deg", {kPi / 180.0, kAngle}},
+    {"s", {1.0, kTime}},
+    {"min", {60.0, kTime}},
+    {"h", {3600.0, kTime}},
+    {"degC", {1.0, kTemperature}},
+    {"K", {1.0, kTemperature}},
     {"1", {1.0, kDimensionless}},
 };
 

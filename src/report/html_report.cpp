@@ -15,11 +15,16 @@ constexpr double kPi = 3.14159265358979323846;
 std::string escape(const std::string& text) {
   std::string out;
   for (char c : text) {
-    if (c == '<') out += "&lt;";
-    else if (c == '>') out += "&gt;";
-    else if (c == '&') out += "&amp;";
-    else if (c == '"') out += "&quot;";
-    else out += c;
+    if (c == '<')
+      out += "&lt;";
+    else if (c == '>')
+      out += "&gt;";
+    else if (c == '&')
+      out += "&amp;";
+    else if (c == '"')
+      out += "&quot;";
+    else
+      out += c;
   }
   return out;
 }
@@ -49,25 +54,30 @@ std::string chart(const std::string& title, const std::string& x_label, const st
       "<text x=\"{}\" y=\"18\" font-size=\"13\" font-weight=\"bold\">{}</text>"
       "<rect x=\"{}\" y=\"{}\" width=\"{}\" height=\"{}\" fill=\"none\" stroke=\"#888\"/>",
       kW, kH, kW, kH, kLeft, escape(title), kLeft, kTop, kW - kLeft - kRight, kH - kTop - kBottom);
-  svg += fmt::format("<text x=\"{}\" y=\"{}\" font-size=\"11\">{:.4g}</text><text x=\"{}\" y=\"{}\" font-size=\"11\" "
-                     "text-anchor=\"end\">{:.4g}</text><text x=\"{}\" y=\"{}\" font-size=\"12\" text-anchor=\"middle\">{}</text>",
-                     kLeft, kH - kBottom + 14, x0, kW - kRight, kH - kBottom + 14, x1, (kLeft + kW - kRight) / 2, kH - 8,
-                     escape(x_label));
-  svg += fmt::format("<text x=\"{}\" y=\"{}\" font-size=\"11\" text-anchor=\"end\">{:.4g}</text><text x=\"{}\" y=\"{}\" "
-                     "font-size=\"11\" text-anchor=\"end\">{:.4g}</text><text x=\"14\" y=\"{}\" font-size=\"12\" "
-                     "transform=\"rotate(-90 14 {})\" text-anchor=\"middle\">{}</text>",
-                     kLeft - 4, kTop + 10, y1, kLeft - 4, kH - kBottom, y0, (kTop + kH - kBottom) / 2,
-                     (kTop + kH - kBottom) / 2, escape(y_label));
+  svg += fmt::format(
+      "<text x=\"{}\" y=\"{}\" font-size=\"11\">{:.4g}</text><text x=\"{}\" y=\"{}\" font-size=\"11\" "
+      "text-anchor=\"end\">{:.4g}</text><text x=\"{}\" y=\"{}\" font-size=\"12\" text-anchor=\"middle\">{}</text>",
+      kLeft, kH - kBottom + 14, x0, kW - kRight, kH - kBottom + 14, x1, (kLeft + kW - kRight) / 2, kH - 8,
+      escape(x_label));
+  svg += fmt::format(
+      "<text x=\"{}\" y=\"{}\" font-size=\"11\" text-anchor=\"end\">{:.4g}</text><text x=\"{}\" y=\"{}\" "
+      "font-size=\"11\" text-anchor=\"end\">{:.4g}</text><text x=\"14\" y=\"{}\" font-size=\"12\" "
+      "transform=\"rotate(-90 14 {})\" text-anchor=\"middle\">{}</text>",
+      kLeft - 4, kTop + 10, y1, kLeft - 4, kH - kBottom, y0, (kTop + kH - kBottom) / 2, (kTop + kH - kBottom) / 2,
+      escape(y_label));
   if (y0 < 0 && y1 > 0)
-    svg += fmt::format("<line x1=\"{}\" x2=\"{}\" y1=\"{:.1f}\" y2=\"{:.1f}\" stroke=\"#ccc\"/>", kLeft, kW - kRight, py(0), py(0));
+    svg += fmt::format("<line x1=\"{}\" x2=\"{}\" y1=\"{:.1f}\" y2=\"{:.1f}\" stroke=\"#ccc\"/>", kLeft, kW - kRight,
+                       py(0), py(0));
   for (const Series& s : series) {
     if (s.line) {
       std::string points;
       for (std::size_t i = 0; i < s.x.size(); ++i) points += fmt::format("{:.1f},{:.1f} ", px(s.x[i]), py(s.y[i]));
-      svg += fmt::format("<polyline fill=\"none\" stroke=\"{}\" stroke-width=\"1.2\" points=\"{}\"/>", s.colour, points);
+      svg +=
+          fmt::format("<polyline fill=\"none\" stroke=\"{}\" stroke-width=\"1.2\" points=\"{}\"/>", s.colour, points);
     } else {
       for (std::size_t i = 0; i < s.x.size(); ++i)
-        svg += fmt::format("<circle cx=\"{:.1f}\" cy=\"{:.1f}\" r=\"1.6\" fill=\"{}\"/>", px(s.x[i]), py(s.y[i]), s.colour);
+        svg += fmt::format("<circle cx=\"{:.1f}\" cy=\"{:.1f}\" r=\"1.6\" fill=\"{}\"/>", px(s.x[i]), py(s.y[i]),
+                           s.colour);
     }
   }
   return svg + "</svg>\n";
@@ -88,32 +98,39 @@ std::string html_check_report(const CheckReportInput& in) {
   const double um = 1e3;
   std::string html =
       "<!DOCTYPE html>\n<html><head><meta charset=\"utf-8\"><title>ccomp check: " + escape(in.model.name) +
-      "</title><style>body{font-family:sans-serif;margin:20px;max-width:1100px}table{border-collapse:collapse;margin:8px "
-      "0}td,th{border:1px solid #ccc;padding:3px 7px;font-size:13px;text-align:left}.charts{display:flex;flex-wrap:wrap;"
+      "</"
+      "title><style>body{font-family:sans-serif;margin:20px;max-width:1100px}table{border-collapse:collapse;margin:8px "
+      "0}td,th{border:1px solid #ccc;padding:3px "
+      "7px;font-size:13px;text-align:left}.charts{display:flex;flex-wrap:wrap;"
       "gap:10px}code{font-size:12px}</style></head><body>\n";
-  html += fmt::format("<h1>ccomp check: model '{}'</h1>\n<p>{} readings from {} file(s). The model as it is: rms "
-                      "<b>{:.3f} um</b>, max {:.3f} um. Refitted (its free parameters): rms <b>{:.3f} um</b>. Noise floor "
-                      "{:.3f} um ({}).</p>\n",
-                      escape(in.model.name), obs.size(), in.data.files.size(), in.check.rms * um, in.check.max * um,
-                      in.diagnosis.rms_refit * um, in.check.noise_floor * um, escape(in.check.noise_method));
+  html += fmt::format(
+      "<h1>ccomp check: model '{}'</h1>\n<p>{} readings from {} file(s). The model as it is: rms "
+      "<b>{:.3f} um</b>, max {:.3f} um. Refitted (its free parameters): rms <b>{:.3f} um</b>. Noise floor "
+      "{:.3f} um ({}).</p>\n",
+      escape(in.model.name), obs.size(), in.data.files.size(), in.check.rms * um, in.check.max * um,
+      in.diagnosis.rms_refit * um, in.check.noise_floor * um, escape(in.check.noise_method));
   // Missing effects.
   html += "<h2>Missing effects</h2>\n";
   if (in.diagnosis.suggestions.empty()) {
-    html += fmt::format("<p>None of {} candidates is significant against the noise floor.</p>\n", in.diagnosis.candidates_tried);
+    html += fmt::format("<p>None of {} candidates is significant against the noise floor.</p>\n",
+                        in.diagnosis.candidates_tried);
   } else {
-    html += "<table><tr><th>rank</th><th>effect</th><th>term</th><th>variable</th><th>form</th><th>period</th><th>rms "
-            "before / after (um)</th><th>BIC</th><th>add</th></tr>\n";
+    html +=
+        "<table><tr><th>rank</th><th>effect</th><th>term</th><th>variable</th><th>form</th><th>period</th><th>rms "
+        "before / after (um)</th><th>BIC</th><th>add</th></tr>\n";
     for (const identify::Suggestion& s : in.diagnosis.suggestions)
-      html += fmt::format("<tr><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{:.3f} / {:.3f}</td>"
-                          "<td>{:+.1f}</td><td><code>{}</code></td></tr>\n",
-                          s.rank, escape(s.effect), escape(s.term), escape(s.variable), escape(s.form),
-                          s.period > 0 ? fmt::format("{:.6g} &plusmn; {:.2g}", s.period, s.period_uncertainty) : "",
-                          s.rms_before * um, s.rms_after * um, s.bic_delta, escape(s.spec));
+      html += fmt::format(
+          "<tr><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{:.3f} / {:.3f}</td>"
+          "<td>{:+.1f}</td><td><code>{}</code></td></tr>\n",
+          s.rank, escape(s.effect), escape(s.term), escape(s.variable), escape(s.form),
+          s.period > 0 ? fmt::format("{:.6g} &plusmn; {:.2g}", s.period, s.period_uncertainty) : "", s.rms_before * um,
+          s.rms_after * um, s.bic_delta, escape(s.spec));
     html += "</table>\n";
   }
   if (!in.diagnosis.regions.empty()) {
-    html += "<h2>Where the residual concentrates</h2>\n<table><tr><th>variable</th><th>from</th><th>to</th><th>rms "
-            "(um)</th><th>times the overall</th></tr>\n";
+    html +=
+        "<h2>Where the residual concentrates</h2>\n<table><tr><th>variable</th><th>from</th><th>to</th><th>rms "
+        "(um)</th><th>times the overall</th></tr>\n";
     for (const identify::Region& r : in.diagnosis.regions)
       html += fmt::format("<tr><td>{}</td><td>{:.4g}</td><td>{:.4g}</td><td>{:.3f}</td><td>{:.1f}</td></tr>\n",
                           escape(r.variable), r.from, r.to, r.rms * um, r.ratio);
@@ -136,9 +153,12 @@ std::string html_check_report(const CheckReportInput& in) {
   variables.push_back({"L (mm)", [](const identify::Observation& o) { return o.q[9]; }});
   variables.push_back({"t (s)", [](const identify::Observation& o) { return o.time; }});
   for (std::size_t s = 0; s < in.model.sensors.size(); ++s)
-    variables.push_back({"T_" + in.model.sensors[s] + " (degC)", [s](const identify::Observation& o) { return o.temperatures[s]; }});
+    variables.push_back(
+        {"T_" + in.model.sensors[s] + " (degC)", [s](const identify::Observation& o) { return o.temperatures[s]; }});
   const std::vector<std::size_t> shown = thin(obs.size(), 3000);
-  html += "<h2>Residual against each variable</h2>\n<p>Grey: the model as it is; blue: refitted.</p>\n<div class=\"charts\">\n";
+  html +=
+      "<h2>Residual against each variable</h2>\n<p>Grey: the model as it is; blue: refitted.</p>\n<div "
+      "class=\"charts\">\n";
   for (const Variable& v : variables) {
     double lo = 1e300, hi = -1e300;
     for (const identify::Observation& o : obs) lo = std::min(lo, v.get(o)), hi = std::max(hi, v.get(o));
@@ -154,8 +174,9 @@ std::string html_check_report(const CheckReportInput& in) {
   // Each missing effect added: the refitted residual against the effect's variable, and
   // what is left with the effect's terms fitted too.
   if (!in.diagnosis.suggestions.empty()) {
-    html += "<h2>Each missing effect, added</h2>\n<p>Blue: refitted; green: refitted with the effect added.</p>\n"
-            "<div class=\"charts\">\n";
+    html +=
+        "<h2>Each missing effect, added</h2>\n<p>Blue: refitted; green: refitted with the effect added.</p>\n"
+        "<div class=\"charts\">\n";
     for (const identify::Suggestion& s : in.diagnosis.suggestions) {
       if (s.residual.size() != static_cast<Eigen::Index>(obs.size())) continue;
       // The effect's first variable ("x,T_bed" -> x; an approach direction "vy" -> y).
@@ -166,25 +187,32 @@ std::string html_check_report(const CheckReportInput& in) {
       if (v == variables.end()) continue;
       Series refitted{{}, {}, "#1565c0", false}, added{{}, {}, "#2e7d32", false};
       for (std::size_t i : shown) {
-        refitted.x.push_back(v->get(obs[i])), refitted.y.push_back(in.diagnosis.residual[static_cast<Eigen::Index>(i)] * um);
+        refitted.x.push_back(v->get(obs[i])),
+            refitted.y.push_back(in.diagnosis.residual[static_cast<Eigen::Index>(i)] * um);
         added.x.push_back(v->get(obs[i])), added.y.push_back(s.residual[static_cast<Eigen::Index>(i)] * um);
       }
-      html += chart(fmt::format("{}: {} {} ({:.3f} -> {:.3f} um)", s.rank, s.term, s.form, s.rms_before * um, s.rms_after * um),
-                    v->name, "residual (um)", {refitted, added});
+      html += chart(
+          fmt::format("{}: {} {} ({:.3f} -> {:.3f} um)", s.rank, s.term, s.form, s.rms_before * um, s.rms_after * um),
+          v->name, "residual (um)", {refitted, added});
     }
     html += "</div>\n";
   }
   // Error maps: the residual over the workspace, coloured (blue negative, red positive).
-  html += "<h2>Error maps over the workspace</h2>\n<p>Each reading at its position, coloured by the refitted residual "
-          "(blue below zero, red above; full colour at 3 noise floors).</p>\n<div class=\"charts\">\n";
+  html +=
+      "<h2>Error maps over the workspace</h2>\n<p>Each reading at its position, coloured by the refitted residual "
+      "(blue below zero, red above; full colour at 3 noise floors).</p>\n<div class=\"charts\">\n";
   const double full = std::max(3 * in.check.noise_floor, 1e-9);
   for (const auto& [a, b] : {std::pair<int, int>{0, 1}, std::pair<int, int>{0, 2}, std::pair<int, int>{1, 2}}) {
     std::vector<Series> cells;
     for (int bucket = -4; bucket <= 4; ++bucket) {
       const double f = bucket / 4.0;
-      const int red = f > 0 ? 255 : static_cast<int>(255 * (1 + f)), blue = f < 0 ? 255 : static_cast<int>(255 * (1 - f));
+      const int red = f > 0 ? 255 : static_cast<int>(255 * (1 + f)),
+                blue = f < 0 ? 255 : static_cast<int>(255 * (1 - f));
       // Darkened a little, so a zero residual shows as light grey on the white page.
-      cells.push_back({{}, {}, fmt::format("rgb({},{},{})", red * 85 / 100, std::min(red, blue) * 85 / 100, blue * 85 / 100), false});
+      cells.push_back({{},
+                       {},
+                       fmt::format("rgb({},{},{})", red * 85 / 100, std::min(red, blue) * 85 / 100, blue * 85 / 100),
+                       false});
     }
     for (std::size_t i : shown) {
       const double f = std::clamp(in.diagnosis.residual[static_cast<Eigen::Index>(i)] / full, -1.0, 1.0);
@@ -198,8 +226,9 @@ std::string html_check_report(const CheckReportInput& in) {
   }
   html += "</div>\n";
   // Spectra: the refitted residual of readings along each linear axis, amplitude by period.
-  html += "<h2>Spectra along each axis</h2>\n<p>Amplitude of the best sinusoid in the refitted residual of the readings "
-          "along the axis, by period.</p>\n<div class=\"charts\">\n";
+  html +=
+      "<h2>Spectra along each axis</h2>\n<p>Amplitude of the best sinusoid in the refitted residual of the readings "
+      "along the axis, by period.</p>\n<div class=\"charts\">\n";
   for (std::size_t axis = 0; axis < 3; ++axis) {
     std::vector<std::pair<double, double>> rows;  // position, residual
     for (std::size_t i = 0; i < obs.size(); ++i)
@@ -227,9 +256,11 @@ std::string html_check_report(const CheckReportInput& in) {
   }
   html += "</div>\n";
   // Identifiability.
-  html += fmt::format("<h2>Identifiability</h2>\n<p>{} free parameters; the data determine {} combinations "
-                      "(condition number {:.3g}), {} of which changed by more than the noise.</p>\n",
-                      in.diagnosis.refit.parameters.size(), in.diagnosis.refit.rank, in.diagnosis.refit.condition_number, in.diagnosis.refit.significant);
+  html += fmt::format(
+      "<h2>Identifiability</h2>\n<p>{} free parameters; the data determine {} combinations "
+      "(condition number {:.3g}), {} of which changed by more than the noise.</p>\n",
+      in.diagnosis.refit.parameters.size(), in.diagnosis.refit.rank, in.diagnosis.refit.condition_number,
+      in.diagnosis.refit.significant);
   if (in.diagnosis.refit.singular_values.size() > 0) {
     Series sv{{}, {}, "#2e7d32", false};
     for (Eigen::Index k = 0; k < in.diagnosis.refit.singular_values.size(); ++k)
@@ -237,9 +268,12 @@ std::string html_check_report(const CheckReportInput& in) {
         sv.x.push_back(static_cast<double>(k + 1));
         sv.y.push_back(std::log10(in.diagnosis.refit.singular_values[k] / in.diagnosis.refit.singular_values[0]));
       }
-    html += "<div class=\"charts\">" + chart("singular values (log10, relative)", "combination", "log10 relative", {sv}) + "</div>\n";
+    html += "<div class=\"charts\">" +
+            chart("singular values (log10, relative)", "combination", "log10 relative", {sv}) + "</div>\n";
   }
-  html += "<table><tr><th>parameter</th><th>refitted value (mm, rad)</th><th>uncertainty (1 sigma)</th><th>determined alone</th></tr>\n";
+  html +=
+      "<table><tr><th>parameter</th><th>refitted value (mm, rad)</th><th>uncertainty (1 sigma)</th><th>determined "
+      "alone</th></tr>\n";
   for (const identify::FittedParameter& p : in.diagnosis.refit.parameters)
     html += fmt::format("<tr><td>{}</td><td>{:.6g}</td><td>{:.3g}</td><td>{}</td></tr>\n", escape(p.label), p.after,
                         p.uncertainty, p.identified ? "yes" : "no");

@@ -1,10 +1,9 @@
 // The command line as shop scripts and CAM hooks use it: files in and out, streams, exit
 // codes that mean something, and no half-written output on failure.
+#include <fmt/format.h>
 #include <gtest/gtest.h>
 
 #include <filesystem>
-
-#include <fmt/format.h>
 
 #include "sample_models.hpp"
 #include "trace_capture.hpp"
@@ -14,8 +13,12 @@ namespace {
 
 namespace fs = std::filesystem;
 
-std::string ccomp() { return shell_quote(ccomp_binary()); }
-std::string zero() { return shell_quote(source_dir() + "/samples/machines/zero.yaml"); }
+std::string ccomp() {
+  return shell_quote(ccomp_binary());
+}
+std::string zero() {
+  return shell_quote(source_dir() + "/samples/machines/zero.yaml");
+}
 
 /// The output without ccomp's header line.
 std::string without_header(const std::string& text) {
@@ -67,7 +70,8 @@ TEST(Cli, RefusesToCompensateTwice) {
   EXPECT_EQ(again.exit_code, 7) << again.err;
   EXPECT_NE(again.err.find("already compensated"), std::string::npos);
   EXPECT_FALSE(fs::exists(dir + "/twice.nc"));
-  EXPECT_EQ(run_command(ccomp() + " " + dir + "/once.nc -m " + zero() + " -o " + dir + "/twice.nc --force").exit_code, 0);
+  EXPECT_EQ(run_command(ccomp() + " " + dir + "/once.nc -m " + zero() + " -o " + dir + "/twice.nc --force").exit_code,
+            0);
 }
 
 TEST(Cli, RefusesAxesTheMachineLacks) {
@@ -85,7 +89,7 @@ TEST(Cli, ExitCodesForUsageModelAndIo) {
   write_file(dir + "/in.nc", kProgram);
   write_file(dir + "/bad.yaml", "name: x\naxes: {X: {min: 3, max: 1}}\n");
   EXPECT_EQ(run_command(ccomp() + " " + dir + "/in.nc -o " + dir + "/o.nc").exit_code, 2);  // no model
-  EXPECT_EQ(run_command(ccomp() + " " + dir + "/in.nc -m " + zero()).exit_code, 2);          // no output
+  EXPECT_EQ(run_command(ccomp() + " " + dir + "/in.nc -m " + zero()).exit_code, 2);         // no output
   EXPECT_EQ(run_command(ccomp() + " --no-such-flag").exit_code, 2);
   EXPECT_EQ(run_command(ccomp() + " " + dir + "/in.nc -m " + dir + "/bad.yaml -o -").exit_code, 5);
   EXPECT_EQ(run_command(ccomp() + " " + dir + "/missing.nc -m " + zero() + " -o -").exit_code, 6);
@@ -148,7 +152,8 @@ namespace {
 
 TEST(Cli, RefusesMovesBeyondTheAxisLimits) {
   const std::string dir = temp_dir("cli_limits");
-  write_file(dir + "/m.yaml", "name: small\naxes: {X: {min: -100, max: 100}, Y: {min: -100, max: 100}, Z: {min: -200, max: 0}}\n");
+  write_file(dir + "/m.yaml",
+             "name: small\naxes: {X: {min: -100, max: 100}, Y: {min: -100, max: 100}, Z: {min: -200, max: 0}}\n");
   write_file(dir + "/tools.tbl", "T1 P1 Z150\n");
   // Inside: corners at +-90. The arc from (90,0) round to (0,90) bulges to X=90 only.
   write_file(dir + "/ok.nc", "G21 F100\nG0 X90 Y0 Z-10\nG3 X0 Y90 I-90 J0\nM2\n");
@@ -210,13 +215,15 @@ TEST(Cli, PredictAndVerifyProveTheSample) {
   const std::string model = source_dir() + "/samples/machines/hmc-xyzb-geometric.yaml";
   const std::string tools = " --tool-table " + source_dir() + "/samples/tools.tbl";
   const std::string program = source_dir() + "/samples/programs/pocket-xy.ngc";
-  ASSERT_EQ(run_command(shell_quote(ccomp_binary()) + " " + program + " -m " + model + tools + " -o " + dir + "/out.ngc -q")
-                .exit_code,
-            0);
-  const CommandResult predicted = run_command(shell_quote(ccomp_binary()) + " predict " + program + " -m " + model + tools);
+  ASSERT_EQ(
+      run_command(shell_quote(ccomp_binary()) + " " + program + " -m " + model + tools + " -o " + dir + "/out.ngc -q")
+          .exit_code,
+      0);
+  const CommandResult predicted =
+      run_command(shell_quote(ccomp_binary()) + " predict " + program + " -m " + model + tools);
   ASSERT_EQ(predicted.exit_code, 0) << predicted.err;
-  const CommandResult verified = run_command(shell_quote(ccomp_binary()) + " verify " + program + " " + dir +
-                                             "/out.ngc -m " + model + tools);
+  const CommandResult verified =
+      run_command(shell_quote(ccomp_binary()) + " verify " + program + " " + dir + "/out.ngc -m " + model + tools);
   ASSERT_EQ(verified.exit_code, 0) << verified.err;
   auto max_um = [](const std::string& text) { return std::stod(text.substr(text.find(" max ") + 5)); };
   EXPECT_GT(max_um(predicted.out), 10.0) << predicted.out;

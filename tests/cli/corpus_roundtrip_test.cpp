@@ -16,7 +16,9 @@ struct CorpusProgram {
   const char* file;
   const char* options;
 };
-void PrintTo(const CorpusProgram& p, std::ostream* os) { *os << p.file; }
+void PrintTo(const CorpusProgram& p, std::ostream* os) {
+  *os << p.file;
+}
 
 const std::string kTools = "--tool-table " + shell_quote(CCOMP_SOURCE_DIR "/tests/data/corpus-tools.tbl");
 

@@ -9,8 +9,12 @@
 namespace ccomp::test {
 namespace {
 
-std::string ccomp() { return shell_quote(ccomp_binary()); }
-std::string sample(const std::string& name) { return shell_quote(source_dir() + "/samples/machines/" + name); }
+std::string ccomp() {
+  return shell_quote(ccomp_binary());
+}
+std::string sample(const std::string& name) {
+  return shell_quote(source_dir() + "/samples/machines/" + name);
+}
 
 double rms_of(const std::string& check_output) {
   std::smatch m;
@@ -30,9 +34,11 @@ TEST(IdentifyCli, SimulateCheckFitCheck) {
   EXPECT_GT(rms_of(r.out), 5.0) << r.out;
   // Fitting starts from the geometric model's layout with its values scaled away.
   std::string start = read_file(source_dir() + "/samples/machines/hmc-xyzb-geometric.yaml");
-  for (std::size_t at = start.find("coefficients: ["); at != std::string::npos; at = start.find("coefficients: [", at + 1)) {
+  for (std::size_t at = start.find("coefficients: ["); at != std::string::npos;
+       at = start.find("coefficients: [", at + 1)) {
     const std::size_t open = at + 15, close = start.find(']', open);
-    start.replace(open, close - open, std::regex_replace(start.substr(open, close - open), std::regex("[-0-9.e]+"), "0"));
+    start.replace(open, close - open,
+                  std::regex_replace(start.substr(open, close - open), std::regex("[-0-9.e]+"), "0"));
   }
   write_file(dir + "/start.yaml", start);
   r = run_command(ccomp() + " check " + meas + " -m " + shell_quote(dir + "/start.yaml"));
@@ -55,7 +61,8 @@ TEST(IdentifyCli, SimulateCheckFitCheck) {
 TEST(IdentifyCli, ABadMeasurementFileExitsWithItsCode) {
   const std::string dir = temp_dir("identify_cli_bad");
   write_file(dir + "/bad.csv", "x,y,z,nx,ny,nz,d\n1,2,3,1,0,0,0.001\n1,2,3,0,0,1,abc\n");
-  const CommandResult r = run_command(ccomp() + " check " + shell_quote(dir + "/bad.csv") + " -m " + sample("zero.yaml"));
+  const CommandResult r =
+      run_command(ccomp() + " check " + shell_quote(dir + "/bad.csv") + " -m " + sample("zero.yaml"));
   EXPECT_EQ(r.exit_code, 8);
   EXPECT_NE(r.err.find("bad.csv:3:"), std::string::npos) << r.err;
   EXPECT_NE(r.err.find("'abc' is not a number"), std::string::npos) << r.err;

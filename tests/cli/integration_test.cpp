@@ -32,7 +32,8 @@ TEST(Integration, LinuxcncFilterEntryRunsAsLinuxcncRunsIt) {
   ASSERT_FALSE(command.empty()) << "no `ngc =` line in the INI snippet";
   ASSERT_EQ(command.rfind("ccomp ", 0), 0U);
   command.replace(0, 5, shell_quote(ccomp_binary()));
-  command = std::regex_replace(command, std::regex("/etc/ccomp/machine.yaml"), source_dir() + "/samples/machines/zero.yaml");
+  command =
+      std::regex_replace(command, std::regex("/etc/ccomp/machine.yaml"), source_dir() + "/samples/machines/zero.yaml");
   command = std::regex_replace(command, std::regex("/etc/ccomp/tool.tbl"), source_dir() + "/samples/tools.tbl");
   const std::string dir = temp_dir("filter");
   write_file(dir + "/part.ngc", kProgram);

@@ -78,8 +78,9 @@ std::string random_program(unsigned seed, bool cycles = false) {
         std::snprintf(line, sizeof line, "G0 Z%.4f\nG98 G%d X%.4f Y%.4f Z%.4f R%.4f Q4 F300\nX%.4f Y%.4f\nG80\n",
                       r + 20, code, 150 * v(), 120 * v(), r - 15, r, 150 * v(), 120 * v());
       else
-        std::snprintf(line, sizeof line, "G0 X%.4f Y%.4f Z%.4f\nG91 G99 G%d X%.4f Y%.4f Z-15 R-20 Q4 L3 F300\nG90 G80\n",
-                      100 * v(), 80 * v(), r + 20, code, 20 * v(), 20 * v());
+        std::snprintf(line, sizeof line,
+                      "G0 X%.4f Y%.4f Z%.4f\nG91 G99 G%d X%.4f Y%.4f Z-15 R-20 Q4 L3 F300\nG90 G80\n", 100 * v(),
+                      80 * v(), r + 20, code, 20 * v(), 20 * v());
       p += line;
     }
     if (i % 10 == 9) {
@@ -100,12 +101,24 @@ std::string random_program(unsigned seed, bool cycles = false) {
       const double helix = u(rng) > 0 ? 10 * u(rng) : 0.0;
       // The normal axis sits at c (Z in G17), or within the reach of the axes otherwise.
       const double normal = plane == 17 ? c : 50 * u(rng);
-      std::snprintf(line, sizeof line, "G%d G1 %s%.4f %s%.4f %s%.4f\nG%d %s%.4f %s%.4f %s%.4f %s%.4f %s0\nG17\n",
-                    plane, names[pl][0], plane == 17 ? a : plane == 18 ? c : b, names[pl][1],
-                    plane == 17 ? b : plane == 18 ? a : c, names[pl][2], normal, cw ? 2 : 3, names[pl][0],
-                    plane == 17 ? e1 : plane == 18 ? c + (e1 - a) : b + (e1 - a), names[pl][1],
-                    plane == 17 ? e2 : plane == 18 ? a + (e2 - b) : c + (e2 - b), names[pl][2], normal + helix,
-                    centre[pl][0], r, centre[pl][1]);
+      std::snprintf(line, sizeof line, "G%d G1 %s%.4f %s%.4f %s%.4f\nG%d %s%.4f %s%.4f %s%.4f %s%.4f %s0\nG17\n", plane,
+                    names[pl][0],
+                    plane == 17   ? a
+                    : plane == 18 ? c
+                                  : b,
+                    names[pl][1],
+                    plane == 17   ? b
+                    : plane == 18 ? a
+                                  : c,
+                    names[pl][2], normal, cw ? 2 : 3, names[pl][0],
+                    plane == 17   ? e1
+                    : plane == 18 ? c + (e1 - a)
+                                  : b + (e1 - a),
+                    names[pl][1],
+                    plane == 17   ? e2
+                    : plane == 18 ? a + (e2 - b)
+                                  : c + (e2 - b),
+                    names[pl][2], normal + helix, centre[pl][0], r, centre[pl][1]);
       (void)e2;
     } else if (i % 7 == 3) {
       std::snprintf(line, sizeof line, "G91 G1 X%.4f Y%.4f\nG90\n", 80 * u(rng), 60 * u(rng));
@@ -188,7 +201,8 @@ TEST(ClosedLoop, AModalArcLineThatStartsWithItsCentreWords) {
   const model::ForwardModel m(mm);
   // Indented, the line keeps its indentation and "G1" goes where "I" was, one blank after.
   for (const std::string line : {"I-5 J0 X0 Y0", "  I-5 J0 X0 Y0", "\tI-5\tJ0 X0 Y0 (back)"}) {
-    const std::string program = "G21 G90 G54\nT1 M6\nG43 H1\nF500\nG0 X0 Y0 Z-100\nG2 X10 Y0 I5 J0\n" + line + "\nM30\n";
+    const std::string program =
+        "G21 G90 G54\nT1 M6\nG43 H1\nF500\nG0 X0 Y0 Z-100\nG2 X10 Y0 I5 J0\n" + line + "\nM30\n";
     const std::string output = compensate(program, mm, 0.001);
     EXPECT_EQ(output.find("I-5"), std::string::npos) << output;
     EXPECT_EQ(output.find("G1  "), std::string::npos) << output;
@@ -268,14 +282,16 @@ std::string random_terms(const std::string& form, std::mt19937& rng) {
       std::snprintf(line, sizeof line, "  - {name: EZ0S, variable: T_spindle, form: thermal, coefficient: %.3f}\n",
                     3 * u(rng));
     } else if (form == "warmup") {
-      std::snprintf(line, sizeof line, "  - {name: EY0Y, variable: t, form: warmup, amplitude: %.2f, time_constant: %.0f s}\n",
+      std::snprintf(line, sizeof line,
+                    "  - {name: EY0Y, variable: t, form: warmup, amplitude: %.2f, time_constant: %.0f s}\n",
                     20 * u(rng), 600 + 1200 * (u(rng) + 1));
     } else if (form == "scale_expansion") {
       std::snprintf(line, sizeof line,
                     "  - {name: EXX, form: scale_expansion, temperature: T_bed, coefficient: %.3e /degC}\n",
                     11.5e-6 * (1 + 0.2 * u(rng)));
     } else if (form == "cross_axis") {
-      std::snprintf(line, sizeof line, "  - {name: EBZ, form: cross_axis, other: x, unit: urad, coefficients: [[%.4f]]}\n",
+      std::snprintf(line, sizeof line,
+                    "  - {name: EBZ, form: cross_axis, other: x, unit: urad, coefficients: [[%.4f]]}\n",
                     (u(rng) > 0 ? 1 : -1) * (0.1 + 0.1 * std::abs(u(rng))));  // urad per mm: tens of um at the arms
     } else if (form == "reversal") {
       // Backlash on the axis' own positioning (negative: the axis lags its command) sets its
@@ -301,9 +317,8 @@ std::string random_terms(const std::string& form, std::mt19937& rng) {
 
 TEST(ClosedLoop, RandomModelsOfEveryForm) {
   std::mt19937 rng(2026);
-  for (const std::string form :
-       {"polynomial", "table", "periodic", "reversal", "thermal", "warmup", "scale_expansion", "cross_axis",
-        "location"}) {
+  for (const std::string form : {"polynomial", "table", "periodic", "reversal", "thermal", "warmup", "scale_expansion",
+                                 "cross_axis", "location"}) {
     const std::string random_terms_text = random_terms(form, rng);
     const model::MachineModel mm = model::parse_machine_model(kRandomChain + random_terms_text, form + ".yaml");
     const model::ForwardModel m(mm);
@@ -365,7 +380,8 @@ TEST(ClosedLoop, IncrementalPiecesCarryTheirRoundingInsteadOfSummingIt) {
       std::string(kRandomChain) + "  - {name: EXX, form: periodic, period: 5 mm, harmonics: [[4, 3]]}\n", "screw.yaml");
   const model::ForwardModel m(mm);
   const std::string program =
-      "G21 G90 G94 G54\nT1 M6\nG43 H1\nF1200\nG0 X-100 Y0 Z-100 B0\nG91 G1 X200.000\nG1 Y10.000\nG1 X-200.000\nG90\nM30\n";
+      "G21 G90 G94 G54\nT1 M6\nG43 H1\nF1200\nG0 X-100 Y0 Z-100 B0\nG91 G1 X200.000\nG1 Y10.000\nG1 "
+      "X-200.000\nG90\nM30\n";
   compensate::JobOptions o;
   o.sensors = {{"bed", 20.0}, {"spindle", 20.0}};
   o.tolerance = 0.0005;

@@ -1,11 +1,12 @@
 // The inverse: for a model with every kind of term, Newton lands the actual tool tip on the
 // nominal point to below 1 nm, corrects the table's own rotation through B, and reports the
 // orientation it cannot correct.
+#include "ccomp/compensate/inverse.hpp"
+
 #include <gtest/gtest.h>
 
 #include <random>
 
-#include "ccomp/compensate/inverse.hpp"
 #include "sample_models.hpp"
 
 namespace ccomp::compensate {
@@ -64,7 +65,8 @@ TEST(Inverse, AStreamOfNeighboursReusesTheJacobianAndStillLandsBelowANanometre) 
   // Jacobian is evaluated for few of them.
   const model::MachineModel mm = model::parse_machine_model(kModel + R"(
   - {name: EXX, variable: vx, form: reversal, reversal: -4 um}
-)", "m.yaml");
+)",
+                                                            "m.yaml");
   const model::ForwardModel m(mm);
   const InverseProblem problem(m);
   model::ForwardData d(m), check(m), nominal(m);
@@ -94,7 +96,8 @@ terms:
   - {name: EXX, form: polynomial, coefficients: [0, 0.015]}
   - {name: EBX, value: 25}
   - {name: EC0X, value: 10}
-)", "vmc.yaml");
+)",
+                                                            "vmc.yaml");
   const model::ForwardModel m(mm);
   const InverseProblem problem(m);
   EXPECT_EQ(problem.unknowns.size(), 3U);

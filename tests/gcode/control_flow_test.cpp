@@ -22,8 +22,7 @@ RunResult ok(const std::string& program, const gcode::InterpreterOptions& o = {}
 }
 
 TEST(ControlFlow, IfElseifElse) {
-  const std::string program =
-      "o1 if [#1 EQ 1]\nG0 X1\no1 elseif [#1 EQ 2]\nG0 X2\no1 else\nG0 X3\no1 endif\nM2\n";
+  const std::string program = "o1 if [#1 EQ 1]\nG0 X1\no1 elseif [#1 EQ 2]\nG0 X2\no1 else\nG0 X3\no1 endif\nM2\n";
   for (int v : {1, 2, 7}) {
     const RunResult r = ok("#1=" + std::to_string(v) + "\n" + program);
     EXPECT_EQ(xs(r), std::vector<double>{static_cast<double>(v == 7 ? 3 : v)}) << v;
@@ -31,25 +30,25 @@ TEST(ControlFlow, IfElseifElse) {
 }
 
 TEST(ControlFlow, WhileDoRepeatBreakContinue) {
-  EXPECT_EQ(xs(ok("#1=0\no1 while [#1 LT 3]\nG0 X#1\n#1=[#1+1]\no1 endwhile\nM2\n")),
-            (std::vector<double>{0, 1, 2}));
+  EXPECT_EQ(xs(ok("#1=0\no1 while [#1 LT 3]\nG0 X#1\n#1=[#1+1]\no1 endwhile\nM2\n")), (std::vector<double>{0, 1, 2}));
   EXPECT_EQ(xs(ok("#1=5\no1 do\nG0 X#1\n#1=[#1+1]\no1 while [#1 LT 3]\nM2\n")), (std::vector<double>{5}));
-  EXPECT_EQ(xs(ok("#1=0\no1 repeat [4]\n#1=[#1+1]\nG0 X#1\no1 endrepeat\nM2\n")),
-            (std::vector<double>{1, 2, 3, 4}));
+  EXPECT_EQ(xs(ok("#1=0\no1 repeat [4]\n#1=[#1+1]\nG0 X#1\no1 endrepeat\nM2\n")), (std::vector<double>{1, 2, 3, 4}));
   EXPECT_EQ(xs(ok("#1=0\no1 while [1]\n#1=[#1+1]\no2 if [#1 EQ 2]\no1 continue\no2 endif\n"
                   "o3 if [#1 GT 4]\no1 break\no3 endif\nG0 X#1\no1 endwhile\nG0 X9\nM2\n")),
             (std::vector<double>{1, 3, 4, 9}));
 }
 
 TEST(ControlFlow, SubroutinesDefinedAfterTheCallAndReturnValues) {
-  const RunResult r = ok("o<twice> call [3]\nG0 X#<_value>\nM2\no<twice> sub\nG0 X#1\no<twice> return [#1*2]\n"
-                         "o<twice> endsub\n");
+  const RunResult r =
+      ok("o<twice> call [3]\nG0 X#<_value>\nM2\no<twice> sub\nG0 X#1\no<twice> return [#1*2]\n"
+         "o<twice> endsub\n");
   EXPECT_EQ(xs(r), (std::vector<double>{3, 6}));
 }
 
 TEST(ControlFlow, RecursiveCallsUnwindParameters) {
-  const RunResult r = ok("o<down> sub\no1 if [#1 GT 0]\nG0 X#1\no<down> call [#1-1]\nG0 X#1\no1 endif\n"
-                         "o<down> endsub\no<down> call [2]\nM2\n");
+  const RunResult r =
+      ok("o<down> sub\no1 if [#1 GT 0]\nG0 X#1\no<down> call [#1-1]\nG0 X#1\no1 endif\n"
+         "o<down> endsub\no<down> call [2]\nM2\n");
   EXPECT_EQ(xs(r), (std::vector<double>{2, 1, 1, 2}));
 }
 

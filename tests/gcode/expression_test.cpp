@@ -12,7 +12,9 @@ struct Case {
   const char* expression;
   double value;
 };
-void PrintTo(const Case& c, std::ostream* os) { *os << c.expression; }
+void PrintTo(const Case& c, std::ostream* os) {
+  *os << c.expression;
+}
 
 class Expressions : public ::testing::TestWithParam<Case> {};
 
@@ -23,15 +25,15 @@ TEST_P(Expressions, EvaluateAsLinuxcncDoes) {
 INSTANTIATE_TEST_SUITE_P(
     Table, Expressions,
     ::testing::Values(Case{"1 + 2 * 3", 7}, Case{"[1 + 2] * 3", 9}, Case{"2 ** 3 ** 2", 64},  // left to right
-                      Case{"-2 ** 2", 4}, Case{"10 - 4 - 3", 3}, Case{"12 / 4 / 3", 1},
-                      Case{"7 MOD 3", 1}, Case{"-7 MOD 3", 2}, Case{"1 + 2 EQ 3", 1},
-                      Case{"3 GT 2 AND 2 GT 3", 0}, Case{"3 GT 2 OR 2 GT 3", 1}, Case{"1 XOR 1", 0},
-                      Case{"2 LE 2", 1}, Case{"2 LT 2", 0}, Case{"1 NE 1.0000001", 0},  // rs274's 1e-6
-                      Case{"SIN[30]", 0.5}, Case{"COS[60]", 0.5}, Case{"TAN[45]", 1.0},
-                      Case{"ASIN[1]", 90}, Case{"ACOS[0]", 90}, Case{"ATAN[1]/[-1]", 135},
-                      Case{"SQRT[16]", 4}, Case{"ABS[-2.5]", 2.5}, Case{"FIX[-2.5]", -3}, Case{"FUP[-2.5]", -2},
-                      Case{"ROUND[2.5]", 3}, Case{"LN[EXP[2]]", 2}, Case{"EXISTS[#<nope>]", 0},
-                      Case{"EXISTS[#5]", 1}, Case{"EXISTS[#99999]", 0}, Case{"sin [ 3 0 ]", 0.5}));
+                      Case{"-2 ** 2", 4}, Case{"10 - 4 - 3", 3}, Case{"12 / 4 / 3", 1}, Case{"7 MOD 3", 1},
+                      Case{"-7 MOD 3", 2}, Case{"1 + 2 EQ 3", 1}, Case{"3 GT 2 AND 2 GT 3", 0},
+                      Case{"3 GT 2 OR 2 GT 3", 1}, Case{"1 XOR 1", 0}, Case{"2 LE 2", 1}, Case{"2 LT 2", 0},
+                      Case{"1 NE 1.0000001", 0},  // rs274's 1e-6
+                      Case{"SIN[30]", 0.5}, Case{"COS[60]", 0.5}, Case{"TAN[45]", 1.0}, Case{"ASIN[1]", 90},
+                      Case{"ACOS[0]", 90}, Case{"ATAN[1]/[-1]", 135}, Case{"SQRT[16]", 4}, Case{"ABS[-2.5]", 2.5},
+                      Case{"FIX[-2.5]", -3}, Case{"FUP[-2.5]", -2}, Case{"ROUND[2.5]", 3}, Case{"LN[EXP[2]]", 2},
+                      Case{"EXISTS[#<nope>]", 0}, Case{"EXISTS[#5]", 1}, Case{"EXISTS[#99999]", 0},
+                      Case{"sin [ 3 0 ]", 0.5}));
 
 TEST(Expressions, DomainErrorsAreRefusedWithTheirLine) {
   for (const char* bad : {"SQRT[-1]", "LN[0]", "1/0", "ACOS[2]", "[-8]**0.5"}) {

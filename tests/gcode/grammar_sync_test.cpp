@@ -27,8 +27,10 @@ TEST(GrammarSync, ParserDeclaresExactlyTheRulesOfTheGrammarFile) {
   const std::vector<std::string> parser_list = gcode::grammar_rule_names();
   const std::set<std::string> parser(parser_list.begin(), parser_list.end());
   ASSERT_GT(file.size(), 30U) << "the grammar file should hold the whole dialect";
-  for (const std::string& name : file) EXPECT_TRUE(parser.count(name)) << "grammar rule '" << name << "' has no parser rule";
-  for (const std::string& name : parser) EXPECT_TRUE(file.count(name)) << "parser rule '" << name << "' is not in grammar/gcode.peg";
+  for (const std::string& name : file)
+    EXPECT_TRUE(parser.count(name)) << "grammar rule '" << name << "' has no parser rule";
+  for (const std::string& name : parser)
+    EXPECT_TRUE(file.count(name)) << "parser rule '" << name << "' is not in grammar/gcode.peg";
 }
 
 TEST(GrammarSync, EveryRuleOfTheFileIsDefinedOnce) {

@@ -50,15 +50,16 @@ TEST(Interpreter, ToolLengthOffsetMovesTheControlledPointNotTheMachine) {
   const RunResult r = ok("T1 M6\nG43 H1\nG0 Z0\nG49\nG0 Z0\nM2\n", o);
   ASSERT_EQ(r.motions.size(), 2U);
   EXPECT_DOUBLE_EQ(r.motions[0].offsets.tool[2], 100.0);
-  EXPECT_DOUBLE_EQ(r.motions[0].motion.end[2], 0.0);  // controlled point at the program's Z0
+  EXPECT_DOUBLE_EQ(r.motions[0].motion.end[2], 0.0);       // controlled point at the program's Z0
   EXPECT_DOUBLE_EQ(r.motions[0].motion.start[2], -100.0);  // machine did not move at G43
   EXPECT_NE(refused("G43 H7\nM2\n").find("tool 7"), std::string::npos);
 }
 
 TEST(Interpreter, ArcCentresInEveryPlane) {
   // Quarter circles of radius 10 about the origin, G17/G18/G19, IJK and R forms.
-  const RunResult r = ok("G21 F100\nG0 X10 Y0 Z0\nG17 G3 X0 Y10 I-10 J0\nG0 X10 Y0 Z0\nG18 G2 X0 Z10 R10\n"
-                         "G0 X0 Y10 Z0\nG19 G3 Y0 Z10 J-10 K0\nM2\n");
+  const RunResult r =
+      ok("G21 F100\nG0 X10 Y0 Z0\nG17 G3 X0 Y10 I-10 J0\nG0 X10 Y0 Z0\nG18 G2 X0 Z10 R10\n"
+         "G0 X0 Y10 Z0\nG19 G3 Y0 Z10 J-10 K0\nM2\n");
   ASSERT_EQ(r.motions.size(), 6U);
   const auto& a = r.motions[1].motion;
   EXPECT_EQ(a.kind, MotionKind::arc);
@@ -122,8 +123,8 @@ TEST(Interpreter, CannedCycleDrillsEachHoleWithStickyValues) {
   // per hole: XY at old Z, down to R, feed to Z, back to R (G99)
   std::vector<std::array<double, 3>> ends;
   for (const auto& m : r.motions) ends.push_back({m.motion.end[0], m.motion.end[1], m.motion.end[2]});
-  const std::vector<std::array<double, 3>> expected = {
-      {0, 0, 10}, {1, 1, 10}, {1, 1, 1}, {1, 1, -2}, {1, 1, 1}, {2, 1, 1}, {2, 1, -2}, {2, 1, 1}};
+  const std::vector<std::array<double, 3>> expected = {{0, 0, 10}, {1, 1, 10}, {1, 1, 1},  {1, 1, -2},
+                                                       {1, 1, 1},  {2, 1, 1},  {2, 1, -2}, {2, 1, 1}};
   EXPECT_EQ(ends, expected);
   EXPECT_EQ(r.motions[3].motion.kind, MotionKind::feed);
   EXPECT_EQ(r.motions[3].motion.source, gcode::MotionSource::canned_cycle);
@@ -145,8 +146,8 @@ TEST(Interpreter, PeckDrillingRetractsAboveEachPeck) {
   const RunResult r = ok("G21 F100 G0 X0 Y0 Z10\nG98 G73 X0 Y0 Z-3 R2 Q1.2\nG80\nM2\n");
   std::vector<double> z;
   for (const auto& m : r.motions) z.push_back(m.motion.end[2]);
-  const std::vector<double> expected = {10, 10, 2, 0.8, 0.8 + 0.254, -0.4, -0.4 + 0.254, -1.6, -1.6 + 0.254, -2.8,
-                                        -2.8 + 0.254, -3, 10};
+  const std::vector<double> expected = {10,   10,           2,    0.8,          0.8 + 0.254, -0.4, -0.4 + 0.254,
+                                        -1.6, -1.6 + 0.254, -2.8, -2.8 + 0.254, -3,          10};
   ASSERT_EQ(z.size(), expected.size());
   for (std::size_t i = 0; i < z.size(); ++i) EXPECT_NEAR(z[i], expected[i], 1e-12) << i;
 }

@@ -17,27 +17,29 @@ namespace {
 namespace fs = std::filesystem;
 
 enum class Expect {
-  same_motions,         ///< motions equal to `expected`
+  same_motions,          ///< motions equal to `expected`
   motions_before_ccomp,  ///< equal up to where cutter radius compensation turns on
-  same_messages,        ///< (DEBUG,...) messages equal to `expected` (test.sh keeps only those)
-  accepted,             ///< accepted, no motion in `expected` to compare
-  rejected,             ///< the interpreter must refuse the program
+  same_messages,         ///< (DEBUG,...) messages equal to `expected` (test.sh keeps only those)
+  accepted,              ///< accepted, no motion in `expected` to compare
+  rejected,              ///< the interpreter must refuse the program
   out_of_scope,
 };
 
 struct SuiteCase {
-  const char* name;      ///< test name
-  const char* program;   ///< relative to corpus/linuxcnc
+  const char* name;     ///< test name
+  const char* program;  ///< relative to corpus/linuxcnc
   Expect expect;
-  const char* expected = "";    ///< relative to the program's folder; default `expected`
+  const char* expected = "";  ///< relative to the program's folder; default `expected`
   const char* tool_table = "";
   const char* sub_path = "";
-  const char* param = "";       ///< NAME=VALUE
-  const char* reason = "";      ///< why out of scope
-  bool awk = true;              ///< test.sh pipes rs274 through awk '{$1=""; print}'
+  const char* param = "";   ///< NAME=VALUE
+  const char* reason = "";  ///< why out of scope
+  bool awk = true;          ///< test.sh pipes rs274 through awk '{$1=""; print}'
 };
 
-std::ostream& operator<<(std::ostream& os, const SuiteCase& c) { return os << c.name; }
+std::ostream& operator<<(std::ostream& os, const SuiteCase& c) {
+  return os << c.name;
+}
 
 // LinuxCNC's expected output for G84 in G18/G19 puts the tapping depth on the wrong axis
 // (the feed's coordinates come out permuted, unlike G81 in the same planes): a LinuxCNC bug
@@ -60,19 +62,19 @@ const SuiteCase kCases[] = {
     {"g10_l11", "interp/g10/g10-l11/test.ngc", Expect::same_motions, "", "test.tbl"},
     {"g10_l20_while_active", "interp/g10/g10-l20-while-active/test.ngc", Expect::same_motions},
     {"g10_with_g92", "interp/g10/g10-with-g92/test.ngc", Expect::same_motions, "", "test.tbl"},
-    {"g52_g92_interaction", "interp/g52/g52-g92-interaction/g52-g92-interaction.ngc", Expect::same_motions, "", "",
-     "", "", "", false},
-    {"g92_offset_persistence", "interp/g52/g92-offset-persistence/g92_offsets.ngc", Expect::out_of_scope, "",
-     "", "", "", "G92 persistence through LinuxCNC's .var file between runs is the controller's"},
+    {"g52_g92_interaction", "interp/g52/g52-g92-interaction/g52-g92-interaction.ngc", Expect::same_motions, "", "", "",
+     "", "", false},
+    {"g92_offset_persistence", "interp/g52/g92-offset-persistence/g92_offsets.ngc", Expect::out_of_scope, "", "", "",
+     "", "G92 persistence through LinuxCNC's .var file between runs is the controller's"},
     {"g64_r_planner", "interp/g64-r-planner/test.ngc", Expect::accepted},
     {"g71_endless_loop", "interp/g71-endless-loop/g71-endless-loop.ngc", Expect::out_of_scope, "", "", "", "",
      "lathe roughing cycle G71"},
-    {"g71_endless_loop_2", "interp/g71-endless-loop_2/g71-endless-loop_2.ngc", Expect::out_of_scope, "", "", "",
-     "", "lathe roughing cycle G71"},
+    {"g71_endless_loop_2", "interp/g71-endless-loop_2/g71-endless-loop_2.ngc", Expect::out_of_scope, "", "", "", "",
+     "lathe roughing cycle G71"},
     {"g71_with_g70", "interp/g71-with-g70/g71-with-g70.ngc", Expect::out_of_scope, "", "", "", "",
      "lathe cycles G70/G71"},
-    {"g72_missing_iteration", "interp/g72-missing-iteration/g72-iterations-missing.ngc", Expect::out_of_scope,
-     "", "", "", "", "lathe cycle G72"},
+    {"g72_missing_iteration", "interp/g72-missing-iteration/g72-iterations-missing.ngc", Expect::out_of_scope, "", "",
+     "", "", "lathe cycle G72"},
     {"g76", "interp/g76/g76only.ngc", Expect::out_of_scope, "", "", "", "", "lathe threading cycle G76"},
     {"g81_g17_g99", "interp/g81/g17/g99/g17-g99-g81.ngc", Expect::same_motions},
     {"g81_g18_g98", "interp/g81/g18/g98/g18-g98-g81.ngc", Expect::same_motions},
@@ -97,11 +99,11 @@ const SuiteCase kCases[] = {
     {"m98m99_sub_ended_with_m99", "interp/m98m99/06-error-mixed-sub-styles/O...-sub-ended-with-M99.ngc",
      Expect::rejected},
     {"m98m99_nested_subs", "interp/m98m99/07-nested-subs/test.ngc", Expect::same_motions},
-    {"m98m99_disable_fanuc_subs", "interp/m98m99/09-disable-fanuc-subs/test-fanuc.ngc", Expect::out_of_scope, "",
-     "", "", "", "tests LinuxCNC's DISABLE_FANUC_STYLE_SUB INI switch; ccomp always reads Fanuc subprograms"},
+    {"m98m99_disable_fanuc_subs", "interp/m98m99/09-disable-fanuc-subs/test-fanuc.ngc", Expect::out_of_scope, "", "",
+     "", "", "tests LinuxCNC's DISABLE_FANUC_STYLE_SUB INI switch; ccomp always reads Fanuc subprograms"},
     {"m98m99_p001", "interp/m98m99/10-M98-P001/test.ngc", Expect::same_motions},
-    {"m98m99_endless_main", "interp/m98m99/12-M99-endless-main-program/test.ngc", Expect::out_of_scope, "", "",
-     "", "", "M99 in a main program restarts it for ever on a controller; ccomp ends there (and warns)"},
+    {"m98m99_endless_main", "interp/m98m99/12-M99-endless-main-program/test.ngc", Expect::out_of_scope, "", "", "", "",
+     "M99 in a main program restarts it for ever on a controller; ccomp ends there (and warns)"},
     {"m98m99_named_program", "interp/m98m99/13-named-program/test-named.ngc", Expect::accepted},
     {"m98m99_numbered_program", "interp/m98m99/13-named-program/test-numbered.ngc", Expect::accepted},
     {"machine_coord_params", "interp/machine-coord-params/test.ngc", Expect::same_messages, "", "test.tbl"},

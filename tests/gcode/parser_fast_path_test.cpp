@@ -84,9 +84,25 @@ TEST(ParserFastPath, ReadsEveryCorpusLineAsTheGrammarDoes) {
 }
 
 TEST(ParserFastPath, TrickyLinesFallBackOrAgree) {
-  const char* tricky[] = {"G1 X 1 . 5", "g1x-.5y+2.", "N10 G0 X1 (a) ; b", "/N5 M3 $1", "  % tail", "X1 5",
-                          "X", "X.", "G1 X1 (open", "G1 X1 (a (b) c)", "N-1", "N 1 0 G0", "O100 sub", "#1=2 G0 X#1",
-                          "G0 X[1]", "G0 X1.2345678901234567", "G0 X000.000100", "G0 x1e5", "\tG0\tX1\t"};
+  const char* tricky[] = {"G1 X 1 . 5",
+                          "g1x-.5y+2.",
+                          "N10 G0 X1 (a) ; b",
+                          "/N5 M3 $1",
+                          "  % tail",
+                          "X1 5",
+                          "X",
+                          "X.",
+                          "G1 X1 (open",
+                          "G1 X1 (a (b) c)",
+                          "N-1",
+                          "N 1 0 G0",
+                          "O100 sub",
+                          "#1=2 G0 X#1",
+                          "G0 X[1]",
+                          "G0 X1.2345678901234567",
+                          "G0 X000.000100",
+                          "G0 x1e5",
+                          "\tG0\tX1\t"};
   int lines = 0, fast = 0;
   const std::string dir = test::temp_dir("fast_path");
   std::string all;

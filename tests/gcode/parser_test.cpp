@@ -1,8 +1,9 @@
 // The lexer and parser: LinuxCNC's lexical rules, the lossless spans, and positioned errors.
+#include "ccomp/gcode/parser.hpp"
+
 #include <gtest/gtest.h>
 
 #include "ccomp/error.hpp"
-#include "ccomp/gcode/parser.hpp"
 
 namespace ccomp::gcode {
 namespace {
@@ -111,7 +112,9 @@ struct BadLine {
   const char* expected_words;
 };
 
-void PrintTo(const BadLine& b, std::ostream* os) { *os << '"' << b.text << '"'; }
+void PrintTo(const BadLine& b, std::ostream* os) {
+  *os << '"' << b.text << '"';
+}
 
 class ParserErrors : public ::testing::TestWithParam<BadLine> {};
 
@@ -131,17 +134,14 @@ TEST_P(ParserErrors, NameFileLineColumnAndWhatWasExpected) {
   }
 }
 
-INSTANTIATE_TEST_SUITE_P(Lines, ParserErrors,
-                         ::testing::Values(BadLine{"G1 X1 (unclosed", 16, "unclosed comment"},
-                                           BadLine{"G1 (a (nested) one)", 7, "cannot nest"},
-                                           BadLine{"G1 X", 5, "expected a value"},
-                                           BadLine{"G1 X[1 + ]", 10, "expected a value"},
-                                           BadLine{"G1 X[1 + 2", 11, "expected ']'"},
-                                           BadLine{"#1 2", 5, "expected '='"}  /* blanks vanish: #12 */,
-                                           BadLine{"G1 X#<abc", 10, "expected '>'"},
-                                           BadLine{"G1 X ATAN[1] 2", 14, "ATAN"},
-                                           BadLine{"G1 N10", 4, "unexpected text"},
-                                           BadLine{"G1 X1 @", 7, "unexpected text"}));
+INSTANTIATE_TEST_SUITE_P(
+    Lines, ParserErrors,
+    ::testing::Values(BadLine{"G1 X1 (unclosed", 16, "unclosed comment"},
+                      BadLine{"G1 (a (nested) one)", 7, "cannot nest"}, BadLine{"G1 X", 5, "expected a value"},
+                      BadLine{"G1 X[1 + ]", 10, "expected a value"}, BadLine{"G1 X[1 + 2", 11, "expected ']'"},
+                      BadLine{"#1 2", 5, "expected '='"} /* blanks vanish: #12 */,
+                      BadLine{"G1 X#<abc", 10, "expected '>'"}, BadLine{"G1 X ATAN[1] 2", 14, "ATAN"},
+                      BadLine{"G1 N10", 4, "unexpected text"}, BadLine{"G1 X1 @", 7, "unexpected text"}));
 
 }  // namespace
 }  // namespace ccomp::gcode

@@ -23,7 +23,9 @@ std::string rs274() {
   return CCOMP_RS274_DEFAULT;
 }
 
-bool have_rs274() { return fs::exists(rs274()); }
+bool have_rs274() {
+  return fs::exists(rs274());
+}
 
 /// rs274's trace of a program, run as LinuxCNC's suite runs it (inch machine units).
 TraceResult rs274_trace(const std::string& program, const std::string& tool_table) {
@@ -32,9 +34,9 @@ TraceResult rs274_trace(const std::string& program, const std::string& tool_tabl
   // parallel test processes take turns on a lock.
   const std::string cwd = temp_dir("rs274_cwd");
   const std::string lock = std::string(CCOMP_TEST_TMP) + "/rs274.lock";
-  const CommandResult r = run_command("cd " + shell_quote(cwd) + " && flock " + shell_quote(lock) + " " +
-                                      shell_quote(rs274()) + " -t " + shell_quote(tool_table) + " -g " +
-                                      shell_quote(program));
+  const CommandResult r =
+      run_command("cd " + shell_quote(cwd) + " && flock " + shell_quote(lock) + " " + shell_quote(rs274()) + " -t " +
+                  shell_quote(tool_table) + " -g " + shell_quote(program));
   TraceResult t;
   std::istringstream in(r.out);
   for (std::string line; std::getline(in, line);) t.lines.push_back(line);
@@ -203,12 +205,23 @@ class ProgramGenerator {
 
   void block(int i) {
     switch (pick(16)) {
-      case 0: case 1: case 2:
+      case 0:
+      case 1:
+      case 2:
         absolute_move(pick(2) ? "G0" : "G1", uniform(-60, 60), uniform(-60, 60), uniform(-20, 20));
         break;
-      case 3: out_ << "G91 G1 X" << len(uniform(-5, 5)) << " Y" << len(uniform(-5, 5)) << "\nG90\n"; break;
-      case 4: case 5: case 6: arc(); break;
-      case 7: plane_ = 17 + pick(3); out_ << "G" << plane_ << "\n"; break;
+      case 3:
+        out_ << "G91 G1 X" << len(uniform(-5, 5)) << " Y" << len(uniform(-5, 5)) << "\nG90\n";
+        break;
+      case 4:
+      case 5:
+      case 6:
+        arc();
+        break;
+      case 7:
+        plane_ = 17 + pick(3);
+        out_ << "G" << plane_ << "\n";
+        break;
       case 8:
         // (rs274 does not convert an active tool length offset when the units change; ccomp
         // keeps lengths in mm. So units change here only with no tool offset in force.)
@@ -224,12 +237,17 @@ class ProgramGenerator {
       }
       case 10: {
         static const char* kG92[] = {"G92.1", "G92.2", "G92.3"};
-        if (pick(2)) out_ << "G92 X" << len(uniform(-10, 10)) << " Y" << len(uniform(-10, 10)) << "\n";
-        else if (pick(2)) out_ << "G52 X" << len(uniform(-10, 10)) << " Z" << len(uniform(-3, 3)) << "\n";
-        else out_ << kG92[pick(3)] << "\n";
+        if (pick(2))
+          out_ << "G92 X" << len(uniform(-10, 10)) << " Y" << len(uniform(-10, 10)) << "\n";
+        else if (pick(2))
+          out_ << "G52 X" << len(uniform(-10, 10)) << " Z" << len(uniform(-3, 3)) << "\n";
+        else
+          out_ << kG92[pick(3)] << "\n";
         break;
       }
-      case 11: cycle(); break;
+      case 11:
+        cycle();
+        break;
       case 12:
         // G49 and a retract before M6, as posts write it: rs274 alone resets its position at M6
         // to the last point it was commanded to, which ignores offset changes since (a stub of
@@ -237,8 +255,10 @@ class ProgramGenerator {
         if (pick(2))
           out_ << "G49\nG90 G0 Z" << len(uniform(10, 20)) << "\nT" << (1 + pick(2)) << " M6\nG43\nM3\n",
               tool_offset_ = true;
-        else if (pick(2)) out_ << "G43.1 Z" << len(uniform(-5, 5)) << "\n", tool_offset_ = true;
-        else out_ << "G49\n", tool_offset_ = false;
+        else if (pick(2))
+          out_ << "G43.1 Z" << len(uniform(-5, 5)) << "\n", tool_offset_ = true;
+        else
+          out_ << "G49\n", tool_offset_ = false;
         break;
       case 13: {
         const std::string l = std::to_string(100 + i);

@@ -1,12 +1,13 @@
 // The writer: unedited lines byte for byte, edited lines change only the edited bytes,
 // the header goes first or after a leading %.
+#include "ccomp/gcode/writer.hpp"
+
 #include <gtest/gtest.h>
 
 #include <cstdio>
 #include <cstdlib>
 
 #include "ccomp/error.hpp"
-#include "ccomp/gcode/writer.hpp"
 
 namespace ccomp::gcode {
 namespace {

@@ -3,10 +3,11 @@
 // first with the right term, variable and form (and period within 2%); fitting with the
 // suggested term must bring the residual to the noise; on data with no hidden effect
 // nothing is suggested.
+#include "ccomp/identify/diagnose.hpp"
+
 #include <gtest/gtest.h>
 
 #include "ccomp/identify/check.hpp"
-#include "ccomp/identify/diagnose.hpp"
 #include "ccomp/identify/fit.hpp"
 #include "ccomp/identify/simulate.hpp"
 #include "trace_capture.hpp"
@@ -18,19 +19,21 @@ constexpr double kNoise = 0.0002;  // 0.2 um
 
 struct Hidden {
   const char* name;
-  const char* truth_term;      // added to the truth
+  const char* truth_term;  // added to the truth
   std::vector<Plan> plans;
   double step = 25.0, rotary_step = 15.0;
-  const char* term;            // what check must name
+  const char* term;  // what check must name
   const char* variable;
   const char* form;
-  double period = 0.0;         // periodic forms (mm, deg), warm-up (s)
+  double period = 0.0;               // periodic forms (mm, deg), warm-up (s)
   std::vector<const char*> fixed{};  // base terms held at the truth (so they cannot stand in)
   const char* removed = nullptr;     // a term of the truth the base lacks
-  bool fix_all = false;  // hold every base term at the truth: on this machine free ones could stand in
+  bool fix_all = false;              // hold every base term at the truth: on this machine free ones could stand in
 };
 
-std::ostream& operator<<(std::ostream& os, const Hidden& h) { return os << h.name; }
+std::ostream& operator<<(std::ostream& os, const Hidden& h) {
+  return os << h.name;
+}
 
 /// The geometric HMC with the three sensors of the full one, so thermal effects can be read.
 std::string truth_base() {
@@ -108,34 +111,115 @@ TEST_P(HiddenEffect, IsRankedFirstAndFittingItReachesTheNoise) {
 
 INSTANTIATE_TEST_SUITE_P(
     Candidates, HiddenEffect,
-    ::testing::Values(
-        Hidden{"screw", "{name: EXX, form: periodic, period: 10 mm, unit: um, harmonics: [[1.5, -1.0]]}",
-               {Plan::nine_lines}, 2.0, 15.0, "EXX", "x", "periodic", 10.0},
-        Hidden{"reversal", "{name: EYY, variable: vy, form: reversal, unit: um, reversal: -4}", {Plan::nine_lines}, 25.0,
-               15.0, "EYY", "vy", "reversal"},
-        Hidden{"higher_order", "{name: EYX, form: polynomial, unit: um, coefficients: [0, 0, 0, 2.0e-8]}",
-               {Plan::nine_lines}, 25.0, 15.0, "EYX", "x", "polynomial"},
-        // The X carriage's constant yaw would stand in for its squareness: the base holds it.
-        Hidden{"squareness", nullptr, {Plan::nine_lines, Plan::grid}, 25.0, 15.0, "EC0X", "x", "polynomial", 0.0, {},
-               "EC0X", true},
-        // Carriage and table angles would stand in for a spindle tilt: the base holds them.
-        Hidden{"spindle_tilt", "{name: EA0S, value: 25, unit: urad}", {Plan::grid}, 25.0, 15.0, "EA0S", "L", "linear", 0.0,
-               {}, nullptr, true},
-        Hidden{"table_harmonic", "{name: EXB, form: periodic, period: 180 deg, unit: um, harmonics: [[3, -2]]}",
-               {Plan::sphere}, 25.0, 15.0, "EXB", "b", "harmonic", 180.0},
-        Hidden{"worm_wheel", "{name: EBB, form: periodic, period: 4 deg, unit: urad, harmonics: [[6, 4]]}", {Plan::sphere},
-               25.0, 0.5, "EBB", "b", "periodic", 4.0},
-        Hidden{"thermal_drift", "{name: EZS, variable: T_spindle, form: thermal, unit: um, coefficient: 1.5}",
-               {Plan::thermal}, 25.0, 15.0, "EZS", "T_spindle", "linear"},
-        // (Quicker than any sensor warms: 40 minutes would be the bed sensor's own curve.)
-        Hidden{"warm_up", "{name: EYS, variable: t, form: warmup, unit: um, amplitude: 6, time_constant: 1200 s}",
-               {Plan::thermal}, 25.0, 15.0, "EYS", "t", "exponential", 1200.0},
-        Hidden{"scale_expansion", "{name: EXX, form: scale_expansion, temperature: T_bed, coefficient: 1.15e-5 /degC}",
-               {Plan::thermal, Plan::nine_lines}, 25.0, 15.0, "EXX", "x,T_bed", "interaction"},
-        // (A yaw of Z growing with x is the X yaw's slope on this layout; a pitch is not, but
-        // X's positioning growing with z plus its straightness would stand in: the base holds.)
-        Hidden{"cross_axis", "{name: EBZ, form: cross_axis, other: x, unit: urad, coefficients: [[0.03]]}", {Plan::grid},
-               25.0, 15.0, "EBZ", "z,x", "interaction", 0.0, {}, nullptr, true}),
+    ::testing::Values(Hidden{"screw",
+                             "{name: EXX, form: periodic, period: 10 mm, unit: um, harmonics: [[1.5, -1.0]]}",
+                             {Plan::nine_lines},
+                             2.0,
+                             15.0,
+                             "EXX",
+                             "x",
+                             "periodic",
+                             10.0},
+                      Hidden{"reversal",
+                             "{name: EYY, variable: vy, form: reversal, unit: um, reversal: -4}",
+                             {Plan::nine_lines},
+                             25.0,
+                             15.0,
+                             "EYY",
+                             "vy",
+                             "reversal"},
+                      Hidden{"higher_order",
+                             "{name: EYX, form: polynomial, unit: um, coefficients: [0, 0, 0, 2.0e-8]}",
+                             {Plan::nine_lines},
+                             25.0,
+                             15.0,
+                             "EYX",
+                             "x",
+                             "polynomial"},
+                      // The X carriage's constant yaw would stand in for its squareness: the base holds it.
+                      Hidden{"squareness",
+                             nullptr,
+                             {Plan::nine_lines, Plan::grid},
+                             25.0,
+                             15.0,
+                             "EC0X",
+                             "x",
+                             "polynomial",
+                             0.0,
+                             {},
+                             "EC0X",
+                             true},
+                      // Carriage and table angles would stand in for a spindle tilt: the base holds them.
+                      Hidden{"spindle_tilt",
+                             "{name: EA0S, value: 25, unit: urad}",
+                             {Plan::grid},
+                             25.0,
+                             15.0,
+                             "EA0S",
+                             "L",
+                             "linear",
+                             0.0,
+                             {},
+                             nullptr,
+                             true},
+                      Hidden{"table_harmonic",
+                             "{name: EXB, form: periodic, period: 180 deg, unit: um, harmonics: [[3, -2]]}",
+                             {Plan::sphere},
+                             25.0,
+                             15.0,
+                             "EXB",
+                             "b",
+                             "harmonic",
+                             180.0},
+                      Hidden{"worm_wheel",
+                             "{name: EBB, form: periodic, period: 4 deg, unit: urad, harmonics: [[6, 4]]}",
+                             {Plan::sphere},
+                             25.0,
+                             0.5,
+                             "EBB",
+                             "b",
+                             "periodic",
+                             4.0},
+                      Hidden{"thermal_drift",
+                             "{name: EZS, variable: T_spindle, form: thermal, unit: um, coefficient: 1.5}",
+                             {Plan::thermal},
+                             25.0,
+                             15.0,
+                             "EZS",
+                             "T_spindle",
+                             "linear"},
+                      // (Quicker than any sensor warms: 40 minutes would be the bed sensor's own curve.)
+                      Hidden{"warm_up",
+                             "{name: EYS, variable: t, form: warmup, unit: um, amplitude: 6, time_constant: 1200 s}",
+                             {Plan::thermal},
+                             25.0,
+                             15.0,
+                             "EYS",
+                             "t",
+                             "exponential",
+                             1200.0},
+                      Hidden{"scale_expansion",
+                             "{name: EXX, form: scale_expansion, temperature: T_bed, coefficient: 1.15e-5 /degC}",
+                             {Plan::thermal, Plan::nine_lines},
+                             25.0,
+                             15.0,
+                             "EXX",
+                             "x,T_bed",
+                             "interaction"},
+                      // (A yaw of Z growing with x is the X yaw's slope on this layout; a pitch is not, but
+                      // X's positioning growing with z plus its straightness would stand in: the base holds.)
+                      Hidden{"cross_axis",
+                             "{name: EBZ, form: cross_axis, other: x, unit: urad, coefficients: [[0.03]]}",
+                             {Plan::grid},
+                             25.0,
+                             15.0,
+                             "EBZ",
+                             "z,x",
+                             "interaction",
+                             0.0,
+                             {},
+                             nullptr,
+                             true}),
     [](const ::testing::TestParamInfo<Hidden>& param) { return std::string(param.param.name); });
 
 TEST(HiddenEffect, NoHiddenEffectNoSuggestion) {

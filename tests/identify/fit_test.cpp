@@ -2,6 +2,8 @@
 // noise (nor step into it), says what the data cannot see, fits a period when allowed,
 // hands over its design matrix, resists outliers with the robust loss, and writes its
 // result back into the model file.
+#include "ccomp/identify/fit.hpp"
+
 #include <fmt/format.h>
 #include <gtest/gtest.h>
 
@@ -10,7 +12,6 @@
 #include <sstream>
 
 #include "ccomp/identify/check.hpp"
-#include "ccomp/identify/fit.hpp"
 #include "ccomp/identify/simulate.hpp"
 #include "sample_models.hpp"
 #include "trace_capture.hpp"
@@ -94,7 +95,8 @@ TEST(Fit, SaysWhatTheDataCannotSeeAndLeavesItAlone) {
   const model::ForwardModel s(blank(truth));
   const FitReport r = fit(s, measure(truth, {Plan::nine_lines}, 4));
   bool unseen = false;
-  for (const std::string& u : r.unidentifiable) unseen = unseen || (u.find("EBB.b1") != std::string::npos && u.find("no effect") != std::string::npos);
+  for (const std::string& u : r.unidentifiable)
+    unseen = unseen || (u.find("EBB.b1") != std::string::npos && u.find("no effect") != std::string::npos);
   EXPECT_TRUE(unseen) << "EBB.b1 should be named as invisible";
   for (const FittedParameter& p : r.parameters) {
     if (p.label == "EBB.b1") {
@@ -107,10 +109,10 @@ TEST(Fit, SaysWhatTheDataCannotSeeAndLeavesItAlone) {
 
 TEST(Fit, FitsAPeriodWhenTheFileAllows) {
   auto model = [](const char* period, const char* harmonics, bool fit_period) {
-    return model::parse_machine_model(std::string(test::kHmcChain) + "terms:\n  - {name: EXX, form: periodic, period: " +
-                                          period + ", unit: um, harmonics: " + harmonics + ", fit: true" +
-                                          (fit_period ? ", fit_period: true" : "") + "}\n",
-                                      "screw.yaml");
+    return model::parse_machine_model(
+        std::string(test::kHmcChain) + "terms:\n  - {name: EXX, form: periodic, period: " + period +
+            ", unit: um, harmonics: " + harmonics + ", fit: true" + (fit_period ? ", fit_period: true" : "") + "}\n",
+        "screw.yaml");
   };
   // Laser points 2 mm apart: a 10 mm screw is seen, not aliased.
   const MeasurementSet data = measure(model("10 mm", "[[2, 1]]", false), {Plan::nine_lines}, 5, 2.0);
@@ -140,8 +142,8 @@ TEST(Fit, FromTheTruthTakesNoStepIntoTheNoise) {
         at += fmt::format("{}{:.3f}", k ? ", " : "", -500 + 1000.0 * k / 14);
         values += fmt::format("{}{:.2f}", k ? ", " : "", 5 * u(rng));
       }
-      text += fmt::format("  - {{name: E{}{}, form: table, at: [{}], values: [{}], unit: {}, fit: true}}\n", component, axis, at,
-                          values, std::string("XYZ").find(component[0]) != std::string::npos ? "um" : "urad");
+      text += fmt::format("  - {{name: E{}{}, form: table, at: [{}], values: [{}], unit: {}, fit: true}}\n", component,
+                          axis, at, values, std::string("XYZ").find(component[0]) != std::string::npos ? "um" : "urad");
     }
   const model::MachineModel truth = model::parse_machine_model(text, "tables.yaml");
   const model::ForwardModel t(truth);

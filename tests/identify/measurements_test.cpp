@@ -1,9 +1,10 @@
 // Reading the measurement CSV contract (physics.md sect. 5): what it accepts, and errors
 // that name the file, the row and the column.
+#include "ccomp/identify/measurements.hpp"
+
 #include <gtest/gtest.h>
 
 #include "ccomp/error.hpp"
-#include "ccomp/identify/measurements.hpp"
 #include "sample_models.hpp"
 
 namespace ccomp::identify {
@@ -86,7 +87,8 @@ TEST(Measurements, ErrorsNameRowColumnAndCause) {
 }
 
 TEST(Measurements, SummaryGivesRangesAndCsvRoundTrips) {
-  MeasurementSet s = parse("x,y,z,b,L,T_spindle,vx,dx,dy,dz\n-5,0,1,0,50,21,-1,0,0,0.001\n7,3,1,45,150,24,1,0.002,0,0\n");
+  MeasurementSet s =
+      parse("x,y,z,b,L,T_spindle,vx,dx,dy,dz\n-5,0,1,0,50,21,-1,0,0,0.001\n7,3,1,45,150,24,1,0.002,0,0\n");
   summarize(s, hmc());
   auto range = [&](const std::string& name) {
     for (const VariableRange& r : s.ranges)

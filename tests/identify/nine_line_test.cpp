@@ -1,8 +1,9 @@
 // Seed 003's nine-line method: the geometric errors of a 3-axis machine from nine laser
 // lines, their sensitivity to where the lines were placed, and the placement study.
+#include "ccomp/identify/nine_line.hpp"
+
 #include <gtest/gtest.h>
 
-#include "ccomp/identify/nine_line.hpp"
 #include "ccomp/identify/simulate.hpp"
 #include "sample_models.hpp"
 
@@ -19,13 +20,18 @@ model::MachineModel vmc(double scale) {
       const bool angle = std::string("ABC").find(c[0]) != std::string::npos;
       const double a1 = scale * (angle ? 0.02 : 0.01) * (1 + 0.3 * (k % 5)), a2 = scale * 2e-5 * ((k % 3) - 1);
       terms += "  - {name: E" + std::string(c) + axis + ", form: polynomial, unit: " + (angle ? "urad" : "um") +
-               ", coefficients: [0, " + std::to_string(a1) + (angle ? "" : ", " + std::to_string(a2)) + "], fit: true}\n";
+               ", coefficients: [0, " + std::to_string(a1) + (angle ? "" : ", " + std::to_string(a2)) +
+               "], fit: true}\n";
       ++k;
     }
   for (const auto& [name, value] : {std::pair{"EC0X", 20.0}, std::pair{"EB0X", -15.0}, std::pair{"EA0Y", 10.0}})
-    terms += "  - {name: " + std::string(name) + ", value: " + std::to_string(scale * value) + ", unit: urad, fit: true}\n";
-  return model::parse_machine_model(std::string(test::kVmcChain) + "axes: {X: {min: -300, max: 300}, Y: {min: -200, max: "
-                                    "200}, Z: {min: -250, max: 250}}\n" + terms, "vmc.yaml");
+    terms +=
+        "  - {name: " + std::string(name) + ", value: " + std::to_string(scale * value) + ", unit: urad, fit: true}\n";
+  return model::parse_machine_model(std::string(test::kVmcChain) +
+                                        "axes: {X: {min: -300, max: 300}, Y: {min: -200, max: "
+                                        "200}, Z: {min: -250, max: 250}}\n" +
+                                        terms,
+                                    "vmc.yaml");
 }
 
 TEST(NineLine, FitsTheGeometricErrorsAndStudiesThePlacement) {

@@ -1,9 +1,10 @@
 // ISO 230-2 positioning figures: a small data set worked by hand, and seed 002's split
 // of a simulated axis into cumulative, periodic and reversal parts.
+#include "ccomp/identify/positioning.hpp"
+
 #include <gtest/gtest.h>
 
 #include "ccomp/error.hpp"
-#include "ccomp/identify/positioning.hpp"
 #include "ccomp/identify/simulate.hpp"
 #include "trace_capture.hpp"
 
@@ -12,8 +13,8 @@ namespace {
 
 MeasurementSet read(const std::string& csv) {
   MeasurementSet set;
-  parse_measurements(csv, "runs.csv", model::load_machine_model(test::source_dir() + "/samples/machines/zero.yaml"),
-                     {}, set);
+  parse_measurements(csv, "runs.csv", model::load_machine_model(test::source_dir() + "/samples/machines/zero.yaml"), {},
+                     set);
   return set;
 }
 

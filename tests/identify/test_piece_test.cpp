@@ -24,10 +24,10 @@ TEST(TestPiece, FindsTheRotaryAxisLocationAndTilt) {
     EXPECT_NEAR(p.after, expected, 4 * p.uncertainty) << p.label;
   }
   // The program that cuts it runs through the main job.
-  const test::CommandResult c = test::run_command(
-      test::shell_quote(test::ccomp_binary()) + " " + test::shell_quote(dir + "test-piece-b.ngc") + " -m " +
-      test::shell_quote(test::source_dir() + "/samples/machines/hmc-xyzb-geometric.yaml") + " --tool-table " +
-      test::shell_quote(test::source_dir() + "/samples/tools.tbl") + " -o -");
+  const test::CommandResult c =
+      test::run_command(test::shell_quote(test::ccomp_binary()) + " " + test::shell_quote(dir + "test-piece-b.ngc") +
+                        " -m " + test::shell_quote(test::source_dir() + "/samples/machines/hmc-xyzb-geometric.yaml") +
+                        " --tool-table " + test::shell_quote(test::source_dir() + "/samples/tools.tbl") + " -o -");
   EXPECT_EQ(c.exit_code, 0) << c.err;
   EXPECT_NE(c.out.find("B270"), std::string::npos);
 }

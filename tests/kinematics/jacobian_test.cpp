@@ -18,9 +18,15 @@ std::mt19937& rng() {
   static std::mt19937 g(20261122);
   return g;
 }
-double uniform(double a, double b) { return std::uniform_real_distribution<double>(a, b)(rng()); }
-Vec3 random_vec(double scale) { return Vec3(uniform(-scale, scale), uniform(-scale, scale), uniform(-scale, scale)); }
-Pose random_pose() { return Pose{so3_exp(random_vec(2.0)), random_vec(300.0)}; }
+double uniform(double a, double b) {
+  return std::uniform_real_distribution<double>(a, b)(rng());
+}
+Vec3 random_vec(double scale) {
+  return Vec3(uniform(-scale, scale), uniform(-scale, scale), uniform(-scale, scale));
+}
+Pose random_pose() {
+  return Pose{so3_exp(random_vec(2.0)), random_vec(300.0)};
+}
 
 constexpr double kStep = 1e-6;
 
@@ -77,7 +83,9 @@ struct JacobianCase {
   const char* name;
   std::function<std::pair<Matrix, Matrix>()> make;
 };
-void PrintTo(const JacobianCase& c, std::ostream* os) { *os << c.name; }
+void PrintTo(const JacobianCase& c, std::ostream* os) {
+  *os << c.name;
+}
 
 /// A machine-like chain: W -> X -> Z -> offset d -> B on the workpiece side, W -> Y ->
 /// spindle offset -> tool length on the tool side, with random placements and errors.
@@ -253,7 +261,9 @@ TEST_P(Jacobians, MatchFiniteDifferences) {
     ASSERT_EQ(analytic.cols(), numeric.cols());
     const double scale = std::max(1.0, numeric.cwiseAbs().maxCoeff());
     EXPECT_LT((analytic - numeric).cwiseAbs().maxCoeff() / scale, 1e-6)
-        << GetParam().name << " trial " << trial << "\nanalytic\n" << analytic << "\nnumeric\n" << numeric;
+        << GetParam().name << " trial " << trial << "\nanalytic\n"
+        << analytic << "\nnumeric\n"
+        << numeric;
   }
 }
 

@@ -1,11 +1,11 @@
 // Every term form: value, derivatives with respect to its variables and to each parameter,
 // all checked against central finite differences by one parametrised suite; plus what each
 // form must do by definition.
+#include "ccomp/model/error_term.hpp"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
-
-#include "ccomp/model/error_term.hpp"
 
 namespace ccomp::model {
 namespace {
@@ -16,7 +16,9 @@ struct FormCase {
   Eigen::VectorXd parameters;
   TermInputs at;
 };
-void PrintTo(const FormCase& c, std::ostream* os) { *os << c.name; }
+void PrintTo(const FormCase& c, std::ostream* os) {
+  *os << c.name;
+}
 
 Eigen::VectorXd vec(std::initializer_list<double> v) {
   Eigen::VectorXd x(static_cast<Eigen::Index>(v.size()));
@@ -78,8 +80,7 @@ TEST_P(TermForms, DerivativesMatchFiniteDifferences) {
     Eigen::VectorXd up = c.parameters, down = c.parameters;
     up[k] += step;
     down[k] -= step;
-    const double numeric =
-        (evaluate(c.shape, up, c.at).value - evaluate(c.shape, down, c.at).value) / (2 * step);
+    const double numeric = (evaluate(c.shape, up, c.at).value - evaluate(c.shape, down, c.at).value) / (2 * step);
     EXPECT_NEAR(v.d_parameters[k], numeric, 1e-9 + 1e-6 * std::abs(numeric)) << c.name << " parameter " << k;
   }
 }
@@ -103,8 +104,9 @@ TEST(TermForms, PeriodicRepeatsReversalSplitsThermalStartsAtZero) {
   const Eigen::VectorXd pp = vec({6.0, 0.003, -0.001, 0.0005, 0.0002});
   EXPECT_NEAR(evaluate(p, pp, {1.7, 0}).value, evaluate(p, pp, {1.7 + 6.0 * 7, 0}).value, 1e-12);
   const Eigen::VectorXd r = vec({0.008});
-  EXPECT_NEAR(evaluate(shape(TermForm::reversal), r, {1, 0}).value - evaluate(shape(TermForm::reversal), r, {-1, 0}).value,
-              0.008, 1e-15);
+  EXPECT_NEAR(
+      evaluate(shape(TermForm::reversal), r, {1, 0}).value - evaluate(shape(TermForm::reversal), r, {-1, 0}).value,
+      0.008, 1e-15);
   EXPECT_EQ(evaluate(shape(TermForm::thermal_warmup), vec({0.02, 600}), {0, 0}).value, 0.0);
   EXPECT_NEAR(evaluate(shape(TermForm::thermal_warmup), vec({0.02, 600}), {1e6, 0}).value, 0.02, 1e-12);
   EXPECT_EQ(evaluate(shape(TermForm::thermal_linear), vec({0.001}), {20.0, 0}).value, 0.0);

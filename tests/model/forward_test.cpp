@@ -1,10 +1,11 @@
 // The forward model through a parsed model file: signs of the ISO error motions, the Abbe
 // effect of the tool length, and the exact Jacobians against finite differences.
+#include "ccomp/model/forward.hpp"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
 
-#include "ccomp/model/forward.hpp"
 #include "sample_models.hpp"
 
 namespace ccomp::model {
@@ -109,7 +110,8 @@ TEST(Forward, LostMotionIsTheAxisOwnPositioningReversal) {
   - {name: EYX, variable: vx, form: reversal, reversal: 2 um}
   - {name: EZY, variable: vy, form: reversal, reversal: 1 um}
   - {name: EBB, variable: vb, form: reversal, unit: urad, reversal: -20}
-)", "m.yaml");
+)",
+                                              "m.yaml");
   const ForwardModel m(mm);
   EXPECT_NEAR(m.lost_motion()[0], 0.006, 1e-15);
   EXPECT_EQ(m.lost_motion()[1], 0.0) << "EZY is a straightness of Y, not its positioning";
@@ -130,7 +132,8 @@ TEST(Forward, PlayIsTakenUpOverTheLostMotion) {
   const MachineModel mm = parse_machine_model(std::string(kChain) + R"(terms:
   - {name: EXX, variable: vx, form: reversal, reversal: -6 um}
   - {name: EZY, variable: vy, form: reversal, reversal: 1 um}
-)", "m.yaml");
+)",
+                                              "m.yaml");
   const ForwardModel m(mm);
   auto travel = [&](Conditions& c, double dx, double dy) {
     ChainQ a = ChainQ::Zero(), b = ChainQ::Zero();

@@ -26,7 +26,9 @@ struct BadModel {
   const char* yaml;
   const char* words;
 };
-void PrintTo(const BadModel& b, std::ostream* os) { *os << b.yaml; }
+void PrintTo(const BadModel& b, std::ostream* os) {
+  *os << b.yaml;
+}
 
 class BadModels : public ::testing::TestWithParam<BadModel> {};
 
@@ -41,15 +43,14 @@ TEST_P(BadModels, AreRefusedNamingTheEntry) {
   }
 }
 
-INSTANTIATE_TEST_SUITE_P(
-    Files, BadModels,
-    ::testing::Values(BadModel{"name: m\n", "axes"}, BadModel{"axes: {Q: {}}\n", "Q"},
-                      BadModel{"axes: {X: {min: 5, max: 1}}\n", "min 5"},
-                      BadModel{"axes: {X: {min: .nan}}\n", "NaN"},
-                      BadModel{"axes: {X: {max: fast}}\n", "must be a number"},
-                      BadModel{"axes: {X: {type: spiral}}\n", "spiral"},
-                      BadModel{"axes: {X: {}}\ndialect: heidenhain\n", "heidenhain"},
-                      BadModel{"axes: [X\n", ""}));
+INSTANTIATE_TEST_SUITE_P(Files, BadModels,
+                         ::testing::Values(BadModel{"name: m\n", "axes"}, BadModel{"axes: {Q: {}}\n", "Q"},
+                                           BadModel{"axes: {X: {min: 5, max: 1}}\n", "min 5"},
+                                           BadModel{"axes: {X: {min: .nan}}\n", "NaN"},
+                                           BadModel{"axes: {X: {max: fast}}\n", "must be a number"},
+                                           BadModel{"axes: {X: {type: spiral}}\n", "spiral"},
+                                           BadModel{"axes: {X: {}}\ndialect: heidenhain\n", "heidenhain"},
+                                           BadModel{"axes: [X\n", ""}));
 
 }  // namespace
 }  // namespace ccomp::model

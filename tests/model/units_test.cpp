@@ -1,10 +1,11 @@
 // Units of the model file: conversions into mm, rad, s, degC, and refusals by dimension.
+#include "ccomp/model/units.hpp"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
 
 #include "ccomp/error.hpp"
-#include "ccomp/model/units.hpp"
 
 namespace ccomp::model {
 namespace {
@@ -38,7 +39,8 @@ TEST(Units, RefuseWrongDimensionUnknownUnitAndNaN) {
     return std::string("accepted");
   };
   EXPECT_EQ(message("3 urad", kLength), "term EXX: 'urad' measures angle, but length belongs here");
-  EXPECT_EQ(message("3 um/degC", kLength), "term EXX: 'um/degC' measures length / temperature, but length belongs here");
+  EXPECT_EQ(message("3 um/degC", kLength),
+            "term EXX: 'um/degC' measures length / temperature, but length belongs here");
   EXPECT_NE(message("3 furlong", kLength).find("unknown unit 'furlong'"), std::string::npos);
   EXPECT_NE(message("nan mm", kLength).find("not a number"), std::string::npos);
   EXPECT_NE(message("fast", kLength).find("not a number"), std::string::npos);

@@ -25,7 +25,8 @@ TEST(HtmlReport, IsSelfContainedAndRendersInChromium) {
                                 " --plan nine_lines --plan sphere --step 10 -o " + shell_quote(csv));
   ASSERT_EQ(r.exit_code, 0) << r.err;
   r = run_command(shell_quote(ccomp_binary()) + " check " + shell_quote(csv) + " -m " +
-                  shell_quote(source_dir() + "/samples/machines/hmc-xyzb-geometric.yaml") + " --report " + shell_quote(html));
+                  shell_quote(source_dir() + "/samples/machines/hmc-xyzb-geometric.yaml") + " --report " +
+                  shell_quote(html));
   ASSERT_EQ(r.exit_code, 0) << r.err;
   const std::string page = read_file(html);
   // Self-contained: no scripts, no fetched resources (the SVG namespace is a name, not a fetch).
@@ -45,10 +46,12 @@ TEST(HtmlReport, IsSelfContainedAndRendersInChromium) {
   EXPECT_NE(page.find("Identifiability"), std::string::npos);
 
   const std::string chromium = "/usr/bin/chromium";
-  if (!std::filesystem::exists(chromium)) GTEST_SKIP() << "Debian's chromium is not installed (tools/install-deps.sh installs it)";
-  const std::string flags = " --headless --no-sandbox --disable-gpu --disable-quic --no-first-run "
-                            "--disable-background-networking --disable-component-update --disable-sync --user-data-dir=" +
-                            shell_quote(dir + "/profile") + " ";
+  if (!std::filesystem::exists(chromium))
+    GTEST_SKIP() << "Debian's chromium is not installed (tools/install-deps.sh installs it)";
+  const std::string flags =
+      " --headless --no-sandbox --disable-gpu --disable-quic --no-first-run "
+      "--disable-background-networking --disable-component-update --disable-sync --user-data-dir=" +
+      shell_quote(dir + "/profile") + " ";
   r = run_command("timeout 120 " + chromium + flags + "--dump-dom " + shell_quote("file://" + html));
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_EQ(count(r.out, "<svg class=\"chart\""), charts) << "every chart is in the rendered page";

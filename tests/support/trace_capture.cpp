@@ -1,16 +1,16 @@
 #include "trace_capture.hpp"
 
-#include <cstdio>
-#include <cstdlib>
+#include <gtest/gtest.h>
 #include <sys/wait.h>
 #include <unistd.h>
+
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
-#include <cmath>
 #include <regex>
 #include <sstream>
-
-#include <gtest/gtest.h>
 
 #include "ccomp/gcode/trace.hpp"
 
@@ -136,8 +136,8 @@ std::vector<std::string> observable(const std::vector<std::string>& lines, bool 
     std::smatch m;
     if (std::regex_match(line, m, call)) {
       const std::string name = m[2].str();
-      if (name == "STRAIGHT_TRAVERSE" || name == "STRAIGHT_FEED" || name == "ARC_FEED" ||
-          name == "STRAIGHT_PROBE" || name == "MESSAGE")
+      if (name == "STRAIGHT_TRAVERSE" || name == "STRAIGHT_FEED" || name == "ARC_FEED" || name == "STRAIGHT_PROBE" ||
+          name == "MESSAGE")
         out.push_back(name + "(" + m[3].str() + ")");
       continue;
     }
@@ -197,8 +197,7 @@ std::optional<std::string> compare_calls(const std::vector<std::string>& actual,
     }
     bool same = an == en && av.size() == ev.size();
     for (std::size_t k = 0; same && k < av.size(); ++k) same = std::abs(av[k] - ev[k]) <= tolerance + 1e-12;
-    if (!same)
-      return "motion " + std::to_string(i + 1) + ": got " + actual[i] + ", expected " + expected[i];
+    if (!same) return "motion " + std::to_string(i + 1) + ": got " + actual[i] + ", expected " + expected[i];
   }
   if (actual.size() != expected.size())
     return "got " + std::to_string(actual.size()) + " motions, expected " + std::to_string(expected.size()) +
@@ -250,9 +249,15 @@ CommandResult run_command(const std::string& command, const std::string& stdin_t
   return r;
 }
 
-std::string source_dir() { return CCOMP_SOURCE_DIR; }
-std::string corpus_dir() { return CCOMP_CORPUS_DIR; }
-std::string ccomp_binary() { return CCOMP_BINARY; }
+std::string source_dir() {
+  return CCOMP_SOURCE_DIR;
+}
+std::string corpus_dir() {
+  return CCOMP_CORPUS_DIR;
+}
+std::string ccomp_binary() {
+  return CCOMP_BINARY;
+}
 
 std::string temp_dir(const std::string& name) {
   // Per process: ctest runs test cases as parallel processes that share the build tree.

@@ -52,8 +52,7 @@ std::vector<std::string> calls_named(const std::vector<std::string>& lines, cons
 /// Compares two lists of calls: same names, same numbers within `tolerance`. On mismatch
 /// returns a description of the first difference.
 std::optional<std::string> compare_calls(const std::vector<std::string>& actual,
-                                         const std::vector<std::string>& expected,
-                                         double tolerance = 1e-4);
+                                         const std::vector<std::string>& expected, double tolerance = 1e-4);
 
 std::vector<std::string> read_lines(const std::string& path);
 std::string read_file(const std::string& path);

@@ -27,13 +27,15 @@ TEST(Parallel, EveryIndexOnceWhateverTheThreadCount) {
 }
 
 TEST(Parallel, AFailureOnAnyThreadReachesTheCaller) {
-  EXPECT_THROW(for_each_index(100, 4, [](std::size_t i) {
-                 if (i == 97) throw std::runtime_error("index 97");
-               }),
+  EXPECT_THROW(for_each_index(100, 4,
+                              [](std::size_t i) {
+                                if (i == 97) throw std::runtime_error("index 97");
+                              }),
                std::runtime_error);
-  EXPECT_THROW(for_each_piece(100, 4, [](std::size_t begin, std::size_t) {
-                 if (begin > 0) throw std::runtime_error("a later piece");
-               }),
+  EXPECT_THROW(for_each_piece(100, 4,
+                              [](std::size_t begin, std::size_t) {
+                                if (begin > 0) throw std::runtime_error("a later piece");
+                              }),
                std::runtime_error);
 }
 

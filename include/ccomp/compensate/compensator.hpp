@@ -34,9 +34,9 @@ struct CompensatedPoint {
 };
 
 struct MoveReport {
-  double max_deviation_before = 0.0;  ///< mm: the uncompensated path's largest error
-  double max_deviation_after = 0.0;   ///< mm: the compensated path's, at the checked points
-  double max_correction = 0.0;        ///< mm: largest change of a linear axis
+  double max_deviation_before = 0.0;   ///< mm: the uncompensated path's largest error
+  double max_deviation_after = 0.0;    ///< mm: the compensated path's, at the checked points
+  double max_correction = 0.0;         ///< mm: largest change of a linear axis
   double max_orientation_error = 0.0;  ///< rad: what the machine cannot correct
   /// Bit i: axis i's reversal could not be taken up (it leads the command, or the axis has
   /// no lost motion of its own and its other reversal terms switch at once).
@@ -88,13 +88,13 @@ class Compensator {
   /// end there, and its middle where the error field has features shorter than the move.
   void error_before(const model::ChainQ& start, const model::ChainQ& end, const std::array<double, 9>& play,
                     MoveReport& report);
-  double executed_deviation(const model::ChainQ& a_nominal, const model::ChainQ& b_nominal,
-                            const model::ChainQ& a_comp, const model::ChainQ& b_comp, double t);
+  double executed_deviation(const model::ChainQ& a_nominal, const model::ChainQ& b_nominal, const model::ChainQ& a_comp,
+                            const model::ChainQ& b_comp, double t);
 
   const model::ForwardModel& model_;
   CompensationOptions options_;
   model::ChainQ commanded_ = model::ChainQ::Constant(std::nan(""));  ///< where the machine was sent last
-  std::array<double, 9> play_{};  ///< approach state after the commands so far
+  std::array<double, 9> play_{};                                     ///< approach state after the commands so far
   model::ChainQ last_straight_end_ = model::ChainQ::Constant(std::nan(""));  ///< its error before is counted
   // The nominal tips of the last points solved (a move's ends and midpoints), round robin.
   std::array<std::pair<model::ChainQ, Eigen::Vector3d>, 4> tips_;

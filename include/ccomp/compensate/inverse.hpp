@@ -5,7 +5,6 @@
 // that axis, which the rotary axis itself can correct). The orientation the machine cannot
 // correct is reported.
 #include <Eigen/Core>
-
 #include <array>
 #include <cmath>
 
@@ -20,8 +19,8 @@ struct InverseOptions {
 };
 
 struct InverseResult {
-  model::ChainQ q;                 ///< the commanded axis values (mm, rad; L unchanged)
-  Eigen::Vector3d target = Eigen::Vector3d::Zero();  ///< the nominal tool tip it lands on (table frame, mm)
+  model::ChainQ q;                                              ///< the commanded axis values (mm, rad; L unchanged)
+  Eigen::Vector3d target = Eigen::Vector3d::Zero();             ///< the nominal tool tip it lands on (table frame, mm)
   Eigen::Vector3d position_residual = Eigen::Vector3d::Zero();  ///< actual - target, mm
   Eigen::Vector3d orientation_error = Eigen::Vector3d::Zero();  ///< rotation left, rad (table frame)
   int iterations = 0;
@@ -31,9 +30,9 @@ struct InverseResult {
 /// The axes the solve may move: the chain's linear and rotary axes (not the tool length).
 struct InverseProblem {
   explicit InverseProblem(const model::ForwardModel& model);
-  std::vector<int> unknowns;          ///< chain variable indices moved by the solve
+  std::vector<int> unknowns;                       ///< chain variable indices moved by the solve
   std::vector<Eigen::Vector3d> rotary_directions;  ///< for each rotary unknown: its axis in the table frame at q=0
-  std::vector<int> rotary_unknowns;   ///< their indices into q
+  std::vector<int> rotary_unknowns;                ///< their indices into q
 };
 
 /// What one solve leaves for the next, when points come in a stream of neighbours: the

@@ -40,12 +40,12 @@ struct JobReport {
   std::uint64_t motions = 0;  ///< canonical motions
   std::uint64_t bytes = 0;    ///< input size
   std::uint64_t compensated_moves = 0;
-  std::uint64_t added_lines = 0;          ///< segments added by splitting moves and take-ups
-  std::uint64_t take_up_moves = 0;        ///< moves added at reversals to take up lost motion
-  double max_error_before = 0.0;          ///< mm: the uncompensated machine's largest error
-  double max_error_after = 0.0;           ///< mm: the compensated path's, at the checked points
-  double max_correction = 0.0;            ///< mm
-  double max_orientation_error = 0.0;     ///< rad: what the machine cannot correct
+  std::uint64_t added_lines = 0;       ///< segments added by splitting moves and take-ups
+  std::uint64_t take_up_moves = 0;     ///< moves added at reversals to take up lost motion
+  double max_error_before = 0.0;       ///< mm: the uncompensated machine's largest error
+  double max_error_after = 0.0;        ///< mm: the compensated path's, at the checked points
+  double max_correction = 0.0;         ///< mm
+  double max_orientation_error = 0.0;  ///< rad: what the machine cannot correct
 };
 
 /// The header comment that marks a compensated program and names the model by its hash.

@@ -3,10 +3,9 @@
 // it is (the error the machine would make), verify() runs a compensated program through it
 // and measures how far the executed tool tip strays from the path the original meant.
 // Both sample every feed move and arc; rapids are the control's path, not cuts.
+#include <Eigen/Core>
 #include <cstdint>
 #include <string>
-
-#include <Eigen/Core>
 
 #include "ccomp/gcode/interpreter.hpp"
 #include "ccomp/gcode/source.hpp"
@@ -15,9 +14,9 @@
 namespace ccomp::compensate {
 
 struct PathError {
-  double max = 0.0;             ///< mm
-  double rms = 0.0;             ///< mm, over the sampled points
-  std::uint32_t worst_line = 0;  ///< the block of the worst point (in the program checked)
+  double max = 0.0;                                       ///< mm
+  double rms = 0.0;                                       ///< mm, over the sampled points
+  std::uint32_t worst_line = 0;                           ///< the block of the worst point (in the program checked)
   Eigen::Vector3d worst_point = Eigen::Vector3d::Zero();  ///< table frame, mm
   std::uint64_t points = 0;
   std::uint64_t moves = 0;

@@ -13,7 +13,9 @@ inline constexpr std::array<char, kAxisCount> kAxisLetters = {'X', 'Y', 'Z', 'A'
 /// Positions of all nine axes: linear in mm, rotary (A B C) in degrees.
 using Axes = std::array<double, kAxisCount>;
 
-[[nodiscard]] constexpr bool is_rotary(std::size_t axis) { return axis >= 3 && axis <= 5; }
+[[nodiscard]] constexpr bool is_rotary(std::size_t axis) {
+  return axis >= 3 && axis <= 5;
+}
 [[nodiscard]] constexpr std::optional<std::size_t> axis_index(char letter) {
   for (std::size_t i = 0; i < kAxisCount; ++i)
     if (kAxisLetters[i] == letter) return i;

@@ -19,11 +19,11 @@ struct Span {
 };
 
 enum class ExprOp : std::uint8_t {
-  number,         ///< push `number`
-  name,           ///< a parameter name (only as operand of the three ops below)
-  read_named,     ///< push the value of #<name>
-  read_numbered,  ///< pop n, push #n
-  exists,         ///< push 1 if #<name> exists, else 0
+  number,           ///< push `number`
+  name,             ///< a parameter name (only as operand of the three ops below)
+  read_named,       ///< push the value of #<name>
+  read_numbered,    ///< pop n, push #n
+  exists,           ///< push 1 if #<name> exists, else 0
   exists_numbered,  ///< pop n, push 1 if #n is a valid parameter number
   negate,
   // binary, in rs274ngc's precedence order (see grammar/gcode.peg)
@@ -76,10 +76,10 @@ struct Value {
 
 /// A letter and its value, e.g. `X-1.5` or `Y[#1*2]`.
 struct Word {
-  char letter = 0;  ///< upper case; '$' is LinuxCNC's spindle selector
+  char letter = 0;        ///< upper case; '$' is LinuxCNC's spindle selector
   bool has_value = true;  ///< false for a lone letter (fanuc dialect)
-  Span span;        ///< the whole word in the original text
-  Span value_span;  ///< the value's bytes (what a writer replaces)
+  Span span;              ///< the whole word in the original text
+  Span value_span;        ///< the value's bytes (what a writer replaces)
   Value value;
 };
 
@@ -94,8 +94,8 @@ struct ParameterSetting {
 };
 
 struct Comment {
-  Span span;  ///< including the delimiters
-  Span text;  ///< inside the delimiters
+  Span span;                 ///< including the delimiters
+  Span text;                 ///< inside the delimiters
   bool end_of_line = false;  ///< `;` comment
 };
 
@@ -132,8 +132,8 @@ struct OStatement {
 };
 
 struct Block {
-  std::string_view text;   ///< the original line, without its line terminator
-  std::uint32_t line = 0;  ///< 1-based line number in the file
+  std::string_view text;           ///< the original line, without its line terminator
+  std::uint32_t line = 0;          ///< 1-based line number in the file
   bool program_delimiter = false;  ///< a `%` line
   bool block_delete = false;       ///< starts with `/`
   bool has_line_number = false;
@@ -156,9 +156,7 @@ struct Block {
   /// The first word with this letter, or nullptr.
   [[nodiscard]] const Word* find(char letter) const;
   /// True when the line holds nothing but blanks and comments.
-  [[nodiscard]] bool is_empty() const {
-    return words.empty() && settings.empty() && !o.present && !program_delimiter;
-  }
+  [[nodiscard]] bool is_empty() const { return words.empty() && settings.empty() && !o.present && !program_delimiter; }
 };
 
 }  // namespace ccomp::gcode

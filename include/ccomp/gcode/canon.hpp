@@ -13,7 +13,7 @@
 namespace ccomp::gcode {
 
 enum class Plane : std::uint8_t { xy, zx, yz };  ///< G17, G18, G19
-enum class Units : std::uint8_t { mm, inch };     ///< G21, G20
+enum class Units : std::uint8_t { mm, inch };    ///< G21, G20
 enum class FeedMode : std::uint8_t { units_per_minute, inverse_time, units_per_rev };
 
 /// The two in-plane axes and the normal axis of a plane, as ARC_FEED orders them.
@@ -22,9 +22,12 @@ struct PlaneAxes {
 };
 [[nodiscard]] constexpr PlaneAxes plane_axes(Plane p) {
   switch (p) {
-    case Plane::xy: return {0, 1, 2};
-    case Plane::zx: return {2, 0, 1};
-    case Plane::yz: return {1, 2, 0};
+    case Plane::xy:
+      return {0, 1, 2};
+    case Plane::zx:
+      return {2, 0, 1};
+    case Plane::yz:
+      return {1, 2, 0};
   }
   return {0, 1, 2};
 }
@@ -72,11 +75,11 @@ struct Motion {
   Axes end{};    ///< after the move
   Arc arc;       ///< when kind == arc
   FeedMode feed_mode = FeedMode::units_per_minute;
-  double feed = 0.0;  ///< mm/min, or 1/min in inverse time, or mm/rev
-  Units units = Units::mm;  ///< the program's units at the time (for printing)
-  bool incremental = false;  ///< G91 in force: the block's axis words are distances
+  double feed = 0.0;                 ///< mm/min, or 1/min in inverse time, or mm/rev
+  Units units = Units::mm;           ///< the program's units at the time (for printing)
+  bool incremental = false;          ///< G91 in force: the block's axis words are distances
   const Offsets* offsets = nullptr;  ///< in force during the move
-  std::uint32_t line = 0;  ///< source line of the block that commanded it
+  std::uint32_t line = 0;            ///< source line of the block that commanded it
 };
 
 /// An arc's geometry in its plane (machine frame): radius at the start and at the end (they

@@ -36,7 +36,7 @@ struct InterpreterOptions {
 
 /// The modal state an observer may read between blocks (G codes times ten).
 struct ModalState {
-  int motion = 800;  ///< G80: no motion mode
+  int motion = 800;        ///< G80: no motion mode
   int basic_motion = 800;  ///< the last of G0 G1 G2 G3 (Fanuc's G80 returns to it)
   Plane plane = Plane::xy;
   Units units = Units::mm;

@@ -32,7 +32,7 @@ class Parser {
   bool fast_path_ = true;
   std::string folded_;
   std::vector<std::uint32_t> offsets_;
-  std::vector<std::uint32_t> marks_;     // parse scratch, kept between lines
+  std::vector<std::uint32_t> marks_;  // parse scratch, kept between lines
   std::vector<std::uint8_t> operators_;
 };
 

@@ -19,42 +19,42 @@ namespace ccomp::identify {
 
 struct Suggestion {
   int rank = 0;
-  std::string effect;     ///< the physics, in words
-  std::string error;      ///< ISO 230-1 name of the term, or "thermal"
-  std::string term;       ///< the ISO name of the term added (also for thermal ones)
-  std::string variable;   ///< "x", "b", "L", "t", "T_bed", "vx", "x,z"
-  std::string form;       ///< polynomial, periodic, reversal, linear, exponential, harmonic, interaction
-  double period = 0.0;    ///< periodic forms: in the variable's unit (mm, deg); warm-up: the time constant (s)
+  std::string effect;    ///< the physics, in words
+  std::string error;     ///< ISO 230-1 name of the term, or "thermal"
+  std::string term;      ///< the ISO name of the term added (also for thermal ones)
+  std::string variable;  ///< "x", "b", "L", "t", "T_bed", "vx", "x,z"
+  std::string form;      ///< polynomial, periodic, reversal, linear, exponential, harmonic, interaction
+  double period = 0.0;   ///< periodic forms: in the variable's unit (mm, deg); warm-up: the time constant (s)
   double period_uncertainty = 0.0;
   double rms_before = 0.0, rms_after = 0.0;  ///< mm: the model refitted without, and with, the effect
-  double bic_delta = 0.0;  ///< negative: the effect is worth its parameters
-  double significance = 0.0;  ///< fall in chi-square against the noise floor
-  std::string yaml;       ///< the term to add, with the values the data suggest
-  std::string spec;       ///< the same, one line, for `ccomp fit --add`
+  double bic_delta = 0.0;                    ///< negative: the effect is worth its parameters
+  double significance = 0.0;                 ///< fall in chi-square against the noise floor
+  std::string yaml;                          ///< the term to add, with the values the data suggest
+  std::string spec;                          ///< the same, one line, for `ccomp fit --add`
   /// mm, per reading: the refitted residual with the effect added (the linear fit of the
   /// base's free parameters and the effect together; its rms is rms_after).
   Eigen::VectorXd residual;
 };
 
 struct Region {
-  std::string variable;   ///< where the residual concentrates: "x", "b", "T_bed"...
+  std::string variable;  ///< where the residual concentrates: "x", "b", "T_bed"...
   double from = 0.0, to = 0.0;
-  double rms = 0.0;       ///< mm, of the residual there
-  double ratio = 0.0;     ///< against the rms everywhere
+  double rms = 0.0;    ///< mm, of the residual there
+  double ratio = 0.0;  ///< against the rms everywhere
 };
 
 struct DiagnoseOptions {
-  double noise = 0.0;     ///< mm: the noise floor (check's estimate); 0 estimates it
+  double noise = 0.0;  ///< mm: the noise floor (check's estimate); 0 estimates it
   int max_suggestions = 5;
   /// Threads scoring the candidates (results do not depend on it).
   int threads = util::hardware_threads();
 };
 
 struct Diagnosis {
-  double noise = 0.0;            ///< mm
-  double rms_refit = 0.0;        ///< mm: the model refitted to the data, without any new effect
-  FitReport refit;               ///< that refit: its parameters and identifiability
-  Eigen::VectorXd residual;      ///< mm, per reading: the refitted model's (what the suggestions start from)
+  double noise = 0.0;                   ///< mm
+  double rms_refit = 0.0;               ///< mm: the model refitted to the data, without any new effect
+  FitReport refit;                      ///< that refit: its parameters and identifiability
+  Eigen::VectorXd residual;             ///< mm, per reading: the refitted model's (what the suggestions start from)
   std::vector<Suggestion> suggestions;  ///< best first, significant only
   std::vector<Region> regions;
   std::size_t candidates_tried = 0;

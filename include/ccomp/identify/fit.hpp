@@ -5,11 +5,10 @@
 // the singular values of the column-scaled design matrix and left at its prior value
 // (truncated SVD), never fitted to noise; the report says which parameters, or which
 // combinations of them, those are.
+#include <Eigen/Core>
 #include <string>
 #include <utility>
 #include <vector>
-
-#include <Eigen/Core>
 
 #include "ccomp/identify/measurements.hpp"
 #include "ccomp/model/forward.hpp"
@@ -31,7 +30,7 @@ struct FitOptions {
 struct FittedParameter {
   std::size_t index = 0;  ///< into the model's parameter vector
   std::size_t term = 0;
-  std::string label;      ///< "EXX.a1", "EBB.period"
+  std::string label;  ///< "EXX.a1", "EBB.period"
   double before = 0.0, after = 0.0;
   double uncertainty = 0.0;  ///< one standard deviation (internal units), 0 when not identified
   bool identified = true;
@@ -42,11 +41,11 @@ struct FitReport {
   Eigen::VectorXd all_parameters;           ///< the model's whole parameter vector after the fit
   Eigen::VectorXd singular_values;          ///< of the column-scaled weighted design matrix, descending
   double condition_number = 0.0;            ///< of the identified part
-  std::size_t rank = 0;          ///< combinations the data can determine
-  std::size_t significant = 0;   ///< of those, how many moved by more than the noise (the rest stayed)
+  std::size_t rank = 0;                     ///< combinations the data can determine
+  std::size_t significant = 0;              ///< of those, how many moved by more than the noise (the rest stayed)
   std::vector<std::string> unidentifiable;  ///< in words, one per combination the data cannot determine
   double rms_before = 0.0, rms_after = 0.0, max_after = 0.0;  ///< mm
-  std::vector<double> source_rms_before, source_rms_after;     ///< mm, per source
+  std::vector<double> source_rms_before, source_rms_after;    ///< mm, per source
   int iterations = 0;
   bool converged = false;
   std::size_t observations = 0;
@@ -62,8 +61,8 @@ struct Linearization {
 /// Fits the free parameters of `model` to `data`. `at_fit`, when given, receives the
 /// residuals and the design matrix at the fitted parameters (the fit has them: a caller
 /// saves a pass over the data).
-[[nodiscard]] FitReport fit(const model::ForwardModel& model, const MeasurementSet& data, const FitOptions& options = {},
-                            Linearization* at_fit = nullptr);
+[[nodiscard]] FitReport fit(const model::ForwardModel& model, const MeasurementSet& data,
+                            const FitOptions& options = {}, Linearization* at_fit = nullptr);
 
 /// The indices of the parameters a fit may change (free terms; a period only with
 /// fit_period), and the model's whole parameter vector.

@@ -2,12 +2,11 @@
 // Measurements: the CSV contract of ../shared/physics.md sect. 5, read into observations
 // the forward model can predict. One row is one scalar observation d along a unit
 // direction n (a laser or ballbar reading), or three (a full dx dy dz deviation).
+#include <Eigen/Core>
 #include <array>
 #include <cstdint>
 #include <string>
 #include <vector>
-
-#include <Eigen/Core>
 
 #include "ccomp/model/forward.hpp"
 
@@ -15,15 +14,15 @@ namespace ccomp::identify {
 
 /// One scalar observation: the deviation along `direction` at chain values `q`.
 struct Observation {
-  model::ChainQ q = model::ChainQ::Zero();  ///< axes (mm, rad) and the tool length
-  double time = 0.0;                        ///< s
-  std::vector<double> temperatures;         ///< degC, one per sensor of the model
-  std::array<double, 9> directions{};       ///< approach sign of each axis: +1, -1, 0 unknown
+  model::ChainQ q = model::ChainQ::Zero();               ///< axes (mm, rad) and the tool length
+  double time = 0.0;                                     ///< s
+  std::vector<double> temperatures;                      ///< degC, one per sensor of the model
+  std::array<double, 9> directions{};                    ///< approach sign of each axis: +1, -1, 0 unknown
   Eigen::Vector3d direction = Eigen::Vector3d::UnitX();  ///< unit, machine-axis directions
-  double value = 0.0;                       ///< measured deviation along `direction`, mm
-  std::uint32_t source = 0;                 ///< index into MeasurementSet::sources
-  std::uint32_t row = 0;                    ///< line of the file (the header is line 1)
-  std::uint32_t file = 0;                   ///< index into MeasurementSet::files
+  double value = 0.0;                                    ///< measured deviation along `direction`, mm
+  std::uint32_t source = 0;                              ///< index into MeasurementSet::sources
+  std::uint32_t row = 0;                                 ///< line of the file (the header is line 1)
+  std::uint32_t file = 0;                                ///< index into MeasurementSet::files
 };
 
 /// The range one variable spans in the data.

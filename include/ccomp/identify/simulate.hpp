@@ -23,7 +23,7 @@ enum class Plan : std::uint8_t {
 
 struct SimulateOptions {
   std::vector<Plan> plans{Plan::nine_lines};
-  double noise = 0.0002;       ///< mm, standard deviation of every reading
+  double noise = 0.0002;  ///< mm, standard deviation of every reading
   unsigned seed = 1;
   double tool_length = 100.0;  ///< mm, the optic's or probe's length where a plan has one
   double step = 25.0;          ///< mm between points along a laser line
@@ -31,8 +31,8 @@ struct SimulateOptions {
   int runs = 1;
   /// Where lines 1 and 3 of each axis sit, as a fraction of the workspace from its edges
   /// (0.1: near the edges, seed 003's advice; 0.5 would put all three lines together).
-  double line_inset = 0.1;                ///< out-and-back runs of each laser line (ISO 230-2 asks for 5)
-  double hours = 4.0;          ///< length of the thermal run
+  double line_inset = 0.1;  ///< out-and-back runs of each laser line (ISO 230-2 asks for 5)
+  double hours = 4.0;       ///< length of the thermal run
   /// Sensor temperatures at the end of the thermal run (degC); 20 elsewhere.
   std::vector<double> warm_temperatures;
 };

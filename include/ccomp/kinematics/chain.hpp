@@ -6,11 +6,10 @@
 // of its axis (none for a fixed link), and the small error pose of its error motions.
 // Pinocchio's pattern: an immutable ChainModel, a ChainData scratch built from it, and
 // free functions algo(model, data, ...). Jacobians are right Jacobians (see pose.hpp).
+#include <Eigen/Core>
 #include <cstdint>
 #include <string>
 #include <vector>
-
-#include <Eigen/Core>
 
 #include "ccomp/kinematics/pose.hpp"
 
@@ -19,11 +18,11 @@ namespace ccomp::kinematics {
 enum class JointType : std::uint8_t { fixed, linear, rotary };
 
 struct Joint {
-  std::string name;                   ///< "X", "B", "spindle", "tool"...
+  std::string name;  ///< "X", "B", "spindle", "tool"...
   JointType type = JointType::fixed;
-  std::size_t axis = 0;               ///< index into q (X Y Z A B C U V W) when not fixed
-  Vec3 direction = Vec3::UnitX();     ///< unit: motion along it (mm) or about it (rad)
-  Pose placement;                     ///< parent frame -> this joint's frame at q = 0
+  std::size_t axis = 0;            ///< index into q (X Y Z A B C U V W) when not fixed
+  Vec3 direction = Vec3::UnitX();  ///< unit: motion along it (mm) or about it (rad)
+  Pose placement;                  ///< parent frame -> this joint's frame at q = 0
 };
 
 /// One side of the machine: base frame W to its end (the workpiece point, or the tool tip).
@@ -44,10 +43,10 @@ using VecQ = Eigen::VectorXd;  ///< axis values: linear in mm, rotary in rad
 struct ChainData {
   explicit ChainData(const ChainModel& model);
 
-  std::vector<Pose> work_error, tool_error;  ///< inputs: each link's error pose (identity = none)
-  std::vector<Pose> work_oMi, tool_oMi;      ///< W -> after link i
-  Pose oMp, oMtool;                          ///< W -> p, W -> tool tip
-  Pose E;                                    ///< p -> tool tip: the error matrix
+  std::vector<Pose> work_error, tool_error;      ///< inputs: each link's error pose (identity = none)
+  std::vector<Pose> work_oMi, tool_oMi;          ///< W -> after link i
+  Pose oMp, oMtool;                              ///< W -> p, W -> tool tip
+  Pose E;                                        ///< p -> tool tip: the error matrix
   Eigen::Matrix<double, 6, Eigen::Dynamic> J_q;  ///< dE/dq (6 x nq)
   std::vector<Mat6> J_work_error, J_tool_error;  ///< dE/d(error pose of each link)
 

@@ -44,8 +44,12 @@ struct Pose {
 /// X^-1; J: -Ad(X).
 [[nodiscard]] Pose inverse(const Pose& X, Mat6* J);
 // Without Jacobians, inline: the chain composes these in its innermost loop.
-[[nodiscard]] inline Pose compose(const Pose& a, const Pose& b) { return Pose{a.R * b.R, a.t + a.R * b.t}; }
-[[nodiscard]] inline Pose inverse(const Pose& X) { return Pose{X.R.transpose(), -(X.R.transpose() * X.t)}; }
+[[nodiscard]] inline Pose compose(const Pose& a, const Pose& b) {
+  return Pose{a.R * b.R, a.t + a.R * b.t};
+}
+[[nodiscard]] inline Pose inverse(const Pose& X) {
+  return Pose{X.R.transpose(), -(X.R.transpose() * X.t)};
+}
 /// X * p; J_X = [R, -R hat(p)], J_p = R.
 [[nodiscard]] Vec3 act(const Pose& X, const Vec3& p, Mat36* J_X = nullptr, Mat3* J_p = nullptr);
 /// Exp(tau) and Log(X), with right Jacobians (used to perturb and compare poses).

@@ -6,12 +6,11 @@
 // link's error motion. Every form gives its exact derivatives with respect to its
 // variables and to each parameter (the fit uses them); tests/model/error_term_test.cpp
 // checks them against finite differences. Units inside are mm, rad, s, degC.
-#include <cstdint>
-#include <string>
-#include <limits>
-#include <vector>
-
 #include <Eigen/Core>
+#include <cstdint>
+#include <limits>
+#include <string>
+#include <vector>
 
 namespace ccomp::model {
 
@@ -51,10 +50,10 @@ struct TermValue {
 struct TermShape {
   TermForm form = TermForm::constant;
   Interpolation interpolation = Interpolation::linear;  ///< table
-  std::vector<double> knots;      ///< table: increasing positions of the values
-  int order = 1;                  ///< polynomial degree; periodic harmonics; cross_axis degree in w
-  int order_primary = 0;          ///< cross_axis degree in u
-  double reference = 20.0;        ///< T0 of thermal_linear and scale_expansion (degC)
+  std::vector<double> knots;                            ///< table: increasing positions of the values
+  int order = 1;            ///< polynomial degree; periodic harmonics; cross_axis degree in w
+  int order_primary = 0;    ///< cross_axis degree in u
+  double reference = 20.0;  ///< T0 of thermal_linear and scale_expansion (degC)
 };
 
 /// Number of parameters a shape takes.

@@ -3,11 +3,10 @@
 // values q, a tool length, temperatures, a time and approach directions; with the exact
 // Jacobians the inverse solve and the fit need. Built once from a MachineModel
 // (ForwardModel, immutable) and evaluated with a scratch ForwardData.
+#include <Eigen/Core>
 #include <array>
 #include <cstddef>
 #include <vector>
-
-#include <Eigen/Core>
 
 #include "ccomp/kinematics/chain.hpp"
 #include "ccomp/model/machine.hpp"
@@ -22,8 +21,8 @@ using ChainQ = Eigen::Matrix<double, kChainVariables, 1>;
 
 /// What terms depend on besides the axes.
 struct Conditions {
-  double time = 0.0;                   ///< s since the start
-  std::vector<double> temperatures;    ///< degC, one per sensor of the model
+  double time = 0.0;                 ///< s since the start
+  std::vector<double> temperatures;  ///< degC, one per sensor of the model
   /// Approach state of each axis, what reversal terms depend on: +1 after travelling up,
   /// -1 after travelling down, in between while the axis takes up its lost motion after
   /// turning round; 0 unknown (the middle of the play).
@@ -77,10 +76,10 @@ struct ForwardData {
 
   Eigen::VectorXd parameters;  ///< the terms' parameters (starts as the model's)
   // results
-  Eigen::Vector3d actual = Eigen::Vector3d::Zero();   ///< tool tip in the table frame, with errors
-  Eigen::Vector3d nominal = Eigen::Vector3d::Zero();  ///< the same without errors
-  Eigen::Matrix3d R_actual, R_nominal;                ///< the tool's orientation in the table frame
-  Eigen::Matrix<double, 3, kChainVariables> J_q;      ///< d actual / d q
+  Eigen::Vector3d actual = Eigen::Vector3d::Zero();       ///< tool tip in the table frame, with errors
+  Eigen::Vector3d nominal = Eigen::Vector3d::Zero();      ///< the same without errors
+  Eigen::Matrix3d R_actual, R_nominal;                    ///< the tool's orientation in the table frame
+  Eigen::Matrix<double, 3, kChainVariables> J_q;          ///< d actual / d q
   Eigen::Matrix<double, 3, Eigen::Dynamic> J_parameters;  ///< d actual / d parameters
   // scratch
   kinematics::ChainData actual_chain, nominal_chain;

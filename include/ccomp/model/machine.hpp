@@ -1,13 +1,12 @@
 #pragma once
 // The machine model file (YAML): which axes the machine has, their limits, the G-code
 // dialect of its control. (The kinematic chain and error terms are added on top.)
+#include <Eigen/Core>
 #include <cstdint>
 #include <limits>
 #include <optional>
 #include <string>
 #include <vector>
-
-#include <Eigen/Core>
 
 #include "ccomp/model/error_term.hpp"
 #include "ccomp/model/units.hpp"
@@ -34,19 +33,19 @@ struct Variable {
 
 /// One link of a chain: an axis moving along or about `direction`, or a fixed link.
 struct LinkSpec {
-  std::string name;                                 ///< "X", "B", "S", "tool"...
-  std::optional<char> axis;                         ///< the program axis that moves it
+  std::string name;          ///< "X", "B", "S", "tool"...
+  std::optional<char> axis;  ///< the program axis that moves it
   Eigen::Vector3d direction = Eigen::Vector3d::UnitX();
   Eigen::Vector3d offset = Eigen::Vector3d::Zero();  ///< placement before it moves (mm)
-  bool tool = false;  ///< the tool tip: the tool length L along `direction`
+  bool tool = false;                                 ///< the tool tip: the tool length L along `direction`
 };
 
 /// An error term: one component of one link's error motion, a form of a variable.
 struct ErrorTermSpec {
-  std::string name;     ///< ISO 230-1 ("EXX", "EC0X", "EBB") as the file names it, or the seed's alias
-  std::string iso;      ///< the ISO 230-1 name
-  std::string link;     ///< the link whose error motion it is
-  int component = 0;    ///< 0 1 2: translation x y z (mm); 3 4 5: rotation about x y z (rad)
+  std::string name;   ///< ISO 230-1 ("EXX", "EC0X", "EBB") as the file names it, or the seed's alias
+  std::string iso;    ///< the ISO 230-1 name
+  std::string link;   ///< the link whose error motion it is
+  int component = 0;  ///< 0 1 2: translation x y z (mm); 3 4 5: rotation about x y z (rad)
   TermShape shape;
   Variable primary, secondary;
   Eigen::VectorXd parameters;          ///< in mm, rad, s, degC
@@ -64,7 +63,7 @@ struct MachineModel {
   std::vector<LinkSpec> tool_chain;       ///< base W -> tool tip
   std::vector<std::string> sensors;       ///< temperature sensors, for T_<name> variables
   std::vector<ErrorTermSpec> terms;
-  double max_correction = 0.5;            ///< mm: larger corrections are refused
+  double max_correction = 0.5;  ///< mm: larger corrections are refused
   std::string dialect = "linuxcnc";
   std::string path;    ///< where it was read from
   std::string sha256;  ///< of the file's bytes: names the model in compensated programs
@@ -85,8 +84,7 @@ struct MachineModel {
 /// internal units; written back in the file's units) and `record` (YAML lines, a mapping)
 /// under a top-level `fitted:` key. Comments do not survive: yaml-cpp does not keep them.
 [[nodiscard]] std::string rewrite_parameters(const std::string& text, const MachineModel& model,
-                                             const std::vector<Eigen::VectorXd>& parameters,
-                                             const std::string& record);
+                                             const std::vector<Eigen::VectorXd>& parameters, const std::string& record);
 
 /// The model file's text with more terms (each a YAML mapping, one line: what `ccomp check`
 /// suggests) appended to its `terms`. Throws ccomp::Error (usage) for a spec that is not

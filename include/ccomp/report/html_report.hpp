@@ -3,9 +3,8 @@
 // residual against every variable before and after refitting, error maps over the
 // workspace, spectra along each linear axis, the missing effects (each with the residual
 // left once it is added), the regions, the identifiability of the model's parameters.
-#include <string>
-
 #include <Eigen/Core>
+#include <string>
 
 #include "ccomp/identify/check.hpp"
 #include "ccomp/identify/diagnose.hpp"
@@ -18,8 +17,8 @@ namespace ccomp::report {
 struct CheckReportInput {
   const model::MachineModel& model;
   const identify::MeasurementSet& data;
-  const identify::CheckReport& check;      ///< with the residual of the model as it is
-  const identify::Diagnosis& diagnosis;    ///< with the model refitted to the data, and its residual
+  const identify::CheckReport& check;    ///< with the residual of the model as it is
+  const identify::Diagnosis& diagnosis;  ///< with the model refitted to the data, and its residual
 };
 
 [[nodiscard]] std::string html_check_report(const CheckReportInput& in);

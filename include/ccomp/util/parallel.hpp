@@ -12,7 +12,9 @@
 namespace ccomp::util {
 
 /// The threads worth using here: the machine's cores.
-[[nodiscard]] inline int hardware_threads() { return static_cast<int>(std::max(1U, std::thread::hardware_concurrency())); }
+[[nodiscard]] inline int hardware_threads() {
+  return static_cast<int>(std::max(1U, std::thread::hardware_concurrency()));
+}
 
 namespace detail {
 template <class Work>
@@ -38,7 +40,8 @@ void run_on_threads(int threads, Work&& work) {
 /// that wants scratch of its own per piece.
 template <class Fn>
 void for_each_piece(std::size_t n, int threads, Fn&& fn) {
-  const auto pieces = static_cast<std::size_t>(std::clamp<std::ptrdiff_t>(threads, 1, std::max<std::ptrdiff_t>(1, static_cast<std::ptrdiff_t>(n))));
+  const auto pieces = static_cast<std::size_t>(
+      std::clamp<std::ptrdiff_t>(threads, 1, std::max<std::ptrdiff_t>(1, static_cast<std::ptrdiff_t>(n))));
   detail::run_on_threads(static_cast<int>(pieces), [&](std::size_t id) {
     const std::size_t begin = n * id / pieces, end = n * (id + 1) / pieces;
     if (begin < end) fn(begin, end);
