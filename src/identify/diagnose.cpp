@@ -5,6 +5,7 @@
 #include <Eigen/Cholesky>
 #include <Eigen/Eigenvalues>
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <functional>
 #include <map>
@@ -62,6 +63,50 @@ void periodic_in(Candidate& c, std::function<double(const Observation&)> variabl
     return k == 0 ? std::cos(phase) : std::sin(phase);
   };
   c.phase_variable = std::move(variable);
+}
+
+/// A sinusoid's gain (the fall in the sum of squares when its cos and sin columns g cos,
+/// g sin join, leaving out what the base absorbs) at `count` evenly spaced frequencies
+/// f0 + k df of `variable`, for the residual r. Each row's (cos, sin) turns by one
+/// rotation per frequency. Rows are taken a block at a time through all frequencies: the
+/// block stays in the first-level cache, the rows are read from memory once.
+std::vector<double> coarse_periodic_gains(const std::vector<double>& variable, const std::vector<double>& g,
+                                          const Eigen::VectorXd& r, double f0, double df, std::size_t count) {
+  const auto rows = static_cast<Eigen::Index>(variable.size());
+  Eigen::ArrayXd cs(rows), sn(rows), step_c(rows), step_s(rows), gr(rows), g2(rows);
+  for (Eigen::Index i = 0; i < rows; ++i) {
+    const double v = variable[static_cast<std::size_t>(i)], gi = g[static_cast<std::size_t>(i)];
+    cs[i] = std::cos(2 * kPi * v * f0), sn[i] = std::sin(2 * kPi * v * f0);
+    step_c[i] = std::cos(2 * kPi * v * df), step_s[i] = std::sin(2 * kPi * v * df);
+    gr[i] = gi * r[i];
+    g2[i] = gi * gi;
+  }
+  // Per frequency: g r cos, g r sin, g^2 cos^2, g^2 cos sin, g^2 sin^2, summed.
+  std::vector<std::array<double, 5>> sums(count, std::array<double, 5>{});
+  constexpr Eigen::Index kBlock = 256;
+  Eigen::ArrayXd turned(kBlock);
+  for (Eigen::Index begin = 0; begin < rows; begin += kBlock) {
+    const Eigen::Index size = std::min(kBlock, rows - begin);
+    auto c = cs.segment(begin, size), s = sn.segment(begin, size);
+    const auto sc = step_c.segment(begin, size), ss = step_s.segment(begin, size);
+    const auto w = gr.segment(begin, size), w2 = g2.segment(begin, size);
+    auto t = turned.head(size);
+    for (std::size_t k = 0; k < count; ++k) {
+      std::array<double, 5>& sum = sums[k];
+      sum[0] += (w * c).sum(), sum[1] += (w * s).sum();
+      sum[2] += (w2 * c.square()).sum(), sum[3] += (w2 * c * s).sum(), sum[4] += (w2 * s.square()).sum();
+      t = c * sc - s * ss;
+      s = s * sc + c * ss;
+      c = t;
+    }
+  }
+  std::vector<double> gains(count);
+  for (std::size_t k = 0; k < count; ++k) {
+    const auto& [b0, b1, n00, n01, n11] = sums[k];
+    const double det = n00 * n11 - n01 * n01;
+    gains[k] = det > 1e-12 * n00 * n11 ? (n11 * b0 * b0 - 2 * n01 * b0 * b1 + n00 * b1 * b1) / det : 0.0;
+  }
+  return gains;
 }
 
 /// The refitted model's residual and what its free parameters can absorb.
@@ -423,14 +468,37 @@ std::vector<Candidate> candidate_library(const model::MachineModel& mm, const Me
   return candidates;
 }
 
-/// The base model refitted to the data, and what its free parameters can absorb.
-Projector refitted_base(const model::ForwardModel& model, const MeasurementSet& data, Diagnosis& out) {
+/// The base model refitted to the data and what its free parameters can absorb, with the
+/// probes' columns: one pass over the data, with a model that has the probes as terms
+/// (zero: its predictions are the refit's), gives the base's columns and the probes' alike.
+Projector refitted_base(const model::ForwardModel& model, const MeasurementSet& data, std::vector<Probe>& probes,
+                        Diagnosis& out) {
   const auto n = static_cast<Eigen::Index>(data.observations.size());
+  out.refit = fit(model, data);
+  model::MachineModel probing = model.machine();
+  const std::size_t first = probing.terms.size();
+  for (const Probe& p : probes) {
+    model::ErrorTermSpec t;
+    t.name = t.iso = term_name(p.component, p.link, true);
+    t.link = p.link;
+    t.component = p.component;
+    t.parameters = Eigen::VectorXd::Zero(1);
+    t.parameter_unit = {1.0};
+    probing.terms.push_back(t);
+  }
+  const model::ForwardModel f(probing);
+  std::vector<std::size_t> columns = free_parameters(model);  // the base's terms keep their offsets in f
+  const auto m = static_cast<Eigen::Index>(columns.size());
+  for (std::size_t k = 0; k < probes.size(); ++k) columns.push_back(f.parameter_offset(first + k));
+  Eigen::VectorXd parameters = model_parameters(f);
+  parameters.head(out.refit.all_parameters.size()) = out.refit.all_parameters;
   Projector base;
-  Linearization at_fit;  // the refit's residual and design matrix: no second pass over the data
-  out.refit = fit(model, data, {}, &at_fit);
-  base.r = std::move(at_fit.residuals);
-  base.A = std::move(at_fit.jacobian);
+  {
+    Eigen::MatrixXd J;
+    design_matrix(f, parameters, data, columns, base.r, &J);
+    for (std::size_t k = 0; k < probes.size(); ++k) probes[k].g = J.col(m + static_cast<Eigen::Index>(k));
+    base.A = J.leftCols(m);
+  }
   if (base.A.cols() > 0) {
     for (Eigen::Index j = 0; j < base.A.cols(); ++j) base.A.col(j) /= std::max(base.A.col(j).norm(), 1e-300);
     Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(normal_matrix(base.A));
@@ -452,35 +520,13 @@ Projector refitted_base(const model::ForwardModel& model, const MeasurementSet& 
   return base;
 }
 
-/// The probes' columns, one pass over the data with a model that has them as terms, and
-/// the base on their rows.
-void probe_columns(const model::MachineModel& mm, const MeasurementSet& data, const Projector& base,
-                   std::vector<Probe>& probes) {
-  const auto n = static_cast<Eigen::Index>(data.observations.size());
-  model::MachineModel probing = mm;
-  const std::size_t first = probing.terms.size();
-  for (const Probe& p : probes) {
-    model::ErrorTermSpec t;
-    t.name = t.iso = term_name(p.component, p.link, true);
-    t.link = p.link;
-    t.component = p.component;
-    t.parameters = Eigen::VectorXd::Zero(1);
-    t.parameter_unit = {1.0};
-    probing.terms.push_back(t);
-  }
-  const model::ForwardModel f(probing);
-  // The probes' columns are the probing model's design matrix for their parameters.
-  std::vector<std::size_t> columns;
-  for (std::size_t k = 0; k < probes.size(); ++k) columns.push_back(f.parameter_offset(first + k));
-  Eigen::VectorXd unused;
-  Eigen::MatrixXd G;
-  design_matrix(f, model_parameters(f), data, columns, unused, &G);
-  for (std::size_t k = 0; k < probes.size(); ++k) probes[k].g = G.col(static_cast<Eigen::Index>(k));
+/// Each probe's rows (where its column is not zero), and the base on them.
+void probe_rows(const Projector& base, Eigen::Index n, std::vector<Probe>& probes) {
   for (Probe& p : probes) {
     const double largest = p.g.cwiseAbs().maxCoeff();
     for (Eigen::Index i = 0; i < n; ++i)
       if (std::abs(p.g[i]) > 1e-9 * largest) p.rows.push_back(i);
-    if (static_cast<Eigen::Index>(p.rows.size()) == n) continue;  // every row: the base's own U and r serve
+    if (static_cast<Eigen::Index>(p.rows.size()) == n) continue;  // every row: the base's own A and r serve
     p.A_rows.resize(static_cast<Eigen::Index>(p.rows.size()), base.A.cols());
     p.r_rows.resize(static_cast<Eigen::Index>(p.rows.size()));
     for (std::size_t i = 0; i < p.rows.size(); ++i) {
@@ -539,18 +585,17 @@ Diagnosis diagnose(const model::ForwardModel& model, const MeasurementSet& data,
   if (n == 0) return out;
   out.noise = options.noise > 0 ? options.noise : check(model, data).noise_floor;
 
-  Projector base = refitted_base(model, data, out);
+  const std::vector<AxisInfo> axes = axes_of(mm, data);
+  std::vector<Probe> probes;
+  const std::vector<Candidate> candidates = candidate_library(mm, data, axes, probes);
+  out.candidates_tried = candidates.size();
+  Projector base = refitted_base(model, data, probes, out);
+  probe_rows(base, n, probes);
   const double sse0 = base.r.squaredNorm();
   // Without a noise floor from the data's structure, the refitted residual stands in for
   // it: an upper bound, so fewer effects pass, never more.
   if (!(out.noise > 0)) out.noise = out.rms_refit;
   const double sigma2 = std::max(out.noise * out.noise, 1e-18);
-
-  const std::vector<AxisInfo> axes = axes_of(mm, data);
-  std::vector<Probe> probes;
-  const std::vector<Candidate> candidates = candidate_library(mm, data, axes, probes);
-  out.candidates_tried = candidates.size();
-  probe_columns(mm, data, base, probes);
 
   std::vector<Eigen::VectorXd> coefficients(candidates.size());  // of each suggestion's basis functions
   // A candidate's suggestion from its best value (a period, a time constant), the gain
@@ -643,29 +688,13 @@ Diagnosis diagnose(const model::ForwardModel& model, const MeasurementSet& data,
       // A long frequency scan's coarse pass leaves out what the base absorbs (cheap);
       // its eight best local peaks are then weighed exactly. The frequencies are evenly
       // spaced, so each row's (cos, sin) steps by one rotation per frequency.
-      const std::size_t rows = p.rows.size();
-      std::vector<double> cs(rows), sn(rows), step_c(rows), step_s(rows), g(rows), res(rows);
-      const double f0 = 1.0 / values[0], df = 1.0 / values[1] - f0;
-      for (std::size_t i = 0; i < rows; ++i) {
-        const double v = c.phase_variable(data.observations[static_cast<std::size_t>(p.rows[i])]);
-        cs[i] = std::cos(2 * kPi * v * f0), sn[i] = std::sin(2 * kPi * v * f0);
-        step_c[i] = std::cos(2 * kPi * v * df), step_s[i] = std::sin(2 * kPi * v * df);
+      std::vector<double> phase_variable(p.rows.size()), g(p.rows.size());
+      for (std::size_t i = 0; i < p.rows.size(); ++i) {
+        phase_variable[i] = c.phase_variable(data.observations[static_cast<std::size_t>(p.rows[i])]);
         g[i] = p.g[p.rows[i]];
-        res[i] = r_rows[static_cast<Eigen::Index>(i)];
       }
-      for (std::size_t k = 0; k < values.size(); ++k) {
-        double b0 = 0, b1 = 0, n00 = 0, n01 = 0, n11 = 0;
-        for (std::size_t i = 0; i < rows; ++i) {
-          const double x0 = g[i] * cs[i], x1 = g[i] * sn[i];
-          b0 += x0 * res[i], b1 += x1 * res[i];
-          n00 += x0 * x0, n01 += x0 * x1, n11 += x1 * x1;
-          const double c2 = cs[i] * step_c[i] - sn[i] * step_s[i];
-          sn[i] = sn[i] * step_c[i] + cs[i] * step_s[i];
-          cs[i] = c2;
-        }
-        const double det = n00 * n11 - n01 * n01;
-        gains[k] = det > 1e-12 * n00 * n11 ? (n11 * b0 * b0 - 2 * n01 * b0 * b1 + n00 * b1 * b1) / det : 0.0;
-      }
+      gains = coarse_periodic_gains(phase_variable, g, r_rows, 1.0 / values[0], 1.0 / values[1] - 1.0 / values[0],
+                                    values.size());
       std::vector<std::pair<double, std::size_t>> peaks;
       for (std::size_t k = 0; k < gains.size(); ++k)
         if ((k == 0 || gains[k] >= gains[k - 1]) && (k + 1 == gains.size() || gains[k] >= gains[k + 1]))
