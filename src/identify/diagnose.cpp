@@ -109,6 +109,26 @@ std::vector<double> coarse_periodic_gains(const std::vector<double>& variable, c
   return gains;
 }
 
+/// A candidate's columns at a scanned value (a period, a time constant): its probe's
+/// column times each basis function, on the probe's rows (`out` has a row per probe row),
+/// or on every reading (`out` has n rows, zero off the probe's rows).
+void candidate_columns(const Candidate& c, const Probe& p, const MeasurementSet& data, double value, bool every_row,
+                       Eigen::Ref<Eigen::MatrixXd> out) {
+  for (std::size_t i = 0; i < p.rows.size(); ++i) {
+    const Eigen::Index row = p.rows[i];
+    const Observation& o = data.observations[static_cast<std::size_t>(row)];
+    for (int k = 0; k < c.basis_count; ++k)
+      out(every_row ? row : static_cast<Eigen::Index>(i), k) = p.g[row] * c.basis(o, k, value);
+  }
+}
+
+/// A scored candidate: its suggestion, and the value and coefficients it was scored at.
+struct Scored {
+  Suggestion suggestion;
+  double value = 0.0;
+  Eigen::VectorXd coefficients;
+};
+
 /// The refitted model's residual and what its free parameters can absorb.
 struct Projector {
   Eigen::VectorXd r;  // residual, orthogonal to the base columns
@@ -156,6 +176,12 @@ struct AxisInfo {
   double step = 0;          // the typical spacing of the data along it (mm, deg)
 };
 
+/// An axis' position in a reading, in the file's units (mm, deg): a linear axis' slide
+/// position (Z without the tool length), a rotary axis' angle.
+double axis_value(const Observation& o, const AxisInfo& a) {
+  return file_axis_value(o, a.index, a.rotary);
+}
+
 std::vector<AxisInfo> axes_of(const model::MachineModel& mm, const MeasurementSet& data) {
   std::vector<AxisInfo> axes;
   for (const auto* chain : {&mm.workpiece_chain, &mm.tool_chain})
@@ -171,7 +197,7 @@ std::vector<AxisInfo> axes_of(const model::MachineModel& mm, const MeasurementSe
       a.from = 1e300, a.to = -1e300;
       const auto qi = static_cast<Eigen::Index>(a.index);
       for (const Observation& o : data.observations) {
-        const double v = a.rotary ? o.q[qi] / kRadPerDeg : o.q[qi] - (a.index == 2 ? o.q[9] : 0.0);
+        const double v = axis_value(o, a);
         a.from = std::min(a.from, v), a.to = std::max(a.to, v);
       }
       // The median spacing between consecutive readings that differ along this axis only.
@@ -563,10 +589,7 @@ std::vector<Region> residual_regions(const model::MachineModel& mm, const Measur
     }
   };
   for (const AxisInfo& a : axes)
-    add_regions(axis_name(a.index), [&a](const Observation& o) {
-      return a.rotary ? o.q[static_cast<Eigen::Index>(a.index)] / kRadPerDeg
-                      : o.q[static_cast<Eigen::Index>(a.index)] - (a.index == 2 ? o.q[9] : 0.0);
-    });
+    add_regions(axis_name(a.index), [&a](const Observation& o) { return axis_value(o, a); });
   add_regions("L", [](const Observation& o) { return o.q[9]; });
   add_regions("t", [](const Observation& o) { return o.time; });
   for (std::size_t s = 0; s < mm.sensors.size(); ++s)
@@ -597,13 +620,11 @@ Diagnosis diagnose(const model::ForwardModel& model, const MeasurementSet& data,
   if (!(out.noise > 0)) out.noise = out.rms_refit;
   const double sigma2 = std::max(out.noise * out.noise, 1e-18);
 
-  std::vector<Eigen::VectorXd> coefficients(candidates.size());  // of each suggestion's basis functions
   // A candidate's suggestion from its best value (a period, a time constant), the gain
   // there and its coefficients.
   auto suggestion = [&](const Candidate& c, double value, double gain, const Eigen::VectorXd& x, double uncertainty,
-                        double trials) -> std::optional<Suggestion> {
+                        double trials) -> std::optional<Scored> {
     if (!(gain > 0)) return std::nullopt;
-    coefficients[static_cast<std::size_t>(&c - candidates.data())] = x;
     Suggestion s;
     s.effect = c.effect, s.error = c.error, s.term = c.term, s.variable = c.variable, s.form = c.form;
     s.period = c.scan_points > 0 || c.form == "harmonic" ? value : 0.0;
@@ -619,7 +640,7 @@ Diagnosis diagnose(const model::ForwardModel& model, const MeasurementSet& data,
     s.significance = gain / sigma2 - k - 2.0 * std::log(trials);
     s.yaml = "  - " + c.yaml(x, value);
     s.spec = c.yaml(x, value);
-    return s;
+    return Scored{std::move(s), value, x};
   };
 
   // Candidates without a scan: all their columns (over every row, zero off their probe's
@@ -634,11 +655,7 @@ Diagnosis diagnose(const model::ForwardModel& model, const MeasurementSet& data,
   util::for_each_index(candidates.size(), options.threads, [&](std::size_t i) {
     if (fixed_column[i] < 0) return;
     const Candidate& c = candidates[i];
-    const Probe& p = probes[c.probe];
-    for (Eigen::Index row : p.rows)
-      for (int k = 0; k < c.basis_count; ++k)
-        C_fixed(row, fixed_column[i] + k) =
-            p.g[row] * c.basis(data.observations[static_cast<std::size_t>(row)], k, c.period);
+    candidate_columns(c, probes[c.probe], data, c.period, true, C_fixed.middleCols(fixed_column[i], c.basis_count));
   });
   const Eigen::MatrixXd AtC_fixed = transpose_product(base.A, C_fixed);
   auto score_fixed = [&](std::size_t i) {
@@ -651,7 +668,7 @@ Diagnosis diagnose(const model::ForwardModel& model, const MeasurementSet& data,
 
   // Candidates with a scan (a period, a time constant): a coarse pass, then the best
   // values weighed exactly, a few at a time in one product.
-  auto score_scanned = [&](const Candidate& c) -> std::optional<Suggestion> {
+  auto score_scanned = [&](const Candidate& c) -> std::optional<Scored> {
     const Probe& p = probes[c.probe];
     if (p.rows.empty()) return std::nullopt;
     const bool all_rows = static_cast<Eigen::Index>(p.rows.size()) == n;
@@ -662,12 +679,7 @@ Diagnosis diagnose(const model::ForwardModel& model, const MeasurementSet& data,
       const int bc = c.basis_count;
       Eigen::MatrixXd C(static_cast<Eigen::Index>(p.rows.size()), static_cast<Eigen::Index>(values.size()) * bc);
       for (std::size_t v = 0; v < values.size(); ++v)
-        for (std::size_t i = 0; i < p.rows.size(); ++i) {
-          const Observation& o = data.observations[static_cast<std::size_t>(p.rows[i])];
-          for (int k = 0; k < bc; ++k)
-            C(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(v) * bc + k) =
-                p.g[p.rows[i]] * c.basis(o, k, values[v]);
-        }
+        candidate_columns(c, p, data, values[v], false, C.middleCols(static_cast<Eigen::Index>(v) * bc, bc));
       const Eigen::MatrixXd AtC = A_rows.transpose() * C;
       std::vector<double> gains(values.size());
       for (std::size_t v = 0; v < values.size(); ++v) {
@@ -753,7 +765,7 @@ Diagnosis diagnose(const model::ForwardModel& model, const MeasurementSet& data,
     if (candidates[i].scan_points > 0) order.push_back(i);
   for (std::size_t i = 0; i < candidates.size(); ++i)
     if (fixed_column[i] >= 0) order.push_back(i);
-  std::vector<std::optional<Suggestion>> results(candidates.size());
+  std::vector<std::optional<Scored>> results(candidates.size());
   util::for_each_index(order.size(), options.threads, [&](std::size_t j) {
     const std::size_t i = order[j];
     results[i] = fixed_column[i] >= 0 ? score_fixed(i) : score_scanned(candidates[i]);
@@ -762,26 +774,24 @@ Diagnosis diagnose(const model::ForwardModel& model, const MeasurementSet& data,
   // would give, the information criterion agrees, and the rms falls by 3% at least.
   std::vector<std::size_t> kept;  // candidates
   for (std::size_t i = 0; i < results.size(); ++i)
-    if (const auto& s = results[i];
+    if (const Suggestion* s = results[i] ? &results[i]->suggestion : nullptr;
         s && s->significance > kSignificance && s->bic_delta < -10.0 && s->rms_after < 0.97 * s->rms_before)
       kept.push_back(i);
-  std::stable_sort(kept.begin(), kept.end(),
-                   [&](std::size_t a, std::size_t b) { return results[a]->bic_delta < results[b]->bic_delta; });
+  std::stable_sort(kept.begin(), kept.end(), [&](std::size_t a, std::size_t b) {
+    return results[a]->suggestion.bic_delta < results[b]->suggestion.bic_delta;
+  });
   if (kept.size() > static_cast<std::size_t>(options.max_suggestions))
     kept.resize(static_cast<std::size_t>(options.max_suggestions));
   for (std::size_t rank = 0; rank < kept.size(); ++rank) {
     const Candidate& c = candidates[kept[rank]];
-    Suggestion& s = *results[kept[rank]];
+    Scored& scored = *results[kept[rank]];
+    Suggestion& s = scored.suggestion;
     s.rank = static_cast<int>(rank + 1);
     // The residual with the effect added: what its terms take, less what the base's free
     // parameters had taken of it (the linear fit of both, whose rms is rms_after).
-    const Probe& p = probes[c.probe];
-    const Eigen::VectorXd& x = coefficients[kept[rank]];
-    const double value = s.period > 0 ? s.period : c.period;
-    Eigen::VectorXd taken = Eigen::VectorXd::Zero(n);
-    for (Eigen::Index row : p.rows)
-      for (int k = 0; k < c.basis_count; ++k)
-        taken[row] += p.g[row] * c.basis(data.observations[static_cast<std::size_t>(row)], k, value) * x[k];
+    Eigen::MatrixXd C = Eigen::MatrixXd::Zero(n, c.basis_count);
+    candidate_columns(c, probes[c.probe], data, scored.value, true, C);
+    Eigen::VectorXd taken = C * scored.coefficients;
     if (base.A.cols() > 0) taken -= base.A * (base.W * (base.W.transpose() * (base.A.transpose() * taken)));
     s.residual = base.r - taken;
     out.suggestions.push_back(std::move(s));

@@ -117,34 +117,41 @@ constexpr std::size_t kRowBlocks = 8;
 Eigen::Index block_begin(Eigen::Index rows, std::size_t b) {
   return rows * static_cast<Eigen::Index>(b) / static_cast<Eigen::Index>(kRowBlocks);
 }
+
+/// The sum over the fixed row blocks of block(begin, count), computed on the cores and
+/// added in block order: the same sums on any machine, whatever its core count.
+template <class Block>
+Eigen::MatrixXd sum_over_row_blocks(Eigen::Index rows, Eigen::Index out_rows, Eigen::Index out_cols, Block block) {
+  std::vector<Eigen::MatrixXd> part(kRowBlocks);
+  util::for_each_index(kRowBlocks, util::hardware_threads(), [&](std::size_t b) {
+    const Eigen::Index begin = block_begin(rows, b), end = block_begin(rows, b + 1);
+    part[b] = block(begin, end - begin);
+  });
+  Eigen::MatrixXd sum = Eigen::MatrixXd::Zero(out_rows, out_cols);
+  for (const Eigen::MatrixXd& p : part) sum += p;
+  return sum;
+}
+
 }  // namespace
 
 Eigen::MatrixXd normal_matrix(const Eigen::MatrixXd& A, const Eigen::VectorXd* weights) {
-  std::vector<Eigen::MatrixXd> part(kRowBlocks);
-  util::for_each_index(kRowBlocks, util::hardware_threads(), [&](std::size_t b) {
-    const Eigen::Index begin = block_begin(A.rows(), b), end = block_begin(A.rows(), b + 1);
-    part[b] = Eigen::MatrixXd::Zero(A.cols(), A.cols());
-    if (weights)
-      part[b].selfadjointView<Eigen::Lower>().rankUpdate(
-          (weights->segment(begin, end - begin).cwiseSqrt().asDiagonal() * A.middleRows(begin, end - begin))
-              .transpose());
-    else
-      part[b].selfadjointView<Eigen::Lower>().rankUpdate(A.middleRows(begin, end - begin).transpose());
-  });
-  Eigen::MatrixXd N = Eigen::MatrixXd::Zero(A.cols(), A.cols());
-  for (const Eigen::MatrixXd& p : part) N += p;  // in block order: the same sum everywhere
-  return N.selfadjointView<Eigen::Lower>();
+  const Eigen::MatrixXd lower =
+      sum_over_row_blocks(A.rows(), A.cols(), A.cols(), [&](Eigen::Index begin, Eigen::Index count) {
+        Eigen::MatrixXd N = Eigen::MatrixXd::Zero(A.cols(), A.cols());
+        if (weights)
+          N.selfadjointView<Eigen::Lower>().rankUpdate(
+              (weights->segment(begin, count).cwiseSqrt().asDiagonal() * A.middleRows(begin, count)).transpose());
+        else
+          N.selfadjointView<Eigen::Lower>().rankUpdate(A.middleRows(begin, count).transpose());
+        return N;
+      });
+  return lower.selfadjointView<Eigen::Lower>();
 }
 
 Eigen::MatrixXd transpose_product(const Eigen::MatrixXd& A, const Eigen::MatrixXd& B) {
-  std::vector<Eigen::MatrixXd> part(kRowBlocks);
-  util::for_each_index(kRowBlocks, util::hardware_threads(), [&](std::size_t b) {
-    const Eigen::Index begin = block_begin(A.rows(), b), end = block_begin(A.rows(), b + 1);
-    part[b].noalias() = A.middleRows(begin, end - begin).transpose() * B.middleRows(begin, end - begin);
+  return sum_over_row_blocks(A.rows(), A.cols(), B.cols(), [&](Eigen::Index begin, Eigen::Index count) {
+    return Eigen::MatrixXd(A.middleRows(begin, count).transpose() * B.middleRows(begin, count));
   });
-  Eigen::MatrixXd C = Eigen::MatrixXd::Zero(A.cols(), B.cols());
-  for (const Eigen::MatrixXd& p : part) C += p;  // in block order, as normal_matrix
-  return C;
 }
 
 Eigen::VectorXd residuals(const model::ForwardModel& model, const Eigen::VectorXd& parameters,

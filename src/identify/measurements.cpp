@@ -211,6 +211,12 @@ void read_measurements(const std::string& path, const model::MachineModel& model
   parse_measurements(text.str(), path, model, options, into);
 }
 
+double file_axis_value(const Observation& o, std::size_t axis, bool rotary) {
+  const double q = o.q[static_cast<Eigen::Index>(axis)];
+  if (rotary) return q / kRadPerDeg;
+  return axis == 2 ? q - o.q[static_cast<Eigen::Index>(model::kToolLengthIndex)] : q;
+}
+
 void summarize(MeasurementSet& set, const model::MachineModel& model) {
   set.ranges.clear();
   if (set.observations.empty()) return;
@@ -220,12 +226,10 @@ void summarize(MeasurementSet& set, const model::MachineModel& model) {
     set.ranges.push_back(r);
   };
   for (const model::AxisSpec& a : model.axes) {
-    const auto i = static_cast<Eigen::Index>(std::string_view("XYZABCUVW").find(a.letter));
+    const std::size_t i = std::string_view("XYZABCUVW").find(a.letter);
     const bool rotary = a.type == model::AxisType::rotary;
-    const double tool_z = i == 2 ? 1.0 : 0.0;
-    add(std::string(1, static_cast<char>(std::tolower(a.letter))), rotary ? "deg" : "mm", [&](const Observation& o) {
-      return rotary ? o.q[i] / kRadPerDeg : o.q[i] - tool_z * o.q[static_cast<Eigen::Index>(model::kToolLengthIndex)];
-    });
+    add(std::string(1, static_cast<char>(std::tolower(a.letter))), rotary ? "deg" : "mm",
+        [&](const Observation& o) { return file_axis_value(o, i, rotary); });
   }
   add("L", "mm", [](const Observation& o) { return o.q[static_cast<Eigen::Index>(model::kToolLengthIndex)]; });
   add("t", "s", [](const Observation& o) { return o.time; });

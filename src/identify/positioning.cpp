@@ -21,8 +21,7 @@ PositioningReport analyse_positioning(const MeasurementSet& data, std::size_t ax
     if (!source.empty() && data.sources[o.source] != source) continue;
     const double along = o.direction[static_cast<Eigen::Index>(axis)];
     if (std::abs(std::abs(along) - 1.0) > 1e-6 || o.directions[axis] == 0.0) continue;
-    double target = o.q[static_cast<Eigen::Index>(axis)];
-    if (axis == 2) target -= o.q[9];  // program z
+    const double target = file_axis_value(o, axis, false);
     auto& runs = at[std::llround(target * 1000.0)];
     (o.directions[axis] > 0 ? runs.first : runs.second).push_back(o.value * along);
   }

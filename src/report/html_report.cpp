@@ -143,12 +143,11 @@ std::string html_check_report(const CheckReportInput& in) {
   };
   std::vector<Variable> variables;
   for (const model::AxisSpec& a : in.model.axes) {
-    const auto i = static_cast<Eigen::Index>(std::string_view("XYZABCUVW").find(a.letter));
+    const std::size_t i = std::string_view("XYZABCUVW").find(a.letter);
     const bool rotary = a.type == model::AxisType::rotary;
-    variables.push_back({std::string(1, static_cast<char>(std::tolower(a.letter))) + (rotary ? " (deg)" : " (mm)"),
-                         [i, rotary](const identify::Observation& o) {
-                           return rotary ? o.q[i] * 180.0 / kPi : o.q[i] - (i == 2 ? o.q[9] : 0.0);
-                         }});
+    variables.push_back(
+        {std::string(1, static_cast<char>(std::tolower(a.letter))) + (rotary ? " (deg)" : " (mm)"),
+         [i, rotary](const identify::Observation& o) { return identify::file_axis_value(o, i, rotary); }});
   }
   variables.push_back({"L (mm)", [](const identify::Observation& o) { return o.q[9]; }});
   variables.push_back({"t (s)", [](const identify::Observation& o) { return o.time; }});

@@ -62,6 +62,11 @@ void read_measurements(const std::string& path, const model::MachineModel& model
 void parse_measurements(const std::string& text, const std::string& name, const model::MachineModel& model,
                         const ReadOptions& options, MeasurementSet& into);
 
+/// Axis `axis` of a reading as measurement files write it: a rotary axis in degrees, a
+/// linear one in mm, Z as the program coordinate (without the tool length, which the
+/// reader adds to the chain value).
+[[nodiscard]] double file_axis_value(const Observation& o, std::size_t axis, bool rotary);
+
 /// Recomputes `ranges` (after reading all files).
 void summarize(MeasurementSet& set, const model::MachineModel& model);
 
