@@ -114,6 +114,9 @@ void design_matrix(const model::ForwardModel& model, const Eigen::VectorXd& para
 
 namespace {
 constexpr std::size_t kRowBlocks = 8;
+/// A change the data support moves the predictions by more than this many noise sigmas:
+/// the test a fit's step directions and its final changes both pass.
+constexpr double kSignificant = 3.0;
 Eigen::Index block_begin(Eigen::Index rows, std::size_t b) {
   return rows * static_cast<Eigen::Index>(b) / static_cast<Eigen::Index>(kRowBlocks);
 }
@@ -280,7 +283,7 @@ FitReport fit(const model::ForwardModel& model, const MeasurementSet& data, cons
     // every trial fails, and each costs one.
     double predicted_gain = 0.0;
     for (Eigen::Index k = 0; k < mu.size(); ++k) {
-      if (direction_gain[k] > 9.0 * noise2)
+      if (direction_gain[k] > kSignificant * kSignificant * noise2)
         predicted_gain += direction_gain[k];
       else
         stepped_Qg[k] = 0.0;
@@ -359,7 +362,7 @@ FitReport fit(const model::ForwardModel& model, const MeasurementSet& data, cons
     bool reverted = false;
     for (Eigen::Index k = 0; k < m; ++k) {
       if (!identified_direction[static_cast<std::size_t>(k)]) continue;
-      if (sigma[k] * std::abs(c[k]) > 3.0 * noise)
+      if (sigma[k] * std::abs(c[k]) > kSignificant * noise)
         kept[k] = c[k], ++report.significant;
       else
         reverted = true;
@@ -377,7 +380,7 @@ FitReport fit(const model::ForwardModel& model, const MeasurementSet& data, cons
       const auto identifiable =
           static_cast<std::size_t>(std::count(identified_direction.begin(), identified_direction.end(), true));
       const auto reverted_count = static_cast<double>(identifiable - report.significant);
-      if (cost(back_r) - cost(r) <= 9.0 * noise * noise * std::max(1.0, reverted_count)) {
+      if (cost(back_r) - cost(r) <= kSignificant * kSignificant * noise * noise * std::max(1.0, reverted_count)) {
         p = back_p;
         r = back_r;
         jacobian_current = false;
