@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <limits>
 
 #include "ccomp/error.hpp"
@@ -47,6 +48,31 @@ ForwardModel::ForwardModel(const MachineModel& model) : machine_(model) {
     }
     if (!found) throw Error(ErrorKind::model, fmt::format("term {}: no link {} in the chains", t.name, t.link));
     sites_.push_back(s);
+    auto variable_slot = [](const Variable& v) -> std::int16_t {
+      switch (v.kind) {
+        case VariableKind::axis:
+          return static_cast<std::int16_t>(v.index);
+        case VariableKind::tool_length:
+          return static_cast<std::int16_t>(kToolLengthIndex);
+        case VariableKind::time:
+          return static_cast<std::int16_t>(kTimeVariable);
+        case VariableKind::direction:
+          return static_cast<std::int16_t>(kFirstDirectionVariable + v.index);
+        case VariableKind::temperature:
+          return static_cast<std::int16_t>(kFirstTemperatureVariable + v.index);
+        case VariableKind::none:
+          break;
+      }
+      return -1;
+    };
+    TermSlot slot;
+    slot.form = t.shape.form;
+    slot.primary = variable_slot(t.primary);
+    slot.secondary = variable_slot(t.secondary);
+    slot.on_axes = (slot.primary >= 0 && slot.primary < static_cast<int>(kChainVariables)) ||
+                   (slot.secondary >= 0 && slot.secondary < static_cast<int>(kChainVariables));
+    slot.offset = parameter_count_;
+    slots_.push_back(slot);
     offsets_.push_back(parameter_count_);
     parameter_count_ += static_cast<std::size_t>(t.parameters.size());
   }
@@ -100,6 +126,9 @@ ForwardData::ForwardData(const ForwardModel& model)
       values(model.machine().terms.size()),
       evaluated_inputs(values.size(), TermInputs{std::nan(""), std::nan("")}),
       evaluated_parameters(values.size()),
+      variables(ForwardModel::kFirstTemperatureVariable + model.machine().sensors.size(), 0.0),
+      off_axes_key(variables.size() - ForwardModel::kTimeVariable + model.parameter_count()),
+      off_axes_values(model.machine().terms.size()),
       J_work_pose(model.chain().workpiece.joints.size()),
       J_tool_pose(model.chain().tool.joints.size()) {
   for (std::size_t i = 0; i < model.machine().terms.size(); ++i)
@@ -160,6 +189,48 @@ int chain_index(const Variable& v) {
   return -1;
 }
 
+/// A term's value without derivatives: a cheap form at once, the others through
+/// evaluate(), kept while their inputs and parameters stand still.
+double term_value(const ErrorTermSpec& t, std::size_t offset, ForwardData& d, std::size_t i, const TermInputs& in) {
+  double value = 0.0;
+  if (inline_value(t, d.parameters.data() + offset, in, value)) return value;
+  const auto params = d.parameters.segment(static_cast<Eigen::Index>(offset), t.parameters.size());
+  TermInputs& last = d.evaluated_inputs[i];
+  Eigen::VectorXd& last_parameters = d.evaluated_parameters[i];
+  if (in.primary != last.primary || in.secondary != last.secondary || last_parameters.size() != params.size() ||
+      params != last_parameters) {
+    evaluate(t.shape, params, in, false, d.values[i]);
+    last = in;
+    last_parameters = params;
+  }
+  return d.values[i].value;
+}
+
+/// Fills d.variables for q and c; true when the conditions and parameters are those the
+/// off-axes terms' values were last computed from (otherwise they are taken as the new key).
+bool update_variables(const ForwardModel& model, ForwardData& d, const ChainQ& q, const Conditions& c) {
+  double* v = d.variables.data();
+  for (std::size_t i = 0; i < kChainVariables; ++i) v[i] = q[static_cast<Eigen::Index>(i)];
+  v[ForwardModel::kTimeVariable] = c.time;
+  for (std::size_t i = 0; i < c.directions.size(); ++i) v[ForwardModel::kFirstDirectionVariable + i] = c.directions[i];
+  for (std::size_t i = ForwardModel::kFirstTemperatureVariable; i < d.variables.size(); ++i) {
+    const std::size_t sensor = i - ForwardModel::kFirstTemperatureVariable;
+    v[i] = sensor < c.temperatures.size() ? c.temperatures[sensor] : 20.0;
+  }
+  // Bitwise: a key that compares equal gives the same values.
+  const std::size_t n = d.variables.size() - ForwardModel::kTimeVariable;
+  const std::size_t p = model.parameter_count();
+  double* key = d.off_axes_key.data();
+  const bool current = d.off_axes_valid && std::memcmp(key, v + ForwardModel::kTimeVariable, n * sizeof(double)) == 0 &&
+                       std::memcmp(key + n, d.parameters.data(), p * sizeof(double)) == 0;
+  if (!current) {
+    std::memcpy(key, v + ForwardModel::kTimeVariable, n * sizeof(double));
+    std::memcpy(key + n, d.parameters.data(), p * sizeof(double));
+    d.off_axes_valid = true;
+  }
+  return current;
+}
+
 }  // namespace
 
 void forward(const ForwardModel& model, ForwardData& d, const ChainQ& q, const Conditions& c, bool jacobians,
@@ -173,36 +244,45 @@ void forward(const ForwardModel& model, ForwardData& d, const ChainQ& q, const C
   const auto& terms = model.machine().terms;
   for (auto& e : d.work_error) e.setZero();
   for (auto& e : d.tool_error) e.setZero();
-  // Term values, summed per link component (delta x y z in mm, epsilon a b c in rad).
-  auto& values = d.values;
-  const bool gradient = jacobians && parameter_jacobian;
-  for (std::size_t i = 0; i < terms.size(); ++i) {
-    const ErrorTermSpec& t = terms[i];
-    const double v = t.primary.kind == VariableKind::axis ? q[static_cast<Eigen::Index>(t.primary.index)]
-                                                          : variable_value(t.primary, q, c);
-    const TermInputs in{v, t.secondary.kind == VariableKind::none ? 0.0 : variable_value(t.secondary, q, c)};
-    const std::size_t offset = model.parameter_offset(i);
-    // Without derivatives the cheap forms are evaluated here (the forward model runs this
-    // for every term at every point the compensation checks); the others through
-    // evaluate(), kept while their inputs and parameters stand still.
-    double value = 0.0;
-    if (jacobians || !inline_value(t, d.parameters.data() + offset, in, value)) {
-      const auto params = d.parameters.segment(static_cast<Eigen::Index>(offset), t.parameters.size());
-      TermInputs& last = d.evaluated_inputs[i];
-      Eigen::VectorXd& last_parameters = d.evaluated_parameters[i];
-      if (jacobians || in.primary != last.primary || in.secondary != last.secondary ||
-          last_parameters.size() != params.size() || params != last_parameters) {
-        evaluate(t.shape, params, in, gradient, values[i]);
-        last = in;
-        last_parameters = params;
-      }
-      value = values[i].value;
-    }
+  // Term values, summed per link component (delta x y z in mm, epsilon a b c in rad), in
+  // file order either way.
+  auto add = [&](std::size_t i, double value) {
     const auto& site = model.site(i);
     auto& e = site.side == 0 ? d.work_error[site.joint] : d.tool_error[site.joint];
     // ISO 230-1 error motions are the tool's relative to the workpiece: a link on the
     // workpiece side moves the workpiece, so its error pose carries the opposite sign.
-    e[t.component] += (site.side == 0 ? -1.0 : 1.0) * value;
+    e[terms[i].component] += (site.side == 0 ? -1.0 : 1.0) * value;
+  };
+  if (jacobians) {
+    const bool gradient = parameter_jacobian;
+    for (std::size_t i = 0; i < terms.size(); ++i) {
+      const ErrorTermSpec& t = terms[i];
+      const TermInputs in{variable_value(t.primary, q, c), variable_value(t.secondary, q, c)};
+      const auto params = d.parameters.segment(static_cast<Eigen::Index>(model.parameter_offset(i)),
+                                               t.parameters.size());
+      evaluate(t.shape, params, in, gradient, d.values[i]);
+      d.evaluated_inputs[i] = in;
+      d.evaluated_parameters[i] = params;
+      add(i, d.values[i].value);
+    }
+    d.off_axes_valid = false;
+  } else {
+    // The forward model runs this for every term at every point the compensation checks.
+    const bool off_axes_current = update_variables(model, d, q, c);
+    const auto& slots = model.slots();
+    for (std::size_t i = 0; i < terms.size(); ++i) {
+      const ForwardModel::TermSlot& s = slots[i];
+      double value = 0.0;
+      if (!s.on_axes && off_axes_current) {
+        value = d.off_axes_values[i];
+      } else {
+        const TermInputs in{s.primary >= 0 ? d.variables[static_cast<std::size_t>(s.primary)] : 0.0,
+                            s.secondary >= 0 ? d.variables[static_cast<std::size_t>(s.secondary)] : 0.0};
+        value = term_value(terms[i], s.offset, d, i, in);
+        if (!s.on_axes) d.off_axes_values[i] = value;
+      }
+      add(i, value);
+    }
   }
   // Error poses of the links, with their Jacobians w.r.t. (delta, epsilon).
   auto set_errors = [&](const std::vector<Eigen::Matrix<double, 6, 1>>& errors, std::vector<Pose>& poses,
@@ -250,9 +330,9 @@ void forward(const ForwardModel& model, ForwardData& d, const ChainQ& q, const C
     const Eigen::Vector3d column = sign * R * (J_link * J_pose.col(t.component)).head<3>();
     if (parameter_jacobian)
       d.J_parameters.middleCols(static_cast<Eigen::Index>(model.parameter_offset(i)), t.parameters.size()) =
-          column * values[i].d_parameters.transpose();
-    if (const int k = chain_index(t.primary); k >= 0) d.J_q.col(k) += column * values[i].d_primary;
-    if (const int k = chain_index(t.secondary); k >= 0) d.J_q.col(k) += column * values[i].d_secondary;
+          column * d.values[i].d_parameters.transpose();
+    if (const int k = chain_index(t.primary); k >= 0) d.J_q.col(k) += column * d.values[i].d_primary;
+    if (const int k = chain_index(t.secondary); k >= 0) d.J_q.col(k) += column * d.values[i].d_secondary;
   }
 }
 

@@ -168,5 +168,55 @@ TEST(Forward, PlayIsTakenUpOverTheLostMotion) {
   EXPECT_NEAR(tip_after, tip_before, 1e-12);
 }
 
+TEST(Forward, TermsOffTheAxesFollowTheConditionsAndParameters) {
+  // Terms that depend on no axis (thermal drifts, reversals, constants) keep their values
+  // between evaluations while the conditions and parameters stand still. One scratch
+  // evaluated over a sequence of changes must give what a fresh one gives at each step.
+  const MachineModel mm = parse_machine_model(std::string(kChain) + R"(terms:
+  - {name: EXX, form: polynomial, unit: um, coefficients: [1, 0.02]}
+  - {name: EX0X, variable: T_bed, form: thermal, unit: um, coefficient: 3}
+  - {name: EZ0Z, variable: t, form: warmup, amplitude: 12 um, time_constant: 1800 s}
+  - {name: EXX, variable: vx, form: reversal, reversal: -6 um}
+  - {name: EYY, variable: y, form: scale_expansion, temperature: T_spindle, coefficient: 11e-6, reference: 20}
+)",
+                                                  "m.yaml");
+  const ForwardModel m(mm);
+  ForwardData kept(m);
+  ChainQ q = ChainQ::Zero();
+  q << 120, -40, 30, 0, 0.3, 0, 0, 0, 0, 100;
+  Conditions c;
+  c.temperatures = {22, 25};
+  c.time = 600;
+  auto same_as_fresh = [&](const std::string& step) {
+    forward(m, kept, q, c);
+    ForwardData fresh(m);
+    fresh.parameters = kept.parameters;
+    forward(m, fresh, q, c);
+    EXPECT_EQ(kept.actual, fresh.actual) << step;
+    return kept.actual;
+  };
+  Eigen::Vector3d last = same_as_fresh("first");
+  auto changed = [&](const std::string& step) {
+    const Eigen::Vector3d now = same_as_fresh(step);
+    EXPECT_NE(now, last) << step << " must change the tip";
+    last = now;
+  };
+  c.temperatures[0] = 23.5;
+  changed("bed temperature");
+  c.time = 1200;
+  changed("time");
+  c.directions[0] = 1;
+  changed("X's approach");
+  kept.parameters[0] += 1e-4;  // EXX's constant
+  changed("a parameter of a term on an axis");
+  kept.parameters[m.parameter_offset(1)] *= 2;  // the bed drift's coefficient
+  changed("a parameter of a term off the axes");
+  q[1] += 1;
+  changed("Y");
+  c.temperatures[1] = 30;
+  changed("spindle temperature (scale expansion, on the axes)");
+  (void)same_as_fresh("again, unchanged");
+}
+
 }  // namespace
 }  // namespace ccomp::model

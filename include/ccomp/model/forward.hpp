@@ -6,6 +6,7 @@
 #include <Eigen/Core>
 #include <array>
 #include <cstddef>
+#include <cstdint>
 #include <vector>
 
 #include "ccomp/kinematics/chain.hpp"
@@ -60,10 +61,28 @@ class ForwardModel {
   /// Whether any reversal term depends on the approach state of axis i.
   [[nodiscard]] bool has_reversal(std::size_t axis) const { return reversal_axes_ >> axis & 1U; }
 
+  /// A term as forward()'s loop without Jacobians reads it: its inputs as indices into one
+  /// vector of variables (see variables_of()), where its value goes, and whether it depends on
+  /// the axes at all. One that does not (a thermal drift, a reversal, a constant) keeps its
+  /// value while the conditions and parameters stand still: in a program, nearly always.
+  struct TermSlot {
+    TermForm form = TermForm::constant;
+    bool on_axes = true;  ///< depends on a chain variable (an axis or the tool length)
+    std::int16_t primary = -1, secondary = -1;  ///< into the variables; -1: none (0)
+    std::size_t offset = 0;                     ///< its first parameter
+  };
+  [[nodiscard]] const std::vector<TermSlot>& slots() const { return slots_; }
+  /// Where TermSlot's variable indices point: q (10), the time, the 9 directions, then one
+  /// temperature per sensor.
+  static constexpr std::size_t kTimeVariable = kChainVariables;
+  static constexpr std::size_t kFirstDirectionVariable = kTimeVariable + 1;
+  static constexpr std::size_t kFirstTemperatureVariable = kFirstDirectionVariable + 9;
+
  private:
   MachineModel machine_;
   kinematics::ChainModel chain_;
   std::vector<Site> sites_;
+  std::vector<TermSlot> slots_;
   std::vector<std::size_t> offsets_;
   std::size_t parameter_count_ = 0;
   ChainQ feature_;  ///< shortest error feature along each chain variable (mm, rad), or +inf
@@ -92,6 +111,10 @@ struct ForwardData {
   /// unchanged keeps its value (without parameter gradients: those are always evaluated).
   std::vector<TermInputs> evaluated_inputs;
   std::vector<Eigen::VectorXd> evaluated_parameters;
+  /// The variables the terms read (ForwardModel::TermSlot), and what the values of the terms
+  /// that do not depend on the axes were last computed from: the conditions and parameters.
+  std::vector<double> variables, off_axes_key, off_axes_values;
+  bool off_axes_valid = false;
   std::vector<Eigen::Matrix<double, 6, 6>> J_work_pose, J_tool_pose;
 };
 
