@@ -128,6 +128,21 @@ double Compensator::error_at(const ChainQ& nominal) {
   return (check_.actual - tip).norm();
 }
 
+double Compensator::error_at(const ErrorProbe& probe) {
+  const std::array<double, 9> need = options_.conditions.directions;
+  options_.conditions.directions = probe.directions;
+  const double error = error_at(probe.nominal);
+  options_.conditions.directions = need;
+  return error;
+}
+
+void Compensator::error_before_at(const ChainQ& nominal, MoveReport& report) {
+  if (deferred_probes_)
+    deferred_probes_->push_back({nominal, options_.conditions.directions});
+  else
+    report.max_deviation_before = std::max(report.max_deviation_before, error_at(nominal));
+}
+
 double Compensator::executed_deviation(const ChainQ& a_nominal, const ChainQ& b_nominal, const ChainQ& a_comp,
                                        const ChainQ& b_comp, double t) {
   // The machine interpolates the commanded axis values linearly; the program meant the
@@ -245,10 +260,9 @@ void Compensator::error_before(const ChainQ& start, const ChainQ& end, const std
                                MoveReport& report) {
   const std::array<double, 9> need = options_.conditions.directions;
   options_.conditions.directions = play;
-  double& before = report.max_deviation_before;
-  if (start != last_straight_end_) before = std::max(before, error_at(start));
-  if (model_.check_points(start, end, 1) > 1) before = std::max(before, error_at(0.5 * (start + end)));
-  before = std::max(before, error_at(end));
+  if (start != last_straight_end_) error_before_at(start, report);
+  if (model_.check_points(start, end, 1) > 1) error_before_at(0.5 * (start + end), report);
+  error_before_at(end, report);
   last_straight_end_ = end;
   options_.conditions.directions = need;
 }

@@ -33,6 +33,13 @@ struct CompensatedPoint {
   bool take_up = false;  ///< a take-up move at a reversal (takes no share of the move)
 };
 
+/// A point where the uncompensated machine's error is to be taken, with the approach it
+/// would have there (see Compensator::defer_error_before).
+struct ErrorProbe {
+  model::ChainQ nominal;
+  std::array<double, 9> directions{};
+};
+
 struct MoveReport {
   double max_deviation_before = 0.0;   ///< mm: the uncompensated path's largest error
   double max_deviation_after = 0.0;    ///< mm: the compensated path's, at the checked points
@@ -62,6 +69,16 @@ class Compensator {
   void moved(const model::ChainQ& q);
   /// The error of the uncompensated machine at a point: |actual - nominal| (mm).
   [[nodiscard]] double error_at(const model::ChainQ& nominal);
+  /// The same for a probe, under its own approach.
+  [[nodiscard]] double error_at(const ErrorProbe& probe);
+  /// From now on, the points where a move's error before is taken are appended to `probes`
+  /// instead of evaluated (the report's max_deviation_before is then left to the caller,
+  /// who may evaluate them elsewhere: they change nothing the compensation decides);
+  /// nullptr evaluates them again.
+  void defer_error_before(std::vector<ErrorProbe>* probes) { deferred_probes_ = probes; }
+  /// A move's error before at `nominal` under the approach assumed now: evaluated into
+  /// the report, or deferred.
+  void error_before_at(const model::ChainQ& nominal, MoveReport& report);
 
   model::Conditions& conditions() { return options_.conditions; }
   /// Sets the approach the next points are solved for: each axis with reversal terms
@@ -99,6 +116,7 @@ class Compensator {
   // The nominal tips of the last points solved (a move's ends and midpoints), round robin.
   std::array<std::pair<model::ChainQ, Eigen::Vector3d>, 4> tips_;
   std::size_t next_tip_ = 0;
+  std::vector<ErrorProbe>* deferred_probes_ = nullptr;
   InverseProblem problem_;
   InverseWorkspace workspace_;  ///< the last point solved, its solution and the solve matrix
   model::ForwardData data_, check_;
