@@ -30,6 +30,7 @@ struct CompensateArgs {
   bool in_place = false;
   std::string backup_suffix = ".orig";
   int jobs = 1;
+  int threads = 0;  ///< per program, 1 or 2; 0: 2 when the machine has a core for each
   bool force = false;
   bool expand_cycles = false;
   bool progress = false;

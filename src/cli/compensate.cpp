@@ -14,6 +14,7 @@
 
 #include "ccomp/compensate/program_job.hpp"
 #include "ccomp/error.hpp"
+#include "ccomp/util/parallel.hpp"
 #include "commands.hpp"
 
 namespace ccomp::cli {
@@ -27,6 +28,10 @@ void add_compensate(CLI::App& app, CompensateArgs& args) {
   app.add_flag("--in-place", args.in_place, "replace each input, keeping a backup");
   app.add_option("--backup-suffix", args.backup_suffix, "suffix of --in-place backups (default .orig)");
   app.add_option("-j,--jobs", args.jobs, "programs compensated at once")->check(CLI::PositiveNumber);
+  app.add_option("--threads", args.threads,
+                 "threads per program: 2 compensates the moves while the other reads and writes the program "
+                 "(the output is the same); default 2 when there are cores for each program's two")
+      ->check(CLI::Range(1, 2));
   app.add_flag("--force", args.force, "compensate a program that already carries ccomp's header");
   app.add_flag("--expand-cycles", args.expand_cycles,
                "write canned cycles (G73 G81 G83 G85) as the compensated moves they make; takes L repeats "
@@ -174,6 +179,7 @@ int run_compensate(const CompensateArgs& args) {
     }
   };
   const int threads = std::clamp(args.jobs, 1, static_cast<int>(targets.size()));
+  options.threads = args.threads > 0 ? args.threads : util::hardware_threads() >= 2 * threads ? 2 : 1;
   std::vector<std::thread> pool;
   for (int i = 1; i < threads; ++i) pool.emplace_back(worker);
   worker();

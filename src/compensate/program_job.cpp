@@ -7,6 +7,7 @@
 #include <cctype>
 #include <charconv>
 #include <cmath>
+#include <exception>
 #include <memory>
 #include <optional>
 #include <tuple>
@@ -15,6 +16,7 @@
 #include "ccomp/compensate/verify.hpp"
 #include "ccomp/error.hpp"
 #include "ccomp/gcode/writer.hpp"
+#include "ccomp/util/parallel.hpp"
 #include "ccomp/version.hpp"
 
 namespace ccomp::compensate {
@@ -60,6 +62,109 @@ double number_of(std::string_view text) {
   return value;
 }
 
+/// A move on its way from the interpreter, through the compensation, to the writer: what
+/// its block said, and what the compensation made of it.
+struct MoveTask {
+  gcode::Motion motion;  ///< its offsets point to `offsets`
+  gcode::Offsets offsets;
+  bool first = false;  ///< the program's first motion: the play is followed from its start
+  std::string text, terminator;
+  gcode::Block block;  ///< the words, and the text (in `text`), for the writer
+  std::uint64_t offset = 0;
+  // what the compensation made of it
+  std::vector<CompensatedPoint> points;
+  MoveReport report;
+  std::vector<ErrorProbe> probes;  ///< where the uncompensated machine's error is taken
+  std::exception_ptr error;
+};
+
+/// A batch of moves: the interpreter's thread fills one while the other is compensated.
+/// Each on cache lines of its own, as the two threads write them at once.
+struct alignas(64) MoveBatch {
+  std::vector<MoveTask> tasks;
+  std::size_t filled = 0;
+};
+
+/// Points along an arc (controlled points, machine frame), start and end included, whose
+/// chords stay within `tolerance` of it (sagitta r (1 - cos(step / 2))).
+void arc_chords(const gcode::Motion& m, double tolerance, std::vector<gcode::Axes>& out) {
+  const gcode::ArcGeometry g = gcode::arc_geometry(m);
+  const double r = std::max(g.r_start, g.r_end);
+  const double step = r > tolerance ? 2.0 * std::acos(1.0 - tolerance / r) : 2.0 * 3.14159265358979323846;
+  const auto n = static_cast<std::size_t>(std::max(1.0, std::ceil(g.sweep / step)));
+  out.resize(n + 1);
+  for (std::size_t k = 0; k <= n; ++k) {
+    const double f = static_cast<double>(k) / static_cast<double>(n);
+    gcode::Axes p;
+    for (std::size_t i = 0; i < gcode::kAxisCount; ++i) p[i] = m.start[i] + f * (m.end[i] - m.start[i]);
+    std::tie(p[g.axes.first], p[g.axes.second]) = g.at(f, m.arc.center_first, m.arc.center_second);
+    out[k] = k == n ? m.end : p;
+  }
+}
+
+/// The compensation of the moves, as the worker thread runs it. An object of its own (on
+/// cache lines of its own): the interpreter's thread goes on writing its own state meanwhile.
+class alignas(64) MoveSolver {
+ public:
+  MoveSolver(const model::ForwardModel& model, const CompensationOptions& options)
+      : compensator(model, options), tolerance_(options.tolerance) {}
+
+  /// Compensates the batch's moves in order, up to the first that fails (its error kept).
+  void solve_batch(MoveBatch& batch) {
+    bool failed = false;
+    for (std::size_t k = 0; k < batch.filled; ++k) {
+      MoveTask& t = batch.tasks[k];
+      t.points.clear();
+      t.probes.clear();
+      t.report = MoveReport{};
+      t.error = nullptr;
+      if (failed) continue;  // never written: the writing stops at the failure
+      try {
+        compensator.defer_error_before(&t.probes);
+        if (t.first) compensator.moved(chain_of(t.motion.start, t.offsets));
+        solve(t.motion, t.offsets, t.report, t.points);
+      } catch (...) {
+        t.error = std::current_exception();
+        failed = true;
+      }
+    }
+    compensator.defer_error_before(nullptr);
+  }
+
+  /// The compensated points of a motion into `points`: a rapid's end (its path is the
+  /// control's), a feed move split as its error field needs, an arc as chords within half
+  /// the tolerance, each compensated within the other half.
+  void solve(const gcode::Motion& m, const gcode::Offsets& offsets, MoveReport& move,
+             std::vector<CompensatedPoint>& points) {
+    const model::ChainQ start = chain_of(m.start, offsets), end = chain_of(m.end, offsets);
+    if (m.kind == gcode::MotionKind::traverse) {
+      compensator.error_before_at(end, move);
+      compensator.rapid(end, points, move);
+    } else if (m.kind == gcode::MotionKind::arc) {
+      arc_chords(m, tolerance_ / 2.0, chords_);
+      points.clear();
+      const auto n = static_cast<double>(chords_.size() - 1);
+      for (std::size_t k = 1; k < chords_.size(); ++k) {
+        compensator.straight(chain_of(chords_[k - 1], offsets), chain_of(chords_[k], offsets), pieces_, move,
+                             tolerance_ / 2.0);
+        for (CompensatedPoint& piece : pieces_) {
+          piece.s = (static_cast<double>(k - 1) + piece.s) / n;
+          points.push_back(piece);
+        }
+      }
+    } else {
+      compensator.straight(start, end, points, move);
+    }
+  }
+
+  Compensator compensator;
+
+ private:
+  double tolerance_;
+  std::vector<gcode::Axes> chords_;
+  std::vector<CompensatedPoint> pieces_;
+};
+
 class JobSink : public gcode::CanonSink {
  public:
   JobSink(gcode::ProgramWriter& writer, const model::MachineModel& model, const JobOptions& options,
@@ -88,7 +193,10 @@ class JobSink : public gcode::CanonSink {
             throw Error(ErrorKind::safety,
                         fmt::format("term {} depends on sensor '{}', and no reading was given: --sensor {}=VALUE",
                                     t.name, model.sensors[v->index], model.sensors[v->index]));
-      compensator_ = std::make_unique<Compensator>(*forward_, c);
+      solver_ = std::make_unique<MoveSolver>(*forward_, c);
+      compensator_ = &solver_->compensator;
+      error_before_ = std::make_unique<Compensator>(*forward_, c);
+      if (options.threads > 1) worker_ = std::make_unique<util::BackgroundThread>();
     }
   }
 
@@ -96,10 +204,12 @@ class JobSink : public gcode::CanonSink {
     finish_cycle();
     for (const gcode::Word& w : block.words)  // the cycle a modal repeat line drills
       if (w.letter == 'G' && w.value.is_literal() && is_cycle_code(w.value.literal)) cycle_code_ = w.value.literal;
-    writer_.advance_to(line.offset);
     ++report_.blocks;
     block_ = &block;
     line_ = line;
+    // A line before the furthest one read runs again (a loop, a subroutine).
+    repeated_ = line.offset < furthest_;
+    furthest_ = std::max(furthest_, line.offset);
     for (const gcode::Word& w : block.words) {
       if (w.letter < 'A' || w.letter > 'Z' || ((machine_axes_ >> (w.letter - 'A')) & 1U) ||
           !gcode::axis_index(w.letter))
@@ -121,7 +231,7 @@ class JobSink : public gcode::CanonSink {
   void motion(const gcode::Motion& m) override {
     ++report_.motions;
     if (has_limits_) check_limits(m);
-    if (compensator_) compensate(m);
+    if (solver_) compensate(m);
   }
 
   void warning(const std::string& message, std::uint32_t line) override {
@@ -150,13 +260,20 @@ class JobSink : public gcode::CanonSink {
   void compensate(const gcode::Motion& m) {
     using gcode::MotionKind;
     using gcode::MotionSource;
-    // Moves in machine coordinates (G53, G28/G30) go where they say: they are not part of
-    // the workpiece's geometry. Nothing else may go uncompensated.
+    const bool machine = m.source == MotionSource::machine_coordinates || m.source == MotionSource::reference_return;
+    if (!machine && m.kind != MotionKind::probe && m.source != MotionSource::canned_cycle && !repeated_) {
+      queue_move(m);
+      return;
+    }
+    // The rest is rare, and done here once every move before it is written.
+    drain();
     if (!started_) {  // the play is followed from where the program starts
       compensator_->moved(chain_of(m.start, *m.offsets));
       started_ = true;
     }
-    if (m.source == MotionSource::machine_coordinates || m.source == MotionSource::reference_return) {
+    // Moves in machine coordinates (G53, G28/G30) go where they say: they are not part of
+    // the workpiece's geometry. Nothing else may go uncompensated.
+    if (machine) {
       commanded_ = m.end;
       rounding_ = {};  // the block's own words, as written
       compensator_->moved(chain_of(m.end, *m.offsets));
@@ -178,21 +295,124 @@ class JobSink : public gcode::CanonSink {
         cycle_.line = block_->line;
         cycle_.offsets = *m.offsets;
         cycle_.units = m.units;
+        cycle_.repeated = repeated_;
       }
       cycle_.motions.push_back(m);
       return;
     }
-    if (line_.offset < writer_.written_up_to())
-      refuse(ErrorKind::unsupported,
-             "this line runs more than once (a loop or a subroutine) and its correction "
-             "differs each time; compensating such programs needs flattening, not "
-             "implemented yet");
-    MoveReport move;
-    solve_move(m, *m.offsets, move);
-    account(move, block_->line, std::string(block_->text));
-    report_.added_lines += points_.size() - 1;
-    for (const CompensatedPoint& p : points_) report_.take_up_moves += p.take_up ? 1 : 0;
-    write_edits(m);
+    refuse(ErrorKind::unsupported,
+           "this line runs more than once (a loop or a subroutine) and its correction "
+           "differs each time; compensating such programs needs flattening, not "
+           "implemented yet");
+  }
+
+  // The pipeline of moves. The interpreter fills one batch of moves while the other is
+  // compensated (on the worker thread, or here), then the compensated batch is written
+  // here, in order; so the compensator sees the same moves in the same order either way.
+  static constexpr std::size_t kBatch = 4096;
+
+  void queue_move(const gcode::Motion& m) {
+    MoveBatch& batch = batches_[filling_];
+    if (batch.tasks.empty()) batch.tasks.resize(kBatch);
+    MoveTask& t = batch.tasks[batch.filled++];
+    t.first = !started_;
+    started_ = true;
+    t.offsets = *m.offsets;
+    t.motion = m;
+    t.motion.offsets = &t.offsets;
+    t.text.assign(block_->text);
+    t.block.text = t.text;
+    t.block.words = block_->words;
+    t.block.line = block_->line;
+    t.offset = line_.offset;
+    t.terminator.assign(line_.terminator);
+    if (batch.filled == kBatch) pass_batch();
+  }
+
+  /// The filled batch goes to be compensated; the one compensated before it is written.
+  void pass_batch() {
+    const int compensated = in_flight_;
+    if (compensated >= 0 && worker_) worker_->wait();
+    in_flight_ = static_cast<int>(filling_);
+    if (worker_)
+      worker_->run([this, b = filling_] { solver_->solve_batch(batches_[b]); });
+    else
+      solver_->solve_batch(batches_[filling_]);
+    filling_ = 1 - filling_;
+    if (compensated >= 0) write_batch(static_cast<std::size_t>(compensated));
+  }
+
+ public:
+  /// Compensates and writes every move queued so far.
+  void drain() {
+    for (int k = 0; k < 2 && (in_flight_ >= 0 || batches_[filling_].filled > 0); ++k) {
+      if (batches_[filling_].filled > 0) {
+        pass_batch();
+      } else {
+        if (worker_) worker_->wait();
+        const auto b = static_cast<std::size_t>(std::exchange(in_flight_, -1));
+        write_batch(b);
+      }
+    }
+    if (in_flight_ >= 0) {
+      if (worker_) worker_->wait();
+      write_batch(static_cast<std::size_t>(std::exchange(in_flight_, -1)));
+    }
+  }
+
+  /// The job stopped with an error: a move queued before it may have failed first (its
+  /// error is the one to report), unless the error came from writing the moves.
+  void abandon() {
+    if (worker_) worker_->wait();
+    if (!failed_) drain();
+  }
+
+  /// Finishes the program: the moves still queued, then a cycle still open.
+  void finish() {
+    drain();
+    finish_cycle();
+  }
+
+ private:
+  void write_batch(std::size_t b) {
+    try {
+      for (std::size_t k = 0; k < batches_[b].filled; ++k) write_move(batches_[b].tasks[k]);
+    } catch (...) {
+      failed_ = true;
+      throw;
+    }
+    batches_[b].filled = 0;
+  }
+
+  void write_move(MoveTask& t) {
+    if (t.error) {
+      try {
+        std::rethrow_exception(t.error);
+      } catch (const Error& e) {
+        if (!e.where().file.empty() || e.where().line != 0) throw;
+        throw Error(e.kind(), e.message(), SourceLocation{input_.name(), t.block.line, 0}, t.text);
+      }
+    }
+    writer_.advance_to(t.offset);
+    for (const ErrorProbe& p : t.probes)
+      t.report.max_deviation_before = std::max(t.report.max_deviation_before, error_before_->error_at(p));
+    const gcode::Block* reading = block_;
+    block_ = &t.block;
+    account(t.report, t.block.line, t.text);
+    report_.added_lines += t.points.size() - 1;
+    for (const CompensatedPoint& p : t.points) report_.take_up_moves += p.take_up ? 1 : 0;
+    write_edits(t.motion, t.points, t.offset, t.terminator);
+    block_ = reading;
+  }
+
+  /// Solves a move on this thread (a cycle's), its error before taken at once.
+  void solve_move_here(const gcode::Motion& m, const gcode::Offsets& offsets, MoveReport& move) {
+    probes_.clear();
+    compensator_->defer_error_before(&probes_);
+    solver_->solve(m, offsets, move, points_);
+    compensator_->defer_error_before(nullptr);
+    for (const ErrorProbe& p : probes_)
+      move.max_deviation_before = std::max(move.max_deviation_before, error_before_->error_at(p));
   }
 
   /// A canned-cycle block, kept until its last move: its holes' X Y R Z are compensated
@@ -210,15 +430,17 @@ class JobSink : public gcode::CanonSink {
     double code = 0;  ///< the cycle's G number
     std::string terminator;
     bool incremental = false;
+    bool repeated = false;  ///< its line ran before
   };
 
  public:
   /// Compensates a cycle still waiting for its block's end (call before the writer finishes).
   void finish_cycle() {
     if (cycle_.motions.empty()) return;
+    drain();
     PendingCycle c = std::move(cycle_);
     cycle_ = PendingCycle{};
-    if (c.offset < writer_.written_up_to())
+    if (c.repeated)
       throw Error(ErrorKind::unsupported,
                   "this canned cycle runs more than once (a loop or a subroutine); "
                   "compensating such programs needs flattening, not implemented yet",
@@ -322,7 +544,7 @@ class JobSink : public gcode::CanonSink {
     if (c.incremental) appended += eol + "G90";
     for (const gcode::Motion& m : c.motions) {
       MoveReport move;
-      solve_move(m, c.offsets, move);
+      solve_move_here(m, c.offsets, move);
       account(move, c.line, c.text);
       for (const CompensatedPoint& point : points_) {
         const gcode::Axes p = program_of(point.q, c.offsets, unit);
@@ -369,31 +591,6 @@ class JobSink : public gcode::CanonSink {
     report_.max_orientation_error = std::max(report_.max_orientation_error, move.max_orientation_error);
     warn_unhidden_reversals(move.unhidden_reversals);
     ++report_.compensated_moves;
-  }
-
-  /// The compensated points of a motion into points_: a rapid's end (its path is the
-  /// control's), a feed move split as its error field needs, an arc as chords within half
-  /// the tolerance, each compensated within the other half.
-  void solve_move(const gcode::Motion& m, const gcode::Offsets& offsets, MoveReport& move) {
-    const model::ChainQ start = chain_of(m.start, offsets), end = chain_of(m.end, offsets);
-    if (m.kind == gcode::MotionKind::traverse) {
-      move.max_deviation_before = compensator_->error_at(end);
-      compensator_->rapid(end, points_, move);
-    } else if (m.kind == gcode::MotionKind::arc) {
-      arc_chords(m, options_.tolerance / 2.0, chords_);
-      points_.clear();
-      const auto n = static_cast<double>(chords_.size() - 1);
-      for (std::size_t k = 1; k < chords_.size(); ++k) {
-        compensator_->straight(chain_of(chords_[k - 1], offsets), chain_of(chords_[k], offsets), pieces_, move,
-                               options_.tolerance / 2.0);
-        for (CompensatedPoint& piece : pieces_) {
-          piece.s = (static_cast<double>(k - 1) + piece.s) / n;
-          points_.push_back(piece);
-        }
-      }
-    } else {
-      compensator_->straight(start, end, points_, move);
-    }
   }
 
   /// Edits removing `words` from a line, each with the blanks before it (after it, when it
@@ -446,24 +643,8 @@ class JobSink : public gcode::CanonSink {
     return text;
   }
 
-  /// Points along an arc (controlled points, machine frame), start and end included, whose
-  /// chords stay within `tolerance` of it (sagitta r (1 - cos(step / 2))).
-  static void arc_chords(const gcode::Motion& m, double tolerance, std::vector<gcode::Axes>& out) {
-    const gcode::ArcGeometry g = gcode::arc_geometry(m);
-    const double r = std::max(g.r_start, g.r_end);
-    const double step = r > tolerance ? 2.0 * std::acos(1.0 - tolerance / r) : 2.0 * 3.14159265358979323846;
-    const auto n = static_cast<std::size_t>(std::max(1.0, std::ceil(g.sweep / step)));
-    out.resize(n + 1);
-    for (std::size_t k = 0; k <= n; ++k) {
-      const double f = static_cast<double>(k) / static_cast<double>(n);
-      gcode::Axes p;
-      for (std::size_t i = 0; i < gcode::kAxisCount; ++i) p[i] = m.start[i] + f * (m.end[i] - m.start[i]);
-      std::tie(p[g.axes.first], p[g.axes.second]) = g.at(f, m.arc.center_first, m.arc.center_second);
-      out[k] = k == n ? m.end : p;
-    }
-  }
-
-  void write_edits(const gcode::Motion& m) {
+  void write_edits(const gcode::Motion& m, const std::vector<CompensatedPoint>& points, std::uint64_t offset,
+                   std::string_view terminator) {
     const gcode::Block& b = *block_;
     const bool inch = m.units == gcode::Units::inch;
     const double unit = inch ? 25.4 : 1.0;
@@ -478,8 +659,8 @@ class JobSink : public gcode::CanonSink {
       if (gcode::axis_index(w.letter)) after_axes = std::max(after_axes, w.span.end);
     }
     if (after_axes > 0) insert_at = after_axes;
-    for (std::size_t k = 0; k < points_.size(); ++k) {
-      const gcode::Axes p = program_of(points_[k].q, *m.offsets, unit);
+    for (std::size_t k = 0; k < points.size(); ++k) {
+      const gcode::Axes p = program_of(points[k].q, *m.offsets, unit);
       std::string segment = k == 0 ? "" : (m.kind == gcode::MotionKind::traverse ? "G0" : "G1");
       const std::size_t bare = segment.size();
       const gcode::Axes last = program_of(chain_of(commanded_, *m.offsets), *m.offsets, unit);
@@ -497,11 +678,11 @@ class JobSink : public gcode::CanonSink {
           segment += std::string(" ") + letter + *text;
       }
       // A take-up finer than the program's digits moves nothing: no line for it.
-      if (k > 0 && points_[k].take_up && segment.size() == bare) continue;
+      if (k > 0 && points[k].take_up && segment.size() == bare) continue;
       // Inverse time: each piece keeps its share of the block's duration; a take-up move
       // of a few micrometres gets a thousandth of it.
       if (m.feed_mode == gcode::FeedMode::inverse_time && m.kind == gcode::MotionKind::feed) {
-        const double share = points_[k].take_up ? 1e-3 : points_[k].s - previous_s;
+        const double share = points[k].take_up ? 1e-3 : points[k].s - previous_s;
         const std::string f = fmt::format("{:.4f}", m.feed / share);
         if (k == 0) {
           if (const gcode::Word* fw = b.find('F')) edits.push_back(gcode::Edit{fw->value_span, f});
@@ -509,12 +690,12 @@ class JobSink : public gcode::CanonSink {
           segment += " F" + f;
         }
       }
-      previous_s = points_[k].s;
+      previous_s = points[k].s;
       // The machine is now at the compensated point: incremental words count from there.
-      commanded_ = controlled_of(points_[k].q, *m.offsets);
-      if (k > 0) appended += std::string(line_.terminator.empty() ? "\n" : line_.terminator) + segment;
+      commanded_ = controlled_of(points[k].q, *m.offsets);
+      if (k > 0) appended += std::string(terminator.empty() ? "\n" : terminator) + segment;
     }
-    if (points_.size() > 1 && has_stop_code(b))
+    if (points.size() > 1 && has_stop_code(b))
       refuse(ErrorKind::unsupported,
              "a move that must be split shares its block with a program stop (M0 M1 M2 M30 M60)");
     if (m.kind == gcode::MotionKind::arc) arc_to_line_edits(b, edits);
@@ -522,7 +703,7 @@ class JobSink : public gcode::CanonSink {
       edits.push_back(gcode::Edit{
           {static_cast<std::uint32_t>(b.text.size()), static_cast<std::uint32_t>(b.text.size())}, appended});
     // Inserted words go before any trailing comment: after the last word.
-    if (!edits.empty()) writer_.edit(line_.offset, std::move(edits));
+    if (!edits.empty()) writer_.edit(offset, std::move(edits));
   }
 
   /// An arc block becomes the first of its lines: G2/G3 turns into G1 (written in front when
@@ -619,14 +800,26 @@ class JobSink : public gcode::CanonSink {
   const gcode::LineSource& input_;
   JobReport& report_;
   std::unique_ptr<model::ForwardModel> forward_;
-  std::unique_ptr<Compensator> compensator_;
+  std::unique_ptr<MoveSolver> solver_;
+  Compensator* compensator_ = nullptr;  ///< the solver's: only while no batch is in flight
   const gcode::Block* block_ = nullptr;
   gcode::SourceLine line_;
-  std::vector<CompensatedPoint> points_, pieces_;
-  std::vector<gcode::Axes> chords_;
+  std::vector<CompensatedPoint> points_;  ///< a cycle's move's points
+  std::vector<ErrorProbe> probes_;
   gcode::Axes commanded_{};  ///< where the rewritten program has sent the controlled point
   /// Per axis, program units: where the written digits put the machine less commanded_.
   gcode::Axes rounding_{};
+  std::uint64_t furthest_ = 0;  ///< the offset of the furthest line read
+  bool repeated_ = false;       ///< the current line is before it
+  /// The uncompensated machine's error, for the report, is taken by a compensator of its own
+  /// on the writing side (it changes nothing the compensation decides).
+  std::unique_ptr<Compensator> error_before_;
+  std::array<MoveBatch, 2> batches_;
+  std::size_t filling_ = 0;  ///< the batch the interpreter fills
+  int in_flight_ = -1;       ///< the batch being compensated, to be written next
+  bool failed_ = false;      ///< writing a move failed: nothing more is written
+  /// Last: destroyed (joined) first, while what it works on still exists.
+  std::unique_ptr<util::BackgroundThread> worker_;
 };
 
 std::string sanitize(std::string_view s) {
@@ -667,8 +860,13 @@ JobReport run_program_job(gcode::LineSource& input, std::FILE* out, const model:
   gcode::ProgramWriter writer(input.another_reader(), out, header_line(model));
   JobSink sink(writer, model, options, input, report);
   gcode::Interpreter interpreter(options.interpreter);
-  interpreter.run(input, sink);
-  sink.finish_cycle();
+  try {
+    interpreter.run(input, sink);
+    sink.finish();
+  } catch (...) {
+    sink.abandon();
+    throw;
+  }
   writer.finish();
   if (options.progress) options.progress(1.0);
   return report;

@@ -29,6 +29,10 @@ struct JobOptions {
   /// what the block form cannot: L repeats, G91 cycles, and a hole whose correction
   /// differs between its R plane and its bottom.
   bool expand_cycles = false;
+  /// 2: the moves are compensated on a thread of their own while this one reads, interprets
+  /// and writes the program (and takes the uncompensated machine's error for the report).
+  /// The output is the same for 1 and 2: the same work is done in the same order.
+  int threads = 1;
   /// Called with the fraction of the input read, at most about a hundred times.
   std::function<void(double)> progress;
   /// Called for every warning, with the line it concerns.

@@ -4,9 +4,13 @@
 // count as long as each index writes only its own outputs.
 #include <algorithm>
 #include <atomic>
+#include <condition_variable>
 #include <cstddef>
 #include <exception>
+#include <functional>
+#include <mutex>
 #include <thread>
+#include <utility>
 #include <vector>
 
 namespace ccomp::util {
@@ -56,5 +60,67 @@ void for_each_index(std::size_t n, int threads, Fn&& fn) {
     for (std::size_t i = next++; i < n; i = next++) fn(i);
   });
 }
+
+/// One thread that runs a piece of work while its owner goes on with another: a pipeline
+/// of two stages. run() hands work over once the last is done; wait() returns when it is,
+/// and rethrows what it threw.
+class BackgroundThread {
+ public:
+  BackgroundThread() : thread_([this] { loop(); }) {}
+  BackgroundThread(const BackgroundThread&) = delete;
+  BackgroundThread& operator=(const BackgroundThread&) = delete;
+  ~BackgroundThread() {
+    {
+      const std::lock_guard lock(mutex_);
+      stop_ = true;
+    }
+    wake_.notify_all();
+    thread_.join();
+  }
+
+  void run(std::function<void()> work) {
+    wait();
+    {
+      const std::lock_guard lock(mutex_);
+      work_ = std::move(work);
+      busy_ = true;
+    }
+    wake_.notify_all();
+  }
+
+  void wait() {
+    std::unique_lock lock(mutex_);
+    done_.wait(lock, [this] { return !busy_; });
+    if (failure_) std::rethrow_exception(std::exchange(failure_, nullptr));
+  }
+
+ private:
+  void loop() {
+    std::unique_lock lock(mutex_);
+    for (;;) {
+      wake_.wait(lock, [this] { return busy_ || stop_; });
+      if (!busy_) return;
+      std::function<void()> work = std::move(work_);
+      lock.unlock();
+      std::exception_ptr failure;
+      try {
+        work();
+      } catch (...) {
+        failure = std::current_exception();
+      }
+      lock.lock();
+      failure_ = failure;
+      busy_ = false;
+      done_.notify_all();
+    }
+  }
+
+  std::mutex mutex_;
+  std::condition_variable wake_, done_;
+  std::function<void()> work_;
+  std::exception_ptr failure_;
+  bool busy_ = false, stop_ = false;
+  std::thread thread_;  // last: it starts once the rest is built
+};
 
 }  // namespace ccomp::util

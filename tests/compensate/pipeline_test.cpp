@@ -1,0 +1,123 @@
+// The main job on two threads (one compensates the moves, the other reads, interprets and
+// writes the program) must write exactly what it writes on one, and report the first
+// error in program order whichever thread met it first.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+#include <string>
+
+#include "ccomp/compensate/program_job.hpp"
+#include "ccomp/error.hpp"
+#include "ccomp/model/machine.hpp"
+#include "job_runner.hpp"
+#include "sample_models.hpp"
+#include "trace_capture.hpp"
+
+namespace ccomp::test {
+namespace {
+
+/// A finishing pass long enough for several batches of moves: zig-zag rows (every row turns
+/// X round, so the full model's reversals switch), an arc and a rapid now and then, the
+/// table turned between the halves, a G93 4-axis stretch; then the random programs' mix.
+std::string long_program() {
+  std::string p = "G21 G90 G94 G54\nT1 M6\nG43 H1\nG0 X-60 Y-40 Z-90 B0\nG1 F1500\n";
+  char line[160];
+  for (int row = 0; row < 90; ++row) {
+    const double y = -40 + row * 0.9;
+    for (int k = 0; k <= 110; ++k) {
+      const double x = (row % 2 == 0 ? -60 + k : 50 - k) + 0.013 * k;
+      std::snprintf(line, sizeof line, "X%.4f Y%.4f Z%.4f\n", x, y, -90 + 2 * std::sin(0.05 * x + 0.1 * y));
+      p += line;
+    }
+    if (row % 15 == 7) p += "G2 I-5 J0\nG1\n";  // a full circle back to the row's end
+    if (row % 30 == 29) p += "G0 Z-60\nG0 B" + std::to_string(row) + "\nG0 Z-90\nG1\n";
+  }
+  p += "G93 G1 X20 Y10 Z-80 B30 F6\nG1 X30 B45 F8\nG94 F1500\n";
+  std::string mix = random_program(3);
+  mix.erase(mix.rfind("M30"));
+  return p + mix + "M30\n";
+}
+
+compensate::JobOptions full_model_options(int threads) {
+  compensate::JobOptions o;
+  o.sensors = {{"bed", 24}, {"column", 23}, {"spindle", 31}};
+  o.time = 3600;
+  o.threads = threads;
+  return o;
+}
+
+TEST(Pipeline, TwoThreadsWriteWhatOneWrites) {
+  const model::MachineModel mm = model::load_machine_model(source_dir() + "/samples/machines/hmc-xyzb.yaml");
+  const std::string program = long_program();
+  compensate::JobReport one, two;
+  const std::string by_one = compensate(program, mm, full_model_options(1), &one);
+  const std::string by_two = compensate(program, mm, full_model_options(2), &two);
+  ASSERT_GT(one.compensated_moves, 10000U) << "several batches of moves";
+  EXPECT_GT(one.take_up_moves, 0U) << "the rows' reversals are taken up";
+  EXPECT_EQ(by_one, by_two);
+  EXPECT_EQ(one.compensated_moves, two.compensated_moves);
+  EXPECT_EQ(one.added_lines, two.added_lines);
+  EXPECT_EQ(one.take_up_moves, two.take_up_moves);
+  EXPECT_EQ(one.max_error_before, two.max_error_before);
+  EXPECT_EQ(one.max_error_after, two.max_error_after);
+  EXPECT_EQ(one.max_correction, two.max_correction);
+  EXPECT_EQ(one.max_orientation_error, two.max_orientation_error);
+  EXPECT_GT(one.max_error_before, 0.02) << "the sample machine's error is tens of um";
+  EXPECT_LT(one.max_error_after, 0.001);
+}
+
+/// The error the job stops with, on `threads` threads.
+Error job_error(const std::string& program, const model::MachineModel& mm, int threads) {
+  compensate::JobOptions o;
+  o.threads = threads;
+  try {
+    (void)compensate(program, mm, o);
+  } catch (const Error& e) {
+    return e;
+  }
+  return Error(ErrorKind::internal, "accepted");
+}
+
+TEST(Pipeline, AnEarlierMovesRefusalComesBeforeALaterLinesError) {
+  // The move on line 3 is refused when its correction is written (beyond a bound set tiny
+  // here); the interpreter, running ahead, meets the bad line 5 first. Line 3's refusal is
+  // the job's error.
+  model::MachineModel mm = model::load_machine_model(source_dir() + "/samples/machines/hmc-xyzb-geometric.yaml");
+  mm.max_correction = 1e-6;
+  const std::string program = "G21 G90 G54\nT1 M6 G43 H1\nG0 X10 Y10 Z-100\nG1 X20 F500\nG1 X[1+]\nM30\n";
+  for (int threads : {1, 2}) {
+    const Error e = job_error(program, mm, threads);
+    EXPECT_EQ(e.kind(), ErrorKind::safety) << threads << " threads: " << e.message();
+    EXPECT_EQ(e.where().line, 3U) << threads << " threads: " << e.message();
+    EXPECT_NE(e.message().find("beyond the model's bound"), std::string::npos) << e.message();
+  }
+  // Without the refusal, the bad line is the error.
+  mm.max_correction = 0.5;
+  for (int threads : {1, 2}) {
+    const Error e = job_error(program, mm, threads);
+    EXPECT_EQ(e.kind(), ErrorKind::program) << threads << " threads: " << e.message();
+    EXPECT_EQ(e.where().line, 5U) << threads << " threads: " << e.message();
+  }
+}
+
+TEST(Pipeline, AnInverseThatCannotConvergeNamesItsBlock) {
+  // X's positioning error cancels its travel beyond X = 0 (EXX = -x): no command reaches
+  // X = 20, and the error names the block that asked for it, not where the reading was.
+  const model::MachineModel mm = model::parse_machine_model(
+      std::string(kHmcChain) + "terms:\n  - {name: EXX, form: polynomial, unit: um, coefficients: [0, -1000]}\n",
+      "cancelling.yaml");
+  std::string program = "G21 G90 G54\nT1 M6 G43 H1\nG0 X0 Y0 Z-100\nG1 X20 F500\n";
+  for (int k = 0; k < 50; ++k) program += "G1 Y" + std::to_string(k) + "\n";
+  program += "M30\n";
+  for (int threads : {1, 2}) {
+    const Error e = job_error(program, mm, threads);
+    EXPECT_EQ(e.kind(), ErrorKind::safety) << threads << " threads: " << e.message();
+    EXPECT_NE(e.message().find("did not converge"), std::string::npos) << e.message();
+    EXPECT_EQ(e.where().line, 4U) << threads << " threads: " << e.message();
+    EXPECT_EQ(e.source_line(), "G1 X20 F500");
+  }
+}
+
+}  // namespace
+}  // namespace ccomp::test
