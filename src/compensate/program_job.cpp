@@ -39,12 +39,11 @@ std::string format_value(double v, std::string_view original, bool inch, bool ro
     const auto first_digit = original.find_first_of("0123456789.");
     leading_zero = !(first_digit != std::string_view::npos && original[first_digit] == '.');
   }
-  // to_chars rounds the exact binary value as fmt does, without parsing a format string:
-  // this runs for every number the job writes.
-  std::array<char, 128> buffer{};
-  const auto [end, error] =
-      std::to_chars(buffer.data(), buffer.data() + buffer.size(), v, std::chars_format::fixed, decimals);
-  std::string text = error == std::errc{} ? std::string(buffer.data(), end) : fmt::format("{:.{}f}", v, decimals);
+  // Rounds the exact binary value as fmt does, without parsing a format string: this runs
+  // for every number the job writes.
+  std::array<char, 40> buffer{};
+  const std::size_t length = gcode::format_fixed(v, decimals, buffer.data());
+  std::string text = length > 0 ? std::string(buffer.data(), length) : fmt::format("{:.{}f}", v, decimals);
   if (text.starts_with('-') && text.find_first_not_of("0.", 1) == std::string::npos) text.erase(0, 1);  // no "-0.0000"
   if (!leading_zero) {
     if (text.starts_with("0."))

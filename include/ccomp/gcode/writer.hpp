@@ -21,6 +21,12 @@ struct Edit {
   std::string text;
 };
 
+/// Writes v with `decimals` digits after the point into `out` (room for 40 characters) and
+/// returns the length: exactly what std::to_chars(fixed, decimals) writes, the exact binary
+/// value correctly rounded, without its cost for the coordinates a program carries; 0 when
+/// the text would not fit.
+std::size_t format_fixed(double v, int decimals, char* out);
+
 /// The line with the edits applied (edits must not overlap).
 [[nodiscard]] std::string apply_edits(std::string_view line, std::vector<Edit> edits);
 
