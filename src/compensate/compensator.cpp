@@ -131,14 +131,14 @@ double Compensator::error_at(const ChainQ& nominal) {
 double Compensator::error_at(const ErrorProbe& probe) {
   const std::array<double, 9> need = options_.conditions.directions;
   options_.conditions.directions = probe.directions;
-  const double error = error_at(probe.nominal);
+  model::forward(model_, check_, probe.nominal, options_.conditions, false, model::Evaluate::actual);
   options_.conditions.directions = need;
-  return error;
+  return (check_.actual - probe.tip).norm();
 }
 
 void Compensator::error_before_at(const ChainQ& nominal, MoveReport& report) {
   if (deferred_probes_)
-    deferred_probes_->push_back({nominal, options_.conditions.directions});
+    deferred_probes_->push_back({nominal, options_.conditions.directions, nominal_tip(nominal)});
   else
     report.max_deviation_before = std::max(report.max_deviation_before, error_at(nominal));
 }

@@ -38,6 +38,7 @@ struct CompensatedPoint {
 struct ErrorProbe {
   model::ChainQ nominal;
   std::array<double, 9> directions{};
+  Eigen::Vector3d tip;  ///< the nominal tool tip there (the compensation knows it already)
 };
 
 struct MoveReport {
