@@ -72,6 +72,12 @@ ForwardModel::ForwardModel(const MachineModel& model) : machine_(model) {
     slot.on_axes = (slot.primary >= 0 && slot.primary < static_cast<int>(kChainVariables)) ||
                    (slot.secondary >= 0 && slot.secondary < static_cast<int>(kChainVariables));
     slot.offset = parameter_count_;
+    const std::size_t link = s.side == 0 ? s.joint : chain_.workpiece.joints.size() + s.joint;
+    slot.error_index = 6 * link + static_cast<std::size_t>(t.component);
+    // ISO 230-1 error motions are the tool's relative to the workpiece: a link on the
+    // workpiece side moves the workpiece, so its error pose carries the opposite sign.
+    slot.sign = s.side == 0 ? -1.0 : 1.0;
+    if (slot.on_axes) on_axes_terms_.push_back(slots_.size());
     slots_.push_back(slot);
     offsets_.push_back(parameter_count_);
     parameter_count_ += static_cast<std::size_t>(t.parameters.size());
@@ -128,7 +134,8 @@ ForwardData::ForwardData(const ForwardModel& model)
       evaluated_parameters(values.size()),
       variables(ForwardModel::kFirstTemperatureVariable + model.machine().sensors.size(), 0.0),
       off_axes_key(variables.size() - ForwardModel::kTimeVariable + model.parameter_count()),
-      off_axes_values(model.machine().terms.size()),
+      off_axes_errors(6 * (model.chain().workpiece.joints.size() + model.chain().tool.joints.size())),
+      errors(off_axes_errors.size()),
       J_work_pose(model.chain().workpiece.joints.size()),
       J_tool_pose(model.chain().tool.joints.size()) {
   for (std::size_t i = 0; i < model.machine().terms.size(); ++i)
@@ -242,48 +249,44 @@ void forward(const ForwardModel& model, ForwardData& d, const ChainQ& q, const C
     return;
   }
   const auto& terms = model.machine().terms;
-  for (auto& e : d.work_error) e.setZero();
-  for (auto& e : d.tool_error) e.setZero();
-  // Term values, summed per link component (delta x y z in mm, epsilon a b c in rad), in
-  // file order either way.
-  auto add = [&](std::size_t i, double value) {
-    const auto& site = model.site(i);
-    auto& e = site.side == 0 ? d.work_error[site.joint] : d.tool_error[site.joint];
-    // ISO 230-1 error motions are the tool's relative to the workpiece: a link on the
-    // workpiece side moves the workpiece, so its error pose carries the opposite sign.
-    e[terms[i].component] += (site.side == 0 ? -1.0 : 1.0) * value;
-  };
+  const auto& slots = model.slots();
+  // Term values, summed per link component (delta x y z in mm, epsilon a b c in rad).
+  std::fill(d.errors.begin(), d.errors.end(), 0.0);
   if (jacobians) {
     const bool gradient = parameter_jacobian;
     for (std::size_t i = 0; i < terms.size(); ++i) {
       const ErrorTermSpec& t = terms[i];
       const TermInputs in{variable_value(t.primary, q, c), variable_value(t.secondary, q, c)};
-      const auto params = d.parameters.segment(static_cast<Eigen::Index>(model.parameter_offset(i)),
-                                               t.parameters.size());
+      const auto params =
+          d.parameters.segment(static_cast<Eigen::Index>(model.parameter_offset(i)), t.parameters.size());
       evaluate(t.shape, params, in, gradient, d.values[i]);
       d.evaluated_inputs[i] = in;
       d.evaluated_parameters[i] = params;
-      add(i, d.values[i].value);
+      d.errors[slots[i].error_index] += slots[i].sign * d.values[i].value;
     }
-    d.off_axes_valid = false;
   } else {
-    // The forward model runs this for every term at every point the compensation checks.
-    const bool off_axes_current = update_variables(model, d, q, c);
-    const auto& slots = model.slots();
-    for (std::size_t i = 0; i < terms.size(); ++i) {
-      const ForwardModel::TermSlot& s = slots[i];
-      double value = 0.0;
-      if (!s.on_axes && off_axes_current) {
-        value = d.off_axes_values[i];
-      } else {
-        const TermInputs in{s.primary >= 0 ? d.variables[static_cast<std::size_t>(s.primary)] : 0.0,
-                            s.secondary >= 0 ? d.variables[static_cast<std::size_t>(s.secondary)] : 0.0};
-        value = term_value(terms[i], s.offset, d, i, in);
-        if (!s.on_axes) d.off_axes_values[i] = value;
-      }
-      add(i, value);
+    // The forward model runs this at every point the compensation checks: the terms off the
+    // axes are summed once for the conditions and parameters, the others at each point.
+    auto inputs = [&](const ForwardModel::TermSlot& s) {
+      return TermInputs{s.primary >= 0 ? d.variables[static_cast<std::size_t>(s.primary)] : 0.0,
+                        s.secondary >= 0 ? d.variables[static_cast<std::size_t>(s.secondary)] : 0.0};
+    };
+    if (!update_variables(model, d, q, c)) {
+      std::fill(d.off_axes_errors.begin(), d.off_axes_errors.end(), 0.0);
+      for (std::size_t i = 0; i < terms.size(); ++i)
+        if (!slots[i].on_axes)
+          d.off_axes_errors[slots[i].error_index] +=
+              slots[i].sign * term_value(terms[i], slots[i].offset, d, i, inputs(slots[i]));
     }
+    d.errors = d.off_axes_errors;
+    for (const std::size_t i : model.on_axes_terms())
+      d.errors[slots[i].error_index] += slots[i].sign * term_value(terms[i], slots[i].offset, d, i, inputs(slots[i]));
   }
+  const std::size_t work_links = d.work_error.size();
+  for (std::size_t j = 0; j < work_links; ++j)
+    d.work_error[j] = Eigen::Map<const Eigen::Matrix<double, 6, 1>>(d.errors.data() + 6 * j);
+  for (std::size_t j = 0; j < d.tool_error.size(); ++j)
+    d.tool_error[j] = Eigen::Map<const Eigen::Matrix<double, 6, 1>>(d.errors.data() + 6 * (work_links + j));
   // Error poses of the links, with their Jacobians w.r.t. (delta, epsilon).
   auto set_errors = [&](const std::vector<Eigen::Matrix<double, 6, 1>>& errors, std::vector<Pose>& poses,
                         std::vector<Eigen::Matrix<double, 6, 1>>& posed, std::vector<Eigen::Matrix<double, 6, 6>>* J) {

@@ -67,11 +67,17 @@ class ForwardModel {
   /// value while the conditions and parameters stand still: in a program, nearly always.
   struct TermSlot {
     TermForm form = TermForm::constant;
-    bool on_axes = true;  ///< depends on a chain variable (an axis or the tool length)
+    bool on_axes = true;                        ///< depends on a chain variable (an axis or the tool length)
     std::int16_t primary = -1, secondary = -1;  ///< into the variables; -1: none (0)
     std::size_t offset = 0;                     ///< its first parameter
+    /// Its link's error component, in one array of 6 per link (the workpiece side's links,
+    /// then the tool side's), and the sign it enters with.
+    std::size_t error_index = 0;
+    double sign = 1.0;
   };
   [[nodiscard]] const std::vector<TermSlot>& slots() const { return slots_; }
+  /// The terms that depend on the axes, in file order.
+  [[nodiscard]] const std::vector<std::size_t>& on_axes_terms() const { return on_axes_terms_; }
   /// Where TermSlot's variable indices point: q (10), the time, the 9 directions, then one
   /// temperature per sensor.
   static constexpr std::size_t kTimeVariable = kChainVariables;
@@ -83,6 +89,7 @@ class ForwardModel {
   kinematics::ChainModel chain_;
   std::vector<Site> sites_;
   std::vector<TermSlot> slots_;
+  std::vector<std::size_t> on_axes_terms_;
   std::vector<std::size_t> offsets_;
   std::size_t parameter_count_ = 0;
   ChainQ feature_;  ///< shortest error feature along each chain variable (mm, rad), or +inf
@@ -113,7 +120,10 @@ struct ForwardData {
   std::vector<Eigen::VectorXd> evaluated_parameters;
   /// The variables the terms read (ForwardModel::TermSlot), and what the values of the terms
   /// that do not depend on the axes were last computed from: the conditions and parameters.
-  std::vector<double> variables, off_axes_key, off_axes_values;
+  std::vector<double> variables, off_axes_key;
+  /// The off-axes terms' errors summed per link component (TermSlot::error_index), and
+  /// the sum with the others added.
+  std::vector<double> off_axes_errors, errors;
   bool off_axes_valid = false;
   std::vector<Eigen::Matrix<double, 6, 6>> J_work_pose, J_tool_pose;
 };
