@@ -131,9 +131,8 @@ ForwardData::ForwardData(const ForwardModel& model)
       posed_tool_error(tool_error.size(), Eigen::Matrix<double, 6, 1>::Constant(std::nan(""))),
       values(model.machine().terms.size()),
       evaluated_inputs(values.size(), TermInputs{std::nan(""), std::nan("")}),
-      evaluated_parameters(values.size()),
       variables(ForwardModel::kFirstTemperatureVariable + model.machine().sensors.size(), 0.0),
-      off_axes_key(variables.size() - ForwardModel::kTimeVariable + model.parameter_count()),
+      key(variables.size() - ForwardModel::kTimeVariable + model.parameter_count()),
       off_axes_errors(6 * (model.chain().workpiece.joints.size() + model.chain().tool.joints.size())),
       errors(off_axes_errors.size()),
       J_work_pose(model.chain().workpiece.joints.size()),
@@ -197,25 +196,28 @@ int chain_index(const Variable& v) {
 }
 
 /// A term's value without derivatives: a cheap form at once, the others through
-/// evaluate(), kept while their inputs and parameters stand still.
-double term_value(const ErrorTermSpec& t, std::size_t offset, ForwardData& d, std::size_t i, const TermInputs& in) {
+/// evaluate(), kept while their inputs and (`same_parameters`) parameters stand still.
+double term_value(const ErrorTermSpec& t, std::size_t offset, ForwardData& d, std::size_t i, const TermInputs& in,
+                  bool same_parameters) {
   double value = 0.0;
   if (inline_value(t, d.parameters.data() + offset, in, value)) return value;
-  const auto params = d.parameters.segment(static_cast<Eigen::Index>(offset), t.parameters.size());
   TermInputs& last = d.evaluated_inputs[i];
-  Eigen::VectorXd& last_parameters = d.evaluated_parameters[i];
-  if (in.primary != last.primary || in.secondary != last.secondary || last_parameters.size() != params.size() ||
-      params != last_parameters) {
-    evaluate(t.shape, params, in, false, d.values[i]);
+  if (!same_parameters || in.primary != last.primary || in.secondary != last.secondary) {
+    evaluate(t.shape, d.parameters.segment(static_cast<Eigen::Index>(offset), t.parameters.size()), in, false,
+             d.values[i]);
     last = in;
-    last_parameters = params;
   }
   return d.values[i].value;
 }
 
-/// Fills d.variables for q and c; true when the conditions and parameters are those the
-/// off-axes terms' values were last computed from (otherwise they are taken as the new key).
-bool update_variables(const ForwardModel& model, ForwardData& d, const ChainQ& q, const Conditions& c) {
+/// Whether the conditions and the parameters are those of the last evaluation's key.
+struct KeyMatch {
+  bool conditions = false, parameters = false;
+};
+
+/// Fills d.variables for q and c and compares the key (bitwise: a key that compares equal
+/// gives the same values), then takes this evaluation's as the key.
+KeyMatch update_variables(const ForwardModel& model, ForwardData& d, const ChainQ& q, const Conditions& c) {
   double* v = d.variables.data();
   for (std::size_t i = 0; i < kChainVariables; ++i) v[i] = q[static_cast<Eigen::Index>(i)];
   v[ForwardModel::kTimeVariable] = c.time;
@@ -224,18 +226,16 @@ bool update_variables(const ForwardModel& model, ForwardData& d, const ChainQ& q
     const std::size_t sensor = i - ForwardModel::kFirstTemperatureVariable;
     v[i] = sensor < c.temperatures.size() ? c.temperatures[sensor] : 20.0;
   }
-  // Bitwise: a key that compares equal gives the same values.
   const std::size_t n = d.variables.size() - ForwardModel::kTimeVariable;
   const std::size_t p = model.parameter_count();
-  double* key = d.off_axes_key.data();
-  const bool current = d.off_axes_valid && std::memcmp(key, v + ForwardModel::kTimeVariable, n * sizeof(double)) == 0 &&
-                       std::memcmp(key + n, d.parameters.data(), p * sizeof(double)) == 0;
-  if (!current) {
-    std::memcpy(key, v + ForwardModel::kTimeVariable, n * sizeof(double));
-    std::memcpy(key + n, d.parameters.data(), p * sizeof(double));
-    d.off_axes_valid = true;
-  }
-  return current;
+  double* key = d.key.data();
+  KeyMatch match;
+  match.conditions = d.key_valid && std::memcmp(key, v + ForwardModel::kTimeVariable, n * sizeof(double)) == 0;
+  match.parameters = d.key_valid && std::memcmp(key + n, d.parameters.data(), p * sizeof(double)) == 0;
+  if (!match.conditions) std::memcpy(key, v + ForwardModel::kTimeVariable, n * sizeof(double));
+  if (!match.parameters) std::memcpy(key + n, d.parameters.data(), p * sizeof(double));
+  d.key_valid = true;
+  return match;
 }
 
 }  // namespace
@@ -261,9 +261,9 @@ void forward(const ForwardModel& model, ForwardData& d, const ChainQ& q, const C
           d.parameters.segment(static_cast<Eigen::Index>(model.parameter_offset(i)), t.parameters.size());
       evaluate(t.shape, params, in, gradient, d.values[i]);
       d.evaluated_inputs[i] = in;
-      d.evaluated_parameters[i] = params;
       d.errors[slots[i].error_index] += slots[i].sign * d.values[i].value;
     }
+    d.key_valid = false;  // the values were evaluated with parameters it does not record
   } else {
     // The forward model runs this at every point the compensation checks: the terms off the
     // axes are summed once for the conditions and parameters, the others at each point.
@@ -271,16 +271,18 @@ void forward(const ForwardModel& model, ForwardData& d, const ChainQ& q, const C
       return TermInputs{s.primary >= 0 ? d.variables[static_cast<std::size_t>(s.primary)] : 0.0,
                         s.secondary >= 0 ? d.variables[static_cast<std::size_t>(s.secondary)] : 0.0};
     };
-    if (!update_variables(model, d, q, c)) {
+    const KeyMatch same = update_variables(model, d, q, c);
+    if (!same.conditions || !same.parameters) {
       std::fill(d.off_axes_errors.begin(), d.off_axes_errors.end(), 0.0);
       for (std::size_t i = 0; i < terms.size(); ++i)
         if (!slots[i].on_axes)
           d.off_axes_errors[slots[i].error_index] +=
-              slots[i].sign * term_value(terms[i], slots[i].offset, d, i, inputs(slots[i]));
+              slots[i].sign * term_value(terms[i], slots[i].offset, d, i, inputs(slots[i]), same.parameters);
     }
     d.errors = d.off_axes_errors;
     for (const std::size_t i : model.on_axes_terms())
-      d.errors[slots[i].error_index] += slots[i].sign * term_value(terms[i], slots[i].offset, d, i, inputs(slots[i]));
+      d.errors[slots[i].error_index] +=
+          slots[i].sign * term_value(terms[i], slots[i].offset, d, i, inputs(slots[i]), same.parameters);
   }
   const std::size_t work_links = d.work_error.size();
   for (std::size_t j = 0; j < work_links; ++j)

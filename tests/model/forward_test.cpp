@@ -178,8 +178,9 @@ TEST(Forward, TermsOffTheAxesFollowTheConditionsAndParameters) {
   - {name: EZ0Z, variable: t, form: warmup, amplitude: 12 um, time_constant: 1800 s}
   - {name: EXX, variable: vx, form: reversal, reversal: -6 um}
   - {name: EYY, variable: y, form: scale_expansion, temperature: T_spindle, coefficient: 11e-6, reference: 20}
+  - {name: EZY, variable: y, form: periodic, period: 5 mm, unit: um, harmonics: [[1.5, 0.5]]}
 )",
-                                                  "m.yaml");
+                                              "m.yaml");
   const ForwardModel m(mm);
   ForwardData kept(m);
   ChainQ q = ChainQ::Zero();
@@ -211,6 +212,8 @@ TEST(Forward, TermsOffTheAxesFollowTheConditionsAndParameters) {
   changed("a parameter of a term on an axis");
   kept.parameters[m.parameter_offset(1)] *= 2;  // the bed drift's coefficient
   changed("a parameter of a term off the axes");
+  kept.parameters[m.parameter_offset(5) + 1] += 1e-4;  // EZY's first cosine, at an unchanged Y
+  changed("a parameter of a periodic term (evaluated apart, its value kept while Y stands still)");
   q[1] += 1;
   changed("Y");
   c.temperatures[1] = 30;

@@ -114,17 +114,16 @@ struct ForwardData {
   /// not change since (an axis standing still, a thermal drift) keeps its pose.
   std::vector<Eigen::Matrix<double, 6, 1>> posed_work_error, posed_tool_error;
   std::vector<TermValue> values;
-  /// What each term's value was last evaluated from: a term whose inputs and parameters are
-  /// unchanged keeps its value (without parameter gradients: those are always evaluated).
+  /// What each term's value was last evaluated from: a term whose inputs are unchanged, and
+  /// the parameters too (the key below), keeps its value.
   std::vector<TermInputs> evaluated_inputs;
-  std::vector<Eigen::VectorXd> evaluated_parameters;
-  /// The variables the terms read (ForwardModel::TermSlot), and what the values of the terms
-  /// that do not depend on the axes were last computed from: the conditions and parameters.
-  std::vector<double> variables, off_axes_key;
+  /// The variables the terms read (ForwardModel::TermSlot), and the key of what was last
+  /// evaluated: the conditions (time, directions, temperatures), then the parameters.
+  std::vector<double> variables, key;
   /// The off-axes terms' errors summed per link component (TermSlot::error_index), and
   /// the sum with the others added.
   std::vector<double> off_axes_errors, errors;
-  bool off_axes_valid = false;
+  bool key_valid = false;  ///< false after an evaluation with Jacobians (it keeps no key)
   std::vector<Eigen::Matrix<double, 6, 6>> J_work_pose, J_tool_pose;
 };
 
