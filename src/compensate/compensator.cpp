@@ -15,8 +15,8 @@ ChainQ Compensator::point(const ChainQ& nominal, MoveReport& report) {
   // A move usually starts where the last one ended: that point is solved already.
   if (nominal == workspace_.last_nominal && options_.conditions.directions == workspace_.last_directions)
     return workspace_.last_solution;
-  const InverseResult r =
-      solve_inverse(model_, problem_, data_, nominal, options_.conditions, {}, nullptr, &workspace_);
+  const InverseResult r = solve_inverse(model_, problem_, data_, nominal, options_.conditions, {}, nullptr, &workspace_,
+                                        nominal == expected_ ? &expected_pose_ : nullptr);
   if (!r.converged)
     throw Error(ErrorKind::safety, fmt::format("the inverse did not converge in {} iterations (residual {:.3g} mm)",
                                                r.iterations, r.position_residual.norm()));

@@ -35,12 +35,12 @@ void move_unknowns(const InverseProblem& problem, ChainQ& q, const Step& step, d
 
 InverseResult solve_inverse(const model::ForwardModel& model, const InverseProblem& problem, model::ForwardData& d,
                             const ChainQ& q_nominal, const model::Conditions& conditions, const InverseOptions& options,
-                            const ChainQ* guess, InverseWorkspace* workspace) {
+                            const ChainQ* guess, InverseWorkspace* workspace, const NominalPose* nominal) {
   InverseResult r;
   // The target: where the tool tip would be on a perfect machine.
-  model::forward(model, d, q_nominal, conditions, false, model::Evaluate::nominal);
-  const Eigen::Vector3d target = d.nominal;
-  const Eigen::Matrix3d R_target = d.R_nominal;
+  if (!nominal) model::forward(model, d, q_nominal, conditions, false, model::Evaluate::nominal);
+  const Eigen::Vector3d target = nominal ? nominal->tip : d.nominal;
+  const Eigen::Matrix3d R_target = nominal ? nominal->orientation : d.R_nominal;
   const auto n = static_cast<Eigen::Index>(problem.unknowns.size());
   const auto m = 3 + static_cast<Eigen::Index>(problem.rotary_unknowns.size());
   InverseWorkspace scratch;
@@ -141,8 +141,7 @@ InverseResult solve_inverse(const model::ForwardModel& model, const InverseProbl
     // dynamic size and capacity 9 for a read past it, and warns with -Warray-bounds.)
     double gap2 = 0.0, step2 = 0.0;
     for (Eigen::Index c = 0; c < n; ++c) gap2 += gap[c] * gap[c], step2 += s_step[c] * s_step[c];
-    if (gap2 < 0.01 * step2)
-      ws.solve_matrix.leftCols<3>() += gap * shift.transpose() / shift.squaredNorm();
+    if (gap2 < 0.01 * step2) ws.solve_matrix.leftCols<3>() += gap * shift.transpose() / shift.squaredNorm();
   }
   if (r.converged) {
     ws.last_miss = predicted ? ChainQ(q - first_order) : ChainQ(ChainQ::Zero());

@@ -73,6 +73,7 @@ struct MoveTask {
   // what the compensation made of it
   std::vector<CompensatedPoint> points;
   MoveReport report;
+  NominalPose end_pose;            ///< the nominal tool pose at its end (the reading thread's)
   std::vector<ErrorProbe> probes;  ///< where the uncompensated machine's error is taken
   std::exception_ptr error;
 };
@@ -121,6 +122,7 @@ class alignas(64) MoveSolver {
       try {
         compensator.defer_error_before(&t.probes);
         if (t.first) compensator.moved(chain_of(t.motion.start, t.offsets));
+        compensator.expect(chain_of(t.motion.end, t.offsets), t.end_pose);
         solve(t.motion, t.offsets, t.report, t.points);
       } catch (...) {
         t.error = std::current_exception();
@@ -195,6 +197,7 @@ class JobSink : public gcode::CanonSink {
       solver_ = std::make_unique<MoveSolver>(*forward_, c);
       compensator_ = &solver_->compensator;
       error_before_ = std::make_unique<Compensator>(*forward_, c);
+      nominal_ = std::make_unique<model::ForwardData>(*forward_);
       if (options.threads > 1) worker_ = std::make_unique<util::BackgroundThread>();
     }
   }
@@ -325,6 +328,9 @@ class JobSink : public gcode::CanonSink {
     t.block.line = block_->line;
     t.offset = line_.offset;
     t.terminator.assign(line_.terminator);
+    // The nominal pose at its end, here: it balances the two threads' work.
+    model::forward(*forward_, *nominal_, chain_of(m.end, t.offsets), {}, false, model::Evaluate::nominal);
+    t.end_pose = {nominal_->nominal, nominal_->R_nominal};
     if (batch.filled == kBatch) pass_batch();
   }
 
@@ -813,6 +819,7 @@ class JobSink : public gcode::CanonSink {
   /// The uncompensated machine's error, for the report, is taken by a compensator of its own
   /// on the writing side (it changes nothing the compensation decides).
   std::unique_ptr<Compensator> error_before_;
+  std::unique_ptr<model::ForwardData> nominal_;  ///< scratch for the moves' nominal ends
   std::array<MoveBatch, 2> batches_;
   std::size_t filling_ = 0;  ///< the batch the interpreter fills
   int in_flight_ = -1;       ///< the batch being compensated, to be written next

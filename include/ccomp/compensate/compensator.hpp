@@ -65,6 +65,12 @@ class Compensator {
   void rapid(const model::ChainQ& end, std::vector<CompensatedPoint>& out, MoveReport& report);
   /// The compensated values for one point, for the approach the compensator assumes now.
   [[nodiscard]] model::ChainQ point(const model::ChainQ& nominal, MoveReport& report);
+  /// The nominal pose at `nominal`, known to the caller: the next solve for that point uses
+  /// it instead of evaluating it (the same numbers: the caller evaluated it as forward() does).
+  void expect(const model::ChainQ& nominal, const NominalPose& pose) {
+    expected_ = nominal;
+    expected_pose_ = pose;
+  }
   /// Tells the compensator the machine was commanded to `q` by something it did not plan (a
   /// move in machine coordinates, a canned cycle's motions, the program's start).
   void moved(const model::ChainQ& q);
@@ -118,6 +124,8 @@ class Compensator {
   std::array<std::pair<model::ChainQ, Eigen::Vector3d>, 4> tips_;
   std::size_t next_tip_ = 0;
   std::vector<ErrorProbe>* deferred_probes_ = nullptr;
+  model::ChainQ expected_ = model::ChainQ::Constant(std::nan(""));  ///< see expect()
+  NominalPose expected_pose_;
   InverseProblem problem_;
   InverseWorkspace workspace_;  ///< the last point solved, its solution and the solve matrix
   model::ForwardData data_, check_;

@@ -57,14 +57,23 @@ struct InverseWorkspace {
   std::size_t jacobian_evaluations = 0;  ///< how often the exact Jacobian was evaluated
 };
 
+/// The nominal tool pose at a point (table frame): what its solve aims at, when the caller
+/// has it already.
+struct NominalPose {
+  Eigen::Vector3d tip = Eigen::Vector3d::Zero();
+  Eigen::Matrix3d orientation = Eigen::Matrix3d::Identity();
+};
+
 /// Solves for q' with actual(q') = nominal(q_nominal). `data` is scratch. `guess`, when
 /// given, is where Newton starts. With a `workspace`, the solve reuses and updates it (see
 /// InverseWorkspace): a prediction from its last solution replaces `guess` where the
 /// orientation target and the approach are the same, and without a guess the last
-/// solution's correction starts it.
+/// solution's correction starts it. `nominal`, when given, is the nominal pose at q_nominal
+/// (saves its evaluation).
 [[nodiscard]] InverseResult solve_inverse(const model::ForwardModel& model, const InverseProblem& problem,
                                           model::ForwardData& data, const model::ChainQ& q_nominal,
                                           const model::Conditions& conditions, const InverseOptions& options = {},
-                                          const model::ChainQ* guess = nullptr, InverseWorkspace* workspace = nullptr);
+                                          const model::ChainQ* guess = nullptr, InverseWorkspace* workspace = nullptr,
+                                          const NominalPose* nominal = nullptr);
 
 }  // namespace ccomp::compensate
