@@ -77,6 +77,7 @@ ForwardModel::ForwardModel(const MachineModel& model) : machine_(model) {
     // ISO 230-1 error motions are the tool's relative to the workpiece: a link on the
     // workpiece side moves the workpiece, so its error pose carries the opposite sign.
     slot.sign = s.side == 0 ? -1.0 : 1.0;
+    slot.order = t.shape.order;
     if (slot.on_axes) on_axes_terms_.push_back(slots_.size());
     slots_.push_back(slot);
     offsets_.push_back(parameter_count_);
@@ -280,9 +281,20 @@ void forward(const ForwardModel& model, ForwardData& d, const ChainQ& q, const C
               slots[i].sign * term_value(terms[i], slots[i].offset, d, i, inputs(slots[i]), same.parameters);
     }
     d.errors = d.off_axes_errors;
-    for (const std::size_t i : model.on_axes_terms())
-      d.errors[slots[i].error_index] +=
-          slots[i].sign * term_value(terms[i], slots[i].offset, d, i, inputs(slots[i]), same.parameters);
+    const double* parameters = d.parameters.data();
+    for (const std::size_t i : model.on_axes_terms()) {
+      const ForwardModel::TermSlot& s = slots[i];
+      double value = 0.0;
+      if (s.form == TermForm::polynomial) {  // Horner, as inline_value() does
+        const double v = d.variables[static_cast<std::size_t>(s.primary)];
+        const double* p = parameters + s.offset;
+        value = p[s.order];
+        for (int k = s.order - 1; k >= 0; --k) value = value * v + p[k];
+      } else {
+        value = term_value(terms[i], s.offset, d, i, inputs(s), same.parameters);
+      }
+      d.errors[s.error_index] += s.sign * value;
+    }
   }
   const std::size_t work_links = d.work_error.size();
   for (std::size_t j = 0; j < work_links; ++j)

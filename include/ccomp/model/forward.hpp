@@ -74,6 +74,7 @@ class ForwardModel {
     /// then the tool side's), and the sign it enters with.
     std::size_t error_index = 0;
     double sign = 1.0;
+    int order = 0;  ///< a polynomial's degree (the commonest form, evaluated in the loop itself)
   };
   [[nodiscard]] const std::vector<TermSlot>& slots() const { return slots_; }
   /// The terms that depend on the axes, in file order.
