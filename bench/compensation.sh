@@ -13,21 +13,35 @@ printf 'T1 P1 Z3.937 D0.25\n' > "$work/tools-inch.tbl"   # rs274 alone reads inc
 printf 'T1 P1 Z100 D6\n' > "$work/tools-mm.tbl"
 lines=$(wc -l < "$program")
 
-t0=$(date +%s.%N)
-/usr/bin/time -f '%M' -o "$work/rss" "$ccomp" "$program" -m "$model" -o "$work/out.ngc" \
-  --tool-table "$work/tools-mm.tbl" "${sensors[@]}" 2> "$work/summary" || { cat "$work/summary"; exit 1; }
-t1=$(date +%s.%N)
-ours=$(echo "$t1 - $t0" | bc -l)
+steal0=$(awk '/^cpu /{print $9}' /proc/stat)
 echo "main job, $model at 1 um, $(basename "$program") ($lines lines):"
-printf '  ccomp     %7.2f s  %9.0f lines/s  peak RSS %.1f MB\n' "$ours" "$(echo "$lines/$ours" | bc -l)" \
-  "$(echo "$(cat "$work/rss")/1024" | bc -l)"
+for threads in 2 1; do
+  t0=$(date +%s.%N)
+  /usr/bin/time -f '%M %U' -o "$work/rss" "$ccomp" "$program" -m "$model" -o "$work/out.ngc" \
+    --tool-table "$work/tools-mm.tbl" "${sensors[@]}" --threads "$threads" 2> "$work/summary" ||
+    { cat "$work/summary"; exit 1; }
+  t1=$(date +%s.%N)
+  seconds=$(echo "$t1 - $t0" | bc -l)
+  [ "$threads" = 2 ] && ours=$seconds
+  read -r rss user < "$work/rss"
+  printf '  ccomp, %d thread(s) %7.2f s  %9.0f lines/s  (CPU %.2f s)  peak RSS %.1f MB\n' "$threads" "$seconds" \
+    "$(echo "$lines/$seconds" | bc -l)" "$user" "$(echo "$rss/1024" | bc -l)"
+done
 sed 's/^/  /' "$work/summary"
 if [ -x "$rs274" ]; then
-  t0=$(date +%s.%N); "$rs274" -t "$work/tools-inch.tbl" -g "$program" > /dev/null 2>&1; t1=$(date +%s.%N)
+  t0=$(date +%s.%N)
+  /usr/bin/time -f '%U' -o "$work/cpu" "$rs274" -t "$work/tools-inch.tbl" -g "$program" > /dev/null 2>&1
+  t1=$(date +%s.%N)
   theirs=$(echo "$t1 - $t0" | bc -l)
-  printf '  rs274 -g  %7.2f s  %9.0f lines/s\n' "$theirs" "$(echo "$lines/$theirs" | bc -l)"
-  printf '  ccomp compensating is %.1fx rs274 reading\n' "$(echo "$theirs/$ours" | bc -l)"
+  printf '  rs274 -g            %7.2f s  %9.0f lines/s  (CPU %.2f s)\n' "$theirs" "$(echo "$lines/$theirs" | bc -l)" \
+    "$(tail -1 "$work/cpu")"
+  printf '  ccomp compensating (2 threads) is %.1fx rs274 reading\n' "$(echo "$theirs/$ours" | bc -l)"
 fi
+# On a shared machine the hypervisor may take part of the CPU time: the wall times above
+# then mean less than usual.
+steal1=$(awk '/^cpu /{print $9}' /proc/stat)
+printf '  CPU time taken by the hypervisor meanwhile (steal): %.1f s\n' \
+  "$(echo "($steal1 - $steal0) / $(getconf CLK_TCK)" | bc -l)"
 
 echo
 echo "inverse and forward model (Google Benchmark):"

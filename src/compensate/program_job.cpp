@@ -408,6 +408,13 @@ class JobSink : public gcode::CanonSink {
     for (const CompensatedPoint& p : t.points) report_.take_up_moves += p.take_up ? 1 : 0;
     write_edits(t.motion, t.points, t.offset, t.terminator);
     block_ = reading;
+    // A slot keeps its storage for the next move, but not what an unusual move needed (a
+    // split, a long line): else over a long program every slot would come to hold the
+    // most any of its moves needed.
+    if (t.points.capacity() > 2) std::vector<CompensatedPoint>().swap(t.points);
+    if (t.probes.capacity() > 2) std::vector<ErrorProbe>().swap(t.probes);
+    if (t.block.words.capacity() > 8) std::vector<gcode::Word>().swap(t.block.words);
+    if (t.text.capacity() > 64) std::string().swap(t.text);
   }
 
   /// Solves a move on this thread (a cycle's), its error before taken at once.
