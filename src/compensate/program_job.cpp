@@ -661,7 +661,8 @@ class JobSink : public gcode::CanonSink {
     const bool inch = m.units == gcode::Units::inch;
     const double unit = inch ? 25.4 : 1.0;
     const bool incremental = m.incremental;
-    std::vector<gcode::Edit> edits;
+    std::vector<gcode::Edit>& edits = edits_;  // its storage kept from move to move
+    edits.clear();
     std::string appended;
     double previous_s = 0.0;
     // Words the block lacks go right after its last axis word (or its last word).
@@ -715,7 +716,7 @@ class JobSink : public gcode::CanonSink {
       edits.push_back(gcode::Edit{
           {static_cast<std::uint32_t>(b.text.size()), static_cast<std::uint32_t>(b.text.size())}, appended});
     // Inserted words go before any trailing comment: after the last word.
-    if (!edits.empty()) writer_.edit(offset, std::move(edits));
+    if (!edits.empty()) writer_.edit(offset, std::span<gcode::Edit>(edits));
   }
 
   /// An arc block becomes the first of its lines: G2/G3 turns into G1 (written in front when
@@ -818,6 +819,7 @@ class JobSink : public gcode::CanonSink {
   gcode::SourceLine line_;
   std::vector<CompensatedPoint> points_;  ///< a cycle's move's points
   std::vector<ErrorProbe> probes_;
+  std::vector<gcode::Edit> edits_;
   gcode::Axes commanded_{};  ///< where the rewritten program has sent the controlled point
   /// Per axis, program units: where the written digits put the machine less commanded_.
   gcode::Axes rounding_{};

@@ -48,12 +48,17 @@ std::size_t format_fixed(double v, int decimals, char* out) {
 }
 
 std::string apply_edits(std::string_view line, std::vector<Edit> edits) {
+  std::string out;
+  apply_edits(line, edits, out);
+  return out;
+}
+
+void apply_edits(std::string_view line, std::span<Edit> edits, std::string& out) {
   // By position; an insertion before a replacement that starts at the same byte.
   std::sort(edits.begin(), edits.end(), [](const Edit& a, const Edit& b) {
     return a.span.begin != b.span.begin ? a.span.begin < b.span.begin : a.span.end < b.span.end;
   });
-  std::string out;
-  out.reserve(line.size() + 16);
+  out.clear();
   std::uint32_t at = 0;
   for (const Edit& e : edits) {
     if (e.span.begin < at || e.span.end < e.span.begin || e.span.end > line.size())
@@ -63,16 +68,18 @@ std::string apply_edits(std::string_view line, std::vector<Edit> edits) {
     at = e.span.end;
   }
   out.append(line.substr(at));
-  return out;
 }
 
 ProgramWriter::ProgramWriter(LineSource reader, std::FILE* out, std::string header)
     : reader_(std::move(reader)), out_(out), header_(std::move(header)) {}
 
-void ProgramWriter::edit(std::uint64_t line_offset, std::vector<Edit> edits) {
+void ProgramWriter::edit(std::uint64_t line_offset, std::span<Edit> edits) {
   if (line_offset < next_offset_) throw Error(ErrorKind::internal, "an edit arrived for a line already written");
-  auto& slot = edits_[line_offset];
-  for (Edit& e : edits) slot.push_back(std::move(e));
+  // After the pending edits of its line and of the lines before it (nearly always at the end).
+  auto at = std::upper_bound(pending_.begin(), pending_.end(), line_offset,
+                             [](std::uint64_t offset, const PendingEdit& p) { return offset < p.offset; });
+  auto index = at - pending_.begin();
+  for (Edit& e : edits) pending_.insert(pending_.begin() + index++, PendingEdit{line_offset, std::move(e)});
 }
 
 void ProgramWriter::write_line(const SourceLine& line) {
@@ -86,11 +93,16 @@ void ProgramWriter::write_line(const SourceLine& line) {
       header_written_ = true;
     }
   }
-  auto it = edits_.empty() ? edits_.end() : edits_.find(line.offset);
-  if (it != edits_.end()) {
-    const std::string text = apply_edits(line.text, std::move(it->second));
-    edits_.erase(it);
-    std::fwrite(text.data(), 1, text.size(), out_);
+  if (!pending_.empty() && pending_.front().offset < line.offset)
+    throw Error(ErrorKind::internal, "an edit arrived for a place no line starts at");
+  std::size_t n = 0;
+  while (n < pending_.size() && pending_[n].offset == line.offset) ++n;
+  if (n > 0) {
+    line_edits_.clear();
+    for (std::size_t k = 0; k < n; ++k) line_edits_.push_back(std::move(pending_[k].edit));
+    pending_.erase(pending_.begin(), pending_.begin() + static_cast<std::ptrdiff_t>(n));
+    apply_edits(line.text, line_edits_, edited_);
+    std::fwrite(edited_.data(), 1, edited_.size(), out_);
     std::fwrite(line.terminator.data(), 1, line.terminator.size(), out_);
   } else {
     // The text and its terminator are adjacent in the reader's buffer: one write.
@@ -109,6 +121,7 @@ void ProgramWriter::advance_to(std::uint64_t offset) {
 
 void ProgramWriter::finish() {
   advance_to(UINT64_MAX);
+  if (!pending_.empty()) throw Error(ErrorKind::internal, "an edit arrived for a place no line starts at");
   if (!header_written_) {  // an empty program, or only a `%` line
     std::fwrite(header_.data(), 1, header_.size(), out_);
     std::fputc('\n', out_);

@@ -5,7 +5,7 @@
 // every line before `offset`, so a straight program streams through in constant memory.
 #include <cstdint>
 #include <cstdio>
-#include <map>
+#include <span>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -29,6 +29,8 @@ std::size_t format_fixed(double v, int decimals, char* out);
 
 /// The line with the edits applied (edits must not overlap).
 [[nodiscard]] std::string apply_edits(std::string_view line, std::vector<Edit> edits);
+/// The same into `out` (replaced), reusing its storage; sorts `edits` in place.
+void apply_edits(std::string_view line, std::span<Edit> edits, std::string& out);
 
 class ProgramWriter {
  public:
@@ -37,7 +39,9 @@ class ProgramWriter {
   ProgramWriter(LineSource reader, std::FILE* out, std::string header);
 
   /// Edits for the line starting at `line_offset` (not yet written).
-  void edit(std::uint64_t line_offset, std::vector<Edit> edits);
+  void edit(std::uint64_t line_offset, std::vector<Edit> edits) { edit(line_offset, std::span<Edit>(edits)); }
+  /// The same, taking the texts out of `edits` (the caller keeps its storage for the next).
+  void edit(std::uint64_t line_offset, std::span<Edit> edits);
   /// Writes every line that starts before `offset`.
   void advance_to(std::uint64_t offset);
   /// Writes the rest of the program and flushes.
@@ -52,7 +56,15 @@ class ProgramWriter {
   std::string header_;
   bool header_written_ = false;
   std::uint64_t next_offset_ = 0;
-  std::map<std::uint64_t, std::vector<Edit>> edits_;
+  /// Edits not yet written, by line offset (in arrival order for one line). Lines are
+  /// edited just before they are written: a flat list, its storage kept, no allocation.
+  struct PendingEdit {
+    std::uint64_t offset = 0;
+    Edit edit;
+  };
+  std::vector<PendingEdit> pending_;
+  std::vector<Edit> line_edits_;
+  std::string edited_;
 };
 
 }  // namespace ccomp::gcode
