@@ -9,7 +9,8 @@ namespace ccomp::compensate {
 using model::ChainQ;
 
 Compensator::Compensator(const model::ForwardModel& model, CompensationOptions options)
-    : model_(model), options_(std::move(options)), problem_(model), data_(model), check_(model) {}
+    : model_(model), options_(std::move(options)), problem_(model), data_(model), check_(model),
+      bound_(model, options_.conditions) {}
 
 ChainQ Compensator::point(const ChainQ& nominal, MoveReport& report) {
   // A move usually starts where the last one ended: that point is solved already.
@@ -143,6 +144,10 @@ void Compensator::error_before_at(const ChainQ& nominal, MoveReport& report) {
     report.max_deviation_before = std::max(report.max_deviation_before, error_at(nominal));
 }
 
+bool Compensator::nominal_affine(const ChainQ& a, const ChainQ& b) {
+  return a.segment<3>(3) == b.segment<3>(3) && a[model::kToolLengthIndex] == b[model::kToolLengthIndex];
+}
+
 double Compensator::executed_deviation(const ChainQ& a_nominal, const ChainQ& b_nominal, const ChainQ& a_comp,
                                        const ChainQ& b_comp, double t) {
   // The machine interpolates the commanded axis values linearly; the program meant the
@@ -150,8 +155,7 @@ double Compensator::executed_deviation(const ChainQ& a_nominal, const ChainQ& b_
   // the tool length still, that tip is affine in the linear axes: between the ends' tips.
   const ChainQ executed = a_comp + t * (b_comp - a_comp);
   Eigen::Vector3d target;
-  if (a_nominal.segment<3>(3) == b_nominal.segment<3>(3) &&
-      a_nominal[model::kToolLengthIndex] == b_nominal[model::kToolLengthIndex]) {
+  if (nominal_affine(a_nominal, b_nominal)) {
     const Eigen::Vector3d a_tip = nominal_tip(a_nominal);
     target = a_tip + t * (nominal_tip(b_nominal) - a_tip);
   } else {
@@ -170,7 +174,16 @@ void Compensator::split(const ChainQ& a_nominal, const ChainQ& b_nominal, const 
   // / 8, a table's knot spacing / 4) bends like a parabola or, across a table's knot, like
   // a kink: the midpoint sees at least half the worst deviation, so half the tolerance
   // there is enough. Otherwise at the quarters, or densely enough not to step over a short
-  // periodic error.
+  // periodic error. A piece the error field cannot bend by a tenth of the tolerance (most of
+  // a finishing program's short moves) needs no check at all: its bound is what it reports.
+  if (nominal_affine(a_nominal, b_nominal)) {
+    const double bound = bound_.chord_deviation(a_comp, b_comp) + InverseOptions{}.position_tolerance;
+    if (bound <= 0.1 * tolerance) {
+      report.max_deviation_after = std::max(report.max_deviation_after, bound);
+      out.push_back({s1, b_comp});
+      return;
+    }
+  }
   const int n = model_.check_points(a_nominal, b_nominal, 1, 64);
   double worst = executed_deviation(a_nominal, b_nominal, a_comp, b_comp, 0.5);
   if (n > 1 || worst > 0.5 * tolerance) {

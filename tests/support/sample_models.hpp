@@ -1,6 +1,8 @@
 #pragma once
 // Test support: model-file chains (the seed's horizontal machining centre, a 3-axis
 // vertical one) for tests that add settings and terms of their own to them.
+#include <string>
+
 namespace ccomp::test {
 
 /// X and Z carry the table, B turns it about -Y 400 mm from the spindle nose, Y carries the
@@ -34,5 +36,17 @@ chain:
     - {link: Z, axis: Z, direction: [0, 0, 1]}
     - {link: tool, tool_length: [0, 0, -1]}
 )";
+
+/// `chain` with its X, Y and Z limited to +-`mm` and a B axis to +-`deg` (the chains above
+/// leave their axes unlimited).
+inline std::string with_limits(std::string chain, double mm, double deg = 360.0) {
+  auto replace = [&chain](const std::string& from, const std::string& to) {
+    if (const auto at = chain.find(from); at != std::string::npos) chain.replace(at, from.size(), to);
+  };
+  const std::string limit = "{min: " + std::to_string(-mm) + ", max: " + std::to_string(mm) + "}";
+  replace("X: {}, Y: {}, Z: {}", "X: " + limit + ", Y: " + limit + ", Z: " + limit);
+  replace("B: {type: rotary}", "B: {type: rotary, min: " + std::to_string(-deg) + ", max: " + std::to_string(deg) + "}");
+  return chain;
+}
 
 }  // namespace ccomp::test

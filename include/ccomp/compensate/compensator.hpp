@@ -16,6 +16,7 @@
 
 #include "ccomp/compensate/inverse.hpp"
 #include "ccomp/model/forward.hpp"
+#include "ccomp/model/variation_bound.hpp"
 
 namespace ccomp::compensate {
 
@@ -112,6 +113,9 @@ class Compensator {
   /// end there, and its middle where the error field has features shorter than the move.
   void error_before(const model::ChainQ& start, const model::ChainQ& end, const std::array<double, 9>& play,
                     MoveReport& report);
+  /// Whether the nominal path from a to b is straight in the workpiece frame as the linear
+  /// axes are (the rotary axes and the tool length stand still).
+  [[nodiscard]] static bool nominal_affine(const model::ChainQ& a, const model::ChainQ& b);
   double executed_deviation(const model::ChainQ& a_nominal, const model::ChainQ& b_nominal, const model::ChainQ& a_comp,
                             const model::ChainQ& b_comp, double t);
 
@@ -129,6 +133,7 @@ class Compensator {
   InverseProblem problem_;
   InverseWorkspace workspace_;  ///< the last point solved, its solution and the solve matrix
   model::ForwardData data_, check_;
+  model::VariationBound bound_;  ///< for options_.conditions
 };
 
 }  // namespace ccomp::compensate

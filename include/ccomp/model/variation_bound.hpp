@@ -1,0 +1,62 @@
+#pragma once
+// A bound on how far the actual tool tip strays from a straight line while the axes move
+// linearly between two commanded points: what lets the compensation accept a short move
+// without evaluating the model inside it.
+//
+// Along a path q(t) = a + t (b - a), t in [0, 1], the tip is the rigid chain's f0(q(t))
+// plus the error field e(q(t)). Where nothing turns, f0 is affine in t and the tip leaves
+// the chord between its ends by at most max |d2e/dt2| / 8 (the chord error of a function
+// with bounded curvature), plus a quarter of a slope jump times the travel for a linear
+// table's knot or end crossed on the way. Each term's value, slope and curvature are
+// bounded once over the axes' limits (the conditions fix the temperatures and the time);
+// an angular term acts through a lever no longer than the chain's offsets, strokes and the
+// tool length. A move that turns an axis (by a correction, microradians) adds the rigid
+// chain's own bending and the terms' turning with it. Products of two error motions are
+// smaller than the first-order terms by the largest error angle; they are covered by a
+// factor 1 + 4 (E + T / lever), E the sum of the angular terms' bounds (rad), T that of the
+// translations (mm); a model whose terms may reach 0.01 rad or 1 mm gets no bound.
+//
+// The bound is +inf where none holds: an axis without limits under a term that grows with
+// it, a move longer than a table's knot spacing, a term in a variable with no range.
+#include <array>
+#include <limits>
+#include <vector>
+
+#include "ccomp/model/forward.hpp"
+
+namespace ccomp::model {
+
+class VariationBound {
+ public:
+  VariationBound(const ForwardModel& model, const Conditions& conditions);
+
+  /// Upper bound (mm) of the distance of the actual tip from the chord between its
+  /// positions at `a` and `b` (commanded chain values), while the axes move linearly
+  /// from a to b; +inf when the model gives no bound.
+  [[nodiscard]] double chord_deviation(const ChainQ& a, const ChainQ& b) const;
+
+ private:
+  /// What the terms of one chain variable add up to, per unit travel of it (squared for
+  /// the curvatures): translations in mm, rotations in rad (times the lever).
+  struct AlongVariable {
+    double translation_curvature = 0.0, angular_curvature = 0.0;
+    double translation_slope = 0.0, angular_slope = 0.0;
+    double translation_kink = 0.0, angular_kink = 0.0;
+    double knot_gap = std::numeric_limits<double>::infinity();  ///< the shortest of its tables'
+  };
+  /// A term of two chain variables (a cross-axis term of two axes): its own bounds.
+  struct TwoVariables {
+    std::size_t u = 0, w = 0;
+    bool angular = false;
+    double slope_u = 0.0, slope_w = 0.0, curvature_uu = 0.0, curvature_uw = 0.0, curvature_ww = 0.0;
+  };
+  std::array<AlongVariable, kChainVariables> along_{};
+  std::vector<TwoVariables> two_variables_;
+  std::array<bool, kChainVariables> rotary_{};
+  double lever_ = 0.0;               ///< mm, without the tool length
+  double angular_sum_ = 0.0;      ///< E (rad)
+  double translation_sum_ = 0.0;  ///< T (mm)
+  bool bounded_ = false;
+};
+
+}  // namespace ccomp::model

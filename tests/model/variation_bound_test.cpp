@@ -1,0 +1,157 @@
+// The bound of the error field's bending along a straight move against the forward model
+// itself: for random models of every form and random short moves, the actual tip never
+// leaves its chord by more than the bound; and where no bound holds, there is none.
+#include "ccomp/model/variation_bound.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+
+#include "random_terms.hpp"
+#include "sample_models.hpp"
+
+namespace ccomp::model {
+namespace {
+
+/// The largest distance of the actual tip from its chord, sampled along the move a -> b.
+double measured_chord_deviation(const ForwardModel& m, const ChainQ& a, const ChainQ& b, const Conditions& c) {
+  ForwardData d(m);
+  auto tip = [&](double t) {
+    forward(m, d, a + t * (b - a), c, false);
+    return Eigen::Vector3d(d.actual);
+  };
+  const Eigen::Vector3d at_a = tip(0.0), at_b = tip(1.0);
+  double worst = 0.0;
+  for (int k = 1; k < 64; ++k) {
+    const double t = k / 64.0;
+    worst = std::max(worst, (tip(t) - (at_a + t * (at_b - at_a))).norm());
+  }
+  return worst;
+}
+
+TEST(VariationBound, HoldsAlongShortMovesForEveryForm) {
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> u(-1, 1);
+  const std::string chain = test::with_limits(test::kHmcChain, 600.0) + "terms:\n";
+  for (const std::string form : {"polynomial", "table", "periodic", "reversal", "thermal", "warmup", "scale_expansion",
+                                 "cross_axis", "location"}) {
+    const MachineModel mm =
+        parse_machine_model(chain + test::random_terms(form, rng) + test::random_terms(form, rng), form + ".yaml");
+    const ForwardModel m(mm);
+    Conditions c;
+    c.time = 1500;
+    c.temperatures = {26.0, 34.0};
+    for (double& s : c.directions) s = u(rng) > 0 ? 1.0 : -1.0;
+    const VariationBound bound(m, c);
+    int bounded = 0;
+    double tightest = std::numeric_limits<double>::infinity();
+    for (int k = 0; k < 120; ++k) {
+      ChainQ a = ChainQ::Zero();
+      for (int i = 0; i < 3; ++i) a[i] = 500 * u(rng);
+      if (k % 2 == 0) a[k % 3] = 250.0 * std::round(2 * u(rng));  // on a table's knot
+      a[4] = 3.0 * u(rng);                                        // B, rad
+      a[kToolLengthIndex] = 100.0;
+      const Eigen::Vector3d direction = Eigen::Vector3d(u(rng), u(rng), u(rng)).normalized();
+      const double length = std::pow(10.0, -2.0 + 2.5 * (u(rng) + 1) / 2);  // 0.01 .. 3 mm
+      ChainQ b = a;
+      b.head<3>() += length * direction;
+      b.head<3>() -= 0.5 * length * direction;  // centred on a
+      a.head<3>() -= 0.5 * length * direction;
+      if (k % 3 == 0) b[4] += 2e-6;  // B turned by a correction
+      const double limit = bound.chord_deviation(a, b);
+      if (!std::isfinite(limit)) continue;
+      ++bounded;
+      const double measured = measured_chord_deviation(m, a, b, c);
+      EXPECT_LE(measured, limit) << form << ": move " << k << " of " << length << " mm";
+      if (measured > 1e-9) tightest = std::min(tightest, limit / measured);
+    }
+    EXPECT_EQ(bounded, 120) << form << ": every short move of a model with limits has a bound";
+    // Not a bound so loose it would never let a move through: within 1000x somewhere.
+    if (std::isfinite(tightest)) {
+      EXPECT_LT(tightest, 1000.0) << form;
+    }
+  }
+}
+
+TEST(VariationBound, NoneWhereTheFieldIsUnbounded) {
+  ChainQ a = ChainQ::Zero(), b = a;
+  a[kToolLengthIndex] = b[kToolLengthIndex] = 100.0;
+  b[0] = 12.0;
+  const Conditions c{0.0, {20.0, 20.0}, {}};
+  {  // a polynomial of X on an X without limits grows without bound
+    const MachineModel mm = parse_machine_model(
+        std::string(test::kHmcChain) + "terms:\n  - {name: EXX, form: polynomial, coefficients: [0, 0, 1e-3]}\n",
+        "unlimited.yaml");
+    const ForwardModel m(mm);
+    EXPECT_TRUE(std::isinf(VariationBound(m, c).chord_deviation(a, b)));
+  }
+  {  // a move over more than one knot of a table
+    const MachineModel mm = parse_machine_model(test::with_limits(test::kHmcChain, 600.0) +
+                                                    "terms:\n  - {name: EXX, form: table, at: [-20, -10, 0, 10, 20], "
+                                                    "values: [0, 3, -2, 4, 1]}\n",
+                                                "table.yaml");
+    const ForwardModel m(mm);
+    const VariationBound bound(m, c);
+    EXPECT_TRUE(std::isinf(bound.chord_deviation(a, b))) << "12 mm over knots 10 mm apart";
+    b[0] = 8.0;
+    EXPECT_TRUE(std::isfinite(bound.chord_deviation(a, b)));
+    EXPECT_GE(bound.chord_deviation(a, b), measured_chord_deviation(m, a, b, c));
+  }
+  {  // constant errors do not bend a move of the linear axes at all
+    const MachineModel mm = parse_machine_model(
+        test::with_limits(test::kHmcChain, 600.0) + "terms:\n  - {name: EBX, value: 20}\n  - {name: EXZ, value: 5}\n",
+        "constant.yaml");
+    const ForwardModel m(mm);
+    EXPECT_LT(VariationBound(m, c).chord_deviation(a, b), 1e-9);  // what rounding leaves
+  }
+}
+
+TEST(VariationBound, IsTightForOneTermAtItsMostBent) {
+  // Each case: one term, a move where it bends most; the bound is reached within a factor 2.
+  struct Case {
+    const char* term;
+    double x, length;
+  };
+  const Case cases[] = {
+      // a lead screw's error, 5 um over a 4 mm pitch: most curved at its crest, x = 0
+      {"{name: EXX, form: periodic, period: 4 mm, harmonics: [[5, 0]]}", 0.0, 0.4},
+      // the X carriage pitching 1 urad more per mm: the pitch acts through an arm X itself
+      // lengthens, so the tip bends by 2 eps' r' although eps is a straight line
+      {"{name: EBX, form: polynomial, unit: urad, coefficients: [0, 1]}", 100.0, 3.0},
+  };
+  const Conditions c{0.0, {20.0, 20.0}, {}};
+  for (const Case& k : cases) {
+    const MachineModel mm =
+        parse_machine_model(test::with_limits(test::kHmcChain, 600.0) + "terms:\n  - " + k.term + "\n", "one.yaml");
+    const ForwardModel m(mm);
+    ChainQ a = ChainQ::Zero();
+    a[kToolLengthIndex] = 100.0;
+    a[0] = k.x - k.length / 2;
+    ChainQ b = a;
+    b[0] = k.x + k.length / 2;
+    const double limit = VariationBound(m, c).chord_deviation(a, b), measured = measured_chord_deviation(m, a, b, c);
+    EXPECT_LE(measured, limit) << k.term;
+    EXPECT_GE(measured, 0.5 * limit) << k.term;
+  }
+}
+
+TEST(VariationBound, LetsTheSampleMachinesFinishingMovesThrough) {
+  // The compensation accepts a piece without a check when the bound is below a tenth of
+  // the tolerance: at 1 um, a finishing program's 0.05 mm moves must pass on the full HMC.
+  const MachineModel mm = load_machine_model(std::string(CCOMP_SOURCE_DIR) + "/samples/machines/hmc-xyzb.yaml");
+  const ForwardModel m(mm);
+  Conditions c;
+  c.time = 3600;
+  c.temperatures = {24.0, 23.0, 31.0};
+  const VariationBound bound(m, c);
+  ChainQ a = ChainQ::Zero();
+  a << 120, -80, 40, 0, 0.3, 0, 0, 0, 0, 100;
+  ChainQ b = a;
+  b[0] += 0.05, b[2] -= 0.002, b[4] += 1e-7;
+  EXPECT_LT(bound.chord_deviation(a, b), 1e-4 - 1e-6);
+  EXPECT_GE(bound.chord_deviation(a, b), measured_chord_deviation(m, a, b, c));
+}
+
+}  // namespace
+}  // namespace ccomp::model
