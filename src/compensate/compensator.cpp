@@ -137,6 +137,20 @@ double Compensator::error_at(const ErrorProbe& probe) {
   return (check_.actual - probe.tip).norm();
 }
 
+double Compensator::error_at(const ErrorProbe& probe, double at_least) {
+  if (probe.directions == last_probe_.directions && !std::isnan(last_probe_error_)) {
+    const double bound = last_probe_error_ + bound_.error_change(last_probe_.nominal, probe.nominal);
+    if (bound <= at_least) {
+      last_probe_ = probe;
+      last_probe_error_ = bound;
+      return bound;
+    }
+  }
+  last_probe_ = probe;
+  last_probe_error_ = error_at(probe);
+  return last_probe_error_;
+}
+
 void Compensator::error_before_at(const ChainQ& nominal, MoveReport& report) {
   if (deferred_probes_)
     deferred_probes_->push_back({nominal, options_.conditions.directions, nominal_tip(nominal)});

@@ -399,8 +399,11 @@ class JobSink : public gcode::CanonSink {
       }
     }
     writer_.advance_to(t.offset);
-    for (const ErrorProbe& p : t.probes)
-      t.report.max_deviation_before = std::max(t.report.max_deviation_before, error_before_->error_at(p));
+    for (const ErrorProbe& p : t.probes) {
+      // Only what may raise the program's maximum is evaluated (the rest is bounded below it).
+      const double at_least = std::max(report_.max_error_before, t.report.max_deviation_before);
+      t.report.max_deviation_before = std::max(t.report.max_deviation_before, error_before_->error_at(p, at_least));
+    }
     const gcode::Block* reading = block_;
     block_ = &t.block;
     account(t.report, t.block.line, t.text);
@@ -423,8 +426,10 @@ class JobSink : public gcode::CanonSink {
     compensator_->defer_error_before(&probes_);
     solver_->solve(m, offsets, move, points_);
     compensator_->defer_error_before(nullptr);
-    for (const ErrorProbe& p : probes_)
-      move.max_deviation_before = std::max(move.max_deviation_before, error_before_->error_at(p));
+    for (const ErrorProbe& p : probes_) {
+      const double at_least = std::max(report_.max_error_before, move.max_deviation_before);
+      move.max_deviation_before = std::max(move.max_deviation_before, error_before_->error_at(p, at_least));
+    }
   }
 
   /// A canned-cycle block, kept until its last move: its holes' X Y R Z are compensated

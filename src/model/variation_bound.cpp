@@ -29,14 +29,21 @@ struct Range {
   }
 };
 
+/// An axis' limits in chain units (mm, rad), widened by the largest correction: a nominal
+/// point may lie outside them by that much.
+Range axis_range(const MachineModel& machine, std::size_t index) {
+  const AxisSpec* axis = machine.axis("XYZABCUVW"[index]);
+  if (!axis) return {-kInf, kInf};
+  const bool rotary = axis->type == AxisType::rotary;
+  const double scale = rotary ? kTwoPi / 360.0 : 1.0;  // limits in deg, chain in rad
+  const double margin = rotary ? machine.max_correction * 1e-2 : machine.max_correction;  // rad: 10 mrad per mm
+  return {axis->min * scale - margin, axis->max * scale + margin};
+}
+
 Range range_of(const Variable& v, const MachineModel& machine, const Conditions& c) {
   switch (v.kind) {
-    case VariableKind::axis: {
-      const AxisSpec* axis = machine.axis("XYZABCUVW"[v.index]);
-      if (!axis) return {-kInf, kInf};
-      const double scale = axis->type == AxisType::rotary ? kTwoPi / 360.0 : 1.0;  // limits in deg, chain in rad
-      return {axis->min * scale, axis->max * scale};
-    }
+    case VariableKind::axis:
+      return axis_range(machine, v.index);
     case VariableKind::tool_length:
       return {-kInf, kInf};
     case VariableKind::time:
@@ -231,24 +238,30 @@ VariationBound::VariationBound(const ForwardModel& model, const Conditions& cond
   for (const auto* side : {&model.chain().workpiece, &model.chain().tool})
     for (const kinematics::Joint& j : side->joints) {
       lever_ += j.placement.t.norm();
-      if (j.type == kinematics::JointType::linear && j.axis < 9) {
-        const AxisSpec* a = machine.axis("XYZABCUVW"[j.axis]);
-        lever_ += a ? Range{a->min, a->max}.magnitude() : kInf;
-      }
+      if (j.type == kinematics::JointType::linear && j.axis < 9) lever_ += axis_range(machine, j.axis).magnitude();
     }
   bounded_ = std::isfinite(lever_) && angular_sum_ <= 0.01 && translation_sum_ <= 1.0;  // false for NaN too
 }
 
-double VariationBound::chord_deviation(const ChainQ& a, const ChainQ& b) const {
-  if (!bounded_) return kInf;
-  std::array<double, kChainVariables> travel{};
-  double linear = 0.0, turning = 0.0;
+VariationBound::Travel VariationBound::travel(const ChainQ& a, const ChainQ& b) const {
+  Travel t;
   for (std::size_t i = 0; i < kChainVariables; ++i) {
-    travel[i] = std::abs(b[static_cast<Eigen::Index>(i)] - a[static_cast<Eigen::Index>(i)]);
-    (rotary_[i] ? turning : linear) += travel[i];
+    t.by_variable[i] = std::abs(b[static_cast<Eigen::Index>(i)] - a[static_cast<Eigen::Index>(i)]);
+    (rotary_[i] ? t.turning : t.linear) += t.by_variable[i];
   }
   const auto tool = static_cast<Eigen::Index>(kToolLengthIndex);
-  const double lever = lever_ + std::max(std::abs(a[tool]), std::abs(b[tool]));
+  t.lever = lever_ + std::max(std::abs(a[tool]), std::abs(b[tool]));
+  return t;
+}
+
+double VariationBound::second_order(double lever) const {
+  return 1.0 + 4.0 * (angular_sum_ + translation_sum_ / std::max(lever, 1.0));
+}
+
+double VariationBound::chord_deviation(const ChainQ& a, const ChainQ& b) const {
+  if (!bounded_) return kInf;
+  const Travel m = travel(a, b);
+  const double lever = m.lever, linear = m.linear, turning = m.turning;
   // The rigid chain bends the path where an axis turns: d2/dt2 of R(t) r(t).
   const double rigid = lever * turning * turning + 2.0 * turning * linear;
   // A translation delta turned by R(t): delta'' + 2 R' delta' + R'' delta; a rotation eps
@@ -256,7 +269,7 @@ double VariationBound::chord_deviation(const ChainQ& a, const ChainQ& b) const {
   const double translation_slope_weight = 2.0 * turning, angular_slope_weight = 2.0 * (linear + lever * turning);
   double curvature = translation_sum_ * turning * turning + angular_sum_ * rigid, kinks = 0.0;
   for (std::size_t i = 0; i < kChainVariables; ++i) {
-    const double d = travel[i];
+    const double d = m.by_variable[i];
     if (d == 0.0) continue;
     const AlongVariable& v = along_[i];
     if (d >= v.knot_gap) return kInf;  // more than one knot on the way
@@ -265,17 +278,35 @@ double VariationBound::chord_deviation(const ChainQ& a, const ChainQ& b) const {
     kinks += (v.translation_kink + lever * v.angular_kink) * d;
   }
   for (const TwoVariables& t : two_variables_) {
-    const double du = travel[t.u], dw = travel[t.w];
+    const double du = m.by_variable[t.u], dw = m.by_variable[t.w];
     if (du == 0.0 && dw == 0.0) continue;
     const double second = along(along(t.curvature_uu, du), du) + 2.0 * along(along(t.curvature_uw, du), dw) +
                           along(along(t.curvature_ww, dw), dw);
     const double first = along(t.slope_u, du) + along(t.slope_w, dw);
     curvature += t.angular ? lever * second + angular_slope_weight * first : second + translation_slope_weight * first;
   }
-  const double second_order = 1.0 + 4.0 * (angular_sum_ + translation_sum_ / std::max(lever, 1.0));
   // and what rounding leaves in a computed tip: a few units in the last place of its lever
   const double rounding = 64.0 * std::numeric_limits<double>::epsilon() * lever;
-  return second_order * (curvature / 8.0 + kinks / 4.0) + rigid / 8.0 + rounding;
+  return second_order(lever) * (curvature / 8.0 + kinks / 4.0) + rigid / 8.0 + rounding;
+}
+
+double VariationBound::error_change(const ChainQ& a, const ChainQ& b) const {
+  if (!bounded_) return kInf;
+  const Travel m = travel(a, b);
+  // d/dt of R(t) delta and of R(t) (eps x r): delta' + R' delta, and eps' r + eps r' + R' eps r.
+  double slope = translation_sum_ * m.turning + angular_sum_ * (m.linear + 2.0 * m.lever * m.turning);
+  for (std::size_t i = 0; i < kChainVariables; ++i) {
+    const double d = m.by_variable[i];
+    if (d == 0.0) continue;
+    slope += (along_[i].translation_slope + m.lever * along_[i].angular_slope) * d;
+  }
+  for (const TwoVariables& t : two_variables_) {
+    const double first = along(t.slope_u, m.by_variable[t.u]) + along(t.slope_w, m.by_variable[t.w]);
+    slope += t.angular ? m.lever * first : first;
+  }
+  // Rounding: of both errors, each the difference of two computed tips.
+  const double rounding = 256.0 * std::numeric_limits<double>::epsilon() * m.lever;
+  return second_order(m.lever) * slope + rounding;
 }
 
 }  // namespace ccomp::model

@@ -30,6 +30,16 @@ double measured_chord_deviation(const ForwardModel& m, const ChainQ& a, const Ch
   return worst;
 }
 
+/// |e(b) - e(a)|, e the tip's error (actual - nominal).
+double measured_error_change(const ForwardModel& m, const ChainQ& a, const ChainQ& b, const Conditions& c) {
+  ForwardData d(m);
+  auto error = [&](const ChainQ& q) {
+    forward(m, d, q, c, false, Evaluate::both);
+    return Eigen::Vector3d(d.actual - d.nominal);
+  };
+  return (error(b) - error(a)).norm();
+}
+
 TEST(VariationBound, HoldsAlongShortMovesForEveryForm) {
   std::mt19937 rng(11);
   std::uniform_real_distribution<double> u(-1, 1);
@@ -59,6 +69,7 @@ TEST(VariationBound, HoldsAlongShortMovesForEveryForm) {
       b.head<3>() -= 0.5 * length * direction;  // centred on a
       a.head<3>() -= 0.5 * length * direction;
       if (k % 3 == 0) b[4] += 2e-6;  // B turned by a correction
+      EXPECT_GE(bound.error_change(a, b), measured_error_change(m, a, b, c)) << form << ": move " << k;
       const double limit = bound.chord_deviation(a, b);
       if (!std::isfinite(limit)) continue;
       ++bounded;
@@ -134,6 +145,19 @@ TEST(VariationBound, IsTightForOneTermAtItsMostBent) {
     EXPECT_LE(measured, limit) << k.term;
     EXPECT_GE(measured, 0.5 * limit) << k.term;
   }
+  // The error's change: the pitch acting through its arm (100 mm here).
+  const MachineModel mm = parse_machine_model(
+      test::with_limits(test::kHmcChain, 600.0) + "terms:\n  - {name: EBX, form: polynomial, unit: urad, "
+                                                  "coefficients: [0, 1]}\n",
+      "pitch.yaml");
+  const ForwardModel m(mm);
+  ChainQ a = ChainQ::Zero();
+  a[kToolLengthIndex] = 100.0;
+  ChainQ b = a;
+  b[0] = 1.0;
+  const double change = VariationBound(m, c).error_change(a, b), measured = measured_error_change(m, a, b, c);
+  EXPECT_GE(change, measured);
+  EXPECT_LE(change, 50 * measured);  // the lever bound: all strokes and offsets, 2900 mm here
 }
 
 TEST(VariationBound, LetsTheSampleMachinesFinishingMovesThrough) {

@@ -79,6 +79,11 @@ class Compensator {
   [[nodiscard]] double error_at(const model::ChainQ& nominal);
   /// The same for a probe, under its own approach.
   [[nodiscard]] double error_at(const ErrorProbe& probe);
+  /// The same where it may exceed `at_least` (mm). Where the error at the probe before it
+  /// (under the same approach) and the bound of the error's change between them show it
+  /// cannot, that bound (<= at_least) without evaluating the model: a report's maximum
+  /// over a program stays exactly what evaluating every probe gives.
+  [[nodiscard]] double error_at(const ErrorProbe& probe, double at_least);
   /// From now on, the points where a move's error before is taken are appended to `probes`
   /// instead of evaluated (the report's max_deviation_before is then left to the caller,
   /// who may evaluate them elsewhere: they change nothing the compensation decides);
@@ -134,6 +139,9 @@ class Compensator {
   InverseWorkspace workspace_;  ///< the last point solved, its solution and the solve matrix
   model::ForwardData data_, check_;
   model::VariationBound bound_;  ///< for options_.conditions
+  /// The probe error_at(probe, at_least) took last, and the bound of its error.
+  ErrorProbe last_probe_;
+  double last_probe_error_ = std::nan("");
 };
 
 }  // namespace ccomp::compensate

@@ -16,7 +16,11 @@
 // factor 1 + 4 (E + T / lever), E the sum of the angular terms' bounds (rad), T that of the
 // translations (mm); a model whose terms may reach 0.01 rad or 1 mm gets no bound.
 //
-// The bound is +inf where none holds: an axis without limits under a term that grows with
+// The same bounds give how much the tip's error (actual - nominal) can change between two
+// points: what lets a report skip evaluating a point that cannot raise its maximum.
+//
+// Nominal points may lie outside the limits by their correction: the ranges are widened
+// by the model's max_correction. The bound is +inf where none holds: an axis without limits under a term that grows with
 // it, a move longer than a table's knot spacing, a term in a variable with no range.
 #include <array>
 #include <limits>
@@ -34,8 +38,21 @@ class VariationBound {
   /// positions at `a` and `b` (commanded chain values), while the axes move linearly
   /// from a to b; +inf when the model gives no bound.
   [[nodiscard]] double chord_deviation(const ChainQ& a, const ChainQ& b) const;
+  /// Upper bound (mm) of |e(b) - e(a)|, e the tip's error (actual - nominal position) under
+  /// the conditions the bound was made for; +inf when the model gives no bound.
+  [[nodiscard]] double error_change(const ChainQ& a, const ChainQ& b) const;
 
  private:
+  /// Each chain variable's travel from a to b, their sums over the linear and the rotary
+  /// ones, and the lever with the tool length of a and b.
+  struct Travel {
+    std::array<double, kChainVariables> by_variable{};
+    double linear = 0.0, turning = 0.0, lever = 0.0;
+  };
+  [[nodiscard]] Travel travel(const ChainQ& a, const ChainQ& b) const;
+  /// 1 + 4 (E + T / lever): what products of two error motions may add.
+  [[nodiscard]] double second_order(double lever) const;
+
   /// What the terms of one chain variable add up to, per unit travel of it (squared for
   /// the curvatures): translations in mm, rotations in rad (times the lever).
   struct AlongVariable {
