@@ -57,6 +57,8 @@ std::string format_value(double v, std::string_view original, bool inch, bool ro
 /// The number a value as written means (".5", "-.25", "12.0000").
 double number_of(std::string_view text) {
   double value = 0.0;
+  std::size_t end = 0;
+  if (gcode::read_decimal(text, end, value) && end == text.size()) return value;
   std::from_chars(text.data(), text.data() + text.size(), value);
   return value;
 }

@@ -6,6 +6,7 @@
 #include <string>
 
 #include "ccomp/error.hpp"
+#include "ccomp/gcode/number.hpp"
 #include "grammar.hpp"
 
 namespace ccomp::gcode {
@@ -582,35 +583,9 @@ bool Parser::parse_simple(std::string_view t, Block& out) const {
   auto skip_blanks = [&] {
     while (i < n && (t[i] == ' ' || t[i] == '\t')) ++i;
   };
-  // A number at i: [+-] digits [. digits] | [+-] . digits. Sets `value`, advances i.
+  // A number at i: sets `value`, advances i.
   double value = 0.0;
-  auto digit = [&](std::size_t at) { return at < n && static_cast<unsigned>(t[at] - '0') < 10U; };
-  auto number = [&]() -> bool {
-    bool negative = false;
-    if (i < n && (t[i] == '+' || t[i] == '-')) negative = t[i++] == '-';
-    const std::size_t digits_start = i;
-    std::uint64_t mantissa = 0;
-    while (digit(i)) mantissa = mantissa * 10 + static_cast<std::uint64_t>(t[i++] - '0');
-    const std::size_t integer_digits = i - digits_start;
-    std::size_t fraction = 0;
-    if (i < n && t[i] == '.') {
-      const std::size_t first = ++i;
-      while (digit(i)) mantissa = mantissa * 10 + static_cast<std::uint64_t>(t[i++] - '0');
-      fraction = i - first;
-    }
-    if (integer_digits + fraction == 0) return false;
-    static constexpr double kPow10[] = {1e0,  1e1,  1e2,  1e3,  1e4,  1e5,  1e6,  1e7,  1e8,  1e9,  1e10, 1e11,
-                                        1e12, 1e13, 1e14, 1e15, 1e16, 1e17, 1e18, 1e19, 1e20, 1e21, 1e22};
-    // Exact while the digits fit 15 decimal places (2^53 > 10^15): one correctly rounded
-    // division. (Leading zeros make the count pessimistic, never wrong.)
-    if (integer_digits + fraction <= 15) {
-      value = static_cast<double>(mantissa) / kPow10[fraction];
-    } else {
-      std::from_chars(t.data() + digits_start, t.data() + i, value);
-    }
-    if (negative) value = -value;
-    return true;
-  };
+  auto number = [&] { return read_decimal(t, i, value); };
   auto is_letter = [](char c) { return (c >= 'A' && c <= 'Z') || (c >= 'a' && c <= 'z'); };
   auto upper = [](char c) { return c >= 'a' && c <= 'z' ? static_cast<char>(c - 'a' + 'A') : c; };
 

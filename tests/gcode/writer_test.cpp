@@ -4,11 +4,8 @@
 
 #include <gtest/gtest.h>
 
-#include <charconv>
-#include <cmath>
 #include <cstdio>
 #include <cstdlib>
-#include <random>
 #include <string_view>
 
 #include "ccomp/error.hpp"
@@ -98,38 +95,6 @@ TEST(LineSource, FileReaderHandlesLinesLongerThanItsBuffer) {
   EXPECT_EQ(l.text, "G0 X1");
   EXPECT_FALSE(s.next(l));
   std::remove(path.c_str());
-}
-
-TEST(Writer, FormatFixedWritesWhatToCharsWrites) {
-  // Random coordinates of every size the programs carry, values on and next to the
-  // halfway points of each precision (exact binary ties like 0.125, and the decimal ones
-  // like 0.00005 that binary can only come near), and signed zeros.
-  auto expect_same = [](double v, int decimals) {
-    char ours[40], theirs[400];
-    const std::size_t n = format_fixed(v, decimals, ours);
-    const auto end = std::to_chars(theirs, theirs + sizeof theirs, v, std::chars_format::fixed, decimals).ptr;
-    ASSERT_EQ(std::string_view(ours, n), std::string_view(theirs, static_cast<std::size_t>(end - theirs)))
-        << std::hexfloat << v << " with " << decimals << " decimals";
-  };
-  std::mt19937_64 rng(7);
-  std::uniform_real_distribution<double> unit(-1, 1);
-  std::uniform_int_distribution<int> exponent(-8, 12);
-  for (int k = 0; k < 200000; ++k) {
-    const double v = unit(rng) * std::pow(10.0, exponent(rng));
-    for (int decimals : {0, 3, 4, 5, 6, 9}) expect_same(v, decimals);
-  }
-  for (int decimals = 0; decimals <= 9; ++decimals) {
-    for (long long m = -3000; m <= 3000; ++m) {
-      const double halfway = (static_cast<double>(m) + 0.5) / std::pow(10.0, decimals);
-      for (double v : {halfway, std::nextafter(halfway, 1e300), std::nextafter(halfway, -1e300),
-                       static_cast<double>(m) / 8.0, static_cast<double>(m) / 1024.0})
-        expect_same(v, decimals);
-    }
-  }
-  for (double v : {0.0, -0.0, -1e-12, 1e-12, 1e14 + 0.5, -9.99995e8, 123456789.0125})
-    for (int decimals = 0; decimals <= 12; ++decimals) expect_same(v, decimals);
-  char out[40];
-  EXPECT_EQ(format_fixed(1e300, 4, out), 0U) << "does not fit: the caller formats it otherwise";
 }
 
 }  // namespace

@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "ccomp/gcode/block.hpp"
+#include "ccomp/gcode/number.hpp"  // format_fixed, which writers use
 #include "ccomp/gcode/source.hpp"
 
 namespace ccomp::gcode {
@@ -21,11 +22,6 @@ struct Edit {
   std::string text;
 };
 
-/// Writes v with `decimals` digits after the point into `out` (room for 40 characters) and
-/// returns the length: exactly what std::to_chars(fixed, decimals) writes, the exact binary
-/// value correctly rounded, without its cost for the coordinates a program carries; 0 when
-/// the text would not fit.
-std::size_t format_fixed(double v, int decimals, char* out);
 
 /// The line with the edits applied (edits must not overlap).
 [[nodiscard]] std::string apply_edits(std::string_view line, std::vector<Edit> edits);
