@@ -79,7 +79,35 @@ void cubic_weights(const std::vector<double>& x, double v, Eigen::VectorXd& w, E
   if (grad) r.d_parameters[k] = 1.0 - b, r.d_parameters[k + 1] = b;
 }
 
+/// The first harmonic's cosine and sine at `phase1`, turned from the reference phase in `r`
+/// when it is near (no sine), else computed and taken as the new reference.
+void first_harmonic(double phase1, TermValue& r, double& c1, double& s1) {
+  if (const double delta = phase1 - r.phase_reference; std::abs(delta) < 0.05) {
+    const double d2 = delta * delta;
+    const double cd = 1.0 - d2 / 2.0 * (1.0 - d2 / 12.0 * (1.0 - d2 / 30.0 * (1.0 - d2 / 56.0 * (1.0 - d2 / 90.0))));
+    const double sd = delta * (1.0 - d2 / 6.0 * (1.0 - d2 / 20.0 * (1.0 - d2 / 42.0 * (1.0 - d2 / 72.0))));
+    c1 = r.cos_reference * cd - r.sin_reference * sd;
+    s1 = r.sin_reference * cd + r.cos_reference * sd;
+  } else {
+    c1 = std::cos(phase1), s1 = std::sin(phase1);
+    r.phase_reference = phase1, r.cos_reference = c1, r.sin_reference = s1;
+  }
+}
+
 }  // namespace
+
+double periodic_value(const double* p, int harmonics, double v, TermValue& cache) {
+  double c1 = 0.0, s1 = 0.0;
+  first_harmonic(kTwoPi * v / p[0], cache, c1, s1);
+  double value = 0.0, c = 1.0, sn = 0.0;  // cos and sin of k phase1
+  for (int k = 1; k <= harmonics; ++k) {
+    const double c_next = c * c1 - sn * s1;
+    sn = sn * c1 + c * s1;
+    c = c_next;
+    value += p[2 * k - 1] * c + p[2 * k] * sn;
+  }
+  return value;
+}
 
 std::size_t parameter_count(const TermShape& s) {
   switch (s.form) {
@@ -141,17 +169,7 @@ void evaluate(const TermShape& s, const Eigen::Ref<const Eigen::VectorXd>& p, co
       // near; the higher harmonics by the angle-sum recurrence.
       const double phase1 = kTwoPi * v / period;
       double c1 = 0.0, s1 = 0.0;
-      if (const double delta = phase1 - r.phase_reference; std::abs(delta) < 0.05) {
-        const double d2 = delta * delta;
-        const double cd =
-            1.0 - d2 / 2.0 * (1.0 - d2 / 12.0 * (1.0 - d2 / 30.0 * (1.0 - d2 / 56.0 * (1.0 - d2 / 90.0))));
-        const double sd = delta * (1.0 - d2 / 6.0 * (1.0 - d2 / 20.0 * (1.0 - d2 / 42.0 * (1.0 - d2 / 72.0))));
-        c1 = r.cos_reference * cd - r.sin_reference * sd;
-        s1 = r.sin_reference * cd + r.cos_reference * sd;
-      } else {
-        c1 = std::cos(phase1), s1 = std::sin(phase1);
-        r.phase_reference = phase1, r.cos_reference = c1, r.sin_reference = s1;
-      }
+      first_harmonic(phase1, r, c1, s1);
       double c = 1.0, sn = 0.0;  // cos and sin of k phase1
       for (int k = 1; k <= s.order; ++k) {
         const double a = p[2 * k - 1], b = p[2 * k];

@@ -290,6 +290,14 @@ void forward(const ForwardModel& model, ForwardData& d, const ChainQ& q, const C
         const double* p = parameters + s.offset;
         value = p[s.order];
         for (int k = s.order - 1; k >= 0; --k) value = value * v + p[k];
+      } else if (s.form == TermForm::periodic) {  // a lead screw's error: its value alone
+        const double v = d.variables[static_cast<std::size_t>(s.primary)];
+        TermInputs& last = d.evaluated_inputs[i];
+        if (!same.parameters || v != last.primary || last.secondary != 0.0) {
+          d.values[i].value = periodic_value(parameters + s.offset, s.order, v, d.values[i]);
+          last = TermInputs{v, 0.0};
+        }
+        value = d.values[i].value;
       } else {
         value = term_value(terms[i], s.offset, d, i, inputs(s), same.parameters);
       }

@@ -129,5 +129,19 @@ TEST(TermForms, PeriodicTurnedFromItsLastPhaseEqualsAFreshEvaluation) {
   }
 }
 
+TEST(TermForms, PeriodicValueAloneIsWhatEvaluateGivesBitwise) {
+  // The forward model's loop takes periodic_value(); the fit and the Jacobians evaluate():
+  // along the same points, with scratches of their own, the values must be the same bits.
+  const TermShape p = shape(TermForm::periodic, 3);
+  const Eigen::VectorXd pp = vec({10.0, 0.003, -0.001, 0.0005, 0.0002, -0.0004, 0.0001});
+  TermValue by_evaluate, by_value;
+  double v = 87.0;
+  for (int k = 0; k < 2000; ++k) {
+    v -= k == 700 ? 120.3 : (k % 5 == 0 ? 3e-7 : 0.05);
+    evaluate(p, pp, {v, 0}, false, by_evaluate);
+    ASSERT_EQ(periodic_value(pp.data(), 3, v, by_value), by_evaluate.value) << "at " << v;
+  }
+}
+
 }  // namespace
 }  // namespace ccomp::model

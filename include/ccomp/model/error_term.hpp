@@ -67,4 +67,9 @@ struct TermShape {
 void evaluate(const TermShape& shape, const Eigen::Ref<const Eigen::VectorXd>& parameters, const TermInputs& in,
               bool with_parameter_gradient, TermValue& out);
 
+/// A periodic form's value alone, bitwise what evaluate() gives (the same reference phase
+/// in `cache`, the same operations): the forward model's loop over the points takes it.
+/// `p`: the period, then a_k, b_k for each of the `harmonics`.
+[[nodiscard]] double periodic_value(const double* p, int harmonics, double v, TermValue& cache);
+
 }  // namespace ccomp::model
