@@ -25,33 +25,25 @@ namespace {
 constexpr std::string_view kHeaderPrefix = "(ccomp ";
 constexpr double kRadPerDeg = 3.14159265358979323846 / 180.0;
 
-/// Formats a compensated coordinate in the style of the word it replaces: at least as many
-/// decimals as the program wrote, and enough for the tolerance: 4 in mm, 5 in inches, 5 in
-/// degrees (1e-5 deg is 0.07 um at 400 mm from the axis).
-std::string format_value(double v, std::string_view original, bool inch, bool rotary) {
-  int decimals = rotary ? 5 : inch ? 5 : 4;
-  bool leading_zero = true;
+/// How a compensated coordinate is written, in the style of the word it replaces: at least
+/// as many decimals as the program wrote, and enough for the tolerance: 4 in mm, 5 in
+/// inches, 5 in degrees (1e-5 deg is 0.07 um at 400 mm from the axis).
+struct NumberStyle {
+  int decimals = 4;
+  bool leading_zero = true;  ///< "0.5", not ".5"
+};
+
+NumberStyle style_of(std::string_view original, bool inch, bool rotary) {
+  NumberStyle style{rotary ? 5 : inch ? 5 : 4, true};
   if (const auto dot = original.find('.'); dot != std::string_view::npos) {
     int written = 0;
     for (std::size_t i = dot + 1; i < original.size() && std::isdigit(static_cast<unsigned char>(original[i])); ++i)
       ++written;
-    decimals = std::max(decimals, written);
+    style.decimals = std::max(style.decimals, written);
     const auto first_digit = original.find_first_of("0123456789.");
-    leading_zero = !(first_digit != std::string_view::npos && original[first_digit] == '.');
+    style.leading_zero = !(first_digit != std::string_view::npos && original[first_digit] == '.');
   }
-  // Rounds the exact binary value as fmt does, without parsing a format string: this runs
-  // for every number the job writes.
-  std::array<char, 40> buffer{};
-  const std::size_t length = gcode::format_fixed(v, decimals, buffer.data());
-  std::string text = length > 0 ? std::string(buffer.data(), length) : fmt::format("{:.{}f}", v, decimals);
-  if (text.starts_with('-') && text.find_first_not_of("0.", 1) == std::string::npos) text.erase(0, 1);  // no "-0.0000"
-  if (!leading_zero) {
-    if (text.starts_with("0."))
-      text.erase(0, 1);
-    else if (text.starts_with("-0."))
-      text.erase(1, 1);
-  }
-  return text;
+  return style;
 }
 
 /// The number a value as written means (".5", "-.25", "12.0000").
@@ -61,6 +53,49 @@ double number_of(std::string_view text) {
   if (gcode::read_decimal(text, end, value) && end == text.size()) return value;
   std::from_chars(text.data(), text.data() + text.size(), value);
   return value;
+}
+
+/// A coordinate as written: its text, and the number the text means (what the machine
+/// will be told).
+struct WrittenValue {
+  std::string text;
+  double value = 0.0;
+};
+
+WrittenValue format_value(double v, const NumberStyle& style) {
+  // Rounds the exact binary value as fmt does, without parsing a format string: this runs
+  // for every number the job writes.
+  std::array<char, 40> buffer{};
+  const std::size_t length = gcode::format_fixed(v, style.decimals, buffer.data());
+  WrittenValue written{length > 0 ? std::string(buffer.data(), length) : fmt::format("{:.{}f}", v, style.decimals),
+                       0.0};
+  std::string& text = written.text;
+  if (text.starts_with('-') && text.find_first_not_of("0.", 1) == std::string::npos) text.erase(0, 1);  // no "-0.0000"
+  if (!style.leading_zero) {
+    if (text.starts_with("0."))
+      text.erase(0, 1);
+    else if (text.starts_with("-0."))
+      text.erase(1, 1);
+  }
+  // The text's digits are units / 10^decimals: the division read_decimal does reading it.
+  std::int64_t units = 0;
+  static constexpr double kPower[] = {1e0, 1e1, 1e2, 1e3, 1e4, 1e5, 1e6, 1e7, 1e8, 1e9};
+  written.value = gcode::fixed_units(v, style.decimals, units) ? static_cast<double>(units) / kPower[style.decimals]
+                                                                 : number_of(text);
+  return written;
+}
+
+WrittenValue format_value(double v, std::string_view original, bool inch, bool rotary) {
+  return format_value(v, style_of(original, inch, rotary));
+}
+
+/// Whether a and b are written alike in `style`, without writing them when their rounded
+/// digits tell.
+bool written_alike(double a, double b, const NumberStyle& style) {
+  std::int64_t units_a = 0, units_b = 0;
+  if (gcode::fixed_units(a, style.decimals, units_a) && gcode::fixed_units(b, style.decimals, units_b))
+    return units_a == units_b;  // "-0.0000" is written "0.0000"
+  return format_value(a, style).text == format_value(b, style).text;
 }
 
 /// A move on its way from the interpreter, through the compensation, to the writer: what
@@ -517,7 +552,7 @@ class JobSink : public gcode::CanonSink {
       for (const gcode::Word& w : c.words)
         if (w.letter == letter) word = &w;
       const std::string original = word ? c.text.substr(word->value_span.begin, word->value_span.size()) : "";
-      const std::string text = format_value(value, original, inch && !rotary, rotary);
+      const std::string text = format_value(value, original, inch && !rotary, rotary).text;
       if (word)
         edits.push_back(gcode::Edit{word->value_span, text});
       else
@@ -648,18 +683,18 @@ class JobSink : public gcode::CanonSink {
                                        const gcode::Block* block, bool inch) {
     const bool rotary = gcode::is_rotary(i);
     const double value = incremental ? p - last - rounding_[i] : p;
-    const std::string text =
-        format_value(value, named ? block->slice(named->value_span) : std::string_view(), inch && !rotary, rotary);
+    const NumberStyle style =
+        style_of(named ? block->slice(named->value_span) : std::string_view(), inch && !rotary, rotary);
     if (!named) {
       const double unmoved = incremental ? 0.0 : last + rounding_[i];
-      if (text == format_value(unmoved, {}, inch && !rotary, rotary)) {
+      if (written_alike(value, unmoved, style)) {
         rounding_[i] += last - p;
         return std::nullopt;
       }
     }
-    const double written = number_of(text);
-    rounding_[i] = incremental ? rounding_[i] + written - (p - last) : written - p;
-    return text;
+    WrittenValue written = format_value(value, style);
+    rounding_[i] = incremental ? rounding_[i] + written.value - (p - last) : written.value - p;
+    return std::move(written.text);
   }
 
   void write_edits(const gcode::Motion& m, const std::vector<CompensatedPoint>& points, std::uint64_t offset,

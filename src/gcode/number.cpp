@@ -13,36 +13,42 @@ double read_long_decimal(std::string_view digits) {
   return value;
 }
 
+namespace {
+constexpr std::array<double, 10> kPower = {1e0, 1e1, 1e2, 1e3, 1e4, 1e5, 1e6, 1e7, 1e8, 1e9};
+constexpr std::array<std::uint64_t, 10> kIntegerPower = {1,      10,      100,      1000,      10000,
+                                                         100000, 1000000, 10000000, 100000000, 1000000000};
+}  // namespace
+
+bool fixed_units(double v, int decimals, std::int64_t& units) {
+  if (decimals < 0 || decimals >= static_cast<int>(kPower.size()) || !std::isfinite(v)) return false;
+  const double scaled = v * kPower[static_cast<std::size_t>(decimals)];  // 10^d is exact: within half an ulp of v 10^d
+  if (!(std::abs(scaled) < 1e15)) return false;
+  const double nearest = std::nearbyint(scaled);
+  // Exact (the two are within one of each other). Further from halfway than the product's
+  // error, the product rounds as the exact value does; nearer, to_chars decides.
+  const double off = std::abs(scaled - nearest);
+  if (!(0.5 - off > 1e-15 * std::abs(scaled) + 1e-300)) return false;
+  units = static_cast<std::int64_t>(nearest);
+  return true;
+}
+
 std::size_t format_fixed(double v, int decimals, char* out) {
-  static constexpr std::array<double, 10> kPower = {1e0, 1e1, 1e2, 1e3, 1e4, 1e5, 1e6, 1e7, 1e8, 1e9};
-  static constexpr std::array<std::uint64_t, 10> kIntegerPower = {1,      10,      100,      1000,      10000,
-                                                                  100000, 1000000, 10000000, 100000000, 1000000000};
-  if (decimals >= 0 && decimals < static_cast<int>(kPower.size()) && std::isfinite(v)) {
+  if (std::int64_t units = 0; fixed_units(v, decimals, units)) {
     const auto d = static_cast<std::size_t>(decimals);
-    const double scaled = v * kPower[d];  // 10^d is exact: within half an ulp of v 10^d
-    if (std::abs(scaled) < 1e15) {
-      const double nearest = std::nearbyint(scaled);
-      // Exact (the two are within one of each other). Further from halfway than the
-      // product's error, the product rounds as the exact value does; nearer, to_chars decides.
-      const double off = std::abs(scaled - nearest);
-      if (0.5 - off > 1e-15 * std::abs(scaled) + 1e-300) {
-        char* at = out;
-        if (std::signbit(v)) *at++ = '-';
-        const auto units = static_cast<std::uint64_t>(std::abs(nearest));
-        const auto whole = std::to_chars(at, at + 24, units / kIntegerPower[d]).ptr;
-        at = whole;
-        if (d > 0) {
-          *at++ = '.';
-          std::uint64_t fraction = units % kIntegerPower[d];
-          for (std::size_t k = d; k-- > 0;) {
-            at[k] = static_cast<char>('0' + fraction % 10);
-            fraction /= 10;
-          }
-          at += d;
-        }
-        return static_cast<std::size_t>(at - out);
+    char* at = out;
+    if (std::signbit(v)) *at++ = '-';
+    const auto magnitude = static_cast<std::uint64_t>(units < 0 ? -units : units);
+    at = std::to_chars(at, at + 24, magnitude / kIntegerPower[d]).ptr;
+    if (d > 0) {
+      *at++ = '.';
+      std::uint64_t fraction = magnitude % kIntegerPower[d];
+      for (std::size_t k = d; k-- > 0;) {
+        at[k] = static_cast<char>('0' + fraction % 10);
+        fraction /= 10;
       }
+      at += d;
     }
+    return static_cast<std::size_t>(at - out);
   }
   const auto [end, error] = std::to_chars(out, out + 40, v, std::chars_format::fixed, decimals);
   return error == std::errc{} ? static_cast<std::size_t>(end - out) : 0;

@@ -19,7 +19,7 @@ ChainData::ChainData(const ChainModel& model)
     cache.links.resize(n);
     cache.errors.assign(n, Pose{Mat3::Constant(std::nan("")), Vec3::Zero()});  // matches no pose
     cache.q.assign(n, 0.0);
-    for (const Joint& j : chain.joints) cache.offset_only.push_back(j.placement.R.isIdentity(0.0));
+    for (const Joint& j : chain.joints) cache.offset_only.push_back(j.placement.R.isIdentity(0.0) ? 1 : 0);
   };
   prepare(model.workpiece, work_cache_);
   prepare(model.tool, tool_cache_);
@@ -43,23 +43,39 @@ Pose joint_motion(const Joint& joint, double q, Vec6* J) {
 
 namespace {
 
-/// placement * motion(q) * error, skipping the products by identities that machine files
-/// make the rule: placements are offsets, a linear motion is a translation.
-Pose link_pose(const Joint& j, bool offset_only, double q, const Pose& error) {
+/// out = a * b, written in place: the chain's innermost operation, without the temporaries
+/// of a returned Pose.
+inline void compose_into(const Pose& a, const Pose& b, Pose& out) {
+  out.R.noalias() = a.R * b.R;
+  out.t.noalias() = a.R * b.t;
+  out.t += a.t;
+}
+
+/// link = placement * motion(q) * error, skipping the products by identities that machine
+/// files make the rule: placements are offsets, a linear motion is a translation.
+void set_link_pose(const Joint& j, bool offset_only, double q, const Pose& error, Pose& link) {
   Pose m = j.placement;  // placement * motion
   switch (j.type) {
     case JointType::linear:
-      if (offset_only) return Pose{error.R, m.t + q * j.direction + error.t};
+      if (offset_only) {
+        link.R = error.R;
+        link.t = m.t + q * j.direction + error.t;
+        return;
+      }
       m.t += j.placement.R * (q * j.direction);
       break;
     case JointType::rotary:
       m.R = offset_only ? so3_exp(q * j.direction) : Mat3(j.placement.R * so3_exp(q * j.direction));
       break;
     case JointType::fixed:
-      if (offset_only) return Pose{error.R, m.t + error.t};
+      if (offset_only) {
+        link.R = error.R;
+        link.t = m.t + error.t;
+        return;
+      }
       break;
   }
-  return compose(m, error);
+  compose_into(m, error, link);
 }
 
 bool same(const Pose& a, const Pose& b) {
@@ -79,12 +95,17 @@ Pose compose_side(const Chain& chain, const std::vector<Pose>& errors, const Eig
     const Joint& j = chain.joints[i];
     const double qi = j.type == JointType::fixed ? 0.0 : q[static_cast<Eigen::Index>(j.axis)];
     if (qi != cache.q[i] || !same(errors[i], cache.errors[i])) {
-      links[i] = link_pose(j, cache.offset_only[i], qi, errors[i]);
+      set_link_pose(j, cache.offset_only[i] != 0, qi, errors[i], links[i]);
       cache.q[i] = qi;
       cache.errors[i] = errors[i];
       changed = true;
     }
-    if (changed) oMi[i] = i == 0 ? links[i] : compose(oMi[i - 1], links[i]);
+    if (changed) {
+      if (i == 0)
+        oMi[i] = links[i];
+      else
+        compose_into(oMi[i - 1], links[i], oMi[i]);
+    }
   }
   const Pose oM = n == 0 ? Pose{} : oMi[n - 1];
   if (!J_error) return oM;

@@ -13,36 +13,83 @@
 namespace ccomp::gcode {
 namespace {
 
-TEST(Number, FormatFixedWritesWhatToCharsWrites) {
-  // Random coordinates of every size the programs carry, values on and next to the
-  // halfway points of each precision (exact binary ties like 0.125, and the decimal ones
-  // like 0.00005 that binary can only come near), and signed zeros.
-  auto expect_same = [](double v, int decimals) {
-    char ours[40], theirs[400];
-    const std::size_t n = format_fixed(v, decimals, ours);
-    const auto end = std::to_chars(theirs, theirs + sizeof theirs, v, std::chars_format::fixed, decimals).ptr;
-    ASSERT_EQ(std::string_view(ours, n), std::string_view(theirs, static_cast<std::size_t>(end - theirs)))
-        << std::hexfloat << v << " with " << decimals << " decimals";
-  };
+/// Random coordinates of every size the programs carry, values on and next to the halfway
+/// points of each precision (exact binary ties like 0.125, and the decimal ones like
+/// 0.00005 that binary can only come near), and signed zeros: each with a precision.
+template <class Check>
+void for_each_coordinate(Check check) {
   std::mt19937_64 rng(7);
   std::uniform_real_distribution<double> unit(-1, 1);
   std::uniform_int_distribution<int> exponent(-8, 12);
   for (int k = 0; k < 200000; ++k) {
     const double v = unit(rng) * std::pow(10.0, exponent(rng));
-    for (int decimals : {0, 3, 4, 5, 6, 9}) expect_same(v, decimals);
+    for (int decimals : {0, 3, 4, 5, 6, 9}) check(v, decimals);
   }
   for (int decimals = 0; decimals <= 9; ++decimals) {
     for (long long m = -3000; m <= 3000; ++m) {
       const double halfway = (static_cast<double>(m) + 0.5) / std::pow(10.0, decimals);
       for (double v : {halfway, std::nextafter(halfway, 1e300), std::nextafter(halfway, -1e300),
                        static_cast<double>(m) / 8.0, static_cast<double>(m) / 1024.0})
-        expect_same(v, decimals);
+        check(v, decimals);
     }
   }
   for (double v : {0.0, -0.0, -1e-12, 1e-12, 1e14 + 0.5, -9.99995e8, 123456789.0125})
-    for (int decimals = 0; decimals <= 12; ++decimals) expect_same(v, decimals);
+    for (int decimals = 0; decimals <= 12; ++decimals) check(v, decimals);
+}
+
+std::string to_chars_fixed(double v, int decimals) {
+  char text[400];
+  const auto end = std::to_chars(text, text + sizeof text, v, std::chars_format::fixed, decimals).ptr;
+  return {text, static_cast<std::size_t>(end - text)};
+}
+
+TEST(Number, FormatFixedWritesWhatToCharsWrites) {
+  for_each_coordinate([](double v, int decimals) {
+    char ours[40];
+    const std::size_t n = format_fixed(v, decimals, ours);
+    ASSERT_EQ(std::string_view(ours, n), to_chars_fixed(v, decimals))
+        << std::hexfloat << v << " with " << decimals << " decimals";
+  });
   char out[40];
   EXPECT_EQ(format_fixed(1e300, 4, out), 0U) << "does not fit: the caller formats it otherwise";
+}
+
+TEST(Number, FixedUnitsAreTheDigitsToCharsWrites) {
+  // The writer compares units instead of texts, and takes units / 10^d for what the text
+  // means: both must hold whenever fixed_units answers, and it must answer for most.
+  std::size_t answered = 0, asked = 0;  // the test is void if it never answers
+  for_each_coordinate([&](double v, int decimals) {
+    ++asked;
+    std::int64_t units = 0;
+    if (!fixed_units(v, decimals, units)) return;
+    ++answered;
+    std::string digits = to_chars_fixed(v, decimals);
+    const bool negative = digits.starts_with('-');
+    std::erase(digits, '-');
+    std::erase(digits, '.');
+    const long long written = std::stoll(digits);
+    ASSERT_EQ(units, negative ? -written : written) << std::hexfloat << v << " with " << decimals << " decimals";
+    const std::string text = to_chars_fixed(v, decimals);
+    double read = 0.0;
+    std::from_chars(text.data() + (negative ? 1 : 0), text.data() + text.size(), read);
+    if (negative) read = -read;
+    ASSERT_EQ(static_cast<double>(units) / std::pow(10.0, decimals), read) << text;
+  });
+  EXPECT_GT(answered, asked / 2);
+  // Many of those sit on or next to halfway points or beyond 1e15; a program's coordinates
+  // nearly never do, and the writer's speed rests on answering for them.
+  std::mt19937_64 rng(11);
+  std::uniform_real_distribution<double> coordinate(-2000, 2000);
+  int program_answered = 0;
+  for (int k = 0; k < 10000; ++k) {
+    std::int64_t u = 0;
+    program_answered += fixed_units(coordinate(rng), 4, u) ? 1 : 0;
+  }
+  EXPECT_GT(program_answered, 9990);
+  std::int64_t units = 0;
+  EXPECT_FALSE(fixed_units(0.00005, 4, units)) << "next to halfway: to_chars decides";
+  EXPECT_FALSE(fixed_units(1e300, 4, units));
+  EXPECT_FALSE(fixed_units(std::nan(""), 4, units));
 }
 
 TEST(Number, ReadDecimalReadsWhatFromCharsReads) {

@@ -43,6 +43,12 @@ inline bool read_decimal(std::string_view t, std::size_t& i, double& value) {
   return true;
 }
 
+/// v * 10^decimals rounded to the nearest integer exactly as std::to_chars(fixed, decimals)
+/// rounds v, when that is cheap to decide: false next to a halfway point, beyond 1e15, or
+/// for more than 9 decimals (format_fixed then asks to_chars). Two values with the same
+/// units are written alike (but for the sign of a zero); the text means units / 10^decimals.
+bool fixed_units(double v, int decimals, std::int64_t& units);
+
 /// Writes v with `decimals` digits after the point into `out` (room for 40 characters) and
 /// returns the length: exactly what std::to_chars(fixed, decimals) writes; 0 when the text
 /// would not fit.

@@ -56,7 +56,7 @@ struct ChainData {
   struct SideCache {
     std::vector<Pose> links, errors;
     std::vector<double> q;
-    std::vector<bool> offset_only;  ///< the joint's placement is a translation
+    std::vector<std::uint8_t> offset_only;  ///< 1: the joint's placement is a translation
   };
   SideCache work_cache_, tool_cache_;
   Eigen::Matrix<double, 6, Eigen::Dynamic> J_q_work_, J_q_tool_;
