@@ -97,7 +97,7 @@ void design_matrix(const model::ForwardModel& model, const Eigen::VectorXd& para
     for (auto i = static_cast<Eigen::Index>(begin); i < static_cast<Eigen::Index>(end); ++i) {
       const Observation& o = data.observations[static_cast<std::size_t>(i)];
       model::forward(model, d, o.q, MeasurementSet::conditions(o), J != nullptr);
-      const Eigen::Matrix3d& R = d.nominal_chain.work_oMi.back().R;  // table frame -> machine axes
+      const Eigen::Matrix3d& R = d.nominal_chain.oMp.R;  // table frame -> machine axes
       r[i] = o.value - o.direction.dot(R * (d.actual - d.nominal));
       if (!J) continue;
       const Eigen::RowVector3d nR = o.direction.transpose() * R;

@@ -128,6 +128,61 @@ Pose compose_side(const Chain& chain, const std::vector<Pose>& errors, const Eig
 
 }  // namespace
 
+NominalData::NominalData(const ChainModel& model) {
+  auto links = [](const Chain& chain) {
+    std::vector<Link> out;
+    for (const Joint& j : chain.joints) {
+      Link l;
+      l.offset_only = j.placement.R.isIdentity(0.0);
+      l.q = 0.0;
+      l.R_motion = j.type == JointType::rotary ? so3_exp(0.0 * j.direction) : Mat3::Identity();
+      out.push_back(l);
+    }
+    return out;
+  };
+  work_links_ = links(model.workpiece);
+  tool_links_ = links(model.tool);
+}
+
+namespace {
+
+/// One side of the perfect machine, base to end: the products error_matrix() makes with
+/// identity error poses, without those factors (multiplying by them is exact).
+Pose nominal_side(const Chain& chain, std::vector<NominalData::Link>& links, const Eigen::Ref<const VecQ>& q) {
+  Pose oM;
+  for (std::size_t i = 0; i < chain.joints.size(); ++i) {
+    const Joint& j = chain.joints[i];
+    NominalData::Link& l = links[i];
+    const double qi = j.type == JointType::fixed ? 0.0 : q[static_cast<Eigen::Index>(j.axis)];
+    Pose link = j.placement;  // placement * motion
+    if (j.type == JointType::linear) {
+      link.t = l.offset_only ? Vec3(j.placement.t + qi * j.direction)
+                             : Vec3(j.placement.t + j.placement.R * (qi * j.direction));
+    } else if (j.type == JointType::rotary) {
+      if (qi != l.q) l.q = qi, l.R_motion = so3_exp(qi * j.direction);
+      if (l.offset_only)
+        link.R = l.R_motion;
+      else
+        link.R = j.placement.R * l.R_motion;
+    }
+    if (i == 0) {
+      oM = link;
+    } else {
+      oM.t += oM.R * link.t;
+      if (j.type == JointType::rotary || !l.offset_only) oM.R = Mat3(oM.R * link.R);
+    }
+  }
+  return oM;
+}
+
+}  // namespace
+
+void nominal_poses(const ChainModel& model, NominalData& data, const Eigen::Ref<const VecQ>& q) {
+  data.oMp = nominal_side(model.workpiece, data.work_links_, q);
+  data.oMtool = nominal_side(model.tool, data.tool_links_, q);
+  data.E = compose(inverse(data.oMp), data.oMtool);
+}
+
 void error_matrix(const ChainModel& model, ChainData& data, const Eigen::Ref<const VecQ>& q, bool jacobians) {
   auto& Jq_work = data.J_q_work_;
   auto& Jq_tool = data.J_q_tool_;

@@ -244,7 +244,7 @@ KeyMatch update_variables(const ForwardModel& model, ForwardData& d, const Chain
 void forward(const ForwardModel& model, ForwardData& d, const ChainQ& q, const Conditions& c, bool jacobians,
              Evaluate which, bool parameter_jacobian) {
   if (which == Evaluate::nominal) {  // the perfect machine: no terms to evaluate
-    kinematics::error_matrix(model.chain(), d.nominal_chain, q, false);
+    kinematics::nominal_poses(model.chain(), d.nominal_chain, q);
     d.nominal = d.nominal_chain.E.t;
     d.R_nominal = d.nominal_chain.E.R;
     return;
@@ -332,7 +332,7 @@ void forward(const ForwardModel& model, ForwardData& d, const ChainQ& q, const C
   d.actual = d.actual_chain.E.t;
   d.R_actual = d.actual_chain.E.R;
   if (which == Evaluate::both) {
-    kinematics::error_matrix(model.chain(), d.nominal_chain, q, false);
+    kinematics::nominal_poses(model.chain(), d.nominal_chain, q);
     d.nominal = d.nominal_chain.E.t;
     d.R_nominal = d.nominal_chain.E.R;
   }
@@ -377,7 +377,7 @@ void take_up_play(const ForwardModel& model, Conditions& c, const ChainQ& a, con
 Eigen::Vector3d deviation(const ForwardData& d) {
   // In the table frame; turned into machine-axis directions by the table's nominal
   // orientation relative to the machine base.
-  const Pose& oMtable = d.nominal_chain.work_oMi.back();
+  const Pose& oMtable = d.nominal_chain.oMp;
   return oMtable.R * (d.actual - d.nominal);
 }
 

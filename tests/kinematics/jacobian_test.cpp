@@ -301,5 +301,29 @@ TEST(Chain, ErrorMatrixIsIdentityWithoutErrorsAndSeesEachError) {
   EXPECT_NEAR((d.E.t - Vec3(0, 0, 0)).norm(), 0.010, 1e-9);
 }
 
+TEST(Chain, NominalPosesAreTheErrorMatrixWithoutErrors) {
+  // The compensation asks for the perfect machine at every move, by the shorter products
+  // of nominal_poses(): they must be error_matrix()'s with identity error poses, to the
+  // bit, on links of every kind (a tilted placement on a rotary axis too), as the rotary
+  // axes turn, stand still and come back.
+  ChainModel m = sample_chain();
+  m.workpiece.joints[2].placement.R = so3_exp(random_vec(1e-3));
+  ChainData d(m);
+  NominalData nominal(m);
+  VecQ q;
+  randomise(d, q);
+  for (Pose& e : d.work_error) e = Pose{};
+  for (Pose& e : d.tool_error) e = Pose{};
+  for (int k = 0; k < 200; ++k) {
+    if (k % 3 == 0) q[4] = uniform(-3, 3);  // else B stands still
+    q[0] = uniform(-400, 400), q[1] = uniform(-300, 300), q[2] = uniform(-200, 200);
+    error_matrix(m, d, q, false);
+    nominal_poses(m, nominal, q);
+    ASSERT_EQ(nominal.E.matrix(), d.E.matrix()) << "at q = " << q.transpose();
+    ASSERT_EQ(nominal.oMp.matrix(), d.work_oMi.back().matrix());
+    ASSERT_EQ(nominal.oMtool.matrix(), d.oMtool.matrix());
+  }
+}
+
 }  // namespace
 }  // namespace ccomp::kinematics

@@ -62,6 +62,28 @@ struct ChainData {
   Eigen::Matrix<double, 6, Eigen::Dynamic> J_q_work_, J_q_tool_;
 };
 
+/// Scratch for nominal_poses(): the perfect machine, which compensation asks for at every
+/// move (the pose the inverse aims at). Built from the model, as ChainData is.
+struct NominalData {
+  explicit NominalData(const ChainModel& model);
+
+  Pose oMp, oMtool;  ///< W -> p, W -> tool tip
+  Pose E;            ///< p -> tool tip
+
+  // internal: per joint, whether its placement is a translation, and a rotary joint's
+  // motion as last computed (an indexing table turns seldom).
+  struct Link {
+    bool offset_only = false;
+    double q = 0.0;
+    Mat3 R_motion = Mat3::Identity();
+  };
+  std::vector<Link> work_links_, tool_links_;
+};
+
+/// The perfect machine at q: what error_matrix() gives with every error pose the identity,
+/// composed without them.
+void nominal_poses(const ChainModel& model, NominalData& data, const Eigen::Ref<const VecQ>& q);
+
 /// The nominal motion of one joint at axis value q, and its right Jacobian d/dq (6 x 1).
 [[nodiscard]] Pose joint_motion(const Joint& joint, double q, Vec6* J = nullptr);
 
