@@ -43,8 +43,9 @@ Pose joint_motion(const Joint& joint, double q, Vec6* J) {
 
 namespace {
 
-/// out = a * b, written in place: the chain's innermost operation, without the temporaries
-/// of a returned Pose.
+/// out = a * b, written in place: the chain's innermost operation. (A pose copied right
+/// after it was stored piecewise waits for the stores to retire, as store forwarding
+/// cannot join them: the chain's poses are written where they stay and read from there.)
 inline void compose_into(const Pose& a, const Pose& b, Pose& out) {
   out.R.noalias() = a.R * b.R;
   out.t.noalias() = a.R * b.t;
@@ -85,7 +86,7 @@ bool same(const Pose& a, const Pose& b) {
 /// Composes one side, base to end. With `J_end`, fills for each link the Jacobian of the
 /// end pose w.r.t. a right perturbation of the link's error pose (Ad of the suffix
 /// inverse), and adds the link's axis motion into J_q_side.
-Pose compose_side(const Chain& chain, const std::vector<Pose>& errors, const Eigen::Ref<const VecQ>& q,
+const Pose& compose_side(const Chain& chain, const std::vector<Pose>& errors, const Eigen::Ref<const VecQ>& q,
                   std::vector<Pose>& oMi, ChainData::SideCache& cache, std::vector<Mat6>* J_error,
                   Eigen::Matrix<double, 6, Eigen::Dynamic>* J_q) {
   const std::size_t n = chain.joints.size();
@@ -107,7 +108,8 @@ Pose compose_side(const Chain& chain, const std::vector<Pose>& errors, const Eig
         compose_into(oMi[i - 1], links[i], oMi[i]);
     }
   }
-  const Pose oM = n == 0 ? Pose{} : oMi[n - 1];
+  static const Pose kIdentity;
+  const Pose& oM = n == 0 ? kIdentity : oMi[n - 1];
   if (!J_error) return oM;
   J_q->setZero();
   Pose suffix;  // links i+1 .. n-1
@@ -186,13 +188,15 @@ void nominal_poses(const ChainModel& model, NominalData& data, const Eigen::Ref<
 void error_matrix(const ChainModel& model, ChainData& data, const Eigen::Ref<const VecQ>& q, bool jacobians) {
   auto& Jq_work = data.J_q_work_;
   auto& Jq_tool = data.J_q_tool_;
-  data.oMp = compose_side(model.workpiece, data.work_error, q, data.work_oMi, data.work_cache_,
-                          jacobians ? &data.J_work_error : nullptr, &Jq_work);
-  data.oMtool = compose_side(model.tool, data.tool_error, q, data.tool_oMi, data.tool_cache_,
-                             jacobians ? &data.J_tool_error : nullptr, &Jq_tool);
+  const Pose& oMp = compose_side(model.workpiece, data.work_error, q, data.work_oMi, data.work_cache_,
+                                 jacobians ? &data.J_work_error : nullptr, &Jq_work);
+  const Pose& oMtool = compose_side(model.tool, data.tool_error, q, data.tool_oMi, data.tool_cache_,
+                                    jacobians ? &data.J_tool_error : nullptr, &Jq_tool);
   Mat6 J_inv, J_a, J_b;
-  const Pose pMo = inverse(data.oMp, jacobians ? &J_inv : nullptr);
-  data.E = compose(pMo, data.oMtool, jacobians ? &J_a : nullptr, jacobians ? &J_b : nullptr);
+  const Pose pMo = inverse(oMp, jacobians ? &J_inv : nullptr);
+  data.E = compose(pMo, oMtool, jacobians ? &J_a : nullptr, jacobians ? &J_b : nullptr);
+  data.oMp = oMp;  // copied last: just composed, they are still being stored
+  data.oMtool = oMtool;
   if (!jacobians) return;
   const Mat6 J_E_oMp = J_a * J_inv;  // through the inverse of the workpiece side
   for (Mat6& J : data.J_work_error) J = J_E_oMp * J;
