@@ -83,9 +83,12 @@ void cubic_weights(const std::vector<double>& x, double v, Eigen::VectorXd& w, E
 /// when it is near (no sine), else computed and taken as the new reference.
 void first_harmonic(double phase1, TermValue& r, double& c1, double& s1) {
   if (const double delta = phase1 - r.phase_reference; std::abs(delta) < 0.05) {
+    // Multiplied by the reciprocals, not divided: a division takes several times as long,
+    // and the last bit of these small terms is far below the sum's.
     const double d2 = delta * delta;
-    const double cd = 1.0 - d2 / 2.0 * (1.0 - d2 / 12.0 * (1.0 - d2 / 30.0 * (1.0 - d2 / 56.0 * (1.0 - d2 / 90.0))));
-    const double sd = delta * (1.0 - d2 / 6.0 * (1.0 - d2 / 20.0 * (1.0 - d2 / 42.0 * (1.0 - d2 / 72.0))));
+    const double cd =
+        1.0 - d2 * 0.5 * (1.0 - d2 * (1.0 / 12) * (1.0 - d2 * (1.0 / 30) * (1.0 - d2 * (1.0 / 56) * (1.0 - d2 * (1.0 / 90)))));
+    const double sd = delta * (1.0 - d2 * (1.0 / 6) * (1.0 - d2 * (1.0 / 20) * (1.0 - d2 * (1.0 / 42) * (1.0 - d2 * (1.0 / 72)))));
     c1 = r.cos_reference * cd - r.sin_reference * sd;
     s1 = r.sin_reference * cd + r.cos_reference * sd;
   } else {
