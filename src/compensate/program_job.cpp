@@ -7,6 +7,7 @@
 #include <cctype>
 #include <charconv>
 #include <cmath>
+#include <deque>
 #include <exception>
 #include <memory>
 #include <optional>
@@ -345,10 +346,13 @@ class JobSink : public gcode::CanonSink {
            "implemented yet");
   }
 
-  // The pipeline of moves. The interpreter fills one batch of moves while the other is
-  // compensated (on the worker thread, or here), then the compensated batch is written
+  // The pipeline of moves. The interpreter fills a batch of moves while those before it are
+  // compensated (on the worker thread, or here), then the compensated batches are written
   // here, in order; so the compensator sees the same moves in the same order either way.
+  // Three batches: while one fills, two may wait for or be in compensation, so that a
+  // batch the reading thread took longer over does not leave the worker idle.
   static constexpr std::size_t kBatch = 4096;
+  static constexpr std::size_t kBatches = 3;
 
   void queue_move(const gcode::Motion& m) {
     MoveBatch& batch = batches_[filling_];
@@ -371,35 +375,32 @@ class JobSink : public gcode::CanonSink {
     if (batch.filled == kBatch) pass_batch();
   }
 
-  /// The filled batch goes to be compensated; the one compensated before it is written.
+  /// The filled batch goes to be compensated; when no batch is left to fill, the oldest is
+  /// written once compensated, and filled next.
   void pass_batch() {
-    const int compensated = in_flight_;
-    if (compensated >= 0 && worker_) worker_->wait();
-    in_flight_ = static_cast<int>(filling_);
+    const std::size_t b = filling_;
+    std::size_t ticket = 0;
     if (worker_)
-      worker_->run([this, b = filling_] { solver_->solve_batch(batches_[b]); });
+      ticket = worker_->run([this, b] { solver_->solve_batch(batches_[b]); });
     else
-      solver_->solve_batch(batches_[filling_]);
-    filling_ = 1 - filling_;
-    if (compensated >= 0) write_batch(static_cast<std::size_t>(compensated));
+      solver_->solve_batch(batches_[b]);
+    in_flight_.push_back({b, ticket});
+    filling_ = (filling_ + 1) % kBatches;  // the ring's order: the oldest batch is next
+    if (in_flight_.size() == kBatches) write_oldest();
+  }
+
+  void write_oldest() {
+    const InFlight oldest = in_flight_.front();
+    if (worker_) worker_->wait(oldest.ticket);
+    in_flight_.pop_front();
+    write_batch(oldest.batch);
   }
 
  public:
   /// Compensates and writes every move queued so far.
   void drain() {
-    for (int k = 0; k < 2 && (in_flight_ >= 0 || batches_[filling_].filled > 0); ++k) {
-      if (batches_[filling_].filled > 0) {
-        pass_batch();
-      } else {
-        if (worker_) worker_->wait();
-        const auto b = static_cast<std::size_t>(std::exchange(in_flight_, -1));
-        write_batch(b);
-      }
-    }
-    if (in_flight_ >= 0) {
-      if (worker_) worker_->wait();
-      write_batch(static_cast<std::size_t>(std::exchange(in_flight_, -1)));
-    }
+    if (batches_[filling_].filled > 0) pass_batch();
+    while (!in_flight_.empty()) write_oldest();
   }
 
   /// The job stopped with an error: a move queued before it may have failed first (its
@@ -871,9 +872,13 @@ class JobSink : public gcode::CanonSink {
   /// on the writing side (it changes nothing the compensation decides).
   std::unique_ptr<Compensator> error_before_;
   std::unique_ptr<model::ForwardData> nominal_;  ///< scratch for the moves' nominal ends
-  std::array<MoveBatch, 2> batches_;
+  std::array<MoveBatch, kBatches> batches_;
   std::size_t filling_ = 0;  ///< the batch the interpreter fills
-  int in_flight_ = -1;       ///< the batch being compensated, to be written next
+  struct InFlight {
+    std::size_t batch = 0;   ///< index into batches_
+    std::size_t ticket = 0;  ///< the worker's, for its compensation
+  };
+  std::deque<InFlight> in_flight_;  ///< filled batches in program order, to be written
   bool failed_ = false;      ///< writing a move failed: nothing more is written
   /// Last: destroyed (joined) first, while what it works on still exists.
   std::unique_ptr<util::BackgroundThread> worker_;

@@ -1,10 +1,14 @@
-// The parallel helpers: every index handled exactly once whatever the thread count, and a
-// failure on any thread reaches the caller.
+// The parallel helpers: every index handled exactly once whatever the thread count, a
+// failure on any thread reaches the caller, and a background thread runs what it is given
+// in order, each ticket done when its wait returns.
 #include "ccomp/util/parallel.hpp"
 
 #include <gtest/gtest.h>
 
+#include <atomic>
+#include <chrono>
 #include <stdexcept>
+#include <thread>
 #include <vector>
 
 namespace ccomp::util {
@@ -37,6 +41,31 @@ TEST(Parallel, AFailureOnAnyThreadReachesTheCaller) {
                                 if (begin > 0) throw std::runtime_error("a later piece");
                               }),
                std::runtime_error);
+}
+
+TEST(Parallel, BackgroundThreadRunsItsQueueInOrder) {
+  BackgroundThread worker;
+  std::vector<int> order;  // written by the worker only, read after a wait
+  std::atomic<bool> release{false};
+  // The first piece holds the thread while more are queued: run() must not wait for it.
+  const std::size_t first = worker.run([&] {
+    while (!release) std::this_thread::sleep_for(std::chrono::microseconds(50));
+    order.push_back(1);
+  });
+  std::vector<std::size_t> tickets{first};
+  for (int k = 2; k <= 5; ++k) tickets.push_back(worker.run([&order, k] { order.push_back(k); }));
+  EXPECT_EQ(tickets, (std::vector<std::size_t>{1, 2, 3, 4, 5}));
+  release = true;
+  worker.wait(tickets[2]);
+  ASSERT_GE(order.size(), 3U) << "wait(3) returned before the third piece was done";
+  worker.wait();
+  EXPECT_EQ(order, (std::vector<int>{1, 2, 3, 4, 5}));
+  // A failure reaches the next wait, and the pieces after it still run.
+  worker.run([] { throw std::runtime_error("a piece failed"); });
+  const std::size_t after = worker.run([&order] { order.push_back(6); });
+  EXPECT_THROW(worker.wait(after), std::runtime_error);
+  EXPECT_EQ(order.back(), 6);
+  EXPECT_NO_THROW(worker.wait());
 }
 
 }  // namespace

@@ -6,6 +6,7 @@
 #include <atomic>
 #include <condition_variable>
 #include <cstddef>
+#include <deque>
 #include <exception>
 #include <functional>
 #include <mutex>
@@ -61,9 +62,10 @@ void for_each_index(std::size_t n, int threads, Fn&& fn) {
   });
 }
 
-/// One thread that runs a piece of work while its owner goes on with another: a pipeline
-/// of two stages. run() hands work over once the last is done; wait() returns when it is,
-/// and rethrows what it threw.
+/// One thread that runs pieces of work, in the order they were queued, while its owner goes
+/// on with others: the second stage of a pipeline. run() queues a piece and returns its
+/// ticket (1, 2, ...); wait(ticket) returns once that piece and those before it are done,
+/// wait() once all are, and both rethrow the first failure.
 class BackgroundThread {
  public:
   BackgroundThread() : thread_([this] { loop(); }) {}
@@ -78,29 +80,32 @@ class BackgroundThread {
     thread_.join();
   }
 
-  void run(std::function<void()> work) {
-    wait();
+  std::size_t run(std::function<void()> work) {
+    std::size_t ticket = 0;
     {
       const std::lock_guard lock(mutex_);
-      work_ = std::move(work);
-      busy_ = true;
+      queue_.push_back(std::move(work));
+      ticket = ++queued_;
     }
     wake_.notify_all();
+    return ticket;
   }
 
-  void wait() {
+  void wait(std::size_t ticket) {
     std::unique_lock lock(mutex_);
-    done_.wait(lock, [this] { return !busy_; });
+    done_.wait(lock, [&] { return done_count_ >= std::min(ticket, queued_); });
     if (failure_) std::rethrow_exception(std::exchange(failure_, nullptr));
   }
+  void wait() { wait(static_cast<std::size_t>(-1)); }
 
  private:
   void loop() {
     std::unique_lock lock(mutex_);
     for (;;) {
-      wake_.wait(lock, [this] { return busy_ || stop_; });
-      if (!busy_) return;
-      std::function<void()> work = std::move(work_);
+      wake_.wait(lock, [this] { return !queue_.empty() || stop_; });
+      if (queue_.empty()) return;
+      std::function<void()> work = std::move(queue_.front());
+      queue_.pop_front();
       lock.unlock();
       std::exception_ptr failure;
       try {
@@ -109,17 +114,18 @@ class BackgroundThread {
         failure = std::current_exception();
       }
       lock.lock();
-      failure_ = failure;
-      busy_ = false;
+      if (failure && !failure_) failure_ = failure;
+      ++done_count_;
       done_.notify_all();
     }
   }
 
   std::mutex mutex_;
   std::condition_variable wake_, done_;
-  std::function<void()> work_;
+  std::deque<std::function<void()>> queue_;
+  std::size_t queued_ = 0, done_count_ = 0;
   std::exception_ptr failure_;
-  bool busy_ = false, stop_ = false;
+  bool stop_ = false;
   std::thread thread_;  // last: it starts once the rest is built
 };
 
