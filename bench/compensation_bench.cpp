@@ -1,10 +1,13 @@
 // Speed of the compensation core: the inverse (points/s) and the forward model with its
-// Jacobians, on the full 46-term sample HMC.
+// Jacobians, on the full 46-term sample HMC, and with laser tables of X Y Z added.
 #include <benchmark/benchmark.h>
 
 #include <algorithm>
 #include <cmath>
+#include <fstream>
 #include <random>
+#include <sstream>
+#include <string>
 
 #include "ccomp/compensate/inverse.hpp"
 #include "ccomp/model/forward.hpp"
@@ -87,6 +90,37 @@ void ForwardWithJacobians(benchmark::State& state) {
   state.SetItemsProcessed(static_cast<std::int64_t>(state.iterations()));
 }
 BENCHMARK(ForwardWithJacobians)->Arg(0)->Arg(1)->Unit(benchmark::kMicrosecond);
+
+/// The sample HMC with cubic laser tables of `knots` values added to EXX, EYY and EZZ:
+/// a table's cost must not grow with its length once its spline is solved.
+ccomp::model::MachineModel with_laser_tables(int knots) {
+  std::ifstream in(CCOMP_SOURCE_DIR "/samples/machines/hmc-xyzb.yaml");
+  std::stringstream text;
+  text << in.rdbuf();
+  for (const char* name : {"EXX", "EYY", "EZZ"}) {
+    text << "  - {name: " << name << ", form: table, interpolation: cubic, unit: um, at: [";
+    for (int k = 0; k < knots; ++k) text << (k ? ", " : "") << -500.0 + 1000.0 * k / (knots - 1);
+    text << "], values: [";
+    for (int k = 0; k < knots; ++k) text << (k ? ", " : "") << 2.0 * std::sin(0.7 * k);
+    text << "]}\n";
+  }
+  return ccomp::model::parse_machine_model(text.str(), "hmc-with-laser-tables");
+}
+
+void ForwardWithLaserTables(benchmark::State& state) {
+  const ccomp::model::MachineModel mm = with_laser_tables(static_cast<int>(state.range(0)));
+  const ccomp::model::ForwardModel m(mm);
+  ccomp::model::ForwardData d(m);
+  const auto qs = poses(1000);
+  const auto c = conditions();
+  std::size_t i = 0;
+  for (auto _ : state) {
+    ccomp::model::forward(m, d, qs[i++ % qs.size()], c);
+    benchmark::DoNotOptimize(d.actual);
+  }
+  state.SetItemsProcessed(static_cast<std::int64_t>(state.iterations()));
+}
+BENCHMARK(ForwardWithLaserTables)->Arg(11)->Arg(41)->Arg(201)->Unit(benchmark::kMicrosecond);
 
 }  // namespace
 

@@ -1,53 +1,14 @@
 #include "ccomp/model/error_term.hpp"
 
-#include <Eigen/LU>
 #include <algorithm>
 #include <cmath>
+
+#include "ccomp/model/cubic_spline.hpp"
 
 namespace ccomp::model {
 namespace {
 
 constexpr double kTwoPi = 2.0 * 3.14159265358979323846;
-
-/// Natural cubic spline through (x_i, y_i): the weights w_i(v) with s(v) = sum w_i y_i and
-/// their derivatives dw_i/dv. The spline is linear in the values, so weights give both the
-/// value and the gradient with respect to every value.
-void cubic_weights(const std::vector<double>& x, double v, Eigen::VectorXd& w, Eigen::VectorXd& dw) {
-  const auto n = static_cast<Eigen::Index>(x.size());
-  w = Eigen::VectorXd::Zero(n);
-  dw = Eigen::VectorXd::Zero(n);
-  if (n == 1) {
-    w[0] = 1.0;
-    return;
-  }
-  // Second derivatives M = A^-1 B y (natural: M_0 = M_{n-1} = 0): solve for the basis.
-  Eigen::MatrixXd A = Eigen::MatrixXd::Zero(n, n), B = Eigen::MatrixXd::Zero(n, n);
-  A(0, 0) = A(n - 1, n - 1) = 1.0;
-  for (Eigen::Index i = 1; i + 1 < n; ++i) {
-    const double h0 = x[static_cast<std::size_t>(i)] - x[static_cast<std::size_t>(i - 1)];
-    const double h1 = x[static_cast<std::size_t>(i + 1)] - x[static_cast<std::size_t>(i)];
-    A(i, i - 1) = h0 / 6.0;
-    A(i, i) = (h0 + h1) / 3.0;
-    A(i, i + 1) = h1 / 6.0;
-    B(i, i - 1) = 1.0 / h0;
-    B(i, i) = -1.0 / h0 - 1.0 / h1;
-    B(i, i + 1) = 1.0 / h1;
-  }
-  const Eigen::MatrixXd Mbasis = A.partialPivLu().solve(B);  // M = Mbasis * y
-  const double vc = std::clamp(v, x.front(), x.back());
-  auto k = static_cast<Eigen::Index>(std::upper_bound(x.begin(), x.end(), vc) - x.begin()) - 1;
-  k = std::clamp<Eigen::Index>(k, 0, n - 2);
-  const double x0 = x[static_cast<std::size_t>(k)], x1 = x[static_cast<std::size_t>(k + 1)];
-  const double h = x1 - x0, a = (x1 - vc) / h, b = (vc - x0) / h;
-  // s = a y_k + b y_k+1 + ((a^3 - a) M_k + (b^3 - b) M_k+1) h^2 / 6
-  w[k] += a;
-  w[k + 1] += b;
-  w += ((a * a * a - a) * Mbasis.row(k).transpose() + (b * b * b - b) * Mbasis.row(k + 1).transpose()) * h * h / 6.0;
-  if (v != vc) return;  // held constant outside the table
-  dw[k] -= 1.0 / h;
-  dw[k + 1] += 1.0 / h;
-  dw += ((-(3 * a * a - 1)) * Mbasis.row(k).transpose() + (3 * b * b - 1) * Mbasis.row(k + 1).transpose()) * h / 6.0;
-}
 
 /// A table's value: kept out of evaluate() so its dynamic vectors do not weigh on the
 /// other forms' calls (the forward model evaluates every term at every point).
@@ -55,11 +16,10 @@ void cubic_weights(const std::vector<double>& x, double v, Eigen::VectorXd& w, E
                                       bool grad, TermValue& r) {
   const auto n = static_cast<Eigen::Index>(s.knots.size());
   if (s.interpolation == Interpolation::cubic) {
-    Eigen::VectorXd w, dw;
-    cubic_weights(s.knots, v, w, dw);
-    r.value = w.dot(p);
-    r.d_primary = dw.dot(p);
-    if (grad) r.d_parameters = w;
+    std::vector<double> moments;
+    spline_moments(s.knots, p.data(), moments);
+    r.value = spline_value(s.knots, p.data(), moments.data(), v, &r.d_primary);
+    if (grad) spline_weights(s.knots, v, r.d_parameters);
     return;
   }
   // Linear: two knots, no vectors (a fit evaluates every table at every reading).

@@ -8,6 +8,7 @@
 #include <limits>
 
 #include "ccomp/error.hpp"
+#include "ccomp/model/cubic_spline.hpp"
 
 namespace ccomp::model {
 
@@ -131,6 +132,7 @@ ForwardData::ForwardData(const ForwardModel& model)
       posed_work_error(work_error.size(), Eigen::Matrix<double, 6, 1>::Constant(std::nan(""))),
       posed_tool_error(tool_error.size(), Eigen::Matrix<double, 6, 1>::Constant(std::nan(""))),
       values(model.machine().terms.size()),
+      table_moments(values.size()),
       evaluated_inputs(values.size(), TermInputs{std::nan(""), std::nan("")}),
       variables(ForwardModel::kFirstTemperatureVariable + model.machine().sensors.size(), 0.0),
       key(variables.size() - ForwardModel::kTimeVariable + model.parameter_count()),
@@ -204,8 +206,17 @@ double term_value(const ErrorTermSpec& t, std::size_t offset, ForwardData& d, st
   if (inline_value(t, d.parameters.data() + offset, in, value)) return value;
   TermInputs& last = d.evaluated_inputs[i];
   if (!same_parameters || in.primary != last.primary || in.secondary != last.secondary) {
-    evaluate(t.shape, d.parameters.segment(static_cast<Eigen::Index>(offset), t.parameters.size()), in, false,
-             d.values[i]);
+    if (t.shape.form == TermForm::table && t.shape.interpolation == Interpolation::cubic) {
+      // Solved again whenever the parameters' key changed: every term passes here then (as
+      // for the values kept above), so moments kept under the same key are this table's.
+      const double* p = d.parameters.data() + offset;
+      std::vector<double>& moments = d.table_moments[i];
+      if (!same_parameters || moments.empty()) spline_moments(t.shape.knots, p, moments);
+      d.values[i].value = spline_value(t.shape.knots, p, moments.data(), in.primary, &d.values[i].d_primary);
+    } else {
+      evaluate(t.shape, d.parameters.segment(static_cast<Eigen::Index>(offset), t.parameters.size()), in, false,
+               d.values[i]);
+    }
     last = in;
   }
   return d.values[i].value;

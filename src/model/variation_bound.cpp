@@ -4,6 +4,8 @@
 #include <cmath>
 #include <limits>
 
+#include "ccomp/model/cubic_spline.hpp"
+
 namespace ccomp::model {
 namespace {
 
@@ -71,30 +73,6 @@ double power_bound(double c, double magnitude, int k) {
   return k == 0 ? std::abs(c) : std::abs(c) * std::pow(magnitude, k);
 }
 
-/// A natural cubic spline's second derivatives at its knots (zero at the ends).
-std::vector<double> spline_curvatures(const std::vector<double>& x, const Eigen::VectorXd& y) {
-  const std::size_t n = x.size();
-  std::vector<double> m(n, 0.0);
-  if (n < 3) return m;
-  // Tridiagonal in M_1 .. M_{n-2}, diagonally dominant: forward elimination, back substitution.
-  std::vector<double> diagonal(n, 0.0), rhs(n, 0.0), upper(n, 0.0);
-  for (std::size_t i = 1; i + 1 < n; ++i) {
-    const double h0 = x[i] - x[i - 1], h1 = x[i + 1] - x[i];
-    const double lower = h0 / 6.0;
-    diagonal[i] = (h0 + h1) / 3.0;
-    upper[i] = h1 / 6.0;
-    rhs[i] = (y[static_cast<Eigen::Index>(i + 1)] - y[static_cast<Eigen::Index>(i)]) / h1 -
-             (y[static_cast<Eigen::Index>(i)] - y[static_cast<Eigen::Index>(i - 1)]) / h0;
-    if (i > 1) {
-      const double f = lower / diagonal[i - 1];
-      diagonal[i] -= f * upper[i - 1];
-      rhs[i] -= f * rhs[i - 1];
-    }
-  }
-  for (std::size_t i = n - 2; i >= 1; --i) m[i] = (rhs[i] - (i + 2 < n ? upper[i] * m[i + 1] : 0.0)) / diagonal[i];
-  return m;
-}
-
 void table_bound(const TermShape& s, const Eigen::VectorXd& p, TermBound& b) {
   const std::vector<double>& x = s.knots;
   const std::size_t n = x.size();
@@ -114,7 +92,8 @@ void table_bound(const TermShape& s, const Eigen::VectorXd& p, TermBound& b) {
     for (std::size_t k = 1; k + 1 < n; ++k) b.kink = std::max(b.kink, std::abs(slope[k] - slope[k - 1]));
     return;
   }
-  const std::vector<double> m = spline_curvatures(x, p);
+  std::vector<double> m;
+  spline_moments(x, p.data(), m);
   double largest = 0.0, widest = 0.0;
   for (std::size_t k = 0; k + 1 < n; ++k) {
     const double h = x[k + 1] - x[k];

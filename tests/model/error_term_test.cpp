@@ -99,6 +99,34 @@ TEST(TermForms, TablesPassThroughTheirValuesAndHoldOutside) {
   }
 }
 
+TEST(TermForms, CubicTableIsTheNaturalSpline) {
+  // A long laser table with uneven knots: the spline must be twice continuously
+  // differentiable at every interior knot, straight at both ends, and reproduce a
+  // straight line exactly (a natural spline does); its weights must sum to one.
+  TermShape s = table(Interpolation::cubic);
+  s.knots.clear();
+  Eigen::VectorXd y(61), line(61);
+  for (Eigen::Index k = 0; k < 61; ++k) {
+    s.knots.push_back(-600.0 + 20.0 * static_cast<double>(k) + (k % 3 == 1 ? 7.0 : 0.0));
+    y[k] = 0.003 * std::sin(0.9 * static_cast<double>(k)) + 1e-5 * s.knots.back();
+    line[k] = 0.002 - 3e-6 * s.knots.back();
+  }
+  auto at = [&](double v) { return evaluate(s, y, {v, 0}); };
+  const double e = 1e-4;
+  auto curvature = [&](double v) { return (at(v + e).d_primary - at(v - e).d_primary) / (2 * e); };
+  for (std::size_t k = 1; k + 1 < s.knots.size(); ++k) {
+    const double x = s.knots[k];
+    EXPECT_NEAR(at(x - 1e-7).d_primary, at(x + 1e-7).d_primary, 1e-10) << "slope jumps at knot " << k;
+    EXPECT_NEAR(curvature(x - 2 * e), curvature(x + 2 * e), 2e-8) << "curvature jumps at knot " << k;
+  }
+  EXPECT_NEAR(curvature(s.knots.front() + 2 * e), 0.0, 1e-8);
+  EXPECT_NEAR(curvature(s.knots.back() - 2 * e), 0.0, 1e-8);
+  for (double v : {-583.3, -1.0, 77.7, 591.0}) {
+    EXPECT_NEAR(evaluate(s, line, {v, 0}).value, 0.002 - 3e-6 * v, 1e-15) << v;
+    EXPECT_NEAR(evaluate(s, y, {v, 0}, true).d_parameters.sum(), 1.0, 1e-12) << v;
+  }
+}
+
 TEST(TermForms, PeriodicRepeatsReversalSplitsThermalStartsAtZero) {
   const TermShape p = shape(TermForm::periodic, 2);
   const Eigen::VectorXd pp = vec({6.0, 0.003, -0.001, 0.0005, 0.0002});

@@ -179,6 +179,7 @@ TEST(Forward, TermsOffTheAxesFollowTheConditionsAndParameters) {
   - {name: EXX, variable: vx, form: reversal, reversal: -6 um}
   - {name: EYY, variable: y, form: scale_expansion, temperature: T_spindle, coefficient: 11e-6, reference: 20}
   - {name: EZY, variable: y, form: periodic, period: 5 mm, unit: um, harmonics: [[1.5, 0.5]]}
+  - {name: EYX, form: table, interpolation: cubic, unit: um, at: [-200, 0, 150, 300], values: [1, -2, 0.5, 3]}
 )",
                                               "m.yaml");
   const ForwardModel m(mm);
@@ -214,6 +215,11 @@ TEST(Forward, TermsOffTheAxesFollowTheConditionsAndParameters) {
   changed("a parameter of a term off the axes");
   kept.parameters[m.parameter_offset(5) + 1] += 1e-4;  // EZY's first cosine, at an unchanged Y
   changed("a parameter of a periodic term (evaluated apart, its value kept while Y stands still)");
+  kept.parameters[m.parameter_offset(6) + 2] += 1e-4;  // a value of EYX's cubic table
+  changed("a value of a cubic table (its spline solved anew)");
+  forward(m, kept, q, c, true);  // an evaluation with Jacobians keeps no key
+  kept.parameters[m.parameter_offset(6) + 1] -= 2e-4;
+  changed("a table value after an evaluation with Jacobians");
   q[1] += 1;
   changed("Y");
   c.temperatures[1] = 30;

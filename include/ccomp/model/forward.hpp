@@ -116,6 +116,10 @@ struct ForwardData {
   /// not change since (an axis standing still, a thermal drift) keeps its pose.
   std::vector<Eigen::Matrix<double, 6, 1>> posed_work_error, posed_tool_error;
   std::vector<TermValue> values;
+  /// Each cubic table's spline moments under the parameters' key below (a table's values
+  /// change only in a fit): evaluating it is then a binary search and a few products,
+  /// however long the table. Empty for the other terms.
+  std::vector<std::vector<double>> table_moments;
   /// What each term's value was last evaluated from: a term whose inputs are unchanged, and
   /// the parameters too (the key below), keeps its value.
   std::vector<TermInputs> evaluated_inputs;
