@@ -59,4 +59,18 @@ for tol in 0.010 0.005 0.002 0.001 0.0005 0.0002; do
   printf '  %-10s %8d %12d %14.1f\n' "$(echo "$tol*1000" | bc -l | sed 's/0*$//;s/\.$//') um" "$moves" "$added" \
     "$(echo "$added/$moves" | bc -l)"
 done
-rm -f "$work/out.ngc" "$work/t.ngc"
+
+echo
+echo "peak memory with bent moves (full circles of 100 mm radius, about 1,000 chords each at 1 um):"
+for circles in 400 1600; do
+  { printf 'G21 G90 G94 G54\nT1 M6\nG43 H1\nG0 X100 Y0 Z-90 B0\nG1 F1500\n'
+    for ((k = 0; k < circles; ++k)); do printf 'G2 X100 Y0 I-100 J0\n'; done
+    printf 'M30\n'; } > "$work/circles.ngc"
+  t0=$(date +%s.%N)
+  /usr/bin/time -f '%M' -o "$work/rss" "$ccomp" "$work/circles.ngc" -m "$model" -o "$work/out.ngc" \
+    --tool-table "$work/tools-mm.tbl" "${sensors[@]}" 2> "$work/summary" || { cat "$work/summary"; exit 1; }
+  t1=$(date +%s.%N)
+  printf '  %5d circles: %9d lines written in %6.2f s, peak RSS %.1f MB\n' "$circles" "$(wc -l < "$work/out.ngc")" \
+    "$(echo "$t1 - $t0" | bc -l)" "$(echo "$(cat "$work/rss")/1024" | bc -l)"
+done
+rm -f "$work/out.ngc" "$work/t.ngc" "$work/circles.ngc"

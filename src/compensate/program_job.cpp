@@ -82,7 +82,7 @@ WrittenValue format_value(double v, const NumberStyle& style) {
   std::int64_t units = 0;
   static constexpr double kPower[] = {1e0, 1e1, 1e2, 1e3, 1e4, 1e5, 1e6, 1e7, 1e8, 1e9};
   written.value = gcode::fixed_units(v, style.decimals, units) ? static_cast<double>(units) / kPower[style.decimals]
-                                                                 : number_of(text);
+                                                               : number_of(text);
   return written;
 }
 
@@ -123,13 +123,18 @@ struct alignas(64) MoveBatch {
   std::size_t filled = 0;
 };
 
-/// Points along an arc (controlled points, machine frame), start and end included, whose
-/// chords stay within `tolerance` of it (sagitta r (1 - cos(step / 2))).
-void arc_chords(const gcode::Motion& m, double tolerance, std::vector<gcode::Axes>& out) {
-  const gcode::ArcGeometry g = gcode::arc_geometry(m);
+/// How many chords an arc takes to stay within `tolerance` of it (sagitta r (1 - cos(step / 2))).
+std::size_t arc_chord_count(const gcode::ArcGeometry& g, double tolerance) {
   const double r = std::max(g.r_start, g.r_end);
   const double step = r > tolerance ? 2.0 * std::acos(1.0 - tolerance / r) : 2.0 * 3.14159265358979323846;
-  const auto n = static_cast<std::size_t>(std::max(1.0, std::ceil(g.sweep / step)));
+  return static_cast<std::size_t>(std::max(1.0, std::ceil(g.sweep / step)));
+}
+
+/// Points along an arc (controlled points, machine frame), start and end included, whose
+/// chords stay within `tolerance` of it.
+void arc_chords(const gcode::Motion& m, double tolerance, std::vector<gcode::Axes>& out) {
+  const gcode::ArcGeometry g = gcode::arc_geometry(m);
+  const std::size_t n = arc_chord_count(g, tolerance);
   out.resize(n + 1);
   for (std::size_t k = 0; k <= n; ++k) {
     const double f = static_cast<double>(k) / static_cast<double>(n);
@@ -351,8 +356,19 @@ class JobSink : public gcode::CanonSink {
   // here, in order; so the compensator sees the same moves in the same order either way.
   // Three batches: while one fills, two may wait for or be in compensation, so that a
   // batch the reading thread took longer over does not leave the worker idle.
+  // A batch holds at most kBatch moves and about kBatchPoints compensated points (arcs'
+  // chords, long moves' checks, as expected_points() foresees them): a program of full
+  // circles at 1 um gives thousands of points a move, and memory must not grow with that.
   static constexpr std::size_t kBatch = 4096;
+  static constexpr std::size_t kBatchPoints = 4 * kBatch;
   static constexpr std::size_t kBatches = 3;
+
+  /// The points a move is expected to give: its chords (half the tolerance, as solve()
+  /// takes them), else the points the model checks it at.
+  [[nodiscard]] std::size_t expected_points(const gcode::Motion& m, const model::ChainQ& end) const {
+    if (m.kind == gcode::MotionKind::arc) return arc_chord_count(gcode::arc_geometry(m), options_.tolerance / 2.0);
+    return static_cast<std::size_t>(forward_->check_points(chain_of(m.start, *m.offsets), end, 1));
+  }
 
   void queue_move(const gcode::Motion& m) {
     MoveBatch& batch = batches_[filling_];
@@ -370,15 +386,18 @@ class JobSink : public gcode::CanonSink {
     t.offset = line_.offset;
     t.terminator.assign(line_.terminator);
     // The nominal pose at its end, here: it balances the two threads' work.
-    model::forward(*forward_, *nominal_, chain_of(m.end, t.offsets), {}, false, model::Evaluate::nominal);
+    const model::ChainQ end = chain_of(m.end, t.offsets);
+    model::forward(*forward_, *nominal_, end, {}, false, model::Evaluate::nominal);
     t.end_pose = {nominal_->nominal, nominal_->R_nominal};
-    if (batch.filled == kBatch) pass_batch();
+    batch_points_ += expected_points(m, end);
+    if (batch.filled == kBatch || batch_points_ >= kBatchPoints) pass_batch();
   }
 
   /// The filled batch goes to be compensated; when no batch is left to fill, the oldest is
   /// written once compensated, and filled next.
   void pass_batch() {
     const std::size_t b = filling_;
+    batch_points_ = 0;
     std::size_t ticket = 0;
     if (worker_)
       ticket = worker_->run([this, b] { solver_->solve_batch(batches_[b]); });
@@ -873,13 +892,14 @@ class JobSink : public gcode::CanonSink {
   std::unique_ptr<Compensator> error_before_;
   std::unique_ptr<model::ForwardData> nominal_;  ///< scratch for the moves' nominal ends
   std::array<MoveBatch, kBatches> batches_;
-  std::size_t filling_ = 0;  ///< the batch the interpreter fills
+  std::size_t filling_ = 0;       ///< the batch the interpreter fills
+  std::size_t batch_points_ = 0;  ///< the points expected of the batch being filled
   struct InFlight {
     std::size_t batch = 0;   ///< index into batches_
     std::size_t ticket = 0;  ///< the worker's, for its compensation
   };
   std::deque<InFlight> in_flight_;  ///< filled batches in program order, to be written
-  bool failed_ = false;      ///< writing a move failed: nothing more is written
+  bool failed_ = false;             ///< writing a move failed: nothing more is written
   /// Last: destroyed (joined) first, while what it works on still exists.
   std::unique_ptr<util::BackgroundThread> worker_;
 };

@@ -68,6 +68,23 @@ TEST(Pipeline, TwoThreadsWriteWhatOneWrites) {
   EXPECT_LT(one.max_error_after, 0.001);
 }
 
+TEST(Pipeline, BatchesOfBentMovesHoldFewerMoves) {
+  // Full circles of 60 mm radius give about 500 chords each at 1 um: a batch passes on
+  // after some 30 of them (its points, not its moves, are bounded), several times over
+  // this program; the output must not depend on where the batches end.
+  const model::MachineModel mm = model::load_machine_model(source_dir() + "/samples/machines/hmc-xyzb.yaml");
+  std::string program = "G21 G90 G94 G54\nT1 M6\nG43 H1\nG0 X60 Y0 Z-90 B0\nG1 F1500\n";
+  for (int k = 0; k < 150; ++k) program += k % 2 ? "G2 X60 Y0 I-60 J0\n" : "G3 X60 Y0 Z-89.9 I-60 J0\n";
+  program += "M30\n";
+  compensate::JobReport one, two;
+  const std::string by_one = compensate(program, mm, full_model_options(1), &one);
+  const std::string by_two = compensate(program, mm, full_model_options(2), &two);
+  ASSERT_GT(one.added_lines, 150U * 400U) << "hundreds of chords a circle";
+  EXPECT_EQ(by_one, by_two);
+  EXPECT_EQ(one.max_error_after, two.max_error_after);
+  EXPECT_LT(one.max_error_after, 0.001);
+}
+
 /// The error the job stops with, on `threads` threads.
 Error job_error(const std::string& program, const model::MachineModel& mm, int threads) {
   compensate::JobOptions o;
