@@ -59,6 +59,12 @@ InverseResult solve_inverse(const model::ForwardModel& model, const InverseProbl
   const bool predicted = have_solve_matrix && ws.last_solution.allFinite() && R_target == ws.last_target_orientation &&
                          conditions.directions == ws.last_directions;
   const Eigen::Vector3d shift = target - ws.last_target;
+  if (have_solve_matrix && ws.last_solution.allFinite() && R_target != ws.last_target_orientation &&
+      ws.last_target_orientation.allFinite()) {
+    // The table turned: a machine-frame step of the linear axes shows in the table frame
+    // turned with it, so the solve matrix's position columns turn by the same rotation.
+    ws.solve_matrix.leftCols<3>() = ws.solve_matrix.leftCols<3>() * (ws.last_target_orientation * R_target.transpose());
+  }
   if (predicted) {
     q = q_nominal;
     for (const int k : problem.unknowns) q[k] = ws.last_solution[k];
