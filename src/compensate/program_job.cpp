@@ -464,8 +464,6 @@ class JobSink : public gcode::CanonSink {
     const gcode::Block* reading = block_;
     block_ = &t.block;
     account(t.report, t.block.line, t.text);
-    report_.added_lines += t.points.size() - 1;
-    for (const CompensatedPoint& p : t.points) report_.take_up_moves += p.take_up ? 1 : 0;
     write_edits(t.motion, t.points, t.offset, t.terminator);
     block_ = reading;
     // A slot keeps its storage for the next move, but not what an unusual move needed (a
@@ -717,6 +715,8 @@ class JobSink : public gcode::CanonSink {
     return std::move(written.text);
   }
 
+  /// Writes a move's points as edits of its line and lines after it, and counts the lines
+  /// and take-up moves it added (those it wrote: a take-up too fine for the digits is not).
   void write_edits(const gcode::Motion& m, const std::vector<CompensatedPoint>& points, std::uint64_t offset,
                    std::string_view terminator) {
     const gcode::Block& b = *block_;
@@ -768,7 +768,11 @@ class JobSink : public gcode::CanonSink {
       previous_s = points[k].s;
       // The machine is now at the compensated point: incremental words count from there.
       commanded_ = controlled_of(points[k].q, *m.offsets);
-      if (k > 0) appended += std::string(terminator.empty() ? "\n" : terminator) + segment;
+      if (k > 0) {
+        appended += std::string(terminator.empty() ? "\n" : terminator) + segment;
+        ++report_.added_lines;
+      }
+      if (points[k].take_up) ++report_.take_up_moves;
     }
     if (points.size() > 1 && has_stop_code(b))
       refuse(ErrorKind::unsupported,

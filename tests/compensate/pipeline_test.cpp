@@ -3,6 +3,7 @@
 // error in program order whichever thread met it first.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <string>
@@ -57,6 +58,12 @@ TEST(Pipeline, TwoThreadsWriteWhatOneWrites) {
   ASSERT_GT(one.compensated_moves, 5U * 4096U) << "several batches of moves";
   EXPECT_GT(one.take_up_moves, 0U) << "the rows' reversals are taken up";
   EXPECT_EQ(by_one, by_two);
+  // What the report counts is what was written: the header's line, the program's, and
+  // the added ones (a take-up too fine for the program's digits writes none).
+  auto lines = [](const std::string& text) {
+    return static_cast<std::size_t>(std::count(text.begin(), text.end(), '\n'));
+  };
+  EXPECT_EQ(lines(by_one), 1 + lines(program) + one.added_lines);
   EXPECT_EQ(one.compensated_moves, two.compensated_moves);
   EXPECT_EQ(one.added_lines, two.added_lines);
   EXPECT_EQ(one.take_up_moves, two.take_up_moves);
