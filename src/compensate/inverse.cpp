@@ -56,11 +56,11 @@ InverseResult solve_inverse(const model::ForwardModel& model, const InverseProbl
   // target's shift through the last Jacobian (first order; its rotary equations are
   // unchanged), plus the last miss where this step repeats the last one (within 10% and
   // 2.5 degrees). What the solve does not move (the tool length) is this point's.
-  const bool predicted = have_solve_matrix && ws.last_solution.allFinite() && R_target == ws.last_target_orientation &&
+  const bool turned = R_target != ws.last_target_orientation;  // also true on the first solve (NaN)
+  const bool predicted = !turned && have_solve_matrix && ws.last_solution.allFinite() &&
                          conditions.directions == ws.last_directions;
   const Eigen::Vector3d shift = target - ws.last_target;
-  if (have_solve_matrix && ws.last_solution.allFinite() && R_target != ws.last_target_orientation &&
-      ws.last_target_orientation.allFinite()) {
+  if (turned && have_solve_matrix && ws.last_solution.allFinite() && ws.last_target_orientation.allFinite()) {
     // The table turned: a machine-frame step of the linear axes shows in the table frame
     // turned with it, so the solve matrix's position columns turn by the same rotation.
     ws.solve_matrix.leftCols<3>() = ws.solve_matrix.leftCols<3>() * (ws.last_target_orientation * R_target.transpose());
@@ -80,6 +80,8 @@ InverseResult solve_inverse(const model::ForwardModel& model, const InverseProbl
   Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, 6, 9> J(m, n);
   bool fresh = !have_solve_matrix;  // evaluate the Jacobian at this iteration
   double last_norm = std::numeric_limits<double>::infinity();
+  Eigen::Matrix<double, Eigen::Dynamic, 1, 0, 6, 1> last_residual(m);  // before the step taken
+  bool stepped = false;
   // Each rotary axis seen from the tool: in the table frame it is its own direction (a
   // rotation about d leaves d in place, and the table frame follows the rotary link),
   // turned into the tool frame by the target orientation.
@@ -93,6 +95,16 @@ InverseResult solve_inverse(const model::ForwardModel& model, const InverseProbl
     const Eigen::Vector3d omega = kinematics::so3_log(R_target.transpose() * d.R_actual, fresh ? &Jr_inv : nullptr);
     for (std::size_t k = 0; k < problem.rotary_unknowns.size(); ++k)
       residual[3 + static_cast<Eigen::Index>(k)] = rotary_axes[k].dot(omega);
+    if (stepped && turned) {
+      // Where the table turns, the error field's slopes change from point to point faster
+      // than the matrix turned with it follows: Broyden's update from the step just taken
+      // (q moved by -S r_last, the residual changed by delta) makes S delta that step, for
+      // this solve's next step and the next solve's. (Along a translation the update
+      // between solves does better alone: one per solve, from the target's shift.)
+      const auto delta = (residual - last_residual).eval();
+      if (const double delta2 = delta.squaredNorm(); delta2 > 0)
+        ws.solve_matrix -= (ws.solve_matrix * residual) * delta.transpose() / delta2;
+    }
     r.position_residual = residual.head<3>();
     r.orientation_error = omega;
     const bool position_ok = r.position_residual.norm() < options.position_tolerance;
@@ -112,6 +124,7 @@ InverseResult solve_inverse(const model::ForwardModel& model, const InverseProbl
     if (!fresh && norm > 0.1 * last_norm) {
       last_norm = std::numeric_limits<double>::infinity();
       fresh = true;
+      stepped = false;
       continue;
     }
     last_norm = norm;
@@ -129,6 +142,8 @@ InverseResult solve_inverse(const model::ForwardModel& model, const InverseProbl
       fresh = false;
     }
     move_unknowns(problem, q, ws.solve_matrix * residual, -1.0);
+    last_residual = residual;
+    stepped = true;
   }
   r.q = q;
   r.target = target;
