@@ -52,13 +52,33 @@ InverseResult solve_inverse(const model::ForwardModel& model, const InverseProbl
                                            : q_nominal;
   const bool have_solve_matrix = ws.solve_matrix.size() != 0;
   ChainQ first_order = q;
-  // The same orientation to reach, under the same approach: the last solution moved by the
-  // target's shift through the last Jacobian (first order; its rotary equations are
-  // unchanged), plus the last miss where this step repeats the last one (within 10% and
-  // 2.5 degrees). What the solve does not move (the tool length) is this point's.
-  const bool turned = R_target != ws.last_target_orientation;  // also true on the first solve (NaN)
-  const bool predicted = !turned && have_solve_matrix && ws.last_solution.allFinite() &&
-                         conditions.directions == ws.last_directions;
+  // The same orientation to reach: the last solution moved by the target's shift through the
+  // last Jacobian (first order; its rotary equations are unchanged) and by each changed
+  // approach's learnt effect, plus the last miss where this step repeats the last one
+  // (within 10% and 2.5 degrees). What the solve does not move (the tool length) is this
+  // point's.
+  const bool turned = R_target != ws.last_target_orientation;  // also true on the first solve (zero)
+  // The approach changed since the last solution (a play taken up, an axis reversed): each
+  // changed axis' learnt effect on the solution, where every one is known.
+  ChainQ approach_step;  // set where the approach changed
+  int approach_changes = 0;
+  std::size_t changed_axis = 0;
+  bool approach_known = true;
+  if (conditions.directions != ws.last_directions) {
+    approach_step.setZero();
+    for (std::size_t i = 0; i < conditions.directions.size(); ++i) {
+      const double change = conditions.directions[i] - ws.last_directions[i];
+      if (change == 0.0) continue;
+      ++approach_changes, changed_axis = i;
+      if (ws.approach_gain_known[i])
+        approach_step += change * ws.approach_gain[i];
+      else
+        approach_known = false;
+    }
+  }
+  const bool continuing = !turned && have_solve_matrix && ws.last_solution.allFinite();
+  const bool predicted = continuing && approach_known;
+  const bool same_target = continuing && target == ws.last_target;  // solved again, for another approach
   const Eigen::Vector3d shift = target - ws.last_target;
   if (turned && have_solve_matrix && ws.last_solution.allFinite() && ws.last_target_orientation.allFinite()) {
     // The table turned: a machine-frame step of the linear axes shows in the table frame
@@ -69,6 +89,7 @@ InverseResult solve_inverse(const model::ForwardModel& model, const InverseProbl
     q = q_nominal;
     for (const int k : problem.unknowns) q[k] = ws.last_solution[k];
     move_unknowns(problem, q, ws.solve_matrix.leftCols<3>() * shift, 1.0);
+    if (approach_changes > 0) q += approach_step;
     first_order = q;
     const double last_length = ws.last_shift.norm(), length = shift.norm();
     if (last_length > 0 && std::abs(length / last_length - 1.0) < 0.1 &&
@@ -153,7 +174,7 @@ InverseResult solve_inverse(const model::ForwardModel& model, const InverseProbl
     Step s_step(n);
     for (Eigen::Index c = 0; c < n; ++c) {
       const auto k = problem.unknowns[static_cast<std::size_t>(c)];
-      s_step[c] = q[k] - ws.last_solution[k];
+      s_step[c] = q[k] - ws.last_solution[k] - (approach_changes > 0 ? approach_step[k] : 0.0);
     }
     const Step gap = s_step - ws.solve_matrix.leftCols<3>() * shift;
     // A secant far from the matrix is not the Jacobian's drift (a jump of the solution):
@@ -164,9 +185,21 @@ InverseResult solve_inverse(const model::ForwardModel& model, const InverseProbl
     for (Eigen::Index c = 0; c < n; ++c) gap2 += gap[c] * gap[c], step2 += s_step[c] * s_step[c];
     if (gap2 < 0.01 * step2) ws.solve_matrix.leftCols<3>() += gap * shift.transpose() / shift.squaredNorm();
   }
-  if (r.converged) {
+  if (r.converged && same_target && approach_changes == 1) {
+    // The same point for one axis' changed approach: the solution's move per unit of it.
+    const double change = conditions.directions[changed_axis] - ws.last_directions[changed_axis];
+    ChainQ& gain = ws.approach_gain[changed_axis];
+    gain.setZero();
+    for (const int k : problem.unknowns) gain[k] = (q[k] - ws.last_solution[k]) / change;
+    ws.approach_gain_known[changed_axis] = true;
+  }
+  if (r.converged && !same_target) {
+    // A point solved again where it was (for a changed approach) is no step along the
+    // path: the path's last step and miss stand for the next prediction.
     ws.last_miss = predicted ? ChainQ(q - first_order) : ChainQ(ChainQ::Zero());
     ws.last_shift = shift;
+  }
+  if (r.converged) {
     ws.last_solution = q;
     ws.last_nominal = q_nominal;
     ws.last_directions = conditions.directions;

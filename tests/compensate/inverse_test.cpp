@@ -124,6 +124,42 @@ TEST(Inverse, AStreamWhoseTableTurnsTurnsItsSolveMatrixWithIt) {
   EXPECT_LT(iterations, points * 5 / 4);
 }
 
+TEST(Inverse, APlayTakenUpPointByPointIsPredictedFromTheLastTakeUp) {
+  // Along a finishing pass B's correction creeps by nanoradians a point, and with it the
+  // table's play is taken up a little at every move: the compensator solves each point
+  // again for the play its move left. How the solution moves per unit of B's approach is
+  // learnt from one such solve and predicted for the next, so the solves again, and the
+  // path's next points, land below a nanometre at their first evaluation.
+  const model::MachineModel mm = model::parse_machine_model(kModel + R"(
+  - {name: EBB, variable: vb, form: reversal, unit: urad, reversal: -10}
+)",
+                                                            "m.yaml");
+  const model::ForwardModel m(mm);
+  const InverseProblem problem(m);
+  model::ForwardData d(m), check(m), nominal(m);
+  model::Conditions c;
+  c.temperatures = {31.0};
+  c.directions[0] = 1.0;
+  c.directions[4] = -1.0;
+  InverseWorkspace ws;
+  const int points = 400;
+  int second_evaluations = 0;
+  for (int k = 0; k < points; ++k) {
+    model::ChainQ q = model::ChainQ::Zero();
+    q << 150 + 0.05 * k, 20, -30 + 0.001 * k, 0, 0, 0, 0, 0, 0, 100;
+    model::forward(m, nominal, q, c, false, model::Evaluate::nominal);
+    for (const bool again : {false, true}) {
+      if (again) c.directions[4] += 0.002;  // the play this move took up
+      const InverseResult r = solve_inverse(m, problem, d, q, c, {}, nullptr, &ws);
+      ASSERT_TRUE(r.converged) << "point " << k;
+      second_evaluations += r.iterations > 0 ? 1 : 0;
+      model::forward(m, check, r.q, c);
+      ASSERT_LT((check.actual - nominal.nominal).norm(), 1e-6) << "point " << k << (again ? ", again" : "");
+    }
+  }
+  EXPECT_LT(second_evaluations, points / 50);
+}
+
 TEST(Inverse, ThreeAxisMachineHasNoOrientationEquation) {
   const model::MachineModel mm = model::parse_machine_model(std::string(test::kVmcChain) + R"(
 terms:

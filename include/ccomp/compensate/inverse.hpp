@@ -54,6 +54,11 @@ struct InverseWorkspace {
   /// and the Jacobian's age), so it is added to the next prediction.
   model::ChainQ last_miss = model::ChainQ::Zero();
   Eigen::Vector3d last_shift = Eigen::Vector3d::Zero();
+  /// How the solution moves per unit change of each axis' approach variable (its play
+  /// taken up, its reversal), learnt where one point was solved again for one axis' changed
+  /// approach: a reversal term is linear in it, so the next change is predicted.
+  std::array<model::ChainQ, 9> approach_gain{};
+  std::array<bool, 9> approach_gain_known{};
   std::size_t jacobian_evaluations = 0;  ///< how often the exact Jacobian was evaluated
 };
 
@@ -67,7 +72,8 @@ struct NominalPose {
 /// Solves for q' with actual(q') = nominal(q_nominal). `data` is scratch. `guess`, when
 /// given, is where Newton starts. With a `workspace`, the solve reuses and updates it (see
 /// InverseWorkspace): a prediction from its last solution replaces `guess` where the
-/// orientation target and the approach are the same, and without a guess the last
+/// orientation target is the same and the approach is too, or changed along axes whose
+/// effect it has learnt; without a guess the last
 /// solution's correction starts it. `nominal`, when given, is the nominal pose at q_nominal
 /// (saves its evaluation).
 [[nodiscard]] InverseResult solve_inverse(const model::ForwardModel& model, const InverseProblem& problem,
