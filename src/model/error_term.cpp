@@ -59,9 +59,14 @@ void first_harmonic(double phase1, TermValue& r, double& c1, double& s1) {
 
 }  // namespace
 
-double periodic_value(const double* p, int harmonics, double v, TermValue& cache) {
-  double c1 = 0.0, s1 = 0.0;
-  first_harmonic(kTwoPi * v / p[0], cache, c1, s1);
+void periodic_phase(double period, double v, TermValue& cache, PeriodicPhase& out) {
+  first_harmonic(kTwoPi * v / period, cache, out.c1, out.s1);
+  out.at = v;
+  out.period = period;
+}
+
+double periodic_sum(const double* p, int harmonics, const PeriodicPhase& phase) {
+  const double c1 = phase.c1, s1 = phase.s1;
   double value = 0.0, c = 1.0, sn = 0.0;  // cos and sin of k phase1
   for (int k = 1; k <= harmonics; ++k) {
     const double c_next = c * c1 - sn * s1;
@@ -70,6 +75,12 @@ double periodic_value(const double* p, int harmonics, double v, TermValue& cache
     value += p[2 * k - 1] * c + p[2 * k] * sn;
   }
   return value;
+}
+
+double periodic_value(const double* p, int harmonics, double v, TermValue& cache) {
+  PeriodicPhase phase;
+  periodic_phase(p[0], v, cache, phase);
+  return periodic_sum(p, harmonics, phase);
 }
 
 std::size_t parameter_count(const TermShape& s) {

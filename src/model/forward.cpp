@@ -79,6 +79,13 @@ ForwardModel::ForwardModel(const MachineModel& model) : machine_(model) {
     // workpiece side moves the workpiece, so its error pose carries the opposite sign.
     slot.sign = s.side == 0 ? -1.0 : 1.0;
     slot.order = t.shape.order;
+    if (slot.on_axes && slot.form == TermForm::periodic)
+      for (const std::size_t j : on_axes_terms_)
+        if (slots_[j].form == TermForm::periodic && slots_[j].primary == slot.primary &&
+            machine_.terms[j].parameters[0] == t.parameters[0]) {
+          slot.phase_source = static_cast<std::int32_t>(j);
+          break;
+        }
     if (slot.on_axes) on_axes_terms_.push_back(slots_.size());
     slots_.push_back(slot);
     offsets_.push_back(parameter_count_);
@@ -134,6 +141,7 @@ ForwardData::ForwardData(const ForwardModel& model)
       values(model.machine().terms.size()),
       table_moments(values.size()),
       evaluated_inputs(values.size(), TermInputs{std::nan(""), std::nan("")}),
+      phases(values.size()),
       variables(ForwardModel::kFirstTemperatureVariable + model.machine().sensors.size(), 0.0),
       key(variables.size() - ForwardModel::kTimeVariable + model.parameter_count()),
       off_axes_errors(6 * (model.chain().workpiece.joints.size() + model.chain().tool.joints.size())),
@@ -305,7 +313,14 @@ void forward(const ForwardModel& model, ForwardData& d, const ChainQ& q, const C
         const double v = d.variables[static_cast<std::size_t>(s.primary)];
         TermInputs& last = d.evaluated_inputs[i];
         if (!same.parameters || v != last.primary || last.secondary != 0.0) {
-          d.values[i].value = periodic_value(parameters + s.offset, s.order, v, d.values[i]);
+          const double* p = parameters + s.offset;
+          PeriodicPhase& phase = d.phases[i];
+          const PeriodicPhase* shared = s.phase_source >= 0 ? &d.phases[static_cast<std::size_t>(s.phase_source)] : nullptr;
+          if (shared && shared->at == v && shared->period == p[0])
+            phase = *shared;
+          else
+            periodic_phase(p[0], v, d.values[i], phase);
+          d.values[i].value = periodic_sum(p, s.order, phase);
           last = TermInputs{v, 0.0};
         }
         value = d.values[i].value;

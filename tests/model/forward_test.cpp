@@ -227,5 +227,44 @@ TEST(Forward, TermsOffTheAxesFollowTheConditionsAndParameters) {
   (void)same_as_fresh("again, unchanged");
 }
 
+TEST(Forward, PeriodicTermsOfOneVariableAndPeriodShareAPhaseWhileThePeriodsMatch) {
+  // The table's once-per-turn error motions (EXB, EZB) share one phase with EBB; the worm
+  // wheel's 4-degree EBB, and X's lead screw, have their own. Along a sweep of B every
+  // point gives what evaluating each term alone gives (the Jacobians' path), and once a fit
+  // moves one period the sharing stops.
+  const MachineModel mm = parse_machine_model(std::string(kChain) + R"(terms:
+  - {name: EBB, form: periodic, period: 360 deg, unit: urad, harmonics: [[15, -10], [6, 4]]}
+  - {name: EXX, form: periodic, period: 10 mm, unit: um, harmonics: [[1.8, -0.9]]}
+  - {name: EXB, form: periodic, period: 360 deg, unit: um, harmonics: [[4, 2]]}
+  - {name: EBB, form: periodic, period: 4 deg, unit: urad, harmonics: [[3, -2]]}
+  - {name: EZB, form: periodic, period: 360 deg, unit: um, harmonics: [[-3, 5]]}
+)",
+                                              "m.yaml");
+  const ForwardModel m(mm);
+  const auto& slots = m.slots();
+  EXPECT_EQ(slots[0].phase_source, -1);
+  EXPECT_EQ(slots[1].phase_source, -1) << "another variable";
+  EXPECT_EQ(slots[2].phase_source, 0);
+  EXPECT_EQ(slots[3].phase_source, -1) << "another period";
+  EXPECT_EQ(slots[4].phase_source, 0);
+  ForwardData swept(m);
+  auto sweep = [&](const std::string& what) {
+    for (int k = 0; k < 200; ++k) {
+      ChainQ q = ChainQ::Zero();
+      q << 120 + 0.05 * k, -40, 30, 0, 0.3 + 1e-4 * k + (k % 50 == 0 ? 0.7 : 0.0), 0, 0, 0, 0, 100;
+      forward(m, swept, q, {}, false);
+      ForwardData alone(m);
+      alone.parameters = swept.parameters;
+      forward(m, alone, q, {}, true);
+      ASSERT_LT((swept.actual - alone.actual).norm(), 1e-12) << what << ", point " << k;
+    }
+  };
+  sweep("shared");
+  EXPECT_EQ(swept.phases[4].c1, swept.phases[0].c1);
+  swept.parameters[static_cast<Eigen::Index>(m.parameter_offset(4))] *= 1.001;  // EZB's period, fitted
+  sweep("EZB's period moved");
+  EXPECT_NE(swept.phases[4].period, swept.phases[0].period);
+}
+
 }  // namespace
 }  // namespace ccomp::model

@@ -67,9 +67,22 @@ struct TermShape {
 void evaluate(const TermShape& shape, const Eigen::Ref<const Eigen::VectorXd>& parameters, const TermInputs& in,
               bool with_parameter_gradient, TermValue& out);
 
-/// A periodic form's value alone, bitwise what evaluate() gives (the same reference phase
-/// in `cache`, the same operations): the forward model's loop over the points takes it.
-/// `p`: the period, then a_k, b_k for each of the `harmonics`.
+/// The cosine and sine of a periodic form's first harmonic at `at` for `period`: terms of
+/// one variable and period (a worm wheel's or a table's once-per-turn error motions) share
+/// them.
+struct PeriodicPhase {
+  double at = std::numeric_limits<double>::quiet_NaN();
+  double period = std::numeric_limits<double>::quiet_NaN();
+  double c1 = 1.0, s1 = 0.0;
+};
+
+/// The phase at v for `period`, turned from `cache`'s reference phase as evaluate() turns it.
+void periodic_phase(double period, double v, TermValue& cache, PeriodicPhase& out);
+/// A periodic form's value from its phase. `p`: the period, then a_k, b_k for each of the
+/// `harmonics`.
+[[nodiscard]] double periodic_sum(const double* p, int harmonics, const PeriodicPhase& phase);
+/// The two in one, bitwise what evaluate() gives (the same reference phase in `cache`, the
+/// same operations): the forward model's loop over the points takes it.
 [[nodiscard]] double periodic_value(const double* p, int harmonics, double v, TermValue& cache);
 
 }  // namespace ccomp::model

@@ -75,6 +75,9 @@ class ForwardModel {
     std::size_t error_index = 0;
     double sign = 1.0;
     int order = 0;  ///< a polynomial's degree (the commonest form, evaluated in the loop itself)
+    /// A periodic term on the axes: an earlier one of the same variable and period, whose
+    /// phase it takes where the periods still match (-1: none).
+    std::int32_t phase_source = -1;
   };
   [[nodiscard]] const std::vector<TermSlot>& slots() const { return slots_; }
   /// The terms that depend on the axes, in file order.
@@ -123,6 +126,8 @@ struct ForwardData {
   /// What each term's value was last evaluated from: a term whose inputs are unchanged, and
   /// the parameters too (the key below), keeps its value.
   std::vector<TermInputs> evaluated_inputs;
+  /// Each periodic term's last phase (the forward loop's; its source's serves it).
+  std::vector<PeriodicPhase> phases;
   /// The variables the terms read (ForwardModel::TermSlot), and the key of what was last
   /// evaluated: the conditions (time, directions, temperatures), then the parameters.
   std::vector<double> variables, key;
