@@ -39,6 +39,13 @@ void add_compensate(CLI::App& app, CompensateArgs& args) {
   app.add_flag("--progress", args.progress, "print FILTER_PROGRESS=N lines on stderr (LinuxCNC filters)");
   app.add_option("--tolerance", args.tolerance, "mm: largest distance of the executed path from the nominal (0.001)")
       ->check(CLI::PositiveNumber);
+  app.add_option("--decimals", args.decimals,
+                 "decimals of the compensated linear coordinates, in the program's units (default: the program's "
+                 "own, at least 4 in mm and 5 in inch)")
+      ->check(CLI::Range(0, 9));
+  app.add_option("--rotary-decimals", args.rotary_decimals,
+                 "decimals of the compensated rotary coordinates, in degrees (default: the program's own, at least 5)")
+      ->check(CLI::Range(0, 9));
   app.add_option("--sensor", args.sensors, "a temperature reading for the model's thermal terms: NAME=DEGC");
   app.add_option("--time", args.time, "s since the machine's warm-up started, for warm-up terms");
   app.add_flag("-q,--quiet", args.quiet, "no summary line per program");
@@ -125,6 +132,8 @@ int run_compensate(const CompensateArgs& args) {
   options.force = args.force;
   options.expand_cycles = args.expand_cycles;
   options.tolerance = args.tolerance;
+  options.decimals = args.decimals;
+  options.rotary_decimals = args.rotary_decimals;
   options.time = args.time;
   for (const std::string& s : args.sensors) {
     const auto eq = s.find('=');
@@ -180,6 +189,7 @@ int run_compensate(const CompensateArgs& args) {
   };
   const int threads = std::clamp(args.jobs, 1, static_cast<int>(targets.size()));
   options.threads = args.threads > 0 ? args.threads : util::hardware_threads() >= 2 * threads ? 2 : 1;
+  compensate::validate(options);
   std::vector<std::thread> pool;
   for (int i = 1; i < threads; ++i) pool.emplace_back(worker);
   worker();

@@ -28,14 +28,17 @@ constexpr double kRadPerDeg = 3.14159265358979323846 / 180.0;
 
 /// How a compensated coordinate is written, in the style of the word it replaces: at least
 /// as many decimals as the program wrote, and enough for the tolerance: 4 in mm, 5 in
-/// inches, 5 in degrees (1e-5 deg is 0.07 um at 400 mm from the axis).
+/// inches, 5 in degrees (1e-5 deg is 0.07 um at 400 mm from the axis). Exactly `decimals`
+/// when the user set them (>= 0).
 struct NumberStyle {
   int decimals = 4;
   bool leading_zero = true;  ///< "0.5", not ".5"
 };
 
-NumberStyle style_of(std::string_view original, bool inch, bool rotary) {
-  NumberStyle style{rotary ? 5 : inch ? 5 : 4, true};
+constexpr int kDefaultDecimals = 4, kDefaultInchDecimals = 5, kDefaultRotaryDecimals = 5;
+
+NumberStyle style_of(std::string_view original, bool inch, bool rotary, int decimals) {
+  NumberStyle style{rotary ? kDefaultRotaryDecimals : inch ? kDefaultInchDecimals : kDefaultDecimals, true};
   if (const auto dot = original.find('.'); dot != std::string_view::npos) {
     int written = 0;
     for (std::size_t i = dot + 1; i < original.size() && std::isdigit(static_cast<unsigned char>(original[i])); ++i)
@@ -44,6 +47,7 @@ NumberStyle style_of(std::string_view original, bool inch, bool rotary) {
     const auto first_digit = original.find_first_of("0123456789.");
     style.leading_zero = !(first_digit != std::string_view::npos && original[first_digit] == '.');
   }
+  if (decimals >= 0) style.decimals = decimals;
   return style;
 }
 
@@ -86,8 +90,8 @@ WrittenValue format_value(double v, const NumberStyle& style) {
   return written;
 }
 
-WrittenValue format_value(double v, std::string_view original, bool inch, bool rotary) {
-  return format_value(v, style_of(original, inch, rotary));
+WrittenValue format_value(double v, std::string_view original, bool inch, bool rotary, int decimals) {
+  return format_value(v, style_of(original, inch, rotary, decimals));
 }
 
 /// Whether a and b are written alike in `style`, without writing them when their rounded
@@ -216,6 +220,9 @@ class JobSink : public gcode::CanonSink {
       : writer_(writer), model_(model), options_(options), input_(input), report_(report) {
     for (const model::AxisSpec& a : model.axes) {
       machine_axes_ |= 1U << (a.letter - 'A');
+      linear_axes_ += a.type == model::AxisType::linear ? 1 : 0;
+      if (a.type == model::AxisType::linear && std::isfinite(a.min) && std::isfinite(a.max))
+        rotary_lever_ = std::max({rotary_lever_, std::abs(a.min), std::abs(a.max)});
       has_limits_ = has_limits_ || std::isfinite(a.min) || std::isfinite(a.max);
     }
     if (!model.terms.empty()) {
@@ -463,7 +470,7 @@ class JobSink : public gcode::CanonSink {
     }
     const gcode::Block* reading = block_;
     block_ = &t.block;
-    account(t.report, t.block.line, t.text);
+    account(t.report, t.motion.units, t.block.line, t.text);
     write_edits(t.motion, t.points, t.offset, t.terminator);
     block_ = reading;
     // A slot keeps its storage for the next move, but not what an unusual move needed (a
@@ -561,7 +568,7 @@ class JobSink : public gcode::CanonSink {
       left = std::max(left, 0.5 * std::abs(r_prog[i] - bottom_prog[i]) * unit);
     }
     move.max_deviation_after = left;
-    account(move, c.line, c.text);
+    account(move, c.units, c.line, c.text);
     std::vector<gcode::Edit> edits;
     std::uint32_t insert_at = 0;
     for (const gcode::Word& w : c.words) insert_at = std::max(insert_at, w.span.end);
@@ -570,7 +577,7 @@ class JobSink : public gcode::CanonSink {
       for (const gcode::Word& w : c.words)
         if (w.letter == letter) word = &w;
       const std::string original = word ? c.text.substr(word->value_span.begin, word->value_span.size()) : "";
-      const std::string text = format_value(value, original, inch && !rotary, rotary).text;
+      const std::string text = format_value(value, original, inch && !rotary, rotary, decimals_for(rotary)).text;
       if (word)
         edits.push_back(gcode::Edit{word->value_span, text});
       else
@@ -617,7 +624,7 @@ class JobSink : public gcode::CanonSink {
     for (const gcode::Motion& m : c.motions) {
       MoveReport move;
       solve_move_here(m, c.offsets, move);
-      account(move, c.line, c.text);
+      account(move, c.units, c.line, c.text);
       for (const CompensatedPoint& point : points_) {
         const gcode::Axes p = program_of(point.q, c.offsets, unit);
         const gcode::Axes last = program_of(chain_of(commanded_, c.offsets), c.offsets, unit);
@@ -625,7 +632,7 @@ class JobSink : public gcode::CanonSink {
         const std::size_t bare = text.size();
         for (std::size_t i = 0; i < gcode::kAxisCount; ++i)
           if (model_.axis(gcode::kAxisLetters[i]))
-            if (const auto word = axis_word(i, p[i], last[i], false, nullptr, nullptr, inch))
+            if (const auto word = axis_word(i, p[i], last[i], false, false, {}, inch))
               text += std::string(" ") + gcode::kAxisLetters[i] + *word;
         if (text.size() > bare) appended += eol + text, ++report_.added_lines;
         if (point.take_up) ++report_.take_up_moves;
@@ -650,7 +657,8 @@ class JobSink : public gcode::CanonSink {
   }
 
   /// Adds a move's figures to the report and refuses a correction beyond the model's bound.
-  void account(const MoveReport& move, std::uint32_t line, const std::string& text) {
+  void account(const MoveReport& move, gcode::Units units, std::uint32_t line, const std::string& text) {
+    check_rounding(units, line, text);
     if (move.max_correction > model_.max_correction)
       throw Error(ErrorKind::safety,
                   fmt::format("the correction is {:.4f} mm, beyond the model's bound of {} mm (max_correction): is "
@@ -663,6 +671,50 @@ class JobSink : public gcode::CanonSink {
     report_.max_orientation_error = std::max(report_.max_orientation_error, move.max_orientation_error);
     warn_unhidden_reversals(move.unhidden_reversals);
     ++report_.compensated_moves;
+  }
+
+  [[nodiscard]] int decimals_for(bool rotary) const { return rotary ? options_.rotary_decimals : options_.decimals; }
+
+  /// The written digits round each linear axis by up to half their last place, so the tool
+  /// by up to sqrt(axes) times that. Once per unit system: a --decimals that may take the
+  /// whole tolerance is refused (no written program could meet it), and digits that may
+  /// take a quarter of it are warned of, the program's own included. A rotary axis' rounding
+  /// moves the tool by its distance from the axis, which only the model's limits bound: a
+  /// --rotary-decimals too coarse at that distance is warned of.
+  void check_rounding(gcode::Units units, std::uint32_t line, const std::string& text) {
+    if (!rotary_checked_ && options_.rotary_decimals >= 0 && options_.warning) {
+      rotary_checked_ = true;
+      const double angle = 0.5 * std::pow(10.0, -options_.rotary_decimals) * kRadPerDeg;
+      if (angle * rotary_lever_ > 0.25 * options_.tolerance)
+        options_.warning(fmt::format("rotary coordinates written to {} decimals in degrees may turn the part by up to "
+                                     "{:.3g} urad, {:.3g} um at {:g} mm from the axis (the farthest linear axis "
+                                     "limit), more than a quarter of the tolerance of {:.3g} um",
+                                     options_.rotary_decimals, angle * 1e6, angle * rotary_lever_ * 1000.0,
+                                     rotary_lever_, options_.tolerance * 1000.0),
+                         line);
+    }
+    const bool inch = units == gcode::Units::inch;
+    bool& checked = rounding_checked_[inch ? 1 : 0];
+    if (checked || linear_axes_ == 0) return;
+    checked = true;
+    const bool forced = options_.decimals >= 0;
+    const int decimals = forced ? options_.decimals : inch ? kDefaultInchDecimals : kDefaultDecimals;
+    const double place = std::pow(10.0, -decimals) * (inch ? 25.4 : 1.0);  // mm
+    const double worst = 0.5 * place * std::sqrt(static_cast<double>(linear_axes_));
+    const std::string digits =
+        fmt::format("{} decimal{} in {}", decimals, decimals == 1 ? "" : "s", inch ? "inch" : "mm");
+    if (forced && worst > options_.tolerance)
+      throw Error(ErrorKind::usage,
+                  fmt::format("--decimals {}: coordinates written to {} may put the tool up to {:.3g} um from the "
+                              "compensated point, more than the tolerance of {:.3g} um",
+                              decimals, digits, worst * 1000.0, options_.tolerance * 1000.0),
+                  SourceLocation{input_.name(), line, 0}, text);
+    if (worst > 0.25 * options_.tolerance && options_.warning)
+      options_.warning(fmt::format("coordinates written to {}{} may put the tool up to {:.3g} um from the compensated "
+                                   "point, more than a quarter of the tolerance of {:.3g} um{}",
+                                   forced ? "" : "at least ", digits, worst * 1000.0, options_.tolerance * 1000.0,
+                                   forced ? "" : "; --decimals writes more"),
+                       line);
   }
 
   /// Edits removing `words` from a line, each with the blanks before it (after it, when it
@@ -694,15 +746,16 @@ class JobSink : public gcode::CanonSink {
   }
 
   /// The word for axis i at program value p (program units, degrees), or nothing for an
-  /// axis the block did not name that need not move. Counted from where the written digits
-  /// put the machine (commanded_ at `last`, plus rounding_): incremental distances carry
-  /// their rounding instead of summing it over a split move's pieces.
-  std::optional<std::string> axis_word(std::size_t i, double p, double last, bool incremental, const gcode::Word* named,
-                                       const gcode::Block* block, bool inch) {
+  /// axis the block did not name that need not move; written in the style of `styled` (the
+  /// block's own value for the axis, for its line and the lines a split adds). Counted from
+  /// where the written digits put the machine (commanded_ at `last`, plus rounding_):
+  /// incremental distances carry their rounding instead of summing it over a split move's
+  /// pieces.
+  std::optional<std::string> axis_word(std::size_t i, double p, double last, bool incremental, bool named,
+                                       std::string_view styled, bool inch) {
     const bool rotary = gcode::is_rotary(i);
     const double value = incremental ? p - last - rounding_[i] : p;
-    const NumberStyle style =
-        style_of(named ? block->slice(named->value_span) : std::string_view(), inch && !rotary, rotary);
+    const NumberStyle style = style_of(styled, inch && !rotary, rotary, decimals_for(rotary));
     if (!named) {
       const double unmoved = incremental ? 0.0 : last + rounding_[i];
       if (written_alike(value, unmoved, style)) {
@@ -742,8 +795,10 @@ class JobSink : public gcode::CanonSink {
       for (std::size_t i = 0; i < gcode::kAxisCount; ++i) {
         const char letter = gcode::kAxisLetters[i];
         if (!model_.axis(letter)) continue;
-        const gcode::Word* word = k == 0 ? b.find(letter) : nullptr;
-        const std::optional<std::string> text = axis_word(i, p[i], last[i], incremental, word, &b, inch);
+        const gcode::Word* own = b.find(letter);
+        const gcode::Word* word = k == 0 ? own : nullptr;
+        const std::optional<std::string> text = axis_word(i, p[i], last[i], incremental, word != nullptr,
+                                                          own ? b.slice(own->value_span) : std::string_view(), inch);
         if (!text) continue;
         if (word)
           edits.push_back(gcode::Edit{word->value_span, *text});
@@ -872,6 +927,7 @@ class JobSink : public gcode::CanonSink {
   bool started_ = false;
   int last_percent_ = -1;
   bool has_limits_ = false;
+  int linear_axes_ = 0;
   std::uint32_t machine_axes_ = 0;  ///< bit (letter - 'A') for each axis the machine has
   gcode::ProgramWriter& writer_;
   const model::MachineModel& model_;
@@ -889,6 +945,10 @@ class JobSink : public gcode::CanonSink {
   gcode::Axes commanded_{};  ///< where the rewritten program has sent the controlled point
   /// Per axis, program units: where the written digits put the machine less commanded_.
   gcode::Axes rounding_{};
+  std::array<bool, 2> rounding_checked_{};  ///< check_rounding() done, for mm and for inch
+  bool rotary_checked_ = false;
+  /// mm: how far the tool may be from a rotary axis, for its rounding (the farthest limit).
+  double rotary_lever_ = 100.0;
   std::uint64_t furthest_ = 0;  ///< the offset of the furthest line read
   bool repeated_ = false;       ///< the current line is before it
   /// The uncompensated machine's error, for the report, is taken by a compensator of its own
@@ -927,8 +987,23 @@ bool is_header_line(std::string_view line) {
          line.find("compensated for machine") != std::string_view::npos;
 }
 
+void validate(const JobOptions& options) {
+  if (!(options.tolerance > 0.0) || !std::isfinite(options.tolerance))
+    throw Error(ErrorKind::usage, fmt::format("the tolerance must be a positive number of mm, not {}", options.tolerance));
+  for (const auto& [name, decimals] : {std::pair{"decimals", options.decimals}, {"rotary_decimals", options.rotary_decimals}})
+    if (decimals < -1 || decimals > 9)
+      throw Error(ErrorKind::usage, fmt::format("{} must be 0 to 9 (or -1: the program's own), not {}", name, decimals));
+  if (options.threads != 1 && options.threads != 2)
+    throw Error(ErrorKind::usage, fmt::format("threads must be 1 or 2, not {}", options.threads));
+  if (!std::isfinite(options.time)) throw Error(ErrorKind::usage, fmt::format("the time must be finite, not {}", options.time));
+  for (const auto& [name, value] : options.sensors)
+    if (!std::isfinite(value))
+      throw Error(ErrorKind::usage, fmt::format("sensor '{}' must read a finite temperature, not {}", name, value));
+}
+
 JobReport run_program_job(gcode::LineSource& input, std::FILE* out, const model::MachineModel& model,
                           const JobOptions& options) {
+  validate(options);
   JobReport report;
   report.bytes = input.size();
   {

@@ -29,6 +29,12 @@ struct JobOptions {
   /// what the block form cannot: L repeats, G91 cycles, and a hole whose correction
   /// differs between its R plane and its bottom.
   bool expand_cycles = false;
+  /// Decimals of the compensated coordinates, for a control that wants a fixed count (one
+  /// that alarms on more digits than its resolution, say). -1 keeps the program's style: as
+  /// many as it wrote, at least 4 in mm and 5 in inches and degrees. `decimals` is for the
+  /// linear axes, in the program's units; `rotary_decimals` for the rotary axes, in degrees.
+  int decimals = -1;
+  int rotary_decimals = -1;
   /// 2: the moves are compensated on a thread of their own while this one reads, interprets
   /// and writes the program (and takes the uncompensated machine's error for the report).
   /// The output is the same for 1 and 2: the same work is done in the same order.
@@ -51,6 +57,11 @@ struct JobReport {
   double max_correction = 0.0;         ///< mm
   double max_orientation_error = 0.0;  ///< rad: what the machine cannot correct
 };
+
+/// Throws Error(usage) naming the option and its value when `options` cannot be right: a
+/// tolerance not positive and finite (NaN included), decimals outside -1..9, a thread
+/// count other than 1 or 2, a time or sensor reading that is not finite.
+void validate(const JobOptions& options);
 
 /// The header comment that marks a compensated program and names the model by its hash.
 [[nodiscard]] std::string header_line(const model::MachineModel& model);
