@@ -232,3 +232,27 @@ TEST(Cli, PredictAndVerifyProveTheSample) {
 
 }  // namespace
 }  // namespace ccomp::test
+
+namespace ccomp::test {
+namespace {
+
+TEST(Cli, DecimalsAsToldAndRefusedWhenTooCoarseForTheTolerance) {
+  const std::string dir = temp_dir("cli_decimals");
+  const std::string base = shell_quote(ccomp_binary()) + " " + source_dir() + "/samples/programs/pocket-xy.ngc -m " +
+                           source_dir() + "/samples/machines/hmc-xyzb-geometric.yaml --tool-table " + source_dir() +
+                           "/samples/tools.tbl -o " + dir;
+  const CommandResult three = run_command(base + "/three.ngc --decimals 3");
+  ASSERT_EQ(three.exit_code, 0) << three.err;
+  EXPECT_NE(three.err.find("warning: coordinates written to 3 decimals in mm"), std::string::npos) << three.err;
+  EXPECT_NE(read_file(dir + "/three.ngc").find("G0 X-30.023 Y-19.992 Z5.010"), std::string::npos) << read_file(dir + "/three.ngc");
+  const CommandResult two = run_command(base + "/two.ngc --decimals 2");
+  EXPECT_EQ(two.exit_code, 2);
+  EXPECT_NE(two.err.find("error: --decimals 2: coordinates written to 2 decimals in mm may put the tool up to 8.66 um"),
+            std::string::npos)
+      << two.err;
+  EXPECT_FALSE(std::filesystem::exists(dir + "/two.ngc"));
+  EXPECT_EQ(run_command(base + "/ten.ngc --decimals 10").exit_code, 2);
+}
+
+}  // namespace
+}  // namespace ccomp::test
