@@ -577,16 +577,29 @@ class JobSink : public gcode::CanonSink {
       for (const gcode::Word& w : c.words)
         if (w.letter == letter) word = &w;
       const std::string original = word ? c.text.substr(word->value_span.begin, word->value_span.size()) : "";
-      const std::string text = format_value(value, original, inch && !rotary, rotary, decimals_for(rotary)).text;
+      const WrittenValue written = format_value(value, original, inch && !rotary, rotary, decimals_for(rotary));
       if (word)
-        edits.push_back(gcode::Edit{word->value_span, text});
+        edits.push_back(gcode::Edit{word->value_span, written.text});
       else
-        edits.push_back(gcode::Edit{{insert_at, insert_at}, std::string(" ") + letter + text});
+        edits.push_back(gcode::Edit{{insert_at, insert_at}, std::string(" ") + letter + written.text});
+      return written.value;
     };
-    for (std::size_t i = 0; i < 3; ++i) set(gcode::kAxisLetters[i], i == normal ? bottom_prog[i] : hole[i], false);
-    set('R', r_prog[normal], false);
+    gcode::Axes written{};
+    for (std::size_t i = 0; i < 3; ++i)
+      written[i] = set(gcode::kAxisLetters[i], i == normal ? bottom_prog[i] : hole[i], false);
+    const double written_r = set('R', r_prog[normal], false);
     writer_.edit(c.offset, std::move(edits));
-    commanded_ = last->end;  // the retract goes back along the cycle's axis
+    // Where the rewritten cycle leaves the machine, for the words after it (G91 counts from
+    // there): over the hole as written, and along the cycle's axis at the R plane as written
+    // (G99) or back at the level it started from (G98), which the block does not change.
+    gcode::Axes at = program_of(chain_of(commanded_, c.offsets), c.offsets, unit);
+    for (std::size_t i = 0; i < 3; ++i)
+      if (i != normal) at[i] = written[i], rounding_[i] = 0.0;
+    if (std::abs(c.motions.back().end[normal] - first->start[normal]) < 1e-9) {
+      at[normal] = written_r;
+      rounding_[normal] = 0.0;
+    }
+    commanded_ = controlled_of_program(at, c.offsets, unit);
     // The machine follows the cycle's motions, shifted by the hole's correction.
     const model::ChainQ shift = bottom_comp - bottom_nominal;
     for (const gcode::Motion& m : c.motions) compensator_->moved(chain_of(m.end, c.offsets) + shift);
@@ -643,6 +656,14 @@ class JobSink : public gcode::CanonSink {
     edits.push_back(
         gcode::Edit{{static_cast<std::uint32_t>(c.text.size()), static_cast<std::uint32_t>(c.text.size())}, appended});
     writer_.edit(c.offset, std::move(edits));
+  }
+
+  /// The controlled point of program coordinates (program units, degrees): program_of()'s inverse.
+  static gcode::Axes controlled_of_program(const gcode::Axes& p, const gcode::Offsets& offsets, double unit) {
+    gcode::Axes controlled{};
+    for (std::size_t i = 0; i < gcode::kAxisCount; ++i)
+      controlled[i] = (gcode::is_rotary(i) ? p[i] : p[i] * unit) + offsets.origin(i);
+    return offsets.to_machine(controlled);
   }
 
   /// The controlled point (program frame, machine units) the machine is at after commanding q.

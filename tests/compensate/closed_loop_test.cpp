@@ -156,6 +156,22 @@ TEST(ClosedLoop, ExpandedCyclesAreCompensatedMovesAndTheBlocksKeepTheirOtherWord
   }
 }
 
+TEST(ClosedLoop, AfterACycleBlockTheNextIncrementalMoveCountsFromWhereItsWordsLeftTheMachine) {
+  // G98 returns to the level the cycle started from, G99 to its R plane as written; the hole
+  // is where its X Y were written. The G91 moves after each must start from there.
+  const model::MachineModel mm = model::load_machine_model(source_dir() + "/samples/machines/hmc-xyzb-geometric.yaml");
+  const model::ForwardModel m(mm);
+  const std::string program =
+      "G21 G17 G90 G94 G54\nT1 M6\nG43 H1\nG0 X40 Y30 Z-80 B0\n"
+      "G98 G81 X40 Y30 Z-110 R-90 F300\nG80\nG91 G1 X10 Y5 F500\n"
+      "G90 G0 X-40 Y-30 Z-80\nG99 G81 X-40 Y-30 Z-110 R-90 F300\nG80\nG91 G1 X10 Y5 Z-1 F500\nG90\nM30\n";
+  const std::string output = compensate(program, mm, compensate::JobOptions{});
+  EXPECT_NE(output.find("G98 G81"), std::string::npos) << "compensated in the block's words:\n" << output;
+  const auto [before, left] = measure(program, output, m, {});
+  EXPECT_GT(before.max, 0.010);
+  EXPECT_LE(left.max, 0.001 + 1e-4) << left.max * 1000 << " um left at line " << left.worst_line << " of\n" << output;
+}
+
 }  // namespace
 }  // namespace ccomp::test
 
