@@ -36,6 +36,9 @@ void add_compensate(CLI::App& app, CompensateArgs& args) {
   app.add_flag("--expand-cycles", args.expand_cycles,
                "write canned cycles (G73 G81 G83 G85) as the compensated moves they make; takes L repeats "
                "and G91 cycles");
+  app.add_flag("--flatten", args.flatten,
+               "compensate the program as it runs: loops and subroutine calls unrolled, expressions replaced by "
+               "their values (a line that runs several times needs a correction for each run)");
   app.add_flag("--progress", args.progress, "print FILTER_PROGRESS=N lines on stderr (LinuxCNC filters)");
   app.add_option("--tolerance", args.tolerance, "mm: largest distance of the executed path from the nominal (0.001)")
       ->check(CLI::PositiveNumber);
@@ -131,6 +134,7 @@ int run_compensate(const CompensateArgs& args) {
   options.interpreter = interpreter_options(args.program, model.dialect);
   options.force = args.force;
   options.expand_cycles = args.expand_cycles;
+  options.flatten = args.flatten;
   options.tolerance = args.tolerance;
   options.decimals = args.decimals;
   options.rotary_decimals = args.rotary_decimals;

@@ -1,14 +1,18 @@
 #include "ccomp/compensate/program_job.hpp"
 
 #include <fmt/format.h>
+#include <unistd.h>
 
 #include <algorithm>
 #include <array>
 #include <cctype>
 #include <charconv>
 #include <cmath>
+#include <cstdio>
+#include <cstdlib>
 #include <deque>
 #include <exception>
+#include <filesystem>
 #include <memory>
 #include <optional>
 #include <tuple>
@@ -16,6 +20,7 @@
 #include "ccomp/compensate/compensator.hpp"
 #include "ccomp/compensate/verify.hpp"
 #include "ccomp/error.hpp"
+#include "ccomp/gcode/flatten.hpp"
 #include "ccomp/gcode/writer.hpp"
 #include "ccomp/util/parallel.hpp"
 #include "ccomp/version.hpp"
@@ -353,9 +358,8 @@ class JobSink : public gcode::CanonSink {
       return;
     }
     refuse(ErrorKind::unsupported,
-           "this line runs more than once (a loop or a subroutine) and its correction "
-           "differs each time; compensating such programs needs flattening, not "
-           "implemented yet");
+           "this line runs more than once (a loop or a subroutine), and each run needs its own "
+           "correction: --flatten writes the program as it runs, loops and subroutines unrolled");
   }
 
   // The pipeline of moves. The interpreter fills a batch of moves while those before it are
@@ -521,8 +525,8 @@ class JobSink : public gcode::CanonSink {
     cycle_ = PendingCycle{};
     if (c.repeated)
       throw Error(ErrorKind::unsupported,
-                  "this canned cycle runs more than once (a loop or a subroutine); "
-                  "compensating such programs needs flattening, not implemented yet",
+                  "this canned cycle runs more than once (a loop or a subroutine), and each run needs its "
+                  "own correction: --flatten writes the program as it runs, loops and subroutines unrolled",
                   SourceLocation{input_.name(), c.line, 0}, c.text);
     // The feeds: the first starts at the R point, the last ends at the bottom.
     const gcode::Motion* first = nullptr;
@@ -628,7 +632,7 @@ class JobSink : public gcode::CanonSink {
           (w.letter == 'G' && w.value.is_literal() && is_cycle_code(w.value.literal)))
         cycle_words.push_back(w.span);
     std::vector<gcode::Edit> edits;
-    remove_words(c.text, cycle_words, edits);
+    gcode::removal_edits(c.text, cycle_words, edits);
     const bool inch = c.units == gcode::Units::inch;
     const double unit = inch ? 25.4 : 1.0;
     const std::string eol = c.terminator.empty() ? "\n" : c.terminator;
@@ -736,34 +740,6 @@ class JobSink : public gcode::CanonSink {
                                    forced ? "" : "at least ", digits, worst * 1000.0, options_.tolerance * 1000.0,
                                    forced ? "" : "; --decimals writes more"),
                        line);
-  }
-
-  /// Edits removing `words` from a line, each with the blanks before it (after it, when it
-  /// starts the line: the line's indentation stays); neighbours' blanks merge into one
-  /// edit, as edits may not overlap.
-  static void remove_words(std::string_view text, const std::vector<gcode::Span>& words,
-                           std::vector<gcode::Edit>& edits) {
-    const auto first_word = static_cast<std::uint32_t>(std::min(text.find_first_not_of(" \t"), text.size()));
-    auto blank = [&](std::uint32_t i) { return i < text.size() && (text[i] == ' ' || text[i] == '\t'); };
-    std::vector<gcode::Span> spans;
-    for (gcode::Span s : words) {
-      if (s.begin == first_word)
-        while (blank(s.end)) ++s.end;
-      else
-        while (s.begin > first_word && blank(s.begin - 1)) --s.begin;
-      spans.push_back(s);
-    }
-    std::sort(spans.begin(), spans.end(), [](const gcode::Span& a, const gcode::Span& b) { return a.begin < b.begin; });
-    for (std::size_t k = 0; k < spans.size(); ++k) {
-      if (k > 0 && spans[k].begin <= edits.back().span.end) {
-        edits.back().span.end = std::max(edits.back().span.end, spans[k].end);
-      } else {
-        edits.push_back(gcode::Edit{spans[k], ""});
-      }
-      // A removal that now starts the line takes the blanks after it, not one before the next word.
-      if (edits.back().span.begin == first_word && edits.back().text.empty())
-        while (blank(edits.back().span.end)) ++edits.back().span.end;
-    }
   }
 
   /// The word for axis i at program value p (program units, degrees), or nothing for an
@@ -874,7 +850,7 @@ class JobSink : public gcode::CanonSink {
       if (w.letter == 'I' || w.letter == 'J' || w.letter == 'K' || w.letter == 'R' || w.letter == 'P')
         arc_words.push_back(w.span);
     }
-    remove_words(b.text, arc_words, edits);
+    gcode::removal_edits(b.text, arc_words, edits);
     if (!has_motion_code && !b.words.empty())
       edits.push_back(gcode::Edit{{b.words.front().span.begin, b.words.front().span.begin}, "G1 "});
   }
@@ -1022,9 +998,52 @@ void validate(const JobOptions& options) {
       throw Error(ErrorKind::usage, fmt::format("sensor '{}' must read a finite temperature, not {}", name, value));
 }
 
+namespace {
+
+/// The job on the program as it runs: flattened into an unnamed temporary file, which is
+/// then compensated line for line; what goes wrong is reported at the original's lines.
+JobReport run_flattened_job(gcode::LineSource& input, std::FILE* out, const model::MachineModel& model,
+                            const JobOptions& options) {
+  std::string path = (std::filesystem::temp_directory_path() / "ccomp-flat-XXXXXX").string();
+  const int fd = ::mkstemp(path.data());
+  if (fd < 0) throw Error(ErrorKind::io, fmt::format("cannot create a temporary file for flattening '{}'", input.name()));
+  std::FILE* spool = ::fdopen(fd, "w+b");
+  gcode::LineOrigins origins;
+  try {
+    origins = gcode::flatten(input, spool, options.interpreter);
+  } catch (...) {
+    std::fclose(spool);
+    std::remove(path.c_str());
+    throw;
+  }
+  std::fclose(spool);
+  gcode::LineSource flat = gcode::LineSource::open(path);
+  std::remove(path.c_str());  // the reader holds it open; nothing is left behind
+  JobOptions inner = options;
+  inner.flatten = false;
+  if (options.warning)
+    inner.warning = [&](const std::string& message, std::uint32_t line) {
+      options.warning(message, origins.at(line).line);
+    };
+  try {
+    JobReport report = run_program_job(flat, out, model, inner);
+    report.bytes = input.size();
+    return report;
+  } catch (const Error& e) {
+    if (e.where().file != flat.name()) throw;
+    SourceLocation at = origins.at(e.where().line);
+    if (at.file.empty()) at.file = input.name();
+    throw Error(e.kind(), e.source_line().empty() ? e.message() : e.message() + " (the line as it runs is shown)", at,
+                e.source_line());
+  }
+}
+
+}  // namespace
+
 JobReport run_program_job(gcode::LineSource& input, std::FILE* out, const model::MachineModel& model,
                           const JobOptions& options) {
   validate(options);
+  if (options.flatten) return run_flattened_job(input, out, model, options);
   JobReport report;
   report.bytes = input.size();
   {

@@ -191,10 +191,16 @@ std::uint32_t Words::axis_mask() const {
 
 void Interpreter::Impl::decode(const Block& b) {
   words = Words{};
+  const bool report = sink && sink->wants_values();
+  if (report) word_values.clear();
   for (const Word& w : b.words) {
-    if (!w.has_value) continue;  // a lone letter, where the dialect allows it
+    if (!w.has_value) {  // a lone letter, where the dialect allows it
+      if (report) word_values.push_back(std::nan(""));
+      continue;
+    }
     const double v = w.value.is_literal() ? w.value.literal : evaluate(b, w.value);
     if (!std::isfinite(v)) fail(b, &w, fmt::format("{} word evaluates to {}", w.letter, v));
+    if (report) word_values.push_back(v);
     if (w.letter == 'G') {
       const double scaled = v * 10.0;
       const auto code = static_cast<int>(std::lround(scaled));
@@ -259,6 +265,7 @@ void Interpreter::Impl::decode(const Block& b) {
       fail(b, w, fmt::format("two M codes used from the same modal group: M{} and M{}", s, code));
     s = code;
   }
+  if (report) sink->values(b, line, file_name(), word_values);
   // Parameter settings take effect after every value of the block was read.
   if (!b.settings.empty()) {
     std::array<double, 32> values{};

@@ -113,6 +113,7 @@ struct Interpreter::Impl {
   Block block;
   SourceLine line;
   Words words;
+  std::vector<double> word_values;  ///< each word's value, for a sink that wants them
 
   // --- run loop and control flow (interpreter.cpp)
   void run(LineSource& source, CanonSink& out);

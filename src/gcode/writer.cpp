@@ -35,6 +35,28 @@ void apply_edits(std::string_view line, std::span<Edit> edits, std::string& out)
   out.append(line.substr(at));
 }
 
+void removal_edits(std::string_view line, std::vector<Span> words, std::vector<Edit>& edits) {
+  const auto first_word = static_cast<std::uint32_t>(std::min(line.find_first_not_of(" \t"), line.size()));
+  auto blank = [&](std::uint32_t i) { return i < line.size() && (line[i] == ' ' || line[i] == '\t'); };
+  for (Span& s : words) {
+    if (s.begin == first_word)
+      while (blank(s.end)) ++s.end;
+    else
+      while (s.begin > first_word && blank(s.begin - 1)) --s.begin;
+  }
+  std::sort(words.begin(), words.end(), [](const Span& a, const Span& b) { return a.begin < b.begin; });
+  for (std::size_t k = 0; k < words.size(); ++k) {
+    if (k > 0 && words[k].begin <= edits.back().span.end) {
+      edits.back().span.end = std::max(edits.back().span.end, words[k].end);
+    } else {
+      edits.push_back(Edit{words[k], ""});
+    }
+    // A removal that now starts the line takes the blanks after it, not one before the next word.
+    if (edits.back().span.begin == first_word && edits.back().text.empty())
+      while (blank(edits.back().span.end)) ++edits.back().span.end;
+  }
+}
+
 ProgramWriter::ProgramWriter(LineSource reader, std::FILE* out, std::string header)
     : reader_(std::move(reader)), out_(out), header_(std::move(header)) {}
 

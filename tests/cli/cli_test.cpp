@@ -256,3 +256,25 @@ TEST(Cli, DecimalsAsToldAndRefusedWhenTooCoarseForTheTolerance) {
 
 }  // namespace
 }  // namespace ccomp::test
+
+namespace ccomp::test {
+namespace {
+
+TEST(Cli, FlattenWritesTheBoltCircleAsItRuns) {
+  // stdbc.nc drills eight holes by a subprogram called with L#2 (Fanuc M98), turning A
+  // 45 degrees in G91 after each; flattened, its lines each run once.
+  const std::string dir = temp_dir("cli_flatten");
+  const std::string base = shell_quote(ccomp_binary()) + " " + corpus_dir() + "/programs/stdbc.nc -m " +
+                           source_dir() + "/samples/machines/zero.yaml --dialect fanuc --tool-table " +
+                           source_dir() + "/tests/data/corpus-tools.tbl -o " + dir + "/out.nc";
+  const CommandResult r = run_command(base + " --flatten");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const std::string out = read_file(dir + "/out.nc");
+  for (const char* gone : {"M98", "M99", "#", "O0011"}) EXPECT_EQ(out.find(gone), std::string::npos) << gone;
+  std::size_t turns = 0;
+  for (auto at = out.find("G91 A45.0"); at != std::string::npos; at = out.find("G91 A45.0", at + 1)) ++turns;
+  EXPECT_EQ(turns, 3U * 8U) << "eight holes for each of the spot drill, the drill and the tap\n" << out;
+}
+
+}  // namespace
+}  // namespace ccomp::test

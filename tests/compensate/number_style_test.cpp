@@ -17,11 +17,6 @@
 namespace ccomp::test {
 namespace {
 
-const model::MachineModel& geometric() {
-  static const model::MachineModel mm =
-      model::load_machine_model(source_dir() + "/samples/machines/hmc-xyzb-geometric.yaml");
-  return mm;
-}
 
 // Line 5 wrote five decimals, line 6 one, line 7 a bare ".5"; line 8 turns B (and is split).
 const std::string kProgram =
@@ -65,7 +60,7 @@ struct JobRun {
 JobRun run(const std::string& program, compensate::JobOptions o) {
   JobRun r;
   o.warning = [&r](const std::string& message, std::uint32_t) { r.warnings.push_back(message); };
-  r.lines = lines_of(compensate(program, geometric(), o, &r.report));
+  r.lines = lines_of(compensate(program, sample_machine("hmc-xyzb-geometric"), o, &r.report));
   return r;
 }
 
@@ -149,12 +144,13 @@ TEST(NumberStyle, InchProgramsAreCheckedInInches) {
 
 TEST(NumberStyle, TheWarnedRoundingIsWhatVerifyFinds) {
   // What the digits cost shows in the executed path, within what the warning said.
-  const model::ForwardModel m(geometric());
+  const model::MachineModel mm = sample_machine("hmc-xyzb-geometric");
+  const model::ForwardModel m(mm);
   const std::string program = random_program(4);
   auto left = [&](int decimals) {
     compensate::JobOptions o;
     o.decimals = decimals;
-    const std::string output = compensate(program, geometric(), o);
+    const std::string output = compensate(program, sample_machine("hmc-xyzb-geometric"), o);
     compensate::CheckOptions check;
     check.interpreter.tools.tools[1] = kTool1;
     gcode::LineSource a = gcode::LineSource::from_string(program, "in.ngc");

@@ -6,7 +6,13 @@
 #include <cstdlib>
 #include <random>
 
+#include "trace_capture.hpp"
+
 namespace ccomp::test {
+
+model::MachineModel sample_machine(const std::string& name) {
+  return model::load_machine_model(source_dir() + "/samples/machines/" + name + ".yaml");
+}
 
 /// The main job on `program` in memory, with tool 1 in the table.
 std::string compensate(const std::string& program, const model::MachineModel& mm, compensate::JobOptions o,

@@ -11,6 +11,9 @@ namespace ccomp::test {
 /// H1: 100 mm, as in every program of these tests.
 inline const gcode::ToolEntry kTool1{1, 1, {0, 0, 100.0}, 10, ""};
 
+/// A sample machine model: samples/machines/`name`.yaml.
+model::MachineModel sample_machine(const std::string& name);
+
 /// The main job on `program` in memory, with tool 1 in the table: the output program.
 std::string compensate(const std::string& program, const model::MachineModel& mm, compensate::JobOptions o,
                        compensate::JobReport* report = nullptr);

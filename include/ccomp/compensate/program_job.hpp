@@ -29,6 +29,11 @@ struct JobOptions {
   /// what the block form cannot: L repeats, G91 cycles, and a hole whose correction
   /// differs between its R plane and its bottom.
   bool expand_cycles = false;
+  /// Compensate the program as it runs (gcode::flatten(): loops and subroutine calls
+  /// unrolled, expressions replaced by their values) instead of line for line: a line that
+  /// runs more than once may need a different correction each time, which one line cannot
+  /// carry. Errors and warnings still name the original's lines.
+  bool flatten = false;
   /// Decimals of the compensated coordinates, for a control that wants a fixed count (one
   /// that alarms on more digits than its resolution, say). -1 keeps the program's style: as
   /// many as it wrote, at least 4 in mm and 5 in inches and degrees. `decimals` is for the

@@ -3,6 +3,7 @@
 // (STRAIGHT_TRAVERSE, STRAIGHT_FEED, ARC_FEED, offsets...), with every position as the
 // controlled point in machine coordinates (work offsets applied, tool length not).
 #include <cstdint>
+#include <span>
 #include <string>
 #include <string_view>
 
@@ -114,6 +115,13 @@ class CanonSink {
   /// Only called when wants_calls() is true, since formatting costs time.
   virtual void call(const CanonCall& /*call*/) {}
   [[nodiscard]] virtual bool wants_calls() const { return false; }
+  /// A block about to be executed (not an O-word statement, not a line a loop or a
+  /// subroutine definition skips), from `file`, with the value of each of its words in
+  /// `block.words` order: expressions and parameters evaluated, NaN for a lone letter.
+  /// Only called when wants_values() is true.
+  virtual void values(const Block& /*block*/, const SourceLine& /*line*/, std::string_view /*file*/,
+                      std::span<const double> /*values*/) {}
+  [[nodiscard]] virtual bool wants_values() const { return false; }
   /// A warning: something ccomp accepted but the user should know.
   virtual void warning(const std::string& /*message*/, std::uint32_t /*line*/) {}
 };

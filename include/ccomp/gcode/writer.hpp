@@ -27,6 +27,10 @@ struct Edit {
 [[nodiscard]] std::string apply_edits(std::string_view line, std::vector<Edit> edits);
 /// The same into `out` (replaced), reusing its storage; sorts `edits` in place.
 void apply_edits(std::string_view line, std::span<Edit> edits, std::string& out);
+/// Appends to `edits` the removal of `words` (spans of `line`), each with the blanks before
+/// it (after it, when it starts the line: the line's indentation stays); neighbours' blanks
+/// merge into one edit, as edits may not overlap.
+void removal_edits(std::string_view line, std::vector<Span> words, std::vector<Edit>& edits);
 
 class ProgramWriter {
  public:
