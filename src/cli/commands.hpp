@@ -66,6 +66,9 @@ struct TraceArgs {
 };
 CLI::App* add_trace(CLI::App& app, TraceArgs& args);
 int run_trace(const TraceArgs& args);
+/// flatten: the program as it runs (gcode::flatten()), on standard output.
+CLI::App* add_flatten(CLI::App& app, TraceArgs& args);
+int run_flatten(const TraceArgs& args);
 
 /// fit, check and simulate: the model against measurements.
 struct IdentifyArgs {

@@ -33,8 +33,9 @@ int main(int argc, char** argv) {
   app.require_subcommand(0, 1);
   ccomp::cli::CompensateArgs compensate;
   ccomp::cli::add_compensate(app, compensate);
-  ccomp::cli::TraceArgs trace;
+  ccomp::cli::TraceArgs trace, flatten;
   CLI::App* trace_cmd = ccomp::cli::add_trace(app, trace);
+  CLI::App* flatten_cmd = ccomp::cli::add_flatten(app, flatten);
   ccomp::cli::CheckArgs predict, verify;
   CLI::App* predict_cmd = ccomp::cli::add_predict(app, predict);
   CLI::App* verify_cmd = ccomp::cli::add_verify(app, verify);
@@ -52,6 +53,7 @@ int main(int argc, char** argv) {
   }
   try {
     if (trace_cmd->parsed()) return ccomp::cli::run_trace(trace);
+    if (flatten_cmd->parsed()) return ccomp::cli::run_flatten(flatten);
     if (predict_cmd->parsed()) return ccomp::cli::run_predict(predict);
     if (verify_cmd->parsed()) return ccomp::cli::run_verify(verify);
     if (fit_cmd->parsed()) return ccomp::cli::run_fit(fit);

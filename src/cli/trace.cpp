@@ -1,5 +1,7 @@
 #include "ccomp/gcode/trace.hpp"
 
+#include "ccomp/gcode/flatten.hpp"
+
 #include <cstdio>
 
 #include "commands.hpp"
@@ -12,6 +14,21 @@ CLI::App* add_trace(CLI::App& app, TraceArgs& args) {
   cmd->add_option("input", args.input, "G-code program ('-' for standard input)")->required();
   add_program_options(*cmd, args.program);
   return cmd;
+}
+
+CLI::App* add_flatten(CLI::App& app, TraceArgs& args) {
+  CLI::App* cmd = app.add_subcommand(
+      "flatten", "print the program as it runs: loops and subroutine calls unrolled, values in place of expressions");
+  cmd->add_option("input", args.input, "G-code program ('-' for standard input)")->required();
+  add_program_options(*cmd, args.program);
+  return cmd;
+}
+
+int run_flatten(const TraceArgs& args) {
+  gcode::LineSource source = gcode::LineSource::open(args.input);
+  std::setvbuf(stdout, nullptr, _IOFBF, 1 << 16);
+  (void)gcode::flatten(source, stdout, interpreter_options(args.program, ""));
+  return 0;
 }
 
 int run_trace(const TraceArgs& args) {

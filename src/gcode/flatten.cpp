@@ -122,7 +122,9 @@ class FlattenSink : public CanonSink {
 LineOrigins flatten(LineSource& program, std::FILE* out, const InterpreterOptions& options) {
   LineOrigins origins;
   FlattenSink sink(out, origins, program.name());
-  Interpreter interpreter(options);
+  InterpreterOptions bounded = options;
+  bounded.max_blocks = std::min(options.max_blocks, kFlattenMaxBlocks);
+  Interpreter interpreter(bounded);
   interpreter.run(program, sink);
   sink.after_end(program);
   if (std::fflush(out) != 0 || std::ferror(out))

@@ -274,6 +274,13 @@ TEST(Cli, FlattenWritesTheBoltCircleAsItRuns) {
   std::size_t turns = 0;
   for (auto at = out.find("G91 A45.0"); at != std::string::npos; at = out.find("G91 A45.0", at + 1)) ++turns;
   EXPECT_EQ(turns, 3U * 8U) << "eight holes for each of the spot drill, the drill and the tap\n" << out;
+  // `ccomp flatten` prints the same program: what the job compensated (here: nothing).
+  const CommandResult printed =
+      run_command(shell_quote(ccomp_binary()) + " flatten - --dialect fanuc --tool-table " + source_dir() +
+                      "/tests/data/corpus-tools.tbl",
+                  read_file(corpus_dir() + "/programs/stdbc.nc"));
+  ASSERT_EQ(printed.exit_code, 0) << printed.err;
+  EXPECT_EQ(printed.out, without_header(out));
 }
 
 }  // namespace

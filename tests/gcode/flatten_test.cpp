@@ -131,6 +131,18 @@ TEST(Flatten, BlockDeleteLinesAreNotRunSoNotWritten) {
   EXPECT_EQ(flatten_text("G21 G0 X1\n/G0 X2\nG0 X3\nM2\n").text, "G21 G0 X1\n/G0 X2\nG0 X3\nM2\n");
 }
 
+TEST(Flatten, AnEndlessLoopEndsAtTheBlockLimit) {
+  gcode::InterpreterOptions o;
+  o.max_blocks = 1000;
+  try {
+    (void)flatten_text("G21\no1 while [1]\nG0 X1\nG0 X2\no1 endwhile\nM2\n", o);
+    ADD_FAILURE() << "an endless loop was flattened";
+  } catch (const Error& e) {
+    EXPECT_NE(e.message().find("more than 1000 blocks executed"), std::string::npos) << e.message();
+  }
+  EXPECT_LE(gcode::kFlattenMaxBlocks, gcode::InterpreterOptions{}.max_blocks);
+}
+
 // Every program of LinuxCNC's suite that ccomp runs: its flattened form makes the same motions.
 struct SuiteProgram {
   std::string path;  ///< relative to corpus/linuxcnc

@@ -43,7 +43,10 @@ class LineOrigins {
 /// - `%` lines (the closing one after M2/M30 too) and a program number before the first
 ///   executed line kept.
 /// Lines a block-delete switch skips are not run, so not written. Every other byte of a
-/// written line is as it was. Throws what the interpreter throws, at the original's lines.
+/// written line is as it was. Throws what the interpreter throws, at the original's lines;
+/// a program that runs more than kFlattenMaxBlocks blocks (or options.max_blocks, if fewer)
+/// is taken for an endless loop, before its spool fills a disk.
+inline constexpr std::uint64_t kFlattenMaxBlocks = 20'000'000;
 [[nodiscard]] LineOrigins flatten(LineSource& program, std::FILE* out, const InterpreterOptions& options);
 
 /// How flatten() writes a computed value: a code (G, M, T, H, D, N, O, P, L, S) that is a
