@@ -66,6 +66,16 @@ TEST(FlattenJob, ALoopIsRefusedWithoutItAndCompensatedRunByRunWithIt) {
   EXPECT_LE(left.max, 0.001 + 1e-4) << left.max * 1000 << " um at line " << left.worst_line << " of\n" << output;
 }
 
+TEST(FlattenJob, AProgramWithoutLoopsComesOutTheSameEitherWay) {
+  const model::MachineModel mm = sample_machine("hmc-xyzb-geometric");
+  compensate::JobOptions flat;
+  flat.flatten = true;
+  for (unsigned seed : {3U, 8U}) {
+    const std::string program = random_program(seed);
+    EXPECT_EQ(compensate(program, mm, flat), compensate(program, mm, compensate::JobOptions{})) << "seed " << seed;
+  }
+}
+
 TEST(FlattenJob, ARefusalInASubroutineNamesTheOriginalLine) {
   // The third call sends X to 600 mm, beyond the sample machine's 500.
   const std::string program =
