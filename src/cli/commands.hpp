@@ -36,8 +36,8 @@ struct CompensateArgs {
   bool flatten = false;
   bool progress = false;
   double tolerance = 0.001;
-  int decimals = -1;         ///< -1: the program's own
-  int rotary_decimals = -1;  ///< -1: the program's own
+  int decimals = -1;                 ///< -1: the program's own
+  int rotary_decimals = -1;          ///< -1: the program's own
   std::vector<std::string> sensors;  ///< NAME=VALUE (degC)
   double time = 0.0;
   bool quiet = false;

@@ -1,9 +1,8 @@
 #include "ccomp/gcode/trace.hpp"
 
-#include "ccomp/gcode/flatten.hpp"
-
 #include <cstdio>
 
+#include "ccomp/gcode/flatten.hpp"
 #include "commands.hpp"
 
 namespace ccomp::cli {

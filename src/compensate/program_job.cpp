@@ -986,13 +986,17 @@ bool is_header_line(std::string_view line) {
 
 void validate(const JobOptions& options) {
   if (!(options.tolerance > 0.0) || !std::isfinite(options.tolerance))
-    throw Error(ErrorKind::usage, fmt::format("the tolerance must be a positive number of mm, not {}", options.tolerance));
-  for (const auto& [name, decimals] : {std::pair{"decimals", options.decimals}, {"rotary_decimals", options.rotary_decimals}})
+    throw Error(ErrorKind::usage,
+                fmt::format("the tolerance must be a positive number of mm, not {}", options.tolerance));
+  for (const auto& [name, decimals] :
+       {std::pair{"decimals", options.decimals}, {"rotary_decimals", options.rotary_decimals}})
     if (decimals < -1 || decimals > 9)
-      throw Error(ErrorKind::usage, fmt::format("{} must be 0 to 9 (or -1: the program's own), not {}", name, decimals));
+      throw Error(ErrorKind::usage,
+                  fmt::format("{} must be 0 to 9 (or -1: the program's own), not {}", name, decimals));
   if (options.threads != 1 && options.threads != 2)
     throw Error(ErrorKind::usage, fmt::format("threads must be 1 or 2, not {}", options.threads));
-  if (!std::isfinite(options.time)) throw Error(ErrorKind::usage, fmt::format("the time must be finite, not {}", options.time));
+  if (!std::isfinite(options.time))
+    throw Error(ErrorKind::usage, fmt::format("the time must be finite, not {}", options.time));
   for (const auto& [name, value] : options.sensors)
     if (!std::isfinite(value))
       throw Error(ErrorKind::usage, fmt::format("sensor '{}' must read a finite temperature, not {}", name, value));
@@ -1006,7 +1010,8 @@ JobReport run_flattened_job(gcode::LineSource& input, std::FILE* out, const mode
                             const JobOptions& options) {
   std::string path = (std::filesystem::temp_directory_path() / "ccomp-flat-XXXXXX").string();
   const int fd = ::mkstemp(path.data());
-  if (fd < 0) throw Error(ErrorKind::io, fmt::format("cannot create a temporary file for flattening '{}'", input.name()));
+  if (fd < 0)
+    throw Error(ErrorKind::io, fmt::format("cannot create a temporary file for flattening '{}'", input.name()));
   std::FILE* spool = ::fdopen(fd, "w+b");
   gcode::LineOrigins origins;
   try {

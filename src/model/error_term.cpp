@@ -47,8 +47,10 @@ void first_harmonic(double phase1, TermValue& r, double& c1, double& s1) {
     // and the last bit of these small terms is far below the sum's.
     const double d2 = delta * delta;
     const double cd =
-        1.0 - d2 * 0.5 * (1.0 - d2 * (1.0 / 12) * (1.0 - d2 * (1.0 / 30) * (1.0 - d2 * (1.0 / 56) * (1.0 - d2 * (1.0 / 90)))));
-    const double sd = delta * (1.0 - d2 * (1.0 / 6) * (1.0 - d2 * (1.0 / 20) * (1.0 - d2 * (1.0 / 42) * (1.0 - d2 * (1.0 / 72)))));
+        1.0 - d2 * 0.5 *
+                  (1.0 - d2 * (1.0 / 12) * (1.0 - d2 * (1.0 / 30) * (1.0 - d2 * (1.0 / 56) * (1.0 - d2 * (1.0 / 90)))));
+    const double sd =
+        delta * (1.0 - d2 * (1.0 / 6) * (1.0 - d2 * (1.0 / 20) * (1.0 - d2 * (1.0 / 42) * (1.0 - d2 * (1.0 / 72)))));
     c1 = r.cos_reference * cd - r.sin_reference * sd;
     s1 = r.sin_reference * cd + r.cos_reference * sd;
   } else {

@@ -315,7 +315,8 @@ void forward(const ForwardModel& model, ForwardData& d, const ChainQ& q, const C
         if (!same.parameters || v != last.primary || last.secondary != 0.0) {
           const double* p = parameters + s.offset;
           PeriodicPhase& phase = d.phases[i];
-          const PeriodicPhase* shared = s.phase_source >= 0 ? &d.phases[static_cast<std::size_t>(s.phase_source)] : nullptr;
+          const PeriodicPhase* shared =
+              s.phase_source >= 0 ? &d.phases[static_cast<std::size_t>(s.phase_source)] : nullptr;
           if (shared && shared->at == v && shared->period == p[0])
             phase = *shared;
           else

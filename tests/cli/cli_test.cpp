@@ -244,7 +244,8 @@ TEST(Cli, DecimalsAsToldAndRefusedWhenTooCoarseForTheTolerance) {
   const CommandResult three = run_command(base + "/three.ngc --decimals 3");
   ASSERT_EQ(three.exit_code, 0) << three.err;
   EXPECT_NE(three.err.find("warning: coordinates written to 3 decimals in mm"), std::string::npos) << three.err;
-  EXPECT_NE(read_file(dir + "/three.ngc").find("G0 X-30.023 Y-19.992 Z5.010"), std::string::npos) << read_file(dir + "/three.ngc");
+  EXPECT_NE(read_file(dir + "/three.ngc").find("G0 X-30.023 Y-19.992 Z5.010"), std::string::npos)
+      << read_file(dir + "/three.ngc");
   const CommandResult two = run_command(base + "/two.ngc --decimals 2");
   EXPECT_EQ(two.exit_code, 2);
   EXPECT_NE(two.err.find("error: --decimals 2: coordinates written to 2 decimals in mm may put the tool up to 8.66 um"),
@@ -264,9 +265,9 @@ TEST(Cli, FlattenWritesTheBoltCircleAsItRuns) {
   // stdbc.nc drills eight holes by a subprogram called with L#2 (Fanuc M98), turning A
   // 45 degrees in G91 after each; flattened, its lines each run once.
   const std::string dir = temp_dir("cli_flatten");
-  const std::string base = shell_quote(ccomp_binary()) + " " + corpus_dir() + "/programs/stdbc.nc -m " +
-                           source_dir() + "/samples/machines/zero.yaml --dialect fanuc --tool-table " +
-                           source_dir() + "/tests/data/corpus-tools.tbl -o " + dir + "/out.nc";
+  const std::string base = shell_quote(ccomp_binary()) + " " + corpus_dir() + "/programs/stdbc.nc -m " + source_dir() +
+                           "/samples/machines/zero.yaml --dialect fanuc --tool-table " + source_dir() +
+                           "/tests/data/corpus-tools.tbl -o " + dir + "/out.nc";
   const CommandResult r = run_command(base + " --flatten");
   ASSERT_EQ(r.exit_code, 0) << r.err;
   const std::string out = read_file(dir + "/out.nc");
@@ -275,10 +276,9 @@ TEST(Cli, FlattenWritesTheBoltCircleAsItRuns) {
   for (auto at = out.find("G91 A45.0"); at != std::string::npos; at = out.find("G91 A45.0", at + 1)) ++turns;
   EXPECT_EQ(turns, 3U * 8U) << "eight holes for each of the spot drill, the drill and the tap\n" << out;
   // `ccomp flatten` prints the same program: what the job compensated (here: nothing).
-  const CommandResult printed =
-      run_command(shell_quote(ccomp_binary()) + " flatten - --dialect fanuc --tool-table " + source_dir() +
-                      "/tests/data/corpus-tools.tbl",
-                  read_file(corpus_dir() + "/programs/stdbc.nc"));
+  const CommandResult printed = run_command(shell_quote(ccomp_binary()) + " flatten - --dialect fanuc --tool-table " +
+                                                source_dir() + "/tests/data/corpus-tools.tbl",
+                                            read_file(corpus_dir() + "/programs/stdbc.nc"));
   ASSERT_EQ(printed.exit_code, 0) << printed.err;
   EXPECT_EQ(printed.out, without_header(out));
 }

@@ -12,7 +12,6 @@
 namespace ccomp::test {
 namespace {
 
-
 // Four holes of a bolt circle by a loop calling a subroutine, then G91 steps in a repeat.
 const std::string kLoops =
     "G21 G90 G94 G54\n"

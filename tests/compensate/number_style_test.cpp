@@ -17,7 +17,6 @@
 namespace ccomp::test {
 namespace {
 
-
 // Line 5 wrote five decimals, line 6 one, line 7 a bare ".5"; line 8 turns B (and is split).
 const std::string kProgram =
     "G21 G90 G94 G54\n"

@@ -22,7 +22,6 @@ struct Edit {
   std::string text;
 };
 
-
 /// The line with the edits applied (edits must not overlap).
 [[nodiscard]] std::string apply_edits(std::string_view line, std::vector<Edit> edits);
 /// The same into `out` (replaced), reusing its storage; sorts `edits` in place.

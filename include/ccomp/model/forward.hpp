@@ -113,7 +113,7 @@ struct ForwardData {
   Eigen::Matrix<double, 3, Eigen::Dynamic> J_parameters;  ///< d actual / d parameters
   // scratch
   kinematics::ChainData actual_chain;
-  kinematics::NominalData nominal_chain;  ///< the perfect machine
+  kinematics::NominalData nominal_chain;                            ///< the perfect machine
   std::vector<Eigen::Matrix<double, 6, 1>> work_error, tool_error;  ///< per joint: delta, epsilon
   /// What the error poses in actual_chain were built from: a link whose error motions did
   /// not change since (an axis standing still, a thermal drift) keeps its pose.
