@@ -264,9 +264,11 @@ class JobSink : public gcode::CanonSink {
     ++report_.blocks;
     block_ = &block;
     line_ = line;
-    // A line before the furthest one read runs again (a loop, a subroutine).
-    repeated_ = line.offset < furthest_;
-    furthest_ = std::max(furthest_, line.offset);
+    // A line of another file (a subroutine file on the path) is not in the program written
+    // here; a line before the furthest one read runs again (a loop, a subroutine).
+    elsewhere_ = line.file.data() != input_.name().data() && line.file != input_.name();
+    repeated_ = !elsewhere_ && line.offset < furthest_;
+    if (!elsewhere_) furthest_ = std::max(furthest_, line.offset);
     for (const gcode::Word& w : block.words) {
       if (w.letter < 'A' || w.letter > 'Z' || ((machine_axes_ >> (w.letter - 'A')) & 1U) ||
           !gcode::axis_index(w.letter))
@@ -318,7 +320,8 @@ class JobSink : public gcode::CanonSink {
     using gcode::MotionKind;
     using gcode::MotionSource;
     const bool machine = m.source == MotionSource::machine_coordinates || m.source == MotionSource::reference_return;
-    if (!machine && m.kind != MotionKind::probe && m.source != MotionSource::canned_cycle && !repeated_) {
+    if (!machine && m.kind != MotionKind::probe && m.source != MotionSource::canned_cycle && !repeated_ &&
+        !elsewhere_) {
       queue_move(m);
       return;
     }
@@ -337,6 +340,12 @@ class JobSink : public gcode::CanonSink {
       return;
     }
     if (m.kind == MotionKind::probe) refuse(ErrorKind::unsupported, "a probe move (G38.x) cannot be compensated");
+    if (elsewhere_)
+      throw Error(ErrorKind::unsupported,
+                  fmt::format("this line is in the subroutine file '{}', which the compensated program does not "
+                              "include: --flatten writes the program as it runs, the subroutine's lines in it",
+                              line_.file),
+                  SourceLocation{std::string(line_.file), block_->line, 0}, std::string(block_->text));
     if (m.source == MotionSource::canned_cycle) {
       if (m.incremental && !options_.expand_cycles)
         refuse(ErrorKind::unsupported,
@@ -948,6 +957,7 @@ class JobSink : public gcode::CanonSink {
   double rotary_lever_ = 100.0;
   std::uint64_t furthest_ = 0;  ///< the offset of the furthest line read
   bool repeated_ = false;       ///< the current line is before it
+  bool elsewhere_ = false;      ///< the current line is in another file (a subroutine's)
   /// The uncompensated machine's error, for the report, is taken by a compensator of its own
   /// on the writing side (it changes nothing the compensation decides).
   std::unique_ptr<Compensator> error_before_;

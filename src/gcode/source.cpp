@@ -108,6 +108,7 @@ bool LineSource::next(SourceLine& line) {
     }
     line.offset = start;
     line.number = position_.line;
+    line.file = name_;
     position_.offset = nl == std::string::npos ? m.size() : nl + 1;
     ++position_.line;
     return true;
@@ -126,6 +127,7 @@ bool LineSource::next(SourceLine& line) {
       }
       line.offset = buffer_offset_ + begin_;
       line.number = position_.line;
+      line.file = name_;
       begin_ = nl ? stop + 1 : stop;
       position_.offset = buffer_offset_ + begin_;
       ++position_.line;

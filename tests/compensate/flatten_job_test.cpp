@@ -93,6 +93,39 @@ TEST(FlattenJob, ARefusalInASubroutineNamesTheOriginalLine) {
   }
 }
 
+TEST(FlattenJob, ASubroutineFileIsNotEditedInPlaceButFlattenedIn) {
+  // The output is one program: a line of a file on the subroutine path cannot be rewritten
+  // there (before, its offset was taken for one of the program's own lines).
+  const std::string dir = temp_dir("flatten_sub_file");
+  write_file(dir + "/hole.ngc", "o<hole> sub\n  G0 X[#1] Y0 Z-95\n  G1 Z-100 F200\no<hole> endsub\n");
+  const std::string program =
+      "G21 G90\nT1 M6\nG43 H1\nG0 X0 Y0 Z-90\nG1 X10 Y10 F500\no<hole> call [30]\nG0 Z-90\nM30\n";
+  const model::MachineModel mm = sample_machine("hmc-xyzb-geometric");
+  compensate::JobOptions o;
+  o.interpreter.subroutine_path = {dir};
+  try {
+    (void)compensate(program, mm, o);
+    ADD_FAILURE() << "a subroutine file's line was compensated in place";
+  } catch (const Error& e) {
+    EXPECT_EQ(e.kind(), ErrorKind::unsupported);
+    EXPECT_EQ(e.where().file, dir + "/hole.ngc");
+    EXPECT_EQ(e.where().line, 2U);
+    EXPECT_NE(e.message().find("--flatten"), std::string::npos) << e.message();
+  }
+  o.flatten = true;
+  const std::string output = compensate(program, mm, o);
+  EXPECT_EQ(output.find("o<hole>"), std::string::npos) << output;
+  const model::ForwardModel m(mm);
+  compensate::CheckOptions check;
+  check.interpreter.tools.tools[1] = kTool1;
+  check.interpreter.subroutine_path = {dir};
+  gcode::LineSource original = gcode::LineSource::from_string(program, "in.ngc");
+  gcode::LineSource compensated = gcode::LineSource::from_string(output, "out.ngc");
+  const compensate::PathError left = compensate::verify(original, compensated, m, check);
+  EXPECT_EQ(left.moves, 2U) << "the G1 of the program and the subroutine's";
+  EXPECT_LE(left.max, 0.001 + 1e-4) << output;
+}
+
 TEST(FlattenJob, WarningsNameTheOriginalLines) {
   compensate::JobOptions o;
   o.flatten = true;

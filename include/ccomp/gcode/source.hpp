@@ -16,6 +16,7 @@ struct SourceLine {
   std::string_view terminator;  ///< "\n", "\r\n" or "" (last line without one)
   std::uint64_t offset = 0;     ///< byte offset of the line's first byte
   std::uint32_t number = 0;     ///< 1-based
+  std::string_view file;        ///< the name of the source it is in (a program calls others)
 };
 
 /// Where to resume reading: a byte offset and the line number found there.
