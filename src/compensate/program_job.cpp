@@ -145,13 +145,7 @@ void arc_chords(const gcode::Motion& m, double tolerance, std::vector<gcode::Axe
   const gcode::ArcGeometry g = gcode::arc_geometry(m);
   const std::size_t n = arc_chord_count(g, tolerance);
   out.resize(n + 1);
-  for (std::size_t k = 0; k <= n; ++k) {
-    const double f = static_cast<double>(k) / static_cast<double>(n);
-    gcode::Axes p;
-    for (std::size_t i = 0; i < gcode::kAxisCount; ++i) p[i] = m.start[i] + f * (m.end[i] - m.start[i]);
-    std::tie(p[g.axes.first], p[g.axes.second]) = g.at(f, m.arc.center_first, m.arc.center_second);
-    out[k] = k == n ? m.end : p;
-  }
+  for (std::size_t k = 0; k <= n; ++k) out[k] = gcode::arc_point(m, g, static_cast<double>(k) / static_cast<double>(n));
 }
 
 /// The compensation of the moves, as the worker thread runs it. An object of its own (on

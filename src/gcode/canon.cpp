@@ -1,6 +1,7 @@
 #include "ccomp/gcode/canon.hpp"
 
 #include <cmath>
+#include <tuple>
 
 namespace ccomp::gcode {
 
@@ -36,6 +37,14 @@ std::pair<double, double> ArcGeometry::at(double f, double c1, double c2) const 
   const double angle = a_start + (ccw ? f : -f) * sweep;
   const double radius = r_start + f * (r_end - r_start);
   return {c1 + radius * std::cos(angle), c2 + radius * std::sin(angle)};
+}
+
+Axes arc_point(const Motion& arc, const ArcGeometry& g, double f) {
+  if (f >= 1.0) return arc.end;  // the end exactly, as the interpreter has it
+  Axes p;
+  for (std::size_t i = 0; i < kAxisCount; ++i) p[i] = arc.start[i] + f * (arc.end[i] - arc.start[i]);
+  std::tie(p[g.axes.first], p[g.axes.second]) = g.at(f, arc.arc.center_first, arc.arc.center_second);
+  return p;
 }
 
 }  // namespace ccomp::gcode

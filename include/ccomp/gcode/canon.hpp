@@ -96,6 +96,9 @@ struct ArcGeometry {
   [[nodiscard]] std::pair<double, double> at(double f, double c1, double c2) const;
 };
 [[nodiscard]] ArcGeometry arc_geometry(const Motion& arc);
+/// The controlled point at fraction f of an arc's sweep (`g` its geometry): in the plane on
+/// the arc (radius interpolated), the other axes linear from start to end.
+[[nodiscard]] Axes arc_point(const Motion& arc, const ArcGeometry& g, double f);
 
 /// A non-motion canonical call, already formatted as LinuxCNC's rs274 prints it. An empty
 /// name is plain output of (PRINT,...).
