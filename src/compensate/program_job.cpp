@@ -199,6 +199,9 @@ class alignas(64) MoveSolver {
           points.push_back(piece);
         }
       }
+      // What is left is measured from the chords; the arc bulges from them by their sagitta.
+      const gcode::ArcGeometry g = gcode::arc_geometry(m);
+      move.max_deviation_after += std::max(g.r_start, g.r_end) * (1.0 - std::cos(g.sweep / n / 2.0));
     } else {
       compensator.straight(start, end, points, move);
     }
