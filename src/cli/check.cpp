@@ -66,6 +66,9 @@ CLI::App* add_verify(CLI::App& app, CheckArgs& args) {
       "verify", "runs a compensated program through the model: how far the tool strays from the original's path");
   cmd->add_option("original", args.input, "the program as written")->required();
   cmd->add_option("compensated", args.compensated, "ccomp's output for it")->required();
+  cmd->add_option("--tolerance", args.tolerance,
+                  "mm: the contour error allowed; more, or a cut of the original missing, exits with 7 (0.001)")
+      ->check(CLI::PositiveNumber);
   add_model_options(*cmd, args);
   return cmd;
 }
@@ -83,8 +86,20 @@ int run_verify(const CheckArgs& args) {
   const model::ForwardModel forward(m);
   gcode::LineSource original = gcode::LineSource::open(args.input);
   gcode::LineSource compensated = gcode::LineSource::open(args.compensated);
-  print("contour error left", compensated.name(),
-        compensate::verify(original, compensated, forward, check_options(args, m)));
+  const compensate::PathError e = compensate::verify(original, compensated, forward, check_options(args, m));
+  print("contour error left", compensated.name(), e);
+  // A path cut short by less than this is a sampling matter, not a missing cut.
+  constexpr double kUncutMm = 0.01;
+  if (e.uncut_length > kUncutMm)
+    throw Error(ErrorKind::safety,
+                fmt::format("{} stops short of the original: {:.3f} mm of its cuts, from line {} on, are not in it",
+                            compensated.name(), e.uncut_length, e.uncut_line),
+                SourceLocation{original.name(), e.uncut_line, 0});
+  if (e.max > args.tolerance)
+    throw Error(ErrorKind::safety,
+                fmt::format("the contour error left, {:.2f} um, is more than the tolerance of {:.2f} um (--tolerance)",
+                            e.max * 1000.0, args.tolerance * 1000.0),
+                SourceLocation{compensated.name(), e.worst_line, 0});
   return 0;
 }
 

@@ -53,6 +53,7 @@ struct CheckArgs {
   std::vector<std::string> sensors;
   double time = 0.0;
   int samples = 8;
+  double tolerance = 0.001;  ///< verify: mm
   ProgramArgs program;
 };
 CLI::App* add_predict(CLI::App& app, CheckArgs& args);

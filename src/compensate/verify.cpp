@@ -2,9 +2,15 @@
 
 #include <algorithm>
 #include <cmath>
+#include <condition_variable>
 #include <deque>
+#include <exception>
 #include <functional>
+#include <mutex>
 #include <optional>
+#include <thread>
+#include <tuple>
+#include <vector>
 
 namespace ccomp::compensate {
 namespace {
@@ -20,6 +26,9 @@ struct Piece {
                   n = Eigen::Vector3d::Zero();       // arc frame (unit in-plane axes and normal)
   double r0 = 0, r1 = 0, a0 = 0, sweep = 0, dw = 0;  // radius from r0 to r1, rise dw along n
   bool ccw = true;
+  std::uint32_t line = 0;  ///< the original's block it is part of
+
+  [[nodiscard]] double length() const { return arc ? std::hypot(sweep * 0.5 * (r0 + r1), dw) : (b - a).norm(); }
 
   /// The distance from p to the piece: for an arc, across to the turn nearest p (the
   /// radius and the rise taken where p's angle is), or to the nearer end.
@@ -38,11 +47,13 @@ struct Piece {
     phi -= 2 * kPi * std::floor(phi / (2 * kPi));  // [0, 2 pi)
     // A helix of several turns passes p's angle once a turn: the turn at p's height, and its
     // neighbours, are the candidates.
-    const double turns = std::floor((sweep - phi) / (2 * kPi));
-    double k0 = 0;
-    if (turns >= 1 && dw != 0) k0 = std::clamp(std::round((h / dw * sweep - phi) / (2 * kPi)), 0.0, turns);
-    for (double k = std::max(0.0, k0 - 1); k <= std::min(turns, k0 + 1); ++k) {
-      const double f = (phi + 2 * kPi * k) / sweep;
+    const double turns_after = std::floor((sweep - phi) / (2 * kPi));  // < 0: p's angle is past the end
+    if (turns_after < 0) return best;
+    const auto turns = static_cast<long>(turns_after);
+    long k0 = 0;
+    if (turns >= 1 && dw != 0) k0 = std::clamp(std::lround((h / dw * sweep - phi) / (2 * kPi)), 0L, turns);
+    for (long k = std::max(0L, k0 - 1); k <= std::min(turns, k0 + 1); ++k) {
+      const double f = (phi + 2 * kPi * static_cast<double>(k)) / sweep;
       best = std::min(best, std::hypot(radial - (r0 + f * (r1 - r0)), h - dw * f));
     }
     return best;
@@ -127,7 +138,7 @@ struct FollowPlay {
 
 /// The nominal pieces of one motion: an arc, or a straight move sampled (a move of the
 /// rotary axes curves in the table frame).
-void nominal_pieces(const gcode::Motion& m, Evaluator& ev, std::deque<Piece>& out) {
+void nominal_pieces(const gcode::Motion& m, Evaluator& ev, std::vector<Piece>& out) {
   const gcode::Offsets& o = *m.offsets;
   if (m.kind == gcode::MotionKind::arc) {
     const gcode::PlaneAxes pa = gcode::plane_axes(m.arc.plane);
@@ -151,6 +162,7 @@ void nominal_pieces(const gcode::Motion& m, Evaluator& ev, std::deque<Piece>& ou
     p.dw = m.end[pa.normal] - m.start[pa.normal];
     p.a = ev.nominal(chain_of(m.start, o));
     p.b = ev.nominal(chain_of(m.end, o));
+    p.line = m.line;
     out.push_back(p);
     return;
   }
@@ -175,10 +187,156 @@ void nominal_pieces(const gcode::Motion& m, Evaluator& ev, std::deque<Piece>& ou
         Piece p;
         p.a = p0;
         p.b = p1;
+        p.line = m.line;
         out.push_back(p);
       };
   add(0.0, 1.0, ev.nominal(a), ev.nominal(b), 0);
 }
+
+/// A box around a piece (an arc's: around its whole circle, and the circle moved by its
+/// rise): no point of the piece is outside it.
+struct Box {
+  Eigen::Vector3d low = Eigen::Vector3d::Constant(1e300), high = Eigen::Vector3d::Constant(-1e300);
+  void add(const Piece& p) {
+    if (!p.arc) {
+      low = low.cwiseMin(p.a).cwiseMin(p.b), high = high.cwiseMax(p.a).cwiseMax(p.b);
+      return;
+    }
+    // The circle reaches r sqrt(e1_i^2 + e2_i^2) along axis i from its centre.
+    const Eigen::Vector3d r = std::max(p.r0, p.r1) * (p.e1.cwiseAbs2() + p.e2.cwiseAbs2()).cwiseSqrt();
+    const Eigen::Vector3d top = p.centre + p.dw * p.n;
+    low = low.cwiseMin(p.centre - r).cwiseMin(top - r), high = high.cwiseMax(p.centre + r).cwiseMax(top + r);
+  }
+  /// The distance from p to the box: at most the distance to anything inside it.
+  [[nodiscard]] double distance(const Eigen::Vector3d& p) const {
+    return (low - p).cwiseMax(p - high).cwiseMax(0.0).norm();
+  }
+};
+
+/// The nominal path of the original program, piece by piece, made on a thread of its own
+/// as the executed path needs it and dropped once the executed path is past it: memory
+/// does not grow with the program. Pieces are numbered from the program's start, in
+/// groups of kGroup with a box around each, so a search skips the groups far from a point.
+class NominalPath {
+ public:
+  static constexpr std::size_t kGroup = 32;
+
+  NominalPath(gcode::LineSource& original, const model::ForwardModel& model, const CheckOptions& options)
+      : thread_([this, &original, &model, &options] { produce(original, model, options); }) {}
+  NominalPath(const NominalPath&) = delete;
+  NominalPath& operator=(const NominalPath&) = delete;
+  ~NominalPath() {
+    {
+      const std::lock_guard lock(mutex_);
+      cancelled_ = true;
+    }
+    changed_.notify_all();
+    thread_.join();
+  }
+
+  /// Makes pieces up to `end` (exclusive) available, as far as the program has them; the
+  /// number of pieces available from first() on.
+  std::size_t available(std::size_t end) {
+    while (first_ + pieces_.size() < end && !exhausted_) {
+      std::unique_lock lock(mutex_);
+      changed_.wait(lock, [this] { return !ready_.empty() || done_; });
+      if (ready_.empty()) {
+        exhausted_ = true;
+        if (error_) std::rethrow_exception(error_);
+        break;
+      }
+      std::vector<Piece> batch = std::move(ready_.front());
+      ready_.pop_front();
+      lock.unlock();
+      changed_.notify_all();
+      for (Piece& p : batch) {
+        if (boxes_.empty() || (first_ + pieces_.size()) % kGroup == 0) boxes_.emplace_back();
+        boxes_.back().add(p);
+        pieces_.push_back(std::move(p));
+      }
+    }
+    return std::min(end, first_ + pieces_.size());
+  }
+  /// Reads the rest of the original: the length of its path from piece `i` on, and the line
+  /// of piece `i` (0 if there is none).
+  std::pair<double, std::uint32_t> rest_from(std::size_t i) {
+    double length = 0;
+    std::uint32_t line = 0;
+    auto count = [&](std::size_t index, const Piece& p) {
+      if (index < i) return;
+      if (line == 0) line = p.line;
+      length += p.length();
+    };
+    for (std::size_t k = 0; k < pieces_.size(); ++k) count(first_ + k, pieces_[k]);
+    while (!exhausted_) {
+      const std::size_t next = first_ + pieces_.size();
+      pieces_.clear();  // no longer searched: only counted
+      boxes_.clear();
+      first_ = next;
+      available(next + 1);
+      for (std::size_t k = 0; k < pieces_.size(); ++k) count(first_ + k, pieces_[k]);
+    }
+    return {length, line};
+  }
+  /// Drops the groups wholly before piece `i`.
+  void drop_before(std::size_t i) {
+    while (first_ + kGroup <= i && pieces_.size() >= kGroup) {
+      pieces_.erase(pieces_.begin(), pieces_.begin() + kGroup);
+      boxes_.pop_front();
+      first_ += kGroup;
+    }
+  }
+  [[nodiscard]] std::size_t first() const { return first_; }
+  [[nodiscard]] const Piece& operator[](std::size_t i) const { return pieces_[i - first_]; }
+  [[nodiscard]] const Box& group_box(std::size_t i) const { return boxes_[(i - first_) / kGroup]; }
+
+ private:
+  struct Cancelled {};
+
+  void produce(gcode::LineSource& original, const model::ForwardModel& model, const CheckOptions& options) {
+    try {
+      Evaluator ev{model, model::ForwardData(model), options.conditions};
+      std::vector<Piece> batch;
+      auto pass = [&] {
+        std::unique_lock lock(mutex_);
+        changed_.wait(lock, [this] { return ready_.size() < kQueued || cancelled_; });
+        if (cancelled_) throw Cancelled{};
+        ready_.push_back(std::move(batch));
+        batch.clear();
+        lock.unlock();
+        changed_.notify_all();
+      };
+      each_motion(original, options, [&](const gcode::Motion& m) {
+        if (m.kind == gcode::MotionKind::feed || m.kind == gcode::MotionKind::arc) nominal_pieces(m, ev, batch);
+        if (batch.size() >= kBatch) pass();
+      });
+      if (!batch.empty()) pass();
+    } catch (const Cancelled&) {
+    } catch (...) {
+      const std::lock_guard lock(mutex_);
+      error_ = std::current_exception();
+    }
+    {
+      const std::lock_guard lock(mutex_);
+      done_ = true;
+    }
+    changed_.notify_all();
+  }
+
+  static constexpr std::size_t kBatch = 256, kQueued = 16;
+  // the consumer's
+  std::deque<Piece> pieces_;
+  std::deque<Box> boxes_;
+  std::size_t first_ = 0;
+  bool exhausted_ = false;
+  // shared
+  std::mutex mutex_;
+  std::condition_variable changed_;
+  std::deque<std::vector<Piece>> ready_;
+  bool done_ = false, cancelled_ = false;
+  std::exception_ptr error_;
+  std::thread thread_;  // last: started once everything it uses exists
+};
 
 }  // namespace
 
@@ -218,16 +376,16 @@ PathError predict(gcode::LineSource& program, const model::ForwardModel& model, 
 
 PathError verify(gcode::LineSource& original, gcode::LineSource& compensated, const model::ForwardModel& model,
                  const CheckOptions& options) {
-  // The nominal path, piece by piece, in order. The programs run in the same order, so each
-  // executed point is searched in a window around the piece that fitted the last one.
+  // The programs run in the same order, so each executed point is searched for in a window
+  // of the nominal path around the piece it was last found nearest.
+  constexpr std::size_t kBehind = 64, kAhead = 4096;
+  NominalPath nominal(original, model, options);
   Evaluator ev{model, model::ForwardData(model), options.conditions};
-  std::deque<Piece> pieces;
-  each_motion(original, options, [&](const gcode::Motion& m) {
-    if (m.kind == gcode::MotionKind::feed || m.kind == gcode::MotionKind::arc) nominal_pieces(m, ev, pieces);
-  });
   PathError e;
   double sum2 = 0.0;
   std::size_t cursor = 0;
+  std::size_t uncut_from = 0;                        ///< the first piece after the furthest the search has been
+  std::vector<std::pair<std::size_t, double>> near;  // pieces near the point, and their distances
   each_motion(compensated, options, [&](const gcode::Motion& m) {
     const MotionPath path(m);
     ev.advance(path.start());
@@ -239,22 +397,42 @@ PathError verify(gcode::LineSource& original, gcode::LineSource& compensated, co
       const model::ChainQ q = path.at(static_cast<double>(k) / steps);
       model::forward(model, ev.data, q, ev.advance(q), false, model::Evaluate::actual);
       const Eigen::Vector3d p = ev.data.actual;
-      double best = 1e300;
-      std::size_t best_at = cursor;
-      const std::size_t from = cursor > 64 ? cursor - 64 : 0;
-      const std::size_t to = std::min(pieces.size(), cursor + 4096);
-      for (std::size_t i = from; i < to; ++i) {
-        const double d = pieces[i].distance(p);
-        if (d < best) best = d, best_at = i;
+      const std::size_t from = std::max(nominal.first(), cursor > kBehind ? cursor - kBehind : 0);
+      const std::size_t to = nominal.available(cursor + kAhead);
+      if (from >= to) continue;  // no nominal path (a program without cuts)
+      // The distance is the nearest piece's. The cursor goes to the piece nearest it among
+      // those nearly as near as that (within the distance again, or 0.5 um): a path that
+      // runs twice over the same place (a spring pass) must not pull it ahead.
+      auto slack = [](double d) { return d + std::max(d, 0.5e-3); };
+      double best = 1e300;  // to start with, the pieces just ahead of the cursor
+      for (std::size_t i = std::min(cursor, to - 1); i < std::min(cursor + 4, to); ++i)
+        best = std::min(best, nominal[i].distance(p));
+      near.clear();
+      for (std::size_t g = from - from % NominalPath::kGroup; g < to; g += NominalPath::kGroup) {
+        if (nominal.group_box(std::max(g, from)).distance(p) > slack(best)) continue;
+        for (std::size_t i = std::max(g, from); i < std::min(g + NominalPath::kGroup, to); ++i) {
+          const double d = nominal[i].distance(p);
+          if (d > slack(best)) continue;
+          best = std::min(best, d);
+          near.emplace_back(i, d);
+        }
       }
-      if (best > 1e299) continue;  // no nominal path (a program without cuts)
-      cursor = best_at;
+      std::size_t next = cursor;
+      auto gap = static_cast<std::size_t>(-1);
+      for (const auto& [i, d] : near) {
+        const std::size_t apart = i > cursor ? i - cursor : cursor - i;
+        if (d <= slack(best) && apart < gap) gap = apart, next = i;
+      }
+      cursor = next;
+      uncut_from = std::max(uncut_from, cursor + 1);
+      nominal.drop_before(cursor > kBehind ? cursor - kBehind : 0);
       sum2 += best * best;
       ++e.points;
       if (best > e.max) e.max = best, e.worst_line = m.line, e.worst_point = p;
     }
   });
   e.rms = e.points ? std::sqrt(sum2 / static_cast<double>(e.points)) : 0.0;
+  std::tie(e.uncut_length, e.uncut_line) = nominal.rest_from(uncut_from);
   return e;
 }
 

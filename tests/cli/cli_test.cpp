@@ -228,6 +228,19 @@ TEST(Cli, PredictAndVerifyProveTheSample) {
   auto max_um = [](const std::string& text) { return std::stod(text.substr(text.find(" max ") + 5)); };
   EXPECT_GT(max_um(predicted.out), 10.0) << predicted.out;
   EXPECT_LT(max_um(verified.out), 1.0 + 0.1) << verified.out;
+
+  // A script reads the verdict from the exit code: more than the tolerance is refused...
+  const CommandResult strict = run_command(shell_quote(ccomp_binary()) + " verify " + program + " " + dir +
+                                           "/out.ngc --tolerance 0.0001 -m " + model + tools);
+  EXPECT_EQ(strict.exit_code, 7) << strict.err;
+  EXPECT_NE(strict.err.find("more than the tolerance of 0.10 um"), std::string::npos) << strict.err;
+  // ... and so is an output that stops short (a post-processor that wrote half a file).
+  const std::string whole = read_file(dir + "/out.ngc");
+  write_file(dir + "/half.ngc", whole.substr(0, whole.size() / 2));
+  const CommandResult half =
+      run_command(shell_quote(ccomp_binary()) + " verify " + program + " " + dir + "/half.ngc -m " + model + tools);
+  EXPECT_EQ(half.exit_code, 7) << half.err;
+  EXPECT_NE(half.err.find("half.ngc stops short of the original"), std::string::npos) << half.err;
 }
 
 }  // namespace

@@ -8,6 +8,7 @@
 
 #include <string>
 
+#include "ccomp/error.hpp"
 #include "ccomp/model/forward.hpp"
 #include "ccomp/model/machine.hpp"
 #include "job_runner.hpp"
@@ -67,6 +68,66 @@ TEST(Verify, AShiftedProgramIsNoFurtherFromThePathThanItsShift) {
   // true one by a fraction of the order of the helix' slope squared (here 1e-3).
   EXPECT_LE(e.max, shift * (1 + 1e-3)) << "at line " << e.worst_line;
   EXPECT_GT(e.max, 0.9 * shift);
+}
+
+/// A polygon of `sides` around (0, 0), radius 20, from (20, dy) and back, as G1 lines.
+std::string polygon(int sides, double dy) {
+  std::string out = "G1 X20 Y" + std::to_string(dy) + "\n";
+  for (int k = 1; k <= sides; ++k) {
+    const double a = 2 * 3.14159265358979323846 * k / sides;
+    out += "G1 X" + std::to_string(20 * std::cos(a)) + " Y" + std::to_string(20 * std::sin(a) + dy) + "\n";
+  }
+  return out;
+}
+
+TEST(Verify, ASpringPassDoesNotPullTheSearchAhead) {
+  // The contour runs twice, the second time 0.2 um lower, with a move out to (50, 50)
+  // between. The executed path, 0.3 um low, is nearer the second pass all through the
+  // first: the search must still follow the first, or it finds the move out left behind.
+  const std::string program =
+      "G21 G90 G17 F500\nG0 X20 Y0 Z0\n" + polygon(120, 0) + "G1 X50 Y50\n" + polygon(120, -0.0002) + "M2\n";
+  const std::string shifted = "G10 L2 P1 Y-0.0003\n" + program;
+  const compensate::PathError e = verify_text(program, shifted, model::ForwardModel(exact_machine()));
+  EXPECT_LE(e.max, 0.0003 + 1e-9) << "at line " << e.worst_line;
+  EXPECT_GT(e.max, 0.0002);
+}
+
+TEST(Verify, AnErrorInEitherProgramIsReportedWithItsPlace) {
+  // The original is read on a thread of its own, ahead of the compensated one: its error
+  // must reach the caller, and an error in the compensated program must stop that thread
+  // even while it waits for room (a long original) rather than hang.
+  std::string long_program = "G21 G90 G17 F500\nG0 X0 Y0 Z0\n";
+  for (int k = 0; k < 20000; ++k) long_program += "G1 X" + std::to_string(k % 2) + " Y" + std::to_string(k) + "\n";
+  const model::ForwardModel m(exact_machine());
+  auto error_of = [&](const std::string& original, const std::string& compensated) {
+    try {
+      (void)verify_text(original, compensated, m);
+    } catch (const Error& e) {
+      return e;
+    }
+    return Error(ErrorKind::internal, "no error");
+  };
+  const Error in_original = error_of("G21 G90\nG1 X1 Y1 Z1 F100\nG1 X2 Q?\n", long_program);
+  EXPECT_EQ(in_original.where().file, "in.ngc") << in_original.what();
+  EXPECT_EQ(in_original.where().line, 3U) << in_original.what();
+  const Error in_output = error_of(long_program, "G21 G90\nG1 X1 Y1 Z1 F100\nG1 X2 Q?\n");
+  EXPECT_EQ(in_output.where().file, "out.ngc") << in_output.what();
+  EXPECT_EQ(in_output.where().line, 3U) << in_output.what();
+}
+
+TEST(Verify, AnOutputThatStopsShortLeavesTheRestUncut) {
+  // The whole output covers the whole path; without its last two lines (a 10 mm line and
+  // a half circle of radius 5), those are what is left uncut, from the original's line 5.
+  const std::string program = "G21 G90 G17 F500\nG0 X0 Y0 Z0\nG1 X30\nG1 Y20\nG1 X20\nG2 X10 Y20 I-5 J0\nM2\n";
+  const model::ForwardModel m(exact_machine());
+  const compensate::PathError whole = verify_text(program, program, m);
+  EXPECT_EQ(whole.uncut_line, 0U);
+  EXPECT_LT(whole.uncut_length, 1e-9);
+  const std::string cut_short = program.substr(0, program.find("G1 X20"));
+  const compensate::PathError part = verify_text(program, cut_short, m);
+  EXPECT_EQ(part.uncut_line, 5U);
+  EXPECT_NEAR(part.uncut_length, 10.0 + 5.0 * 3.14159265358979323846, 1e-9);
+  EXPECT_LT(part.max, 1e-9);  // what it does cut is right
 }
 
 TEST(Predict, AFullCircleIsSampledAllRound) {
