@@ -814,7 +814,7 @@ class JobSink : public gcode::CanonSink {
       if (k > 0 && points[k].take_up && segment.size() == bare) continue;
       // Inverse time: each piece keeps its share of the block's duration; a take-up move
       // of a few micrometres gets a thousandth of it.
-      if (m.feed_mode == gcode::FeedMode::inverse_time && m.kind == gcode::MotionKind::feed) {
+      if (m.feed_mode == gcode::FeedMode::inverse_time && m.kind != gcode::MotionKind::traverse) {
         const double share = points[k].take_up ? 1e-3 : points[k].s - previous_s;
         const std::string f = fmt::format("{:.4f}", m.feed / share);
         if (k == 0) {
