@@ -108,6 +108,15 @@ bool written_alike(double a, double b, const NumberStyle& style) {
   return format_value(a, style).text == format_value(b, style).text;
 }
 
+/// Which of a move's chords a task compensates: all of them (count 0), or [begin, end) of
+/// `count`.
+struct ChordRange {
+  std::size_t begin = 0, end = 0, count = 0;
+  [[nodiscard]] bool whole() const { return count == 0; }
+  [[nodiscard]] bool first() const { return begin == 0; }
+  [[nodiscard]] bool last() const { return whole() || end == count; }
+};
+
 /// A move on its way from the interpreter, through the compensation, to the writer: what
 /// its block said, and what the compensation made of it.
 struct MoveTask {
@@ -117,6 +126,9 @@ struct MoveTask {
   std::string text, terminator;
   gcode::Block block;  ///< the words, and the text (in `text`), for the writer
   std::uint64_t offset = 0;
+  /// An arc of more chords than a task may hold is compensated in parts, each a task of
+  /// its own, in order: this one's chords are [chords.begin, chords.end) of chords.count.
+  ChordRange chords;
   // what the compensation made of it
   std::vector<CompensatedPoint> points;
   MoveReport report;
@@ -139,13 +151,15 @@ std::size_t arc_chord_count(const gcode::ArcGeometry& g, double tolerance) {
   return static_cast<std::size_t>(std::max(1.0, std::ceil(g.sweep / step)));
 }
 
-/// Points along an arc (controlled points, machine frame), start and end included, whose
-/// chords stay within `tolerance` of it.
-void arc_chords(const gcode::Motion& m, double tolerance, std::vector<gcode::Axes>& out) {
+/// Points along an arc (controlled points, machine frame) whose chords stay within
+/// `tolerance` of it: the ends of the chords in `range` (all: start and end included).
+void arc_chords(const gcode::Motion& m, double tolerance, const ChordRange& range, std::vector<gcode::Axes>& out) {
   const gcode::ArcGeometry g = gcode::arc_geometry(m);
-  const std::size_t n = arc_chord_count(g, tolerance);
-  out.resize(n + 1);
-  for (std::size_t k = 0; k <= n; ++k) out[k] = gcode::arc_point(m, g, static_cast<double>(k) / static_cast<double>(n));
+  const std::size_t n = range.whole() ? arc_chord_count(g, tolerance) : range.count;
+  const std::size_t begin = range.whole() ? 0 : range.begin, end = range.whole() ? n : range.end;
+  out.resize(end - begin + 1);
+  for (std::size_t k = begin; k <= end; ++k)
+    out[k - begin] = gcode::arc_point(m, g, static_cast<double>(k) / static_cast<double>(n));
 }
 
 /// The compensation of the moves, as the worker thread runs it. An object of its own (on
@@ -169,7 +183,7 @@ class alignas(64) MoveSolver {
         compensator.defer_error_before(&t.probes);
         if (t.first) compensator.moved(chain_of(t.motion.start, t.offsets));
         compensator.expect(chain_of(t.motion.end, t.offsets), t.end_pose);
-        solve(t.motion, t.offsets, t.report, t.points);
+        solve(t.motion, t.offsets, t.report, t.points, t.chords);
       } catch (...) {
         t.error = std::current_exception();
         failed = true;
@@ -182,20 +196,20 @@ class alignas(64) MoveSolver {
   /// control's), a feed move split as its error field needs, an arc as chords within half
   /// the tolerance, each compensated within the other half.
   void solve(const gcode::Motion& m, const gcode::Offsets& offsets, MoveReport& move,
-             std::vector<CompensatedPoint>& points) {
+             std::vector<CompensatedPoint>& points, const ChordRange& range = {}) {
     const model::ChainQ start = chain_of(m.start, offsets), end = chain_of(m.end, offsets);
     if (m.kind == gcode::MotionKind::traverse) {
       compensator.error_before_at(end, move);
       compensator.rapid(end, points, move);
     } else if (m.kind == gcode::MotionKind::arc) {
-      arc_chords(m, tolerance_ / 2.0, chords_);
+      arc_chords(m, tolerance_ / 2.0, range, chords_);
       points.clear();
-      const auto n = static_cast<double>(chords_.size() - 1);
+      const auto n = static_cast<double>(range.whole() ? chords_.size() - 1 : range.count);
       for (std::size_t k = 1; k < chords_.size(); ++k) {
         compensator.straight(chain_of(chords_[k - 1], offsets), chain_of(chords_[k], offsets), pieces_, move,
                              tolerance_ / 2.0);
         for (CompensatedPoint& piece : pieces_) {
-          piece.s = (static_cast<double>(k - 1) + piece.s) / n;
+          piece.s = (static_cast<double>(range.begin + k - 1) + piece.s) / n;
           points.push_back(piece);
         }
       }
@@ -379,6 +393,9 @@ class JobSink : public gcode::CanonSink {
   static constexpr std::size_t kBatch = 4096;
   static constexpr std::size_t kBatchPoints = 4 * kBatch;
   static constexpr std::size_t kBatches = 3;
+  /// An arc of more chords is compensated and written in parts of this many: a helix of a
+  /// thousand turns must not hold a million points.
+  static constexpr std::size_t kPartChords = kBatchPoints / 2;
 
   /// The points a move is expected to give: its chords (half the tolerance, as solve()
   /// takes them), else the points the model checks it at.
@@ -388,6 +405,18 @@ class JobSink : public gcode::CanonSink {
   }
 
   void queue_move(const gcode::Motion& m) {
+    if (m.kind == gcode::MotionKind::arc) {
+      const std::size_t n = arc_chord_count(gcode::arc_geometry(m), options_.tolerance / 2.0);
+      if (n > kPartChords) {
+        for (std::size_t begin = 0; begin < n; begin += kPartChords)
+          queue_task(m, ChordRange{begin, std::min(n, begin + kPartChords), n});
+        return;
+      }
+    }
+    queue_task(m, {});
+  }
+
+  void queue_task(const gcode::Motion& m, const ChordRange& chords) {
     MoveBatch& batch = batches_[filling_];
     if (batch.tasks.empty()) batch.tasks.resize(kBatch);
     MoveTask& t = batch.tasks[batch.filled++];
@@ -402,11 +431,12 @@ class JobSink : public gcode::CanonSink {
     t.block.line = block_->line;
     t.offset = line_.offset;
     t.terminator.assign(line_.terminator);
+    t.chords = chords;
     // The nominal pose at its end, here: it balances the two threads' work.
     const model::ChainQ end = chain_of(m.end, t.offsets);
     model::forward(*forward_, *nominal_, end, {}, false, model::Evaluate::nominal);
     t.end_pose = {nominal_->nominal, nominal_->R_nominal};
-    batch_points_ += expected_points(m, end);
+    batch_points_ += chords.whole() ? expected_points(m, end) : chords.end - chords.begin;
     if (batch.filled == kBatch || batch_points_ >= kBatchPoints) pass_batch();
   }
 
@@ -480,8 +510,8 @@ class JobSink : public gcode::CanonSink {
     }
     const gcode::Block* reading = block_;
     block_ = &t.block;
-    account(t.report, t.motion.units, t.block.line, t.text);
-    write_edits(t.motion, t.points, t.offset, t.terminator);
+    account(t.report, t.motion.units, t.block.line, t.text, t.chords.last());
+    write_edits(t.motion, t.points, t.offset, t.terminator, t.chords);
     block_ = reading;
     // A slot keeps its storage for the next move, but not what an unusual move needed (a
     // split, a long line): else over a long program every slot would come to hold the
@@ -688,7 +718,8 @@ class JobSink : public gcode::CanonSink {
   }
 
   /// Adds a move's figures to the report and refuses a correction beyond the model's bound.
-  void account(const MoveReport& move, gcode::Units units, std::uint32_t line, const std::string& text) {
+  void account(const MoveReport& move, gcode::Units units, std::uint32_t line, const std::string& text,
+               bool whole_move = true) {
     check_rounding(units, line, text);
     if (move.max_correction > model_.max_correction)
       throw Error(ErrorKind::safety,
@@ -701,7 +732,7 @@ class JobSink : public gcode::CanonSink {
     report_.max_correction = std::max(report_.max_correction, move.max_correction);
     report_.max_orientation_error = std::max(report_.max_orientation_error, move.max_orientation_error);
     warn_unhidden_reversals(move.unhidden_reversals);
-    ++report_.compensated_moves;
+    if (whole_move) ++report_.compensated_moves;  // a move in parts counts at its last
   }
 
   [[nodiscard]] int decimals_for(bool rotary) const { return rotary ? options_.rotary_decimals : options_.decimals; }
@@ -774,7 +805,7 @@ class JobSink : public gcode::CanonSink {
   /// Writes a move's points as edits of its line and lines after it, and counts the lines
   /// and take-up moves it added (those it wrote: a take-up too fine for the digits is not).
   void write_edits(const gcode::Motion& m, const std::vector<CompensatedPoint>& points, std::uint64_t offset,
-                   std::string_view terminator) {
+                   std::string_view terminator, const ChordRange& part = {}) {
     const gcode::Block& b = *block_;
     const bool inch = m.units == gcode::Units::inch;
     const double unit = inch ? 25.4 : 1.0;
@@ -782,7 +813,9 @@ class JobSink : public gcode::CanonSink {
     std::vector<gcode::Edit>& edits = edits_;  // its storage kept from move to move
     edits.clear();
     std::string appended;
-    double previous_s = 0.0;
+    // A part after the first adds lines only: its first point is not the block's own.
+    const std::size_t own_line = part.first() ? 0 : static_cast<std::size_t>(-1);
+    double previous_s = part.whole() ? 0.0 : static_cast<double>(part.begin) / static_cast<double>(part.count);
     // Words the block lacks go right after its last axis word (or its last word).
     std::uint32_t insert_at = 0, after_axes = 0;
     for (const gcode::Word& w : b.words) {
@@ -792,32 +825,32 @@ class JobSink : public gcode::CanonSink {
     if (after_axes > 0) insert_at = after_axes;
     for (std::size_t k = 0; k < points.size(); ++k) {
       const gcode::Axes p = program_of(points[k].q, *m.offsets, unit);
-      std::string segment = k == 0 ? "" : (m.kind == gcode::MotionKind::traverse ? "G0" : "G1");
+      std::string segment = k == own_line ? "" : (m.kind == gcode::MotionKind::traverse ? "G0" : "G1");
       const std::size_t bare = segment.size();
       const gcode::Axes last = program_of(chain_of(commanded_, *m.offsets), *m.offsets, unit);
       for (std::size_t i = 0; i < gcode::kAxisCount; ++i) {
         const char letter = gcode::kAxisLetters[i];
         if (!model_.axis(letter)) continue;
         const gcode::Word* own = b.find(letter);
-        const gcode::Word* word = k == 0 ? own : nullptr;
+        const gcode::Word* word = k == own_line ? own : nullptr;
         const std::optional<std::string> text = axis_word(i, p[i], last[i], incremental, word != nullptr,
                                                           own ? b.slice(own->value_span) : std::string_view(), inch);
         if (!text) continue;
         if (word)
           edits.push_back(gcode::Edit{word->value_span, *text});
-        else if (k == 0)
+        else if (k == own_line)
           edits.push_back(gcode::Edit{{insert_at, insert_at}, std::string(" ") + letter + *text});
         else
           segment += std::string(" ") + letter + *text;
       }
       // A take-up finer than the program's digits moves nothing: no line for it.
-      if (k > 0 && points[k].take_up && segment.size() == bare) continue;
+      if (k != own_line && points[k].take_up && segment.size() == bare) continue;
       // Inverse time: each piece keeps its share of the block's duration; a take-up move
       // of a few micrometres gets a thousandth of it.
       if (m.feed_mode == gcode::FeedMode::inverse_time && m.kind != gcode::MotionKind::traverse) {
         const double share = points[k].take_up ? 1e-3 : points[k].s - previous_s;
         const std::string f = fmt::format("{:.4f}", m.feed / share);
-        if (k == 0) {
+        if (k == own_line) {
           if (const gcode::Word* fw = b.find('F')) edits.push_back(gcode::Edit{fw->value_span, f});
         } else {
           segment += " F" + f;
@@ -826,21 +859,29 @@ class JobSink : public gcode::CanonSink {
       previous_s = points[k].s;
       // The machine is now at the compensated point: incremental words count from there.
       commanded_ = controlled_of(points[k].q, *m.offsets);
-      if (k > 0) {
+      if (k != own_line) {
         appended += std::string(terminator.empty() ? "\n" : terminator) + segment;
         ++report_.added_lines;
       }
       if (points[k].take_up) ++report_.take_up_moves;
     }
-    if (points.size() > 1 && has_stop_code(b))
+    if ((points.size() > 1 || !part.whole()) && has_stop_code(b))
       refuse(ErrorKind::unsupported,
              "a move that must be split shares its block with a program stop (M0 M1 M2 M30 M60)");
+    if (!part.first()) {  // the line is open: the lines go straight out
+      writer_.append(appended);
+      if (part.last()) writer_.close_line();
+      return;
+    }
     if (m.kind == gcode::MotionKind::arc) arc_to_line_edits(b, edits);
     if (!appended.empty())
       edits.push_back(gcode::Edit{
           {static_cast<std::uint32_t>(b.text.size()), static_cast<std::uint32_t>(b.text.size())}, appended});
     // Inserted words go before any trailing comment: after the last word.
-    if (!edits.empty()) writer_.edit(offset, std::span<gcode::Edit>(edits));
+    if (!part.last())
+      writer_.write_open(offset, std::span<gcode::Edit>(edits));
+    else if (!edits.empty())
+      writer_.edit(offset, std::span<gcode::Edit>(edits));
   }
 
   /// An arc block becomes the first of its lines: G2/G3 turns into G1 (written in front when

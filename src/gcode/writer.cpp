@@ -69,7 +69,7 @@ void ProgramWriter::edit(std::uint64_t line_offset, std::span<Edit> edits) {
   for (Edit& e : edits) pending_.insert(pending_.begin() + index++, PendingEdit{line_offset, std::move(e)});
 }
 
-void ProgramWriter::write_line(const SourceLine& line) {
+void ProgramWriter::write_line(const SourceLine& line, bool terminate) {
   if (!header_written_) {
     const auto first = line.text.find_first_not_of(" \t");
     const bool percent = first != std::string_view::npos && line.text[first] == '%';
@@ -90,15 +90,45 @@ void ProgramWriter::write_line(const SourceLine& line) {
     pending_.erase(pending_.begin(), pending_.begin() + static_cast<std::ptrdiff_t>(n));
     apply_edits(line.text, line_edits_, edited_);
     std::fwrite(edited_.data(), 1, edited_.size(), out_);
-    std::fwrite(line.terminator.data(), 1, line.terminator.size(), out_);
+    if (terminate) std::fwrite(line.terminator.data(), 1, line.terminator.size(), out_);
+  } else if (!terminate) {
+    std::fwrite(line.text.data(), 1, line.text.size(), out_);
   } else {
     // The text and its terminator are adjacent in the reader's buffer: one write.
     std::fwrite(line.text.data(), 1, line.text.size() + line.terminator.size(), out_);
   }
 }
 
+void ProgramWriter::check_closed() const {
+  if (open_) throw Error(ErrorKind::internal, "a line was left open");
+}
+
+void ProgramWriter::write_open(std::uint64_t line_offset, std::span<Edit> edits) {
+  edit(line_offset, edits);
+  advance_to(line_offset);
+  SourceLine line;
+  if (!reader_.next(line) || line.offset != line_offset)
+    throw Error(ErrorKind::internal, "write_open() was given a place no line starts at");
+  write_line(line, false);
+  next_offset_ = reader_.tell().offset;
+  open_terminator_.assign(line.terminator);
+  open_ = true;
+}
+
+void ProgramWriter::append(std::string_view text) {
+  if (!open_) throw Error(ErrorKind::internal, "append() without an open line");
+  std::fwrite(text.data(), 1, text.size(), out_);
+}
+
+void ProgramWriter::close_line() {
+  if (!open_) throw Error(ErrorKind::internal, "close_line() without an open line");
+  std::fwrite(open_terminator_.data(), 1, open_terminator_.size(), out_);
+  open_ = false;
+}
+
 void ProgramWriter::advance_to(std::uint64_t offset) {
   if (offset <= next_offset_) return;
+  check_closed();
   SourceLine line;
   while (next_offset_ < offset && reader_.next(line)) {
     write_line(line);
@@ -107,6 +137,7 @@ void ProgramWriter::advance_to(std::uint64_t offset) {
 }
 
 void ProgramWriter::finish() {
+  check_closed();
   advance_to(UINT64_MAX);
   if (!pending_.empty()) throw Error(ErrorKind::internal, "an edit arrived for a place no line starts at");
   if (!header_written_) {  // an empty program, or only a `%` line

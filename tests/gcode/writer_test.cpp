@@ -52,6 +52,29 @@ TEST(Writer, ApplyEditsSortsAndKeepsTheRest) {
   EXPECT_THROW((void)apply_edits("abcdef", {Edit{{1, 4}, "x"}, Edit{{3, 5}, "y"}}), Error);
 }
 
+TEST(Writer, AnOpenLineTakesTextUntilClosedThenEndsWithItsOwnTerminator) {
+  // What a move in parts writes: its line, edited, then the lines of its parts as they
+  // come, then the line's own terminator; the lines after it as they were.
+  const std::string program = "G0 X1\r\nG2 X5 (arc)\r\nM2\r\n";
+  char* buffer = nullptr;
+  std::size_t size = 0;
+  std::FILE* out = open_memstream(&buffer, &size);
+  LineSource source = LineSource::from_string(program);
+  ProgramWriter writer(source.another_reader(), out, "(H)");
+  std::vector<Edit> edits{Edit{{4, 5}, "4.9"}};
+  writer.write_open(7, edits);
+  writer.append("\r\nG1 X5.1");
+  EXPECT_THROW(writer.advance_to(100), Error) << "nothing else may be written while a line is open";
+  writer.append("\r\nG1 X5.2");
+  writer.close_line();
+  EXPECT_THROW(writer.append("x"), Error);
+  writer.finish();
+  std::fclose(out);
+  const std::string text(buffer, size);
+  std::free(buffer);
+  EXPECT_EQ(text, "(H)\r\nG0 X1\r\nG2 X4.9 (arc)\r\nG1 X5.1\r\nG1 X5.2\r\nM2\r\n");
+}
+
 TEST(Writer, RefusesAnEditForALineAlreadyWritten) {
   std::FILE* out = std::tmpfile();
   LineSource source = LineSource::from_string("G0 X1\nG0 X2\n");

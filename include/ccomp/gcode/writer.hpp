@@ -41,6 +41,15 @@ class ProgramWriter {
   void edit(std::uint64_t line_offset, std::vector<Edit> edits) { edit(line_offset, std::span<Edit>(edits)); }
   /// The same, taking the texts out of `edits` (the caller keeps its storage for the next).
   void edit(std::uint64_t line_offset, std::span<Edit> edits);
+  /// Writes every line before `line_offset`, then that line with `edits` but not its
+  /// terminator: the text append() is given follows it until close_line(). A line that
+  /// gains more text than is worth holding (a move split into a great many pieces) is
+  /// written so, as its pieces come.
+  void write_open(std::uint64_t line_offset, std::span<Edit> edits);
+  /// Text after the line write_open() left open.
+  void append(std::string_view text);
+  /// Ends the open line with its own terminator.
+  void close_line();
   /// Writes every line that starts before `offset`.
   void advance_to(std::uint64_t offset);
   /// Writes the rest of the program and flushes.
@@ -48,13 +57,16 @@ class ProgramWriter {
   [[nodiscard]] std::uint64_t written_up_to() const { return next_offset_; }
 
  private:
-  void write_line(const SourceLine& line);
+  void write_line(const SourceLine& line, bool terminate = true);
+  void check_closed() const;
 
   LineSource reader_;
   std::FILE* out_;
   std::string header_;
   bool header_written_ = false;
   std::uint64_t next_offset_ = 0;
+  bool open_ = false;            ///< a line was written without its terminator
+  std::string open_terminator_;  ///< its terminator
   /// Edits not yet written, by line offset (in arrival order for one line). Lines are
   /// edited just before they are written: a flat list, its storage kept, no allocation.
   struct PendingEdit {
