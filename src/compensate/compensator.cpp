@@ -9,7 +9,11 @@ namespace ccomp::compensate {
 using model::ChainQ;
 
 Compensator::Compensator(const model::ForwardModel& model, CompensationOptions options)
-    : model_(model), options_(std::move(options)), problem_(model), data_(model), check_(model),
+    : model_(model),
+      options_(std::move(options)),
+      problem_(model),
+      data_(model),
+      check_(model),
       bound_(model, options_.conditions) {}
 
 ChainQ Compensator::point(const ChainQ& nominal, MoveReport& report) {
@@ -29,9 +33,11 @@ ChainQ Compensator::point(const ChainQ& nominal, MoveReport& report) {
 
 void Compensator::moved(const ChainQ& q) {
   command(q);
+  uncompensated_ = true;
 }
 
 void Compensator::command(const ChainQ& q) {
+  uncompensated_ = false;
   if (commanded_.allFinite()) {
     model::Conditions c;
     c.directions = play_;
@@ -276,11 +282,30 @@ void Compensator::straight(const ChainQ& start, const ChainQ& end, std::vector<C
     report.unhidden_reversals |= unhidden(target);
   } else if (!commanded_.allFinite()) {
     commanded_ = a;
+  } else if (const double off = start_error(start, a); off > 0.25 * tolerance) {
+    // The machine was left off this move's compensated start by a move not compensated (in
+    // machine coordinates, a canned cycle's): it goes there first, or the cut would begin
+    // with the machine's whole error and taper it out along the move. Where it begins is
+    // still off by that error: the report says so.
+    out.push_back({0.0, a, true});
+    command(a);
+    report.max_deviation_after = std::max(report.max_deviation_after, off);
+    report.start_error = std::max(report.start_error, off);
   }
   const std::size_t first = out.size();
   split(start, end, a, b, 0.0, 1.0, 0, tolerance, out, report);
   error_before(start, end, uncompensated, report);
   for (std::size_t k = first; k < out.size(); ++k) command(out[k].q);
+}
+
+double Compensator::start_error(const ChainQ& start, const ChainQ& a) {
+  // Where a compensated move left it, the machine is at this move's start as the
+  // compensation reckons it: only a move it did not plan can leave it elsewhere.
+  if (!uncompensated_ || (a - commanded_).cwiseAbs().maxCoeff() <= 1e-9) return 0.0;
+  model::Conditions now = options_.conditions;
+  now.directions = play_;
+  model::forward(model_, check_, commanded_, now, false, model::Evaluate::actual);
+  return (check_.actual - nominal_tip(start)).norm();
 }
 
 void Compensator::error_before(const ChainQ& start, const ChainQ& end, const std::array<double, 9>& play,

@@ -288,6 +288,7 @@ class JobSink : public gcode::CanonSink {
                   fmt::format("the program uses axis {}, which machine '{}' does not have", w.letter, model_.name),
                   SourceLocation{input_.name(), block.line, w.span.begin + 1}, std::string(block.text));
     }
+    if (solver_ && live_offsets_) keep_offsets_set_from_position(block);
     if (options_.progress && input_.size() > 0) {
       const auto percent =
           static_cast<int>(100.0 * static_cast<double>(line.offset) / static_cast<double>(input_.size()));
@@ -300,6 +301,9 @@ class JobSink : public gcode::CanonSink {
 
   void motion(const gcode::Motion& m) override {
     ++report_.motions;
+    live_offsets_ = m.offsets;
+    nominal_end_ = m.end;
+    last_units_ = m.units;
     if (has_limits_) check_limits(m);
     if (solver_) compensate(m);
   }
@@ -309,6 +313,87 @@ class JobSink : public gcode::CanonSink {
   }
 
  private:
+  static std::optional<double> literal_of(const gcode::Block& b, char letter) {
+    const gcode::Word* w = b.find(letter);
+    if (!w || !w->value.is_literal()) return std::nullopt;
+    return w->value.literal;
+  }
+
+  /// G92 and G10 L20 set an offset so that where the machine is reads the values given;
+  /// G10 L10/L11 set a tool's offsets so (a touch-off). After a compensated move the machine is where the
+  /// rewritten program sent it, off the nominal point by the correction: the new offset
+  /// would take the correction in, and every move after it would be off by as much. So
+  /// each value given is moved by what the machine's position reads beyond the nominal one,
+  /// and the offset comes out as the original's. What cannot be rewritten so is refused.
+  void keep_offsets_set_from_position(const gcode::Block& b) {
+    bool g92 = false, g10 = false;
+    for (const gcode::Word& w : b.words)
+      if (w.letter == 'G' && w.value.is_literal()) {
+        g92 = g92 || w.value.literal == 92;
+        g10 = g10 || w.value.literal == 10;
+      }
+    // G10's L, NaN when it is not a number as written (then what it is shows only as it runs)
+    const double l = g10 ? literal_of(b, 'L').value_or(std::nan("")) : std::nan("");
+    if (!g92 && !(g10 && (std::isnan(l) || l == 20 || l == 10 || l == 11))) return;
+    drain();
+    const gcode::Offsets& o = *live_offsets_;
+    gcode::Units units = last_units_;
+    for (const gcode::Word& w : b.words)
+      if (w.letter == 'G' && w.value.is_literal() && (w.value.literal == 20 || w.value.literal == 21))
+        units = w.value.literal == 20 ? gcode::Units::inch : gcode::Units::mm;
+    const bool inch = units == gcode::Units::inch;
+    const double unit = inch ? 25.4 : 1.0;
+    const gcode::Axes written = program_of(chain_of(commanded_, o), o, unit),
+                      nominal = program_of(chain_of(nominal_end_, o), o, unit);
+    gcode::Axes off{};  // program units: where the machine is, beyond where the original has it
+    bool off_xy = false, off_any = false;
+    for (std::size_t i = 0; i < gcode::kAxisCount; ++i) {
+      off[i] = written[i] + rounding_[i] - nominal[i];
+      const bool moved = std::abs(off[i]) * (gcode::is_rotary(i) ? 1.0 : unit) > 1e-7;  // mm or deg
+      off_any = off_any || moved;
+      off_xy = off_xy || (moved && i < 2);
+    }
+    if (!off_any) return;
+    const std::string what = g92 ? "G92" : std::isnan(l) ? "G10" : fmt::format("G10 L{:g}", l);
+    auto refuse_here = [&](const std::string& why) {
+      refuse(ErrorKind::unsupported,
+             fmt::format("{} sets an offset from where the machine is, which the compensation has moved by up to "
+                         "{:.2f} um here; {}",
+                         what, 1000.0 * unit * std::max(std::abs(off[0]), std::max(std::abs(off[1]), std::abs(off[2]))),
+                         why));
+    };
+    if (repeated_ || elsewhere_)
+      refuse_here("its line runs more than once or is in another file: --flatten writes it once per run");
+    if (g10 && std::isnan(l)) refuse_here("its L, an expression, shows what it sets only as the program runs");
+    if (g10 && l == 11 && off_xy)
+      refuse_here(
+          "L11 counts in G59.3's frame, whose rotation would couple X and Y; give it before the first "
+          "compensated move");
+    if (g10 && l == 20) {  // a rotation couples X and Y, known here only for the system in force
+      const std::optional<double> p = literal_of(b, 'P');
+      const bool system_in_force = p && (*p == 0 || *p == o.coordinate_system);
+      if (off_xy && (b.find('R') || !system_in_force))
+        refuse_here(
+            "with a rotation (R) or another coordinate system than the one in force, its X and Y cannot be "
+            "rewritten to match; give it before the first compensated move");
+    }
+    std::vector<gcode::Edit> edits;
+    for (const gcode::Word& w : b.words) {
+      const auto axis = gcode::axis_index(w.letter);
+      if (!axis || std::abs(off[*axis]) == 0.0) continue;
+      const bool rotary = gcode::is_rotary(*axis);
+      const std::string_view text = b.slice(w.value_span);
+      const NumberStyle style = style_of(text, inch && !rotary, rotary, decimals_for(rotary));
+      if (w.value.is_literal()) {
+        edits.push_back(gcode::Edit{w.value_span, format_value(w.value.literal + off[*axis], style).text});
+      } else {  // an expression, a parameter: the same, moved
+        const std::string by = format_value(std::abs(off[*axis]), style).text;
+        edits.push_back(gcode::Edit{w.value_span, fmt::format("[{} {} {}]", text, off[*axis] < 0 ? '-' : '+', by)});
+      }
+    }
+    if (!edits.empty()) writer_.edit(line_.offset, std::move(edits));
+  }
+
   [[noreturn]] void refuse(ErrorKind kind, const std::string& message) const {
     throw Error(kind, message, SourceLocation{input_.name(), block_->line, 0}, std::string(block_->text));
   }
@@ -732,6 +817,15 @@ class JobSink : public gcode::CanonSink {
     report_.max_correction = std::max(report_.max_correction, move.max_correction);
     report_.max_orientation_error = std::max(report_.max_orientation_error, move.max_orientation_error);
     warn_unhidden_reversals(move.unhidden_reversals);
+    if (move.start_error > 0.0 && !warned_start_error_ && options_.warning) {
+      warned_start_error_ = true;
+      options_.warning(fmt::format("this cut starts where a move in machine coordinates (G53, G28, G30) or a canned "
+                                   "cycle left the machine, uncompensated: the tool is {:.2f} um off the cut's start "
+                                   "there; ccomp moves it to the compensated start first. A rapid to the start "
+                                   "before the cut avoids cutting from there (said once)",
+                                   move.start_error * 1000.0),
+                       line);
+    }
     if (whole_move) ++report_.compensated_moves;  // a move in parts counts at its last
   }
 
@@ -968,6 +1062,7 @@ class JobSink : public gcode::CanonSink {
   }
 
   unsigned warned_reversals_ = 0;
+  bool warned_start_error_ = false;
   bool started_ = false;
   int last_percent_ = -1;
   bool has_limits_ = false;
@@ -993,9 +1088,12 @@ class JobSink : public gcode::CanonSink {
   bool rotary_checked_ = false;
   /// mm: how far the tool may be from a rotary axis, for its rounding (the farthest limit).
   double rotary_lever_ = 100.0;
-  std::uint64_t furthest_ = 0;  ///< the offset of the furthest line read
-  bool repeated_ = false;       ///< the current line is before it
-  bool elsewhere_ = false;      ///< the current line is in another file (a subroutine's)
+  std::uint64_t furthest_ = 0;                    ///< the offset of the furthest line read
+  bool repeated_ = false;                         ///< the current line is before it
+  bool elsewhere_ = false;                        ///< the current line is in another file (a subroutine's)
+  const gcode::Offsets* live_offsets_ = nullptr;  ///< the interpreter's, as it runs (from its motions)
+  gcode::Axes nominal_end_{};                     ///< where the original's last motion ended
+  gcode::Units last_units_ = gcode::Units::mm;    ///< the units of the original's last motion
   /// The uncompensated machine's error, for the report, is taken by a compensator of its own
   /// on the writing side (it changes nothing the compensation decides).
   std::unique_ptr<Compensator> error_before_;

@@ -50,6 +50,9 @@ struct MoveReport {
   /// Bit i: axis i's reversal could not be taken up (it leads the command, or the axis has
   /// no lost motion of its own and its other reversal terms switch at once).
   unsigned unhidden_reversals = 0;
+  /// mm: how far the tool was from the move's start where a move the compensator did not
+  /// plan (machine coordinates, a canned cycle) left it; 0 after a planned one.
+  double start_error = 0.0;
 };
 
 class Compensator {
@@ -109,6 +112,9 @@ class Compensator {
   /// Sets each reversal axis' approach from its compensated travel `from` -> `to` where it
   /// moves at all; true when that changed an approach (the points must be solved again).
   bool approach_by_travel(const model::ChainQ& from, const model::ChainQ& to);
+  /// How far the tool, where a move the compensator did not plan left the machine, is from
+  /// the start of a move (nominal `start`, compensated `a`); 0 after a planned one.
+  [[nodiscard]] double start_error(const model::ChainQ& start, const model::ChainQ& a);
   /// Commands `q`: the play follows.
   void command(const model::ChainQ& q);
   /// The nominal tool tip at q: from the points solved last, else evaluated.
@@ -128,6 +134,7 @@ class Compensator {
   CompensationOptions options_;
   model::ChainQ commanded_ = model::ChainQ::Constant(std::nan(""));  ///< where the machine was sent last
   std::array<double, 9> play_{};                                     ///< approach state after the commands so far
+  bool uncompensated_ = false;  ///< the last command was one moved() reported, not one planned here
   model::ChainQ last_straight_end_ = model::ChainQ::Constant(std::nan(""));  ///< its error before is counted
   // The nominal tips of the last points solved (a move's ends and midpoints), round robin.
   std::array<std::pair<model::ChainQ, Eigen::Vector3d>, 4> tips_;
