@@ -401,8 +401,9 @@ PathError verify(gcode::LineSource& original, gcode::LineSource& compensated, co
       const std::size_t to = nominal.available(cursor + kAhead);
       if (from >= to) continue;  // no nominal path (a program without cuts)
       // The distance is the nearest piece's. The cursor goes to the piece nearest it among
-      // those nearly as near as that (within the distance again, or 0.5 um): a path that
-      // runs twice over the same place (a spring pass) must not pull it ahead.
+      // those nearly as near as that (within the distance again, or 0.5 um), and on along
+      // those that follow it: a path that runs twice over the same place (a spring pass)
+      // must not pull it ahead, and one that turns back over itself must not hold it.
       auto slack = [](double d) { return d + std::max(d, 0.5e-3); };
       double best = 1e300;  // to start with, the pieces just ahead of the cursor
       for (std::size_t i = std::min(cursor, to - 1); i < std::min(cursor + 4, to); ++i)
@@ -417,14 +418,21 @@ PathError verify(gcode::LineSource& original, gcode::LineSource& compensated, co
           near.emplace_back(i, d);
         }
       }
-      std::size_t next = cursor;
+      std::erase_if(near, [&](const auto& candidate) { return candidate.second > slack(best); });
+      std::size_t at = 0;  // in `near`, which is in program order
       auto gap = static_cast<std::size_t>(-1);
-      for (const auto& [i, d] : near) {
-        const std::size_t apart = i > cursor ? i - cursor : cursor - i;
-        if (d <= slack(best) && apart < gap) gap = apart, next = i;
+      for (std::size_t c = 0; c < near.size(); ++c) {
+        const std::size_t i = near[c].first, apart = i > cursor ? i - cursor : cursor - i;
+        if (apart < gap) gap = apart, at = c;
       }
-      cursor = next;
-      uncut_from = std::max(uncut_from, cursor + 1);
+      // Pieces that follow on from it and are as near go with it: where the path turns back
+      // over itself, the point is on the next piece as much as on the last.
+      while (at + 1 < near.size() && near[at + 1].first == near[at].first + 1) ++at;
+      cursor = near[at].first;
+      // A piece is cut once a point near it is past its start (a point where one piece
+      // ends and the next begins has cut only the first).
+      for (const auto& [i, d] : near)
+        if ((p - nominal[i].a).norm() > slack(best)) uncut_from = std::max(uncut_from, i + 1);
       nominal.drop_before(cursor > kBehind ? cursor - kBehind : 0);
       sum2 += best * best;
       ++e.points;

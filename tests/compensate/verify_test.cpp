@@ -130,6 +130,15 @@ TEST(Verify, AnOutputThatStopsShortLeavesTheRestUncut) {
   EXPECT_LT(part.max, 1e-9);  // what it does cut is right
 }
 
+TEST(Verify, APathThatTurnsBackOverItselfIsCutToItsEnd) {
+  // The last move runs back over the one before it (LinuxCNC's ccomp-gouging test): its
+  // points are as near the piece before as its own, and it is still cut.
+  const std::string program = "G21 G90 G17 F100\nG0 X0 Y0 Z0\nG1 X1\nG1 X2\nG1 Y0.1\nG1 X1\nG1 X2\nM2\n";
+  const compensate::PathError e = verify_text(program, program, model::ForwardModel(exact_machine()));
+  EXPECT_LT(e.max, 1e-9);
+  EXPECT_LT(e.uncut_length, 1e-9) << "from line " << e.uncut_line;
+}
+
 TEST(Predict, AFullCircleIsSampledAllRound) {
   // A machine whose X scale is off: the error is largest where the circle reaches
   // furthest along X, half a turn from where it starts and ends.
