@@ -67,7 +67,7 @@ CLI::App* add_verify(CLI::App& app, CheckArgs& args) {
   cmd->add_option("original", args.input, "the program as written")->required();
   cmd->add_option("compensated", args.compensated, "ccomp's output for it")->required();
   cmd->add_option("--tolerance", args.tolerance,
-                  "mm: the contour error allowed; more, or a cut of the original missing, exits with 7 (0.001)")
+                  "mm: the contour error allowed; more, or a cut of the original left out, exits with 7 (0.001)")
       ->check(CLI::PositiveNumber);
   add_model_options(*cmd, args);
   return cmd;
@@ -88,12 +88,10 @@ int run_verify(const CheckArgs& args) {
   gcode::LineSource compensated = gcode::LineSource::open(args.compensated);
   const compensate::PathError e = compensate::verify(original, compensated, forward, check_options(args, m));
   print("contour error left", compensated.name(), e);
-  // A path cut short by less than this is a sampling matter, not a missing cut.
-  constexpr double kUncutMm = 0.01;
-  if (e.uncut_length > kUncutMm)
+  if (e.uncut_length > 0.0)
     throw Error(ErrorKind::safety,
-                fmt::format("{} stops short of the original: {:.3f} mm of its cuts, from line {} on, are not in it",
-                            compensated.name(), e.uncut_length, e.uncut_line),
+                fmt::format("{} leaves {:.3f} mm of the original's cuts uncut, the first at this line of the original",
+                            compensated.name(), e.uncut_length),
                 SourceLocation{original.name(), e.uncut_line, 0});
   if (e.max > args.tolerance)
     throw Error(ErrorKind::safety,

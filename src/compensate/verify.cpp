@@ -80,6 +80,10 @@ void each_motion(gcode::LineSource& program, const CheckOptions& options, OnMoti
 
 constexpr double kRadPerDeg = kPi / 180.0;
 
+/// mm: a stretch of the original's path passed over by less than this is a matter of where
+/// points fall, not a cut missing.
+constexpr double kUncutMm = 0.01;
+
 struct Evaluator {
   const model::ForwardModel& model;
   model::ForwardData data;
@@ -386,11 +390,21 @@ PathError verify(gcode::LineSource& original, gcode::LineSource& compensated, co
   std::size_t cursor = 0;
   std::size_t uncut_from = 0;                        ///< the first piece after the furthest the search has been
   std::vector<std::pair<std::size_t, double>> near;  // pieces near the point, and their distances
+  // Pieces passed over between one point and the next must be no longer than the path
+  // between them (straight on, within 1%); after a rapid, none may be (a cut missing).
+  std::size_t next_piece = 0;  ///< the piece after the last point's
+  Eigen::Vector3d last_point = Eigen::Vector3d::Zero();
+  bool after_rapid = true;
+  double skipped_length = 0.0;
+  std::uint32_t skipped_line = 0;
   each_motion(compensated, options, [&](const gcode::Motion& m) {
     const MotionPath path(m);
     ev.advance(path.start());
     const FollowPlay follow{ev, path.end()};
-    if (m.kind != gcode::MotionKind::feed && m.kind != gcode::MotionKind::arc) return;
+    if (m.kind != gcode::MotionKind::feed && m.kind != gcode::MotionKind::arc) {
+      after_rapid = true;
+      return;
+    }
     ++e.moves;
     const int steps = path.steps(model, options.samples);  // finer than the job checks
     for (int k = 0; k <= steps; ++k) {
@@ -433,6 +447,19 @@ PathError verify(gcode::LineSource& original, gcode::LineSource& compensated, co
       // ends and the next begins has cut only the first).
       for (const auto& [i, d] : near)
         if ((p - nominal[i].a).norm() > slack(best)) uncut_from = std::max(uncut_from, i + 1);
+      const std::size_t reached = near.front().first;  // the first piece the point is on
+      if (reached > next_piece) {
+        double passed = 0.0;
+        for (std::size_t i = next_piece; i < reached; ++i) passed += nominal[i].length();
+        const double path_length = after_rapid ? 0.0 : 1.01 * (p - last_point).norm();
+        if (passed > path_length + kUncutMm) {
+          skipped_length += passed;
+          if (skipped_line == 0) skipped_line = nominal[next_piece].line;
+        }
+      }
+      next_piece = std::max(next_piece, cursor + 1);
+      last_point = p;
+      after_rapid = false;
       nominal.drop_before(cursor > kBehind ? cursor - kBehind : 0);
       sum2 += best * best;
       ++e.points;
@@ -441,6 +468,9 @@ PathError verify(gcode::LineSource& original, gcode::LineSource& compensated, co
   });
   e.rms = e.points ? std::sqrt(sum2 / static_cast<double>(e.points)) : 0.0;
   std::tie(e.uncut_length, e.uncut_line) = nominal.rest_from(uncut_from);
+  if (e.uncut_length <= kUncutMm) e.uncut_length = 0.0, e.uncut_line = 0;  // where sampling ends, not a missing cut
+  e.uncut_length += skipped_length;
+  if (skipped_line != 0) e.uncut_line = skipped_line;
   return e;
 }
 

@@ -130,6 +130,24 @@ TEST(Verify, AnOutputThatStopsShortLeavesTheRestUncut) {
   EXPECT_LT(part.max, 1e-9);  // what it does cut is right
 }
 
+TEST(Verify, ACutMissingBetweenRapidsIsFound) {
+  // Three 10 mm squares, rapids between; the output lost the second (a transfer that
+  // dropped a block of lines): 40 mm of the original's cuts, from its line 9, are not cut.
+  auto square = [](int x) {
+    const std::string at = std::to_string(x);
+    return "G0 X" + at + " Y0\nG1 X" + std::to_string(x + 10) + "\nG1 Y10\nG1 X" + at + "\nG1 Y0\n";
+  };
+  const std::string head = "G21 G90 G17 F100\nG0 X0 Y0 Z0\n";
+  const std::string program = head + square(0) + square(20) + square(40) + "M2\n";
+  const std::string lost = head + square(0) + "G0 X20 Y0\n" + square(40) + "M2\n";
+  const model::ForwardModel m(exact_machine());
+  EXPECT_LT(verify_text(program, program, m).uncut_length, 1e-9);
+  const compensate::PathError e = verify_text(program, lost, m);
+  EXPECT_NEAR(e.uncut_length, 40.0, 1e-9);
+  EXPECT_EQ(e.uncut_line, 9U);
+  EXPECT_LT(e.max, 1e-9) << "what is cut is right";
+}
+
 TEST(Verify, APathThatTurnsBackOverItselfIsCutToItsEnd) {
   // The last move runs back over the one before it (LinuxCNC's ccomp-gouging test): its
   // points are as near the piece before as its own, and it is still cut.

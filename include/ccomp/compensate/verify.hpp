@@ -20,8 +20,9 @@ struct PathError {
   Eigen::Vector3d worst_point = Eigen::Vector3d::Zero();  ///< table frame, mm
   std::uint64_t points = 0;
   std::uint64_t moves = 0;
-  /// verify: mm of the original's cuts after the furthest piece the executed path came to
-  /// (a truncated output), and the original's line where they start (0: none).
+  /// verify: mm of the original's cuts the executed path never came to (a truncated
+  /// output, a cut missing between rapids, more than 10 um of path passed over between
+  /// two points), and the original's line of the first of them (0: none).
   double uncut_length = 0.0;
   std::uint32_t uncut_line = 0;
 };
