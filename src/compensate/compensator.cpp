@@ -279,7 +279,14 @@ void Compensator::straight(const ChainQ& start, const ChainQ& end, std::vector<C
     for (std::size_t i : turning) switch_to(i, target[i]);
     for (std::size_t i : re_approach) switch_to(i, target[i]);
     go(a);
-    report.unhidden_reversals |= unhidden(target);
+    if (const unsigned short_of = unhidden(target); short_of != 0) {
+      report.unhidden_reversals |= short_of;
+      // What is left shows where the move starts, the play still short of its target.
+      model::Conditions now = options_.conditions;
+      now.directions = play_;
+      model::forward(model_, check_, a, now, false, model::Evaluate::actual);
+      report.max_deviation_after = std::max(report.max_deviation_after, (check_.actual - nominal_tip(start)).norm());
+    }
   } else if (!commanded_.allFinite()) {
     commanded_ = a;
   } else if (const double off = start_error(start, a); off > 0.25 * tolerance) {
