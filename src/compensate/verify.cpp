@@ -27,6 +27,9 @@ struct Piece {
   double r0 = 0, r1 = 0, a0 = 0, sweep = 0, dw = 0;  // radius from r0 to r1, rise dw along n
   bool ccw = true;
   std::uint32_t line = 0;  ///< the original's block it is part of
+  /// A canned cycle's: the block's words move its pecks with the hole's correction, so
+  /// they need not meet the original's piece for piece (what is uncut does not count them).
+  bool cycle = false;
 
   [[nodiscard]] double length() const { return arc ? std::hypot(sweep * 0.5 * (r0 + r1), dw) : (b - a).norm(); }
 
@@ -167,6 +170,7 @@ void nominal_pieces(const gcode::Motion& m, Evaluator& ev, std::vector<Piece>& o
     p.a = ev.nominal(chain_of(m.start, o));
     p.b = ev.nominal(chain_of(m.end, o));
     p.line = m.line;
+    p.cycle = m.source == gcode::MotionSource::canned_cycle;
     out.push_back(p);
     return;
   }
@@ -192,6 +196,7 @@ void nominal_pieces(const gcode::Motion& m, Evaluator& ev, std::vector<Piece>& o
         p.a = p0;
         p.b = p1;
         p.line = m.line;
+        p.cycle = m.source == gcode::MotionSource::canned_cycle;
         out.push_back(p);
       };
   add(0.0, 1.0, ev.nominal(a), ev.nominal(b), 0);
@@ -267,7 +272,7 @@ class NominalPath {
     double length = 0;
     std::uint32_t line = 0;
     auto count = [&](std::size_t index, const Piece& p) {
-      if (index < i) return;
+      if (index < i || p.cycle) return;
       if (line == 0) line = p.line;
       length += p.length();
     };
@@ -450,11 +455,12 @@ PathError verify(gcode::LineSource& original, gcode::LineSource& compensated, co
       const std::size_t reached = near.front().first;  // the first piece the point is on
       if (reached > next_piece) {
         double passed = 0.0;
-        for (std::size_t i = next_piece; i < reached; ++i) passed += nominal[i].length();
+        for (std::size_t i = next_piece; i < reached; ++i) passed += nominal[i].cycle ? 0.0 : nominal[i].length();
         const double path_length = after_rapid ? 0.0 : 1.01 * (p - last_point).norm();
         if (passed > path_length + kUncutMm) {
           skipped_length += passed;
-          if (skipped_line == 0) skipped_line = nominal[next_piece].line;
+          for (std::size_t i = next_piece; i < reached && skipped_line == 0; ++i)
+            if (!nominal[i].cycle) skipped_line = nominal[i].line;
         }
       }
       next_piece = std::max(next_piece, cursor + 1);

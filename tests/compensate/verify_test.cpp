@@ -9,6 +9,7 @@
 #include <string>
 
 #include "ccomp/error.hpp"
+#include "ccomp/gcode/dialect.hpp"
 #include "ccomp/model/forward.hpp"
 #include "ccomp/model/machine.hpp"
 #include "job_runner.hpp"
@@ -146,6 +147,31 @@ TEST(Verify, ACutMissingBetweenRapidsIsFound) {
   EXPECT_NEAR(e.uncut_length, 40.0, 1e-9);
   EXPECT_EQ(e.uncut_line, 9U);
   EXPECT_LT(e.max, 1e-9) << "what is cut is right";
+}
+
+TEST(Verify, ACannedCyclesPecksNeedNotMeetTheOriginalsPieceForPiece) {
+  // The corpus' Haas sample (github.com/dillonhuff/gpr), its first two tools: a G83 whose
+  // compensated R and Z move its pecks, so its first, 0.05 mm peck is not the output's.
+  // The holes are drilled as deep as the original's: nothing is uncut.
+  const std::string program =
+      "%\nO4004(BLOCK #4 .5 DRILL)\nT0 M06 (.50 INCH SPOT DRILL)\nG90 G80 G40 G55\nS1504 M03\nG43 H0\n/\n"
+      "G00 X-1. Y-0.5 Z1.\nG99 G82 R0.1 Z-0.1227 P F15.04\nX-4.501\nG80\nG00 Z1.\nM01\n"
+      "T2 M06 ( 1/2 DRILL FOR 14 X 1.25MM TAP)\nG90 G80 G40 G55\nS763 M03\nG43 H2\n/M08\n"
+      "G00 X-1. Y-0.5 Z1.\nZ1.\nG99 G83 R0.1 Z-2.15 Q0.05 F15.26\nX-4.501\nG80\nG00 Z1.\nM30\n%\n";
+  const model::MachineModel mm = sample_machine("vmc-xyz");
+  compensate::JobOptions o;
+  o.interpreter.dialect = *gcode::dialect_named("fanuc");
+  o.interpreter.tools.tools[0] = gcode::ToolEntry{0, 0, {0, 0, 0}, 0, ""};
+  o.interpreter.tools.tools[2] = gcode::ToolEntry{2, 2, {0, 0, 110.0}, 0, ""};
+  const std::string output = compensate(program, mm, o);
+  compensate::CheckOptions check;
+  check.interpreter = o.interpreter;
+  check.interpreter.tools.tools[1] = kTool1;
+  gcode::LineSource a = gcode::LineSource::from_string(program, "in.ngc");
+  gcode::LineSource b = gcode::LineSource::from_string(output, "out.ngc");
+  const compensate::PathError e = compensate::verify(a, b, model::ForwardModel(mm), check);
+  EXPECT_LT(e.max, 0.001);
+  EXPECT_EQ(e.uncut_length, 0.0) << "from line " << e.uncut_line;
 }
 
 TEST(Verify, APathThatTurnsBackOverItselfIsCutToItsEnd) {

@@ -22,7 +22,8 @@ struct PathError {
   std::uint64_t moves = 0;
   /// verify: mm of the original's cuts the executed path never came to (a truncated
   /// output, a cut missing between rapids, more than 10 um of path passed over between
-  /// two points), and the original's line of the first of them (0: none).
+  /// two points; a canned cycle's pecks, which its compensated words move, not counted),
+  /// and the original's line of the first of them (0: none).
   double uncut_length = 0.0;
   std::uint32_t uncut_line = 0;
 };
