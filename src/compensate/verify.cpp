@@ -449,9 +449,10 @@ PathError verify(gcode::LineSource& original, gcode::LineSource& compensated, co
       while (at + 1 < near.size() && near[at + 1].first == near[at].first + 1) ++at;
       cursor = near[at].first;
       // A piece is cut once a point near it is past its start (a point where one piece
-      // ends and the next begins has cut only the first).
+      // ends and the next begins has cut only the first), and the search has come to it (a
+      // closed contour's last piece ends where its first begins).
       for (const auto& [i, d] : near)
-        if ((p - nominal[i].a).norm() > slack(best)) uncut_from = std::max(uncut_from, i + 1);
+        if (i <= cursor && (p - nominal[i].a).norm() > slack(best)) uncut_from = std::max(uncut_from, i + 1);
       const std::size_t reached = near.front().first;  // the first piece the point is on
       if (reached > next_piece) {
         double passed = 0.0;

@@ -129,6 +129,13 @@ TEST(Verify, AnOutputThatStopsShortLeavesTheRestUncut) {
   EXPECT_EQ(part.uncut_line, 5U);
   EXPECT_NEAR(part.uncut_length, 10.0 + 5.0 * 3.14159265358979323846, 1e-9);
   EXPECT_LT(part.max, 1e-9);  // what it does cut is right
+
+  // A closed contour ends where it starts: its last piece is near the first point cut, and
+  // still uncut when the output stops after the first side.
+  const std::string square = "G21 G90 G17 F500\nG0 X0 Y0 Z0\nG1 X10\nG1 Y10\nG1 X0\nG1 Y0\nM2\n";
+  const compensate::PathError first_side = verify_text(square, square.substr(0, square.find("G1 Y10")), m);
+  EXPECT_NEAR(first_side.uncut_length, 30.0, 1e-9);
+  EXPECT_EQ(first_side.uncut_line, 4U);
 }
 
 TEST(Verify, ACutMissingBetweenRapidsIsFound) {
