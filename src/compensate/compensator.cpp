@@ -92,6 +92,10 @@ void Compensator::rapid(const ChainQ& end, std::vector<CompensatedPoint>& out, M
   for (std::size_t i = 0; i < need.size(); ++i) {
     const auto k = static_cast<Eigen::Index>(i);
     if (!model_.has_reversal(i) || model_.lost_motion()[i] <= 0 || std::abs(play_[i] - target[i]) <= 0.02) continue;
+    if (offset_by_control_) {
+      report.jogs_withheld = true;
+      continue;
+    }
     need[i] = -target[i];
     ChainQ back = commanded_;
     back[k] = point(end, report)[k];
@@ -249,7 +253,16 @@ void Compensator::straight(const ChainQ& start, const ChainQ& end, std::vector<C
       if (model_.has_reversal(i) && std::abs(play_[i] - need[i]) > 0.02) axes |= 1U << i;
     return axes;
   };
-  if (commanded_.allFinite() && unsettled() != 0) {
+  if (commanded_.allFinite() && unsettled() != 0 && offset_by_control_) {
+    // No take-ups where the control offsets the path: the move starts where the last one
+    // left the machine, its play as it is, and what that leaves is in the report.
+    a = commanded_;
+    report.jogs_withheld = true;
+    model::Conditions now = options_.conditions;
+    now.directions = play_;
+    model::forward(model_, check_, a, now, false, model::Evaluate::actual);
+    report.max_deviation_after = std::max(report.max_deviation_after, (check_.actual - nominal_tip(start)).norm());
+  } else if (commanded_.allFinite() && unsettled() != 0) {
     // One turning axis at a time: it travels what its play needs (the tool holds still
     // against its own backlash) while the settled axes follow the error motions that
     // switch with its play; each step is solved for the play it leaves. A settled axis
@@ -289,7 +302,11 @@ void Compensator::straight(const ChainQ& start, const ChainQ& end, std::vector<C
     }
   } else if (!commanded_.allFinite()) {
     commanded_ = a;
-  } else if (const double off = start_error(start, a); off > 0.25 * tolerance) {
+  } else if (const double off = start_error(start, a); off > 0.25 * tolerance && offset_by_control_) {
+    report.jogs_withheld = true;  // the cut starts where the machine was left
+    report.max_deviation_after = std::max(report.max_deviation_after, off);
+    report.start_error = std::max(report.start_error, off);
+  } else if (off > 0.25 * tolerance) {
     // The machine was left off this move's compensated start by a move not compensated (in
     // machine coordinates, a canned cycle's): it goes there first, or the cut would begin
     // with the machine's whole error and taper it out along the move. Where it begins is
@@ -300,7 +317,11 @@ void Compensator::straight(const ChainQ& start, const ChainQ& end, std::vector<C
     report.start_error = std::max(report.start_error, off);
   }
   const std::size_t first = out.size();
-  split(start, end, a, b, 0.0, 1.0, 0, tolerance, out, report);
+  // Where the control offsets the path, a straight move stays one line: a piece shorter
+  // than the tool's radius next to an inside corner is one the control refuses (LinuxCNC:
+  // "cannot be reached by the tool without gouging"). Its deviation is measured, not split.
+  split(start, end, a, b, 0.0, 1.0, offset_by_control_ ? options_.max_depth : 0, tolerance, out, report);
+  report.jogs_withheld = report.jogs_withheld || offset_by_control_;
   error_before(start, end, uncompensated, report);
   for (std::size_t k = first; k < out.size(); ++k) command(out[k].q);
 }

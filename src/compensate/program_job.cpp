@@ -198,7 +198,12 @@ class alignas(64) MoveSolver {
   void solve(const gcode::Motion& m, const gcode::Offsets& offsets, MoveReport& move,
              std::vector<CompensatedPoint>& points, const ChordRange& range = {}) {
     const model::ChainQ start = chain_of(m.start, offsets), end = chain_of(m.end, offsets);
-    if (m.kind == gcode::MotionKind::traverse) {
+    compensator.offset_by_control(m.radius_compensation);
+    // The move that starts the control's offset must stay one line longer than the tool's
+    // radius (LinuxCNC refuses a shorter one): its end is compensated, as a rapid's.
+    const bool entry = m.radius_compensation && !offset_before_;
+    offset_before_ = m.radius_compensation;
+    if (m.kind == gcode::MotionKind::traverse || (entry && m.kind == gcode::MotionKind::feed)) {
       compensator.error_before_at(end, move);
       compensator.rapid(end, points, move);
     } else if (m.kind == gcode::MotionKind::arc) {
@@ -225,6 +230,7 @@ class alignas(64) MoveSolver {
 
  private:
   double tolerance_;
+  bool offset_before_ = false;  ///< the last move was under the control's radius offset
   std::vector<gcode::Axes> chords_;
   std::vector<CompensatedPoint> pieces_;
 };
@@ -817,6 +823,14 @@ class JobSink : public gcode::CanonSink {
     report_.max_correction = std::max(report_.max_correction, move.max_correction);
     report_.max_orientation_error = std::max(report_.max_orientation_error, move.max_orientation_error);
     warn_unhidden_reversals(move.unhidden_reversals);
+    if (move.jogs_withheld && !warned_jogs_ && options_.warning) {
+      warned_jogs_ = true;
+      options_.warning(
+          "cutter radius compensation (G41/G42) is on: the control offsets each line as a piece of its "
+          "own, and refuses or gouges short ones at inside corners, so ccomp neither splits straight moves "
+          "there nor writes take-up moves; what that leaves is in the summary's 'after' (said once)",
+          line);
+    }
     if (move.start_error > 0.0 && !warned_start_error_ && options_.warning) {
       warned_start_error_ = true;
       options_.warning(fmt::format("this cut starts where a move in machine coordinates (G53, G28, G30) or a canned "
@@ -1063,6 +1077,7 @@ class JobSink : public gcode::CanonSink {
 
   unsigned warned_reversals_ = 0;
   bool warned_start_error_ = false;
+  bool warned_jogs_ = false;
   bool started_ = false;
   int last_percent_ = -1;
   bool has_limits_ = false;

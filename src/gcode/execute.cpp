@@ -379,6 +379,7 @@ void Interpreter::Impl::straight(MotionKind kind, const Axes& target, MotionSour
   m.feed = modal.feed;
   m.units = modal.units;
   m.incremental = !modal.absolute;
+  m.radius_compensation = modal.cutter_compensation != 400;
   m.offsets = &offsets;
   m.line = block.line;
   position = target;
@@ -770,6 +771,7 @@ void Interpreter::Impl::arc(const Block& b, int code, const Axes& target) {
   m.feed = modal.feed;
   m.units = modal.units;
   m.incremental = !modal.absolute;
+  m.radius_compensation = modal.cutter_compensation != 400;
   m.offsets = &offsets;
   m.line = b.line;
   position = target;

@@ -53,6 +53,9 @@ struct MoveReport {
   /// mm: how far the tool was from the move's start where a move the compensator did not
   /// plan (machine coordinates, a canned cycle) left it; 0 after a planned one.
   double start_error = 0.0;
+  /// The control offsets the path (G41/G42): the move was not split, or a take-up,
+  /// re-approach or lead-to-start move it needed was not written.
+  bool jogs_withheld = false;
 };
 
 class Compensator {
@@ -67,6 +70,11 @@ class Compensator {
   /// The compensated end of a rapid to `end` (the control chooses a rapid's path), then
   /// any re-approach an axis needs to leave the rapid with its play settled.
   void rapid(const model::ChainQ& end, std::vector<CompensatedPoint>& out, MoveReport& report);
+  /// Whether the control offsets the path by the tool's radius (G41/G42) from now on: then
+  /// straight moves are not split, and no take-up, re-approach or lead-to-start moves are
+  /// written. The control offsets every line as a piece of its own: it refuses a piece
+  /// shorter than the radius next to an inside corner, and a jog that turns back.
+  void offset_by_control(bool on) { offset_by_control_ = on; }
   /// The compensated values for one point, for the approach the compensator assumes now.
   [[nodiscard]] model::ChainQ point(const model::ChainQ& nominal, MoveReport& report);
   /// The nominal pose at `nominal`, known to the caller: the next solve for that point uses
@@ -134,7 +142,8 @@ class Compensator {
   CompensationOptions options_;
   model::ChainQ commanded_ = model::ChainQ::Constant(std::nan(""));  ///< where the machine was sent last
   std::array<double, 9> play_{};                                     ///< approach state after the commands so far
-  bool uncompensated_ = false;  ///< the last command was one moved() reported, not one planned here
+  bool uncompensated_ = false;      ///< the last command was one moved() reported, not one planned here
+  bool offset_by_control_ = false;  ///< see offset_by_control()
   model::ChainQ last_straight_end_ = model::ChainQ::Constant(std::nan(""));  ///< its error before is counted
   // The nominal tips of the last points solved (a move's ends and midpoints), round robin.
   std::array<std::pair<model::ChainQ, Eigen::Vector3d>, 4> tips_;

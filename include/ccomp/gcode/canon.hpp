@@ -76,9 +76,11 @@ struct Motion {
   Axes end{};    ///< after the move
   Arc arc;       ///< when kind == arc
   FeedMode feed_mode = FeedMode::units_per_minute;
-  double feed = 0.0;                 ///< mm/min, or 1/min in inverse time, or mm/rev
-  Units units = Units::mm;           ///< the program's units at the time (for printing)
-  bool incremental = false;          ///< G91 in force: the block's axis words are distances
+  double feed = 0.0;         ///< mm/min, or 1/min in inverse time, or mm/rev
+  Units units = Units::mm;   ///< the program's units at the time (for printing)
+  bool incremental = false;  ///< G91 in force: the block's axis words are distances
+  /// G41/G42 in force: the controller offsets the path by the tool's radius.
+  bool radius_compensation = false;
   const Offsets* offsets = nullptr;  ///< in force during the move
   std::uint32_t line = 0;            ///< source line of the block that commanded it
 };

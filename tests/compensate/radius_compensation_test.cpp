@@ -1,0 +1,66 @@
+// Under cutter radius compensation (G41/G42) the control offsets every line by the tool's
+// radius as a piece of its own: it refuses an entry move shorter than the radius, and a
+// piece shorter than the radius next to an inside corner ("cannot be reached by the tool
+// without gouging"). So there the job neither splits straight moves nor writes take-ups,
+// and LinuxCNC's own interpreter accepts what it writes.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <string>
+#include <vector>
+
+#include "ccomp/compensate/program_job.hpp"
+#include "job_runner.hpp"
+#include "rs274_oracle.hpp"
+#include "trace_capture.hpp"
+
+namespace ccomp::test {
+namespace {
+
+/// A zig-zag finish with inside corners on the left (G41), and the same without G41/G40.
+std::string zigzag(bool offset_by_control) {
+  const std::string on = offset_by_control ? "G41.1 D10\n" : "";
+  const std::string off = offset_by_control ? "G40\n" : "";
+  return "G21 G90 G94 G54\nT1 M6\nG43 H1\nG0 X-60 Y-40 Z-90 B0\nG1 F800\n" + on +
+         "G1 X-50 Y-40\nG1 X50\nG1 Y-30\nG1 X-50\nG1 Y-20\nG1 X50\nG1 Y20\n" + off + "G0 Z-60\nM30\n";
+}
+
+compensate::JobOptions warm_machine(std::vector<std::string>* warnings) {
+  compensate::JobOptions o;
+  o.sensors = {{"bed", 24}, {"column", 23}, {"spindle", 31}};
+  o.time = 3600;
+  o.warning = [warnings](const std::string& text, std::uint32_t) { warnings->push_back(text); };
+  return o;
+}
+
+TEST(RadiusCompensation, StraightMovesStayOneLineAndNothingIsTakenUp) {
+  const model::MachineModel mm = sample_machine("hmc-xyzb");
+  std::vector<std::string> warnings;
+  compensate::JobReport free, offset;
+  (void)compensate(zigzag(false), mm, warm_machine(&warnings), &free);
+  ASSERT_GT(free.added_lines, 0U) << "without G41 the long moves are split";
+  ASSERT_GT(free.take_up_moves, 0U) << "and the turns taken up";
+  warnings.clear();
+  const std::string output = compensate(zigzag(true), mm, warm_machine(&warnings), &offset);
+  // Between G41.1 and G40 the seven moves stay seven lines (after G40 the last rapid's
+  // re-approach is written as ever).
+  const auto on = output.find("G41.1 D10\n") + 10, off = output.find("G40\n");
+  ASSERT_LT(on, off) << output;
+  EXPECT_EQ(std::count(output.begin() + static_cast<std::ptrdiff_t>(on),
+                       output.begin() + static_cast<std::ptrdiff_t>(off), '\n'),
+            7)
+      << output;
+  ASSERT_FALSE(warnings.empty());
+  EXPECT_NE(warnings.front().find("cutter radius compensation (G41/G42) is on"), std::string::npos) << warnings.front();
+  EXPECT_GT(offset.max_error_after, 0.001) << "the turns' backlash is left, and said";
+
+  if (!have_rs274()) GTEST_SKIP() << "rs274 not found at " << rs274() << ": run tools/rs274/fetch.sh build/rs274";
+  const std::string dir = temp_dir("radius_compensation");
+  write_file(dir + "/tools.tbl", "T1 P1 Z100 D10 ;\n");
+  write_file(dir + "/out.ngc", output);
+  const TraceResult theirs = rs274_trace(dir + "/out.ngc", dir + "/tools.tbl");
+  EXPECT_FALSE(theirs.error) << theirs.error->what();
+}
+
+}  // namespace
+}  // namespace ccomp::test
