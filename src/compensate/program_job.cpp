@@ -167,7 +167,7 @@ void arc_chords(const gcode::Motion& m, double tolerance, const ChordRange& rang
 class alignas(64) MoveSolver {
  public:
   MoveSolver(const model::ForwardModel& model, const CompensationOptions& options)
-      : compensator(model, options), tolerance_(options.tolerance) {}
+      : compensator(model, options), model_(model), data_(model), tolerance_(options.tolerance) {}
 
   /// Compensates the batch's moves in order, up to the first that fails (its error kept).
   void solve_batch(MoveBatch& batch) {
@@ -206,6 +206,21 @@ class alignas(64) MoveSolver {
     if (m.kind == gcode::MotionKind::traverse || (entry && m.kind == gcode::MotionKind::feed)) {
       compensator.error_before_at(end, move);
       compensator.rapid(end, points, move);
+    } else if (m.kind == gcode::MotionKind::arc && m.radius_compensation) {
+      // The control offsets an arc as one piece; its chords would be pieces shorter than the
+      // radius at inside corners, which it refuses. So it stays an arc, its end compensated
+      // (its centre words count from its start, as written), and what the arc does between
+      // is measured.
+      model::ChainQ from = compensator.commanded();
+      if (from.hasNaN()) from = start;
+      const gcode::ArcGeometry g = gcode::arc_geometry(m);
+      const int n = 2 * std::max(8, static_cast<int>(std::ceil(g.sweep / (3.14159265358979323846 / 8))));
+      for (int k = 1; k < n; ++k)
+        compensator.error_before_at(chain_of(gcode::arc_point(m, g, static_cast<double>(k) / n), offsets), move);
+      compensator.error_before_at(end, move);
+      compensator.rapid(end, points, move);
+      move.max_deviation_after =
+          std::max(move.max_deviation_after, kept_arc_deviation(m, g, offsets, from, points.back().q, n));
     } else if (m.kind == gcode::MotionKind::arc) {
       arc_chords(m, tolerance_ / 2.0, range, chords_);
       points.clear();
@@ -229,6 +244,39 @@ class alignas(64) MoveSolver {
   Compensator compensator;
 
  private:
+  /// The largest distance, at n + 1 points, between the nominal arc `m` and the arc the
+  /// control cuts from the compensated `from` to `to` (chain values), its centre moved with
+  /// its start.
+  double kept_arc_deviation(const gcode::Motion& m, const gcode::ArcGeometry& g, const gcode::Offsets& offsets,
+                            const model::ChainQ& from, const model::ChainQ& to, int n) {
+    auto controlled = [&](const model::ChainQ& q) {
+      gcode::Axes c{};
+      for (std::size_t i = 0; i < gcode::kAxisCount; ++i)
+        c[i] = (gcode::is_rotary(i) ? q[static_cast<Eigen::Index>(i)] / kRadPerDeg : q[static_cast<Eigen::Index>(i)]) -
+               offsets.tool[i];
+      return c;
+    };
+    gcode::Motion cut = m;
+    cut.start = controlled(from);
+    cut.end = controlled(to);
+    cut.arc.center_first += cut.start[g.axes.first] - m.start[g.axes.first];
+    cut.arc.center_second += cut.start[g.axes.second] - m.start[g.axes.second];
+    const gcode::ArcGeometry cut_g = gcode::arc_geometry(cut);
+    double worst = 0.0;
+    for (int k = 0; k <= n; ++k) {
+      const double f = static_cast<double>(k) / n;
+      model::forward(model_, data_, chain_of(gcode::arc_point(m, g, f), offsets), compensator.conditions(), false,
+                     model::Evaluate::nominal);
+      const Eigen::Vector3d meant = data_.nominal;
+      model::forward(model_, data_, chain_of(gcode::arc_point(cut, cut_g, f), offsets), compensator.conditions(), false,
+                     model::Evaluate::actual);
+      worst = std::max(worst, (data_.actual - meant).norm());
+    }
+    return worst;
+  }
+
+  const model::ForwardModel& model_;
+  model::ForwardData data_;  ///< scratch for kept_arc_deviation()
   double tolerance_;
   bool offset_before_ = false;  ///< the last move was under the control's radius offset
   std::vector<gcode::Axes> chords_;
@@ -491,12 +539,13 @@ class JobSink : public gcode::CanonSink {
   /// The points a move is expected to give: its chords (half the tolerance, as solve()
   /// takes them), else the points the model checks it at.
   [[nodiscard]] std::size_t expected_points(const gcode::Motion& m, const model::ChainQ& end) const {
-    if (m.kind == gcode::MotionKind::arc) return arc_chord_count(gcode::arc_geometry(m), options_.tolerance / 2.0);
+    if (m.kind == gcode::MotionKind::arc && !m.radius_compensation)
+      return arc_chord_count(gcode::arc_geometry(m), options_.tolerance / 2.0);
     return static_cast<std::size_t>(forward_->check_points(chain_of(m.start, *m.offsets), end, 1));
   }
 
   void queue_move(const gcode::Motion& m) {
-    if (m.kind == gcode::MotionKind::arc) {
+    if (m.kind == gcode::MotionKind::arc && !m.radius_compensation) {
       const std::size_t n = arc_chord_count(gcode::arc_geometry(m), options_.tolerance / 2.0);
       if (n > kPartChords) {
         for (std::size_t begin = 0; begin < n; begin += kPartChords)
@@ -981,7 +1030,7 @@ class JobSink : public gcode::CanonSink {
       if (part.last()) writer_.close_line();
       return;
     }
-    if (m.kind == gcode::MotionKind::arc) arc_to_line_edits(b, edits);
+    if (m.kind == gcode::MotionKind::arc && !m.radius_compensation) arc_to_line_edits(b, edits);
     if (!appended.empty())
       edits.push_back(gcode::Edit{
           {static_cast<std::uint32_t>(b.text.size()), static_cast<std::uint32_t>(b.text.size())}, appended});

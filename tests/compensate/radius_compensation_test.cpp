@@ -33,6 +33,35 @@ compensate::JobOptions warm_machine(std::vector<std::string>* warnings) {
   return o;
 }
 
+TEST(RadiusCompensation, ArcsStayArcsTheirEndsCompensated) {
+  // An arc entering the offset (as LinuxCNC's mill-g90g91g92 test does) and a fillet at an
+  // inside corner: as chords, the first chord would be a too short entry move and the last
+  // a piece too short next to the corner. They stay arcs with their centre words.
+  const std::string program =
+      "G21 G90 G94 G54\nT1 M6\nG43 H1\nG0 X-30 Y-20 Z-90 B0\nG1 F800\nG41.1 D10\n"
+      "G3 X-20 Y-30 R10\nG1 X20\nG3 X30 Y-20 I0 J10\nG1 Y20\nG1 X-30\nG40\nG0 Z-60\nM30\n";
+  const model::MachineModel mm = sample_machine("hmc-xyzb");
+  std::vector<std::string> warnings;
+  compensate::JobReport report;
+  const std::string output = compensate(program, mm, warm_machine(&warnings), &report);
+  const auto on = output.find("G41.1 D10\n") + 10, off = output.find("G40\n");
+  ASSERT_LT(on, off) << output;
+  const std::string offset = output.substr(on, off - on);
+  EXPECT_EQ(std::count(offset.begin(), offset.end(), '\n'), 5) << "five moves, five lines\n" << output;
+  EXPECT_EQ(offset.rfind("G3 X-20.0", 0), 0U) << output;
+  EXPECT_NE(offset.find(" R10\n"), std::string::npos) << output;
+  EXPECT_NE(offset.find("\nG3 X29.9"), std::string::npos) << "its end compensated\n" << output;
+  EXPECT_NE(offset.find(" I0 J10\n"), std::string::npos) << output;
+  // What the arcs do between their compensated ends is measured, not assumed.
+  EXPECT_GT(report.max_error_after, 0.0);
+  if (!have_rs274()) GTEST_SKIP() << "rs274 not found at " << rs274() << ": run tools/rs274/fetch.sh build/rs274";
+  const std::string dir = temp_dir("radius_compensation_arcs");
+  write_file(dir + "/tools.tbl", "T1 P1 Z100 D10 ;\n");
+  write_file(dir + "/out.ngc", output);
+  const TraceResult theirs = rs274_trace(dir + "/out.ngc", dir + "/tools.tbl");
+  EXPECT_FALSE(theirs.error) << theirs.error->what();
+}
+
 TEST(RadiusCompensation, StraightMovesStayOneLineAndNothingIsTakenUp) {
   const model::MachineModel mm = sample_machine("hmc-xyzb");
   std::vector<std::string> warnings;

@@ -105,6 +105,8 @@ class Compensator {
   void error_before_at(const model::ChainQ& nominal, MoveReport& report);
 
   model::Conditions& conditions() { return options_.conditions; }
+  /// Where the machine was sent last (chain values; NaN before the first command).
+  [[nodiscard]] const model::ChainQ& commanded() const { return commanded_; }
   /// Sets the approach the next points are solved for: each axis with reversal terms
   /// travels the way `end - start` goes (or keeps its state when it does not move).
   void approach(const model::ChainQ& start, const model::ChainQ& end);
