@@ -11,6 +11,7 @@
 
 #include "ccomp/gcode/dialect.hpp"
 #include "ccomp/gcode/tool_table.hpp"
+#include "linuxcnc_suite.hpp"
 #include "trace_capture.hpp"
 
 namespace ccomp::test {
@@ -144,23 +145,6 @@ TEST(Flatten, AnEndlessLoopEndsAtTheBlockLimit) {
 }
 
 // Every program of LinuxCNC's suite that ccomp runs: its flattened form makes the same motions.
-struct SuiteProgram {
-  std::string path;  ///< relative to corpus/linuxcnc
-};
-std::ostream& operator<<(std::ostream& os, const SuiteProgram& p) {
-  return os << p.path;
-}
-
-std::vector<SuiteProgram> suite_programs() {
-  std::vector<SuiteProgram> programs;
-  const fs::path root = fs::path(corpus_dir()) / "linuxcnc";
-  for (const auto& e : fs::recursive_directory_iterator(root))
-    if (e.is_regular_file() && e.path().extension() == ".ngc" && e.path().string().find("/bad/") == std::string::npos)
-      programs.push_back({fs::relative(e.path(), root).string()});
-  std::sort(programs.begin(), programs.end(), [](const auto& a, const auto& b) { return a.path < b.path; });
-  return programs;
-}
-
 class FlattenSuite : public ::testing::TestWithParam<SuiteProgram> {};
 
 TEST_P(FlattenSuite, MakesTheSameMotions) {
@@ -180,14 +164,7 @@ TEST_P(FlattenSuite, MakesTheSameMotions) {
   if (const auto diff = compare_calls(motions_only(flat), motions, 1e-4)) FAIL() << *diff << "\n" << f.text;
 }
 
-std::string test_name(const ::testing::TestParamInfo<SuiteProgram>& program) {
-  std::string name = program.param.path;
-  for (char& c : name)
-    if (!std::isalnum(static_cast<unsigned char>(c))) c = '_';
-  return name;
-}
-
-INSTANTIATE_TEST_SUITE_P(Corpus, FlattenSuite, ::testing::ValuesIn(suite_programs()), test_name);
+INSTANTIATE_TEST_SUITE_P(Corpus, FlattenSuite, ::testing::ValuesIn(suite_programs()), suite_test_name);
 
 }  // namespace
 }  // namespace ccomp::test

@@ -22,12 +22,13 @@ bool have_rs274() {
 TraceResult rs274_trace(const std::string& program, const std::string& tool_table) {
   // rs274 reads and writes rs274ngc.var in its working folder, so it gets one of its own;
   // and two rs274 at once crash (bus error, LinuxCNC's shared tool data), so runs from
-  // parallel test processes take turns on a lock.
+  // parallel test processes take turns on a lock. A program that loops for ever (the
+  // suite has some) is stopped after 60 s, as an error.
   const std::string cwd = temp_dir("rs274_cwd");
   const std::string lock = std::string(CCOMP_TEST_TMP) + "/rs274.lock";
   const CommandResult r =
-      run_command("cd " + shell_quote(cwd) + " && flock " + shell_quote(lock) + " " + shell_quote(rs274()) + " -t " +
-                  shell_quote(tool_table) + " -g " + shell_quote(program));
+      run_command("cd " + shell_quote(cwd) + " && flock " + shell_quote(lock) + " timeout 60 " + shell_quote(rs274()) +
+                  " -t " + shell_quote(tool_table) + " -g " + shell_quote(program));
   TraceResult t;
   std::istringstream in(r.out);
   for (std::string line; std::getline(in, line);) t.lines.push_back(line);
