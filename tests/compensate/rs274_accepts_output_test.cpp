@@ -1,7 +1,7 @@
 // What the job writes must run on the control. LinuxCNC's own interpreter, rs274, reads
 // every program of its suite that it accepts as written, compensated (--flatten) for two
-// sample machines, and with --expand-cycles: it must accept the output too. This caught chords and split moves under
-// cutter radius compensation, which it refuses.
+// sample machines, and with --expand-cycles: it must accept the output too. This caught
+// chords and split moves under cutter radius compensation, which it refuses.
 #include <gtest/gtest.h>
 
 #include <filesystem>
