@@ -54,8 +54,10 @@ printf '  %-10s %8s %12s %14s\n' tolerance moves "lines added" "per move"
 for tol in 0.010 0.005 0.002 0.001 0.0005 0.0002; do
   "$ccomp" samples/programs/pocket-xy.ngc -m "$model" -o "$work/t.ngc" --tool-table samples/tools.tbl \
     "${sensors[@]}" --tolerance "$tol" 2> "$work/t.txt"
-  moves=$(sed -E 's/.*: ([0-9]+) moves compensated \(([0-9]+) lines added\).*/\1/' "$work/t.txt")
-  added=$(sed -E 's/.*: ([0-9]+) moves compensated \(([0-9]+) lines added\).*/\2/' "$work/t.txt")
+  # the summary line only: at fine tolerances the digits' warning comes first
+  summary=$(grep 'moves compensated' "$work/t.txt")
+  moves=$(sed -E 's/.*: ([0-9]+) moves compensated \(([0-9]+) lines added\).*/\1/' <<< "$summary")
+  added=$(sed -E 's/.*: ([0-9]+) moves compensated \(([0-9]+) lines added\).*/\2/' <<< "$summary")
   printf '  %-10s %8d %12d %14.1f\n' "$(echo "$tol*1000" | bc -l | sed 's/0*$//;s/\.$//') um" "$moves" "$added" \
     "$(echo "$added/$moves" | bc -l)"
 done
