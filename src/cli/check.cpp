@@ -4,7 +4,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <optional>
 
+#include "ccomp/compensate/program_job.hpp"
 #include "ccomp/compensate/verify.hpp"
 #include "ccomp/error.hpp"
 #include "commands.hpp"
@@ -67,7 +69,8 @@ CLI::App* add_verify(CLI::App& app, CheckArgs& args) {
   cmd->add_option("original", args.input, "the program as written")->required();
   cmd->add_option("compensated", args.compensated, "ccomp's output for it")->required();
   cmd->add_option("--tolerance", args.tolerance,
-                  "mm: the contour error allowed; more, or a cut of the original left out, exits with 7 (0.001)")
+                  "mm: the contour error allowed; more, or a cut of the original left out, exits with 7 (default: "
+                  "the tolerance in the output's ccomp header, else 0.001)")
       ->check(CLI::PositiveNumber);
   add_model_options(*cmd, args);
   return cmd;
@@ -86,6 +89,25 @@ int run_verify(const CheckArgs& args) {
   const model::ForwardModel forward(m);
   gcode::LineSource original = gcode::LineSource::open(args.input);
   gcode::LineSource compensated = gcode::LineSource::open(args.compensated);
+  // ccomp's header says which model and tolerance the output was made for: the tolerance
+  // is the one to meet unless told, and another model's output is measured, with a warning.
+  double tolerance = args.tolerance > 0.0 ? args.tolerance : 0.001;
+  if (args.compensated != "-") {
+    gcode::LineSource head = compensated.another_reader();
+    gcode::SourceLine line;
+    for (int k = 0; k < 2 && head.next(line); ++k) {
+      const std::optional<compensate::HeaderFacts> facts = compensate::read_header(line.text);
+      if (!facts) continue;
+      if (args.tolerance <= 0.0 && std::isfinite(facts->tolerance)) tolerance = facts->tolerance;
+      if (!facts->model_sha256.empty() && facts->model_sha256 != m.sha256)
+        fmt::print(stderr,
+                   "{}:{}: warning: compensated with another model (sha256:{}), not {} (sha256:{}): this measures "
+                   "what {} makes of it\n",
+                   compensated.name(), line.number, facts->model_sha256.substr(0, 12), args.model,
+                   m.sha256.substr(0, 12), args.model);
+      break;
+    }
+  }
   const compensate::PathError e = compensate::verify(original, compensated, forward, check_options(args, m));
   print("contour error left", compensated.name(), e);
   if (e.uncut_length > 0.0)
@@ -93,10 +115,10 @@ int run_verify(const CheckArgs& args) {
                 fmt::format("{} leaves {:.3f} mm of the original's cuts uncut, the first at this line of the original",
                             compensated.name(), e.uncut_length),
                 SourceLocation{original.name(), e.uncut_line, 0});
-  if (e.max > args.tolerance)
+  if (e.max > tolerance)
     throw Error(ErrorKind::safety,
                 fmt::format("the contour error left, {:.2f} um, is more than the tolerance of {:.2f} um (--tolerance)",
-                            e.max * 1000.0, args.tolerance * 1000.0),
+                            e.max * 1000.0, tolerance * 1000.0),
                 SourceLocation{compensated.name(), e.worst_line, 0});
   return 0;
 }

@@ -53,7 +53,7 @@ struct CheckArgs {
   std::vector<std::string> sensors;
   double time = 0.0;
   int samples = 8;
-  double tolerance = 0.001;  ///< verify: mm
+  double tolerance = 0.0;  ///< verify: mm; 0: the one in the output's header, else 0.001
   ProgramArgs program;
 };
 CLI::App* add_predict(CLI::App& app, CheckArgs& args);

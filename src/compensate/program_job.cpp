@@ -15,6 +15,7 @@
 #include <filesystem>
 #include <memory>
 #include <optional>
+#include <system_error>
 #include <tuple>
 
 #include "ccomp/compensate/compensator.hpp"
@@ -1183,9 +1184,28 @@ std::string sanitize(std::string_view s) {
 
 }  // namespace
 
-std::string header_line(const model::MachineModel& model) {
-  return fmt::format("{}{} compensated for machine '{}' model sha256:{})", kHeaderPrefix, kVersion,
-                     sanitize(model.name), model.sha256);
+std::string header_line(const model::MachineModel& model, double tolerance) {
+  return fmt::format("{}{} compensated for machine '{}' model sha256:{} at {:g} um)", kHeaderPrefix, kVersion,
+                     sanitize(model.name), model.sha256, tolerance * 1000.0);
+}
+
+std::optional<HeaderFacts> read_header(std::string_view line) {
+  if (!is_header_line(line)) return std::nullopt;
+  HeaderFacts facts;
+  constexpr std::string_view kSha = "model sha256:", kAt = " at ";
+  if (const auto sha = line.rfind(kSha); sha != std::string_view::npos) {
+    const auto begin = sha + kSha.size();
+    const auto end = line.find_first_not_of("0123456789abcdef", begin);
+    facts.model_sha256 = std::string(line.substr(begin, end == std::string_view::npos ? end : end - begin));
+    if (end != std::string_view::npos && line.substr(end).starts_with(kAt)) {
+      double um = 0.0;
+      const std::string_view number = line.substr(end + kAt.size());
+      if (const auto [p, ec] = std::from_chars(number.data(), number.data() + number.size(), um);
+          ec == std::errc() && std::string_view(p, number.data() + number.size()).starts_with(" um)"))
+        facts.tolerance = um / 1000.0;
+    }
+  }
+  return facts;
 }
 
 bool is_header_line(std::string_view line) {
@@ -1273,7 +1293,7 @@ JobReport run_program_job(gcode::LineSource& input, std::FILE* out, const model:
                     SourceLocation{input.name(), line.number, 1}, std::string(line.text));
     }
   }
-  gcode::ProgramWriter writer(input.another_reader(), out, header_line(model));
+  gcode::ProgramWriter writer(input.another_reader(), out, header_line(model, options.tolerance));
   JobSink sink(writer, model, options, input, report);
   gcode::Interpreter interpreter(options.interpreter);
   try {

@@ -299,3 +299,32 @@ TEST(Cli, FlattenWritesTheBoltCircleAsItRuns) {
 
 }  // namespace
 }  // namespace ccomp::test
+
+namespace ccomp::test {
+namespace {
+
+TEST(Cli, VerifyMeetsTheToleranceInTheHeaderAndWarnsOfAnotherModel) {
+  const std::string dir = temp_dir("cli_verify_header");
+  const std::string machines = source_dir() + "/samples/machines/";
+  const std::string tools = " --tool-table " + source_dir() + "/samples/tools.tbl";
+  const std::string program = source_dir() + "/samples/programs/pocket-xy.ngc";
+  const std::string ccomp = shell_quote(ccomp_binary());
+  ASSERT_EQ(run_command(ccomp + " " + program + " -m " + machines + "vmc-xyz.yaml" + tools +
+                        " --tolerance 0.005 -q -o " + dir + "/out.ngc")
+                .exit_code,
+            0);
+  EXPECT_NE(read_file(dir + "/out.ngc").find(" at 5 um)\n"), std::string::npos);
+  const std::string verify = ccomp + " verify " + program + " " + dir + "/out.ngc" + tools + " -m " + machines;
+  // Compensated to 5 um, it is held to 5 um unless told otherwise.
+  const CommandResult as_made = run_command(verify + "vmc-xyz.yaml");
+  EXPECT_EQ(as_made.exit_code, 0) << as_made.err << as_made.out;
+  const CommandResult stricter = run_command(verify + "vmc-xyz.yaml --tolerance 0.001");
+  EXPECT_EQ(stricter.exit_code, 7) << stricter.err;
+  // Checked against another machine's model, it says so.
+  const CommandResult other = run_command(verify + "vmc-xyza-trunnion.yaml");
+  EXPECT_NE(other.err.find("warning: compensated with another model"), std::string::npos) << other.err;
+  EXPECT_EQ(as_made.err.find("another model"), std::string::npos) << as_made.err;
+}
+
+}  // namespace
+}  // namespace ccomp::test

@@ -6,8 +6,11 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
+#include <optional>
 #include <string>
 
+#include "ccomp/compensate/program_job.hpp"
 #include "ccomp/error.hpp"
 #include "ccomp/gcode/dialect.hpp"
 #include "ccomp/model/forward.hpp"
@@ -188,6 +191,22 @@ TEST(Verify, APathThatTurnsBackOverItselfIsCutToItsEnd) {
   const compensate::PathError e = verify_text(program, program, model::ForwardModel(exact_machine()));
   EXPECT_LT(e.max, 1e-9);
   EXPECT_LT(e.uncut_length, 1e-9) << "from line " << e.uncut_line;
+}
+
+TEST(Verify, TheHeaderSaysTheModelAndTheTolerance) {
+  const model::MachineModel& mm = exact_machine();
+  const std::string line = compensate::header_line(mm, 0.0025);
+  const std::optional<compensate::HeaderFacts> facts = compensate::read_header(line);
+  ASSERT_TRUE(facts) << line;
+  EXPECT_EQ(facts->model_sha256, mm.sha256);
+  EXPECT_DOUBLE_EQ(facts->tolerance, 0.0025);
+  // A header from before the tolerance was in it still names the model.
+  const std::optional<compensate::HeaderFacts> old =
+      compensate::read_header("(ccomp 0.1.0 compensated for machine 'm' model sha256:00ff)");
+  ASSERT_TRUE(old);
+  EXPECT_EQ(old->model_sha256, "00ff");
+  EXPECT_TRUE(std::isnan(old->tolerance));
+  EXPECT_FALSE(compensate::read_header("(a comment)"));
 }
 
 TEST(Predict, AFullCircleIsSampledAllRound) {
