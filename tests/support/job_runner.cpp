@@ -1,5 +1,7 @@
 #include "job_runner.hpp"
 
+#include <gtest/gtest.h>
+
 #include <array>
 #include <cmath>
 #include <cstdio>
@@ -27,6 +29,14 @@ std::string compensate(const std::string& program, const model::MachineModel& mm
   std::string text(buffer, size);
   std::free(buffer);
   if (report) *report = r;
+  // Every output says it was compensated, on its first line or after a leading %.
+  const auto first_end = text.find('\n');
+  const std::string first = text.substr(0, first_end);
+  const std::string second =
+      first_end == std::string::npos ? "" : text.substr(first_end + 1, text.find('\n', first_end + 1) - first_end - 1);
+  EXPECT_TRUE(compensate::is_header_line(first) || (first.starts_with('%') && compensate::is_header_line(second)))
+      << "no ccomp header:\n"
+      << text.substr(0, 200);
   return text;
 }
 

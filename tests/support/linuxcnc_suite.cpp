@@ -32,4 +32,12 @@ std::string suite_test_name(const ::testing::TestParamInfo<SuiteProgram>& progra
   return name;
 }
 
+// The listing the parametrised suites are made of: were the corpus not found, they would
+// have no cases and nothing to fail.
+TEST(LinuxcncSuite, ListsTheCorpusProgramsButNotTheBadOnes) {
+  const std::vector<SuiteProgram> programs = suite_programs();
+  EXPECT_GE(programs.size(), 60U) << "corpus at " << corpus_dir();
+  for (const SuiteProgram& p : programs) EXPECT_EQ(p.path.find("bad/"), std::string::npos) << p.path;
+}
+
 }  // namespace ccomp::test

@@ -1,5 +1,7 @@
 #include "random_terms.hpp"
 
+#include <gtest/gtest.h>
+
 #include <cmath>
 #include <cstdio>
 
@@ -54,9 +56,13 @@ std::string random_terms(const std::string& form, std::mt19937& rng) {
                     "  - {name: %s, form: reversal, unit: %s, reversal: %.2f}\n",
                     own[k], b ? "urad" : "um", -(b ? 12 : 5) * (1.2 + u(rng)), other[k], k == 2 ? "urad" : "um",
                     (k == 2 ? 3 : 0.5) * u(rng));
-    } else {  // location errors
+    } else if (form == "location") {
       const char* location[] = {"EC0X", "EB0X", "EA0Y", "EA0B", "EC0B", "EX0B", "EZ0B"};
       std::snprintf(line, sizeof line, "  - {name: %s, value: %.2f}\n", location[k % 7], 30 * u(rng));
+    } else {
+      // A form misspelt in a test would give it no terms to test.
+      ADD_FAILURE() << "random_terms: no form '" << form << "'";
+      return out;
     }
     out += line;
   }
