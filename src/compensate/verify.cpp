@@ -8,9 +8,10 @@
 #include <functional>
 #include <mutex>
 #include <optional>
-#include <thread>
 #include <tuple>
 #include <vector>
+
+#include "ccomp/util/parallel.hpp"
 
 namespace ccomp::compensate {
 namespace {
@@ -230,17 +231,18 @@ class NominalPath {
  public:
   static constexpr std::size_t kGroup = 32;
 
-  NominalPath(gcode::LineSource& original, const model::ForwardModel& model, const CheckOptions& options)
-      : thread_([this, &original, &model, &options] { produce(original, model, options); }) {}
+  NominalPath(gcode::LineSource& original, const model::ForwardModel& model, const CheckOptions& options) {
+    reader_.run([this, &original, &model, &options] { produce(original, model, options); });
+  }
   NominalPath(const NominalPath&) = delete;
   NominalPath& operator=(const NominalPath&) = delete;
+  /// Stops the reading where it is; reader_, destroyed first, then waits for it.
   ~NominalPath() {
     {
       const std::lock_guard lock(mutex_);
       cancelled_ = true;
     }
     changed_.notify_all();
-    thread_.join();
   }
 
   /// Makes pieces up to `end` (exclusive) available, as far as the program has them; the
@@ -344,7 +346,7 @@ class NominalPath {
   std::deque<std::vector<Piece>> ready_;
   bool done_ = false, cancelled_ = false;
   std::exception_ptr error_;
-  std::thread thread_;  // last: started once everything it uses exists
+  util::BackgroundThread reader_;  // last: destroyed (joined) first, while what it uses exists
 };
 
 }  // namespace

@@ -39,7 +39,7 @@ BeforeAfter measure(const std::string& original, const std::string& output, cons
 }
 
 TEST(ClosedLoop, ExecutedPathStaysWithinTheTolerance) {
-  const model::MachineModel mm = model::load_machine_model(source_dir() + "/samples/machines/hmc-xyzb-geometric.yaml");
+  const model::MachineModel mm = sample_machine("hmc-xyzb-geometric");
   const model::ForwardModel m(mm);
   for (double tolerance : {0.001, 0.0002}) {
     for (unsigned seed = 1; seed <= 3; ++seed) {
@@ -66,7 +66,7 @@ TEST(ClosedLoop, ExecutedPathStaysWithinTheTolerance) {
 }
 
 TEST(ClosedLoop, ZeroErrorModelLeavesTheProgramAsItWas) {
-  const model::MachineModel mm = model::load_machine_model(source_dir() + "/samples/machines/zero.yaml");
+  const model::MachineModel mm = sample_machine("zero");
   const std::string program = random_program(9);
   std::string out = compensate(program, mm, 0.001);
   out.erase(0, out.find('\n') + 1);
@@ -74,7 +74,7 @@ TEST(ClosedLoop, ZeroErrorModelLeavesTheProgramAsItWas) {
 }
 
 TEST(ClosedLoop, Refusals) {
-  const model::MachineModel mm = model::load_machine_model(source_dir() + "/samples/machines/hmc-xyzb-geometric.yaml");
+  const model::MachineModel mm = sample_machine("hmc-xyzb-geometric");
   auto refusal = [&](const std::string& program) {
     try {
       (void)compensate(program, mm, 0.001);
@@ -105,7 +105,7 @@ TEST(ClosedLoop, Refusals) {
 TEST(ClosedLoop, AModalArcLineThatStartsWithItsCentreWords) {
   // "I-5 J0 X0 Y0" under a modal G2: both centre words go, and their blanks with them;
   // their removals touch and must be one edit (the writer refuses overlapping ones).
-  const model::MachineModel mm = model::load_machine_model(source_dir() + "/samples/machines/hmc-xyzb-geometric.yaml");
+  const model::MachineModel mm = sample_machine("hmc-xyzb-geometric");
   const model::ForwardModel m(mm);
   // Indented, the line keeps its indentation and "G1" goes where "I" was, one blank after.
   for (const std::string line : {"I-5 J0 X0 Y0", "  I-5 J0 X0 Y0", "\tI-5\tJ0 X0 Y0 (back)"}) {
@@ -123,7 +123,7 @@ TEST(ClosedLoop, AModalArcLineThatStartsWithItsCentreWords) {
 }
 
 TEST(ClosedLoop, ExpandedCyclesAreCompensatedMovesAndTheBlocksKeepTheirOtherWords) {
-  const model::MachineModel mm = model::load_machine_model(source_dir() + "/samples/machines/hmc-xyzb-geometric.yaml");
+  const model::MachineModel mm = sample_machine("hmc-xyzb-geometric");
   const model::ForwardModel m(mm);
   const std::string program =
       "G21 G17 G90 G94 G54\nT1 M6\nG43 H1\nS3000 M3\nG0 X0 Y0 Z-80 B30\n"
@@ -159,7 +159,7 @@ TEST(ClosedLoop, ExpandedCyclesAreCompensatedMovesAndTheBlocksKeepTheirOtherWord
 TEST(ClosedLoop, AfterACycleBlockTheNextIncrementalMoveCountsFromWhereItsWordsLeftTheMachine) {
   // G98 returns to the level the cycle started from, G99 to its R plane as written; the hole
   // is where its X Y were written. The G91 moves after each must start from there.
-  const model::MachineModel mm = model::load_machine_model(source_dir() + "/samples/machines/hmc-xyzb-geometric.yaml");
+  const model::MachineModel mm = sample_machine("hmc-xyzb-geometric");
   const model::ForwardModel m(mm);
   const std::string program =
       "G21 G17 G90 G94 G54\nT1 M6\nG43 H1\nG0 X40 Y30 Z-80 B0\n"

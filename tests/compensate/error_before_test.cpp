@@ -36,8 +36,10 @@ TEST(ErrorBefore, TheMaximumIsExactWhileMostProbesAreBounded) {
       p.tip = d.nominal;
       const double exact = every.error_at(p);
       const double taken = bounded.error_at(p, skipping);
-      if (taken == exact) ++evaluated;
-      else EXPECT_LE(taken, skipping) << "a bounded probe may not raise the maximum";
+      if (taken == exact)
+        ++evaluated;
+      else
+        EXPECT_LE(taken, skipping) << "a bounded probe may not raise the maximum";
       EXPECT_GE(taken, exact) << "a bound below the error at probe " << probes;
       all = std::max(all, exact);
       skipping = std::max(skipping, taken);

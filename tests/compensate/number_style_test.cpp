@@ -184,26 +184,24 @@ TEST(NumberStyle, ValidateNamesTheOptionAndItsValue) {
     return std::string("valid");
   };
   EXPECT_EQ(message({}), "valid");
-  compensate::JobOptions o;
-  o.tolerance = std::nan("");
-  EXPECT_NE(message(o).find("tolerance"), std::string::npos);
-  EXPECT_NE(message(o).find("nan"), std::string::npos);
-  o = {};
-  o.tolerance = -0.001;
-  EXPECT_NE(message(o).find("-0.001"), std::string::npos);
-  o = {};
-  o.decimals = 10;
-  EXPECT_NE(message(o).find("decimals must be 0 to 9"), std::string::npos);
-  EXPECT_NE(message(o).find("10"), std::string::npos);
-  o = {};
-  o.rotary_decimals = -2;
-  EXPECT_NE(message(o).find("rotary_decimals"), std::string::npos);
-  o = {};
-  o.threads = 3;
-  EXPECT_NE(message(o).find("threads must be 1 or 2, not 3"), std::string::npos);
-  o = {};
-  o.sensors = {{"bed", std::numeric_limits<double>::infinity()}};
-  EXPECT_NE(message(o).find("sensor 'bed'"), std::string::npos);
+  // Each bad setting, and what its message must say.
+  const std::vector<std::pair<std::function<void(compensate::JobOptions&)>, std::vector<std::string>>> cases = {
+      {[](auto& o) { o.tolerance = std::nan(""); }, {"tolerance", "nan"}},
+      {[](auto& o) { o.tolerance = -0.001; }, {"-0.001"}},
+      {[](auto& o) { o.decimals = 10; }, {"decimals must be 0 to 9", "10"}},
+      {[](auto& o) { o.rotary_decimals = -2; }, {"rotary_decimals"}},
+      {[](auto& o) { o.threads = 3; }, {"threads must be 1 or 2, not 3"}},
+      {[](auto& o) {
+         o.sensors = {{"bed", std::numeric_limits<double>::infinity()}};
+       },
+       {"sensor 'bed'"}},
+  };
+  for (const auto& [set, said] : cases) {
+    compensate::JobOptions o;
+    set(o);
+    const std::string m = message(o);
+    for (const std::string& text : said) EXPECT_NE(m.find(text), std::string::npos) << text << " in: " << m;
+  }
 }
 
 }  // namespace

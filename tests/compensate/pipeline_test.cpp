@@ -49,7 +49,7 @@ compensate::JobOptions full_model_options(int threads) {
 }
 
 TEST(Pipeline, TwoThreadsWriteWhatOneWrites) {
-  const model::MachineModel mm = model::load_machine_model(source_dir() + "/samples/machines/hmc-xyzb.yaml");
+  const model::MachineModel mm = sample_machine("hmc-xyzb");
   const std::string program = long_program();
   compensate::JobReport one, two;
   const std::string by_one = compensate(program, mm, full_model_options(1), &one);
@@ -79,7 +79,7 @@ TEST(Pipeline, BatchesOfBentMovesHoldFewerMoves) {
   // Full circles of 60 mm radius give about 500 chords each at 1 um: a batch passes on
   // after some 30 of them (its points, not its moves, are bounded), several times over
   // this program; the output must not depend on where the batches end.
-  const model::MachineModel mm = model::load_machine_model(source_dir() + "/samples/machines/hmc-xyzb.yaml");
+  const model::MachineModel mm = sample_machine("hmc-xyzb");
   std::string program = "G21 G90 G94 G54\nT1 M6\nG43 H1\nG0 X60 Y0 Z-90 B0\nG1 F1500\n";
   for (int k = 0; k < 150; ++k) program += k % 2 ? "G2 X60 Y0 I-60 J0\n" : "G3 X60 Y0 Z-89.9 I-60 J0\n";
   program += "M30\n";
@@ -108,7 +108,7 @@ TEST(Pipeline, AnEarlierMovesRefusalComesBeforeALaterLinesError) {
   // The move on line 3 is refused when its correction is written (beyond a bound set tiny
   // here); the interpreter, running ahead, meets the bad line 5 first. Line 3's refusal is
   // the job's error.
-  model::MachineModel mm = model::load_machine_model(source_dir() + "/samples/machines/hmc-xyzb-geometric.yaml");
+  model::MachineModel mm = sample_machine("hmc-xyzb-geometric");
   mm.max_correction = 1e-6;
   const std::string program = "G21 G90 G54\nT1 M6 G43 H1\nG0 X10 Y10 Z-100\nG1 X20 F500\nG1 X[1+]\nM30\n";
   for (int threads : {1, 2}) {

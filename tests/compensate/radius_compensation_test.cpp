@@ -25,6 +25,15 @@ std::string zigzag(bool offset_by_control) {
          "G1 X-50 Y-40\nG1 X50\nG1 Y-30\nG1 X-50\nG1 Y-20\nG1 X50\nG1 Y20\n" + off + "G0 Z-60\nM30\n";
 }
 
+/// LinuxCNC's interpreter runs `output` with tool 1 (10 mm) to its end.
+void expect_rs274_accepts(const std::string& output) {
+  const std::string dir = temp_dir("radius_compensation");
+  write_file(dir + "/tools.tbl", "T1 P1 Z100 D10 ;\n");
+  write_file(dir + "/out.ngc", output);
+  const TraceResult theirs = rs274_trace(dir + "/out.ngc", dir + "/tools.tbl");
+  EXPECT_FALSE(theirs.error) << theirs.error->what() << "\n" << output;
+}
+
 compensate::JobOptions warm_machine(std::vector<std::string>* warnings) {
   compensate::JobOptions o;
   o.sensors = {{"bed", 24}, {"column", 23}, {"spindle", 31}};
@@ -55,11 +64,7 @@ TEST(RadiusCompensation, ArcsStayArcsTheirEndsCompensated) {
   // What the arcs do between their compensated ends is measured, not assumed.
   EXPECT_GT(report.max_error_after, 0.0);
   if (!have_rs274()) GTEST_SKIP() << "rs274 not found at " << rs274() << ": run tools/rs274/fetch.sh build/rs274";
-  const std::string dir = temp_dir("radius_compensation_arcs");
-  write_file(dir + "/tools.tbl", "T1 P1 Z100 D10 ;\n");
-  write_file(dir + "/out.ngc", output);
-  const TraceResult theirs = rs274_trace(dir + "/out.ngc", dir + "/tools.tbl");
-  EXPECT_FALSE(theirs.error) << theirs.error->what();
+  expect_rs274_accepts(output);
 }
 
 TEST(RadiusCompensation, StraightMovesStayOneLineAndNothingIsTakenUp) {
@@ -84,11 +89,7 @@ TEST(RadiusCompensation, StraightMovesStayOneLineAndNothingIsTakenUp) {
   EXPECT_GT(offset.max_error_after, 0.001) << "the turns' backlash is left, and said";
 
   if (!have_rs274()) GTEST_SKIP() << "rs274 not found at " << rs274() << ": run tools/rs274/fetch.sh build/rs274";
-  const std::string dir = temp_dir("radius_compensation");
-  write_file(dir + "/tools.tbl", "T1 P1 Z100 D10 ;\n");
-  write_file(dir + "/out.ngc", output);
-  const TraceResult theirs = rs274_trace(dir + "/out.ngc", dir + "/tools.tbl");
-  EXPECT_FALSE(theirs.error) << theirs.error->what();
+  expect_rs274_accepts(output);
 }
 
 }  // namespace
