@@ -250,16 +250,9 @@ class alignas(64) MoveSolver {
   /// its start.
   double kept_arc_deviation(const gcode::Motion& m, const gcode::ArcGeometry& g, const gcode::Offsets& offsets,
                             const model::ChainQ& from, const model::ChainQ& to, int n) {
-    auto controlled = [&](const model::ChainQ& q) {
-      gcode::Axes c{};
-      for (std::size_t i = 0; i < gcode::kAxisCount; ++i)
-        c[i] = (gcode::is_rotary(i) ? q[static_cast<Eigen::Index>(i)] / kRadPerDeg : q[static_cast<Eigen::Index>(i)]) -
-               offsets.tool[i];
-      return c;
-    };
     gcode::Motion cut = m;
-    cut.start = controlled(from);
-    cut.end = controlled(to);
+    cut.start = controlled_of_chain(from, offsets);
+    cut.end = controlled_of_chain(to, offsets);
     cut.arc.center_first += cut.start[g.axes.first] - m.start[g.axes.first];
     cut.arc.center_second += cut.start[g.axes.second] - m.start[g.axes.second];
     const gcode::ArcGeometry cut_g = gcode::arc_geometry(cut);
@@ -455,13 +448,7 @@ class JobSink : public gcode::CanonSink {
 
   /// Program coordinates (program units, degrees) of chain values.
   static gcode::Axes program_of(const model::ChainQ& q, const gcode::Offsets& offsets, double unit) {
-    gcode::Axes controlled{};
-    for (std::size_t i = 0; i < gcode::kAxisCount; ++i) {
-      const double axis =
-          gcode::is_rotary(i) ? q[static_cast<Eigen::Index>(i)] / kRadPerDeg : q[static_cast<Eigen::Index>(i)];
-      controlled[i] = axis - offsets.tool[i];
-    }
-    gcode::Axes p = offsets.program_of(controlled);
+    gcode::Axes p = offsets.program_of(controlled_of_chain(q, offsets));
     for (std::size_t i = 0; i < gcode::kAxisCount; ++i)
       if (!gcode::is_rotary(i)) p[i] /= unit;
     return p;
@@ -849,13 +836,7 @@ class JobSink : public gcode::CanonSink {
 
   /// The controlled point (program frame, machine units) the machine is at after commanding q.
   static gcode::Axes controlled_of(const model::ChainQ& q, const gcode::Offsets& offsets) {
-    gcode::Axes controlled{};
-    for (std::size_t i = 0; i < gcode::kAxisCount; ++i) {
-      const double axis =
-          gcode::is_rotary(i) ? q[static_cast<Eigen::Index>(i)] / kRadPerDeg : q[static_cast<Eigen::Index>(i)];
-      controlled[i] = axis - offsets.tool[i];
-    }
-    return offsets.from_machine(offsets.to_machine(controlled));
+    return offsets.from_machine(offsets.to_machine(controlled_of_chain(q, offsets)));
   }
 
   /// Adds a move's figures to the report and refuses a correction beyond the model's bound.

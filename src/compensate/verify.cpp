@@ -361,6 +361,15 @@ model::ChainQ chain_of(const gcode::Axes& controlled, const gcode::Offsets& o) {
   return q;
 }
 
+gcode::Axes controlled_of_chain(const model::ChainQ& q, const gcode::Offsets& o) {
+  gcode::Axes controlled{};
+  for (std::size_t i = 0; i < gcode::kAxisCount; ++i) {
+    const double axis = q[static_cast<Eigen::Index>(i)];
+    controlled[i] = (gcode::is_rotary(i) ? axis / kRadPerDeg : axis) - o.tool[i];
+  }
+  return controlled;
+}
+
 PathError predict(gcode::LineSource& program, const model::ForwardModel& model, const CheckOptions& options) {
   PathError e;
   Evaluator ev{model, model::ForwardData(model), options.conditions};
