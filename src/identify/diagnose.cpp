@@ -31,6 +31,7 @@ constexpr std::string_view kAxisLetters = "XYZABCUVW";
 struct Probe {
   std::string link;
   int component = 0;
+  model::ErrorPlacement placement = model::ErrorPlacement::motion;
   Eigen::VectorXd g;               // per observation
   std::vector<Eigen::Index> rows;  // where g is not zero
   Eigen::MatrixXd A_rows;          // the base's columns on those rows (empty when they are all rows)
@@ -217,6 +218,14 @@ std::vector<AxisInfo> axes_of(const model::MachineModel& mm, const MeasurementSe
   return axes;
 }
 
+/// Whether a linear axis' line may be turned about `component` (3 4 5: x y z) in the
+/// reference frame of the model files: Z's line is its primary axis, Y's lies in its Z-Y plane.
+bool square_free(char axis, int component) {
+  if (axis == 'Z') return component == 5;  // about z only: the roll, skipped by the caller
+  if (axis == 'Y') return component != 5;
+  return true;
+}
+
 /// A term's ISO name: "EXX", a location error "EC0X".
 std::string term_name(int component, const std::string& link, bool location) {
   return fmt::format("E{}{}{}", kComponents[static_cast<std::size_t>(component)], location ? "0" : "", link);
@@ -229,12 +238,14 @@ std::vector<Candidate> candidate_library(const model::MachineModel& mm, const Me
   std::string spindle;  // the tool side's last link before the tool: where the spindle tilts and drifts
   for (const model::LinkSpec& l : tool_chain)
     if (!l.tool) spindle = l.name;
-  auto probe = [&](const std::string& link, int component) {
+  auto probe = [&](const std::string& link, int component,
+                   model::ErrorPlacement placement = model::ErrorPlacement::motion) {
     for (std::size_t i = 0; i < probes.size(); ++i)
-      if (probes[i].link == link && probes[i].component == component) return i;
-    probes.push_back(Probe{link, component, {}, {}, {}, {}});
+      if (probes[i].link == link && probes[i].component == component && probes[i].placement == placement) return i;
+    probes.push_back(Probe{link, component, placement, {}, {}, {}, {}});
     return probes.size() - 1;
   };
+  const auto location = model::ErrorPlacement::location;
   auto position = [](const Observation& o, const AxisInfo& a) {  // internal units: mm, rad
     return o.q[static_cast<Eigen::Index>(a.index)];
   };
@@ -313,16 +324,17 @@ std::vector<Candidate> candidate_library(const model::MachineModel& mm, const Me
         };
         candidates.push_back(h);
       }
-      // Squareness: the axis' reference line turned about the other two.
+      // Squareness: the axis' line turned about the other two, where the reference frame
+      // leaves it free (Z's line is its primary axis, Y's lies in its Z-Y plane).
       for (int component = 3; component < 6; ++component) {
-        if (component == a.own + 3) continue;
+        if (component == a.own + 3 || !square_free(kAxisLetters[a.index], component)) continue;
         const std::string term = name(component, a.link, true);
         Candidate s;
         s.effect = fmt::format("out-of-squareness of the {} axis (its line of motion turned about {})",
                                kAxisLetters[a.index], kComponents[static_cast<std::size_t>(component - 3)]);
         s.error = term, s.term = term, s.variable = v, s.form = "polynomial";
-        s.probe = probe(a.link, component);
-        // A constant angle of the link: what the model file calls a squareness (EC0X).
+        s.probe = probe(a.link, component, location);
+        // A constant tilt of the axis' line: a squareness (EC0X).
         s.basis = [](const Observation&, int, double) { return 1.0; };
         s.yaml = [term, file_value, component](const Eigen::VectorXd& x, double) {
           return fmt::format("{{name: {}, value: {:.4g}, unit: urad, fit: true}}", term, file_value(component, x[0]));
@@ -419,7 +431,8 @@ std::vector<Candidate> candidate_library(const model::MachineModel& mm, const Me
       };
       candidates.push_back(w);
       for (int component = 0; component < 6; ++component) {
-        if (component == a.own) continue;
+        // Along or about its own line a rotary axis' location changes nothing.
+        if (component == a.own || component == a.own - 3) continue;
         const std::string term = name(component, a.link, true);
         Candidate l;
         l.effect = component < 3 ? fmt::format("the {} axis' centre is off in {} (eccentricity, location)",
@@ -427,7 +440,7 @@ std::vector<Candidate> candidate_library(const model::MachineModel& mm, const Me
                                  : fmt::format("the {} axis is tilted about {}", kAxisLetters[a.index],
                                                kComponents[static_cast<std::size_t>(component - 3)]);
         l.error = term, l.term = term, l.variable = v, l.form = "polynomial";
-        l.probe = probe(a.link, component);
+        l.probe = probe(a.link, component, location);
         l.basis = [](const Observation&, int, double) { return 1.0; };
         l.yaml = [term, file_value, component, unit](const Eigen::VectorXd& x, double) {
           return fmt::format("{{name: {}, value: {:.4g}, unit: {}, fit: true}}", term, file_value(component, x[0]),
@@ -508,6 +521,7 @@ Projector refitted_base(const model::ForwardModel& model, const MeasurementSet& 
     t.name = t.iso = term_name(p.component, p.link, true);
     t.link = p.link;
     t.component = p.component;
+    t.placement = p.placement;
     t.parameters = Eigen::VectorXd::Zero(1);
     t.parameter_unit = {1.0};
     probing.terms.push_back(t);

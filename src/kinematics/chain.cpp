@@ -7,17 +7,22 @@ namespace ccomp::kinematics {
 ChainData::ChainData(const ChainModel& model)
     : work_error(model.workpiece.joints.size()),
       tool_error(model.tool.joints.size()),
+      work_location(model.workpiece.joints.size()),
+      tool_location(model.tool.joints.size()),
       work_oMi(model.workpiece.joints.size()),
       tool_oMi(model.tool.joints.size()),
       J_q(6, static_cast<Eigen::Index>(model.nq)),
       J_work_error(model.workpiece.joints.size()),
       J_tool_error(model.tool.joints.size()),
+      J_work_location(model.workpiece.joints.size()),
+      J_tool_location(model.tool.joints.size()),
       J_q_work_(6, static_cast<Eigen::Index>(model.nq)),
       J_q_tool_(6, static_cast<Eigen::Index>(model.nq)) {
   auto prepare = [](const Chain& chain, SideCache& cache) {
     const std::size_t n = chain.joints.size();
     cache.links.resize(n);
     cache.errors.assign(n, Pose{Mat3::Constant(std::nan("")), Vec3::Zero()});  // matches no pose
+    cache.locations.assign(n, Pose{});
     cache.q.assign(n, 0.0);
     for (const Joint& j : chain.joints) cache.offset_only.push_back(j.placement.R.isIdentity(0.0) ? 1 : 0);
   };
@@ -52,23 +57,43 @@ inline void compose_into(const Pose& a, const Pose& b, Pose& out) {
   out.t += a.t;
 }
 
+bool is_identity(const Pose& X) {
+  return X.t.isZero(0.0) && X.R.isIdentity(0.0);
+}
+
 /// link = placement * motion(q) * error, skipping the products by identities that machine
-/// files make the rule: placements are offsets, a linear motion is a translation.
-void set_link_pose(const Joint& j, bool offset_only, double q, const Pose& error, Pose& link) {
+/// files make the rule: placements are offsets, a linear motion is a translation. A
+/// location other than the identity moves the joint's line (see chain.hpp).
+void set_link_pose(const Joint& j, bool offset_only, double q, const Pose& location, const Pose& error,
+                   Pose& link) {
   Pose m = j.placement;  // placement * motion
+  const bool located = !is_identity(location);
   switch (j.type) {
-    case JointType::linear:
+    case JointType::linear: {
+      const Vec3 travel = located ? Vec3(location.t + q * (location.R * j.direction)) : Vec3(q * j.direction);
       if (offset_only) {
         link.R = error.R;
-        link.t = m.t + q * j.direction + error.t;
+        link.t = m.t + travel + error.t;
         return;
       }
-      m.t += j.placement.R * (q * j.direction);
+      m.t += j.placement.R * travel;
       break;
-    case JointType::rotary:
-      m.R = offset_only ? so3_exp(q * j.direction) : Mat3(j.placement.R * so3_exp(q * j.direction));
+    }
+    case JointType::rotary: {
+      const Mat3 turn = so3_exp(q * j.direction);
+      if (located) {  // about the real line: location * Rot(q) * location^-1
+        const Pose about = compose(compose(location, Pose{turn, Vec3::Zero()}), inverse(location));
+        m = compose(j.placement, about);
+      } else {
+        m.R = offset_only ? turn : Mat3(j.placement.R * turn);
+      }
       break;
+    }
     case JointType::fixed:
+      if (located) {
+        m = compose(j.placement, location);
+        break;
+      }
       if (offset_only) {
         link.R = error.R;
         link.t = m.t + error.t;
@@ -79,6 +104,40 @@ void set_link_pose(const Joint& j, bool offset_only, double q, const Pose& error
   compose_into(m, error, link);
 }
 
+/// The right Jacobian of a link's pose w.r.t. its location pose (right perturbation),
+/// and its axis column (d link / d q, right tangent).
+void link_jacobians(const Joint& j, double q, const Pose& location, const Pose& error, Mat6& J_location,
+                    Vec6& J_axis) {
+  const Mat6 Ad_error_inv = adjoint(inverse(error));
+  switch (j.type) {
+    case JointType::linear: {
+      // travel = t_L + q R_L d; L (+) (rho, theta) moves it by R_L rho - q R_L hat(d) theta,
+      // which the link's right tangent sees through error^-1.
+      const Mat3 to_link = error.R.transpose() * location.R;
+      J_location.setZero();
+      J_location.topLeftCorner<3, 3>() = to_link;
+      J_location.topRightCorner<3, 3>() = -q * to_link * hat(j.direction);
+      J_axis.head<3>().noalias() = to_link * j.direction;
+      J_axis.tail<3>().setZero();
+      return;
+    }
+    case JointType::rotary: {
+      // f(L) = L M L^-1: f(L Exp(tau)) = f(L) Exp(Ad(L) (Ad(M^-1) - I) tau).
+      const Pose turn{so3_exp(q * j.direction), Vec3::Zero()};
+      const Mat6 Ad_location = adjoint(location);
+      J_location = Ad_error_inv * Ad_location * (adjoint(inverse(turn)) - Mat6::Identity());
+      Vec6 Jm;
+      Jm << Vec3::Zero(), j.direction;  // Jr(q d) d = d for any rotation about d
+      J_axis = Ad_error_inv * Ad_location * Jm;
+      return;
+    }
+    case JointType::fixed:
+      J_location = Ad_error_inv;
+      J_axis.setZero();
+      return;
+  }
+}
+
 bool same(const Pose& a, const Pose& b) {
   return a.R == b.R && a.t == b.t;
 }
@@ -86,19 +145,21 @@ bool same(const Pose& a, const Pose& b) {
 /// Composes one side, base to end. With `J_end`, fills for each link the Jacobian of the
 /// end pose w.r.t. a right perturbation of the link's error pose (Ad of the suffix
 /// inverse), and adds the link's axis motion into J_q_side.
-const Pose& compose_side(const Chain& chain, const std::vector<Pose>& errors, const Eigen::Ref<const VecQ>& q,
-                  std::vector<Pose>& oMi, ChainData::SideCache& cache, std::vector<Mat6>* J_error,
-                  Eigen::Matrix<double, 6, Eigen::Dynamic>* J_q) {
+const Pose& compose_side(const Chain& chain, const std::vector<Pose>& errors, const std::vector<Pose>& locations,
+                         const Eigen::Ref<const VecQ>& q, std::vector<Pose>& oMi, ChainData::SideCache& cache,
+                         std::vector<Mat6>* J_error, std::vector<Mat6>* J_location,
+                         Eigen::Matrix<double, 6, Eigen::Dynamic>* J_q) {
   const std::size_t n = chain.joints.size();
   std::vector<Pose>& links = cache.links;
   bool changed = false;  // a link before this one changed: the poses from here on must follow
   for (std::size_t i = 0; i < n; ++i) {
     const Joint& j = chain.joints[i];
     const double qi = j.type == JointType::fixed ? 0.0 : q[static_cast<Eigen::Index>(j.axis)];
-    if (qi != cache.q[i] || !same(errors[i], cache.errors[i])) {
-      set_link_pose(j, cache.offset_only[i] != 0, qi, errors[i], links[i]);
+    if (qi != cache.q[i] || !same(errors[i], cache.errors[i]) || !same(locations[i], cache.locations[i])) {
+      set_link_pose(j, cache.offset_only[i] != 0, qi, locations[i], errors[i], links[i]);
       cache.q[i] = qi;
       cache.errors[i] = errors[i];
+      cache.locations[i] = locations[i];
       changed = true;
     }
     if (changed) {
@@ -115,14 +176,14 @@ const Pose& compose_side(const Chain& chain, const std::vector<Pose>& errors, co
   Pose suffix;  // links i+1 .. n-1
   for (std::size_t k = n; k-- > 0;) {
     const Mat6 Ad_suffix_inv = adjoint(inverse(suffix));
-    (*J_error)[k] = Ad_suffix_inv;
+    (*J_error)[k] = Ad_suffix_inv;  // the error pose is the link's last factor
     const Joint& j = chain.joints[k];
-    if (j.type != JointType::fixed) {
-      Vec6 Jm;
-      (void)joint_motion(j, q[static_cast<Eigen::Index>(j.axis)], &Jm);
-      // motion * Exp(tau) * error = motion * error * Exp(Ad(error^-1) tau)
-      J_q->col(static_cast<Eigen::Index>(j.axis)) += Ad_suffix_inv * adjoint(inverse(errors[k])) * Jm;
-    }
+    const double qk = j.type == JointType::fixed ? 0.0 : q[static_cast<Eigen::Index>(j.axis)];
+    Mat6 J_link_location;
+    Vec6 J_link_axis;
+    link_jacobians(j, qk, locations[k], errors[k], J_link_location, J_link_axis);
+    (*J_location)[k] = Ad_suffix_inv * J_link_location;
+    if (j.type != JointType::fixed) J_q->col(static_cast<Eigen::Index>(j.axis)) += Ad_suffix_inv * J_link_axis;
     suffix = compose(links[k], suffix);
   }
   return oM;
@@ -188,10 +249,12 @@ void nominal_poses(const ChainModel& model, NominalData& data, const Eigen::Ref<
 void error_matrix(const ChainModel& model, ChainData& data, const Eigen::Ref<const VecQ>& q, bool jacobians) {
   auto& Jq_work = data.J_q_work_;
   auto& Jq_tool = data.J_q_tool_;
-  const Pose& oMp = compose_side(model.workpiece, data.work_error, q, data.work_oMi, data.work_cache_,
-                                 jacobians ? &data.J_work_error : nullptr, &Jq_work);
-  const Pose& oMtool = compose_side(model.tool, data.tool_error, q, data.tool_oMi, data.tool_cache_,
-                                    jacobians ? &data.J_tool_error : nullptr, &Jq_tool);
+  const Pose& oMp =
+      compose_side(model.workpiece, data.work_error, data.work_location, q, data.work_oMi, data.work_cache_,
+                   jacobians ? &data.J_work_error : nullptr, &data.J_work_location, &Jq_work);
+  const Pose& oMtool =
+      compose_side(model.tool, data.tool_error, data.tool_location, q, data.tool_oMi, data.tool_cache_,
+                   jacobians ? &data.J_tool_error : nullptr, &data.J_tool_location, &Jq_tool);
   Mat6 J_inv, J_a, J_b;
   const Pose pMo = inverse(oMp, jacobians ? &J_inv : nullptr);
   data.E = compose(pMo, oMtool, jacobians ? &J_a : nullptr, jacobians ? &J_b : nullptr);
@@ -201,6 +264,8 @@ void error_matrix(const ChainModel& model, ChainData& data, const Eigen::Ref<con
   const Mat6 J_E_oMp = J_a * J_inv;  // through the inverse of the workpiece side
   for (Mat6& J : data.J_work_error) J = J_E_oMp * J;
   for (Mat6& J : data.J_tool_error) J = J_b * J;
+  for (Mat6& J : data.J_work_location) J = J_E_oMp * J;
+  for (Mat6& J : data.J_tool_location) J = J_b * J;
   data.J_q.noalias() = J_E_oMp * Jq_work;
   data.J_q.noalias() += J_b * Jq_tool;
 }

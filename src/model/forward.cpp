@@ -16,6 +16,22 @@ using kinematics::Joint;
 using kinematics::JointType;
 using kinematics::Pose;
 
+namespace {
+
+/// Per link, the six components of its error motion, then the six of its location.
+constexpr std::size_t kLinkErrorSize = 12;
+
+/// The sign a term's value enters its link's pose with. ISO 230-1 errors are the tool's
+/// relative to the workpiece: a link on the workpiece side moves the workpiece, so its error
+/// motion, and the displacement of its line, carry the opposite sign. A tilt of a line does
+/// not: the tool travels relative to the workpiece along the same line, whichever moves.
+double link_sign(int side, const ErrorTermSpec& t) {
+  if (t.placement == ErrorPlacement::location && t.component >= 3) return 1.0;
+  return side == 0 ? -1.0 : 1.0;
+}
+
+}  // namespace
+
 ForwardModel::ForwardModel(const MachineModel& model) : machine_(model) {
   chain_.nq = kChainVariables;
   auto build = [&](const std::vector<LinkSpec>& links, kinematics::Chain& chain) {
@@ -74,10 +90,9 @@ ForwardModel::ForwardModel(const MachineModel& model) : machine_(model) {
                    (slot.secondary >= 0 && slot.secondary < static_cast<int>(kChainVariables));
     slot.offset = parameter_count_;
     const std::size_t link = s.side == 0 ? s.joint : chain_.workpiece.joints.size() + s.joint;
-    slot.error_index = 6 * link + static_cast<std::size_t>(t.component);
-    // ISO 230-1 error motions are the tool's relative to the workpiece: a link on the
-    // workpiece side moves the workpiece, so its error pose carries the opposite sign.
-    slot.sign = s.side == 0 ? -1.0 : 1.0;
+    const bool location = t.placement == ErrorPlacement::location;
+    slot.error_index = kLinkErrorSize * link + (location ? 6 : 0) + static_cast<std::size_t>(t.component);
+    slot.sign = link_sign(s.side, t);
     slot.order = t.shape.order;
     if (slot.on_axes && slot.form == TermForm::periodic)
       for (const std::size_t j : on_axes_terms_)
@@ -136,18 +151,24 @@ ForwardData::ForwardData(const ForwardModel& model)
       nominal_chain(model.chain()),
       work_error(model.chain().workpiece.joints.size()),
       tool_error(model.chain().tool.joints.size()),
+      work_location(work_error.size()),
+      tool_location(tool_error.size()),
       posed_work_error(work_error.size(), Eigen::Matrix<double, 6, 1>::Constant(std::nan(""))),
       posed_tool_error(tool_error.size(), Eigen::Matrix<double, 6, 1>::Constant(std::nan(""))),
+      posed_work_location(work_error.size(), Eigen::Matrix<double, 6, 1>::Constant(std::nan(""))),
+      posed_tool_location(tool_error.size(), Eigen::Matrix<double, 6, 1>::Constant(std::nan(""))),
       values(model.machine().terms.size()),
       table_moments(values.size()),
       evaluated_inputs(values.size(), TermInputs{std::nan(""), std::nan("")}),
       phases(values.size()),
       variables(ForwardModel::kFirstTemperatureVariable + model.machine().sensors.size(), 0.0),
       key(variables.size() - ForwardModel::kTimeVariable + model.parameter_count()),
-      off_axes_errors(6 * (model.chain().workpiece.joints.size() + model.chain().tool.joints.size())),
+      off_axes_errors(kLinkErrorSize * (model.chain().workpiece.joints.size() + model.chain().tool.joints.size())),
       errors(off_axes_errors.size()),
       J_work_pose(model.chain().workpiece.joints.size()),
-      J_tool_pose(model.chain().tool.joints.size()) {
+      J_tool_pose(model.chain().tool.joints.size()),
+      J_work_location_pose(model.chain().workpiece.joints.size()),
+      J_tool_location_pose(model.chain().tool.joints.size()) {
   for (std::size_t i = 0; i < model.machine().terms.size(); ++i)
     parameters.segment(static_cast<Eigen::Index>(model.parameter_offset(i)),
                        model.machine().terms[i].parameters.size()) = model.machine().terms[i].parameters;
@@ -332,13 +353,18 @@ void forward(const ForwardModel& model, ForwardData& d, const ChainQ& q, const C
     }
   }
   const std::size_t work_links = d.work_error.size();
-  for (std::size_t j = 0; j < work_links; ++j)
-    d.work_error[j] = Eigen::Map<const Eigen::Matrix<double, 6, 1>>(d.errors.data() + 6 * j);
-  for (std::size_t j = 0; j < d.tool_error.size(); ++j)
-    d.tool_error[j] = Eigen::Map<const Eigen::Matrix<double, 6, 1>>(d.errors.data() + 6 * (work_links + j));
-  // Error poses of the links, with their Jacobians w.r.t. (delta, epsilon).
-  auto set_errors = [&](const std::vector<Eigen::Matrix<double, 6, 1>>& errors, std::vector<Pose>& poses,
-                        std::vector<Eigen::Matrix<double, 6, 1>>& posed, std::vector<Eigen::Matrix<double, 6, 6>>* J) {
+  using Vec6 = Eigen::Matrix<double, 6, 1>;
+  for (std::size_t j = 0; j < work_links; ++j) {
+    d.work_error[j] = Eigen::Map<const Vec6>(d.errors.data() + kLinkErrorSize * j);
+    d.work_location[j] = Eigen::Map<const Vec6>(d.errors.data() + kLinkErrorSize * j + 6);
+  }
+  for (std::size_t j = 0; j < d.tool_error.size(); ++j) {
+    d.tool_error[j] = Eigen::Map<const Vec6>(d.errors.data() + kLinkErrorSize * (work_links + j));
+    d.tool_location[j] = Eigen::Map<const Vec6>(d.errors.data() + kLinkErrorSize * (work_links + j) + 6);
+  }
+  // Error and location poses of the links, with their Jacobians w.r.t. (delta, epsilon).
+  auto set_poses = [&](const std::vector<Vec6>& errors, std::vector<Pose>& poses, std::vector<Vec6>& posed,
+                       std::vector<Eigen::Matrix<double, 6, 6>>* J) {
     for (std::size_t j = 0; j < errors.size(); ++j) {
       if (!J && errors[j] == posed[j]) continue;
       posed[j] = errors[j];
@@ -351,10 +377,12 @@ void forward(const ForwardModel& model, ForwardData& d, const ChainQ& q, const C
       (*J)[j] << Jd, Je;
     }
   };
-  auto& J_work = d.J_work_pose;
-  auto& J_tool = d.J_tool_pose;
-  set_errors(d.work_error, d.actual_chain.work_error, d.posed_work_error, jacobians ? &J_work : nullptr);
-  set_errors(d.tool_error, d.actual_chain.tool_error, d.posed_tool_error, jacobians ? &J_tool : nullptr);
+  set_poses(d.work_error, d.actual_chain.work_error, d.posed_work_error, jacobians ? &d.J_work_pose : nullptr);
+  set_poses(d.tool_error, d.actual_chain.tool_error, d.posed_tool_error, jacobians ? &d.J_tool_pose : nullptr);
+  set_poses(d.work_location, d.actual_chain.work_location, d.posed_work_location,
+            jacobians ? &d.J_work_location_pose : nullptr);
+  set_poses(d.tool_location, d.actual_chain.tool_location, d.posed_tool_location,
+            jacobians ? &d.J_tool_location_pose : nullptr);
   kinematics::error_matrix(model.chain(), d.actual_chain, q, jacobians);
   d.actual = d.actual_chain.E.t;
   d.R_actual = d.actual_chain.E.R;
@@ -374,12 +402,16 @@ void forward(const ForwardModel& model, ForwardData& d, const ChainQ& q, const C
   for (std::size_t i = 0; i < terms.size(); ++i) {
     const ErrorTermSpec& t = terms[i];
     const auto& site = model.site(i);
+    const bool location = t.placement == ErrorPlacement::location;
+    const auto& chain = d.actual_chain;
     const Eigen::Matrix<double, 6, 6>& J_link =
-        site.side == 0 ? d.actual_chain.J_work_error[site.joint] : d.actual_chain.J_tool_error[site.joint];
-    const Eigen::Matrix<double, 6, 6>& J_pose = site.side == 0 ? J_work[site.joint] : J_tool[site.joint];
-    // d actual / d (this term's value): through its component of the link's error.
-    const double sign = site.side == 0 ? -1.0 : 1.0;
-    const Eigen::Vector3d column = sign * R * (J_link * J_pose.col(t.component)).head<3>();
+        site.side == 0 ? (location ? chain.J_work_location : chain.J_work_error)[site.joint]
+                       : (location ? chain.J_tool_location : chain.J_tool_error)[site.joint];
+    const Eigen::Matrix<double, 6, 6>& J_pose =
+        site.side == 0 ? (location ? d.J_work_location_pose : d.J_work_pose)[site.joint]
+                       : (location ? d.J_tool_location_pose : d.J_tool_pose)[site.joint];
+    // d actual / d (this term's value): through its component of the link's pose.
+    const Eigen::Vector3d column = slots[i].sign * R * (J_link * J_pose.col(t.component)).head<3>();
     if (parameter_jacobian)
       d.J_parameters.middleCols(static_cast<Eigen::Index>(model.parameter_offset(i)), t.parameters.size()) =
           column * d.values[i].d_parameters.transpose();

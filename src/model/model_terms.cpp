@@ -3,6 +3,8 @@
 
 #include <cctype>
 #include <cmath>
+#include <string_view>
+#include <tuple>
 
 #include "ccomp/error.hpp"
 #include "model_file.hpp"
@@ -51,19 +53,81 @@ std::vector<LinkSpec> read_chain(const std::string& file, const YAML::Node& list
   return links;
 }
 
-/// The seed's symbols, accepted as aliases of ISO 230-1 names (../shared/physics.md).
-std::string iso_name(const std::string& name) {
-  static const std::pair<const char*, const char*> kAliases[] = {
-      {"S_xy", "EC0X"}, {"S_xz", "EB0X"}, {"S_yz", "EA0Y"}, {"P_xyb", "EA0B"}, {"P_yzb", "EC0B"}};
-  for (const auto& [alias, iso] : kAliases)
-    if (name == alias) return iso;
+/// An ISO 230-1 name, and the sign a value written under the file's name takes in it.
+struct IsoName {
+  std::string name;
+  double sign = 1.0;
+};
+
+/// The seed's symbols, accepted as aliases of ISO 230-1 names. The seed's squareness S and
+/// parallelism P are positive when the angle between the positive directions (of the two
+/// lines, or of the reference plane's normal and the axis) exceeds 90 deg: with X's line
+/// along (1, EC0X, -EB0X), Y's along (0, 1, EA0Y) and B's along (-EC0B, 1, EA0B),
+/// S_xy = -EC0X, S_xz = EB0X, S_yz = -EA0Y, P_yzb = EC0B and P_xyb = -EA0B (B's tilt
+/// out of the reference frame's X-Y plane; docs/machine-model.md).
+IsoName iso_name(const std::string& name) {
+  static const std::tuple<const char*, const char*, double> kAliases[] = {{"S_xy", "EC0X", -1.0},
+                                                                         {"S_xz", "EB0X", 1.0},
+                                                                         {"S_yz", "EA0Y", -1.0},
+                                                                         {"P_xyb", "EA0B", -1.0},
+                                                                         {"P_yzb", "EC0B", 1.0}};
+  for (const auto& [alias, iso, sign] : kAliases)
+    if (name == alias) return {iso, sign};
   // delta_<dir><axis> -> E<DIR><AXIS>, eps_<dir><axis> -> E<ROT><AXIS> (x->A, y->B, z->C)
   auto rot = [](char c) { return c == 'x' ? 'A' : c == 'y' ? 'B' : c == 'z' ? 'C' : '?'; };
   if (name.size() == 8 && name.starts_with("delta_"))
-    return {'E', static_cast<char>(std::toupper(name[6])), static_cast<char>(std::toupper(name[7]))};
+    return {{'E', static_cast<char>(std::toupper(name[6])), static_cast<char>(std::toupper(name[7]))}};
   if (name.size() == 6 && name.starts_with("eps_"))
-    return {'E', rot(name[4]), static_cast<char>(std::toupper(name[5]))};
-  return name;
+    return {{'E', rot(name[4]), static_cast<char>(std::toupper(name[5]))}};
+  return {name};
+}
+
+/// The link spec a term names, or null.
+const LinkSpec* find_link(const MachineModel& m, const std::string& name) {
+  for (const auto* chain : {&m.workpiece_chain, &m.tool_chain})
+    for (const LinkSpec& l : *chain)
+      if (l.name == name) return &l;
+  return nullptr;
+}
+
+/// Where a term acts: a constant E<c>0<axis> on a moving link is a location error; every
+/// other term (a thermal drift of a frame's origin included) an error motion. Location
+/// errors that mean nothing, or that the reference frame fixes at zero, are refused.
+ErrorPlacement placement_of(const std::string& file, const YAML::Node& node, const ErrorTermSpec& t,
+                            bool location_name, const MachineModel& m) {
+  if (!location_name || t.shape.form != TermForm::constant) return ErrorPlacement::motion;
+  const LinkSpec* link = find_link(m, t.link);
+  if (!link || !link->axis || link->tool) return ErrorPlacement::motion;  // a fixed link has no line
+  const char axis = *link->axis;
+  const AxisSpec* spec = m.axis(axis);
+  const bool rotary = spec && spec->type == AxisType::rotary;
+  // The axis' own direction as a component index (0 x, 1 y, 2 z), from its name: X Y Z and
+  // A B C name their directions; U V W travel along X Y Z.
+  const int own = static_cast<int>(std::string_view("XYZ" "XYZ" "XYZ").at(kAxisLetters.find(axis)) - 'X');
+  const std::string what = "term " + t.name;
+  const char angle = "ABC"[own];
+  if (rotary && t.component == own)
+    bad(file, node,
+        fmt::format("{}: moving {}'s line along itself changes nothing; a shift of what it carries along it is "
+                    "the error motion E{}{}",
+                    what, axis, "XYZ"[own], axis));
+  if (rotary && t.component == own + 3)
+    bad(file, node, fmt::format("{}: {}'s zero is its angular positioning error E{}{}", what, axis, angle, axis));
+  if (!rotary && t.component == own + 3)
+    bad(file, node,
+        fmt::format("{}: a line has no roll; a constant roll of the {} carriage is the error motion E{}{}", what,
+                    axis, angle, axis));
+  if (!rotary && axis == 'Z' && (t.component == 3 || t.component == 4))
+    bad(file, node,
+        fmt::format("{}: Z's line is the reference frame's primary axis (its squareness to X and Y is carried by "
+                    "EB0X and EA0Y), so {} is zero by definition",
+                    what, t.iso));
+  if (!rotary && axis == 'Y' && t.component == 5)
+    bad(file, node,
+        fmt::format("{}: Y's line lies in the reference frame's Z-Y plane (its squareness to X is carried by EC0X), "
+                    "so EC0Y is zero by definition",
+                    what));
+  return ErrorPlacement::location;
 }
 
 /// Component and link from an ISO name: E<c><axis> (error motion of <axis>, varying with it)
@@ -143,7 +207,8 @@ void read_terms(const std::string& file, const YAML::Node& terms, MachineModel& 
     ErrorTermSpec t;
     if (!n["name"]) bad(file, n, "every term needs a 'name' (its ISO 230-1 name, e.g. EXX)");
     t.name = n["name"].as<std::string>();
-    t.iso = iso_name(t.name);
+    const IsoName iso = iso_name(t.name);
+    t.iso = iso.name;
     const std::string what = "term " + t.name;
     bool location = false;
     if (!decode_iso(t.iso, t.component, t.link, location) && !n["link"])
@@ -321,8 +386,11 @@ void read_terms(const std::string& file, const YAML::Node& terms, MachineModel& 
                       "thermal, warmup, scale_expansion, cross_axis)",
                       what, form));
     }
+    for (double& x : p) x *= iso.sign;
+    for (double& x : scale) x *= iso.sign;
     t.parameters = Eigen::Map<Eigen::VectorXd>(p.data(), static_cast<Eigen::Index>(p.size()));
     t.parameter_unit = scale;
+    t.placement = placement_of(file, n["name"], t, location, m);
     m.terms.push_back(std::move(t));
   }
 }

@@ -144,7 +144,7 @@ TEST(ClosedLoop, ExpandedCyclesAreCompensatedMovesAndTheBlocksKeepTheirOtherWord
   for (const char* kept : {"G98 F200 M8", "G99 F150", "\nG91\nG90\nG0 ", "\nG91\nG90 G80"})
     EXPECT_NE(output.find(kept), std::string::npos) << kept << " in\n" << output;
   const auto [before, left] = measure(program, output, m, {});
-  EXPECT_GT(before.max, 0.010);
+  EXPECT_GT(before.max, 0.005);  // the holes at B30: the B line's offset and tilt show
   EXPECT_LE(left.max, 0.001 + 1e-4) << left.max * 1000 << " um left at line " << left.worst_line << " of\n" << output;
   EXPECT_GE(left.moves, 5U + 6U) << "five G81 holes fed once each, and the G83 hole's six pecks (27 mm by 5)";
   // G82 dwells at the bottom: moves cannot say that.

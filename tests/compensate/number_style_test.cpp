@@ -26,7 +26,7 @@ const std::string kProgram =
     "G1 X60.12345 Y-40.25 Z-100 F800\n"
     "G1 X60.1 Y40.2 Z-90.5\n"
     "G1 X-.5 Y40.2 Z-90.5\n"
-    "G1 X-.4 Y40.123456 B30.\n"
+    "G1 X-.4 Y40.123456 B90.\n"
     "M30\n";
 
 std::vector<std::string> lines_of(const std::string& text) {
@@ -75,7 +75,7 @@ TEST(NumberStyle, CompensatedWordsKeepTheProgramsDecimalsAndAtLeastTheToleranceN
   // ".5" has no leading zero, and the compensated value keeps that look.
   EXPECT_TRUE(values_of(r.lines[7], 'X').at(0).starts_with("-.")) << r.lines[7];
   // The lines a split adds are written in the style of the block's own words.
-  ASSERT_GE(r.report.added_lines, 1U) << "turning B by 30 degrees splits the move";
+  ASSERT_GE(r.report.added_lines, 1U) << "turning B by 90 degrees splits the move";
   for (std::size_t k = 8; k + 1 < r.lines.size(); ++k) {
     EXPECT_EQ(decimals_of(values_of(r.lines[k], 'Y').at(0)), 6) << r.lines[k];
     EXPECT_EQ(decimals_of(values_of(r.lines[k], 'B').at(0)), 5) << r.lines[k];

@@ -107,8 +107,36 @@ ChainModel sample_chain() {
 void randomise(ChainData& d, VecQ& q) {
   for (Pose& e : d.work_error) e = error_pose(random_vec(0.05), random_vec(1e-4));
   for (Pose& e : d.tool_error) e = error_pose(random_vec(0.05), random_vec(1e-4));
+  for (Pose& e : d.work_location) e = error_pose(random_vec(0.05), random_vec(1e-4));
+  for (Pose& e : d.tool_location) e = error_pose(random_vec(0.05), random_vec(1e-4));
   q = VecQ::Zero(9);
   q << uniform(-400, 400), uniform(-300, 300), uniform(-200, 200), 0, uniform(-3, 3), 0, 0, 0, 0;
+}
+
+
+/// dE / d(each link's pose of one kind: error motions or locations) of the sample chain at
+/// a random point, analytic and numeric side by side.
+std::pair<Matrix, Matrix> chain_pose_inputs(std::vector<Pose> ChainData::*input, std::vector<Mat6> ChainData::*jacobian) {
+  const ChainModel m = sample_chain();
+  ChainData d(m);
+  VecQ q;
+  randomise(d, q);
+  error_matrix(m, d, q);
+  const std::size_t links = (d.*input).size();
+  Matrix analytic(6, 6 * static_cast<Eigen::Index>(links));
+  Matrix numeric(6, analytic.cols());
+  for (std::size_t i = 0; i < links; ++i) {
+    analytic.middleCols<6>(static_cast<Eigen::Index>(6 * i)) = (d.*jacobian)[i];
+    numeric.middleCols<6>(static_cast<Eigen::Index>(6 * i)) = numeric_pose_pose(
+        [&](const Pose& x) {
+          ChainData e = d;
+          (e.*input)[i] = x;
+          error_matrix(m, e, q, false);
+          return e.E;
+        },
+        (d.*input)[i]);
+  }
+  return std::pair{analytic, numeric};
 }
 
 const JacobianCase kCases[] = {
@@ -206,50 +234,11 @@ const JacobianCase kCases[] = {
        };
        return std::pair{analytic, numeric_vec_pose(f, q)};
      }},
-    {"chain_workpiece_errors",
-     [] {
-       const ChainModel m = sample_chain();
-       ChainData d(m);
-       VecQ q;
-       randomise(d, q);
-       error_matrix(m, d, q);
-       Matrix analytic(6, 6 * static_cast<Eigen::Index>(d.work_error.size()));
-       Matrix numeric(6, analytic.cols());
-       for (std::size_t i = 0; i < d.work_error.size(); ++i) {
-         analytic.middleCols<6>(static_cast<Eigen::Index>(6 * i)) = d.J_work_error[i];
-         numeric.middleCols<6>(static_cast<Eigen::Index>(6 * i)) = numeric_pose_pose(
-             [&](const Pose& x) {
-               ChainData e = d;
-               e.work_error[i] = x;
-               error_matrix(m, e, q, false);
-               return e.E;
-             },
-             d.work_error[i]);
-       }
-       return std::pair{analytic, numeric};
-     }},
-    {"chain_tool_errors",
-     [] {
-       const ChainModel m = sample_chain();
-       ChainData d(m);
-       VecQ q;
-       randomise(d, q);
-       error_matrix(m, d, q);
-       Matrix analytic(6, 6 * static_cast<Eigen::Index>(d.tool_error.size()));
-       Matrix numeric(6, analytic.cols());
-       for (std::size_t i = 0; i < d.tool_error.size(); ++i) {
-         analytic.middleCols<6>(static_cast<Eigen::Index>(6 * i)) = d.J_tool_error[i];
-         numeric.middleCols<6>(static_cast<Eigen::Index>(6 * i)) = numeric_pose_pose(
-             [&](const Pose& x) {
-               ChainData e = d;
-               e.tool_error[i] = x;
-               error_matrix(m, e, q, false);
-               return e.E;
-             },
-             d.tool_error[i]);
-       }
-       return std::pair{analytic, numeric};
-     }},
+    {"chain_workpiece_errors", [] { return chain_pose_inputs(&ChainData::work_error, &ChainData::J_work_error); }},
+    {"chain_tool_errors", [] { return chain_pose_inputs(&ChainData::tool_error, &ChainData::J_tool_error); }},
+    {"chain_workpiece_locations",
+     [] { return chain_pose_inputs(&ChainData::work_location, &ChainData::J_work_location); }},
+    {"chain_tool_locations", [] { return chain_pose_inputs(&ChainData::tool_location, &ChainData::J_tool_location); }},
 };
 
 class Jacobians : public ::testing::TestWithParam<JacobianCase> {};
@@ -289,6 +278,8 @@ TEST(Chain, ErrorMatrixIsIdentityWithoutErrorsAndSeesEachError) {
   randomise(d, q);
   for (Pose& e : d.work_error) e = Pose{};
   for (Pose& e : d.tool_error) e = Pose{};
+  for (Pose& e : d.work_location) e = Pose{};
+  for (Pose& e : d.tool_location) e = Pose{};
   // The workpiece point p is where the error-free tool tip is, in the table's frame.
   error_matrix(m, d, q, false);
   m.workpiece.joints.back().placement = compose(inverse(d.work_oMi[2]), d.oMtool);
@@ -314,6 +305,8 @@ TEST(Chain, NominalPosesAreTheErrorMatrixWithoutErrors) {
   randomise(d, q);
   for (Pose& e : d.work_error) e = Pose{};
   for (Pose& e : d.tool_error) e = Pose{};
+  for (Pose& e : d.work_location) e = Pose{};
+  for (Pose& e : d.tool_location) e = Pose{};
   for (int k = 0; k < 200; ++k) {
     if (k % 3 == 0) q[4] = uniform(-3, 3);  // else B stands still
     q[0] = uniform(-400, 400), q[1] = uniform(-300, 300), q[2] = uniform(-200, 200);

@@ -2,8 +2,17 @@
 // The machine's two kinematic chains, from the base frame W to the workpiece point p and to
 // the tool tip, and the error matrix of ../shared/physics.md (seed 000, eq. 25):
 //   E = (W M p)^-1 * (W M tool)
-// Each link i is placement_i * motion_i(q) * error_i: a fixed offset, the nominal motion
-// of its axis (none for a fixed link), and the small error pose of its error motions.
+// Each link has two kinds of error (ISO 230-1), which act in different places:
+//  - its LOCATION error (a constant: squareness, where a rotary axis' line is): where the
+//    axis' line lies. A linear joint travels along its line turned by the location's
+//    rotation (and shifted by its translation), without turning what it carries:
+//      placement * Trans(location.t + q * location.R * direction) * motion_error
+//    A rotary joint turns about its line displaced and tilted by the location (a point of
+//    the table turns about the real line; at q = 0 the location changes nothing):
+//      placement * location * Rot(q) * location^-1 * motion_error
+//    A fixed joint has no line: its location is one more constant error pose.
+//  - its ERROR MOTION (a function of the axis, a temperature...): after the axis' motion,
+//    carried along with what the link moves.
 // Pinocchio's pattern: an immutable ChainModel, a ChainData scratch built from it, and
 // free functions algo(model, data, ...). Jacobians are right Jacobians (see pose.hpp).
 #include <Eigen/Core>
@@ -43,18 +52,22 @@ using VecQ = Eigen::VectorXd;  ///< axis values: linear in mm, rotary in rad
 struct ChainData {
   explicit ChainData(const ChainModel& model);
 
-  std::vector<Pose> work_error, tool_error;      ///< inputs: each link's error pose (identity = none)
+  /// Inputs, identity = none: each link's error-motion pose (after its motion) and
+  /// location pose (its line's placement error: see the top of this header).
+  std::vector<Pose> work_error, tool_error;
+  std::vector<Pose> work_location, tool_location;
   std::vector<Pose> work_oMi, tool_oMi;          ///< W -> after link i
   Pose oMp, oMtool;                              ///< W -> p, W -> tool tip
   Pose E;                                        ///< p -> tool tip: the error matrix
   Eigen::Matrix<double, 6, Eigen::Dynamic> J_q;  ///< dE/dq (6 x nq)
   std::vector<Mat6> J_work_error, J_tool_error;  ///< dE/d(error pose of each link)
+  std::vector<Mat6> J_work_location, J_tool_location;  ///< dE/d(location pose of each link)
 
   // internal: each side's links as last composed, with what they were composed from. A
   // link whose axis value and error pose are unchanged is not composed again, nor are the
   // poses before the first link that changed (in a program most axes stand still).
   struct SideCache {
-    std::vector<Pose> links, errors;
+    std::vector<Pose> links, errors, locations;
     std::vector<double> q;
     std::vector<std::uint8_t> offset_only;  ///< 1: the joint's placement is a translation
   };
@@ -87,8 +100,9 @@ void nominal_poses(const ChainModel& model, NominalData& data, const Eigen::Ref<
 /// The nominal motion of one joint at axis value q, and its right Jacobian d/dq (6 x 1).
 [[nodiscard]] Pose joint_motion(const Joint& joint, double q, Vec6* J = nullptr);
 
-/// Computes E for axis values q with the error poses in data.work_error / data.tool_error,
-/// and, when `jacobians`, dE/dq and dE/d(each link's error pose).
+/// Computes E for axis values q with the error poses in data.work_error / data.tool_error
+/// and the location poses in data.work_location / data.tool_location, and, when
+/// `jacobians`, dE/dq and dE/d(each link's error pose and location pose).
 void error_matrix(const ChainModel& model, ChainData& data, const Eigen::Ref<const VecQ>& q, bool jacobians = true);
 
 }  // namespace ccomp::kinematics

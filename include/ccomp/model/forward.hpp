@@ -70,8 +70,9 @@ class ForwardModel {
     bool on_axes = true;                        ///< depends on a chain variable (an axis or the tool length)
     std::int16_t primary = -1, secondary = -1;  ///< into the variables; -1: none (0)
     std::size_t offset = 0;                     ///< its first parameter
-    /// Its link's error component, in one array of 6 per link (the workpiece side's links,
-    /// then the tool side's), and the sign it enters with.
+    /// Its link's error component, in one array of 12 per link (the error motion's six,
+    /// then the location's; the workpiece side's links, then the tool side's), and the
+    /// sign it enters with.
     std::size_t error_index = 0;
     double sign = 1.0;
     int order = 0;  ///< a polynomial's degree (the commonest form, evaluated in the loop itself)
@@ -114,10 +115,12 @@ struct ForwardData {
   // scratch
   kinematics::ChainData actual_chain;
   kinematics::NominalData nominal_chain;                            ///< the perfect machine
-  std::vector<Eigen::Matrix<double, 6, 1>> work_error, tool_error;  ///< per joint: delta, epsilon
-  /// What the error poses in actual_chain were built from: a link whose error motions did
-  /// not change since (an axis standing still, a thermal drift) keeps its pose.
-  std::vector<Eigen::Matrix<double, 6, 1>> posed_work_error, posed_tool_error;
+  /// Per joint: delta, epsilon of its error motion and of its location.
+  std::vector<Eigen::Matrix<double, 6, 1>> work_error, tool_error, work_location, tool_location;
+  /// What the poses in actual_chain were built from: a link whose errors did not change
+  /// since (an axis standing still, a thermal drift) keeps its pose.
+  std::vector<Eigen::Matrix<double, 6, 1>> posed_work_error, posed_tool_error, posed_work_location,
+      posed_tool_location;
   std::vector<TermValue> values;
   /// Each cubic table's spline moments under the parameters' key below (a table's values
   /// change only in a fit): evaluating it is then a binary search and a few products,
@@ -135,7 +138,7 @@ struct ForwardData {
   /// the sum with the others added.
   std::vector<double> off_axes_errors, errors;
   bool key_valid = false;  ///< false after an evaluation with Jacobians (it keeps no key)
-  std::vector<Eigen::Matrix<double, 6, 6>> J_work_pose, J_tool_pose;
+  std::vector<Eigen::Matrix<double, 6, 6>> J_work_pose, J_tool_pose, J_work_location_pose, J_tool_location_pose;
 };
 
 /// Which poses forward() computes: both, or only the one a caller needs.

@@ -40,16 +40,26 @@ struct LinkSpec {
   bool tool = false;                                 ///< the tool tip: the tool length L along `direction`
 };
 
-/// An error term: one component of one link's error motion, a form of a variable.
+/// Where a term acts on its link (ISO 230-1). An error motion (EXX, EBB, a thermal drift
+/// EX0X of T_bed) acts after the axis' motion and moves what the axis carries. A location
+/// error (a constant E<c>0<axis>: squareness EC0X, the B axis' position EX0B and tilt EA0B)
+/// places the axis' line: a linear axis travels along its turned line, a rotary axis turns
+/// about its displaced and tilted line (kinematics/chain.hpp).
+enum class ErrorPlacement : std::uint8_t { motion, location };
+
+/// An error term: one component of one link's error motion or location, a form of a variable.
 struct ErrorTermSpec {
   std::string name;   ///< ISO 230-1 ("EXX", "EC0X", "EBB") as the file names it, or the seed's alias
   std::string iso;    ///< the ISO 230-1 name
-  std::string link;   ///< the link whose error motion it is
+  std::string link;   ///< the link whose error it is
   int component = 0;  ///< 0 1 2: translation x y z (mm); 3 4 5: rotation about x y z (rad)
+  ErrorPlacement placement = ErrorPlacement::motion;
   TermShape shape;
   Variable primary, secondary;
-  Eigen::VectorXd parameters;          ///< in mm, rad, s, degC
-  std::vector<double> parameter_unit;  ///< internal units per file unit, to write values back
+  Eigen::VectorXd parameters;          ///< in mm, rad, s, degC, with the ISO name's sign
+  /// Internal units per file unit, to write values back; negative where the file's name is
+  /// a seed symbol of the opposite sign (S_xy = -EC0X).
+  std::vector<double> parameter_unit;
   bool free = false;                   ///< a fit may change it
   bool free_period = false;            ///< periodic: a fit may change the period too (fit_period: true)
   std::string note;
