@@ -5,6 +5,7 @@
 #include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <cmath>
+#include <string_view>
 
 #include "ccomp/util/parallel.hpp"
 
@@ -39,15 +40,47 @@ std::string parameter_label(const model::ErrorTermSpec& t, std::size_t k) {
   return fmt::format("{}[{}]", n, k);
 }
 
+namespace {
+
+/// Whether a term is the straightness of a linear axis as a polynomial of its position
+/// (EYX of x) whose slope a free squareness of the same model also gives (EC0X: X's line
+/// turned toward y): the two columns are one.
+bool slope_is_a_free_squareness(const model::MachineModel& mm, const model::ErrorTermSpec& t) {
+  if (t.shape.form != TermForm::polynomial || t.placement != model::ErrorPlacement::motion || t.component >= 3 ||
+      t.primary.kind != model::VariableKind::axis)
+    return false;
+  for (const auto* chain : {&mm.workpiece_chain, &mm.tool_chain})
+    for (const model::LinkSpec& l : *chain) {
+      if (l.name != t.link || !l.axis || l.tool) continue;
+      const model::AxisSpec* a = mm.axis(*l.axis);
+      const std::size_t letter = std::string_view("XYZABCUVW").find(*l.axis);
+      const int along = static_cast<int>(letter % 3);  // U V W travel along X Y Z
+      if ((a && a->type == model::AxisType::rotary) || letter != t.primary.index || along == t.component) return false;
+      const int about = 3 + (3 - along - t.component);  // the line turned toward the straightness' direction
+      for (const model::ErrorTermSpec& s : mm.terms)
+        if (s.free && s.link == t.link && s.placement == model::ErrorPlacement::location && s.component == about)
+          return true;
+      return false;
+    }
+  return false;
+}
+
+}  // namespace
+
 std::vector<std::size_t> free_parameters(const model::ForwardModel& model) {
   std::vector<std::size_t> free;
   const model::MachineModel& mm = model.machine();
   for (std::size_t t = 0; t < mm.terms.size(); ++t) {
-    if (!mm.terms[t].free) continue;
-    for (Eigen::Index k = 0; k < mm.terms[t].parameters.size(); ++k) {
+    const model::ErrorTermSpec& term = mm.terms[t];
+    if (!term.free) continue;
+    const bool slope_is_squareness = slope_is_a_free_squareness(mm, term);
+    for (Eigen::Index k = 0; k < term.parameters.size(); ++k) {
       // A period is a property of the mechanism (a screw's pitch, 360 deg of a table):
       // fitted only when the file says so (discovery scans it instead).
-      if (mm.terms[t].shape.form == TermForm::periodic && k == 0 && !mm.terms[t].free_period) continue;
+      if (term.shape.form == TermForm::periodic && k == 0 && !term.free_period) continue;
+      // A straightness is the deviation from its axis' line (seed 003: against its
+      // least-squares line); the line's slope is where the line lies, the squareness.
+      if (slope_is_squareness && k == 1) continue;
       free.push_back(model.parameter_offset(t) + static_cast<std::size_t>(k));
     }
   }

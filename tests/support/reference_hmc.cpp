@@ -1,0 +1,103 @@
+#include "reference_hmc.hpp"
+
+#include <cmath>
+#include <numbers>
+#include <random>
+
+namespace ccomp::test {
+namespace {
+
+using Vec3 = Eigen::Vector3d;
+using Mat3 = Eigen::Matrix3d;
+
+double value_of(const std::function<double(double)>& f, double v) {
+  return f ? f(v) : 0.0;
+}
+
+/// Rotation by `angle` (rad) about the unit axis `a` (Rodrigues' formula).
+Mat3 rotation(const Vec3& a, double angle) {
+  Mat3 cross;
+  cross << 0, -a.z(), a.y(), a.z(), 0, -a.x(), -a.y(), a.x(), 0;
+  return Mat3::Identity() * std::cos(angle) + std::sin(angle) * cross + (1 - std::cos(angle)) * a * a.transpose();
+}
+
+/// The table turns about -Y for B+ (the tool about +Y relative to it).
+Mat3 nominal_table_turn(double b_rad) {
+  return rotation(Vec3(0, -1, 0), b_rad);
+}
+
+}  // namespace
+
+Eigen::Vector3d ReferenceHmc::deviation(double x, double y, double z, double b_deg, double L) const {
+  const double b = b_deg * std::numbers::pi / 180.0;
+  // The tool tip in the machine frame: the head on Y's line, its own error motions, the
+  // pitch acting through the tool length (the tip is L below the head's reference point).
+  const Vec3 y_line = Vec3(0, 1, EA0Y).normalized();
+  const Vec3 tool = y * y_line + Vec3(0, value_of(EYY, y), value_of(EZY, y)) + Vec3(0, 0, -L) +
+                    Vec3(0, value_of(EAY, y) * L, 0);
+  // The table's B centre: carried -x along X's line and -z along Z's; the carriages' error
+  // motions are the tool's relative to the table, so the table moves by their opposite.
+  const Vec3 x_line = Vec3(1, EC0X, -EB0X).normalized();
+  const Vec3 centre = -x * x_line - Vec3(value_of(EXX, x), value_of(EYX, x), value_of(EZX, x)) - z * Vec3::UnitZ() -
+                      Vec3(0, 0, value_of(EZZ, z)) + Vec3(0, 0, -b_centre);
+  // The table turns about its real line: through `line_point` (relative to the centre),
+  // along `line` (the table's own sense of turning, the opposite of B's direction).
+  const Vec3 line_point(-EX0B, 0, -EZ0B);
+  const Vec3 line = -Vec3(-EC0B, 1, EA0B).normalized();
+  const Mat3 turn = rotation(line, b);
+  // Where the tool tip is on the table, and where it should be.
+  const Vec3 actual = line_point + turn.transpose() * (tool - centre - line_point);
+  const Mat3 nominal_turn = nominal_table_turn(b);
+  const Vec3 nominal = nominal_turn.transpose() * Vec3(x, y, z + b_centre - L);
+  return nominal_turn * (actual - nominal);
+}
+
+Eigen::Vector3d ReferenceHmc::axes_for_table_point(const Eigen::Vector3d& s, double b_deg, double L) const {
+  const Vec3 v = nominal_table_turn(b_deg * std::numbers::pi / 180.0) * s;
+  return Vec3(v.x(), v.y(), v.z() - b_centre + L);
+}
+
+std::vector<ReferenceReading> measure_reference(const ReferenceHmc& machine, const ReferencePlans& plans) {
+  std::mt19937 rng(plans.seed);
+  std::normal_distribution<double> noise(0.0, plans.noise);
+  std::vector<ReferenceReading> out;
+  auto read = [&](double x, double y, double z, double b, double L, const Vec3& n, const std::string& source) {
+    const double d = n.dot(machine.deviation(x, y, z, b, L)) + (plans.noise > 0 ? noise(rng) : 0.0);
+    out.push_back({x, y, z, b, L, n, d, source});
+  };
+  const double half[3] = {400, 300, 300};  // the workspace: +-400 X, +-300 Y, +-300 Z
+  if (plans.nine_lines) {
+    // Seed 003: three lines per axis, lines 1 and 3 near opposite edges, line 2 between.
+    const double offsets[3][2] = {{-0.8, -0.8}, {0.0, 0.8}, {0.8, 0.0}};
+    for (int axis = 0; axis < 3; ++axis) {
+      const int u = (axis + 1) % 3, w = (axis + 2) % 3;
+      for (int line = 0; line < 3; ++line) {
+        const std::string source = std::string(1, "xyz"[axis]) + "-line" + std::to_string(line + 1);
+        for (double t = -half[axis]; t <= half[axis] + 1e-9; t += 20.0) {
+          double p[3];
+          p[axis] = t, p[u] = offsets[line][0] * half[u], p[w] = offsets[line][1] * half[w];
+          read(p[0], p[1], p[2], 0, 100, Vec3::Unit(axis), source);
+          if (line < 2) read(p[0], p[1], p[2], 0, 100, Vec3::Unit(u), source);
+          if (line == 0) read(p[0], p[1], p[2], 0, 100, Vec3::Unit(w), source);
+        }
+      }
+    }
+  }
+  if (plans.grid)
+    for (double L : plans.grid_tool_lengths)
+      for (int i = 0; i < 5; ++i)
+        for (int j = 0; j < 5; ++j)
+          for (int k = 0; k < 5; ++k) {
+            const double x = -half[0] + i * half[0] / 2, y = -half[1] + j * half[1] / 2, z = -half[2] + k * half[2] / 2;
+            for (int c = 0; c < 3; ++c) read(x, y, z, 0, L, Vec3::Unit(c), "grid");
+          }
+  if (plans.sphere)
+    for (const Vec3& s : {Vec3(150, 100, 120), Vec3(-100, -50, -150)})
+      for (double b = 0; b < 360; b += 15) {
+        const Vec3 q = machine.axes_for_table_point(s, b, 100);
+        for (int c = 0; c < 3; ++c) read(q.x(), q.y(), q.z(), b, 100, Vec3::Unit(c), "sphere");
+      }
+  return out;
+}
+
+}  // namespace ccomp::test

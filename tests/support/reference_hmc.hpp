@@ -1,0 +1,59 @@
+#pragma once
+// Test support: a reference horizontal machining centre written apart from ccomp's model
+// code (no kinematics::, no model::, no simulate): its own lines, rotations and error
+// functions, from the physical meaning docs/machine-model.md gives each term. Tests measure
+// it as a metrology engineer would (laser lines, a grid, a sphere on the table probed as B
+// turns) and hold ccomp's fit and compensation to it.
+//
+// The machine is the seed's: X and Z carry the table (its B centre 400 mm from the spindle
+// nose along Z), B turns the table about the vertical, Y carries the spindle head, the tool
+// hangs L below the head along -Z. Every error is the tool's relative to the workpiece.
+#include <Eigen/Core>
+#include <functional>
+#include <string>
+#include <vector>
+
+namespace ccomp::test {
+
+struct ReferenceHmc {
+  // Location errors (ISO 230-1): the tool relative to the workpiece travels along X's line
+  // (1, EC0X, -EB0X) and Y's line (0, 1, EA0Y); the table turns about its line, which is
+  // displaced so that over a turn the tool is off by (EX0B, 0, EZ0B) on average, and tilted
+  // so that B's positive direction (the tool turning about +Y) is (-EC0B, 1, EA0B).
+  double EC0X = 0, EB0X = 0, EA0Y = 0;  ///< rad
+  double EX0B = 0, EZ0B = 0;            ///< mm
+  double EA0B = 0, EC0B = 0;            ///< rad
+  // Error motions, mm of the tool's deviation (rad for the Y head's pitch EAY) as functions
+  // of the axis position (mm). Empty: none.
+  std::function<double(double)> EXX, EYX, EZX, EYY, EZY, EZZ, EAY;
+  double b_centre = 400.0;  ///< mm from the spindle nose to the B centre along Z
+
+  /// The tool tip's deviation from where it should touch the part, in machine-axis
+  /// directions (mm), for program (chain) values x y z (mm), b (deg) and tool length L (mm).
+  [[nodiscard]] Eigen::Vector3d deviation(double x, double y, double z, double b_deg, double L) const;
+  /// The chain values x, y, z that put the perfect machine's tool tip at the table point
+  /// `s` (table frame, mm) at angle b with tool length L.
+  [[nodiscard]] Eigen::Vector3d axes_for_table_point(const Eigen::Vector3d& s, double b_deg, double L) const;
+};
+
+/// One reading of the reference: the deviation along `direction` at chain values.
+struct ReferenceReading {
+  double x = 0, y = 0, z = 0, b_deg = 0, L = 0;
+  Eigen::Vector3d direction = Eigen::Vector3d::UnitX();
+  double value = 0;  ///< mm, noise included
+  std::string source;
+};
+
+struct ReferencePlans {
+  double noise = 0.0002;  ///< mm, one sigma, on every reading
+  unsigned seed = 1;
+  bool nine_lines = true, grid = true, sphere = true;
+  std::vector<double> grid_tool_lengths{0.0, 200.0};
+};
+
+/// Measures the reference: nine laser lines (three per axis at B0: positioning on each,
+/// straightness across on lines 1 and 2), a 5x5x5 grid of full deviations at each tool
+/// length, and two spheres on the table probed every 15 deg of B.
+[[nodiscard]] std::vector<ReferenceReading> measure_reference(const ReferenceHmc& machine, const ReferencePlans& plans);
+
+}  // namespace ccomp::test
