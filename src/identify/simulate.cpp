@@ -2,6 +2,8 @@
 
 #include <fmt/format.h>
 
+#include <Eigen/QR>
+
 #include <algorithm>
 #include <cmath>
 #include <random>
@@ -52,6 +54,37 @@ struct Recorder {
     }
   }
 };
+
+/// Readings of a part measured on a CMM against its own faces, not against the machine:
+/// the CMM aligns the part on the faces cut at B0 (`datum` sources), so what it reports is
+/// each reading less what the best rigid displacement of the part explains on those faces.
+void against_datum_faces(const model::ForwardModel& truth, MeasurementSet& set, std::size_t first,
+                         const std::vector<std::uint32_t>& datum) {
+  model::ForwardData d(truth);
+  const std::size_t n = set.observations.size() - first;
+  Eigen::MatrixXd A(static_cast<Eigen::Index>(n), 6);  // the part moved by t + w x s (table frame)
+  for (std::size_t i = 0; i < n; ++i) {
+    const Observation& o = set.observations[first + i];
+    model::forward(truth, d, o.q, MeasurementSet::conditions(o), false, model::Evaluate::nominal);
+    const Eigen::Vector3d along = d.nominal_chain.oMp.R.transpose() * o.direction;  // in the table frame
+    for (int k = 0; k < 3; ++k) {
+      const Eigen::Vector3d e = Eigen::Vector3d::Unit(k);
+      A(static_cast<Eigen::Index>(i), k) = -along.dot(e);  // the tool relative to the moved part
+      A(static_cast<Eigen::Index>(i), 3 + k) = -along.dot(e.cross(d.nominal));
+    }
+  }
+  Eigen::MatrixXd A_datum = Eigen::MatrixXd::Zero(A.rows(), 6);
+  Eigen::VectorXd b_datum = Eigen::VectorXd::Zero(A.rows());
+  for (std::size_t i = 0; i < n; ++i) {
+    const Observation& o = set.observations[first + i];
+    if (std::find(datum.begin(), datum.end(), o.source) == datum.end()) continue;
+    A_datum.row(static_cast<Eigen::Index>(i)) = A.row(static_cast<Eigen::Index>(i));
+    b_datum[static_cast<Eigen::Index>(i)] = o.value;
+  }
+  const Eigen::VectorXd displacement = A_datum.completeOrthogonalDecomposition().solve(b_datum);
+  const Eigen::VectorXd explained = A * displacement;
+  for (std::size_t i = 0; i < n; ++i) set.observations[first + i].value -= explained[static_cast<Eigen::Index>(i)];
+}
 
 }  // namespace
 
@@ -139,7 +172,9 @@ MeasurementSet simulate(const model::ForwardModel& truth, const SimulateOptions&
         if (!has_b) break;
         // Seed 001: a cube on the table centre; at B = 0, 90, 180, 270 deg the face toward
         // the spindle (+Z) and a side face (+X) are cut, then probed on a CMM at 3 x 3
-        // points along their normals: the error-sensitive directions of the cut.
+        // points along their normals (the error-sensitive directions of the cut), against
+        // the part's own faces cut at B0.
+        const std::size_t first = set.observations.size();
         for (double b : {0.0, 90.0, 180.0, 270.0})
           for (int i = 0; i < 3; ++i)
             for (int j = 0; j < 3; ++j) {
@@ -147,6 +182,7 @@ MeasurementSet simulate(const model::ForwardModel& truth, const SimulateOptions&
               rec.record(fmt::format("face-b{:g}-top", b), u, v, 60.0, b, options.tool_length, 0, cold, {}, {e[2]});
               rec.record(fmt::format("face-b{:g}-side", b), 60.0, v, u, b, options.tool_length, 0, cold, {}, {e[0]});
             }
+        against_datum_faces(truth, set, first, {rec.source("face-b0-top"), rec.source("face-b0-side")});
         break;
       }
       case Plan::thermal: {

@@ -1,5 +1,6 @@
-// Seed 001: a test piece cut at four table angles and measured along its faces' normals
-// determines the rotary axis' location and tilt; the shipped data give the shipped truth.
+// Seed 001: a test piece cut at four table angles and measured on a CMM along its faces'
+// normals, against its own faces cut at B0 (not against the B axis), determines the rotary
+// axis' location and tilt; the shipped data give the shipped truth.
 #include <gtest/gtest.h>
 
 #include "ccomp/identify/fit.hpp"
@@ -16,13 +17,22 @@ TEST(TestPiece, FindsTheRotaryAxisLocationAndTilt) {
   read_measurements(dir + "cmm.csv", start, {}, data);
   ASSERT_EQ(data.observations.size(), 72U);
   const FitReport r = fit(model::ForwardModel(start), data);
-  EXPECT_EQ(r.rank, 4U) << "four faces at four angles determine all four";
+  EXPECT_EQ(r.rank, 9U) << "faces at four angles determine the B axis' four errors and the part's datum";
   EXPECT_LE(r.rms_after, 1.3 * 0.0005);
+  int located = 0;
   for (const FittedParameter& p : r.parameters) {
-    const double expected = truth.terms[p.term].parameters[0];
     EXPECT_TRUE(p.identified) << p.label;
-    EXPECT_NEAR(p.after, expected, 4 * p.uncertainty) << p.label;
+    const model::ErrorTermSpec& t = start.terms[p.term];
+    if (t.link != "B") continue;  // the datum: where the part sits, which the truth does not say
+    ASSERT_EQ(t.placement, model::ErrorPlacement::location) << p.label;
+    for (const model::ErrorTermSpec& u : truth.terms)
+      if (u.iso == t.iso && u.placement == t.placement) {
+        EXPECT_NEAR(p.after, u.parameters[0], 4 * p.uncertainty) << p.label;
+        EXPECT_GT(std::abs(u.parameters[0]), 8 * p.uncertainty) << p.label << ": the machine has it, clearly";
+        ++located;
+      }
   }
+  EXPECT_EQ(located, 4);
   // The program that cuts it runs through the main job.
   const test::CommandResult c =
       test::run_command(test::shell_quote(test::ccomp_binary()) + " " + test::shell_quote(dir + "test-piece-b.ngc") +
