@@ -258,7 +258,7 @@ TEST(Cli, DecimalsAsToldAndRefusedWhenTooCoarseForTheTolerance) {
   const CommandResult three = run_command(base + "/three.ngc --decimals 3");
   ASSERT_EQ(three.exit_code, 0) << three.err;
   EXPECT_NE(three.err.find("warning: coordinates written to 3 decimals in mm"), std::string::npos) << three.err;
-  EXPECT_NE(read_file(dir + "/three.ngc").find("G0 X-30.002 Y-19.999 Z5.002"), std::string::npos)
+  EXPECT_NE(read_file(dir + "/three.ngc").find("G0 X-30.002 Y-19.998 Z5.002"), std::string::npos)
       << read_file(dir + "/three.ngc");
   const CommandResult two = run_command(base + "/two.ngc --decimals 2");
   EXPECT_EQ(two.exit_code, 2);
