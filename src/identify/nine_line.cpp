@@ -1,6 +1,7 @@
 #include "ccomp/identify/nine_line.hpp"
 
 #include <Eigen/Eigenvalues>
+#include <Eigen/QR>
 #include <algorithm>
 #include <cmath>
 
@@ -84,11 +85,50 @@ double overall(const Sensitivity& s) {
   return std::sqrt(sum);
 }
 
+/// Seed 003's squareness: the angle between the axes' lines as the model with `p` draws
+/// them through the middle of the measured workspace (each line's least-squares slope over
+/// the measured travel, in the two directions across it). With X's line along
+/// (1, a_xy, a_xz), Y's along (a_yx, 1, a_yz) and Z's along (a_zx, a_zy, 1), the angles'
+/// cosines give EC0X = a_xy + a_yx, EB0X = -(a_xz + a_zx), EA0Y = a_yz + a_zy: turning the
+/// whole machine rigidly changes none of them.
+std::vector<LineSquareness> line_squareness(const model::ForwardModel& model, const Eigen::VectorXd& p,
+                                            const MeasurementSet& data) {
+  const model::MachineModel& mm = model.machine();
+  if (!mm.axis('X') || !mm.axis('Y') || !mm.axis('Z') || data.observations.empty()) return {};
+  model::ChainQ low = data.observations.front().q, high = low;
+  for (const Observation& o : data.observations) low = low.cwiseMin(o.q), high = high.cwiseMax(o.q);
+  const model::ChainQ middle = 0.5 * (low + high);
+  model::ForwardData d(model);
+  d.parameters = p;
+  Eigen::Matrix3d slope = Eigen::Matrix3d::Zero();  // slope(i, j): deviation j per mm along axis i
+  for (Eigen::Index axis = 0; axis < 3; ++axis) {
+    if (!(high[axis] > low[axis])) continue;
+    const int points = 41;
+    Eigen::MatrixXd A(points, 2);
+    Eigen::MatrixXd deviations(points, 3);
+    for (int k = 0; k < points; ++k) {
+      model::ChainQ q = middle;
+      q[axis] = low[axis] + (high[axis] - low[axis]) * k / (points - 1);
+      model::forward(model, d, q, model::Conditions{.temperatures = std::vector<double>(mm.sensors.size(), 20.0)});
+      A(k, 0) = 1.0, A(k, 1) = q[axis];
+      deviations.row(k) = model::deviation(d).transpose();
+    }
+    const Eigen::MatrixXd line = A.colPivHouseholderQr().solve(deviations);  // 2 x 3: offset, slope
+    slope.row(axis) = line.row(1);
+  }
+  return {
+      {"EC0X", "S_xy", slope(0, 1) + slope(1, 0), -1.0},
+      {"EB0X", "S_xz", -(slope(0, 2) + slope(2, 0)), 1.0},
+      {"EA0Y", "S_yz", slope(1, 2) + slope(2, 1), -1.0},
+  };
+}
+
 }  // namespace
 
 NineLineReport nine_line(const model::ForwardModel& model, const MeasurementSet& data) {
   NineLineReport report;
   report.fit = fit(model, data);
+  report.squareness = line_squareness(model, report.fit.all_parameters, data);
   const Sensitivity s = sensitivity(model, report.fit.all_parameters, data);
   for (Eigen::Index j = 0; j < s.per_line.rows(); ++j) {
     if (!s.identified[static_cast<std::size_t>(j)]) continue;

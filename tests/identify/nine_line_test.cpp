@@ -61,5 +61,42 @@ TEST(NineLine, FitsTheGeometricErrorsAndStudiesThePlacement) {
   EXPECT_LT(r.recommended_inset, 0.35);
 }
 
+TEST(NineLine, DeterminesTheSquarenessBetweenTheLines) {
+  // A machine out of square, its straightness lines sloped too (the slope of a straightness
+  // is the line's direction): seed 003 reports the angles between the lines, X along
+  // (1, EC0X + EYX', -EB0X + EZX'), Y along (EXY', 1, EA0Y + EZY'), Z along (EXZ', EYZ', 1),
+  // a prime the slope. The start knows nothing; the truth's carriages do not turn.
+  std::string text = std::string(test::kVmcChain) +
+                     "axes: {X: {min: -300, max: 300}, Y: {min: -200, max: 200}, Z: {min: -250, max: 250}}\n"
+                     "terms:\n";
+  const char* slopes[] = {"EYX", "EZX", "EXY", "EZY", "EXZ", "EYZ"};
+  const double slope_urad[] = {6, -4, 3, 5, -2, 7};
+  for (int i = 0; i < 6; ++i)
+    text += std::string("  - {name: ") + slopes[i] + ", form: polynomial, unit: um, coefficients: [0, " +
+            std::to_string(slope_urad[i] * 1e-3) + ", 2e-5]}\n";
+  text += "  - {name: EC0X, value: 20, unit: urad}\n  - {name: EB0X, value: -15, unit: urad}\n"
+          "  - {name: EA0Y, value: 10, unit: urad}\n";
+  SimulateOptions o;
+  o.plans = {Plan::nine_lines};
+  o.step = 10;
+  o.noise = 0.0002;
+  const MeasurementSet data = simulate(model::ForwardModel(model::parse_machine_model(text, "truth.yaml")), o);
+  const NineLineReport r = nine_line(model::ForwardModel(vmc(0.0)), data);
+  EXPECT_LE(r.fit.rms_after, 1.3 * 0.0002);
+  // A straightness' curvature (2e-5 um/mm^2) slopes its least-squares line where the
+  // measured travel is not centred on the axis' zero: Z's chain travel is centred on c.
+  double low = 1e9, high = -1e9;
+  for (const Observation& ob : data.observations) low = std::min(low, ob.q[2]), high = std::max(high, ob.q[2]);
+  const double curved = 2 * 2e-5 * 0.5 * (low + high) * 1e3;  // urad
+  const double expected[3] = {(20 + 6 + 3) * 1e-6, (-15 - (-4) - (-2 + curved)) * 1e-6,
+                              (10 + 5 + (7 + curved)) * 1e-6};
+  ASSERT_EQ(r.squareness.size(), 3U);
+  for (std::size_t i = 0; i < 3; ++i)
+    EXPECT_NEAR(r.squareness[i].value, expected[i], 1e-6) << r.squareness[i].iso;
+  EXPECT_EQ(r.squareness[0].iso, "EC0X");
+  EXPECT_EQ(r.squareness[0].seed, "S_xy");
+  EXPECT_EQ(r.squareness[0].seed_sign, -1.0);
+}
+
 }  // namespace
 }  // namespace ccomp::identify

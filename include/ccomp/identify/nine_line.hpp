@@ -19,8 +19,21 @@ struct PlacementSensitivity {
   std::string line;       ///< the source (line) and direction whose misplacement moves it most
 };
 
+/// A squareness as seed 003 reports it: the angle between two axes' lines as the nine lines
+/// show them (each straightness against its least-squares line, the slopes between them),
+/// drawn by the fitted model through the middle of the measured workspace. Rigid turns of
+/// the whole machine (a carriage's constant yaw, the lasers' alignment) do not change it.
+struct LineSquareness {
+  std::string iso;   ///< EC0X, EB0X, EA0Y: the term that carries it in the reference frame
+  std::string seed;  ///< S_xy, S_xz, S_yz
+  double value = 0.0;  ///< rad, in the ISO term's sign (the seed's symbol: `seed_sign` times it)
+  double seed_sign = 1.0;
+};
+
 struct NineLineReport {
   FitReport fit;
+  /// The three squareness values between the lines, for a model with the axes X, Y, Z.
+  std::vector<LineSquareness> squareness;
   std::vector<PlacementSensitivity> sensitivity;  ///< the identified parameters, largest first
   /// Placement study: lines 1 and 3 at `inset` of the workspace from its edges, and the
   /// root-sum-square sensitivity (scaled by each parameter's effect) that gives.
