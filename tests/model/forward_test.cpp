@@ -70,6 +70,10 @@ TEST(Forward, JacobiansMatchFiniteDifferences) {
   - {name: EC0X, value: 15, fit: true}
   - {name: EA0B, value: 8, fit: true}
   - {name: EXB, form: polynomial, coefficients: [2, 0.01], fit: true}
+  - {name: EX0B, value: 9, fit: true}
+  - {name: EZ0B, value: -4, fit: true}
+  - {name: EA0Y, value: 6, fit: true}
+  - {name: EB0X, value: -7, fit: true}
 )";
   const MachineModel mm = parse_machine_model(std::string(kChain) + terms, "m.yaml");
   const ForwardModel m(mm);

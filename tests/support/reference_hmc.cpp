@@ -52,6 +52,16 @@ Eigen::Vector3d ReferenceHmc::deviation(double x, double y, double z, double b_d
   return nominal_turn * (actual - nominal);
 }
 
+Eigen::Vector3d ReferenceHmc::nominal_table_point(double x, double y, double z, double b_deg, double L) const {
+  return nominal_table_turn(b_deg * std::numbers::pi / 180.0).transpose() * Vec3(x, y, z + b_centre - L);
+}
+
+Eigen::Vector3d ReferenceHmc::actual_table_point(double x, double y, double z, double b_deg, double L) const {
+  // deviation() is the actual point less the nominal one, turned into machine directions.
+  return nominal_table_point(x, y, z, b_deg, L) +
+         nominal_table_turn(b_deg * std::numbers::pi / 180.0).transpose() * deviation(x, y, z, b_deg, L);
+}
+
 Eigen::Vector3d ReferenceHmc::axes_for_table_point(const Eigen::Vector3d& s, double b_deg, double L) const {
   const Vec3 v = nominal_table_turn(b_deg * std::numbers::pi / 180.0) * s;
   return Vec3(v.x(), v.y(), v.z() - b_centre + L);

@@ -31,6 +31,10 @@ struct ReferenceHmc {
   /// The tool tip's deviation from where it should touch the part, in machine-axis
   /// directions (mm), for program (chain) values x y z (mm), b (deg) and tool length L (mm).
   [[nodiscard]] Eigen::Vector3d deviation(double x, double y, double z, double b_deg, double L) const;
+  /// Where the tool tip really is on the table (table frame, mm), and where the perfect
+  /// machine would put it.
+  [[nodiscard]] Eigen::Vector3d actual_table_point(double x, double y, double z, double b_deg, double L) const;
+  [[nodiscard]] Eigen::Vector3d nominal_table_point(double x, double y, double z, double b_deg, double L) const;
   /// The chain values x, y, z that put the perfect machine's tool tip at the table point
   /// `s` (table frame, mm) at angle b with tool length L.
   [[nodiscard]] Eigen::Vector3d axes_for_table_point(const Eigen::Vector3d& s, double b_deg, double L) const;
