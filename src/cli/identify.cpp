@@ -148,13 +148,18 @@ int run_fit(const IdentifyArgs& args) {
                readable(t, k, p.uncertainty), p.identified ? "" : "(not separable: see below)");
   }
   if (r.singular_values.size() > 0) {
-    fmt::print("  singular values (relative to the largest, columns scaled):");
+    fmt::print("  singular values (relative to the largest, columns in physical scales):");
     for (Eigen::Index k = 0; k < r.singular_values.size(); ++k)
       fmt::print("{}{:.1e}", k == static_cast<Eigen::Index>(r.rank) ? " | dropped:" : " ",
                  r.singular_values[k] / r.singular_values[0]);
     fmt::print("\n");
   }
   for (const std::string& u : r.unidentifiable) fmt::print("  identifiability: {}\n", u);
+  if (!r.refusals.empty()) {
+    std::string why;
+    for (const std::string& refusal : r.refusals) why += "\n  " + refusal;
+    throw Error(ErrorKind::data, fmt::format("the fit is not written to {}: {}", args.output, why));
+  }
   // The fitted file, with a record of what was fitted from which data.
   std::vector<Eigen::VectorXd> per_term;
   for (std::size_t t = 0; t < m.terms.size(); ++t)

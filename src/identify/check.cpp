@@ -37,6 +37,14 @@ CheckReport check(const model::ForwardModel& model, const MeasurementSet& data) 
   for (SourceResidual& s : report.sources)
     s.rms = s.observations ? std::sqrt(s.rms / static_cast<double>(s.observations)) : 0.0;
   report.rms = data.observations.empty() ? 0.0 : std::sqrt(sum2 / static_cast<double>(data.observations.size()));
+  const NoiseFloor noise = noise_floor(data, r);
+  report.noise_floor = noise.value;
+  report.noise_method = noise.method;
+  return report;
+}
+
+NoiseFloor noise_floor(const MeasurementSet& data, const Eigen::VectorXd& r) {
+  NoiseFloor report;
   // Repeated points: the same position (to 1 um), direction, approach and conditions.
   using Key =
       std::tuple<long long, long long, long long, long long, long long, long long, long long, long long, long long>;
@@ -60,8 +68,8 @@ CheckReport check(const model::ForwardModel& model, const MeasurementSet& data) 
     dof += static_cast<double>(values.size() - 1);
   }
   if (dof >= 10) {
-    report.noise_floor = std::sqrt(pooled / dof);
-    report.noise_method = "repeated points";
+    report.value = std::sqrt(pooled / dof);
+    report.method = "repeated points";
     return report;
   }
   // Second differences of residuals at evenly spaced points along a line (a laser run, a
@@ -98,10 +106,10 @@ CheckReport check(const model::ForwardModel& model, const MeasurementSet& data) 
   // difference is not noise, and those few places must not set the floor.
   if (seconds.size() >= 10) {
     std::nth_element(seconds.begin(), seconds.begin() + static_cast<std::ptrdiff_t>(seconds.size() / 2), seconds.end());
-    report.noise_floor = 1.4826 * seconds[seconds.size() / 2] / std::sqrt(6.0);
-    report.noise_method = "second differences along lines";
+    report.value = 1.4826 * seconds[seconds.size() / 2] / std::sqrt(6.0);
+    report.method = "second differences along lines";
   } else {
-    report.noise_method = "none: no repeated points and no evenly spaced lines in the data";
+    report.method = "none: no repeated points and no evenly spaced lines in the data";
   }
   return report;
 }

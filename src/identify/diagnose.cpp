@@ -13,6 +13,7 @@
 
 #include "ccomp/identify/check.hpp"
 #include "ccomp/identify/fit.hpp"
+#include "ccomp/identify/physical_scale.hpp"
 #include "ccomp/util/parallel.hpp"
 
 namespace ccomp::identify {
@@ -540,12 +541,17 @@ Projector refitted_base(const model::ForwardModel& model, const MeasurementSet& 
     base.A = J.leftCols(m);
   }
   if (base.A.cols() > 0) {
-    for (Eigen::Index j = 0; j < base.A.cols(); ++j) base.A.col(j) /= std::max(base.A.col(j).norm(), 1e-300);
+    // What the base absorbs is what its fit could determine: columns in physical scales,
+    // directions whose effect at that size is above the noise (fit.hpp).
+    const Eigen::VectorXd physical = physical_scales(model, data);
+    for (Eigen::Index j = 0; j < base.A.cols(); ++j)
+      base.A.col(j) *= physical[static_cast<Eigen::Index>(columns[static_cast<std::size_t>(j)])];
     Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(normal_matrix(base.A));
     const double largest = std::sqrt(std::max(eig.eigenvalues().maxCoeff(), 0.0));
+    const double seen = std::max(3.0 * out.refit.noise, 1e-9 * largest);
     std::vector<Eigen::Index> kept;
     for (Eigen::Index k = 0; k < eig.eigenvalues().size(); ++k)
-      if (std::sqrt(std::max(eig.eigenvalues()[k], 0.0)) > 1e-6 * largest) kept.push_back(k);
+      if (std::sqrt(std::max(eig.eigenvalues()[k], 0.0)) > seen) kept.push_back(k);
     base.W.resize(base.A.cols(), static_cast<Eigen::Index>(kept.size()));
     for (std::size_t c = 0; c < kept.size(); ++c)
       base.W.col(static_cast<Eigen::Index>(c)) =

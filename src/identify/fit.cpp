@@ -7,6 +7,8 @@
 #include <cmath>
 #include <string_view>
 
+#include "ccomp/identify/check.hpp"
+#include "ccomp/identify/physical_scale.hpp"
 #include "ccomp/util/parallel.hpp"
 
 namespace ccomp::identify {
@@ -43,9 +45,10 @@ std::string parameter_label(const model::ErrorTermSpec& t, std::size_t k) {
 namespace {
 
 /// Whether a term is the straightness of a linear axis as a polynomial of its position
-/// (EYX of x) whose slope a free squareness of the same model also gives (EC0X: X's line
-/// turned toward y): the two columns are one.
-bool slope_is_a_free_squareness(const model::MachineModel& mm, const model::ErrorTermSpec& t) {
+/// (EYX of x) whose slope is where the axis' line lies: a squareness the model has free
+/// (EC0X: X's line turned toward y gives the same column), or one the reference frame fixes
+/// at zero (Z's line is its primary axis, Y's lies in its Z-Y plane: EXZ, EYZ, EXY).
+bool slope_is_a_location(const model::MachineModel& mm, const model::ErrorTermSpec& t) {
   if (t.shape.form != TermForm::polynomial || t.placement != model::ErrorPlacement::motion || t.component >= 3 ||
       t.primary.kind != model::VariableKind::axis)
     return false;
@@ -57,6 +60,8 @@ bool slope_is_a_free_squareness(const model::MachineModel& mm, const model::Erro
       const int along = static_cast<int>(letter % 3);  // U V W travel along X Y Z
       if ((a && a->type == model::AxisType::rotary) || letter != t.primary.index || along == t.component) return false;
       const int about = 3 + (3 - along - t.component);  // the line turned toward the straightness' direction
+      const bool frame_fixed = (*l.axis == 'Z') || (*l.axis == 'Y' && about == 5);
+      if (frame_fixed && mm.axis('X') && mm.axis('Y') && mm.axis('Z')) return true;
       for (const model::ErrorTermSpec& s : mm.terms)
         if (s.free && s.link == t.link && s.placement == model::ErrorPlacement::location && s.component == about)
           return true;
@@ -73,14 +78,15 @@ std::vector<std::size_t> free_parameters(const model::ForwardModel& model) {
   for (std::size_t t = 0; t < mm.terms.size(); ++t) {
     const model::ErrorTermSpec& term = mm.terms[t];
     if (!term.free) continue;
-    const bool slope_is_squareness = slope_is_a_free_squareness(mm, term);
+    const bool slope_is_location = slope_is_a_location(mm, term);
     for (Eigen::Index k = 0; k < term.parameters.size(); ++k) {
       // A period is a property of the mechanism (a screw's pitch, 360 deg of a table):
       // fitted only when the file says so (discovery scans it instead).
       if (term.shape.form == TermForm::periodic && k == 0 && !term.free_period) continue;
       // A straightness is the deviation from its axis' line (seed 003: against its
-      // least-squares line); the line's slope is where the line lies, the squareness.
-      if (slope_is_squareness && k == 1) continue;
+      // least-squares line); the line's slope is where the line lies: the squareness, or
+      // nothing where the reference frame defines it.
+      if (slope_is_location && k == 1) continue;
       free.push_back(model.parameter_offset(t) + static_cast<std::size_t>(k));
     }
   }
@@ -150,6 +156,8 @@ constexpr std::size_t kRowBlocks = 8;
 /// A change the data support moves the predictions by more than this many noise sigmas:
 /// the test a fit's step directions and its final changes both pass.
 constexpr double kSignificant = 3.0;
+/// A fitted change beyond this many physical scales is refused (FitReport::refusals).
+constexpr double kBeyondScale = 100.0;
 Eigen::Index block_begin(Eigen::Index rows, std::size_t b) {
   return rows * static_cast<Eigen::Index>(b) / static_cast<Eigen::Index>(kRowBlocks);
 }
@@ -225,6 +233,35 @@ FitReport fit(const model::ForwardModel& model, const MeasurementSet& data, cons
   const auto m = static_cast<Eigen::Index>(free.size());
   Eigen::VectorXd weight = source_weight;
   auto cost = [&](const Eigen::VectorXd& res) { return (weight.cwiseSqrt().asDiagonal() * res).squaredNorm(); };
+  // Where the fit starts, to end no worse: the plain weighted least squares, whatever loss.
+  const Eigen::VectorXd start_p = p, start_r = r;
+  auto plain_cost = [&](const Eigen::VectorXd& res) {
+    return (source_weight.cwiseSqrt().asDiagonal() * res).squaredNorm();
+  };
+  // Each parameter in its physical scale (10 um, 10 urad, over the variable's reach): a
+  // direction is determined when moving one scale along it changes the predictions by more
+  // than the noise would (3 sigma), not when its column merely has a length.
+  const Eigen::VectorXd physical = physical_scales(model, data);
+  report.noise = noise_floor(data, r).value;
+  // A parameter the data do not see on its own (a spindle's yaw when every tool tip sits on
+  // its axis) is held exactly: it takes no part in any step. (Not a period or a time
+  // constant whose amplitude is still zero: those are decided once the amplitudes move.)
+  std::vector<Eigen::Index> blind;
+  if (m > 0) {
+    Eigen::VectorXd effect(m);
+    for (Eigen::Index j = 0; j < m; ++j)
+      effect[j] = std::sqrt(source_weight.dot(J.col(j).cwiseAbs2())) *
+                  physical[static_cast<Eigen::Index>(free[static_cast<std::size_t>(j)])];
+    for (Eigen::Index j = 0; j < m; ++j) {
+      const FittedParameter& fp = report.parameters[static_cast<std::size_t>(j)];
+      const model::ErrorTermSpec& t = mm.terms[fp.term];
+      const std::size_t k = fp.index - model.parameter_offset(fp.term);
+      const bool shape =
+          (t.shape.form == TermForm::periodic && k == 0) || (t.shape.form == TermForm::thermal_warmup && k == 1);
+      if (!shape && !(effect[j] > std::max(kSignificant * report.noise, options.rank_tolerance * effect.maxCoeff())))
+        blind.push_back(j);
+    }
+  }
   Eigen::VectorXd scale = Eigen::VectorXd::Ones(m), column_norm = Eigen::VectorXd::Zero(m);
   Eigen::MatrixXd V;
   Eigen::VectorXd sigma;
@@ -264,16 +301,21 @@ FitReport fit(const model::ForwardModel& model, const MeasurementSet& data, cons
     const bool decide = iteration == 0 || blind_shape;
     if (decide)
       for (Eigen::Index j = 0; j < m; ++j) {
-        const double norm = std::sqrt(weight.dot(J.col(j).cwiseAbs2()));
-        column_norm[j] = norm;
-        scale[j] = norm > 0 ? norm : 1.0;
+        column_norm[j] = std::sqrt(weight.dot(J.col(j).cwiseAbs2()));
+        scale[j] = 1.0 / physical[static_cast<Eigen::Index>(free[static_cast<std::size_t>(j)])];
       }
     // A = sqrt(W) J S^-1 is never formed (a copy of the whole design matrix): its normal
     // matrix and gradient come from J and are scaled after.
     const bool unit_weights = (weight.array() == 1.0).all();
-    const Eigen::MatrixXd N = scale.cwiseInverse().asDiagonal() * normal_matrix(J, unit_weights ? nullptr : &weight) *
-                              scale.cwiseInverse().asDiagonal();
-    const Eigen::VectorXd g = (J.transpose() * weight.cwiseProduct(r)).cwiseQuotient(scale);
+    Eigen::MatrixXd N = scale.cwiseInverse().asDiagonal() * normal_matrix(J, unit_weights ? nullptr : &weight) *
+                        scale.cwiseInverse().asDiagonal();
+    Eigen::VectorXd g = (J.transpose() * weight.cwiseProduct(r)).cwiseQuotient(scale);
+    for (const Eigen::Index j : blind) {  // held: no part in the normal equations
+      N.row(j).setZero();
+      N.col(j).setZero();
+      g[j] = 0.0;
+      column_norm[j] = 0.0;
+    }
     if (decide) {
       // Descending singular values and their right singular vectors.
       Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(N);
@@ -283,7 +325,7 @@ FitReport fit(const model::ForwardModel& model, const MeasurementSet& data, cons
       identified_direction.assign(static_cast<std::size_t>(m), false);
       std::vector<Eigen::Index> kept;
       for (Eigen::Index k = 0; k < m; ++k)
-        if (sigma[k] > options.rank_tolerance * largest && sigma[k] > 0) {
+        if (sigma[k] > std::max(kSignificant * report.noise, options.rank_tolerance * largest) && sigma[k] > 0) {
           identified_direction[static_cast<std::size_t>(k)] = true;
           kept.push_back(k);
         }
@@ -422,6 +464,14 @@ FitReport fit(const model::ForwardModel& model, const MeasurementSet& data, cons
       }
     }
   }
+  // Every accepted step lowered the cost; the revert of what the noise does not support
+  // may raise it a little. A fit never ends worse than it started: then nothing moves.
+  if (!(plain_cost(r) <= plain_cost(start_r)) || !p.allFinite()) {
+    p = start_p;
+    r = start_r;
+    jacobian_current = false;
+    report.significant = 0;
+  }
   report.all_parameters = p;
   report.rms_after = rms(r);
   if (at_fit) {
@@ -454,6 +504,27 @@ FitReport fit(const model::ForwardModel& model, const MeasurementSet& data, cons
     fp.uncertainty = std::sqrt(s2 * var) / scale[j];
     fp.identified = unseen <= 1e-4;
   }
+  // A value far beyond what a machine plausibly has is what the data cannot say (a blind
+  // direction, a wrong unit, a diverging fit), never a measurement: refused, named.
+  for (const FittedParameter& fp : report.parameters) {
+    const double plausible = physical[static_cast<Eigen::Index>(fp.index)];
+    if (std::abs(fp.after - fp.before) > kBeyondScale * plausible)
+      report.refusals.push_back(fmt::format("{} moved by {:.4g} (internal units), {:.0f} times its physical scale {:.4g}",
+                                            fp.label, fp.after - fp.before, std::abs(fp.after - fp.before) / plausible,
+                                            plausible));
+  }
+  {
+    double largest = 0.0;
+    std::uint32_t row = 0;
+    for (std::size_t i = 0; i < data.observations.size(); ++i) {
+      const double predicted = std::abs(data.observations[i].value - r[static_cast<Eigen::Index>(i)]);
+      if (predicted > largest) largest = predicted, row = data.observations[i].row;
+    }
+    if (largest > mm.max_correction)
+      report.refusals.push_back(fmt::format(
+          "the fitted model predicts {:.4g} mm at row {}, beyond the model's max_correction of {:.4g} mm", largest, row,
+          mm.max_correction));
+  }
   // In words: parameters the data do not see at all, then the combinations they cannot
   // separate or that the data do not support above the noise.
   std::string unseen;
@@ -461,7 +532,7 @@ FitReport fit(const model::ForwardModel& model, const MeasurementSet& data, cons
     if (column_norm[j] <= 1e-12 * column_norm.maxCoeff())
       unseen += (unseen.empty() ? "" : ", ") + report.parameters[static_cast<std::size_t>(j)].label;
   if (!unseen.empty())
-    report.unidentifiable.push_back(fmt::format("{}: no effect on these measurements; left as they were", unseen));
+    report.unidentifiable.push_back(fmt::format("{}: no effect above the noise on these measurements; left as they were", unseen));
   for (Eigen::Index k = 0; k < m; ++k) {
     if (identified_direction[static_cast<std::size_t>(k)]) continue;
     std::vector<std::pair<double, std::size_t>> members;

@@ -98,10 +98,12 @@ TEST_P(HiddenEffect, IsRankedFirstAndFittingItReachesTheNoise) {
     const double allowed = top.form == "exponential" ? 3 * top.period_uncertainty : 0.02 * h.period;
     EXPECT_NEAR(top.period, h.period, allowed) << top.effect;
   }
-  // What is left with the effect added, per reading: the rms the suggestion reports.
+  // What is left with the effect added, per reading: the rms the suggestion reports (to
+  // the rounding of the base's projector, whose weakest kept directions sit just above the
+  // noise: a few parts in a million).
   ASSERT_EQ(top.residual.size(), static_cast<Eigen::Index>(data.observations.size()));
   EXPECT_NEAR(std::sqrt(top.residual.squaredNorm() / static_cast<double>(top.residual.size())), top.rms_after,
-              1e-6 * top.rms_after);
+              1e-5 * top.rms_after);
   // Add what check suggests, fit, and the residual is the noise.
   const std::string with = model::add_terms(base_text(h), {top.spec}, "with.yaml");
   const FitReport r =

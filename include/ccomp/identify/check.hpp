@@ -29,6 +29,15 @@ struct CheckReport {
   Eigen::VectorXd residual;  ///< mm, per reading: measured - predicted by the model as it is
 };
 
+/// The reading noise of `data` from the residuals of a model (mm): from repeated points
+/// where there are any, else from second differences along evenly spaced lines. 0 and a
+/// method that says so when the data have neither.
+struct NoiseFloor {
+  double value = 0.0;
+  std::string method;
+};
+[[nodiscard]] NoiseFloor noise_floor(const MeasurementSet& data, const Eigen::VectorXd& residual);
+
 [[nodiscard]] CheckReport check(const model::ForwardModel& model, const MeasurementSet& data);
 
 }  // namespace ccomp::identify

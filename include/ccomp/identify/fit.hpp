@@ -22,9 +22,11 @@ struct FitOptions {
   std::vector<std::pair<std::string, double>> source_weights;
   Loss loss = Loss::least_squares;  ///< huber: rows beyond 1.345 robust sigmas count linearly
   int max_iterations = 30;
-  /// A combination of parameters whose singular value, relative to the largest (columns
-  /// scaled to unit length), is below this is not identifiable from the data.
-  double rank_tolerance = 1e-4;
+  /// A combination of parameters is determined when moving it by one physical scale
+  /// (physical_scale.hpp) changes the predictions by more than 3 noise sigmas; and, whatever
+  /// the noise, when its singular value (columns in physical scales) is above this fraction
+  /// of the largest (numerically zero below).
+  double rank_tolerance = 1e-9;
 };
 
 struct FittedParameter {
@@ -45,6 +47,10 @@ struct FitReport {
   std::size_t significant = 0;              ///< of those, how many moved by more than the noise (the rest stayed)
   std::vector<std::string> unidentifiable;  ///< in words, one per combination the data cannot determine
   double rms_before = 0.0, rms_after = 0.0, max_after = 0.0;  ///< mm
+  double noise = 0.0;  ///< mm: the reading noise the data show (check's noise floor), 0 unknown
+  /// Why the fitted values must not be written: a change beyond 100 physical scales, a model
+  /// that predicts more than its max_correction. Empty: the fit may be used.
+  std::vector<std::string> refusals;
   std::vector<double> source_rms_before, source_rms_after;    ///< mm, per source
   int iterations = 0;
   bool converged = false;

@@ -1,0 +1,81 @@
+#include "ccomp/identify/physical_scale.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace ccomp::identify {
+namespace {
+
+using model::TermForm;
+using model::Variable;
+using model::VariableKind;
+
+/// The largest magnitude a variable takes in the data (from `reference` for a temperature
+/// a thermal form measures from), at least 1 of its unit.
+double reach(const Variable& v, const MeasurementSet& data, double reference = 0.0) {
+  double most = 0.0;
+  for (const Observation& o : data.observations) {
+    double value = 0.0;
+    switch (v.kind) {
+      case VariableKind::axis:
+        value = o.q[static_cast<Eigen::Index>(v.index)];
+        break;
+      case VariableKind::tool_length:
+        value = o.q[static_cast<Eigen::Index>(model::kToolLengthIndex)];
+        break;
+      case VariableKind::time:
+        value = o.time;
+        break;
+      case VariableKind::temperature:
+        value = v.index < o.temperatures.size() ? o.temperatures[v.index] - reference : 0.0;
+        break;
+      case VariableKind::direction:
+      case VariableKind::none:
+        value = 1.0;
+        break;
+    }
+    if (std::isfinite(value)) most = std::max(most, std::abs(value));
+  }
+  return std::max(most, 1.0);
+}
+
+double term_scale(const model::ErrorTermSpec& t, std::size_t k, const MeasurementSet& data) {
+  const double out = t.component < 3 ? kPlausibleTranslation : kPlausibleRotation;
+  const auto& p = t.parameters;
+  switch (t.shape.form) {
+    case TermForm::constant:
+    case TermForm::table:
+    case TermForm::reversal:
+      return out;
+    case TermForm::polynomial:
+      return out / std::pow(reach(t.primary, data), static_cast<double>(k));
+    case TermForm::periodic:
+      return k == 0 ? std::abs(p[0]) : out;
+    case TermForm::thermal_linear:
+      return out / reach(t.primary, data, t.shape.reference);
+    case TermForm::thermal_warmup:
+      return k == 0 ? out : std::abs(p[1]);
+    case TermForm::scale_expansion:
+      return out / (reach(t.primary, data) * reach(t.secondary, data, t.shape.reference));
+    case TermForm::cross_axis: {
+      const auto order = static_cast<std::size_t>(std::max(1, t.shape.order));
+      const auto i = static_cast<double>(k / order), j = static_cast<double>(k % order + 1);
+      return out / (std::pow(reach(t.primary, data), i) * std::pow(reach(t.secondary, data), j));
+    }
+  }
+  return out;
+}
+
+}  // namespace
+
+Eigen::VectorXd physical_scales(const model::ForwardModel& model, const MeasurementSet& data) {
+  Eigen::VectorXd scales(static_cast<Eigen::Index>(model.parameter_count()));
+  const auto& terms = model.machine().terms;
+  for (std::size_t t = 0; t < terms.size(); ++t)
+    for (Eigen::Index k = 0; k < terms[t].parameters.size(); ++k)
+      scales[static_cast<Eigen::Index>(model.parameter_offset(t)) + k] =
+          std::max(term_scale(terms[t], static_cast<std::size_t>(k), data), 1e-300);
+  return scales;
+}
+
+}  // namespace ccomp::identify
