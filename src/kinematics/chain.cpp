@@ -23,6 +23,8 @@ ChainData::ChainData(const ChainModel& model)
     cache.links.resize(n);
     cache.errors.assign(n, Pose{Mat3::Constant(std::nan("")), Vec3::Zero()});  // matches no pose
     cache.locations.assign(n, Pose{});
+    cache.located.assign(n, 0);
+    for (const Joint& j : chain.joints) cache.lines.push_back(j.direction);
     cache.q.assign(n, 0.0);
     for (const Joint& j : chain.joints) cache.offset_only.push_back(j.placement.R.isIdentity(0.0) ? 1 : 0);
   };
@@ -57,20 +59,20 @@ inline void compose_into(const Pose& a, const Pose& b, Pose& out) {
   out.t += a.t;
 }
 
-bool is_identity(const Pose& X) {
+[[gnu::always_inline]] inline bool is_identity(const Pose& X) {
   return X.t.isZero(0.0) && X.R.isIdentity(0.0);
 }
 
 /// link = placement * motion(q) * error, skipping the products by identities that machine
 /// files make the rule: placements are offsets, a linear motion is a translation. A
-/// location other than the identity moves the joint's line (see chain.hpp).
-void set_link_pose(const Joint& j, bool offset_only, double q, const Pose& location, const Pose& error,
-                   Pose& link) {
+/// location other than the identity (`located`) moves the joint's line (see chain.hpp);
+/// `line` is a linear joint's direction turned by it.
+[[gnu::always_inline]] inline void set_link_pose(const Joint& j, bool offset_only, double q, bool located, const Vec3& line, const Pose& location,
+                   const Pose& error, Pose& link) {
   Pose m = j.placement;  // placement * motion
-  const bool located = !is_identity(location);
   switch (j.type) {
     case JointType::linear: {
-      const Vec3 travel = located ? Vec3(location.t + q * (location.R * j.direction)) : Vec3(q * j.direction);
+      const Vec3 travel = located ? Vec3(location.t + q * line) : Vec3(q * j.direction);
       if (offset_only) {
         link.R = error.R;
         link.t = m.t + travel + error.t;
@@ -104,41 +106,51 @@ void set_link_pose(const Joint& j, bool offset_only, double q, const Pose& locat
   compose_into(m, error, link);
 }
 
-/// The right Jacobian of a link's pose w.r.t. its location pose (right perturbation),
-/// and its axis column (d link / d q, right tangent).
-void link_jacobians(const Joint& j, double q, const Pose& location, const Pose& error, Mat6& J_location,
-                    Vec6& J_axis) {
-  const Mat6 Ad_error_inv = adjoint(inverse(error));
+/// A link's axis column: d link / d q in the link's right tangent.
+Vec6 link_axis_column(const Joint& j, const Pose& location, const Pose& error) {
+  Vec6 column;
+  switch (j.type) {
+    case JointType::linear:  // travel = t_L + q R_L d, seen through error^-1
+      column.head<3>().noalias() = error.R.transpose() * (location.R * j.direction);
+      column.tail<3>().setZero();
+      return column;
+    case JointType::rotary: {  // L Rot(q) L^-1 error: the turn's axis carried by L, seen through error^-1
+      Vec6 Jm;
+      Jm << Vec3::Zero(), j.direction;  // Jr(q d) d = d for any rotation about d
+      return adjoint(inverse(error)) * (adjoint(location) * Jm);
+    }
+    case JointType::fixed:
+      break;
+  }
+  column.setZero();
+  return column;
+}
+
+/// The right Jacobian of a link's pose w.r.t. its location pose (right perturbation).
+Mat6 link_location_jacobian(const Joint& j, double q, const Pose& location, const Pose& error) {
+  Mat6 J;
   switch (j.type) {
     case JointType::linear: {
-      // travel = t_L + q R_L d; L (+) (rho, theta) moves it by R_L rho - q R_L hat(d) theta,
-      // which the link's right tangent sees through error^-1.
+      // L (+) (rho, theta) moves the travel by R_L rho - q R_L hat(d) theta, which the
+      // link's right tangent sees through error^-1.
       const Mat3 to_link = error.R.transpose() * location.R;
-      J_location.setZero();
-      J_location.topLeftCorner<3, 3>() = to_link;
-      J_location.topRightCorner<3, 3>() = -q * to_link * hat(j.direction);
-      J_axis.head<3>().noalias() = to_link * j.direction;
-      J_axis.tail<3>().setZero();
-      return;
+      J.setZero();
+      J.topLeftCorner<3, 3>() = to_link;
+      J.topRightCorner<3, 3>() = -q * to_link * hat(j.direction);
+      return J;
     }
     case JointType::rotary: {
       // f(L) = L M L^-1: f(L Exp(tau)) = f(L) Exp(Ad(L) (Ad(M^-1) - I) tau).
       const Pose turn{so3_exp(q * j.direction), Vec3::Zero()};
-      const Mat6 Ad_location = adjoint(location);
-      J_location = Ad_error_inv * Ad_location * (adjoint(inverse(turn)) - Mat6::Identity());
-      Vec6 Jm;
-      Jm << Vec3::Zero(), j.direction;  // Jr(q d) d = d for any rotation about d
-      J_axis = Ad_error_inv * Ad_location * Jm;
-      return;
+      return adjoint(inverse(error)) * adjoint(location) * (adjoint(inverse(turn)) - Mat6::Identity());
     }
     case JointType::fixed:
-      J_location = Ad_error_inv;
-      J_axis.setZero();
-      return;
+      break;
   }
+  return adjoint(inverse(error));
 }
 
-bool same(const Pose& a, const Pose& b) {
+[[gnu::always_inline]] inline bool same(const Pose& a, const Pose& b) {
   return a.R == b.R && a.t == b.t;
 }
 
@@ -147,19 +159,25 @@ bool same(const Pose& a, const Pose& b) {
 /// inverse), and adds the link's axis motion into J_q_side.
 const Pose& compose_side(const Chain& chain, const std::vector<Pose>& errors, const std::vector<Pose>& locations,
                          const Eigen::Ref<const VecQ>& q, std::vector<Pose>& oMi, ChainData::SideCache& cache,
-                         std::vector<Mat6>* J_error, std::vector<Mat6>* J_location,
-                         Eigen::Matrix<double, 6, Eigen::Dynamic>* J_q) {
+                         ChainJacobians which, std::vector<Mat6>& J_error, std::vector<Mat6>& J_location,
+                         Eigen::Matrix<double, 6, Eigen::Dynamic>& J_q) {
   const std::size_t n = chain.joints.size();
   std::vector<Pose>& links = cache.links;
   bool changed = false;  // a link before this one changed: the poses from here on must follow
   for (std::size_t i = 0; i < n; ++i) {
     const Joint& j = chain.joints[i];
     const double qi = j.type == JointType::fixed ? 0.0 : q[static_cast<Eigen::Index>(j.axis)];
-    if (qi != cache.q[i] || !same(errors[i], cache.errors[i]) || !same(locations[i], cache.locations[i])) {
-      set_link_pose(j, cache.offset_only[i] != 0, qi, locations[i], errors[i], links[i]);
+    const bool moved_line = !same(locations[i], cache.locations[i]);
+    if (moved_line) {
+      cache.locations[i] = locations[i];
+      cache.located[i] = is_identity(locations[i]) ? 0 : 1;
+      cache.lines[i] = locations[i].R * j.direction;
+    }
+    if (qi != cache.q[i] || moved_line || !same(errors[i], cache.errors[i])) {
+      set_link_pose(j, cache.offset_only[i] != 0, qi, cache.located[i] != 0, cache.lines[i], locations[i], errors[i],
+                    links[i]);
       cache.q[i] = qi;
       cache.errors[i] = errors[i];
-      cache.locations[i] = locations[i];
       changed = true;
     }
     if (changed) {
@@ -171,19 +189,19 @@ const Pose& compose_side(const Chain& chain, const std::vector<Pose>& errors, co
   }
   static const Pose kIdentity;
   const Pose& oM = n == 0 ? kIdentity : oMi[n - 1];
-  if (!J_error) return oM;
-  J_q->setZero();
+  if (which == ChainJacobians::none) return oM;
+  J_q.setZero();
   Pose suffix;  // links i+1 .. n-1
   for (std::size_t k = n; k-- > 0;) {
     const Mat6 Ad_suffix_inv = adjoint(inverse(suffix));
-    (*J_error)[k] = Ad_suffix_inv;  // the error pose is the link's last factor
     const Joint& j = chain.joints[k];
-    const double qk = j.type == JointType::fixed ? 0.0 : q[static_cast<Eigen::Index>(j.axis)];
-    Mat6 J_link_location;
-    Vec6 J_link_axis;
-    link_jacobians(j, qk, locations[k], errors[k], J_link_location, J_link_axis);
-    (*J_location)[k] = Ad_suffix_inv * J_link_location;
-    if (j.type != JointType::fixed) J_q->col(static_cast<Eigen::Index>(j.axis)) += Ad_suffix_inv * J_link_axis;
+    if (j.type != JointType::fixed)
+      J_q.col(static_cast<Eigen::Index>(j.axis)) += Ad_suffix_inv * link_axis_column(j, locations[k], errors[k]);
+    J_error[k] = Ad_suffix_inv;  // the error pose is the link's last factor
+    if (which == ChainJacobians::all) {
+      const double qk = j.type == JointType::fixed ? 0.0 : q[static_cast<Eigen::Index>(j.axis)];
+      J_location[k] = Ad_suffix_inv * link_location_jacobian(j, qk, locations[k], errors[k]);
+    }
     suffix = compose(links[k], suffix);
   }
   return oM;
@@ -246,15 +264,14 @@ void nominal_poses(const ChainModel& model, NominalData& data, const Eigen::Ref<
   data.E = compose(inverse(data.oMp), data.oMtool);
 }
 
-void error_matrix(const ChainModel& model, ChainData& data, const Eigen::Ref<const VecQ>& q, bool jacobians) {
+void error_matrix(const ChainModel& model, ChainData& data, const Eigen::Ref<const VecQ>& q, ChainJacobians which) {
   auto& Jq_work = data.J_q_work_;
   auto& Jq_tool = data.J_q_tool_;
-  const Pose& oMp =
-      compose_side(model.workpiece, data.work_error, data.work_location, q, data.work_oMi, data.work_cache_,
-                   jacobians ? &data.J_work_error : nullptr, &data.J_work_location, &Jq_work);
-  const Pose& oMtool =
-      compose_side(model.tool, data.tool_error, data.tool_location, q, data.tool_oMi, data.tool_cache_,
-                   jacobians ? &data.J_tool_error : nullptr, &data.J_tool_location, &Jq_tool);
+  const Pose& oMp = compose_side(model.workpiece, data.work_error, data.work_location, q, data.work_oMi,
+                                 data.work_cache_, which, data.J_work_error, data.J_work_location, Jq_work);
+  const Pose& oMtool = compose_side(model.tool, data.tool_error, data.tool_location, q, data.tool_oMi,
+                                    data.tool_cache_, which, data.J_tool_error, data.J_tool_location, Jq_tool);
+  const bool jacobians = which != ChainJacobians::none;
   Mat6 J_inv, J_a, J_b;
   const Pose pMo = inverse(oMp, jacobians ? &J_inv : nullptr);
   data.E = compose(pMo, oMtool, jacobians ? &J_a : nullptr, jacobians ? &J_b : nullptr);
@@ -264,8 +281,10 @@ void error_matrix(const ChainModel& model, ChainData& data, const Eigen::Ref<con
   const Mat6 J_E_oMp = J_a * J_inv;  // through the inverse of the workpiece side
   for (Mat6& J : data.J_work_error) J = J_E_oMp * J;
   for (Mat6& J : data.J_tool_error) J = J_b * J;
-  for (Mat6& J : data.J_work_location) J = J_E_oMp * J;
-  for (Mat6& J : data.J_tool_location) J = J_b * J;
+  if (which == ChainJacobians::all) {
+    for (Mat6& J : data.J_work_location) J = J_E_oMp * J;
+    for (Mat6& J : data.J_tool_location) J = J_b * J;
+  }
   data.J_q.noalias() = J_E_oMp * Jq_work;
   data.J_q.noalias() += J_b * Jq_tool;
 }

@@ -293,6 +293,9 @@ void forward(const ForwardModel& model, ForwardData& d, const ChainQ& q, const C
   const auto& slots = model.slots();
   // Term values, summed per link component (delta x y z in mm, epsilon a b c in rad).
   std::fill(d.errors.begin(), d.errors.end(), 0.0);
+  // Location terms are constants: their poses change only with the parameters and the
+  // conditions (or after an evaluation with Jacobians, which keeps no key).
+  bool locations_stale = true;
   if (jacobians) {
     const bool gradient = parameter_jacobian;
     for (std::size_t i = 0; i < terms.size(); ++i) {
@@ -313,6 +316,7 @@ void forward(const ForwardModel& model, ForwardData& d, const ChainQ& q, const C
                         s.secondary >= 0 ? d.variables[static_cast<std::size_t>(s.secondary)] : 0.0};
     };
     const KeyMatch same = update_variables(model, d, q, c);
+    locations_stale = !same.conditions || !same.parameters;
     if (!same.conditions || !same.parameters) {
       std::fill(d.off_axes_errors.begin(), d.off_axes_errors.end(), 0.0);
       for (std::size_t i = 0; i < terms.size(); ++i)
@@ -356,11 +360,12 @@ void forward(const ForwardModel& model, ForwardData& d, const ChainQ& q, const C
   using Vec6 = Eigen::Matrix<double, 6, 1>;
   for (std::size_t j = 0; j < work_links; ++j) {
     d.work_error[j] = Eigen::Map<const Vec6>(d.errors.data() + kLinkErrorSize * j);
-    d.work_location[j] = Eigen::Map<const Vec6>(d.errors.data() + kLinkErrorSize * j + 6);
+    if (locations_stale) d.work_location[j] = Eigen::Map<const Vec6>(d.errors.data() + kLinkErrorSize * j + 6);
   }
   for (std::size_t j = 0; j < d.tool_error.size(); ++j) {
     d.tool_error[j] = Eigen::Map<const Vec6>(d.errors.data() + kLinkErrorSize * (work_links + j));
-    d.tool_location[j] = Eigen::Map<const Vec6>(d.errors.data() + kLinkErrorSize * (work_links + j) + 6);
+    if (locations_stale)
+      d.tool_location[j] = Eigen::Map<const Vec6>(d.errors.data() + kLinkErrorSize * (work_links + j) + 6);
   }
   // Error and location poses of the links, with their Jacobians w.r.t. (delta, epsilon).
   auto set_poses = [&](const std::vector<Vec6>& errors, std::vector<Pose>& poses, std::vector<Vec6>& posed,
@@ -379,11 +384,17 @@ void forward(const ForwardModel& model, ForwardData& d, const ChainQ& q, const C
   };
   set_poses(d.work_error, d.actual_chain.work_error, d.posed_work_error, jacobians ? &d.J_work_pose : nullptr);
   set_poses(d.tool_error, d.actual_chain.tool_error, d.posed_tool_error, jacobians ? &d.J_tool_pose : nullptr);
-  set_poses(d.work_location, d.actual_chain.work_location, d.posed_work_location,
-            jacobians ? &d.J_work_location_pose : nullptr);
-  set_poses(d.tool_location, d.actual_chain.tool_location, d.posed_tool_location,
-            jacobians ? &d.J_tool_location_pose : nullptr);
-  kinematics::error_matrix(model.chain(), d.actual_chain, q, jacobians);
+  if (locations_stale) {
+    set_poses(d.work_location, d.actual_chain.work_location, d.posed_work_location,
+              jacobians ? &d.J_work_location_pose : nullptr);
+    set_poses(d.tool_location, d.actual_chain.tool_location, d.posed_tool_location,
+              jacobians ? &d.J_tool_location_pose : nullptr);
+  }
+  using kinematics::ChainJacobians;
+  kinematics::error_matrix(model.chain(), d.actual_chain, q,
+                           !jacobians                ? ChainJacobians::none
+                           : parameter_jacobian ? ChainJacobians::all
+                                                     : ChainJacobians::axes);
   d.actual = d.actual_chain.E.t;
   d.R_actual = d.actual_chain.E.R;
   if (which == Evaluate::both) {
@@ -403,6 +414,7 @@ void forward(const ForwardModel& model, ForwardData& d, const ChainQ& q, const C
     const ErrorTermSpec& t = terms[i];
     const auto& site = model.site(i);
     const bool location = t.placement == ErrorPlacement::location;
+    if (location && !parameter_jacobian) continue;  // a constant: nothing for J_q
     const auto& chain = d.actual_chain;
     const Eigen::Matrix<double, 6, 6>& J_link =
         site.side == 0 ? (location ? chain.J_work_location : chain.J_work_error)[site.joint]

@@ -131,7 +131,7 @@ std::pair<Matrix, Matrix> chain_pose_inputs(std::vector<Pose> ChainData::*input,
         [&](const Pose& x) {
           ChainData e = d;
           (e.*input)[i] = x;
-          error_matrix(m, e, q, false);
+          error_matrix(m, e, q, ChainJacobians::none);
           return e.E;
         },
         (d.*input)[i]);
@@ -229,7 +229,7 @@ const JacobianCase kCases[] = {
        const Matrix analytic = d.J_q;
        auto f = [&](const Eigen::VectorXd& x) {
          ChainData e = d;
-         error_matrix(m, e, x, false);
+         error_matrix(m, e, x, ChainJacobians::none);
          return e.E;
        };
        return std::pair{analytic, numeric_vec_pose(f, q)};
@@ -281,14 +281,14 @@ TEST(Chain, ErrorMatrixIsIdentityWithoutErrorsAndSeesEachError) {
   for (Pose& e : d.work_location) e = Pose{};
   for (Pose& e : d.tool_location) e = Pose{};
   // The workpiece point p is where the error-free tool tip is, in the table's frame.
-  error_matrix(m, d, q, false);
+  error_matrix(m, d, q, ChainJacobians::none);
   m.workpiece.joints.back().placement = compose(inverse(d.work_oMi[2]), d.oMtool);
   d = ChainData(m);  // data belongs to the model as it was built from
-  error_matrix(m, d, q, false);
+  error_matrix(m, d, q, ChainJacobians::none);
   EXPECT_LT((d.E.matrix() - Eigen::Matrix4d::Identity()).norm(), 1e-9);
   // A 10 um positioning error of the tool side's first link shows in E's translation.
   d.tool_error[0] = error_pose(Vec3(0, 0.010, 0), Vec3::Zero());
-  error_matrix(m, d, q, false);
+  error_matrix(m, d, q, ChainJacobians::none);
   EXPECT_NEAR((d.E.t - Vec3(0, 0, 0)).norm(), 0.010, 1e-9);
 }
 
@@ -310,7 +310,7 @@ TEST(Chain, NominalPosesAreTheErrorMatrixWithoutErrors) {
   for (int k = 0; k < 200; ++k) {
     if (k % 3 == 0) q[4] = uniform(-3, 3);  // else B stands still
     q[0] = uniform(-400, 400), q[1] = uniform(-300, 300), q[2] = uniform(-200, 200);
-    error_matrix(m, d, q, false);
+    error_matrix(m, d, q, ChainJacobians::none);
     nominal_poses(m, nominal, q);
     ASSERT_EQ(nominal.E.matrix(), d.E.matrix()) << "at q = " << q.transpose();
     ASSERT_EQ(nominal.oMp.matrix(), d.work_oMi.back().matrix());

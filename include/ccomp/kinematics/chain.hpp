@@ -70,6 +70,8 @@ struct ChainData {
     std::vector<Pose> links, errors, locations;
     std::vector<double> q;
     std::vector<std::uint8_t> offset_only;  ///< 1: the joint's placement is a translation
+    std::vector<std::uint8_t> located;      ///< 1: the location is not the identity
+    std::vector<Vec3> lines;                ///< a linear joint's line of motion: location.R * direction
   };
   SideCache work_cache_, tool_cache_;
   Eigen::Matrix<double, 6, Eigen::Dynamic> J_q_work_, J_q_tool_;
@@ -100,9 +102,15 @@ void nominal_poses(const ChainModel& model, NominalData& data, const Eigen::Ref<
 /// The nominal motion of one joint at axis value q, and its right Jacobian d/dq (6 x 1).
 [[nodiscard]] Pose joint_motion(const Joint& joint, double q, Vec6* J = nullptr);
 
+/// Which Jacobians error_matrix() computes: none; dE/dq and dE/d(each link's error pose)
+/// (what the inverse needs: error motions vary with the axes); or those and dE/d(each
+/// link's location pose) too (what a fit needs).
+enum class ChainJacobians : std::uint8_t { none, axes, all };
+
 /// Computes E for axis values q with the error poses in data.work_error / data.tool_error
-/// and the location poses in data.work_location / data.tool_location, and, when
-/// `jacobians`, dE/dq and dE/d(each link's error pose and location pose).
-void error_matrix(const ChainModel& model, ChainData& data, const Eigen::Ref<const VecQ>& q, bool jacobians = true);
+/// and the location poses in data.work_location / data.tool_location, and the Jacobians
+/// `which` asks for.
+void error_matrix(const ChainModel& model, ChainData& data, const Eigen::Ref<const VecQ>& q,
+                  ChainJacobians which = ChainJacobians::all);
 
 }  // namespace ccomp::kinematics
