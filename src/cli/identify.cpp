@@ -331,7 +331,8 @@ int run_nine_line(const IdentifyArgs& args) {
   if (!r.squareness.empty()) {
     fmt::print("squareness between the lines (straightness against its least-squares line, seed 003):\n");
     for (const identify::LineSquareness& q : r.squareness)
-      fmt::print("  {:<5} {:>9.3f} urad  ({} = {:.3f} urad)\n", q.iso, q.value * 1e6, q.seed, q.seed_sign * q.value * 1e6);
+      fmt::print("  {:<5} {:>9.3f} urad  ({} = {:.3f} urad)\n", q.iso, q.value * 1e6, q.seed,
+                 q.seed_sign * q.value * 1e6);
   }
   fmt::print("placement sensitivity (change of the fitted value per mm a line sits off, in the file's units):\n");
   for (const identify::PlacementSensitivity& s : r.sensitivity) {

@@ -509,9 +509,9 @@ FitReport fit(const model::ForwardModel& model, const MeasurementSet& data, cons
   for (const FittedParameter& fp : report.parameters) {
     const double plausible = physical[static_cast<Eigen::Index>(fp.index)];
     if (std::abs(fp.after - fp.before) > kBeyondScale * plausible)
-      report.refusals.push_back(fmt::format("{} moved by {:.4g} (internal units), {:.0f} times its physical scale {:.4g}",
-                                            fp.label, fp.after - fp.before, std::abs(fp.after - fp.before) / plausible,
-                                            plausible));
+      report.refusals.push_back(
+          fmt::format("{} moved by {:.4g} (internal units), {:.0f} times its physical scale {:.4g}", fp.label,
+                      fp.after - fp.before, std::abs(fp.after - fp.before) / plausible, plausible));
   }
   {
     double largest = 0.0;
@@ -521,9 +521,9 @@ FitReport fit(const model::ForwardModel& model, const MeasurementSet& data, cons
       if (predicted > largest) largest = predicted, row = data.observations[i].row;
     }
     if (largest > mm.max_correction)
-      report.refusals.push_back(fmt::format(
-          "the fitted model predicts {:.4g} mm at row {}, beyond the model's max_correction of {:.4g} mm", largest, row,
-          mm.max_correction));
+      report.refusals.push_back(
+          fmt::format("the fitted model predicts {:.4g} mm at row {}, beyond the model's max_correction of {:.4g} mm",
+                      largest, row, mm.max_correction));
   }
   // In words: parameters the data do not see at all, then the combinations they cannot
   // separate or that the data do not support above the noise.
@@ -532,7 +532,8 @@ FitReport fit(const model::ForwardModel& model, const MeasurementSet& data, cons
     if (column_norm[j] <= 1e-12 * column_norm.maxCoeff())
       unseen += (unseen.empty() ? "" : ", ") + report.parameters[static_cast<std::size_t>(j)].label;
   if (!unseen.empty())
-    report.unidentifiable.push_back(fmt::format("{}: no effect above the noise on these measurements; left as they were", unseen));
+    report.unidentifiable.push_back(
+        fmt::format("{}: no effect above the noise on these measurements; left as they were", unseen));
   for (Eigen::Index k = 0; k < m; ++k) {
     if (identified_direction[static_cast<std::size_t>(k)]) continue;
     std::vector<std::pair<double, std::size_t>> members;

@@ -67,8 +67,9 @@ inline void compose_into(const Pose& a, const Pose& b, Pose& out) {
 /// files make the rule: placements are offsets, a linear motion is a translation. A
 /// location other than the identity (`located`) moves the joint's line (see chain.hpp);
 /// `line` is a linear joint's direction turned by it.
-[[gnu::always_inline]] inline void set_link_pose(const Joint& j, bool offset_only, double q, bool located, const Vec3& line, const Pose& location,
-                   const Pose& error, Pose& link) {
+[[gnu::always_inline]] inline void set_link_pose(const Joint& j, bool offset_only, double q, bool located,
+                                                 const Vec3& line, const Pose& location, const Pose& error,
+                                                 Pose& link) {
   Pose m = j.placement;  // placement * motion
   switch (j.type) {
     case JointType::linear: {
@@ -269,8 +270,8 @@ void error_matrix(const ChainModel& model, ChainData& data, const Eigen::Ref<con
   auto& Jq_tool = data.J_q_tool_;
   const Pose& oMp = compose_side(model.workpiece, data.work_error, data.work_location, q, data.work_oMi,
                                  data.work_cache_, which, data.J_work_error, data.J_work_location, Jq_work);
-  const Pose& oMtool = compose_side(model.tool, data.tool_error, data.tool_location, q, data.tool_oMi,
-                                    data.tool_cache_, which, data.J_tool_error, data.J_tool_location, Jq_tool);
+  const Pose& oMtool = compose_side(model.tool, data.tool_error, data.tool_location, q, data.tool_oMi, data.tool_cache_,
+                                    which, data.J_tool_error, data.J_tool_location, Jq_tool);
   const bool jacobians = which != ChainJacobians::none;
   Mat6 J_inv, J_a, J_b;
   const Pose pMo = inverse(oMp, jacobians ? &J_inv : nullptr);

@@ -392,9 +392,9 @@ void forward(const ForwardModel& model, ForwardData& d, const ChainQ& q, const C
   }
   using kinematics::ChainJacobians;
   kinematics::error_matrix(model.chain(), d.actual_chain, q,
-                           !jacobians                ? ChainJacobians::none
+                           !jacobians           ? ChainJacobians::none
                            : parameter_jacobian ? ChainJacobians::all
-                                                     : ChainJacobians::axes);
+                                                : ChainJacobians::axes);
   d.actual = d.actual_chain.E.t;
   d.R_actual = d.actual_chain.E.R;
   if (which == Evaluate::both) {
@@ -419,9 +419,9 @@ void forward(const ForwardModel& model, ForwardData& d, const ChainQ& q, const C
     const Eigen::Matrix<double, 6, 6>& J_link =
         site.side == 0 ? (location ? chain.J_work_location : chain.J_work_error)[site.joint]
                        : (location ? chain.J_tool_location : chain.J_tool_error)[site.joint];
-    const Eigen::Matrix<double, 6, 6>& J_pose =
-        site.side == 0 ? (location ? d.J_work_location_pose : d.J_work_pose)[site.joint]
-                       : (location ? d.J_tool_location_pose : d.J_tool_pose)[site.joint];
+    const Eigen::Matrix<double, 6, 6>& J_pose = site.side == 0
+                                                    ? (location ? d.J_work_location_pose : d.J_work_pose)[site.joint]
+                                                    : (location ? d.J_tool_location_pose : d.J_tool_pose)[site.joint];
     // d actual / d (this term's value): through its component of the link's pose.
     const Eigen::Vector3d column = slots[i].sign * R * (J_link * J_pose.col(t.component)).head<3>();
     if (parameter_jacobian)

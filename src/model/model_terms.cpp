@@ -67,10 +67,10 @@ struct IsoName {
 /// out of the reference frame's X-Y plane; docs/machine-model.md).
 IsoName iso_name(const std::string& name) {
   static const std::tuple<const char*, const char*, double> kAliases[] = {{"S_xy", "EC0X", -1.0},
-                                                                         {"S_xz", "EB0X", 1.0},
-                                                                         {"S_yz", "EA0Y", -1.0},
-                                                                         {"P_xyb", "EA0B", -1.0},
-                                                                         {"P_yzb", "EC0B", 1.0}};
+                                                                          {"S_xz", "EB0X", 1.0},
+                                                                          {"S_yz", "EA0Y", -1.0},
+                                                                          {"P_xyb", "EA0B", -1.0},
+                                                                          {"P_yzb", "EC0B", 1.0}};
   for (const auto& [alias, iso, sign] : kAliases)
     if (name == alias) return {iso, sign};
   // delta_<dir><axis> -> E<DIR><AXIS>, eps_<dir><axis> -> E<ROT><AXIS> (x->A, y->B, z->C)
@@ -93,8 +93,8 @@ const LinkSpec* find_link(const MachineModel& m, const std::string& name) {
 /// Where a term acts: a constant E<c>0<axis> on a moving link is a location error; every
 /// other term (a thermal drift of a frame's origin included) an error motion. Location
 /// errors that mean nothing, or that the reference frame fixes at zero, are refused.
-ErrorPlacement placement_of(const std::string& file, const YAML::Node& node, const ErrorTermSpec& t,
-                            bool location_name, const MachineModel& m) {
+ErrorPlacement placement_of(const std::string& file, const YAML::Node& node, const ErrorTermSpec& t, bool location_name,
+                            const MachineModel& m) {
   if (!location_name || t.shape.form != TermForm::constant) return ErrorPlacement::motion;
   const LinkSpec* link = find_link(m, t.link);
   if (!link || !link->axis || link->tool) return ErrorPlacement::motion;  // a fixed link has no line
@@ -103,7 +103,11 @@ ErrorPlacement placement_of(const std::string& file, const YAML::Node& node, con
   const bool rotary = spec && spec->type == AxisType::rotary;
   // The axis' own direction as a component index (0 x, 1 y, 2 z), from its name: X Y Z and
   // A B C name their directions; U V W travel along X Y Z.
-  const int own = static_cast<int>(std::string_view("XYZ" "XYZ" "XYZ").at(kAxisLetters.find(axis)) - 'X');
+  const int own = static_cast<int>(std::string_view("XYZ"
+                                                    "XYZ"
+                                                    "XYZ")
+                                       .at(kAxisLetters.find(axis)) -
+                                   'X');
   const std::string what = "term " + t.name;
   const char angle = "ABC"[own];
   if (rotary && t.component == own)
@@ -115,8 +119,8 @@ ErrorPlacement placement_of(const std::string& file, const YAML::Node& node, con
     bad(file, node, fmt::format("{}: {}'s zero is its angular positioning error E{}{}", what, axis, angle, axis));
   if (!rotary && t.component == own + 3)
     bad(file, node,
-        fmt::format("{}: a line has no roll; a constant roll of the {} carriage is the error motion E{}{}", what,
-                    axis, angle, axis));
+        fmt::format("{}: a line has no roll; a constant roll of the {} carriage is the error motion E{}{}", what, axis,
+                    angle, axis));
   if (!rotary && axis == 'Z' && (t.component == 3 || t.component == 4))
     bad(file, node,
         fmt::format("{}: Z's line is the reference frame's primary axis (its squareness to X and Y is carried by "

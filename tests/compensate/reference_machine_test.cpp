@@ -88,8 +88,8 @@ TEST(ReferenceMachine, ACompensatedContourLandsOnThePathAtEveryTableAngle) {
     RecordedMotion start = m;
     start.motion.end = m.motion.start;
     const Chain a = chain(start), b = chain(m);
-    path.push_back({machine.nominal_table_point(a.x, a.y, a.z, a.b, a.L),
-                    machine.nominal_table_point(b.x, b.y, b.z, b.b, b.L)});
+    path.push_back(
+        {machine.nominal_table_point(a.x, a.y, a.z, a.b, a.L), machine.nominal_table_point(b.x, b.y, b.z, b.b, b.L)});
     before = std::max(before, machine.deviation(b.x, b.y, b.z, b.b, b.L).norm());
   }
   ASSERT_EQ(path.size(), 16U);

@@ -78,10 +78,10 @@ TEST(LocationFit, SquarenessAndTheBAxisLocationOfAReferenceMachineAreFittedBack)
     const char* iso;
     double value, within;
   };
-  for (const Expected& e : {Expected{"EC0X", truth.EC0X, 2e-6}, Expected{"EB0X", truth.EB0X, 2e-6},
-                            Expected{"EA0Y", truth.EA0Y, 2e-6}, Expected{"EA0B", truth.EA0B, 2e-6},
-                            Expected{"EC0B", truth.EC0B, 2e-6}, Expected{"EX0B", truth.EX0B, 0.001},
-                            Expected{"EZ0B", truth.EZ0B, 0.001}})
+  for (const Expected& e :
+       {Expected{"EC0X", truth.EC0X, 2e-6}, Expected{"EB0X", truth.EB0X, 2e-6}, Expected{"EA0Y", truth.EA0Y, 2e-6},
+        Expected{"EA0B", truth.EA0B, 2e-6}, Expected{"EC0B", truth.EC0B, 2e-6}, Expected{"EX0B", truth.EX0B, 0.001},
+        Expected{"EZ0B", truth.EZ0B, 0.001}})
     EXPECT_NEAR(fitted(start, r, e.iso), e.value, e.within) << e.iso;
 }
 

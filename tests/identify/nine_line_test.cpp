@@ -74,8 +74,9 @@ TEST(NineLine, DeterminesTheSquarenessBetweenTheLines) {
   for (int i = 0; i < 6; ++i)
     text += std::string("  - {name: ") + slopes[i] + ", form: polynomial, unit: um, coefficients: [0, " +
             std::to_string(slope_urad[i] * 1e-3) + ", 2e-5]}\n";
-  text += "  - {name: EC0X, value: 20, unit: urad}\n  - {name: EB0X, value: -15, unit: urad}\n"
-          "  - {name: EA0Y, value: 10, unit: urad}\n";
+  text +=
+      "  - {name: EC0X, value: 20, unit: urad}\n  - {name: EB0X, value: -15, unit: urad}\n"
+      "  - {name: EA0Y, value: 10, unit: urad}\n";
   SimulateOptions o;
   o.plans = {Plan::nine_lines};
   o.step = 10;
@@ -88,11 +89,9 @@ TEST(NineLine, DeterminesTheSquarenessBetweenTheLines) {
   double low = 1e9, high = -1e9;
   for (const Observation& ob : data.observations) low = std::min(low, ob.q[2]), high = std::max(high, ob.q[2]);
   const double curved = 2 * 2e-5 * 0.5 * (low + high) * 1e3;  // urad
-  const double expected[3] = {(20 + 6 + 3) * 1e-6, (-15 - (-4) - (-2 + curved)) * 1e-6,
-                              (10 + 5 + (7 + curved)) * 1e-6};
+  const double expected[3] = {(20 + 6 + 3) * 1e-6, (-15 - (-4) - (-2 + curved)) * 1e-6, (10 + 5 + (7 + curved)) * 1e-6};
   ASSERT_EQ(r.squareness.size(), 3U);
-  for (std::size_t i = 0; i < 3; ++i)
-    EXPECT_NEAR(r.squareness[i].value, expected[i], 1e-6) << r.squareness[i].iso;
+  for (std::size_t i = 0; i < 3; ++i) EXPECT_NEAR(r.squareness[i].value, expected[i], 1e-6) << r.squareness[i].iso;
   EXPECT_EQ(r.squareness[0].iso, "EC0X");
   EXPECT_EQ(r.squareness[0].seed, "S_xy");
   EXPECT_EQ(r.squareness[0].seed_sign, -1.0);

@@ -113,10 +113,10 @@ void randomise(ChainData& d, VecQ& q) {
   q << uniform(-400, 400), uniform(-300, 300), uniform(-200, 200), 0, uniform(-3, 3), 0, 0, 0, 0;
 }
 
-
 /// dE / d(each link's pose of one kind: error motions or locations) of the sample chain at
 /// a random point, analytic and numeric side by side.
-std::pair<Matrix, Matrix> chain_pose_inputs(std::vector<Pose> ChainData::*input, std::vector<Mat6> ChainData::*jacobian) {
+std::pair<Matrix, Matrix> chain_pose_inputs(std::vector<Pose> ChainData::*input,
+                                            std::vector<Mat6> ChainData::*jacobian) {
   const ChainModel m = sample_chain();
   ChainData d(m);
   VecQ q;

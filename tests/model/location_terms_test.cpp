@@ -45,12 +45,11 @@ TEST(LocationTerms, SquarenessIsAShearOfItsSizeAndSignThatTurnsNothing) {
     int deviating;   // the component it deviates in
     double per_rad;  // deviation per mm of travel, per rad of the term
   };
-  for (const Case& c : {Case{"{name: EC0X, value: 40, unit: urad}", 0, 1, 1.0},
-                        Case{"{name: EB0X, value: 40, unit: urad}", 0, 2, -1.0},
-                        Case{"{name: EA0Y, value: 40, unit: urad}", 1, 2, 1.0},
-                        Case{"{name: S_xy, value: 40, unit: urad}", 0, 1, -1.0},
-                        Case{"{name: S_xz, value: 40, unit: urad}", 0, 2, -1.0},
-                        Case{"{name: S_yz, value: 40, unit: urad}", 1, 2, -1.0}}) {
+  for (const Case& c :
+       {Case{"{name: EC0X, value: 40, unit: urad}", 0, 1, 1.0}, Case{"{name: EB0X, value: 40, unit: urad}", 0, 2, -1.0},
+        Case{"{name: EA0Y, value: 40, unit: urad}", 1, 2, 1.0}, Case{"{name: S_xy, value: 40, unit: urad}", 0, 1, -1.0},
+        Case{"{name: S_xz, value: 40, unit: urad}", 0, 2, -1.0},
+        Case{"{name: S_yz, value: 40, unit: urad}", 1, 2, -1.0}}) {
     const ForwardModel m = hmc_with(c.term);
     for (const Eigen::Vector3d& p : {Eigen::Vector3d(0, 0, 0), Eigen::Vector3d(300, -200, 150),
                                      Eigen::Vector3d(-250, 180, -300), Eigen::Vector3d(120, 90, 40)})

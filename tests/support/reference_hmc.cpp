@@ -33,8 +33,8 @@ Eigen::Vector3d ReferenceHmc::deviation(double x, double y, double z, double b_d
   // The tool tip in the machine frame: the head on Y's line, its own error motions, the
   // pitch acting through the tool length (the tip is L below the head's reference point).
   const Vec3 y_line = Vec3(0, 1, EA0Y).normalized();
-  const Vec3 tool = y * y_line + Vec3(0, value_of(EYY, y), value_of(EZY, y)) + Vec3(0, 0, -L) +
-                    Vec3(0, value_of(EAY, y) * L, 0);
+  const Vec3 tool =
+      y * y_line + Vec3(0, value_of(EYY, y), value_of(EZY, y)) + Vec3(0, 0, -L) + Vec3(0, value_of(EAY, y) * L, 0);
   // The table's B centre: carried -x along X's line and -z along Z's; the carriages' error
   // motions are the tool's relative to the table, so the table moves by their opposite.
   const Vec3 x_line = Vec3(1, EC0X, -EB0X).normalized();

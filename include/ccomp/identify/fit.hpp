@@ -51,7 +51,7 @@ struct FitReport {
   /// Why the fitted values must not be written: a change beyond 100 physical scales, a model
   /// that predicts more than its max_correction. Empty: the fit may be used.
   std::vector<std::string> refusals;
-  std::vector<double> source_rms_before, source_rms_after;    ///< mm, per source
+  std::vector<double> source_rms_before, source_rms_after;  ///< mm, per source
   int iterations = 0;
   bool converged = false;
   std::size_t observations = 0;

@@ -24,8 +24,8 @@ struct PlacementSensitivity {
 /// drawn by the fitted model through the middle of the measured workspace. Rigid turns of
 /// the whole machine (a carriage's constant yaw, the lasers' alignment) do not change it.
 struct LineSquareness {
-  std::string iso;   ///< EC0X, EB0X, EA0Y: the term that carries it in the reference frame
-  std::string seed;  ///< S_xy, S_xz, S_yz
+  std::string iso;     ///< EC0X, EB0X, EA0Y: the term that carries it in the reference frame
+  std::string seed;    ///< S_xy, S_xz, S_yz
   double value = 0.0;  ///< rad, in the ISO term's sign (the seed's symbol: `seed_sign` times it)
   double seed_sign = 1.0;
 };

@@ -56,11 +56,11 @@ struct ChainData {
   /// location pose (its line's placement error: see the top of this header).
   std::vector<Pose> work_error, tool_error;
   std::vector<Pose> work_location, tool_location;
-  std::vector<Pose> work_oMi, tool_oMi;          ///< W -> after link i
-  Pose oMp, oMtool;                              ///< W -> p, W -> tool tip
-  Pose E;                                        ///< p -> tool tip: the error matrix
-  Eigen::Matrix<double, 6, Eigen::Dynamic> J_q;  ///< dE/dq (6 x nq)
-  std::vector<Mat6> J_work_error, J_tool_error;  ///< dE/d(error pose of each link)
+  std::vector<Pose> work_oMi, tool_oMi;                ///< W -> after link i
+  Pose oMp, oMtool;                                    ///< W -> p, W -> tool tip
+  Pose E;                                              ///< p -> tool tip: the error matrix
+  Eigen::Matrix<double, 6, Eigen::Dynamic> J_q;        ///< dE/dq (6 x nq)
+  std::vector<Mat6> J_work_error, J_tool_error;        ///< dE/d(error pose of each link)
   std::vector<Mat6> J_work_location, J_tool_location;  ///< dE/d(location pose of each link)
 
   // internal: each side's links as last composed, with what they were composed from. A

@@ -114,13 +114,12 @@ struct ForwardData {
   Eigen::Matrix<double, 3, Eigen::Dynamic> J_parameters;  ///< d actual / d parameters
   // scratch
   kinematics::ChainData actual_chain;
-  kinematics::NominalData nominal_chain;                            ///< the perfect machine
+  kinematics::NominalData nominal_chain;  ///< the perfect machine
   /// Per joint: delta, epsilon of its error motion and of its location.
   std::vector<Eigen::Matrix<double, 6, 1>> work_error, tool_error, work_location, tool_location;
   /// What the poses in actual_chain were built from: a link whose errors did not change
   /// since (an axis standing still, a thermal drift) keeps its pose.
-  std::vector<Eigen::Matrix<double, 6, 1>> posed_work_error, posed_tool_error, posed_work_location,
-      posed_tool_location;
+  std::vector<Eigen::Matrix<double, 6, 1>> posed_work_error, posed_tool_error, posed_work_location, posed_tool_location;
   std::vector<TermValue> values;
   /// Each cubic table's spline moments under the parameters' key below (a table's values
   /// change only in a fit): evaluating it is then a binary search and a few products,

@@ -56,12 +56,12 @@ struct ErrorTermSpec {
   ErrorPlacement placement = ErrorPlacement::motion;
   TermShape shape;
   Variable primary, secondary;
-  Eigen::VectorXd parameters;          ///< in mm, rad, s, degC, with the ISO name's sign
+  Eigen::VectorXd parameters;  ///< in mm, rad, s, degC, with the ISO name's sign
   /// Internal units per file unit, to write values back; negative where the file's name is
   /// a seed symbol of the opposite sign (S_xy = -EC0X).
   std::vector<double> parameter_unit;
-  bool free = false;                   ///< a fit may change it
-  bool free_period = false;            ///< periodic: a fit may change the period too (fit_period: true)
+  bool free = false;         ///< a fit may change it
+  bool free_period = false;  ///< periodic: a fit may change the period too (fit_period: true)
   std::string note;
 };
 
