@@ -7,6 +7,7 @@
 #include <cmath>
 #include <string_view>
 
+#include "ccomp/error.hpp"
 #include "ccomp/identify/check.hpp"
 #include "ccomp/identify/physical_scale.hpp"
 #include "ccomp/util/parallel.hpp"
@@ -169,7 +170,8 @@ Eigen::MatrixXd sum_over_row_blocks(Eigen::Index rows, Eigen::Index out_rows, Ei
   std::vector<Eigen::MatrixXd> part(kRowBlocks);
   util::for_each_index(kRowBlocks, util::hardware_threads(), [&](std::size_t b) {
     const Eigen::Index begin = block_begin(rows, b), end = block_begin(rows, b + 1);
-    part[b] = block(begin, end - begin);
+    // An empty block adds nothing (and Eigen's product kernels divide by its size).
+    part[b] = end > begin ? block(begin, end - begin) : Eigen::MatrixXd::Zero(out_rows, out_cols);
   });
   Eigen::MatrixXd sum = Eigen::MatrixXd::Zero(out_rows, out_cols);
   for (const Eigen::MatrixXd& p : part) sum += p;
@@ -212,6 +214,12 @@ FitReport fit(const model::ForwardModel& model, const MeasurementSet& data, cons
   report.observations = data.observations.size();
   Eigen::VectorXd p = model_parameters(model);
   const std::vector<std::size_t> free = free_parameters(model);
+  if (data.observations.size() < free.size())
+    throw Error(ErrorKind::data,
+                fmt::format("{} readings cannot determine {} free parameters: a fit needs at least as many readings "
+                            "(measure more, or free fewer terms)",
+                            data.observations.size(), free.size()),
+                SourceLocation{data.files.empty() ? std::string() : data.files.front(), 0, 0});
   for (std::size_t index : free) {
     std::size_t t = 0;
     while (t + 1 < mm.terms.size() && model.parameter_offset(t + 1) <= index) ++t;
@@ -381,7 +389,8 @@ FitReport fit(const model::ForwardModel& model, const MeasurementSet& data, cons
     double damping = 0.0;
     for (int attempt = 0; attempt < 24; ++attempt) {
       damping = lambda * largest;
-      const Eigen::VectorXd dp = step_for(damping);
+      Eigen::VectorXd dp = step_for(damping);
+      for (const Eigen::Index j : blind) dp[j] = 0.0;  // exactly: not even the rounding of Q
       trial_p = p;
       for (Eigen::Index j = 0; j < m; ++j)
         trial_p[static_cast<Eigen::Index>(free[static_cast<std::size_t>(j)])] += dp[j];
@@ -463,6 +472,16 @@ FitReport fit(const model::ForwardModel& model, const MeasurementSet& data, cons
         report.significant = identifiable;
       }
     }
+  }
+  bool unheld = false;
+  for (const Eigen::Index j : blind) {  // held, to the bit (a revert's rounding included)
+    const auto index = static_cast<Eigen::Index>(free[static_cast<std::size_t>(j)]);
+    unheld = unheld || p[index] != start_p[index];
+    p[index] = start_p[index];
+  }
+  if (unheld) {
+    r = residuals(model, p, data);
+    jacobian_current = false;
   }
   // Every accepted step lowered the cost; the revert of what the noise does not support
   // may raise it a little. A fit never ends worse than it started: then nothing moves.

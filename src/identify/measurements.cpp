@@ -8,6 +8,7 @@
 #include <fstream>
 #include <map>
 #include <sstream>
+#include <unordered_map>
 
 #include "ccomp/error.hpp"
 
@@ -50,6 +51,29 @@ struct Columns {
     return it == index.end() ? -1 : static_cast<int>(it->second);
   }
 };
+
+}  // namespace
+
+namespace {
+
+/// Deviations are in mm: a file whose typical reading is beyond what the model may correct
+/// (max_correction) was written in another unit (um where mm is due). The median, so that
+/// a few spikes (a laser beam cut) do not trip it; `fail` gets the first row beyond.
+template <class Fail>
+void check_magnitude(const MeasurementSet& set, std::size_t first, const model::MachineModel& model, Fail fail) {
+  std::vector<double> sizes;
+  for (std::size_t i = first; i < set.observations.size(); ++i) sizes.push_back(std::abs(set.observations[i].value));
+  if (sizes.empty()) return;
+  std::nth_element(sizes.begin(), sizes.begin() + static_cast<std::ptrdiff_t>(sizes.size() / 2), sizes.end());
+  const double median = sizes[sizes.size() / 2];
+  if (!(median > model.max_correction)) return;
+  for (std::size_t i = first; i < set.observations.size(); ++i)
+    if (std::abs(set.observations[i].value) > model.max_correction)
+      fail(set.observations[i].row,
+           fmt::format("the readings' median size is {:.6g} mm, beyond the model's max_correction of {:.6g} mm: "
+                       "deviations are in mm (written in um?)",
+                       median, model.max_correction));
+}
 
 }  // namespace
 
@@ -125,9 +149,17 @@ void parse_measurements(const std::string& text, const std::string& name, const 
   for (std::size_t s = 0; s < into.sources.size(); ++s) source_index[into.sources[s]] = static_cast<std::uint32_t>(s);
   std::vector<std::string> fields;  // reused row after row
   std::vector<std::uint32_t> at_column;
+  std::unordered_map<std::string, std::uint32_t> rows_seen;  // a row's text -> its line
+  const std::size_t first_observation = into.observations.size();
   while (std::getline(in, line)) {
     ++number;
     if (line.find_first_not_of(" \t\r") == std::string::npos || line.front() == '#') continue;
+    // The same reading twice, to the last digit and label, is a file pasted together, not
+    // a repeated measurement (whose value would differ): it would count double in a fit.
+    std::string key = line;
+    while (!key.empty() && (key.back() == '\r' || key.back() == ' ' || key.back() == '\t')) key.pop_back();
+    if (const auto [at, fresh] = rows_seen.try_emplace(key, number); !fresh)
+      fail(number, 1, fmt::format("this row repeats row {} exactly: a reading counts once", at->second));
     split(line, fields, at_column);
     if (fields.size() != header.size())
       fail(number, 1, fmt::format("this row has {} fields, the header {}", fields.size(), header.size()));
@@ -200,6 +232,13 @@ void parse_measurements(const std::string& text, const std::string& name, const 
       }
     }
   }
+  line.clear();
+  if (into.observations.size() == first_observation)
+    fail(header_line, 1, "no readings after the header: there is nothing to compare the model with");
+  check_magnitude(into, first_observation, model, [&](std::uint32_t row, const std::string& message) {
+    const int c = cols.at(scalar ? "d" : "dx");
+    fail(row, c >= 0 ? column_of_field[static_cast<std::size_t>(c)] : 1, message);
+  });
 }
 
 void read_measurements(const std::string& path, const model::MachineModel& model, const ReadOptions& options,

@@ -68,5 +68,44 @@ TEST(IdentifyCli, ABadMeasurementFileExitsWithItsCode) {
   EXPECT_NE(r.err.find("'abc' is not a number"), std::string::npos) << r.err;
 }
 
+TEST(IdentifyCli, AFitBeyondWhatAMachineCanHaveIsNotWritten) {
+  // Readings 30 mm off in X (a file in um read as mm, past the magnitude check because the
+  // model's bound is lifted): EXX.a0 would move by 3000 physical scales. Nothing is written,
+  // and a file already there stays as it was.
+  const std::string dir = temp_dir("identify_cli_refused");
+  std::string model = read_file(source_dir() + "/samples/machines/hmc-xyzb-geometric.yaml");
+  model.replace(model.find("max_correction: 0.5 mm"), 22, "max_correction: 100 mm");
+  write_file(dir + "/m.yaml", model);
+  std::string rows = "x,y,z,nx,ny,nz,d\n";
+  for (int k = 0; k < 80; ++k)
+    rows += std::to_string(-400 + 10 * k) + ",0,0,1,0,0," + std::to_string(30.0 + 1e-4 * k) + "\n";
+  write_file(dir + "/far.csv", rows);
+  write_file(dir + "/out.yaml", "kept\n");
+  const CommandResult r = run_command(ccomp() + " fit " + shell_quote(dir + "/far.csv") + " -m " +
+                                      shell_quote(dir + "/m.yaml") + " -o " + shell_quote(dir + "/out.yaml"));
+  EXPECT_EQ(r.exit_code, 8) << r.out << r.err;
+  EXPECT_NE(r.err.find("is not written"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("EXX.a0"), std::string::npos) << r.err;
+  EXPECT_EQ(read_file(dir + "/out.yaml"), "kept\n");
+}
+
+TEST(IdentifyCli, AHeaderWithoutRowsOrTooFewRowsExitWithTheirCode) {
+  const std::string dir = temp_dir("identify_cli_few");
+  const std::string header = "x,y,z,nx,ny,nz,d\n";
+  write_file(dir + "/none.csv", header);
+  write_file(dir + "/few.csv", header + "1,2,3,1,0,0,0.001\n4,5,6,1,0,0,0.002\n");
+  for (const char* command : {"check", "fit"})
+    for (const char* file : {"none.csv", "few.csv"}) {
+      const std::string output = command == std::string("fit") ? " -o " + shell_quote(dir + "/fitted.yaml") : "";
+      const CommandResult r = run_command(ccomp() + " " + command + " " + shell_quote(dir + "/" + file) + " -m " +
+                                          sample("hmc-xyzb-geometric.yaml") + output);
+      EXPECT_EQ(r.exit_code, 8) << command << " " << file << ": " << r.err;
+      EXPECT_NE(r.err.find(std::string(file == std::string("none.csv") ? "no readings after the header"
+                                                                       : "2 readings cannot determine")),
+                std::string::npos)
+          << r.err;
+    }
+}
+
 }  // namespace
 }  // namespace ccomp::test

@@ -11,6 +11,7 @@
 #include <random>
 #include <sstream>
 
+#include "ccomp/error.hpp"
 #include "ccomp/identify/check.hpp"
 #include "ccomp/identify/simulate.hpp"
 #include "sample_models.hpp"
@@ -227,6 +228,83 @@ TEST(Fit, WritesTheResultBackInTheFileUnits) {
   ASSERT_EQ(again.terms.size(), m.terms.size());
   for (std::size_t i = 0; i < m.terms.size(); ++i)
     EXPECT_LT((again.terms[i].parameters - changed[i]).norm(), 1e-9 * (1.0 + changed[i].norm())) << m.terms[i].name;
+}
+
+TEST(Fit, FewerReadingsThanFreeParametersIsAClearErrorNotACrash) {
+  // 1 to 7 readings made Eigen divide by zero (SIGFPE) in the blocked normal matrix.
+  const model::MachineModel truth = geometric();
+  const MeasurementSet all = measure(truth, {Plan::nine_lines}, 3);
+  for (std::size_t rows : {1U, 5U, 7U, 40U}) {
+    MeasurementSet few = all;
+    few.observations.resize(rows);
+    try {
+      (void)fit(model::ForwardModel(truth), few);
+      ADD_FAILURE() << rows << " readings were fitted";
+    } catch (const Error& e) {
+      EXPECT_EQ(e.kind(), ErrorKind::data);
+      EXPECT_NE(e.message().find(fmt::format("{} readings cannot determine", rows)), std::string::npos) << e.message();
+    }
+  }
+  // With few free parameters, a handful of readings is fitted.
+  std::string text = std::string(test::kHmcChain) + "terms:\n  - {name: EXX, value: 0, unit: um, fit: true}\n";
+  MeasurementSet three = all;
+  three.observations.resize(3);
+  const FitReport r = fit(model::ForwardModel(model::parse_machine_model(text, "one.yaml")), three);
+  EXPECT_TRUE(std::isfinite(r.rms_after));
+}
+
+TEST(Fit, AParameterTheDataCannotSeeKeepsItsValueExactly) {
+  // The spindle head's yaw (ECY) turns the tool about its own axis: with every tool tip on
+  // that axis, no reading sees it. Scaled to unit length its column (zero up to rounding)
+  // looked determined, and a fit wrote ECY = -99137 urad.
+  model::MachineModel start = blank(geometric());
+  for (model::ErrorTermSpec& t : start.terms)
+    if (t.iso == "ECY") t.parameters << 3e-6, 2e-8;
+  const model::ForwardModel s(start);
+  const FitReport r = fit(s, measure(geometric(), {Plan::nine_lines, Plan::grid, Plan::sphere}, 6));
+  int held = 0;
+  for (const FittedParameter& p : r.parameters)
+    if (p.label.starts_with("ECY.")) {
+      EXPECT_EQ(p.after, p.before) << p.label << " moved";
+      ++held;
+    }
+  EXPECT_EQ(held, 2);
+  EXPECT_TRUE(r.refusals.empty());
+  bool said = false;
+  for (const std::string& u : r.unidentifiable) said = said || u.find("ECY.a0, ECY.a1") != std::string::npos;
+  EXPECT_TRUE(said) << "the report says so in words";
+}
+
+TEST(Fit, NeverEndsWorseThanItStartedAndRefusesValuesBeyondTheirScale) {
+  const model::MachineModel truth = geometric();
+  const MeasurementSet data = measure(truth, {Plan::nine_lines, Plan::grid}, 8);
+  // A model the data already explain comes back unchanged.
+  const FitReport same = fit(model::ForwardModel(truth), data);
+  EXPECT_LE(same.rms_after, same.rms_before);
+  EXPECT_EQ(same.all_parameters, model_parameters(model::ForwardModel(truth)));
+  // Data 300 um off their model everywhere: EXX.a0 is asked to move by 30 physical scales
+  // (kept), and readings 30 mm off would move it by 3000 (refused, named).
+  for (const auto& [offset, refused] : {std::pair{0.3, false}, std::pair{30.0, true}}) {
+    MeasurementSet shifted = data;
+    for (Observation& o : shifted.observations)
+      if (o.direction.x() > 0.99) o.value += offset;
+    model::MachineModel m = truth;
+    m.max_correction = 1000.0;  // the bound on corrections is not what this checks
+    const FitReport r = fit(model::ForwardModel(m), shifted);
+    bool named = false;
+    for (const std::string& why : r.refusals) named = named || why.find("EXX.a0") != std::string::npos;
+    EXPECT_EQ(named, refused) << offset << " mm";
+  }
+  // A model whose corrections the data push beyond max_correction is refused.
+  MeasurementSet far = data;
+  for (Observation& o : far.observations)
+    if (o.direction.x() > 0.99) o.value += 0.3;
+  model::MachineModel tight = truth;
+  tight.max_correction = 0.1;
+  const FitReport r = fit(model::ForwardModel(tight), far);
+  bool bounded = false;
+  for (const std::string& why : r.refusals) bounded = bounded || why.find("max_correction") != std::string::npos;
+  EXPECT_TRUE(bounded);
 }
 
 }  // namespace

@@ -75,6 +75,13 @@ TEST(Measurements, ErrorsNameRowColumnAndCause) {
       {"x,y,z,T_spindle,dx,dy\n", 1, 1, "needs dy and dz"},
       {"x,y,z,a,T_spindle,dx,dy,dz\n", 1, 7, "an axis machine 'test-hmc' does not have"},
       {"x,y,z,T_spindle,vx,dx,dy,dz\n1,2,3,20,2,0,0,0\n", 2, 10, "+1, -1 or 0"},
+      {"x,y,z,T_spindle,nx,ny,nz,d\n", 1, 1, "no readings after the header"},
+      {"# only a comment\nx,y,z,T_spindle,nx,ny,nz,d\n\n", 2, 1, "no readings after the header"},
+      {"x,y,z,T_spindle,nx,ny,nz,d\n1,2,3,20,1,0,0,0.001\n4,5,6,20,1,0,0,0.002\n1,2,3,20,1,0,0,0.001\n", 4, 1,
+       "repeats row 2 exactly"},
+      // um where mm is due: 2.5 and 4.1 "mm" of deviation, beyond the model's 0.5 mm bound.
+      {"x,y,z,T_spindle,nx,ny,nz,d\n1,2,3,20,1,0,0,2.5\n4,5,6,20,1,0,0,-4.1\n7,8,9,20,1,0,0,0.3\n", 2, 26,
+       "written in um?"},
   };
   for (const Case& c : cases) {
     const Error e = parse_error(c.text);
@@ -84,6 +91,13 @@ TEST(Measurements, ErrorsNameRowColumnAndCause) {
     EXPECT_EQ(e.where().column, c.column) << c.text << e.message();
     EXPECT_NE(e.message().find(c.says), std::string::npos) << e.message();
   }
+}
+
+TEST(Measurements, ASpikeIsNotTakenForAWrongUnit) {
+  // One reading of 3 mm among small ones: a laser beam cut, not um written as mm.
+  const MeasurementSet s =
+      parse("x,y,z,T_spindle,nx,ny,nz,d\n1,2,3,20,1,0,0,0.002\n4,5,6,20,1,0,0,3.0\n7,8,9,20,1,0,0,-0.001\n");
+  EXPECT_EQ(s.observations.size(), 3U);
 }
 
 TEST(Measurements, SummaryGivesRangesAndCsvRoundTrips) {
