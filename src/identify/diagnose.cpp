@@ -256,6 +256,13 @@ std::vector<Candidate> candidate_library(const model::MachineModel& mm, const Me
     return hi > lo + 1e-12;
   };
   const bool tool_length_varies = varies([](const Observation& o) { return o.q[9]; });
+  // A sensor is a candidate variable when every reading has it and it changes: the model's
+  // own, and any other T_<name> column of the files (a suggestion then adds the sensor).
+  auto read_and_varies = [&](std::size_t sensor) {
+    for (const Observation& o : data.observations)
+      if (sensor >= o.temperatures.size() || std::isnan(o.temperatures[sensor])) return false;
+    return varies([sensor](const Observation& o) { return o.temperatures[sensor]; });
+  };
   const bool time_varies = varies([](const Observation& o) { return o.time; });
   auto unit = [](int component) { return component < 3 ? "um" : "urad"; };
   auto file_value = [](int component, double internal) { return internal * (component < 3 ? 1e3 : 1e6); };
@@ -343,19 +350,19 @@ std::vector<Candidate> candidate_library(const model::MachineModel& mm, const Me
         candidates.push_back(s);
       }
       // Scale expansion: the positioning grows with the temperature of a sensor.
-      for (std::size_t sensor = 0; sensor < mm.sensors.size(); ++sensor) {
-        if (!varies([sensor](const Observation& o) { return o.temperatures[sensor]; })) continue;
+      for (std::size_t sensor = 0; sensor < data.sensors.size(); ++sensor) {
+        if (!read_and_varies(sensor)) continue;
         Candidate e;
         e.effect = fmt::format(
             "thermal expansion of the {} axis' scale with {} (the error grows with the position "
             "and the temperature)",
-            kAxisLetters[a.index], mm.sensors[sensor]);
-        e.error = own, e.term = own, e.variable = v + ",T_" + mm.sensors[sensor], e.form = "interaction";
+            kAxisLetters[a.index], data.sensors[sensor]);
+        e.error = own, e.term = own, e.variable = v + ",T_" + data.sensors[sensor], e.form = "interaction";
         e.probe = probe(a.link, a.own);
         e.basis = [&a, position, sensor](const Observation& o, int, double) {
           return position(o, a) * (o.temperatures[sensor] - 20.0);
         };
-        e.yaml = [own, sensor_name = mm.sensors[sensor]](const Eigen::VectorXd& x, double) {
+        e.yaml = [own, sensor_name = data.sensors[sensor]](const Eigen::VectorXd& x, double) {
           return fmt::format(
               "{{name: {}, form: scale_expansion, temperature: T_{}, coefficient: {:.4g} /degC, "
               "fit: true}}",
@@ -471,15 +478,15 @@ std::vector<Candidate> candidate_library(const model::MachineModel& mm, const Me
   if (!spindle.empty()) {
     for (int component = 0; component < 3; ++component) {
       const std::string term = name(component, spindle, false);
-      for (std::size_t sensor = 0; sensor < mm.sensors.size(); ++sensor) {
-        if (!varies([sensor](const Observation& o) { return o.temperatures[sensor]; })) continue;
+      for (std::size_t sensor = 0; sensor < data.sensors.size(); ++sensor) {
+        if (!read_and_varies(sensor)) continue;
         Candidate d;
         d.effect = fmt::format("thermal drift in {} with the temperature at {}",
-                               kComponents[static_cast<std::size_t>(component)], mm.sensors[sensor]);
-        d.error = "thermal", d.term = term, d.variable = "T_" + mm.sensors[sensor], d.form = "linear";
+                               kComponents[static_cast<std::size_t>(component)], data.sensors[sensor]);
+        d.error = "thermal", d.term = term, d.variable = "T_" + data.sensors[sensor], d.form = "linear";
         d.probe = probe(spindle, component);
         d.basis = [sensor](const Observation& o, int, double) { return o.temperatures[sensor] - 20.0; };
-        d.yaml = [term, sensor_name = mm.sensors[sensor], file_value, component](const Eigen::VectorXd& x, double) {
+        d.yaml = [term, sensor_name = data.sensors[sensor], file_value, component](const Eigen::VectorXd& x, double) {
           return fmt::format(
               "{{name: {}, variable: T_{}, form: thermal, unit: um, coefficient: {:.4g}, fit: "
               "true}}",
@@ -590,12 +597,14 @@ std::vector<Region> residual_regions(const model::MachineModel& mm, const Measur
   std::vector<Region> regions;
   auto add_regions = [&](const std::string& variable, auto get) {
     double lo = 1e300, hi = -1e300;
-    for (const Observation& o : data.observations) lo = std::min(lo, get(o)), hi = std::max(hi, get(o));
+    for (const Observation& o : data.observations)
+      if (const double v = get(o); !std::isnan(v)) lo = std::min(lo, v), hi = std::max(hi, v);
     if (!(hi > lo)) return;
     constexpr int kBins = 8;
     std::vector<double> sum(kBins, 0.0), count(kBins, 0.0);
     for (Eigen::Index i = 0; i < n; ++i) {
       const Observation& o = data.observations[static_cast<std::size_t>(i)];
+      if (std::isnan(get(o))) continue;  // a sensor this reading's file does not have
       const int bin = std::min(kBins - 1, static_cast<int>((get(o) - lo) / (hi - lo) * kBins));
       sum[static_cast<std::size_t>(bin)] += r[i] * r[i];
       count[static_cast<std::size_t>(bin)] += 1;
@@ -612,8 +621,8 @@ std::vector<Region> residual_regions(const model::MachineModel& mm, const Measur
     add_regions(axis_name(a.index), [&a](const Observation& o) { return axis_value(o, a); });
   add_regions("L", [](const Observation& o) { return o.q[9]; });
   add_regions("t", [](const Observation& o) { return o.time; });
-  for (std::size_t s = 0; s < mm.sensors.size(); ++s)
-    add_regions("T_" + mm.sensors[s], [s](const Observation& o) { return o.temperatures[s]; });
+  for (std::size_t s = 0; s < data.sensors.size(); ++s)
+    add_regions("T_" + data.sensors[s], [s](const Observation& o) { return o.temperatures[s]; });
   std::sort(regions.begin(), regions.end(), [](const Region& a, const Region& b) { return a.ratio > b.ratio; });
   if (regions.size() > 8) regions.resize(8);
   return regions;

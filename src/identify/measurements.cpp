@@ -6,6 +6,7 @@
 #include <charconv>
 #include <cmath>
 #include <fstream>
+#include <limits>
 #include <map>
 #include <sstream>
 #include <unordered_map>
@@ -99,7 +100,8 @@ void parse_measurements(const std::string& text, const std::string& name, const 
   if (header.empty()) fail(0, 0, "the file is empty: a measurement file starts with a header row (x,y,z,...)");
   const std::uint32_t header_line = number;
   Columns cols;
-  std::vector<int> sensor_column(model.sensors.size(), -1);
+  if (into.sensors.empty()) into.sensors = model.sensors;
+  std::vector<int> sensor_column(into.sensors.size(), -1);
   for (std::size_t i = 0; i < header.size(); ++i) {
     const std::string& h = header[i];
     if (h.empty()) fail(header_line, column_of_field[i], fmt::format("column {} has no name", i + 1));
@@ -109,12 +111,17 @@ void parse_measurements(const std::string& text, const std::string& name, const 
                  h == "t" || h == "source";
     if (h.size() == 1 && kAxes.find(h[0]) != std::string_view::npos) known = true;
     if (h.size() == 2 && h[0] == 'v' && kAxes.find(h[1]) != std::string_view::npos) known = true;
-    if (h.starts_with("T_")) {
-      const auto it = std::find(model.sensors.begin(), model.sensors.end(), h.substr(2));
-      if (it != model.sensors.end()) {
-        sensor_column[static_cast<std::size_t>(it - model.sensors.begin())] = static_cast<int>(i);
-        known = true;
+    if (h.starts_with("T_") && h.size() > 2) {
+      // A sensor the model lacks is read too: a thermal effect may be what is missing.
+      auto it = std::find(into.sensors.begin(), into.sensors.end(), h.substr(2));
+      if (it == into.sensors.end()) {
+        into.sensors.push_back(h.substr(2));
+        sensor_column.push_back(-1);
+        for (Observation& o : into.observations) o.temperatures.push_back(std::nan(""));  // earlier files lack it
+        it = into.sensors.end() - 1;
       }
+      sensor_column[static_cast<std::size_t>(it - into.sensors.begin())] = static_cast<int>(i);
+      known = true;
     }
     if (!known) into.notices.push_back(fmt::format("{}: column '{}' is not part of the contract; ignored", name, h));
   }
@@ -150,16 +157,21 @@ void parse_measurements(const std::string& text, const std::string& name, const 
   std::vector<std::string> fields;  // reused row after row
   std::vector<std::uint32_t> at_column;
   std::unordered_map<std::string, std::uint32_t> rows_seen;  // a row's text -> its line
+  std::size_t repeated_rows = 0;
   const std::size_t first_observation = into.observations.size();
   while (std::getline(in, line)) {
     ++number;
     if (line.find_first_not_of(" \t\r") == std::string::npos || line.front() == '#') continue;
-    // The same reading twice, to the last digit and label, is a file pasted together, not
-    // a repeated measurement (whose value would differ): it would count double in a fit.
+    // The same row twice, to the last digit: ISO 230-2's repeated approaches read at the
+    // instrument's resolution do that, and so does a file pasted together twice. Kept, and
+    // said (the first few), so that a doubled file does not count double unnoticed.
     std::string key = line;
     while (!key.empty() && (key.back() == '\r' || key.back() == ' ' || key.back() == '\t')) key.pop_back();
-    if (const auto [at, fresh] = rows_seen.try_emplace(key, number); !fresh)
-      fail(number, 1, fmt::format("this row repeats row {} exactly: a reading counts once", at->second));
+    if (const auto [at, fresh] = rows_seen.try_emplace(key, number); !fresh && ++repeated_rows <= 3)
+      into.notices.push_back(
+          fmt::format("{}:{}: the row repeats row {} to the last digit (a repeated approach, or a "
+                      "file pasted in twice?)",
+                      name, number, at->second));
     split(line, fields, at_column);
     if (fields.size() != header.size())
       fail(number, 1, fmt::format("this row has {} fields, the header {}", fields.size(), header.size()));
@@ -203,9 +215,14 @@ void parse_measurements(const std::string& text, const std::string& name, const 
     o.q[2] += tool;
     o.q[static_cast<Eigen::Index>(model::kToolLengthIndex)] = tool;
     o.time = value("t", 0.0);
-    o.temperatures.assign(model.sensors.size(), 20.0);
-    for (std::size_t s = 0; s < sensor_column.size(); ++s)
-      if (sensor_column[s] >= 0) o.temperatures[s] = required("T_" + model.sensors[s]);
+    o.temperatures.assign(into.sensors.size(), std::nan(""));  // a sensor this file does not read
+    for (std::size_t s = 0; s < model.sensors.size(); ++s) o.temperatures[s] = 20.0;  // the model's: unused then
+    for (std::size_t s = 0; s < sensor_column.size(); ++s) {
+      if (sensor_column[s] < 0) continue;
+      const bool models = s < model.sensors.size();  // the model's own must be read on every row
+      if (models || !fields[static_cast<std::size_t>(sensor_column[s])].empty())
+        o.temperatures[s] = required("T_" + into.sensors[s]);
+    }
     std::string label = name;
     if (const int c = cols.at("source"); c >= 0 && !fields[static_cast<std::size_t>(c)].empty())
       label = fields[static_cast<std::size_t>(c)];
@@ -233,6 +250,8 @@ void parse_measurements(const std::string& text, const std::string& name, const 
     }
   }
   line.clear();
+  if (repeated_rows > 3)
+    into.notices.push_back(fmt::format("{}: {} rows repeat an earlier row to the last digit", name, repeated_rows));
   if (into.observations.size() == first_observation)
     fail(header_line, 1, "no readings after the header: there is nothing to compare the model with");
   check_magnitude(into, first_observation, model, [&](std::uint32_t row, const std::string& message) {
@@ -260,9 +279,10 @@ void summarize(MeasurementSet& set, const model::MachineModel& model) {
   set.ranges.clear();
   if (set.observations.empty()) return;
   auto add = [&](const std::string& name, const std::string& unit, auto get) {
-    VariableRange r{name, get(set.observations.front()), get(set.observations.front()), unit};
-    for (const Observation& o : set.observations) r.min = std::min(r.min, get(o)), r.max = std::max(r.max, get(o));
-    set.ranges.push_back(r);
+    VariableRange r{name, std::numeric_limits<double>::infinity(), -std::numeric_limits<double>::infinity(), unit};
+    for (const Observation& o : set.observations)
+      if (const double v = get(o); !std::isnan(v)) r.min = std::min(r.min, v), r.max = std::max(r.max, v);
+    if (r.min <= r.max) set.ranges.push_back(r);
   };
   for (const model::AxisSpec& a : model.axes) {
     const std::size_t i = std::string_view("XYZABCUVW").find(a.letter);
@@ -272,8 +292,10 @@ void summarize(MeasurementSet& set, const model::MachineModel& model) {
   }
   add("L", "mm", [](const Observation& o) { return o.q[static_cast<Eigen::Index>(model::kToolLengthIndex)]; });
   add("t", "s", [](const Observation& o) { return o.time; });
-  for (std::size_t s = 0; s < model.sensors.size(); ++s)
-    add("T_" + model.sensors[s], "degC", [&](const Observation& o) { return o.temperatures[s]; });
+  const std::vector<std::string>& sensors = set.sensors.empty() ? model.sensors : set.sensors;
+  for (std::size_t s = 0; s < sensors.size(); ++s)
+    add("T_" + sensors[s], "degC",
+        [&](const Observation& o) { return s < o.temperatures.size() ? o.temperatures[s] : std::nan(""); });
 }
 
 double predict(const model::ForwardModel& model, model::ForwardData& data, const Observation& o) {
@@ -290,7 +312,7 @@ std::string to_csv(const MeasurementSet& set, const model::MachineModel& model) 
       out += fmt::format(",{}", static_cast<char>(std::tolower(a.letter)));
     }
   out += ",L,t";
-  for (const std::string& s : model.sensors) out += ",T_" + s;
+  for (const std::string& s : set.sensors.empty() ? model.sensors : set.sensors) out += ",T_" + s;
   out += ",vx,vy,vz";
   for (std::size_t i : rotary) out += fmt::format(",v{}", kAxes[i]);
   out += ",nx,ny,nz,d,source\n";
@@ -299,7 +321,7 @@ std::string to_csv(const MeasurementSet& set, const model::MachineModel& model) 
     out += fmt::format("{:.6f},{:.6f},{:.6f}", o.q[0], o.q[1], o.q[2] - tool);
     for (std::size_t i : rotary) out += fmt::format(",{:.6f}", o.q[static_cast<Eigen::Index>(i)] / kRadPerDeg);
     out += fmt::format(",{:.3f},{:.3f}", tool, o.time);
-    for (double T : o.temperatures) out += fmt::format(",{:.4f}", T);
+    for (double T : o.temperatures) out += std::isnan(T) ? std::string(",") : fmt::format(",{:.4f}", T);
     for (std::size_t i = 0; i < 3; ++i) out += fmt::format(",{:g}", o.directions[i]);
     for (std::size_t i : rotary) out += fmt::format(",{:g}", o.directions[i]);
     out += fmt::format(",{:.9g},{:.9g},{:.9g},{:.9e},{}\n", o.direction.x(), o.direction.y(), o.direction.z(), o.value,

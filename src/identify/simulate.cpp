@@ -101,6 +101,7 @@ MeasurementSet simulate(const model::ForwardModel& truth, const SimulateOptions&
   const model::MachineModel& m = truth.machine();
   MeasurementSet set;
   set.files.push_back("simulated");
+  set.sensors = m.sensors;
   Recorder rec{truth, model::ForwardData(truth), set, std::mt19937(options.seed),
                std::normal_distribution<double>(0.0, options.noise)};
   const std::vector<double> cold(m.sensors.size(), 20.0);

@@ -98,6 +98,21 @@ std::string add_terms(const std::string& text, const std::vector<std::string>& s
     }
     if (!term.IsMap())
       throw Error(ErrorKind::usage, fmt::format("--add '{}': a term is a mapping {{name: ..., form: ...}}", spec));
+    // A term on a sensor the model lacks (found in the measurements' T_<name> columns)
+    // brings the sensor with it.
+    for (const char* key : {"variable", "temperature"}) {
+      const YAML::Node v = term[key];
+      if (!v || !v.IsScalar() || !v.Scalar().starts_with("T_")) continue;
+      const std::string sensor = v.Scalar().substr(2);
+      YAML::Node sensors = root["sensors"];
+      bool known = false;
+      if (sensors && sensors.IsSequence())
+        for (const YAML::Node& s : sensors) known = known || (s.IsScalar() && s.Scalar() == sensor);
+      if (!known) {
+        sensors.push_back(sensor);
+        root["sensors"] = sensors;
+      }
+    }
     terms.push_back(term);
   }
   root["terms"] = terms;

@@ -107,5 +107,37 @@ TEST(IdentifyCli, AHeaderWithoutRowsOrTooFewRowsExitWithTheirCode) {
     }
 }
 
+TEST(IdentifyCli, AThermalEffectOnASensorTheModelLacksIsFoundAndTheSensorAdded) {
+  // The temperature columns were dropped unless the model had the sensor: a thermal effect
+  // could never be found. The geometric model has no sensors; the machine drifts 2.5 um/degC
+  // along Z with its spindle's temperature.
+  const std::string dir = temp_dir("identify_cli_thermal");
+  const std::string base = read_file(source_dir() + "/samples/machines/hmc-xyzb-geometric.yaml");
+  std::string truth = base + "sensors: [spindle]\n";
+  truth.replace(truth.find("terms:\n"), 7,
+                "terms:\n  - {name: EZS, variable: T_spindle, form: thermal, unit: um, coefficient: 2.5}\n");
+  write_file(dir + "/truth.yaml", truth);
+  write_file(dir + "/base.yaml", base);
+  const std::string meas = shell_quote(dir + "/meas.csv");
+  CommandResult r = run_command(ccomp() + " simulate -m " + shell_quote(dir + "/truth.yaml") +
+                                " --plan thermal --plan nine_lines --noise 0.2 --seed 3 -o " + meas);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  r = run_command(ccomp() + " check " + meas + " -m " + shell_quote(dir + "/base.yaml") + " --json");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  std::smatch m;
+  ASSERT_TRUE(std::regex_search(r.out, m, std::regex("\"spec\": \"([^\"]*)\""))) << r.out;
+  const std::string spec = m[1];
+  EXPECT_NE(spec.find("variable: T_spindle"), std::string::npos) << spec;
+  r = run_command(ccomp() + " fit " + meas + " -m " + shell_quote(dir + "/base.yaml") + " --add '" + spec + "' -o " +
+                  shell_quote(dir + "/fitted.yaml"));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const std::string fitted = read_file(dir + "/fitted.yaml");
+  EXPECT_NE(fitted.find("sensors:\n  - spindle"), std::string::npos) << fitted;
+  r = run_command(ccomp() + " check " + meas + " -m " + shell_quote(dir + "/fitted.yaml"));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_LT(rms_of(r.out), 1.3 * 0.2) << r.out;
+  EXPECT_NE(r.out.find("missing effects: none"), std::string::npos) << r.out;
+}
+
 }  // namespace
 }  // namespace ccomp::test

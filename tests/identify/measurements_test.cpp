@@ -77,8 +77,6 @@ TEST(Measurements, ErrorsNameRowColumnAndCause) {
       {"x,y,z,T_spindle,vx,dx,dy,dz\n1,2,3,20,2,0,0,0\n", 2, 10, "+1, -1 or 0"},
       {"x,y,z,T_spindle,nx,ny,nz,d\n", 1, 1, "no readings after the header"},
       {"# only a comment\nx,y,z,T_spindle,nx,ny,nz,d\n\n", 2, 1, "no readings after the header"},
-      {"x,y,z,T_spindle,nx,ny,nz,d\n1,2,3,20,1,0,0,0.001\n4,5,6,20,1,0,0,0.002\n1,2,3,20,1,0,0,0.001\n", 4, 1,
-       "repeats row 2 exactly"},
       // um where mm is due: 2.5 and 4.1 "mm" of deviation, beyond the model's 0.5 mm bound.
       {"x,y,z,T_spindle,nx,ny,nz,d\n1,2,3,20,1,0,0,2.5\n4,5,6,20,1,0,0,-4.1\n7,8,9,20,1,0,0,0.3\n", 2, 26,
        "written in um?"},
@@ -91,6 +89,29 @@ TEST(Measurements, ErrorsNameRowColumnAndCause) {
     EXPECT_EQ(e.where().column, c.column) << c.text << e.message();
     EXPECT_NE(e.message().find(c.says), std::string::npos) << e.message();
   }
+}
+
+TEST(Measurements, ARepeatedRowIsKeptAndSaid) {
+  // Repeated approaches read at 1 um resolution give the same row twice (ISO 230-2); a file
+  // pasted in twice does too: kept, and the reader says where.
+  const MeasurementSet s =
+      parse("x,y,z,T_spindle,vx,nx,ny,nz,d\n1,2,3,20,1,1,0,0,0.001\n4,5,6,20,1,1,0,0,0.002\n1,2,3,20,1,1,0,0,0.001\n");
+  EXPECT_EQ(s.observations.size(), 3U);
+  ASSERT_EQ(s.notices.size(), 1U);
+  EXPECT_NE(s.notices[0].find("m.csv:4: the row repeats row 2"), std::string::npos) << s.notices[0];
+}
+
+TEST(Measurements, SensorsTheModelLacksAreReadForTheDiagnosis) {
+  MeasurementSet s;
+  parse_measurements("x,y,z,T_spindle,T_column,nx,ny,nz,d\n1,2,3,20,21.5,1,0,0,0.001\n", "a.csv", hmc(), {}, s);
+  parse_measurements("x,y,z,T_spindle,nx,ny,nz,d\n4,5,6,22,1,0,0,0.002\n", "b.csv", hmc(), {}, s);
+  ASSERT_EQ(s.sensors.size(), 3U);
+  EXPECT_EQ(s.sensors[0], "bed") << "the model's first";
+  EXPECT_EQ(s.sensors[1], "spindle");
+  EXPECT_EQ(s.sensors[2], "column");
+  EXPECT_DOUBLE_EQ(s.observations[0].temperatures[2], 21.5);
+  EXPECT_TRUE(std::isnan(s.observations[1].temperatures[2])) << "b.csv has no T_column";
+  for (const std::string& notice : s.notices) EXPECT_EQ(notice.find("T_column"), std::string::npos) << notice;
 }
 
 TEST(Measurements, ASpikeIsNotTakenForAWrongUnit) {

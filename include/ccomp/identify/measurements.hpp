@@ -16,7 +16,7 @@ namespace ccomp::identify {
 struct Observation {
   model::ChainQ q = model::ChainQ::Zero();               ///< axes (mm, rad) and the tool length
   double time = 0.0;                                     ///< s
-  std::vector<double> temperatures;                      ///< degC, one per sensor of the model
+  std::vector<double> temperatures;                      ///< degC, one per sensor of the set (NaN: not read)
   std::array<double, 9> directions{};                    ///< approach sign of each axis: +1, -1, 0 unknown
   Eigen::Vector3d direction = Eigen::Vector3d::UnitX();  ///< unit, machine-axis directions
   double value = 0.0;                                    ///< measured deviation along `direction`, mm
@@ -34,6 +34,9 @@ struct VariableRange {
 
 struct MeasurementSet {
   std::vector<std::string> files;
+  /// Every sensor the files read (their T_<name> columns): the model's first, in its order,
+  /// then the others as they appear. A missing effect may depend on one the model lacks.
+  std::vector<std::string> sensors;
   std::vector<std::string> sources;  ///< labels from the `source` column (or the file name)
   std::vector<Observation> observations;
   std::vector<std::string> notices;  ///< unknown columns, ignored
