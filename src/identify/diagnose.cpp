@@ -39,6 +39,9 @@ struct Probe {
   Eigen::VectorXd r_rows;          // the residual there
 };
 
+/// How many of its cycles the data must cover for a periodic effect to be named.
+constexpr double kCyclesForAPeriod = 4.0;
+
 /// A candidate effect: its words, its term, and its basis functions of an observation
 /// (a scanned parameter, a period or a time constant, where it has one).
 struct Candidate {
@@ -283,7 +286,9 @@ std::vector<Candidate> candidate_library(const model::MachineModel& mm, const Me
       c.probe = probe(a.link, a.own);
       periodic_in(c, [&a, position](const Observation& o) { return position(o, a); });
       // Periods below 2.5 steps of the data along the axis would alias.
-      c.scan_from = std::max(2.0, 2.5 * a.step), c.scan_to = span / 2.0;
+      // A period is named only where the data cover enough of its cycles to tell it from a
+      // slow curve (a shape the library lacks, a thermal drift seen along a line): four.
+      c.scan_from = std::max(2.0, 2.5 * a.step), c.scan_to = span / kCyclesForAPeriod;
       // Two frequencies per peak width (1 / span): a peak is seen at 80% of its height or
       // better, and refined between its neighbours.
       c.scan_points = static_cast<int>(std::clamp(2.0 * span / c.scan_from, 50.0, 6000.0));
@@ -429,7 +434,7 @@ std::vector<Candidate> candidate_library(const model::MachineModel& mm, const Me
       w.error = own, w.term = own, w.variable = v, w.form = "periodic";
       w.probe = probe(a.link, a.own);
       periodic_in(w, [&a, position](const Observation& o) { return position(o, a) / kRadPerDeg; });
-      w.scan_from = std::max(1.0, 2.5 * a.step), w.scan_to = std::min(90.0, span / 2.0);
+      w.scan_from = std::max(1.0, 2.5 * a.step), w.scan_to = std::min(90.0, span / kCyclesForAPeriod);
       w.scan_points = static_cast<int>(std::clamp(2.0 * span / w.scan_from, 50.0, 6000.0));
       w.yaml = [own, file_value, component = a.own](const Eigen::VectorXd& x, double period) {
         return fmt::format(
