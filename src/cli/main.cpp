@@ -19,7 +19,8 @@ constexpr const char* kExitCodes = R"(Exit codes:
   6   I/O error: a file could not be read or written
   7   refused: compensating would be unsafe (see the message); verify: the output is
       off the path by more than the tolerance, or leaves a cut out
-  8   data error: a measurement file is wrong (file:row:column on stderr)
+  8   data error: a measurement file is wrong (file:row:column on stderr), or the data
+      cannot support the fit (too few readings, a value far beyond its scale: not written)
   70  internal error: a bug in ccomp, please report it
 With several inputs the exit code is the highest of the files' codes.)";
 
