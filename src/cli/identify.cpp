@@ -155,6 +155,14 @@ int run_fit(const IdentifyArgs& args) {
     fmt::print("\n");
   }
   for (const std::string& u : r.unidentifiable) fmt::print("  identifiability: {}\n", u);
+  if (!r.outliers.empty()) {
+    fmt::print("  outliers: {} reading(s) beyond 5 robust sigmas{}:", r.outliers.size(),
+               args.robust ? "" : " (--robust keeps them from pulling the fit)");
+    for (std::size_t k = 0; k < r.outliers.size() && k < 10; ++k)
+      fmt::print(" {}:{} ({:+.3f} um)", data.files[r.outliers[k].file], r.outliers[k].row,
+                 r.outliers[k].residual * 1e3);
+    fmt::print("{}\n", r.outliers.size() > 10 ? " ..." : "");
+  }
   if (!r.refusals.empty()) {
     std::string why;
     for (const std::string& refusal : r.refusals) why += "\n  " + refusal;

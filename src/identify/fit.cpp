@@ -118,6 +118,25 @@ std::vector<double> rms_by_source(const Eigen::VectorXd& r, const MeasurementSet
   return sum;
 }
 
+/// Readings beyond 5 robust sigmas (the median absolute residual's) of the rest, when they
+/// are under 1% of the rows: many of them is a missing effect, not spikes.
+std::vector<FitReport::Outlier> outliers_of(const Eigen::VectorXd& r, const MeasurementSet& data) {
+  if (r.size() < 20) return {};
+  Eigen::VectorXd a = r.cwiseAbs();
+  std::nth_element(a.data(), a.data() + a.size() / 2, a.data() + a.size());
+  const double sigma = 1.4826 * a[a.size() / 2];
+  std::vector<FitReport::Outlier> out;
+  for (Eigen::Index i = 0; i < r.size(); ++i)
+    if (std::abs(r[i]) > 5.0 * sigma && std::abs(r[i]) > 1e-9) {
+      const Observation& o = data.observations[static_cast<std::size_t>(i)];
+      out.push_back({o.file, o.row, r[i]});
+    }
+  if (static_cast<double>(out.size()) > 0.01 * static_cast<double>(r.size())) return {};
+  std::sort(out.begin(), out.end(),
+            [](const auto& x, const auto& y) { return std::abs(x.residual) > std::abs(y.residual); });
+  return out;
+}
+
 }  // namespace
 
 void design_matrix(const model::ForwardModel& model, const Eigen::VectorXd& parameters, const MeasurementSet& data,
@@ -499,6 +518,7 @@ FitReport fit(const model::ForwardModel& model, const MeasurementSet& data, cons
     at_fit->jacobian = std::move(J);
   }
   report.max_after = r.size() ? r.cwiseAbs().maxCoeff() : 0.0;
+  report.outliers = outliers_of(r, data);
   report.source_rms_after = rms_by_source(r, data);
   report.singular_values = sigma;
   // Identifiability, in words, and the uncertainty of what was identified.

@@ -307,5 +307,25 @@ TEST(Fit, NeverEndsWorseThanItStartedAndRefusesValuesBeyondTheirScale) {
   EXPECT_TRUE(bounded);
 }
 
+TEST(Fit, SpikesAreFoundAndNamedByTheirRows) {
+  // A laser beam cut gives a few readings far off: named, with or without the robust loss.
+  const model::MachineModel truth = geometric();
+  MeasurementSet data = measure(truth, {Plan::nine_lines, Plan::grid}, 9);
+  const std::vector<std::size_t> spikes = {17, 400, 1203};
+  for (std::size_t i : spikes) data.observations[i].value += 0.05;
+  for (const Loss loss : {Loss::least_squares, Loss::huber}) {
+    FitOptions o;
+    o.loss = loss;
+    const FitReport r = fit(model::ForwardModel(truth), data, o);
+    ASSERT_EQ(r.outliers.size(), spikes.size());
+    std::vector<std::uint32_t> rows;
+    for (const FitReport::Outlier& out : r.outliers) rows.push_back(out.row);
+    for (std::size_t i : spikes)
+      EXPECT_NE(std::find(rows.begin(), rows.end(), data.observations[i].row), rows.end()) << "row of reading " << i;
+  }
+  // Clean data have none.
+  EXPECT_TRUE(fit(model::ForwardModel(truth), measure(truth, {Plan::nine_lines}, 10)).outliers.empty());
+}
+
 }  // namespace
 }  // namespace ccomp::identify

@@ -48,6 +48,13 @@ struct FitReport {
   std::vector<std::string> unidentifiable;  ///< in words, one per combination the data cannot determine
   double rms_before = 0.0, rms_after = 0.0, max_after = 0.0;  ///< mm
   double noise = 0.0;  ///< mm: the reading noise the data show (check's noise floor), 0 unknown
+  /// Readings the fitted model leaves more than 5 robust sigmas off, where they are few
+  /// (under 1% of the rows: spikes, a laser beam cut, not a missing effect), worst first.
+  struct Outlier {
+    std::uint32_t file = 0, row = 0;
+    double residual = 0.0;  ///< mm
+  };
+  std::vector<Outlier> outliers;
   /// Why the fitted values must not be written: a change beyond 100 physical scales, a model
   /// that predicts more than its max_correction. Empty: the fit may be used.
   std::vector<std::string> refusals;
