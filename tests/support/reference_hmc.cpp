@@ -83,7 +83,7 @@ std::vector<ReferenceReading> measure_reference(const ReferenceHmc& machine, con
       const int u = (axis + 1) % 3, w = (axis + 2) % 3;
       for (int line = 0; line < 3; ++line) {
         const std::string source = std::string(1, "xyz"[axis]) + "-line" + std::to_string(line + 1);
-        for (double t = -half[axis]; t <= half[axis] + 1e-9; t += 20.0) {
+        for (double t = -half[axis]; t <= half[axis] + 1e-9; t += plans.line_step) {
           double p[3];
           p[axis] = t, p[u] = offsets[line][0] * half[u], p[w] = offsets[line][1] * half[w];
           read(p[0], p[1], p[2], 0, 100, Vec3::Unit(axis), source);

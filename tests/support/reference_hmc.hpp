@@ -52,6 +52,7 @@ struct ReferencePlans {
   double noise = 0.0002;  ///< mm, one sigma, on every reading
   unsigned seed = 1;
   bool nine_lines = true, grid = true, sphere = true;
+  double line_step = 20.0;  ///< mm between a laser line's readings (a lead screw's pitch needs a few per period)
   std::vector<double> grid_tool_lengths{0.0, 200.0};
 };
 
