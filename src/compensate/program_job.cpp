@@ -718,22 +718,42 @@ class JobSink : public gcode::CanonSink {
     // The hole is approached the way the cycle travels to it: across to it, then down.
     compensator_->approach(chain_of(c.motions.front().start, c.offsets), bottom_nominal);
     move.max_deviation_before = std::max(compensator_->error_at(r_nominal), compensator_->error_at(bottom_nominal));
-    const model::ChainQ r_comp = compensator_->point(r_nominal, move);
-    const model::ChainQ bottom_comp = compensator_->point(bottom_nominal, move);
     const bool inch = c.units == gcode::Units::inch;
     const double unit = inch ? 25.4 : 1.0;
-    const gcode::Axes r_prog = program_of(r_comp, c.offsets, unit),
-                      bottom_prog = program_of(bottom_comp, c.offsets, unit);
     // The cycle's axis is the normal of its plane; the hole's position is in the plane.
     std::size_t normal = 2;
     for (std::size_t i = 0; i < 3; ++i)
       if (std::abs(last->end[i] - first->start[i]) > 1e-9) normal = i;
-    gcode::Axes hole = bottom_prog;
+    model::ChainQ r_comp, bottom_comp;
+    gcode::Axes r_prog{}, bottom_prog{}, hole{};
     double left = 0.0;
-    for (std::size_t i = 0; i < 3; ++i) {
-      if (i == normal) continue;
-      hole[i] = 0.5 * (r_prog[i] + bottom_prog[i]);
-      left = std::max(left, 0.5 * std::abs(r_prog[i] - bottom_prog[i]) * unit);
+    // The block's one X Y cannot carry a take-up: an axis that stands still from the last
+    // hole still travels by the change of its correction, and that travel decides its
+    // approach (a micrometre against the approach is only reached through the whole play).
+    // Solved again under the approach the compensated travel gives, until it stays.
+    for (int pass = 0; pass < 3; ++pass) {
+      MoveReport scratch;
+      MoveReport& solved = pass == 2 ? move : scratch;  // the last pass is the one written
+      r_comp = compensator_->point(r_nominal, solved);
+      bottom_comp = compensator_->point(bottom_nominal, solved);
+      r_prog = program_of(r_comp, c.offsets, unit);
+      bottom_prog = program_of(bottom_comp, c.offsets, unit);
+      hole = bottom_prog;
+      left = 0.0;
+      for (std::size_t i = 0; i < 3; ++i) {
+        if (i == normal) continue;
+        hole[i] = 0.5 * (r_prog[i] + bottom_prog[i]);
+        left = std::max(left, 0.5 * std::abs(r_prog[i] - bottom_prog[i]) * unit);
+      }
+      const model::ChainQ from = compensator_->commanded();
+      if (pass == 2 || !from.allFinite() ||
+          !compensator_->approach_by_travel(from, chain_of(controlled_of_program(hole, c.offsets, unit), c.offsets))) {
+        if (pass < 2) {  // settled: the points already solved are the ones written
+          move.max_correction = std::max(move.max_correction, scratch.max_correction);
+          move.max_orientation_error = std::max(move.max_orientation_error, scratch.max_orientation_error);
+        }
+        break;
+      }
     }
     move.max_deviation_after = left;
     account(move, c.units, c.line, c.text);

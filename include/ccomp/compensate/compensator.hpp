@@ -110,6 +110,11 @@ class Compensator {
   /// Sets the approach the next points are solved for: each axis with reversal terms
   /// travels the way `end - start` goes (or keeps its state when it does not move).
   void approach(const model::ChainQ& start, const model::ChainQ& end);
+  /// Sets each reversal axis' approach from its compensated travel `from` -> `to` where it
+  /// moves at all; true when that changed an approach (the points must be solved again).
+  /// Within an axis' play the tool does not follow a small travel against its approach: a
+  /// correction that asks for one is only reached by travelling through the play.
+  bool approach_by_travel(const model::ChainQ& from, const model::ChainQ& to);
   /// The approach state of each axis after what was commanded so far.
   [[nodiscard]] const std::array<double, 9>& play() const { return play_; }
 
@@ -119,9 +124,6 @@ class Compensator {
              std::vector<CompensatedPoint>& out, MoveReport& report);
   /// Axes whose play is short of `target` by more than the tolerance can bear.
   [[nodiscard]] unsigned unhidden(const std::array<double, 9>& target) const;
-  /// Sets each reversal axis' approach from its compensated travel `from` -> `to` where it
-  /// moves at all; true when that changed an approach (the points must be solved again).
-  bool approach_by_travel(const model::ChainQ& from, const model::ChainQ& to);
   /// How far the tool, where a move the compensator did not plan left the machine, is from
   /// the start of a move (nominal `start`, compensated `a`); 0 after a planned one.
   [[nodiscard]] double start_error(const model::ChainQ& start, const model::ChainQ& a);
