@@ -231,12 +231,17 @@ int run_check(const IdentifyArgs& args) {
           json_string(s.variable), json_string(s.form), s.period > 0 ? fmt::format("{:.8g}", s.period) : "null",
           s.period > 0 ? fmt::format("{:.3g}", s.period_uncertainty) : "null", json_string(s.spec), s.rms_before * 1e3,
           s.rms_after * 1e3, s.bic_delta, s.significance);
+    std::string ties;
+    for (const identify::Tie& t : d.ties)
+      ties +=
+          fmt::format("{}{{\"first\": {}, \"second\": {}, \"correlation\": {:.4f}, \"measurement\": {}}}",
+                      ties.empty() ? "" : ", ", t.first + 1, t.second + 1, t.correlation, json_string(t.measurement));
     fmt::print(
         "{{\"observations\": {}, \"rms_um\": {:.6f}, \"max_um\": {:.6f}, \"noise_floor_um\": {:.6f}, "
         "\"noise_method\": {}, \"rms_refit_um\": {:.6f}, \"sources\": [{}], \"regions\": [{}], "
-        "\"candidates_tried\": {}, \"suggestions\": [{}]}}\n",
+        "\"candidates_tried\": {}, \"suggestions\": [{}], \"ties\": [{}]}}\n",
         r.observations, r.rms * 1e3, r.max * 1e3, r.noise_floor * 1e3, json_string(r.noise_method), d.rms_refit * 1e3,
-        sources, regions, d.candidates_tried, suggestions);
+        sources, regions, d.candidates_tried, suggestions, ties);
     return 0;
   }
   print_summary(data);
@@ -262,6 +267,9 @@ int run_check(const IdentifyArgs& args) {
     fmt::print("\n   rms {:.3f} -> {:.3f} um, BIC {:+.1f}\n   add to the model:\n{}\n   or: ccomp fit ... --add '{}'\n",
                s.rms_before * 1e3, s.rms_after * 1e3, s.bic_delta, s.yaml, s.spec);
   }
+  for (const identify::Tie& t : d.ties)
+    fmt::print("the data cannot tell {} from {} (what they explain correlates {:.2f}): measure next: {}\n",
+               d.suggestions[t.first].spec, d.suggestions[t.second].spec, t.correlation, t.measurement);
   return 0;
 }
 

@@ -13,6 +13,7 @@
 
 #include "ccomp/identify/check.hpp"
 #include "ccomp/identify/fit.hpp"
+#include "ccomp/identify/next_measurement.hpp"
 #include "ccomp/identify/physical_scale.hpp"
 #include "ccomp/util/parallel.hpp"
 
@@ -832,6 +833,7 @@ Diagnosis diagnose(const model::ForwardModel& model, const MeasurementSet& data,
   }
 
   out.regions = residual_regions(mm, data, axes, base.r, out.rms_refit, out.noise);
+  out.ties = find_ties(out.suggestions, base.r);
   out.residual = std::move(base.r);
   return out;
 }

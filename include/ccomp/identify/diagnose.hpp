@@ -43,6 +43,13 @@ struct Region {
   double ratio = 0.0;  ///< against the rms everywhere
 };
 
+/// Two suggestions the data cannot tell apart, and the measurement that would.
+struct Tie {
+  std::size_t first = 0, second = 0;  ///< into Diagnosis::suggestions
+  double correlation = 0.0;           ///< of what each explains of the residual, on these data
+  std::string measurement;            ///< in words: what to measure to separate them, and why
+};
+
 struct DiagnoseOptions {
   double noise = 0.0;  ///< mm: the noise floor (check's estimate); 0 estimates it
   int max_suggestions = 5;
@@ -57,6 +64,8 @@ struct Diagnosis {
   Eigen::VectorXd residual;             ///< mm, per reading: the refitted model's (what the suggestions start from)
   std::vector<Suggestion> suggestions;  ///< best first, significant only
   std::vector<Region> regions;
+  /// The first suggestion and those the data cannot tell from it (next_measurement.hpp).
+  std::vector<Tie> ties;
   std::size_t candidates_tried = 0;
 };
 

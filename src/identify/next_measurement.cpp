@@ -1,0 +1,89 @@
+#include "ccomp/identify/next_measurement.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+#include <set>
+#include <sstream>
+
+namespace ccomp::identify {
+namespace {
+
+std::set<std::string> variables_of(const std::string& text) {
+  std::set<std::string> out;
+  std::stringstream in(text);
+  for (std::string v; std::getline(in, v, ',');)
+    if (!v.empty()) out.insert(v);
+  return out;
+}
+
+bool is_temperature(const std::string& v) {
+  return v.starts_with("T_");
+}
+
+/// The one variable of `a` that `b` lacks, or "".
+std::string only_in(const std::set<std::string>& a, const std::set<std::string>& b) {
+  for (const std::string& v : a)
+    if (!b.count(v)) return v;
+  return {};
+}
+
+}  // namespace
+
+std::string separating_measurement(const std::string& a, const std::string& b) {
+  const std::set<std::string> va = variables_of(a), vb = variables_of(b);
+  const std::string extra_a = only_in(va, vb), extra_b = only_in(vb, va);
+  if (va == vb)
+    return fmt::format(
+        "both vary with {}: readings over more of its range, or closer together, show which shape "
+        "it has",
+        a);
+  if (!extra_a.empty() && !extra_b.empty()) {
+    const std::string &p = extra_a, &q = extra_b;
+    if ((is_temperature(p) && q == "t") || (p == "t" && is_temperature(q))) {
+      const std::string& sensor = is_temperature(p) ? p : q;
+      return fmt::format(
+          "{} and the time since the start rose together in every run: a run where they do not (a "
+          "cool-down after the warm-up, or a warm-up at another spindle speed) tells a drift that "
+          "follows the temperature from one that follows the time",
+          sensor);
+    }
+    if (is_temperature(p) && is_temperature(q))
+      return fmt::format(
+          "{} and {} moved together: a run where one warms and the other does not (heat one source "
+          "alone) separates them",
+          p, q);
+    return fmt::format("{} and {} varied together in these readings: readings along {} at several {} separate them", p,
+                       q, p, q);
+  }
+  // One candidate depends on a variable more than the other (a cross-axis term against a
+  // higher order of the same axis): that variable must vary where the other stands still.
+  const std::string& more = extra_a.empty() ? extra_b : extra_a;
+  const std::set<std::string>& fewer = extra_a.empty() ? va : vb;
+  return fmt::format(
+      "readings along {} at several {} separate an effect that changes with {} from one that does "
+      "not",
+      *fewer.begin(), more, more);
+}
+
+std::vector<Tie> find_ties(const std::vector<Suggestion>& suggestions, const Eigen::VectorXd& residual) {
+  std::vector<Tie> out;
+  if (suggestions.size() < 2) return out;
+  const Suggestion& first = suggestions.front();
+  if (first.residual.size() != residual.size()) return out;
+  const Eigen::VectorXd explained_first = residual - first.residual;
+  const double gain = first.rms_before - first.rms_after;
+  for (std::size_t k = 1; k < suggestions.size(); ++k) {
+    const Suggestion& s = suggestions[k];
+    if (s.residual.size() != residual.size() || (s.term == first.term && s.variable == first.variable)) continue;
+    const Eigen::VectorXd explained = residual - s.residual;
+    const double norms = explained.norm() * explained_first.norm();
+    const double correlation = norms > 0 ? explained.dot(explained_first) / norms : 0.0;
+    if (correlation < 0.9 || s.rms_after - first.rms_after > 0.1 * gain) continue;
+    out.push_back({0, k, correlation, separating_measurement(first.variable, s.variable)});
+  }
+  return out;
+}
+
+}  // namespace ccomp::identify
