@@ -10,30 +10,13 @@
 #include "ccomp/identify/fit.hpp"
 #include "ccomp/identify/measurements.hpp"
 #include "reference_hmc.hpp"
+#include "reference_measurements.hpp"
 #include "sample_models.hpp"
 
 namespace ccomp::identify {
 namespace {
 
 constexpr double kNoise = 0.0002;  // mm
-
-MeasurementSet as_measurements(const std::vector<test::ReferenceReading>& readings, const model::MachineModel& m) {
-  MeasurementSet set;
-  set.files = {"reference"};
-  for (const test::ReferenceReading& r : readings) {
-    Observation o;
-    o.q << r.x, r.y, r.z, 0, r.b_deg * std::numbers::pi / 180.0, 0, 0, 0, 0, r.L;
-    o.temperatures.assign(m.sensors.size(), 20.0);
-    o.direction = r.direction;
-    o.value = r.value;
-    auto at = std::find(set.sources.begin(), set.sources.end(), r.source);
-    if (at == set.sources.end()) at = set.sources.insert(set.sources.end(), r.source);
-    o.source = static_cast<std::uint32_t>(at - set.sources.begin());
-    o.row = static_cast<std::uint32_t>(set.observations.size() + 2);
-    set.observations.push_back(o);
-  }
-  return set;
-}
 
 /// The geometric model to fit: error motions as quadratics, the location errors, all free
 /// and starting at zero.
@@ -69,7 +52,7 @@ TEST(LocationFit, SquarenessAndTheBAxisLocationOfAReferenceMachineAreFittedBack)
   truth.EZZ = [](double z) { return 1.5e-5 * z - 1e-8 * z * z; };
   truth.EAY = [](double y) { return 4e-6 + 1.8e-8 * y; };
   const model::ForwardModel start(geometric_start());
-  const MeasurementSet data = as_measurements(test::measure_reference(truth, {kNoise, 7}), start.machine());
+  const MeasurementSet data = test::reference_measurements(test::measure_reference(truth, {kNoise, 7}));
   const FitReport r = fit(start, data);
   EXPECT_TRUE(r.converged);
   EXPECT_GT(r.rms_before, 0.005) << "the start misses several um";

@@ -14,7 +14,9 @@
 #include "ccomp/identify/diagnose.hpp"
 #include "ccomp/identify/fit.hpp"
 #include "job_runner.hpp"
+#include "metrology_loop.hpp"
 #include "reference_hmc.hpp"
+#include "reference_measurements.hpp"
 #include "trace_capture.hpp"
 
 namespace ccomp::identify {
@@ -22,50 +24,16 @@ namespace {
 
 constexpr double kNoise = 0.0002;  // mm
 
-/// The reference: the sample HMC's kind of errors, other values, and a 10 mm lead-screw
-/// error on X that the geometric model lacks.
+/// The reference: a machine of the sample HMC's kind with a 10 mm lead-screw error on X
+/// that the geometric model lacks.
 test::ReferenceHmc reference() {
-  test::ReferenceHmc m;
-  m.EC0X = 22e-6, m.EB0X = -14e-6, m.EA0Y = 17e-6;
-  m.EX0B = 0.015, m.EZ0B = -0.006, m.EA0B = 18e-6, m.EC0B = -27e-6;
-  m.EXX = [](double x) {
-    return 1.4e-5 * x - 1.2e-8 * x * x + 0.0018 * std::cos(2 * std::numbers::pi * x / 10.0) -
+  test::ReferenceHmc m = test::geometric_reference();
+  const auto polynomial = m.EXX;
+  m.EXX = [polynomial](double x) {
+    return polynomial(x) + 0.0018 * std::cos(2 * std::numbers::pi * x / 10.0) -
            0.0009 * std::sin(2 * std::numbers::pi * x / 10.0);
   };
-  m.EYX = [](double x) { return 1.8e-8 * x * x; };
-  m.EZX = [](double x) { return -1.1e-8 * x * x; };
-  m.EYY = [](double y) { return 8e-6 * y + 1.2e-8 * y * y; };
-  m.EZY = [](double y) { return 9e-9 * y * y; };
-  m.EZZ = [](double z) { return 1.3e-5 * z - 7e-9 * z * z; };
-  m.EAY = [](double y) { return 3e-6 + 1.5e-8 * y; };
   return m;
-}
-
-MeasurementSet as_measurements(const std::vector<test::ReferenceReading>& readings) {
-  MeasurementSet set;
-  set.files = {"reference.csv"};
-  for (const test::ReferenceReading& r : readings) {
-    Observation o;
-    o.q << r.x, r.y, r.z, 0, r.b_deg * std::numbers::pi / 180.0, 0, 0, 0, 0, r.L;
-    o.direction = r.direction;
-    o.value = r.value;
-    auto at = std::find(set.sources.begin(), set.sources.end(), r.source);
-    if (at == set.sources.end()) at = set.sources.insert(set.sources.end(), r.source);
-    o.source = static_cast<std::uint32_t>(at - set.sources.begin());
-    o.row = static_cast<std::uint32_t>(set.observations.size() + 2);
-    set.observations.push_back(o);
-  }
-  return set;
-}
-
-/// The fitted model file: `text` with the fit's values written back.
-std::string fitted_text(const std::string& text, const model::MachineModel& m, const FitReport& r) {
-  const model::ForwardModel f(m);
-  std::vector<Eigen::VectorXd> per_term;
-  for (std::size_t t = 0; t < m.terms.size(); ++t)
-    per_term.push_back(
-        r.all_parameters.segment(static_cast<Eigen::Index>(f.parameter_offset(t)), m.terms[t].parameters.size()));
-  return model::rewrite_parameters(text, m, per_term, "{by: reference_loop_test}");
 }
 
 /// A slanted rectangle cut at each table angle, across the workspace.
@@ -114,32 +82,19 @@ TEST(ReferenceLoop, FollowingTheSuggestionsThenCompensatingLeavesUnderFivePercen
   const test::ReferenceHmc machine = reference();
   test::ReferencePlans plans;
   plans.noise = kNoise, plans.seed = 11, plans.line_step = 2.5;  // four readings per screw pitch, as the samples
-  const MeasurementSet data = as_measurements(test::measure_reference(machine, plans));
+  const MeasurementSet data = test::reference_measurements(test::measure_reference(machine, plans));
   // The loop, as a script follows check --json: add the first suggestion, refit, again.
-  std::string text = test::read_file(test::source_dir() + "/samples/machines/hmc-xyzb-geometric.yaml");
-  model::MachineModel m = model::parse_machine_model(text, "geometric.yaml");
-  FitReport last = fit(model::ForwardModel(m), data);
-  ASSERT_TRUE(last.refusals.empty());
-  text = fitted_text(text, m, last);
-  std::vector<std::string> added;
-  for (int round = 0; round < 4; ++round) {
-    m = model::parse_machine_model(text, "fitted.yaml");
-    const Diagnosis d = diagnose(model::ForwardModel(m), data);
-    if (d.suggestions.empty()) break;
-    added.push_back(d.suggestions.front().spec);
-    text = model::add_terms(text, {d.suggestions.front().spec}, "fitted.yaml");
-    m = model::parse_machine_model(text, "fitted.yaml");
-    last = fit(model::ForwardModel(m), data);
-    ASSERT_TRUE(last.refusals.empty()) << last.refusals.front();
-    text = fitted_text(text, m, last);
-  }
-  m = model::parse_machine_model(text, "fitted.yaml");
+  const test::LoopResult loop =
+      test::follow_the_loop(test::read_file(test::source_dir() + "/samples/machines/hmc-xyzb-geometric.yaml"), data);
+  ASSERT_TRUE(loop.refusals.empty()) << loop.refusals.front();
+  const std::vector<std::string>& added = loop.added;
+  const model::MachineModel m = model::parse_machine_model(loop.text, "fitted.yaml");
   ASSERT_FALSE(added.empty()) << "the lead screw is missing from the geometric model";
   EXPECT_NE(added.front().find("name: EXX, form: periodic, period: "), std::string::npos) << added.front();
   const double period = std::stod(added.front().substr(added.front().find("period: ") + 8));
   EXPECT_NEAR(period, 10.0, 0.01) << added.front();
-  EXPECT_TRUE(diagnose(model::ForwardModel(m), data).suggestions.empty()) << "the loop ends: nothing is missing";
-  EXPECT_LE(fit(model::ForwardModel(m), data).rms_after, 1.3 * kNoise);
+  EXPECT_TRUE(loop.ended) << "the loop ends: nothing is missing";
+  EXPECT_LE(loop.last.rms_after, 1.3 * kNoise);
   // Compensate with the model the loop ended with; judge on the reference machine.
   const std::string program = contour_program();
   gcode::InterpreterOptions with_tool;

@@ -28,7 +28,8 @@ Mat3 nominal_table_turn(double b_rad) {
 
 }  // namespace
 
-Eigen::Vector3d ReferenceHmc::deviation(double x, double y, double z, double b_deg, double L) const {
+Eigen::Vector3d ReferenceHmc::deviation(double x, double y, double z, double b_deg, double L,
+                                        const State& state) const {
   const double b = b_deg * std::numbers::pi / 180.0;
   // The tool tip in the machine frame: the head on Y's line, its own error motions, the
   // pitch acting through the tool length (the tip is L below the head's reference point).
@@ -49,7 +50,13 @@ Eigen::Vector3d ReferenceHmc::deviation(double x, double y, double z, double b_d
   const Vec3 actual = line_point + turn.transpose() * (tool - centre - line_point);
   const Mat3 nominal_turn = nominal_table_turn(b);
   const Vec3 nominal = nominal_turn.transpose() * Vec3(x, y, z + b_centre - L);
-  return nominal_turn * (actual - nominal);
+  // Translations of the tool against the work that no line turns: the play each carriage
+  // leaves behind by its approach, the spindle's growth.
+  Vec3 shift = Vec3::Zero();
+  for (int i = 0; i < 3; ++i)
+    shift[i] = 0.5 * reversal[static_cast<std::size_t>(i)] * state.approach[static_cast<std::size_t>(i)];
+  shift.z() += spindle_growth * (state.spindle_T - 20.0);
+  return nominal_turn * (actual - nominal) + shift;
 }
 
 Eigen::Vector3d ReferenceHmc::nominal_table_point(double x, double y, double z, double b_deg, double L) const {
@@ -67,13 +74,29 @@ Eigen::Vector3d ReferenceHmc::axes_for_table_point(const Eigen::Vector3d& s, dou
   return Vec3(v.x(), v.y(), v.z() - b_centre + L);
 }
 
+ReferenceHmc geometric_reference() {
+  ReferenceHmc m;
+  m.EC0X = 22e-6, m.EB0X = -14e-6, m.EA0Y = 17e-6;
+  m.EX0B = 0.015, m.EZ0B = -0.006, m.EA0B = 18e-6, m.EC0B = -27e-6;
+  m.EXX = [](double x) { return 1.4e-5 * x - 1.2e-8 * x * x; };
+  m.EYX = [](double x) { return 1.8e-8 * x * x; };
+  m.EZX = [](double x) { return -1.1e-8 * x * x; };
+  m.EYY = [](double y) { return 8e-6 * y + 1.2e-8 * y * y; };
+  m.EZY = [](double y) { return 9e-9 * y * y; };
+  m.EZZ = [](double z) { return 1.3e-5 * z - 7e-9 * z * z; };
+  m.EAY = [](double y) { return 3e-6 + 1.5e-8 * y; };
+  return m;
+}
+
 std::vector<ReferenceReading> measure_reference(const ReferenceHmc& machine, const ReferencePlans& plans) {
   std::mt19937 rng(plans.seed);
   std::normal_distribution<double> noise(0.0, plans.noise);
   std::vector<ReferenceReading> out;
+  ReferenceHmc::State state;  // as the plan leaves the machine for the next reading
+  double time = 0.0;
   auto read = [&](double x, double y, double z, double b, double L, const Vec3& n, const std::string& source) {
-    const double d = n.dot(machine.deviation(x, y, z, b, L)) + (plans.noise > 0 ? noise(rng) : 0.0);
-    out.push_back({x, y, z, b, L, n, d, source});
+    const double d = n.dot(machine.deviation(x, y, z, b, L, state)) + (plans.noise > 0 ? noise(rng) : 0.0);
+    out.push_back({x, y, z, b, L, state, time, n, d, source});
   };
   const double half[3] = {400, 300, 300};  // the workspace: +-400 X, +-300 Y, +-300 Z
   if (plans.nine_lines) {
@@ -83,16 +106,23 @@ std::vector<ReferenceReading> measure_reference(const ReferenceHmc& machine, con
       const int u = (axis + 1) % 3, w = (axis + 2) % 3;
       for (int line = 0; line < 3; ++line) {
         const std::string source = std::string(1, "xyz"[axis]) + "-line" + std::to_string(line + 1);
-        for (double t = -half[axis]; t <= half[axis] + 1e-9; t += plans.line_step) {
-          double p[3];
-          p[axis] = t, p[u] = offsets[line][0] * half[u], p[w] = offsets[line][1] * half[w];
-          read(p[0], p[1], p[2], 0, 100, Vec3::Unit(axis), source);
-          if (line < 2) read(p[0], p[1], p[2], 0, 100, Vec3::Unit(u), source);
-          if (line == 0) read(p[0], p[1], p[2], 0, 100, Vec3::Unit(w), source);
+        const int count = static_cast<int>(std::floor(2 * half[axis] / plans.line_step + 1e-9)) + 1;
+        for (int pass = 0; pass < 2; ++pass) {  // out (approaching upward), then back
+          state.approach = {};
+          state.approach[static_cast<std::size_t>(axis)] = pass == 0 ? 1.0 : -1.0;
+          for (int k = 0; k < count; ++k) {
+            const double t = -half[axis] + plans.line_step * (pass == 0 ? k : count - 1 - k);
+            double p[3];
+            p[axis] = t, p[u] = offsets[line][0] * half[u], p[w] = offsets[line][1] * half[w];
+            read(p[0], p[1], p[2], 0, 100, Vec3::Unit(axis), source);
+            if (line < 2) read(p[0], p[1], p[2], 0, 100, Vec3::Unit(u), source);
+            if (line == 0) read(p[0], p[1], p[2], 0, 100, Vec3::Unit(w), source);
+          }
         }
       }
     }
   }
+  state.approach = {1.0, 1.0, 1.0};  // the grid and the spheres are approached from below
   if (plans.grid)
     for (double L : plans.grid_tool_lengths)
       for (int i = 0; i < 5; ++i)
@@ -107,6 +137,13 @@ std::vector<ReferenceReading> measure_reference(const ReferenceHmc& machine, con
         const Vec3 q = machine.axes_for_table_point(s, b, 100);
         for (int c = 0; c < 3; ++c) read(q.x(), q.y(), q.z(), b, 100, Vec3::Unit(c), "sphere");
       }
+  if (plans.thermal)
+    for (int k = 0; k <= 24; ++k) {  // every 10 minutes for 4 hours
+      time = 600.0 * k;
+      state.spindle_T = 20.0 + 12.0 * (1.0 - std::exp(-time / 2400.0));
+      for (const Vec3& p : {Vec3(-300, 0, -300), Vec3(0, 0, 0), Vec3(300, 0, 300)})
+        for (int c = 0; c < 3; ++c) read(p.x(), p.y(), p.z(), 0, 100, Vec3::Unit(c), "thermal");
+    }
   return out;
 }
 

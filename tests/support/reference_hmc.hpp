@@ -9,11 +9,19 @@
 // nose along Z), B turns the table about the vertical, Y carries the spindle head, the tool
 // hangs L below the head along -Z. Every error is the tool's relative to the workpiece.
 #include <Eigen/Core>
+#include <array>
 #include <functional>
 #include <string>
 #include <vector>
 
 namespace ccomp::test {
+
+/// What a reading of the reference depends on besides the axes: the approach of X, Y and Z
+/// (+1 after travelling up, -1 down, 0 unknown) and the spindle's temperature (degC).
+struct ReferenceState {
+  std::array<double, 3> approach{};
+  double spindle_T = 20.0;
+};
 
 struct ReferenceHmc {
   // Location errors (ISO 230-1): the tool relative to the workpiece travels along X's line
@@ -26,11 +34,19 @@ struct ReferenceHmc {
   // Error motions, mm of the tool's deviation (rad for the Y head's pitch EAY) as functions
   // of the axis position (mm). Empty: none.
   std::function<double(double)> EXX, EYX, EZX, EYY, EZY, EZZ, EAY;
+  /// Reversal of X, Y, Z's positioning (mm), as ISO 230-2 gives it: the upward error less
+  /// the downward one. The tool is off along the axis by half of it times the approach.
+  std::array<double, 3> reversal{};
+  /// The spindle grows along Z with the temperature its sensor reads: mm per degC above 20.
+  double spindle_growth = 0.0;
   double b_centre = 400.0;  ///< mm from the spindle nose to the B centre along Z
+
+  using State = ReferenceState;
 
   /// The tool tip's deviation from where it should touch the part, in machine-axis
   /// directions (mm), for program (chain) values x y z (mm), b (deg) and tool length L (mm).
-  [[nodiscard]] Eigen::Vector3d deviation(double x, double y, double z, double b_deg, double L) const;
+  [[nodiscard]] Eigen::Vector3d deviation(double x, double y, double z, double b_deg, double L,
+                                          const State& state = ReferenceState{}) const;
   /// Where the tool tip really is on the table (table frame, mm), and where the perfect
   /// machine would put it.
   [[nodiscard]] Eigen::Vector3d actual_table_point(double x, double y, double z, double b_deg, double L) const;
@@ -40,9 +56,15 @@ struct ReferenceHmc {
   [[nodiscard]] Eigen::Vector3d axes_for_table_point(const Eigen::Vector3d& s, double b_deg, double L) const;
 };
 
+/// A machine of the sample HMC's kind (samples/machines/hmc-xyzb-geometric.yaml): its
+/// squareness, the B axis' line and its carriages' error motions, with values of its own.
+[[nodiscard]] ReferenceHmc geometric_reference();
+
 /// One reading of the reference: the deviation along `direction` at chain values.
 struct ReferenceReading {
   double x = 0, y = 0, z = 0, b_deg = 0, L = 0;
+  ReferenceHmc::State state;
+  double time = 0;  ///< s since the start
   Eigen::Vector3d direction = Eigen::Vector3d::UnitX();
   double value = 0;  ///< mm, noise included
   std::string source;
@@ -52,13 +74,15 @@ struct ReferencePlans {
   double noise = 0.0002;  ///< mm, one sigma, on every reading
   unsigned seed = 1;
   bool nine_lines = true, grid = true, sphere = true;
+  bool thermal = false;     ///< three points read every 10 minutes for 4 hours while the spindle warms 20 -> 32 degC
   double line_step = 20.0;  ///< mm between a laser line's readings (a lead screw's pitch needs a few per period)
   std::vector<double> grid_tool_lengths{0.0, 200.0};
 };
 
-/// Measures the reference: nine laser lines (three per axis at B0: positioning on each,
-/// straightness across on lines 1 and 2), a 5x5x5 grid of full deviations at each tool
-/// length, and two spheres on the table probed every 15 deg of B.
+/// Measures the reference: nine laser lines (three per axis at B0, out and back:
+/// positioning on each, straightness across on lines 1 and 2), a 5x5x5 grid of full
+/// deviations at each tool length, two spheres on the table probed every 15 deg of B, and
+/// with `thermal` a warm-up run.
 [[nodiscard]] std::vector<ReferenceReading> measure_reference(const ReferenceHmc& machine, const ReferencePlans& plans);
 
 }  // namespace ccomp::test

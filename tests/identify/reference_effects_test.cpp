@@ -1,0 +1,92 @@
+// The loop on data ccomp did not make: a reference machine written apart from ccomp's model
+// code (tests/support/reference_hmc) with one hidden effect, two at once, or none, measured
+// as a metrology engineer would, and the loop followed from the geometric sample model as a
+// script follows `ccomp check --json`. It must name the hidden effects, end at the noise,
+// never write a value beyond its scale, and on data with nothing hidden add nothing.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <functional>
+#include <numbers>
+
+#include "metrology_loop.hpp"
+#include "reference_hmc.hpp"
+#include "reference_measurements.hpp"
+#include "trace_capture.hpp"
+
+namespace ccomp::test {
+namespace {
+
+constexpr double kNoise = 0.0002;  // mm
+
+struct Hidden {
+  const char* name;
+  std::function<void(ReferenceHmc&)> hide;
+  bool thermal = false;                   ///< the plans include a warm-up run
+  std::vector<std::string> named;         ///< what the added specs must say, one each ("name: EXX, form: periodic")
+  std::vector<std::string> alternatives;  ///< a spec the data cannot tell from the named one may stand instead
+};
+
+void PrintTo(const Hidden& h, std::ostream* os) {
+  *os << h.name;
+}
+
+/// The polynomial of an axis with `more` added.
+std::function<double(double)> plus(std::function<double(double)> base, std::function<double(double)> more) {
+  return [base, more](double v) { return base(v) + more(v); };
+}
+
+const Hidden kCases[] = {
+    {"nothing_hidden", [](ReferenceHmc&) {}, false, {}},
+    {"lead_screw",
+     [](ReferenceHmc& m) {
+       m.EXX = plus(m.EXX, [](double x) { return 0.0015 * std::sin(2 * std::numbers::pi * x / 10.0 + 0.4); });
+     },
+     false,
+     {"name: EXX, form: periodic"}},
+    {"backlash", [](ReferenceHmc& m) { m.reversal[1] = -0.0035; }, false, {"name: EYY, variable: vy, form: reversal"}},
+    {"higher_order",
+     [](ReferenceHmc& m) { m.EYX = plus(m.EYX, [](double x) { return 3e-11 * x * x * x; }); },
+     false,
+     {"name: EYX, form: polynomial"}},
+    {"spindle_growth",
+     [](ReferenceHmc& m) { m.spindle_growth = 0.0025; },
+     true,
+     {"variable: T_spindle, form: thermal"},
+     {"variable: t, form: warmup"}},
+    {"screw_and_backlash",
+     [](ReferenceHmc& m) {
+       m.EXX = plus(m.EXX, [](double x) { return 0.0015 * std::sin(2 * std::numbers::pi * x / 10.0 + 0.4); });
+       m.reversal[1] = -0.0035;
+     },
+     false,
+     {"name: EYY, variable: vy, form: reversal", "name: EXX, form: periodic"}},
+};
+
+class ReferenceEffects : public ::testing::TestWithParam<Hidden> {};
+
+TEST_P(ReferenceEffects, TheLoopNamesWhatIsHiddenEndsAtTheNoiseAndWritesNothingAbsurd) {
+  const Hidden& h = GetParam();
+  ReferenceHmc machine = geometric_reference();
+  h.hide(machine);
+  ReferencePlans plans;
+  plans.noise = kNoise, plans.seed = 21, plans.line_step = 2.5, plans.thermal = h.thermal;
+  const identify::MeasurementSet data = reference_measurements(measure_reference(machine, plans));
+  const LoopResult loop = follow_the_loop(read_file(source_dir() + "/samples/machines/hmc-xyzb-geometric.yaml"), data);
+  EXPECT_TRUE(loop.refusals.empty()) << h.name << ": " << (loop.refusals.empty() ? "" : loop.refusals.front());
+  EXPECT_TRUE(loop.ended) << h.name << ": still suggesting after " << loop.added.size() << " additions";
+  EXPECT_LE(loop.last.rms_after, 1.3 * kNoise) << h.name;
+  ASSERT_EQ(loop.added.size(), h.named.size()) << h.name << ": added " << ::testing::PrintToString(loop.added);
+  for (std::size_t i = 0; i < h.named.size(); ++i) {
+    const bool named = loop.added[i].find(h.named[i]) != std::string::npos;
+    const bool alternative = i < h.alternatives.size() && loop.added[i].find(h.alternatives[i]) != std::string::npos;
+    EXPECT_TRUE(named || alternative) << h.name << ": added " << loop.added[i] << ", expected " << h.named[i];
+    if (alternative) EXPECT_FALSE(loop.ties.empty()) << "a tie is said, with the measurement that would decide it";
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(Reference, ReferenceEffects, ::testing::ValuesIn(kCases),
+                         [](const auto& test) { return std::string(test.param.name); });
+
+}  // namespace
+}  // namespace ccomp::test
