@@ -22,3 +22,10 @@ for step in 1 2 3 4; do
   grep -E "^  rms .* -> " "$work/fit-$step.txt" | sed 's/^/  /'
   model="$work/fitted-$step.yaml"
 done
+# The model the loop ends with compensates a program, and verify proves the output.
+program=samples/programs/pocket-xy.ngc
+echo "\$ ccomp $program -m $model --tool-table samples/tools.tbl -o $work/pocket-xy.ngc -q"
+"$ccomp" "$program" -m "$model" --tool-table samples/tools.tbl -o "$work/pocket-xy.ngc" -q
+echo "\$ ccomp verify $program $work/pocket-xy.ngc -m $model --tool-table samples/tools.tbl"
+"$ccomp" verify "$program" "$work/pocket-xy.ngc" -m "$model" --tool-table samples/tools.tbl 2>&1 |
+  sed -E 's/ \(table point [^)]*\)//; s/^/  /'
