@@ -52,7 +52,9 @@ struct Candidate {
   int basis_count = 1;
   std::function<double(const Observation&, int k, double scanned)> basis;
   double scan_from = 0.0, scan_to = 0.0;  // of the scanned parameter (0, 0: none)
-  bool scan_frequency = true;             // scan evenly in 1/value (periods) or in log value (time constants)
+  /// How the scanned parameter is stepped: evenly in 1/value (periods), in log value (time
+  /// constants), or in value (a place along an axis).
+  enum class Spacing : std::uint8_t { frequency, logarithmic, linear } scan_spacing = Spacing::frequency;
   int scan_points = 0;
   /// Periodic candidates: the variable the period is in (mm, deg); the coarse scan steps
   /// the phase of every row by rotation instead of calling the basis.
@@ -338,6 +340,36 @@ std::vector<Candidate> candidate_library(const model::MachineModel& mm, const Me
         };
         candidates.push_back(h);
       }
+      // A local defect of the guideway or the scale (a bump, a scale joint): a bell at a
+      // scanned place along the axis, in each direction, at two widths (a short defect and
+      // a longer one, 1/64 and 1/24 of the travel as one standard deviation).
+      for (int component = 0; component < 3; ++component)
+        for (const double width : {span / 64.0, span / 24.0}) {
+          if (width < 2.0 * a.step) continue;  // a bell narrower than the readings' spacing is not seen
+          const std::string term = name(component, a.link, false);
+          Candidate b;
+          b.effect = fmt::format(
+              "a local defect of the {} axis' {} ({} wide): a bump in one place, not a shape of "
+              "the whole travel",
+              kAxisLetters[a.index],
+              component == a.own ? "positioning (a scale joint, a damaged screw)" : "straightness (a guideway's bump)",
+              fmt::format("{:.3g} mm", 4 * width));
+          b.error = term, b.term = term, b.variable = v, b.form = "bump";
+          b.probe = probe(a.link, component);
+          b.basis = [&a, position, width](const Observation& o, int, double at) {
+            const double u = (position(o, a) - at) / width;
+            return std::exp(-0.5 * u * u);
+          };
+          b.scan_from = a.from, b.scan_to = a.to, b.scan_spacing = Candidate::Spacing::linear;
+          b.scan_points = static_cast<int>(std::clamp(2.0 * span / width, 20.0, 400.0));  // two per width
+          b.yaml = [term, file_value, component, width](const Eigen::VectorXd& x, double at) {
+            return fmt::format(
+                "{{name: {}, form: bump, at: {:.6g} mm, width: {:.4g} mm, unit: um, amplitude: {:.4g}, "
+                "fit: true}}",
+                term, at, width, file_value(component, x[0]));
+          };
+          candidates.push_back(b);
+        }
       // Squareness: the axis' line turned about the other two, where the reference frame
       // leaves it free (Z's line is its primary axis, Y's lies in its Z-Y plane).
       for (int component = 3; component < 6; ++component) {
@@ -507,7 +539,8 @@ std::vector<Candidate> candidate_library(const model::MachineModel& mm, const Me
         w.error = "thermal", w.term = term, w.variable = "t", w.form = "exponential";
         w.probe = probe(spindle, component);
         w.basis = [](const Observation& o, int, double tau) { return 1.0 - std::exp(-o.time / tau); };
-        w.scan_from = 120.0, w.scan_to = 4 * 3600.0, w.scan_points = 60, w.scan_frequency = false;
+        w.scan_from = 120.0, w.scan_to = 4 * 3600.0, w.scan_points = 60;
+        w.scan_spacing = Candidate::Spacing::logarithmic;
         w.yaml = [term, file_value, component](const Eigen::VectorXd& x, double tau) {
           return fmt::format(
               "{{name: {}, variable: t, form: warmup, unit: um, amplitude: {:.4g}, time_constant: "
@@ -728,10 +761,19 @@ Diagnosis diagnose(const model::ForwardModel& model, const MeasurementSet& data,
     std::vector<double> values(static_cast<std::size_t>(c.scan_points)), gains(values.size());
     for (std::size_t k = 0; k < values.size(); ++k) {
       const double f = static_cast<double>(k) / static_cast<double>(values.size() - 1);
-      values[k] = c.scan_frequency ? 1.0 / (1.0 / c.scan_from + f * (1.0 / c.scan_to - 1.0 / c.scan_from))
-                                   : c.scan_from * std::pow(c.scan_to / c.scan_from, f);
+      switch (c.scan_spacing) {
+        case Candidate::Spacing::frequency:
+          values[k] = 1.0 / (1.0 / c.scan_from + f * (1.0 / c.scan_to - 1.0 / c.scan_from));
+          break;
+        case Candidate::Spacing::logarithmic:
+          values[k] = c.scan_from * std::pow(c.scan_to / c.scan_from, f);
+          break;
+        case Candidate::Spacing::linear:
+          values[k] = c.scan_from + f * (c.scan_to - c.scan_from);
+          break;
+      }
     }
-    if (c.scan_frequency && c.phase_variable) {
+    if (c.scan_spacing == Candidate::Spacing::frequency && c.phase_variable) {
       // A long frequency scan's coarse pass leaves out what the base absorbs (cheap);
       // its eight best local peaks are then weighed exactly. The frequencies are evenly
       // spaced, so each row's (cos, sin) steps by one rotation per frequency.
@@ -786,7 +828,7 @@ Diagnosis diagnose(const model::ForwardModel& model, const MeasurementSet& data,
     }
     // The gain and coefficients there, and the uncertainty from the curvature of the sum
     // of squares (a chi-square rise of 1).
-    const double h = 1e-4 * value;
+    const double h = 1e-4 * (value != 0.0 ? std::abs(value) : std::abs(c.scan_to - c.scan_from));
     Eigen::VectorXd x;
     const std::vector<double> last = exact_gains({value, value + h, value - h}, &x);
     const double curvature = (2 * last[0] - last[1] - last[2]) / (h * h);

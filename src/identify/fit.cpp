@@ -33,6 +33,8 @@ std::string parameter_label(const model::ErrorTermSpec& t, std::size_t k) {
       return fmt::format("{}.k_{}", n, t.primary.text);
     case TermForm::thermal_warmup:
       return k == 0 ? n + ".amplitude" : n + ".time_constant";
+    case TermForm::bump:
+      return n + (k == 0 ? ".amplitude" : k == 1 ? ".at" : ".width");
     case TermForm::scale_expansion:
       return n + ".alpha";
     case TermForm::cross_axis: {
@@ -270,6 +272,15 @@ FitReport fit(const model::ForwardModel& model, const MeasurementSet& data, cons
   // than the noise would (3 sigma), not when its column merely has a length.
   const Eigen::VectorXd physical = physical_scales(model, data);
   report.noise = noise_floor(data, r).value;
+  // A period, a time constant, a bump's place and width: what the shape of a term is, whose
+  // column is zero while its amplitudes are (decided again once they have moved).
+  auto is_shape = [&](Eigen::Index j) {
+    const FittedParameter& fp = report.parameters[static_cast<std::size_t>(j)];
+    const model::ErrorTermSpec& t = mm.terms[fp.term];
+    const std::size_t k = fp.index - model.parameter_offset(fp.term);
+    return (t.shape.form == TermForm::periodic && k == 0) || (t.shape.form == TermForm::thermal_warmup && k == 1) ||
+           (t.shape.form == TermForm::bump && k >= 1);
+  };
   // A parameter the data do not see on its own (a spindle's yaw when every tool tip sits on
   // its axis) is held exactly: it takes no part in any step. (Not a period or a time
   // constant whose amplitude is still zero: those are decided once the amplitudes move.)
@@ -280,12 +291,8 @@ FitReport fit(const model::ForwardModel& model, const MeasurementSet& data, cons
       effect[j] = std::sqrt(source_weight.dot(J.col(j).cwiseAbs2())) *
                   physical[static_cast<Eigen::Index>(free[static_cast<std::size_t>(j)])];
     for (Eigen::Index j = 0; j < m; ++j) {
-      const FittedParameter& fp = report.parameters[static_cast<std::size_t>(j)];
-      const model::ErrorTermSpec& t = mm.terms[fp.term];
-      const std::size_t k = fp.index - model.parameter_offset(fp.term);
-      const bool shape =
-          (t.shape.form == TermForm::periodic && k == 0) || (t.shape.form == TermForm::thermal_warmup && k == 1);
-      if (!shape && !(effect[j] > std::max(kSignificant * report.noise, options.rank_tolerance * effect.maxCoeff())))
+      if (!is_shape(j) &&
+          !(effect[j] > std::max(kSignificant * report.noise, options.rank_tolerance * effect.maxCoeff())))
         blind.push_back(j);
     }
   }
@@ -299,12 +306,7 @@ FitReport fit(const model::ForwardModel& model, const MeasurementSet& data, cons
   // amplitudes were zero): blind then, decided again once they have moved.
   auto has_blind_shape = [&] {
     for (Eigen::Index j = 0; j < m; ++j) {
-      const FittedParameter& fp = report.parameters[static_cast<std::size_t>(j)];
-      const model::ErrorTermSpec& t = mm.terms[fp.term];
-      const std::size_t k = fp.index - model.parameter_offset(fp.term);
-      const bool shape =
-          (t.shape.form == TermForm::periodic && k == 0) || (t.shape.form == TermForm::thermal_warmup && k == 1);
-      if (shape && column_norm[j] == 0.0) return true;
+      if (is_shape(j) && column_norm[j] == 0.0) return true;
     }
     return false;
   };

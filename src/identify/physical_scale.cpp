@@ -55,6 +55,8 @@ double term_scale(const model::ErrorTermSpec& t, std::size_t k, const Measuremen
       return out / reach(t.primary, data, t.shape.reference);
     case TermForm::thermal_warmup:
       return k == 0 ? out : std::abs(p[1]);
+    case TermForm::bump:  // its size; where it sits, on the axis' reach; its width
+      return k == 0 ? out : k == 1 ? reach(t.primary, data) : std::abs(p[2]);
     case TermForm::scale_expansion:
       return out / (reach(t.primary, data) * reach(t.secondary, data, t.shape.reference));
     case TermForm::cross_axis: {

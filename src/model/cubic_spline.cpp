@@ -49,8 +49,7 @@ void solve_moment_system(std::span<const double> x, double* r, std::vector<doubl
 /// w += D^T z over the knots, D the second-difference operator of the moment equations'
 /// right side, (D y)_i = (y[i+1] - y[i]) / h[i] - (y[i] - y[i-1]) / h[i-1] for the
 /// interior knots (z is zero at both ends).
-void add_difference_transpose(std::span<const double> x, const std::vector<double>& z,
-                              Eigen::Ref<Eigen::VectorXd> w) {
+void add_difference_transpose(std::span<const double> x, const std::vector<double>& z, Eigen::Ref<Eigen::VectorXd> w) {
   for (std::size_t i = 1; i + 1 < x.size(); ++i) {
     const double h0 = x[i] - x[i - 1], h1 = x[i + 1] - x[i];
     const auto e = static_cast<Eigen::Index>(i);

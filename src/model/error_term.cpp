@@ -100,6 +100,8 @@ std::size_t parameter_count(const TermShape& s) {
       return 1 + 2 * static_cast<std::size_t>(s.order);
     case TermForm::thermal_warmup:
       return 2;
+    case TermForm::bump:
+      return 3;
     case TermForm::cross_axis:
       return static_cast<std::size_t>(s.order_primary + 1) * static_cast<std::size_t>(s.order);
   }
@@ -192,6 +194,19 @@ void evaluate(const TermShape& s, const Eigen::Ref<const Eigen::VectorXd>& p, co
       r.d_primary = p[0] * dT;
       r.d_secondary = p[0] * v;
       if (grad) r.d_parameters[0] = v * dT;
+      break;
+    }
+    case TermForm::bump: {
+      // A (amplitude), c (where), w (how wide: one standard deviation of the bell).
+      const double amplitude = p[0], centre = p[1], width = p[2];
+      const double u = (v - centre) / width, g = std::exp(-0.5 * u * u);
+      r.value = amplitude * g;
+      r.d_primary = -amplitude * g * u / width;
+      if (grad) {
+        r.d_parameters[0] = g;
+        r.d_parameters[1] = amplitude * g * u / width;
+        r.d_parameters[2] = amplitude * g * u * u / width;
+      }
       break;
     }
     case TermForm::cross_axis: {

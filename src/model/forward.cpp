@@ -115,6 +115,7 @@ ForwardModel::ForwardModel(const MachineModel& model) : machine_(model) {
     if (t.shape.form == TermForm::table)
       for (std::size_t k = 1; k < t.shape.knots.size(); ++k)
         feature = std::min(feature, (t.shape.knots[k] - t.shape.knots[k - 1]) / 4.0);
+    if (t.shape.form == TermForm::bump) feature = std::abs(t.parameters[2]) / 4.0;  // a quarter of its width
     auto& f = feature_[static_cast<Eigen::Index>(t.primary.index)];
     f = std::min(f, std::abs(feature));
   }

@@ -71,6 +71,11 @@ std::string rewrite_parameters(const std::string& text, const MachineModel& mode
         put(n["amplitude"], 0);
         put(n["time_constant"], 1);
         break;
+      case TermForm::bump:
+        put(n["amplitude"], 0);
+        put(n["at"], 1);
+        put(n["width"], 2);
+        break;
       case TermForm::cross_axis: {
         const auto order = static_cast<std::size_t>(t.shape.order);
         for (Eigen::Index k = 0; k < p.size(); ++k)

@@ -362,6 +362,14 @@ void read_terms(const std::string& file, const YAML::Node& terms, MachineModel& 
       if (n["reference"]) t.shape.reference = quantity(file, n["reference"], kTemperature, "degC", what + " reference");
       p = {quantity(file, require("coefficient"), kTemperature.pow(-1), "1/degC", what + " coefficient")};
       scale = {1.0};
+    } else if (form == "bump") {
+      need_variable();
+      t.shape.form = TermForm::bump;
+      const double width = quantity(file, require("width"), vdim, vunit_text, what + " width");
+      if (!(width > 0) || !std::isfinite(width)) bad(file, n["width"], fmt::format("{}: width must be positive", what));
+      p = {amount(require("amplitude"), "amplitude"), quantity(file, require("at"), vdim, vunit_text, what + " at"),
+           width};
+      scale = {out, var, var};
     } else if (form == "cross_axis") {
       need_variable();
       t.shape.form = TermForm::cross_axis;
@@ -387,7 +395,7 @@ void read_terms(const std::string& file, const YAML::Node& terms, MachineModel& 
     } else {
       bad(file, n["form"],
           fmt::format("{}: unknown form '{}' (constant, polynomial, table, periodic, reversal, "
-                      "thermal, warmup, scale_expansion, cross_axis)",
+                      "thermal, warmup, scale_expansion, cross_axis, bump)",
                       what, form));
     }
     for (double& x : p) x *= iso.sign;

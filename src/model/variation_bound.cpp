@@ -37,7 +37,7 @@ Range axis_range(const MachineModel& machine, std::size_t index) {
   const AxisSpec* axis = machine.axis("XYZABCUVW"[index]);
   if (!axis) return {-kInf, kInf};
   const bool rotary = axis->type == AxisType::rotary;
-  const double scale = rotary ? kTwoPi / 360.0 : 1.0;  // limits in deg, chain in rad
+  const double scale = rotary ? kTwoPi / 360.0 : 1.0;                                     // limits in deg, chain in rad
   const double margin = rotary ? machine.max_correction * 1e-2 : machine.max_correction;  // rad: 10 mrad per mm
   return {axis->min * scale - margin, axis->max * scale + margin};
 }
@@ -149,6 +149,14 @@ TermBound term_bound(const ErrorTermSpec& t, const Range& u, const Range& w) {
       b.curvature_pp = b.slope_p / tau;
       break;
     }
+    case TermForm::bump: {
+      // |A g| <= |A|; |d/dv| <= |A| / w max|u g| = |A| / w e^-1/2; |d2/dv2| <= |A| / w^2.
+      const double amplitude = std::abs(p[0]), width = std::abs(p[2]);
+      b.value = amplitude;
+      b.slope_p = amplitude / width * std::exp(-0.5);
+      b.curvature_pp = amplitude / (width * width);
+      break;
+    }
     case TermForm::scale_expansion: {
       const double dT = std::max(std::abs(w.lo - t.shape.reference), std::abs(w.hi - t.shape.reference));
       b.value = power_bound(p[0], U, 1) * dT;
@@ -201,8 +209,8 @@ VariationBound::VariationBound(const ForwardModel& model, const Conditions& cond
     (angular ? angular_sum_ : translation_sum_) += b.value;
     const int p = chain_variable(t.primary), s = chain_variable(t.secondary);
     if (p >= 0 && s >= 0) {
-      two_variables_.push_back({static_cast<std::size_t>(p), static_cast<std::size_t>(s), angular, b.slope_p,
-                                b.slope_s, b.curvature_pp, b.curvature_ps, b.curvature_ss});
+      two_variables_.push_back({static_cast<std::size_t>(p), static_cast<std::size_t>(s), angular, b.slope_p, b.slope_s,
+                                b.curvature_pp, b.curvature_ps, b.curvature_ss});
       continue;
     }
     if (p < 0 && s < 0) continue;  // constant along any move
@@ -252,8 +260,9 @@ double VariationBound::chord_deviation(const ChainQ& a, const ChainQ& b) const {
     if (d == 0.0) continue;
     const AlongVariable& v = along_[i];
     if (d >= v.knot_gap) return kInf;  // more than one knot on the way
-    curvature += (v.translation_curvature + lever * v.angular_curvature) * d * d +
-                 (along(v.translation_slope, translation_slope_weight) + along(v.angular_slope, angular_slope_weight)) * d;
+    curvature +=
+        (v.translation_curvature + lever * v.angular_curvature) * d * d +
+        (along(v.translation_slope, translation_slope_weight) + along(v.angular_slope, angular_slope_weight)) * d;
     kinks += (v.translation_kink + lever * v.angular_kink) * d;
   }
   for (const TwoVariables& t : two_variables_) {

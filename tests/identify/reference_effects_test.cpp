@@ -25,6 +25,11 @@ struct Hidden {
   bool thermal = false;                   ///< the plans include a warm-up run
   std::vector<std::string> named;         ///< what the added specs must say, one each ("name: EXX, form: periodic")
   std::vector<std::string> alternatives;  ///< a spec the data cannot tell from the named one may stand instead
+  /// A number the first added spec must carry near its value: {"at: ", 130, 3} for a bump.
+  struct Near {
+    const char* key = nullptr;
+    double value = 0, within = 0;
+  } near{};
 };
 
 void PrintTo(const Hidden& h, std::ostream* os) {
@@ -49,6 +54,14 @@ const Hidden kCases[] = {
      [](ReferenceHmc& m) { m.EYX = plus(m.EYX, [](double x) { return 3e-11 * x * x * x; }); },
      false,
      {"name: EYX, form: polynomial"}},
+    {"guideway_bump",  // 6 um over some 50 mm of X's guideway, at x = 130
+     [](ReferenceHmc& m) {
+       m.EYX = plus(m.EYX, [](double x) { return 0.006 * std::exp(-0.5 * std::pow((x - 130.0) / 12.5, 2)); });
+     },
+     false,
+     {"name: EYX, form: bump"},
+     {},
+     {"at: ", 130.0, 3.0}},
     {"spindle_growth",
      [](ReferenceHmc& m) { m.spindle_growth = 0.0025; },
      true,
@@ -82,6 +95,12 @@ TEST_P(ReferenceEffects, TheLoopNamesWhatIsHiddenEndsAtTheNoiseAndWritesNothingA
     const bool alternative = i < h.alternatives.size() && loop.added[i].find(h.alternatives[i]) != std::string::npos;
     EXPECT_TRUE(named || alternative) << h.name << ": added " << loop.added[i] << ", expected " << h.named[i];
     if (alternative) EXPECT_FALSE(loop.ties.empty()) << "a tie is said, with the measurement that would decide it";
+  }
+  if (h.near.key && !loop.added.empty()) {
+    const std::string& spec = loop.added.front();
+    const auto at = spec.find(h.near.key);
+    ASSERT_NE(at, std::string::npos) << spec;
+    EXPECT_NEAR(std::stod(spec.substr(at + std::string(h.near.key).size())), h.near.value, h.near.within) << spec;
   }
 }
 

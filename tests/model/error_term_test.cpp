@@ -61,6 +61,7 @@ const FormCase kForms[] = {
     {"thermal_warmup", shape(TermForm::thermal_warmup), vec({0.015, 1800.0}), {900.0, 0.0}},
     {"scale_expansion", shape(TermForm::scale_expansion), vec({11.5e-6}), {250.0, 24.0}},
     {"cross_axis", cross(), vec({1e-5, 2e-8, -3e-8, 4e-11}), {120.0, -80.0}},
+    {"bump", shape(TermForm::bump), vec({0.006, 110.0, 12.5}), {118.0, 0.0}},
 };
 
 class TermForms : public ::testing::TestWithParam<FormCase> {};

@@ -24,6 +24,7 @@ enum class TermForm : std::uint8_t {
   thermal_warmup,   ///< A (1 - exp(-t / tau))
   scale_expansion,  ///< alpha v (T - T0): a scale growing with temperature
   cross_axis,       ///< sum_{i,j} c_ij u^i w^j, j >= 1: varies with another axis' position w
+  bump,             ///< A exp(-((v - c) / w)^2 / 2): a local defect of a guideway or a scale at c
 };
 
 enum class Interpolation : std::uint8_t { linear, cubic };
