@@ -57,8 +57,12 @@ struct Candidate {
   enum class Spacing : std::uint8_t { frequency, logarithmic, linear } scan_spacing = Spacing::frequency;
   int scan_points = 0;
   /// Periodic candidates: the variable the period is in (mm, deg); the coarse scan steps
-  /// the phase of every row by rotation instead of calling the basis.
+  /// the phase of every row by rotation instead of calling the basis. Local candidates: the
+  /// variable the scanned place is in.
   std::function<double(const Observation&)> phase_variable;
+  /// Local candidates: how far from the scanned place a row still counts (its basis is
+  /// below 4e-6 beyond: 5 standard deviations of a bell).
+  double reach = 0.0;
   /// The YAML term with coefficients (internal units) and the scanned value.
   std::function<std::string(const Eigen::VectorXd&, double)> yaml;
 };
@@ -361,6 +365,8 @@ std::vector<Candidate> candidate_library(const model::MachineModel& mm, const Me
             return std::exp(-0.5 * u * u);
           };
           b.scan_from = a.from, b.scan_to = a.to, b.scan_spacing = Candidate::Spacing::linear;
+          b.phase_variable = [&a, position](const Observation& o) { return position(o, a); };
+          b.reach = 5.0 * width;
           b.scan_points = static_cast<int>(std::clamp(2.0 * span / width, 20.0, 400.0));  // two per width
           b.yaml = [term, file_value, component, width](const Eigen::VectorXd& x, double at) {
             return fmt::format(
@@ -756,8 +762,25 @@ Diagnosis diagnose(const model::ForwardModel& model, const MeasurementSet& data,
       }
       return gains;
     };
+    // The coarse gains' eight best local peaks weighed exactly; only they compete (the
+    // coarse gains elsewhere are not comparable).
+    auto keep_exact_peaks = [&](const std::vector<double>& values, std::vector<double>& gains) {
+      std::vector<std::pair<double, std::size_t>> peaks;
+      for (std::size_t k = 0; k < gains.size(); ++k)
+        if ((k == 0 || gains[k] >= gains[k - 1]) && (k + 1 == gains.size() || gains[k] >= gains[k + 1]))
+          peaks.emplace_back(-gains[k], k);
+      std::sort(peaks.begin(), peaks.end());
+      if (peaks.size() > 8) peaks.resize(8);
+      std::vector<double> peak_values;
+      for (const auto& peak : peaks) peak_values.push_back(values[peak.second]);
+      const std::vector<double> exact = exact_gains(peak_values, nullptr);
+      for (std::size_t i = 0; i < peaks.size(); ++i) gains[peaks[i].second] = exact[i];
+      for (std::size_t k = 0; k < gains.size(); ++k)
+        if (std::none_of(peaks.begin(), peaks.end(), [k](const auto& peak) { return peak.second == k; }))
+          gains[k] = -1.0;
+    };
     // Evenly in frequency for periods (each step shifts the phase at the far end by the
-    // same amount), in log for time constants.
+    // same amount), in log for time constants, in value for places.
     std::vector<double> values(static_cast<std::size_t>(c.scan_points)), gains(values.size());
     for (std::size_t k = 0; k < values.size(); ++k) {
       const double f = static_cast<double>(k) / static_cast<double>(values.size() - 1);
@@ -784,20 +807,28 @@ Diagnosis diagnose(const model::ForwardModel& model, const MeasurementSet& data,
       }
       gains = coarse_periodic_gains(phase_variable, g, r_rows, 1.0 / values[0], 1.0 / values[1] - 1.0 / values[0],
                                     values.size());
-      std::vector<std::pair<double, std::size_t>> peaks;
-      for (std::size_t k = 0; k < gains.size(); ++k)
-        if ((k == 0 || gains[k] >= gains[k - 1]) && (k + 1 == gains.size() || gains[k] >= gains[k + 1]))
-          peaks.emplace_back(-gains[k], k);
-      std::sort(peaks.begin(), peaks.end());
-      if (peaks.size() > 8) peaks.resize(8);
-      std::vector<double> peak_values;
-      for (const auto& peak : peaks) peak_values.push_back(values[peak.second]);
-      const std::vector<double> exact = exact_gains(peak_values, nullptr);
-      for (std::size_t i = 0; i < peaks.size(); ++i) gains[peaks[i].second] = exact[i];
-      // Only the weighed peaks compete: the coarse gains elsewhere are not comparable.
-      for (std::size_t k = 0; k < gains.size(); ++k)
-        if (std::none_of(peaks.begin(), peaks.end(), [k](const auto& peak) { return peak.second == k; }))
-          gains[k] = -1.0;
+      keep_exact_peaks(values, gains);
+    } else if (c.scan_spacing == Candidate::Spacing::linear) {
+      // A place along an axis (a local defect): the coarse pass weighs each place by its
+      // column's correlation with the residual alone (a bell is local: what the base
+      // absorbs of it is small), and its eight best local peaks are then weighed exactly.
+      // The rows by their place, so that each scanned place reads only the rows it reaches.
+      std::vector<std::pair<double, Eigen::Index>> by_place;
+      for (const Eigen::Index row : p.rows)
+        by_place.emplace_back(c.phase_variable(data.observations[static_cast<std::size_t>(row)]), row);
+      std::sort(by_place.begin(), by_place.end());
+      for (std::size_t k = 0; k < values.size(); ++k) {
+        double cr = 0.0, cc = 0.0;
+        auto it = std::lower_bound(by_place.begin(), by_place.end(), std::pair{values[k] - c.reach, Eigen::Index{-1}});
+        for (; it != by_place.end() && it->first <= values[k] + c.reach; ++it) {
+          const Eigen::Index row = it->second;
+          const double column = p.g[row] * c.basis(data.observations[static_cast<std::size_t>(row)], 0, values[k]);
+          cr += column * base.r[row];
+          cc += column * column;
+        }
+        gains[k] = cc > 0 ? cr * cr / cc : 0.0;
+      }
+      keep_exact_peaks(values, gains);
     } else {
       gains = exact_gains(values, nullptr);
     }
