@@ -239,9 +239,10 @@ int run_check(const IdentifyArgs& args) {
     fmt::print(
         "{{\"observations\": {}, \"rms_um\": {:.6f}, \"max_um\": {:.6f}, \"noise_floor_um\": {:.6f}, "
         "\"noise_method\": {}, \"rms_refit_um\": {:.6f}, \"sources\": [{}], \"regions\": [{}], "
-        "\"candidates_tried\": {}, \"suggestions\": [{}], \"ties\": [{}]}}\n",
+        "\"candidates_tried\": {}, \"suggestions\": [{}], \"ties\": [{}], \"skipped\": {}}}\n",
         r.observations, r.rms * 1e3, r.max * 1e3, r.noise_floor * 1e3, json_string(r.noise_method), d.rms_refit * 1e3,
-        sources, regions, d.candidates_tried, suggestions, ties);
+        sources, regions, d.candidates_tried, suggestions, ties,
+        d.skipped.empty() ? std::string("null") : json_string(d.skipped));
     return 0;
   }
   print_summary(data);
@@ -250,6 +251,10 @@ int run_check(const IdentifyArgs& args) {
   for (const identify::SourceResidual& s : r.sources)
     fmt::print("  {:<16} {:>6} rows  rms {:8.3f} um  max {:8.3f} um\n", s.source, s.observations, s.rms * 1e3,
                s.max * 1e3);
+  if (!d.skipped.empty()) {
+    fmt::print("{}\n", d.skipped);
+    return 0;
+  }
   fmt::print("refitted as it is (its free parameters): rms {:.3f} um\n", d.rms_refit * 1e3);
   for (const identify::Region& g : d.regions)
     fmt::print("  the residual concentrates at {} in [{:.4g}, {:.4g}]: rms {:.3f} um ({:.1f}x)\n", g.variable, g.from,

@@ -46,15 +46,18 @@ CheckReport check(const model::ForwardModel& model, const MeasurementSet& data) 
 NoiseFloor noise_floor(const MeasurementSet& data, const Eigen::VectorXd& r) {
   NoiseFloor report;
   // Repeated points: the same position (to 1 um), direction, approach and conditions.
-  using Key =
-      std::tuple<long long, long long, long long, long long, long long, long long, long long, long long, long long>;
+  using Key = std::tuple<long long, long long, long long, long long, long long, long long, long long, long long,
+                         long long, long long, long long>;
   std::map<Key, std::vector<double>> groups;
   for (std::size_t i = 0; i < data.observations.size(); ++i) {
     const Observation& o = data.observations[i];
     auto k = [](double v, double unit) { return static_cast<long long>(std::llround(v / unit)); };
-    groups[Key{k(o.q[0], 1e-3), k(o.q[1], 1e-3), k(o.q[2], 1e-3), k(o.q[4], 1e-8), k(o.q[9], 1e-3),
-               k(o.direction.x() + 2 * o.direction.y() + 4 * o.direction.z(), 1e-6),
-               k(o.directions[0] + 3 * o.directions[1] + 9 * o.directions[2] + 27 * o.directions[4], 1.0),
+    // Every rotary axis (a trunnion's A as well as a table's B) and its approach.
+    groups[Key{k(o.q[0], 1e-3), k(o.q[1], 1e-3), k(o.q[2], 1e-3), k(o.q[3], 1e-8), k(o.q[4], 1e-8), k(o.q[5], 1e-8),
+               k(o.q[9], 1e-3), k(o.direction.x() + 2 * o.direction.y() + 4 * o.direction.z(), 1e-6),
+               k(o.directions[0] + 3 * o.directions[1] + 9 * o.directions[2] + 27 * o.directions[3] +
+                     81 * o.directions[4] + 243 * o.directions[5],
+                 1.0),
                k(o.time, 1.0), static_cast<long long>(o.source)}]
         .push_back(r[static_cast<Eigen::Index>(i)]);
   }

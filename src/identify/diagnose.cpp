@@ -667,7 +667,8 @@ std::vector<Region> residual_regions(const model::MachineModel& mm, const Measur
   add_regions("L", [](const Observation& o) { return o.q[9]; });
   add_regions("t", [](const Observation& o) { return o.time; });
   for (std::size_t s = 0; s < data.sensors.size(); ++s)
-    add_regions("T_" + data.sensors[s], [s](const Observation& o) { return o.temperatures[s]; });
+    add_regions("T_" + data.sensors[s],
+                [s](const Observation& o) { return s < o.temperatures.size() ? o.temperatures[s] : std::nan(""); });
   std::sort(regions.begin(), regions.end(), [](const Region& a, const Region& b) { return a.ratio > b.ratio; });
   if (regions.size() > 8) regions.resize(8);
   return regions;
@@ -680,6 +681,15 @@ Diagnosis diagnose(const model::ForwardModel& model, const MeasurementSet& data,
   Diagnosis out;
   const auto n = static_cast<Eigen::Index>(data.observations.size());
   if (n == 0) return out;
+  // Too few readings to refit the model: no diagnosis, said (the model as it is against the
+  // data is still worth reading; `fit` refuses such data).
+  if (const std::size_t free = free_parameters(model).size(); data.observations.size() < free) {
+    out.skipped = fmt::format(
+        "{} readings cannot determine the model's {} free parameters: no refit, no "
+        "diagnosis (measure more, or free fewer terms)",
+        data.observations.size(), free);
+    return out;
+  }
   out.noise = options.noise > 0 ? options.noise : check(model, data).noise_floor;
 
   const std::vector<AxisInfo> axes = axes_of(mm, data);
@@ -859,7 +869,10 @@ Diagnosis diagnose(const model::ForwardModel& model, const MeasurementSet& data,
     }
     // The gain and coefficients there, and the uncertainty from the curvature of the sum
     // of squares (a chi-square rise of 1).
-    const double h = 1e-4 * (value != 0.0 ? std::abs(value) : std::abs(c.scan_to - c.scan_from));
+    // A place along an axis is as precise at 0 as anywhere: its step is the scan's range's.
+    const double h = c.scan_spacing == Candidate::Spacing::linear || value == 0.0
+                         ? 1e-4 * std::abs(c.scan_to - c.scan_from)
+                         : 1e-4 * std::abs(value);
     Eigen::VectorXd x;
     const std::vector<double> last = exact_gains({value, value + h, value - h}, &x);
     const double curvature = (2 * last[0] - last[1] - last[2]) / (h * h);

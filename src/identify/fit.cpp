@@ -48,9 +48,11 @@ std::string parameter_label(const model::ErrorTermSpec& t, std::size_t k) {
 namespace {
 
 /// Whether a term is the straightness of a linear axis as a polynomial of its position
-/// (EYX of x) whose slope is where the axis' line lies: a squareness the model has free
-/// (EC0X: X's line turned toward y gives the same column), or one the reference frame fixes
-/// at zero (Z's line is its primary axis, Y's lies in its Z-Y plane: EXZ, EYZ, EXY).
+/// (EYX of x) whose slope is where the axis' line lies, carried by a squareness the model
+/// has free: its own line's (EC0X: X's line turned toward y gives the same column), or,
+/// where the reference frame fixes this line (Z's line is its primary axis, Y's lies in its
+/// Z-Y plane), the other line's that makes the same angle (EXZ's by EB0X, EYZ's by EA0Y,
+/// EXY's by EC0X). Without that squareness free the slope stays the straightness'.
 bool slope_is_a_location(const model::MachineModel& mm, const model::ErrorTermSpec& t) {
   if (t.shape.form != TermForm::polynomial || t.placement != model::ErrorPlacement::motion || t.component >= 3 ||
       t.primary.kind != model::VariableKind::axis)
@@ -63,10 +65,22 @@ bool slope_is_a_location(const model::MachineModel& mm, const model::ErrorTermSp
       const int along = static_cast<int>(letter % 3);  // U V W travel along X Y Z
       if ((a && a->type == model::AxisType::rotary) || letter != t.primary.index || along == t.component) return false;
       const int about = 3 + (3 - along - t.component);  // the line turned toward the straightness' direction
+      // Where the reference frame fixes this line's turn (Z's line is its primary axis, Y's
+      // lies in its Z-Y plane), the angle between the two lines is the other line's
+      // squareness: Z toward x is EB0X, Z toward y is EA0Y, Y toward x is EC0X.
+      std::string carrier = t.link;
+      int carried = about;
       const bool frame_fixed = (*l.axis == 'Z') || (*l.axis == 'Y' && about == 5);
-      if (frame_fixed && mm.axis('X') && mm.axis('Y') && mm.axis('Z')) return true;
+      if (frame_fixed) {
+        const char other = (*l.axis == 'Z' && about == 3) ? 'Y' : 'X';
+        carrier.clear();
+        for (const auto* side : {&mm.workpiece_chain, &mm.tool_chain})
+          for (const model::LinkSpec& k : *side)
+            if (k.axis && *k.axis == other) carrier = k.name;
+      }
       for (const model::ErrorTermSpec& s : mm.terms)
-        if (s.free && s.link == t.link && s.placement == model::ErrorPlacement::location && s.component == about)
+        if (s.free && !carrier.empty() && s.link == carrier && s.placement == model::ErrorPlacement::location &&
+            s.component == carried)
           return true;
       return false;
     }
@@ -397,6 +411,9 @@ FitReport fit(const model::ForwardModel& model, const MeasurementSet& data, cons
       return Eigen::VectorXd(step.cwiseQuotient(scale));
     };
     if (predicted_gain <= before / static_cast<double>(n) + 1e-30) {
+      // From a least-squares optimum (a model a plain fit wrote) nothing moves before the
+      // robust weights are in: they come at the next iteration.
+      if (options.loss == Loss::huber && iteration == 0) continue;
       report.converged = true;
       break;
     }
@@ -506,7 +523,9 @@ FitReport fit(const model::ForwardModel& model, const MeasurementSet& data, cons
   }
   // Every accepted step lowered the cost; the revert of what the noise does not support
   // may raise it a little. A fit never ends worse than it started: then nothing moves.
-  if (!(plain_cost(r) <= plain_cost(start_r)) || !p.allFinite()) {
+  // (With the robust loss a move that lowers its own cost may raise the plain one: judged
+  // by its own loss, each of its steps already lowered it.)
+  if ((options.loss == Loss::least_squares && !(plain_cost(r) <= plain_cost(start_r))) || !p.allFinite()) {
     p = start_p;
     r = start_r;
     jacobian_current = false;

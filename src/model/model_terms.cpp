@@ -398,8 +398,16 @@ void read_terms(const std::string& file, const YAML::Node& terms, MachineModel& 
                       "thermal, warmup, scale_expansion, cross_axis, bump)",
                       what, form));
     }
-    for (double& x : p) x *= iso.sign;
-    for (double& x : scale) x *= iso.sign;
+    // A seed symbol of the opposite sign flips the term's amounts, not its shape (a period,
+    // a time constant, a bump's place and width).
+    for (std::size_t k = 0; k < p.size(); ++k) {
+      const bool shape = (t.shape.form == TermForm::periodic && k == 0) ||
+                         (t.shape.form == TermForm::thermal_warmup && k == 1) ||
+                         (t.shape.form == TermForm::bump && k >= 1);
+      if (shape) continue;
+      p[k] *= iso.sign;
+      scale[k] *= iso.sign;
+    }
     t.parameters = Eigen::Map<Eigen::VectorXd>(p.data(), static_cast<Eigen::Index>(p.size()));
     t.parameter_unit = scale;
     t.placement = placement_of(file, n["name"], t, location, m);

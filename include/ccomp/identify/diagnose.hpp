@@ -67,6 +67,7 @@ struct Diagnosis {
   /// The first suggestion and those the data cannot tell from it (next_measurement.hpp).
   std::vector<Tie> ties;
   std::size_t candidates_tried = 0;
+  std::string skipped;  ///< why there was no refit and no diagnosis (too few readings); empty otherwise
 };
 
 [[nodiscard]] Diagnosis diagnose(const model::ForwardModel& model, const MeasurementSet& data,
