@@ -229,14 +229,6 @@ std::vector<AxisInfo> axes_of(const model::MachineModel& mm, const MeasurementSe
   return axes;
 }
 
-/// Whether a linear axis' line may be turned about `component` (3 4 5: x y z) in the
-/// reference frame of the model files: Z's line is its primary axis, Y's lies in its Z-Y plane.
-bool square_free(char axis, int component) {
-  if (axis == 'Z') return component == 5;  // about z only: the roll, skipped by the caller
-  if (axis == 'Y') return component != 5;
-  return true;
-}
-
 /// A term's ISO name: "EXX", a location error "EC0X".
 std::string term_name(int component, const std::string& link, bool location) {
   return fmt::format("E{}{}{}", kComponents[static_cast<std::size_t>(component)], location ? "0" : "", link);
@@ -379,7 +371,7 @@ std::vector<Candidate> candidate_library(const model::MachineModel& mm, const Me
       // Squareness: the axis' line turned about the other two, where the reference frame
       // leaves it free (Z's line is its primary axis, Y's lies in its Z-Y plane).
       for (int component = 3; component < 6; ++component) {
-        if (component == a.own + 3 || !square_free(kAxisLetters[a.index], component)) continue;
+        if (component == a.own + 3 || model::frame_fixes_line_turn(kAxisLetters[a.index], component)) continue;
         const std::string term = name(component, a.link, true);
         Candidate s;
         s.effect = fmt::format("out-of-squareness of the {} axis (its line of motion turned about {})",

@@ -70,7 +70,7 @@ bool slope_is_a_location(const model::MachineModel& mm, const model::ErrorTermSp
       // squareness: Z toward x is EB0X, Z toward y is EA0Y, Y toward x is EC0X.
       std::string carrier = t.link;
       int carried = about;
-      const bool frame_fixed = (*l.axis == 'Z') || (*l.axis == 'Y' && about == 5);
+      const bool frame_fixed = model::frame_fixes_line_turn(*l.axis, about);
       if (frame_fixed) {
         const char other = (*l.axis == 'Z' && about == 3) ? 'Y' : 'X';
         carrier.clear();

@@ -121,12 +121,12 @@ ErrorPlacement placement_of(const std::string& file, const YAML::Node& node, con
     bad(file, node,
         fmt::format("{}: a line has no roll; a constant roll of the {} carriage is the error motion E{}{}", what, axis,
                     angle, axis));
-  if (!rotary && axis == 'Z' && (t.component == 3 || t.component == 4))
+  if (!rotary && axis == 'Z' && frame_fixes_line_turn(axis, t.component))
     bad(file, node,
         fmt::format("{}: Z's line is the reference frame's primary axis (its squareness to X and Y is carried by "
                     "EB0X and EA0Y), so {} is zero by definition",
                     what, t.iso));
-  if (!rotary && axis == 'Y' && t.component == 5)
+  if (!rotary && axis == 'Y' && frame_fixes_line_turn(axis, t.component))
     bad(file, node,
         fmt::format("{}: Y's line lies in the reference frame's Z-Y plane (its squareness to X is carried by EC0X), "
                     "so EC0Y is zero by definition",

@@ -47,6 +47,14 @@ struct LinkSpec {
 /// about its displaced and tilted line (kinematics/chain.hpp).
 enum class ErrorPlacement : std::uint8_t { motion, location };
 
+/// Whether the model files' reference frame (seed 000 sect. 2.3) fixes the turn of linear
+/// axis `axis`'s line about `rotation` (3 4 5: about x y z): Z's line is the frame's primary
+/// axis (its turns about x and y are zero by definition), Y's lies in the frame's Z-Y plane
+/// (its turn about z is). The squareness between the lines is carried by X's and Y's.
+[[nodiscard]] constexpr bool frame_fixes_line_turn(char axis, int rotation) {
+  return (axis == 'Z' && (rotation == 3 || rotation == 4)) || (axis == 'Y' && rotation == 5);
+}
+
 /// An error term: one component of one link's error motion or location, a form of a variable.
 struct ErrorTermSpec {
   std::string name;   ///< ISO 230-1 ("EXX", "EC0X", "EBB") as the file names it, or the seed's alias
