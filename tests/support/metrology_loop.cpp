@@ -15,11 +15,12 @@ std::string fitted_text(const std::string& text, const model::MachineModel& m, c
 
 }  // namespace
 
-LoopResult follow_the_loop(std::string text, const identify::MeasurementSet& data, int rounds) {
+LoopResult follow_the_loop(std::string text, const identify::MeasurementSet& data, int rounds,
+                           const identify::FitOptions& options) {
   LoopResult out;
   auto refit = [&] {
     const model::MachineModel m = model::parse_machine_model(text, "fitted.yaml");
-    out.last = identify::fit(model::ForwardModel(m), data);
+    out.last = identify::fit(model::ForwardModel(m), data, options);
     out.refusals.insert(out.refusals.end(), out.last.refusals.begin(), out.last.refusals.end());
     if (out.last.refusals.empty()) text = fitted_text(text, m, out.last);  // a refused fit is not written
   };

@@ -18,7 +18,9 @@ struct LoopResult {
   bool ended = false;                 ///< check suggested nothing at the end
 };
 
-/// Runs the loop from the model file `text` on `data` for at most `rounds` additions.
-[[nodiscard]] LoopResult follow_the_loop(std::string text, const identify::MeasurementSet& data, int rounds = 4);
+/// Runs the loop from the model file `text` on `data` for at most `rounds` additions, each
+/// fit with `options` (a script that saw `fit` name outliers reruns it with --robust).
+[[nodiscard]] LoopResult follow_the_loop(std::string text, const identify::MeasurementSet& data, int rounds = 4,
+                                         const identify::FitOptions& options = {});
 
 }  // namespace ccomp::test
