@@ -94,6 +94,7 @@ CLI::App* add_check(CLI::App& app, IdentifyArgs& args) {
   add_common(*cmd, args);
   cmd->add_flag("--json", args.json, "the report as JSON on stdout");
   cmd->add_option("--report", args.report, "also write the check as one self-contained HTML page");
+  cmd->add_flag("--robust", args.robust, "refit with the Huber loss: spikes (a laser beam cut) do not pull the base");
   return cmd;
 }
 
@@ -205,6 +206,7 @@ int run_check(const IdentifyArgs& args) {
   const identify::CheckReport r = identify::check(forward, data);
   identify::DiagnoseOptions options;
   options.noise = r.noise_floor;
+  if (args.robust) options.fit.loss = identify::Loss::huber;
   const identify::Diagnosis d = identify::diagnose(forward, data, options);
   if (!args.report.empty()) {
     write_text(args.report, report::html_check_report({m, data, r, d}));

@@ -556,9 +556,9 @@ std::vector<Candidate> candidate_library(const model::MachineModel& mm, const Me
 /// probes' columns: one pass over the data, with a model that has the probes as terms
 /// (zero: its predictions are the refit's), gives the base's columns and the probes' alike.
 Projector refitted_base(const model::ForwardModel& model, const MeasurementSet& data, std::vector<Probe>& probes,
-                        Diagnosis& out) {
+                        const FitOptions& fit_options, Diagnosis& out) {
   const auto n = static_cast<Eigen::Index>(data.observations.size());
-  out.refit = fit(model, data);
+  out.refit = fit(model, data, fit_options);
   model::MachineModel probing = model.machine();
   const std::size_t first = probing.terms.size();
   for (const Probe& p : probes) {
@@ -688,7 +688,7 @@ Diagnosis diagnose(const model::ForwardModel& model, const MeasurementSet& data,
   std::vector<Probe> probes;
   const std::vector<Candidate> candidates = candidate_library(mm, data, axes, probes);
   out.candidates_tried = candidates.size();
-  Projector base = refitted_base(model, data, probes, out);
+  Projector base = refitted_base(model, data, probes, options.fit, out);
   probe_rows(base, n, probes);
   const double sse0 = base.r.squaredNorm();
   // Without a noise floor from the data's structure, the refitted residual stands in for

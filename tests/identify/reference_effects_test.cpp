@@ -102,7 +102,7 @@ TEST_P(ReferenceEffects, TheLoopNamesWhatIsHiddenEndsAtTheNoiseAndWritesNothingA
       data.observations[i].value += 0.05;
       spiked.push_back(data.observations[i].row);
     }
-  // With spikes a script reruns with --robust, as fit's outliers line says.
+  // With spikes a script reruns check and fit with --robust, as fit's outliers line says.
   identify::FitOptions options;
   if (h.spikes) options.loss = identify::Loss::huber;
   const LoopResult loop =

@@ -26,8 +26,10 @@ LoopResult follow_the_loop(std::string text, const identify::MeasurementSet& dat
   };
   refit();
   for (int round = 0; round <= rounds; ++round) {
-    const identify::Diagnosis d =
-        identify::diagnose(model::ForwardModel(model::parse_machine_model(text, "fitted.yaml")), data);
+    identify::DiagnoseOptions diagnose_options;
+    diagnose_options.fit = options;  // check --robust, as fit
+    const identify::Diagnosis d = identify::diagnose(
+        model::ForwardModel(model::parse_machine_model(text, "fitted.yaml")), data, diagnose_options);
     for (const identify::Tie& t : d.ties) out.ties.push_back(t.measurement);
     if (d.suggestions.empty()) {
       out.ended = true;

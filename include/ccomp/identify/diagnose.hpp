@@ -55,6 +55,9 @@ struct DiagnoseOptions {
   int max_suggestions = 5;
   /// Threads scoring the candidates (results do not depend on it).
   int threads = util::hardware_threads();
+  /// How the model as it is gets refitted before the candidates are tried (--robust: the
+  /// Huber loss, so that spikes do not pull the base the candidates are scored against).
+  FitOptions fit;
 };
 
 struct Diagnosis {
