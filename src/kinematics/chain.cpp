@@ -32,22 +32,6 @@ ChainData::ChainData(const ChainModel& model)
   prepare(model.tool, tool_cache_);
 }
 
-Pose joint_motion(const Joint& joint, double q, Vec6* J) {
-  switch (joint.type) {
-    case JointType::linear:
-      if (J) *J << joint.direction, Vec3::Zero();
-      return Pose::translation(q * joint.direction);
-    case JointType::rotary:
-      // Jr(q d) d = d for any rotation about d.
-      if (J) *J << Vec3::Zero(), joint.direction;
-      return Pose{so3_exp(q * joint.direction), Vec3::Zero()};
-    case JointType::fixed:
-      break;
-  }
-  if (J) J->setZero();
-  return Pose::identity();
-}
-
 namespace {
 
 /// out = a * b, written in place: the chain's innermost operation. (A pose copied right

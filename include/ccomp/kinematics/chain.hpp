@@ -99,9 +99,6 @@ struct NominalData {
 /// composed without them.
 void nominal_poses(const ChainModel& model, NominalData& data, const Eigen::Ref<const VecQ>& q);
 
-/// The nominal motion of one joint at axis value q, and its right Jacobian d/dq (6 x 1).
-[[nodiscard]] Pose joint_motion(const Joint& joint, double q, Vec6* J = nullptr);
-
 /// Which Jacobians error_matrix() computes: none; dE/dq and dE/d(each link's error pose)
 /// (what the inverse needs: error motions vary with the axes); or those and dE/d(each
 /// link's location pose) too (what a fit needs).
