@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 #include <yaml-cpp/yaml.h>
 
+#include <algorithm>
 #include <cmath>
 #include <fstream>
 #include <sstream>
@@ -101,6 +102,29 @@ MachineModel parse_machine_model(const std::string& text, const std::string& nam
   file::read_terms(name, root["terms"], m);
   validate(m);
   return m;
+}
+
+MachineModel with_terms(MachineModel model, const std::vector<std::string>& specs, const std::string& name) {
+  YAML::Node terms(YAML::NodeType::Sequence);
+  for (const std::string& spec : specs) {
+    YAML::Node term;
+    try {
+      term = YAML::Load(spec);
+    } catch (const YAML::ParserException& e) {
+      throw Error(ErrorKind::model, e.msg, SourceLocation{name, 1, static_cast<std::uint32_t>(e.mark.column + 1)});
+    }
+    if (!term.IsMap()) file::bad(name, term, fmt::format("'{}': a term is a mapping {{name: ..., form: ...}}", spec));
+    for (const char* key : {"variable", "temperature"})
+      if (const YAML::Node v = term[key]; v && v.IsScalar() && v.Scalar().starts_with("T_")) {
+        const std::string sensor = v.Scalar().substr(2);
+        if (std::find(model.sensors.begin(), model.sensors.end(), sensor) == model.sensors.end())
+          model.sensors.push_back(sensor);
+      }
+    terms.push_back(term);
+  }
+  file::read_terms(name, terms, model);
+  validate(model);
+  return model;
 }
 
 MachineModel load_machine_model(const std::string& path) {

@@ -1,6 +1,8 @@
 // The machine model file at this stage: axes, limits, dialect; validate() names the entry.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+
 #include "ccomp/error.hpp"
 #include "ccomp/model/machine.hpp"
 #include "trace_capture.hpp"
@@ -51,6 +53,19 @@ INSTANTIATE_TEST_SUITE_P(Files, BadModels,
                                            BadModel{"axes: {X: {type: spiral}}\n", "spiral"},
                                            BadModel{"axes: {X: {}}\ndialect: heidenhain\n", "heidenhain"},
                                            BadModel{"axes: [X\n", ""}));
+
+// What check suggests, added to a model in memory, is the term the file would have, with
+// the sensor it needs; a spec that is not a term is refused as a model error.
+TEST(MachineModel, WithTermsAddsTheSpecAndItsSensor) {
+  const MachineModel base = load_machine_model(test::source_dir() + "/samples/machines/hmc-xyzb-geometric.yaml");
+  const MachineModel with = with_terms(
+      base, {"{name: EZS, variable: T_spindle, form: thermal, unit: um, coefficient: 1.5, fit: true}"}, "check");
+  ASSERT_EQ(with.terms.size(), base.terms.size() + 1);
+  EXPECT_EQ(with.terms.back().iso, "EZS");
+  EXPECT_NE(std::find(with.sensors.begin(), with.sensors.end(), "spindle"), with.sensors.end());
+  EXPECT_THROW((void)with_terms(base, {"[1, 2]"}, "check"), Error);
+  EXPECT_THROW((void)with_terms(base, {"{name: EQQ, value: 1}"}, "check"), Error);
+}
 
 }  // namespace
 }  // namespace ccomp::model

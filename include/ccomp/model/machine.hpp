@@ -110,6 +110,13 @@ struct MachineModel {
 [[nodiscard]] std::string add_terms(const std::string& text, const std::vector<std::string>& specs,
                                     const std::string& name);
 
+/// The model with more terms, each a one-line YAML mapping (what `ccomp check` suggests),
+/// read as the model file's own terms are, and with any sensor a term names that the
+/// model lacks: the model `add_terms` would write, without a text to write it into.
+/// Throws ccomp::Error (model) for a spec that is not a valid term, `name` as its file.
+[[nodiscard]] MachineModel with_terms(MachineModel model, const std::vector<std::string>& specs,
+                                      const std::string& name);
+
 /// Checks a model: known axis letters, no duplicates, limits ordered and not NaN, a dialect
 /// ccomp knows. Throws ccomp::Error (model) with the offending entry.
 void validate(const MachineModel& model);
