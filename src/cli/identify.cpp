@@ -228,11 +228,11 @@ int run_check(const IdentifyArgs& args) {
           "{}, "
           "\"period_uncertainty\": {}, \"spec\": {}, \"rms_before_um\": {:.6f}, \"rms_after_um\": {:.6f}, "
           "\"bic_delta\": {:.3f}, "
-          "\"significance\": {:.3f}}}",
+          "\"significance\": {:.3f}, \"held_out\": {:.4f}, \"held_out_by\": {}, \"refitted\": {}}}",
           suggestions.empty() ? "" : ", ", s.rank, json_string(s.effect), json_string(s.error), json_string(s.term),
           json_string(s.variable), json_string(s.form), s.period > 0 ? fmt::format("{:.8g}", s.period) : "null",
           s.period > 0 ? fmt::format("{:.3g}", s.period_uncertainty) : "null", json_string(s.spec), s.rms_before * 1e3,
-          s.rms_after * 1e3, s.bic_delta, s.significance);
+          s.rms_after * 1e3, s.bic_delta, s.significance, s.held_out, json_string(s.held_out_by), s.refitted);
     std::string ties;
     for (const identify::Tie& t : d.ties)
       ties +=
@@ -241,9 +241,11 @@ int run_check(const IdentifyArgs& args) {
     fmt::print(
         "{{\"observations\": {}, \"rms_um\": {:.6f}, \"max_um\": {:.6f}, \"noise_floor_um\": {:.6f}, "
         "\"noise_method\": {}, \"rms_refit_um\": {:.6f}, \"sources\": [{}], \"regions\": [{}], "
-        "\"candidates_tried\": {}, \"suggestions\": [{}], \"ties\": [{}], \"skipped\": {}}}\n",
+        "\"candidates_tried\": {}, \"unproven\": {}, \"implausible\": {}, \"suggestions\": [{}], \"ties\": [{}], "
+        "\"unexplained\": {}, \"skipped\": {}}}\n",
         r.observations, r.rms * 1e3, r.max * 1e3, r.noise_floor * 1e3, json_string(r.noise_method), d.rms_refit * 1e3,
-        sources, regions, d.candidates_tried, suggestions, ties,
+        sources, regions, d.candidates_tried, d.unproven, d.implausible, suggestions, ties,
+        d.unexplained.empty() ? std::string("null") : json_string(d.unexplained),
         d.skipped.empty() ? std::string("null") : json_string(d.skipped));
     return 0;
   }
@@ -262,7 +264,10 @@ int run_check(const IdentifyArgs& args) {
     fmt::print("  the residual concentrates at {} in [{:.4g}, {:.4g}]: rms {:.3f} um ({:.1f}x)\n", g.variable, g.from,
                g.to, g.rms * 1e3, g.ratio);
   if (d.suggestions.empty()) {
-    fmt::print("missing effects: none of {} candidates is significant against the noise floor\n", d.candidates_tried);
+    if (!d.unexplained.empty())
+      fmt::print("missing effects: none of {} candidates is proven; {}\n", d.candidates_tried, d.unexplained);
+    else
+      fmt::print("missing effects: none of {} candidates is significant against the noise floor\n", d.candidates_tried);
     return 0;
   }
   fmt::print("missing effects, best first ({} candidates tried):\n", d.candidates_tried);
@@ -271,8 +276,11 @@ int run_check(const IdentifyArgs& args) {
     if (s.period > 0)
       fmt::print(", {} {:.6g} +- {:.2g}", s.form == "exponential" ? "time constant" : "period", s.period,
                  s.period_uncertainty);
-    fmt::print("\n   rms {:.3f} -> {:.3f} um, BIC {:+.1f}\n   add to the model:\n{}\n   or: ccomp fit ... --add '{}'\n",
-               s.rms_before * 1e3, s.rms_after * 1e3, s.bic_delta, s.yaml, s.spec);
+    fmt::print(
+        "\n   rms {:.3f} -> {:.3f} um{}, BIC {:+.1f}; on readings left out (by {}) it predicts {:.0f}% of what it "
+        "explains\n   add to the model:\n{}\n   or: ccomp fit ... --add '{}'\n",
+        s.rms_before * 1e3, s.rms_after * 1e3, s.refitted ? " (fitted)" : "", s.bic_delta, s.held_out_by,
+        100.0 * s.held_out, s.yaml, s.spec);
   }
   for (const identify::Tie& t : d.ties)
     fmt::print("the data cannot tell {} from {} (what they explain correlates {:.2f}): measure next: {}\n",

@@ -11,71 +11,38 @@
 #include <map>
 #include <optional>
 
+#include "candidates.hpp"
+#include "ccomp/error.hpp"
 #include "ccomp/identify/check.hpp"
 #include "ccomp/identify/fit.hpp"
 #include "ccomp/identify/next_measurement.hpp"
 #include "ccomp/identify/physical_scale.hpp"
+#include "ccomp/model/machine.hpp"
 #include "ccomp/util/parallel.hpp"
+#include "held_out.hpp"
 
 namespace ccomp::identify {
 namespace {
 
+using detail::axes_of;
+using detail::axis_name;
+using detail::axis_value;
+using detail::AxisInfo;
+using detail::Candidate;
+using detail::candidate_columns;
+using detail::candidate_library;
+using detail::Probe;
+using detail::term_name;
+
 constexpr double kPi = 3.14159265358979323846;
-constexpr double kRadPerDeg = kPi / 180.0;
 /// A candidate is suggested when the chi-square falls by this much (five sigma) beyond
 /// what noise and its scan would give.
 constexpr double kSignificance = 25.0;
-constexpr std::string_view kComponents = "XYZABC";
-constexpr std::string_view kAxisLetters = "XYZABCUVW";
-
-/// Where a candidate term enters: a link and a component. Its column for an observation
-/// is g (d prediction / d term value) times the candidate's basis function there.
-struct Probe {
-  std::string link;
-  int component = 0;
-  model::ErrorPlacement placement = model::ErrorPlacement::motion;
-  Eigen::VectorXd g;               // per observation
-  std::vector<Eigen::Index> rows;  // where g is not zero
-  Eigen::MatrixXd A_rows;          // the base's columns on those rows (empty when they are all rows)
-  Eigen::VectorXd r_rows;          // the residual there
-};
-
-/// How many of its cycles the data must cover for a periodic effect to be named.
-constexpr double kCyclesForAPeriod = 4.0;
-
-/// A candidate effect: its words, its term, and its basis functions of an observation
-/// (a scanned parameter, a period or a time constant, where it has one).
-struct Candidate {
-  std::string effect, error, term, variable, form;
-  double period = 0.0;  // a harmonic's fixed period (deg)
-  std::size_t probe = 0;
-  int basis_count = 1;
-  std::function<double(const Observation&, int k, double scanned)> basis;
-  double scan_from = 0.0, scan_to = 0.0;  // of the scanned parameter (0, 0: none)
-  /// How the scanned parameter is stepped: evenly in 1/value (periods), in log value (time
-  /// constants), or in value (a place along an axis).
-  enum class Spacing : std::uint8_t { frequency, logarithmic, linear } scan_spacing = Spacing::frequency;
-  int scan_points = 0;
-  /// Periodic candidates: the variable the period is in (mm, deg); the coarse scan steps
-  /// the phase of every row by rotation instead of calling the basis. Local candidates: the
-  /// variable the scanned place is in.
-  std::function<double(const Observation&)> phase_variable;
-  /// Local candidates: how far from the scanned place a row still counts (its basis is
-  /// below 4e-6 beyond: 5 standard deviations of a bell).
-  double reach = 0.0;
-  /// The YAML term with coefficients (internal units) and the scanned value.
-  std::function<std::string(const Eigen::VectorXd&, double)> yaml;
-};
-
-/// Makes `c` a sinusoid of a scanned period in `variable` (mm, deg): cos and sin.
-void periodic_in(Candidate& c, std::function<double(const Observation&)> variable) {
-  c.basis_count = 2;
-  c.basis = [variable](const Observation& o, int k, double period) {
-    const double phase = 2 * kPi * variable(o) / period;
-    return k == 0 ? std::cos(phase) : std::sin(phase);
-  };
-  c.phase_variable = std::move(variable);
-}
+/// The residual holds structure when its rms is above this many noise floors (the loop's
+/// own end: a model at the noise leaves at most this).
+constexpr double kStructure = 1.3;
+/// A variable the residual is uneven along: a bin's rms this many times the rms everywhere.
+constexpr double kUneven = 1.2;
 
 /// A sinusoid's gain (the fall in the sum of squares when its cos and sin columns g cos,
 /// g sin join, leaving out what the base absorbs) at `count` evenly spaced frequencies
@@ -121,24 +88,12 @@ std::vector<double> coarse_periodic_gains(const std::vector<double>& variable, c
   return gains;
 }
 
-/// A candidate's columns at a scanned value (a period, a time constant): its probe's
-/// column times each basis function, on the probe's rows (`out` has a row per probe row),
-/// or on every reading (`out` has n rows, zero off the probe's rows).
-void candidate_columns(const Candidate& c, const Probe& p, const MeasurementSet& data, double value, bool every_row,
-                       Eigen::Ref<Eigen::MatrixXd> out) {
-  for (std::size_t i = 0; i < p.rows.size(); ++i) {
-    const Eigen::Index row = p.rows[i];
-    const Observation& o = data.observations[static_cast<std::size_t>(row)];
-    for (int k = 0; k < c.basis_count; ++k)
-      out(every_row ? row : static_cast<Eigen::Index>(i), k) = p.g[row] * c.basis(o, k, value);
-  }
-}
-
 /// A scored candidate: its suggestion, and the value and coefficients it was scored at.
 struct Scored {
   Suggestion suggestion;
   double value = 0.0;
   Eigen::VectorXd coefficients;
+  double gain = 0.0;  // mm^2: the fall in the sum of squares where it was fitted
 };
 
 /// The refitted model's residual and what its free parameters can absorb.
@@ -174,390 +129,11 @@ struct Projector {
   }
 };
 
-std::string axis_name(std::size_t i) {
-  return std::string(1, static_cast<char>(std::tolower(kAxisLetters[i])));
-}
-
-/// An axis the model has, with its link and what the data cover of it.
-struct AxisInfo {
-  std::size_t index = 0;
-  std::string link;
-  bool rotary = false;
-  int own = 0;              // the component along (or about) the axis
-  double from = 0, to = 0;  // range in the data (mm, deg)
-  double step = 0;          // the typical spacing of the data along it (mm, deg)
-};
-
-/// An axis' position in a reading, in the file's units (mm, deg): a linear axis' slide
-/// position (Z without the tool length), a rotary axis' angle.
-double axis_value(const Observation& o, const AxisInfo& a) {
-  return file_axis_value(o, a.index, a.rotary);
-}
-
-std::vector<AxisInfo> axes_of(const model::MachineModel& mm, const MeasurementSet& data) {
-  std::vector<AxisInfo> axes;
-  for (const auto* chain : {&mm.workpiece_chain, &mm.tool_chain})
-    for (const model::LinkSpec& l : *chain) {
-      if (!l.axis) continue;
-      AxisInfo a;
-      a.index = kAxisLetters.find(*l.axis);
-      a.link = l.name;
-      a.rotary = mm.axis(*l.axis) && mm.axis(*l.axis)->type == model::AxisType::rotary;
-      Eigen::Index along = 0;
-      l.direction.cwiseAbs().maxCoeff(&along);
-      a.own = static_cast<int>(along) + (a.rotary ? 3 : 0);
-      a.from = 1e300, a.to = -1e300;
-      const auto qi = static_cast<Eigen::Index>(a.index);
-      for (const Observation& o : data.observations) {
-        const double v = axis_value(o, a);
-        a.from = std::min(a.from, v), a.to = std::max(a.to, v);
-      }
-      // The median spacing between consecutive readings that differ along this axis only.
-      std::vector<double> steps;
-      for (std::size_t i = 1; i < data.observations.size(); ++i) {
-        const model::ChainQ d = data.observations[i].q - data.observations[i - 1].q;
-        const double travel = std::abs(d[qi]);
-        if (travel > 1e-9 && d.norm() - travel < 1e-9 * (1.0 + travel))
-          steps.push_back(a.rotary ? travel / kRadPerDeg : travel);
-      }
-      if (!steps.empty()) {
-        std::nth_element(steps.begin(), steps.begin() + static_cast<std::ptrdiff_t>(steps.size() / 2), steps.end());
-        a.step = steps[steps.size() / 2];
-      }
-      axes.push_back(a);
-    }
-  return axes;
-}
-
-/// A term's ISO name: "EXX", a location error "EC0X".
-std::string term_name(int component, const std::string& link, bool location) {
-  return fmt::format("E{}{}{}", kComponents[static_cast<std::size_t>(component)], location ? "0" : "", link);
-}
-
-/// The candidate effects the data can show, with the probes (links and components) they enter.
-std::vector<Candidate> candidate_library(const model::MachineModel& mm, const MeasurementSet& data,
-                                         const std::vector<AxisInfo>& axes, std::vector<Probe>& probes) {
-  const auto& tool_chain = mm.tool_chain;
-  std::string spindle;  // the tool side's last link before the tool: where the spindle tilts and drifts
-  for (const model::LinkSpec& l : tool_chain)
-    if (!l.tool) spindle = l.name;
-  auto probe = [&](const std::string& link, int component,
-                   model::ErrorPlacement placement = model::ErrorPlacement::motion) {
-    for (std::size_t i = 0; i < probes.size(); ++i)
-      if (probes[i].link == link && probes[i].component == component && probes[i].placement == placement) return i;
-    probes.push_back(Probe{link, component, placement, {}, {}, {}, {}});
-    return probes.size() - 1;
-  };
-  const auto location = model::ErrorPlacement::location;
-  auto position = [](const Observation& o, const AxisInfo& a) {  // internal units: mm, rad
-    return o.q[static_cast<Eigen::Index>(a.index)];
-  };
-  auto varies = [&](auto get) {
-    double lo = 1e300, hi = -1e300;
-    for (const Observation& o : data.observations) lo = std::min(lo, get(o)), hi = std::max(hi, get(o));
-    return hi > lo + 1e-12;
-  };
-  const bool tool_length_varies = varies([](const Observation& o) { return o.q[9]; });
-  // A sensor is a candidate variable when every reading has it and it changes: the model's
-  // own, and any other T_<name> column of the files (a suggestion then adds the sensor).
-  auto read_and_varies = [&](std::size_t sensor) {
-    for (const Observation& o : data.observations)
-      if (sensor >= o.temperatures.size() || std::isnan(o.temperatures[sensor])) return false;
-    return varies([sensor](const Observation& o) { return o.temperatures[sensor]; });
-  };
-  const bool time_varies = varies([](const Observation& o) { return o.time; });
-  auto unit = [](int component) { return component < 3 ? "um" : "urad"; };
-  auto file_value = [](int component, double internal) { return internal * (component < 3 ? 1e3 : 1e6); };
-  auto name = term_name;
-
-  std::vector<Candidate> candidates;
-  for (const AxisInfo& a : axes) {
-    const std::string v = axis_name(a.index);
-    const double span = a.to - a.from;
-    if (!(span > 0)) continue;
-    const std::string own = name(a.own, a.link, false);
-    if (!a.rotary) {
-      // Periodic positioning error: the lead screw's pitch, or the scale's.
-      Candidate c;
-      c.effect = fmt::format("periodic error of the {} axis' positioning (lead-screw pitch or scale pitch)",
-                             kAxisLetters[a.index]);
-      c.error = own, c.term = own, c.variable = v, c.form = "periodic";
-      c.probe = probe(a.link, a.own);
-      periodic_in(c, [&a, position](const Observation& o) { return position(o, a); });
-      // Periods below 2.5 steps of the data along the axis would alias.
-      // A period is named only where the data cover enough of its cycles to tell it from a
-      // slow curve (a shape the library lacks, a thermal drift seen along a line): four.
-      c.scan_from = std::max(2.0, 2.5 * a.step), c.scan_to = span / kCyclesForAPeriod;
-      // Two frequencies per peak width (1 / span): a peak is seen at 80% of its height or
-      // better, and refined between its neighbours.
-      c.scan_points = static_cast<int>(std::clamp(2.0 * span / c.scan_from, 50.0, 6000.0));
-      c.yaml = [own, component = a.own, file_value](const Eigen::VectorXd& x, double period) {
-        return fmt::format(
-            "{{name: {}, form: periodic, period: {:.6g} mm, unit: um, harmonics: [[{:.4g}, "
-            "{:.4g}]], fit: true}}",
-            own, period, file_value(component, x[0]), file_value(component, x[1]));
-      };
-      candidates.push_back(c);
-      // Reversal: the axis' positioning differs with the approach direction (backlash).
-      const std::size_t vi = a.index;
-      if (varies([vi](const Observation& o) { return o.directions[vi]; })) {
-        Candidate r;
-        r.effect = fmt::format(
-            "reversal of the {} axis: its position depends on the approach direction (backlash, "
-            "lost motion)",
-            kAxisLetters[a.index]);
-        r.error = own, r.term = own, r.variable = "v" + v, r.form = "reversal";
-        r.probe = probe(a.link, a.own);
-        r.basis = [vi](const Observation& o, int, double) { return 0.5 * o.directions[vi]; };
-        r.yaml = [own, v, file_value, component = a.own](const Eigen::VectorXd& x, double) {
-          return fmt::format("{{name: {}, variable: v{}, form: reversal, unit: um, reversal: {:.4g}, fit: true}}", own,
-                             v, file_value(component, x[0]));
-        };
-        candidates.push_back(r);
-      }
-      // Higher order: positioning and straightness, one degree above what the model has.
-      for (int component = 0; component < 3; ++component) {
-        const std::string term = name(component, a.link, false);
-        int degree = 2;
-        for (const model::ErrorTermSpec& t : mm.terms)
-          if (t.iso == term && t.shape.form == model::TermForm::polynomial) degree = std::max(degree, t.shape.order);
-        const int power = degree + 1;
-        Candidate h;
-        h.effect = fmt::format("{} of the {} axis of higher order (degree {})",
-                               component == a.own ? "positioning error" : "straightness", kAxisLetters[a.index], power);
-        h.error = term, h.term = term, h.variable = v, h.form = "polynomial";
-        h.probe = probe(a.link, component);
-        h.basis = [&a, position, power](const Observation& o, int, double) { return std::pow(position(o, a), power); };
-        h.yaml = [term, power, file_value, component](const Eigen::VectorXd& x, double) {
-          std::string coefficients;
-          for (int k = 0; k < power; ++k) coefficients += "0, ";
-          return fmt::format("{{name: {}, form: polynomial, unit: um, coefficients: [{}{:.4g}], fit: true}}", term,
-                             coefficients, file_value(component, x[0]));
-        };
-        candidates.push_back(h);
-      }
-      // A local defect of the guideway or the scale (a bump, a scale joint): a bell at a
-      // scanned place along the axis, in each direction, at two widths (a short defect and
-      // a longer one, 1/64 and 1/24 of the travel as one standard deviation).
-      for (int component = 0; component < 3; ++component)
-        for (const double width : {span / 64.0, span / 24.0}) {
-          if (width < 2.0 * a.step) continue;  // a bell narrower than the readings' spacing is not seen
-          const std::string term = name(component, a.link, false);
-          Candidate b;
-          b.effect = fmt::format(
-              "a local defect of the {} axis' {} ({} wide): a bump in one place, not a shape of "
-              "the whole travel",
-              kAxisLetters[a.index],
-              component == a.own ? "positioning (a scale joint, a damaged screw)" : "straightness (a guideway's bump)",
-              fmt::format("{:.3g} mm", 4 * width));
-          b.error = term, b.term = term, b.variable = v, b.form = "bump";
-          b.probe = probe(a.link, component);
-          b.basis = [&a, position, width](const Observation& o, int, double at) {
-            const double u = (position(o, a) - at) / width;
-            return std::exp(-0.5 * u * u);
-          };
-          b.scan_from = a.from, b.scan_to = a.to, b.scan_spacing = Candidate::Spacing::linear;
-          b.phase_variable = [&a, position](const Observation& o) { return position(o, a); };
-          b.reach = 5.0 * width;
-          b.scan_points = static_cast<int>(std::clamp(2.0 * span / width, 20.0, 400.0));  // two per width
-          b.yaml = [term, file_value, component, width](const Eigen::VectorXd& x, double at) {
-            return fmt::format(
-                "{{name: {}, form: bump, at: {:.6g} mm, width: {:.4g} mm, unit: um, amplitude: {:.4g}, "
-                "fit: true}}",
-                term, at, width, file_value(component, x[0]));
-          };
-          candidates.push_back(b);
-        }
-      // Squareness: the axis' line turned about the other two, where the reference frame
-      // leaves it free (Z's line is its primary axis, Y's lies in its Z-Y plane).
-      for (int component = 3; component < 6; ++component) {
-        if (component == a.own + 3 || model::frame_fixes_line_turn(kAxisLetters[a.index], component)) continue;
-        const std::string term = name(component, a.link, true);
-        Candidate s;
-        s.effect = fmt::format("out-of-squareness of the {} axis (its line of motion turned about {})",
-                               kAxisLetters[a.index], kComponents[static_cast<std::size_t>(component - 3)]);
-        s.error = term, s.term = term, s.variable = v, s.form = "polynomial";
-        s.probe = probe(a.link, component, location);
-        // A constant tilt of the axis' line: a squareness (EC0X).
-        s.basis = [](const Observation&, int, double) { return 1.0; };
-        s.yaml = [term, file_value, component](const Eigen::VectorXd& x, double) {
-          return fmt::format("{{name: {}, value: {:.4g}, unit: urad, fit: true}}", term, file_value(component, x[0]));
-        };
-        candidates.push_back(s);
-      }
-      // Scale expansion: the positioning grows with the temperature of a sensor.
-      for (std::size_t sensor = 0; sensor < data.sensors.size(); ++sensor) {
-        if (!read_and_varies(sensor)) continue;
-        Candidate e;
-        e.effect = fmt::format(
-            "thermal expansion of the {} axis' scale with {} (the error grows with the position "
-            "and the temperature)",
-            kAxisLetters[a.index], data.sensors[sensor]);
-        e.error = own, e.term = own, e.variable = v + ",T_" + data.sensors[sensor], e.form = "interaction";
-        e.probe = probe(a.link, a.own);
-        e.basis = [&a, position, sensor](const Observation& o, int, double) {
-          return position(o, a) * (o.temperatures[sensor] - 20.0);
-        };
-        e.yaml = [own, sensor_name = data.sensors[sensor]](const Eigen::VectorXd& x, double) {
-          return fmt::format(
-              "{{name: {}, form: scale_expansion, temperature: T_{}, coefficient: {:.4g} /degC, "
-              "fit: true}}",
-              own, sensor_name, x[0]);
-        };
-        candidates.push_back(e);
-      }
-      // Cross-axis: an error motion of this axis that varies with another axis' position.
-      for (const AxisInfo& w : axes) {
-        if (w.rotary || w.index == a.index || !(w.to > w.from)) continue;
-        for (int component = 0; component < 6; ++component) {
-          const std::string term = name(component, a.link, false);
-          Candidate x;
-          x.effect = fmt::format(
-              "{} of the {} carriage that changes with the {} position (load, overhang: a 2-D Abbe "
-              "error)",
-              component < 3 ? "straightness/positioning" : "angular error motion", kAxisLetters[a.index],
-              kAxisLetters[w.index]);
-          x.error = term, x.term = term, x.variable = v + "," + axis_name(w.index), x.form = "interaction";
-          x.probe = probe(a.link, component);
-          x.basis_count = 2;
-          x.basis = [&a, &w, position](const Observation& o, int k, double) {
-            return k == 0 ? position(o, w) : position(o, a) * position(o, w);
-          };
-          x.yaml = [term, component, file_value, other = axis_name(w.index), unit](const Eigen::VectorXd& coefficient,
-                                                                                   double) {
-            return fmt::format(
-                "{{name: {}, form: cross_axis, other: {}, unit: {}, coefficients: [[{:.4g}], "
-                "[{:.4g}]], fit: true}}",
-                term, other, unit(component), file_value(component, coefficient[0]),
-                file_value(component, coefficient[1]));
-          };
-          candidates.push_back(x);
-        }
-      }
-    } else {
-      // The table: harmonics of its error motions, its worm wheel, tilt and eccentricity.
-      for (int component = 0; component < 6; ++component) {
-        const std::string term = name(component, a.link, false);
-        for (int harmonic = 1; harmonic <= 3; ++harmonic) {
-          Candidate h;
-          h.effect = fmt::format("error motion {} of the {} table, {} per turn", term, kAxisLetters[a.index],
-                                 harmonic == 1   ? "once"
-                                 : harmonic == 2 ? "twice"
-                                                 : "three times");
-          h.error = term, h.term = term, h.variable = v, h.form = "harmonic", h.period = 360.0 / harmonic;
-          h.probe = probe(a.link, component);
-          h.basis_count = 2;
-          h.basis = [&a, position, harmonic](const Observation& o, int k, double) {
-            return k == 0 ? std::cos(harmonic * position(o, a)) : std::sin(harmonic * position(o, a));
-          };
-          h.yaml = [term, harmonic, file_value, component, unit](const Eigen::VectorXd& x, double) {
-            return fmt::format(
-                "{{name: {}, form: periodic, period: {:g} deg, unit: {}, harmonics: [[{:.4g}, "
-                "{:.4g}]], fit: true}}",
-                term, 360.0 / harmonic, unit(component), file_value(component, x[0]), file_value(component, x[1]));
-          };
-          candidates.push_back(h);
-        }
-      }
-      Candidate w;
-      w.effect =
-          fmt::format("periodic indexing error of the {} table (a worm wheel's tooth period)", kAxisLetters[a.index]);
-      w.error = own, w.term = own, w.variable = v, w.form = "periodic";
-      w.probe = probe(a.link, a.own);
-      periodic_in(w, [&a, position](const Observation& o) { return position(o, a) / kRadPerDeg; });
-      w.scan_from = std::max(1.0, 2.5 * a.step), w.scan_to = std::min(90.0, span / kCyclesForAPeriod);
-      w.scan_points = static_cast<int>(std::clamp(2.0 * span / w.scan_from, 50.0, 6000.0));
-      w.yaml = [own, file_value, component = a.own](const Eigen::VectorXd& x, double period) {
-        return fmt::format(
-            "{{name: {}, form: periodic, period: {:.6g} deg, unit: urad, harmonics: [[{:.4g}, "
-            "{:.4g}]], fit: true}}",
-            own, period, file_value(component, x[0]), file_value(component, x[1]));
-      };
-      candidates.push_back(w);
-      for (int component = 0; component < 6; ++component) {
-        // Along or about its own line a rotary axis' location changes nothing.
-        if (component == a.own || component == a.own - 3) continue;
-        const std::string term = name(component, a.link, true);
-        Candidate l;
-        l.effect = component < 3 ? fmt::format("the {} axis' centre is off in {} (eccentricity, location)",
-                                               kAxisLetters[a.index], kComponents[static_cast<std::size_t>(component)])
-                                 : fmt::format("the {} axis is tilted about {}", kAxisLetters[a.index],
-                                               kComponents[static_cast<std::size_t>(component - 3)]);
-        l.error = term, l.term = term, l.variable = v, l.form = "polynomial";
-        l.probe = probe(a.link, component, location);
-        l.basis = [](const Observation&, int, double) { return 1.0; };
-        l.yaml = [term, file_value, component, unit](const Eigen::VectorXd& x, double) {
-          return fmt::format("{{name: {}, value: {:.4g}, unit: {}, fit: true}}", term, file_value(component, x[0]),
-                             unit(component));
-        };
-        candidates.push_back(l);
-      }
-    }
-  }
-  // The tool: a tilt of the spindle shows as an error growing with the tool length (Abbe).
-  if (!spindle.empty() && tool_length_varies) {
-    for (int component = 3; component < 5; ++component) {
-      const std::string term = name(component, spindle, true);
-      Candidate t;
-      t.effect = fmt::format("the spindle is tilted about {}: the error grows with the tool length (Abbe arm)",
-                             kComponents[static_cast<std::size_t>(component - 3)]);
-      t.error = term, t.term = term, t.variable = "L", t.form = "linear";
-      t.probe = probe(spindle, component);
-      t.basis = [](const Observation&, int, double) { return 1.0; };
-      t.yaml = [term, file_value, component](const Eigen::VectorXd& x, double) {
-        return fmt::format("{{name: {}, value: {:.4g}, unit: urad, fit: true}}", term, file_value(component, x[0]));
-      };
-      candidates.push_back(t);
-    }
-  }
-  // Heat: a drift of the tool against the workpiece with a sensor's temperature, or in time.
-  if (!spindle.empty()) {
-    for (int component = 0; component < 3; ++component) {
-      const std::string term = name(component, spindle, false);
-      for (std::size_t sensor = 0; sensor < data.sensors.size(); ++sensor) {
-        if (!read_and_varies(sensor)) continue;
-        Candidate d;
-        d.effect = fmt::format("thermal drift in {} with the temperature at {}",
-                               kComponents[static_cast<std::size_t>(component)], data.sensors[sensor]);
-        d.error = "thermal", d.term = term, d.variable = "T_" + data.sensors[sensor], d.form = "linear";
-        d.probe = probe(spindle, component);
-        d.basis = [sensor](const Observation& o, int, double) { return o.temperatures[sensor] - 20.0; };
-        d.yaml = [term, sensor_name = data.sensors[sensor], file_value, component](const Eigen::VectorXd& x, double) {
-          return fmt::format(
-              "{{name: {}, variable: T_{}, form: thermal, unit: um, coefficient: {:.4g}, fit: "
-              "true}}",
-              term, sensor_name, file_value(component, x[0]));
-        };
-        candidates.push_back(d);
-      }
-      if (time_varies) {
-        Candidate w;
-        w.effect = fmt::format("warm-up drift in {}: first order in time since the start",
-                               kComponents[static_cast<std::size_t>(component)]);
-        w.error = "thermal", w.term = term, w.variable = "t", w.form = "exponential";
-        w.probe = probe(spindle, component);
-        w.basis = [](const Observation& o, int, double tau) { return 1.0 - std::exp(-o.time / tau); };
-        w.scan_from = 120.0, w.scan_to = 4 * 3600.0, w.scan_points = 60;
-        w.scan_spacing = Candidate::Spacing::logarithmic;
-        w.yaml = [term, file_value, component](const Eigen::VectorXd& x, double tau) {
-          return fmt::format(
-              "{{name: {}, variable: t, form: warmup, unit: um, amplitude: {:.4g}, time_constant: "
-              "{:.0f} s, fit: true}}",
-              term, file_value(component, x[0]), tau);
-        };
-        candidates.push_back(w);
-      }
-    }
-  }
-  return candidates;
-}
-
 /// The base model refitted to the data and what its free parameters can absorb, with the
 /// probes' columns: one pass over the data, with a model that has the probes as terms
 /// (zero: its predictions are the refit's), gives the base's columns and the probes' alike.
 Projector refitted_base(const model::ForwardModel& model, const MeasurementSet& data, std::vector<Probe>& probes,
                         const FitOptions& fit_options, Diagnosis& out) {
-  const auto n = static_cast<Eigen::Index>(data.observations.size());
   out.refit = fit(model, data, fit_options);
   model::MachineModel probing = model.machine();
   const std::size_t first = probing.terms.size();
@@ -606,7 +182,9 @@ Projector refitted_base(const model::ForwardModel& model, const MeasurementSet& 
   } else {
     base.W.resize(0, 0);
   }
-  out.rms_refit = std::sqrt(base.r.squaredNorm() / static_cast<double>(n));
+  // What the user sees is the refit's own rms (what `fit` reports), not the projection's:
+  // the fit holds changes the noise does not support, the projection takes them.
+  out.rms_refit = out.refit.rms_after;
   return base;
 }
 
@@ -626,13 +204,13 @@ void probe_rows(const Projector& base, Eigen::Index n, std::vector<Probe>& probe
   }
 }
 
-/// Where the residual concentrates: eight bins along every variable that varies.
-std::vector<Region> residual_regions(const model::MachineModel& mm, const MeasurementSet& data,
-                                     const std::vector<AxisInfo>& axes, const Eigen::VectorXd& r, double overall,
-                                     double noise) {
+/// The residual's rms in eight bins along every variable that varies (bins of ten readings
+/// or more), each with its ratio to the rms everywhere, largest ratio first.
+std::vector<Region> residual_bins(const MeasurementSet& data, const std::vector<AxisInfo>& axes,
+                                  const Eigen::VectorXd& r, double overall) {
   const auto n = static_cast<Eigen::Index>(data.observations.size());
-  std::vector<Region> regions;
-  auto add_regions = [&](const std::string& variable, auto get) {
+  std::vector<Region> bins;
+  auto add_bins = [&](const std::string& variable, auto get) {
     double lo = 1e300, hi = -1e300;
     for (const Observation& o : data.observations)
       if (const double v = get(o); !std::isnan(v)) lo = std::min(lo, v), hi = std::max(hi, v);
@@ -648,22 +226,103 @@ std::vector<Region> residual_regions(const model::MachineModel& mm, const Measur
     }
     for (int b = 0; b < kBins; ++b) {
       const auto bi = static_cast<std::size_t>(b);
-      if (count[bi] < 10) continue;
+      if (count[bi] < 10 || !(overall > 0)) continue;
       const double rms = std::sqrt(sum[bi] / count[bi]);
-      if (overall > 0 && rms > 1.5 * overall && rms > 3 * noise)
-        regions.push_back({variable, lo + (hi - lo) * b / kBins, lo + (hi - lo) * (b + 1) / kBins, rms, rms / overall});
+      bins.push_back({variable, lo + (hi - lo) * b / kBins, lo + (hi - lo) * (b + 1) / kBins, rms, rms / overall});
     }
   };
-  for (const AxisInfo& a : axes)
-    add_regions(axis_name(a.index), [&a](const Observation& o) { return axis_value(o, a); });
-  add_regions("L", [](const Observation& o) { return o.q[9]; });
-  add_regions("t", [](const Observation& o) { return o.time; });
+  for (const AxisInfo& a : axes) add_bins(axis_name(a.index), [&a](const Observation& o) { return axis_value(o, a); });
+  add_bins("L", [](const Observation& o) { return o.q[9]; });
+  add_bins("t", [](const Observation& o) { return o.time; });
   for (std::size_t s = 0; s < data.sensors.size(); ++s)
-    add_regions("T_" + data.sensors[s],
-                [s](const Observation& o) { return s < o.temperatures.size() ? o.temperatures[s] : std::nan(""); });
-  std::sort(regions.begin(), regions.end(), [](const Region& a, const Region& b) { return a.ratio > b.ratio; });
-  if (regions.size() > 8) regions.resize(8);
+    add_bins("T_" + data.sensors[s],
+             [s](const Observation& o) { return s < o.temperatures.size() ? o.temperatures[s] : std::nan(""); });
+  std::stable_sort(bins.begin(), bins.end(), [](const Region& a, const Region& b) { return a.ratio > b.ratio; });
+  return bins;
+}
+
+/// Where the residual concentrates: bins at 1.5 times the rms everywhere and 3 noise sigmas.
+std::vector<Region> residual_regions(const std::vector<Region>& bins, double noise) {
+  std::vector<Region> regions;
+  for (const Region& g : bins)
+    if (g.ratio > 1.5 && g.rms > 3 * noise && regions.size() < 8) regions.push_back(g);
   return regions;
+}
+
+/// Whether the candidate's coefficients make its term larger on the data than a machine's
+/// could be (physical_scale.hpp): a nearly blind combination that the noise can push to
+/// any size. Each basis function's part counts on its own.
+bool implausible(const Candidate& c, const Probe& p, const MeasurementSet& data, const Scored& scored) {
+  const double plausible = p.component < 3 ? kPlausibleTranslation : kPlausibleRotation;
+  for (int k = 0; k < c.basis_count; ++k) {
+    double largest = 0.0;
+    for (const Eigen::Index row : p.rows)
+      largest = std::max(largest, std::abs(c.basis(data.observations[static_cast<std::size_t>(row)], k, scored.value)));
+    if (std::abs(scored.coefficients[k]) * largest > kImplausibleScales * plausible) return true;
+  }
+  return false;
+}
+
+/// Above this share of base directions per reading a projection's rms is not a fit's.
+constexpr double kProjectionShare = 0.005;
+
+/// The suggestion's rms and residual from a fit of the model with its spec.
+void refit_with(const model::ForwardModel& model, const MeasurementSet& data, const FitOptions& options,
+                Suggestion& s) {
+  try {
+    const model::ForwardModel with(model::with_terms(model.machine(), {s.spec}, "suggestion"));
+    const FitReport r = fit(with, data, options);
+    if (!r.refusals.empty() || !std::isfinite(r.rms_after)) return;
+    s.rms_after = r.rms_after;
+    s.residual = residuals(with, r.all_parameters, data);
+    s.refitted = true;
+  } catch (const Error&) {
+    // A spec the fit refuses keeps the projection's figures.
+  }
+}
+
+/// The rms of the residual without the refit's outliers (spikes are not structure).
+double rms_without_outliers(const Diagnosis& d, const MeasurementSet& data) {
+  double sum = 0.0;
+  std::size_t count = 0;
+  for (std::size_t i = 0; i < data.observations.size(); ++i) {
+    const Observation& o = data.observations[i];
+    if (std::any_of(d.refit.outliers.begin(), d.refit.outliers.end(),
+                    [&](const FitReport::Outlier& x) { return x.file == o.file && x.row == o.row; }))
+      continue;
+    sum += d.residual[static_cast<Eigen::Index>(i)] * d.residual[static_cast<Eigen::Index>(i)], ++count;
+  }
+  return count ? std::sqrt(sum / static_cast<double>(count)) : 0.0;
+}
+
+/// The residual's structure beyond the noise when no candidate explains it, in words
+/// (`d.residual` is the refit's; `bins` its rms along each variable, largest first).
+std::string unexplained_structure(const Diagnosis& d, const MeasurementSet& data, const std::vector<Region>& bins) {
+  if (!d.skipped.empty() || !(rms_without_outliers(d, data) > kStructure * d.noise)) return {};
+  // The variables along which it is most uneven, and its largest bin.
+  std::string along;
+  std::vector<std::string> seen;
+  for (const Region& g : bins)
+    if (g.ratio > kUneven && seen.size() < 2 && std::find(seen.begin(), seen.end(), g.variable) == seen.end()) {
+      along += (seen.empty() ? " along " : " and ") + g.variable;
+      seen.push_back(g.variable);
+    }
+  std::string text = fmt::format("unexplained structure{}: rms {:.3f} um against a noise floor of {:.3f} um", along,
+                                 d.rms_refit * 1e3, d.noise * 1e3);
+  if (!seen.empty())
+    text += fmt::format(", largest at {} {:.4g}..{:.4g} (rms {:.3f} um)", bins.front().variable, bins.front().from,
+                        bins.front().to, bins.front().rms * 1e3);
+  else
+    text += ", even along every variable";
+  if (!d.refit.outliers.empty())
+    text += fmt::format(" (and {} outlier reading(s), left out of this)", d.refit.outliers.size());
+  if (d.unproven > 0)
+    text +=
+        fmt::format("; {} candidate(s) lowered it where fitted but did not predict the readings left out", d.unproven);
+  if (d.implausible > 0)
+    text += fmt::format("; {} would need values beyond {:g} times a machine's (a combination the data barely see)",
+                        d.implausible, kImplausibleScales);
+  return text + ": no effect in the library is proven; a shape to look for, not a name";
 }
 
 }  // namespace
@@ -691,9 +350,10 @@ Diagnosis diagnose(const model::ForwardModel& model, const MeasurementSet& data,
   Projector base = refitted_base(model, data, probes, options.fit, out);
   probe_rows(base, n, probes);
   const double sse0 = base.r.squaredNorm();
+  const double rms_projected = std::sqrt(sse0 / static_cast<double>(n));
   // Without a noise floor from the data's structure, the refitted residual stands in for
   // it: an upper bound, so fewer effects pass, never more.
-  if (!(out.noise > 0)) out.noise = out.rms_refit;
+  if (!(out.noise > 0)) out.noise = rms_projected;
   const double sigma2 = std::max(out.noise * out.noise, 1e-18);
 
   // A candidate's suggestion from its best value (a period, a time constant), the gain
@@ -716,7 +376,7 @@ Diagnosis diagnose(const model::ForwardModel& model, const MeasurementSet& data,
     s.significance = gain / sigma2 - k - 2.0 * std::log(trials);
     s.yaml = "  - " + c.yaml(x, value);
     s.spec = c.yaml(x, value);
-    return Scored{std::move(s), value, x};
+    return Scored{std::move(s), value, x, gain};
   };
 
   // Candidates without a scan: all their columns (over every row, zero off their probe's
@@ -893,26 +553,49 @@ Diagnosis diagnose(const model::ForwardModel& model, const MeasurementSet& data,
   std::stable_sort(kept.begin(), kept.end(), [&](std::size_t a, std::size_t b) {
     return results[a]->suggestion.bic_delta < results[b]->suggestion.bic_delta;
   });
-  if (kept.size() > static_cast<std::size_t>(options.max_suggestions))
-    kept.resize(static_cast<std::size_t>(options.max_suggestions));
-  for (std::size_t rank = 0; rank < kept.size(); ++rank) {
-    const Candidate& c = candidates[kept[rank]];
-    Scored& scored = *results[kept[rank]];
+  // Proven: the effect also predicts readings it was not fitted to (held_out.hpp), by
+  // five sigma against the noise. Weighed in the order of the information criterion until
+  // enough are proven.
+  for (const std::size_t i : kept) {
+    if (out.suggestions.size() == static_cast<std::size_t>(options.max_suggestions)) break;
+    const Candidate& c = candidates[i];
+    Scored& scored = *results[i];
     Suggestion& s = scored.suggestion;
-    s.rank = static_cast<int>(rank + 1);
-    // The residual with the effect added: what its terms take, less what the base's free
-    // parameters had taken of it (the linear fit of both, whose rms is rms_after).
+    if (implausible(c, probes[c.probe], data, scored)) {
+      ++out.implausible;
+      continue;
+    }
     Eigen::MatrixXd C = Eigen::MatrixXd::Zero(n, c.basis_count);
     candidate_columns(c, probes[c.probe], data, scored.value, true, C);
-    Eigen::VectorXd taken = C * scored.coefficients;
-    if (base.A.cols() > 0) taken -= base.A * (base.W * (base.W.transpose() * (base.A.transpose() * taken)));
-    s.residual = base.r - taken;
+    // The columns less what the base's free parameters take of them.
+    Eigen::MatrixXd C_free = C;
+    if (base.A.cols() > 0) C_free -= base.A * (base.W * (base.W.transpose() * transpose_product(base.A, C)));
+    const detail::HeldOut held = detail::held_out_gain(C_free, base.r, data);
+    s.held_out = held.gain / std::max(held.fitted_gain, 1e-300);
+    s.held_out_by = held.by == detail::HeldOutBy::source ? "source" : "block";
+    if (!(held.gain / sigma2 > kSignificance)) {
+      ++out.unproven;
+      continue;
+    }
+    s.rank = static_cast<int>(out.suggestions.size() + 1);
+    // The residual with the effect added: what its terms take, less what the base's free
+    // parameters had taken of it (the linear fit of both, whose rms is rms_after).
+    s.residual = base.r - C_free * scored.coefficients;
+    s.rms_before = out.rms_refit;
     out.suggestions.push_back(std::move(s));
   }
+  // What is scored is what is suggested: where the model has many free parameters for the
+  // readings, the projection takes the noise along every direction the base could move,
+  // while a fit holds what the noise does not support; the rms after is then the fit's of
+  // the model with the spec, as `fit --add` would write it.
+  if (static_cast<double>(base.W.cols()) > kProjectionShare * static_cast<double>(n))
+    for (Suggestion& s : out.suggestions) refit_with(model, data, options.fit, s);
 
-  out.regions = residual_regions(mm, data, axes, base.r, out.rms_refit, out.noise);
+  const std::vector<Region> bins = residual_bins(data, axes, base.r, rms_projected);
+  out.regions = residual_regions(bins, out.noise);
   out.ties = find_ties(out.suggestions, base.r);
   out.residual = std::move(base.r);
+  if (out.suggestions.empty()) out.unexplained = unexplained_structure(out, data, bins);
   return out;
 }
 

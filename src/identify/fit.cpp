@@ -193,7 +193,6 @@ constexpr std::size_t kRowBlocks = 8;
 /// the test a fit's step directions and its final changes both pass.
 constexpr double kSignificant = 3.0;
 /// A fitted change beyond this many physical scales is refused (FitReport::refusals).
-constexpr double kBeyondScale = 100.0;
 Eigen::Index block_begin(Eigen::Index rows, std::size_t b) {
   return rows * static_cast<Eigen::Index>(b) / static_cast<Eigen::Index>(kRowBlocks);
 }
@@ -568,7 +567,7 @@ FitReport fit(const model::ForwardModel& model, const MeasurementSet& data, cons
   // direction, a wrong unit, a diverging fit), never a measurement: refused, named.
   for (const FittedParameter& fp : report.parameters) {
     const double plausible = physical[static_cast<Eigen::Index>(fp.index)];
-    if (std::abs(fp.after - fp.before) > kBeyondScale * plausible)
+    if (std::abs(fp.after - fp.before) > kImplausibleScales * plausible)
       report.refusals.push_back(
           fmt::format("{} moved by {:.4g} (internal units), {:.0f} times its physical scale {:.4g}", fp.label,
                       fp.after - fp.before, std::abs(fp.after - fp.before) / plausible, plausible));

@@ -23,15 +23,16 @@ constexpr double kNoise = 0.0002;  // mm
 struct Hidden {
   const char* name;
   std::function<void(ReferenceHmc&)> hide;
-  bool thermal = false;                   ///< the plans include a warm-up run
-  std::vector<std::string> named;         ///< what the added specs must say, one each ("name: EXX, form: periodic")
-  std::vector<std::string> alternatives;  ///< a spec the data cannot tell from the named one may stand instead
+  bool thermal = false;                     ///< the plans include a warm-up run
+  std::vector<std::string> named{};         ///< what the added specs must say, one each ("name: EXX, form: periodic")
+  std::vector<std::string> alternatives{};  ///< a spec the data cannot tell from the named one may stand instead
   /// A number the first added spec must carry near its value: {"at: ", 130, 3} for a bump.
   struct Near {
     const char* key = nullptr;
     double value = 0, within = 0;
   } near{};
-  bool spikes = false;  ///< a reading 50 um off now and then (a laser beam cut)
+  bool spikes = false;      ///< a reading 50 um off now and then (a laser beam cut)
+  double sphere_step = 15;  ///< deg: a worm wheel's teeth need finer probing of the table
 };
 
 void PrintTo(const Hidden& h, std::ostream* os) {
@@ -43,48 +44,68 @@ std::function<double(double)> plus(std::function<double(double)> base, std::func
   return [base, more](double v) { return base(v) + more(v); };
 }
 
+void lead_screw(ReferenceHmc& m) {
+  m.EXX = plus(m.EXX, [](double x) { return 0.0015 * std::sin(2 * std::numbers::pi * x / 10.0 + 0.4); });
+}
+
 const Hidden kCases[] = {
-    {"nothing_hidden", [](ReferenceHmc&) {}, false, {}},
-    {"lead_screw",
-     [](ReferenceHmc& m) {
-       m.EXX = plus(m.EXX, [](double x) { return 0.0015 * std::sin(2 * std::numbers::pi * x / 10.0 + 0.4); });
-     },
-     false,
-     {"name: EXX, form: periodic"}},
-    {"backlash", [](ReferenceHmc& m) { m.reversal[1] = -0.0035; }, false, {"name: EYY, variable: vy, form: reversal"}},
-    {"higher_order",
-     [](ReferenceHmc& m) { m.EYX = plus(m.EYX, [](double x) { return 3e-11 * x * x * x; }); },
-     false,
-     {"name: EYX, form: polynomial"}},
-    {"guideway_bump",  // 6 um over some 50 mm of X's guideway, at x = 130
-     [](ReferenceHmc& m) {
-       m.EYX = plus(m.EYX, [](double x) { return 0.006 * std::exp(-0.5 * std::pow((x - 130.0) / 12.5, 2)); });
-     },
-     false,
-     {"name: EYX, form: bump"},
-     {},
-     {"at: ", 130.0, 3.0}},
-    {"screw_with_spikes",
-     [](ReferenceHmc& m) {
-       m.EXX = plus(m.EXX, [](double x) { return 0.0015 * std::sin(2 * std::numbers::pi * x / 10.0 + 0.4); });
-     },
-     false,
-     {"name: EXX, form: periodic"},
-     {},
-     {},
-     true},
-    {"spindle_growth",
-     [](ReferenceHmc& m) { m.spindle_growth = 0.0025; },
-     true,
-     {"variable: T_spindle, form: thermal"},
-     {"variable: t, form: warmup"}},
-    {"screw_and_backlash",
-     [](ReferenceHmc& m) {
-       m.EXX = plus(m.EXX, [](double x) { return 0.0015 * std::sin(2 * std::numbers::pi * x / 10.0 + 0.4); });
-       m.reversal[1] = -0.0035;
-     },
-     false,
-     {"name: EYY, variable: vy, form: reversal", "name: EXX, form: periodic"}},
+    {.name = "nothing_hidden", .hide = [](ReferenceHmc&) {}},
+    {.name = "lead_screw", .hide = lead_screw, .named = {"name: EXX, form: periodic"}},
+    {.name = "backlash",
+     .hide = [](ReferenceHmc& m) { m.reversal[1] = -0.0035; },
+     .named = {"name: EYY, variable: vy, form: reversal"}},
+    {.name = "higher_order",
+     .hide = [](ReferenceHmc& m) { m.EYX = plus(m.EYX, [](double x) { return 3e-11 * x * x * x; }); },
+     .named = {"name: EYX, form: polynomial"}},
+    {.name = "guideway_bump",  // 6 um over some 50 mm of X's guideway, at x = 130
+     .hide =
+         [](ReferenceHmc& m) {
+           m.EYX = plus(m.EYX, [](double x) { return 0.006 * std::exp(-0.5 * std::pow((x - 130.0) / 12.5, 2)); });
+         },
+     .named = {"name: EYX, form: bump"},
+     .near = {"at: ", 130.0, 3.0}},
+    {.name = "screw_with_spikes", .hide = lead_screw, .named = {"name: EXX, form: periodic"}, .spikes = true},
+    {.name = "spindle_growth",
+     .hide = [](ReferenceHmc& m) { m.spindle_growth = 0.0025; },
+     .thermal = true,
+     .named = {"variable: T_spindle, form: thermal"},
+     .alternatives = {"variable: t, form: warmup"}},
+    {.name = "screw_and_backlash",
+     .hide =
+         [](ReferenceHmc& m) {
+           lead_screw(m);
+           m.reversal[1] = -0.0035;
+         },
+     .named = {"name: EYY, variable: vy, form: reversal", "name: EXX, form: periodic"}},
+    // The table indexes off three times a turn, 14 urad (3 um at the spheres' radius).
+    {.name = "table_harmonic",
+     .hide =
+         [](ReferenceHmc& m) {
+           m.EBB = [](double b) { return 1.2e-5 * std::cos(3 * b * std::numbers::pi / 180 + 0.6); };
+         },
+     .named = {"name: EBB, form: periodic, period: 120 deg"}},
+    // A worm wheel of 36 teeth: a 10 deg period in the table's indexing, probed every 2.5 deg.
+    {.name = "worm_wheel",
+     .hide =
+         [](ReferenceHmc& m) { m.EBB = [](double b) { return 1.0e-5 * std::sin(2 * std::numbers::pi * b / 10.0); }; },
+     .named = {"name: EBB, form: periodic"},
+     .near = {"period: ", 10.0, 0.2},
+     .sphere_step = 2.5},
+    // The X table's vertical straightness changes with where Z is (the table overhangs).
+    {.name = "cross_axis",
+     .hide =
+         [](ReferenceHmc& m) {
+           m.table_load = [](double x, double, double z) { return Eigen::Vector3d(0, 2e-8 * x * z, 0); };
+         },
+     // (A pitch of Z growing with x, less X's own, is the same on these data; so is X's
+     // straightness along y growing with y z, less Z's yaw: rigid-body equivalents.)
+     .named = {"name: EYX, form: cross_axis, other: z"},
+     .alternatives = {"form: cross_axis"}},
+    // X's glass scale grows 2 um/m per degC more than the bed it measures.
+    {.name = "scale_expansion",
+     .hide = [](ReferenceHmc& m) { m.x_scale_expansion = 2e-6; },
+     .thermal = true,
+     .named = {"name: EXX, form: scale_expansion, temperature: T_bed"}},
 };
 
 class ReferenceEffects : public ::testing::TestWithParam<Hidden> {};
@@ -95,13 +116,15 @@ TEST_P(ReferenceEffects, TheLoopNamesWhatIsHiddenEndsAtTheNoiseAndWritesNothingA
   h.hide(machine);
   ReferencePlans plans;
   plans.noise = kNoise, plans.seed = 21, plans.line_step = 2.5, plans.thermal = h.thermal;
+  plans.sphere_step = h.sphere_step;
   identify::MeasurementSet data = reference_measurements(measure_reference(machine, plans));
   std::vector<std::uint32_t> spiked;  // rows
-  if (h.spikes)
+  if (h.spikes) {
     for (std::size_t i = 500; i < data.observations.size(); i += 2001) {
       data.observations[i].value += 0.05;
       spiked.push_back(data.observations[i].row);
     }
+  }
   // With spikes a script reruns check and fit with --robust, as fit's outliers line says.
   identify::FitOptions options;
   if (h.spikes) options.loss = identify::Loss::huber;
@@ -131,7 +154,9 @@ TEST_P(ReferenceEffects, TheLoopNamesWhatIsHiddenEndsAtTheNoiseAndWritesNothingA
     const bool named = loop.added[i].find(h.named[i]) != std::string::npos;
     const bool alternative = i < h.alternatives.size() && loop.added[i].find(h.alternatives[i]) != std::string::npos;
     EXPECT_TRUE(named || alternative) << h.name << ": added " << loop.added[i] << ", expected " << h.named[i];
-    if (alternative) EXPECT_FALSE(loop.ties.empty()) << "a tie is said, with the measurement that would decide it";
+    if (alternative && !named) {
+      EXPECT_FALSE(loop.ties.empty()) << "a tie is said, with the measurement that would decide it";
+    }
   }
   if (h.near.key && !loop.added.empty()) {
     const std::string& spec = loop.added.front();

@@ -33,6 +33,7 @@ LoopResult follow_the_loop(std::string text, const identify::MeasurementSet& dat
     for (const identify::Tie& t : d.ties) out.ties.push_back(t.measurement);
     if (d.suggestions.empty()) {
       out.ended = true;
+      out.unexplained = d.unexplained;
       break;
     }
     if (round == rounds) break;

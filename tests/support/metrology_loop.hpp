@@ -16,6 +16,7 @@ struct LoopResult {
   identify::FitReport last;           ///< the last fit
   std::vector<std::string> refusals;  ///< any fit's refusals (none expected)
   bool ended = false;                 ///< check suggested nothing at the end
+  std::string unexplained;            ///< what the last check said it sees and cannot name
 };
 
 /// Runs the loop from the model file `text` on `data` for at most `rounds` additions, each

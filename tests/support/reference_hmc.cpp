@@ -39,13 +39,14 @@ Eigen::Vector3d ReferenceHmc::deviation(double x, double y, double z, double b_d
   // The table's B centre: carried -x along X's line and -z along Z's; the carriages' error
   // motions are the tool's relative to the table, so the table moves by their opposite.
   const Vec3 x_line = Vec3(1, EC0X, -EB0X).normalized();
-  const Vec3 centre = -x * x_line - Vec3(value_of(EXX, x), value_of(EYX, x), value_of(EZX, x)) - z * Vec3::UnitZ() -
-                      Vec3(0, 0, value_of(EZZ, z)) + Vec3(0, 0, -b_centre);
+  Vec3 x_motion(value_of(EXX, x) + x_scale_expansion * x * (state.bed_T - 20.0), value_of(EYX, x), value_of(EZX, x));
+  if (table_load) x_motion += table_load(x, y, z);
+  const Vec3 centre = -x * x_line - x_motion - z * Vec3::UnitZ() - Vec3(0, 0, value_of(EZZ, z)) + Vec3(0, 0, -b_centre);
   // The table turns about its real line: through `line_point` (relative to the centre),
   // along `line` (the table's own sense of turning, the opposite of B's direction).
   const Vec3 line_point(-EX0B, 0, -EZ0B);
   const Vec3 line = -Vec3(-EC0B, 1, EA0B).normalized();
-  const Mat3 turn = rotation(line, b);
+  const Mat3 turn = rotation(line, b + value_of(EBB, b_deg));
   // Where the tool tip is on the table, and where it should be.
   const Vec3 actual = line_point + turn.transpose() * (tool - centre - line_point);
   const Mat3 nominal_turn = nominal_table_turn(b);
@@ -133,7 +134,7 @@ std::vector<ReferenceReading> measure_reference(const ReferenceHmc& machine, con
           }
   if (plans.sphere)
     for (const Vec3& s : {Vec3(150, 100, 120), Vec3(-100, -50, -150)})
-      for (double b = 0; b < 360; b += 15) {
+      for (double b = 0; b < 360 - 1e-9; b += plans.sphere_step) {
         const Vec3 q = machine.axes_for_table_point(s, b, 100);
         for (int c = 0; c < 3; ++c) read(q.x(), q.y(), q.z(), b, 100, Vec3::Unit(c), "sphere");
       }
@@ -141,6 +142,7 @@ std::vector<ReferenceReading> measure_reference(const ReferenceHmc& machine, con
     for (int k = 0; k <= 24; ++k) {  // every 10 minutes for 4 hours
       time = 600.0 * k;
       state.spindle_T = 20.0 + 12.0 * (1.0 - std::exp(-time / 2400.0));
+      state.bed_T = 20.0 + plans.bed_rise * (1.0 - std::exp(-time / 5400.0));
       for (const Vec3& p : {Vec3(-300, 0, -300), Vec3(0, 0, 0), Vec3(300, 0, 300)})
         for (int c = 0; c < 3; ++c) read(p.x(), p.y(), p.z(), 0, 100, Vec3::Unit(c), "thermal");
     }

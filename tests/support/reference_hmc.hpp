@@ -21,6 +21,7 @@ namespace ccomp::test {
 struct ReferenceState {
   std::array<double, 3> approach{};
   double spindle_T = 20.0;
+  double bed_T = 20.0;  ///< the bed, where X's scale is
 };
 
 struct ReferenceHmc {
@@ -34,6 +35,15 @@ struct ReferenceHmc {
   // Error motions, mm of the tool's deviation (rad for the Y head's pitch EAY) as functions
   // of the axis position (mm). Empty: none.
   std::function<double(double)> EXX, EYX, EZX, EYY, EZY, EZZ, EAY;
+  /// The table's angular positioning error (rad) as a function of B (deg): the table turns
+  /// by b + EBB(b) (a worm wheel, an encoder's eccentricity).
+  std::function<double(double)> EBB;
+  /// The X carriage's translation error motions that change with where the other
+  /// carriages are too (a load, an overhang): the tool's deviation (mm) at x, y, z.
+  std::function<Eigen::Vector3d(double, double, double)> table_load;
+  /// X's scale grows with the bed's temperature: its positioning error gains this times
+  /// x (T_bed - 20), per degC.
+  double x_scale_expansion = 0.0;
   /// Reversal of X, Y, Z's positioning (mm), as ISO 230-2 gives it: the upward error less
   /// the downward one. The tool is off along the axis by half of it times the approach.
   std::array<double, 3> reversal{};
@@ -74,14 +84,18 @@ struct ReferencePlans {
   double noise = 0.0002;  ///< mm, one sigma, on every reading
   unsigned seed = 1;
   bool nine_lines = true, grid = true, sphere = true;
-  bool thermal = false;     ///< three points read every 10 minutes for 4 hours while the spindle warms 20 -> 32 degC
+  /// Three points read every 10 minutes for 4 hours while the spindle warms 20 -> 32 degC
+  /// (time constant 40 minutes) and the bed by `bed_rise` (90 minutes).
+  bool thermal = false;
+  double bed_rise = 4.0;    ///< degC
+  double sphere_step = 15;  ///< deg of B between the spheres' probings
   double line_step = 20.0;  ///< mm between a laser line's readings (a lead screw's pitch needs a few per period)
   std::vector<double> grid_tool_lengths{0.0, 200.0};
 };
 
 /// Measures the reference: nine laser lines (three per axis at B0, out and back:
 /// positioning on each, straightness across on lines 1 and 2), a 5x5x5 grid of full
-/// deviations at each tool length, two spheres on the table probed every 15 deg of B, and
+/// deviations at each tool length, two spheres on the table probed every `sphere_step` of B, and
 /// with `thermal` a warm-up run.
 [[nodiscard]] std::vector<ReferenceReading> measure_reference(const ReferenceHmc& machine, const ReferencePlans& plans);
 

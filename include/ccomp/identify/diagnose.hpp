@@ -29,8 +29,16 @@ struct Suggestion {
   double rms_before = 0.0, rms_after = 0.0;  ///< mm: the model refitted without, and with, the effect
   double bic_delta = 0.0;                    ///< negative: the effect is worth its parameters
   double significance = 0.0;                 ///< fall in chi-square against the noise floor
-  std::string yaml;                          ///< the term to add, with the values the data suggest
-  std::string spec;                          ///< the same, one line, for `ccomp fit --add`
+  /// Cross-validated: the fall in the sum of squares on readings each fit left out, as a
+  /// share of the fall where it was fitted (1: it predicts what it was not fitted to as
+  /// well as what it was). Only effects that predict beyond the noise are suggested.
+  double held_out = 0.0;
+  std::string held_out_by;  ///< "source" (a laser line, the grid left out in turn) or "block" (of one run's readings)
+  /// The rms after comes from fitting the model with the spec (as `fit --add` does), not
+  /// only from the linear projection (where the model has many free parameters for the data).
+  bool refitted = false;
+  std::string yaml;  ///< the term to add, with the values the data suggest
+  std::string spec;  ///< the same, one line, for `ccomp fit --add`
   /// mm, per reading: the refitted residual with the effect added (the linear fit of the
   /// base's free parameters and the effect together; its rms is rms_after).
   Eigen::VectorXd residual;
@@ -70,6 +78,14 @@ struct Diagnosis {
   /// The first suggestion and those the data cannot tell from it (next_measurement.hpp).
   std::vector<Tie> ties;
   std::size_t candidates_tried = 0;
+  /// Significant where fitted but not predicting readings left out: not suggested.
+  std::size_t unproven = 0;
+  /// Significant, but only with values beyond 100 physical scales: not suggested.
+  std::size_t implausible = 0;
+  /// When the residual holds more than the noise and no candidate explains it: what is
+  /// seen, in words ("unexplained structure along x and z, rms 0.41 um against a noise
+  /// floor of 0.20 um, largest at x 100..150"). Empty otherwise.
+  std::string unexplained;
   std::string skipped;  ///< why there was no refit and no diagnosis (too few readings); empty otherwise
 };
 

@@ -13,6 +13,9 @@ namespace ccomp::identify {
 /// The size a term's value plausibly has: 10 um for a translation, 10 urad for a rotation.
 inline constexpr double kPlausibleTranslation = 0.010;  // mm
 inline constexpr double kPlausibleRotation = 10e-6;     // rad
+/// A value this many scales from where it started is not a machine's: a fit refuses to
+/// write it, check does not suggest it.
+inline constexpr double kImplausibleScales = 100.0;
 
 /// One scale per parameter of `model` (internal units): a term's plausible value; for a
 /// coefficient of v^k that over the k-th power of the variable's reach in `data` (its
