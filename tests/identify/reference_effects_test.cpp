@@ -166,6 +166,23 @@ TEST_P(ReferenceEffects, TheLoopNamesWhatIsHiddenEndsAtTheNoiseAndWritesNothingA
   }
 }
 
+// Null sets: the reference with nothing beyond the sample model's terms, measured with
+// other noise draws and a warm-up run (two sensors, time): the loop adds nothing, and says
+// nothing is missing.
+TEST(ReferenceNull, NothingHiddenNothingSuggestedWhateverTheNoiseDraw) {
+  for (const unsigned seed : {31U, 32U, 33U}) {
+    ReferencePlans plans;
+    plans.noise = kNoise, plans.seed = seed, plans.line_step = 2.5, plans.thermal = true;
+    const LoopResult loop =
+        follow_the_loop(read_file(source_dir() + "/samples/machines/hmc-xyzb-geometric.yaml"),
+                        reference_measurements(measure_reference(geometric_reference(), plans)), 2);
+    EXPECT_TRUE(loop.ended && loop.added.empty())
+        << "seed " << seed << ": added " << ::testing::PrintToString(loop.added);
+    EXPECT_TRUE(loop.unexplained.empty()) << "seed " << seed << ": " << loop.unexplained;
+    EXPECT_LE(loop.last.rms_after, 1.3 * kNoise) << "seed " << seed;
+  }
+}
+
 INSTANTIATE_TEST_SUITE_P(Reference, ReferenceEffects, ::testing::ValuesIn(kCases),
                          [](const auto& test) { return std::string(test.param.name); });
 
