@@ -1,7 +1,5 @@
 // The main job: ccomp in.nc -m machine.yaml -o out.nc (and its batch and filter forms).
-#include <fcntl.h>
 #include <fmt/format.h>
-#include <unistd.h>
 
 #include <algorithm>
 #include <atomic>
@@ -16,6 +14,7 @@
 #include "ccomp/error.hpp"
 #include "ccomp/util/parallel.hpp"
 #include "commands.hpp"
+#include "output_file.hpp"
 
 namespace ccomp::cli {
 namespace fs = std::filesystem;
@@ -74,8 +73,21 @@ void report(const Target& t, const model::MachineModel& model, const compensate:
              r.max_correction * 1000.0, r.max_orientation_error * 1e6);
 }
 
-/// Writes to `<output>.ccomp-XXXXXX` beside the output and renames it into place only on
-/// success, so a failed run leaves the previous output as it was.
+/// The first free backup name: `<input><suffix>`, else numbered `.1`, `.2`... (a backup
+/// already there is the user's: a second --in-place run with --force must not replace the
+/// original with the compensated text).
+std::string free_backup_name(const std::string& input, const std::string& suffix) {
+  std::error_code ec;
+  std::string name = input + suffix;
+  for (int k = 1; fs::exists(fs::symlink_status(name, ec)); ++k) {
+    if (k > 999) throw Error(ErrorKind::io, fmt::format("'{}' has 999 numbered backups: clear some first", input));
+    name = fmt::format("{}{}.{}", input, suffix, k);
+  }
+  return name;
+}
+
+/// Writes through an OutputFile (a temporary beside the output, renamed into place only on
+/// success), so a failed or interrupted run leaves the previous output as it was.
 void compensate_one(const Target& t, const model::MachineModel& model, const compensate::JobOptions& options,
                     const CompensateArgs& args) {
   gcode::LineSource input = gcode::LineSource::open(t.input);
@@ -84,35 +96,31 @@ void compensate_one(const Target& t, const model::MachineModel& model, const com
     report(t, model, compensate::run_program_job(input, stdout, model, options), args);
     return;
   }
-  const fs::path out(t.output);
-  std::string temp =
-      (out.parent_path().empty() ? fs::path(".") : out.parent_path()) / (out.filename().string() + ".ccomp-XXXXXX");
-  const int fd = ::mkstemp(temp.data());
-  if (fd < 0) throw Error(ErrorKind::io, fmt::format("cannot create a temporary file beside '{}'", t.output));
-  std::FILE* f = ::fdopen(fd, "wb");
-  std::setvbuf(f, nullptr, _IOFBF, 1 << 20);
-  try {
-    const compensate::JobReport r = compensate::run_program_job(input, f, model, options);
-    if (std::fclose(f) != 0) throw Error(ErrorKind::io, fmt::format("cannot write '{}'", t.output));
-    f = nullptr;
-    if (args.in_place) {
-      std::error_code ec;
-      fs::copy_file(t.input, t.input + args.backup_suffix, fs::copy_options::overwrite_existing, ec);
-      if (ec)
-        throw Error(ErrorKind::io,
-                    fmt::format("cannot write the backup '{}': {}", t.input + args.backup_suffix, ec.message()));
-    }
-    // Keep the input's permissions on the output (post processors may mark files executable).
+  OutputFile out(t.output);
+  std::setvbuf(out.file(), nullptr, _IOFBF, 1 << 20);
+  const compensate::JobReport r = compensate::run_program_job(input, out.file(), model, options);
+  if (args.in_place) {
+    const std::string backup = free_backup_name(t.input, args.backup_suffix);
     std::error_code ec;
-    if (t.input != "-") fs::permissions(temp, fs::status(t.input).permissions(), ec);
-    if (std::rename(temp.c_str(), t.output.c_str()) != 0)
-      throw Error(ErrorKind::io, fmt::format("cannot move the result into place as '{}'", t.output));
-    report(t, model, r, args);
-  } catch (...) {
-    if (f) std::fclose(f);
-    std::remove(temp.c_str());
-    throw;
+    fs::copy_file(t.input, backup, fs::copy_options::none, ec);
+    if (ec) throw Error(ErrorKind::io, fmt::format("cannot write the backup '{}': {}", backup, ec.message()));
   }
+  // Keep the input's permissions on the output (post processors may mark files executable).
+  std::error_code ec;
+  if (t.input != "-") fs::permissions(out.temporary(), fs::status(t.input).permissions(), ec);
+  out.commit();
+  report(t, model, r, args);
+}
+
+/// Whether `input` is itself an --in-place backup: `<name><suffix>` or `<name><suffix>.N`.
+bool is_backup(const std::string& input, const std::string& suffix) {
+  if (suffix.empty()) return false;
+  if (input.ends_with(suffix)) return true;
+  const auto dot = input.rfind('.');
+  if (dot == std::string::npos || dot + 1 == input.size()) return false;
+  const std::string number = input.substr(dot + 1);
+  return std::all_of(number.begin(), number.end(), [](char c) { return c >= '0' && c <= '9'; }) &&
+         input.substr(0, dot).ends_with(suffix);
 }
 
 }  // namespace
@@ -148,20 +156,34 @@ int run_compensate(const CompensateArgs& args) {
     options.sensors.emplace_back(s.substr(0, eq), v);
   }
 
+  // Nothing of the user's is overwritten: no output is an input, the model or the tool
+  // table, or a link, device or FIFO; no two outputs are one file.
   std::vector<Target> targets;
+  std::vector<std::string> outputs;
   for (const std::string& in : args.inputs) {
     Target t{in, args.output};
-    if (args.in_place) t.output = in;
+    std::vector<RunInput> kept{{"the machine model", args.model}, {"the tool table", args.program.tool_table}};
+    for (const std::string& other : args.inputs)
+      if (!(args.in_place && other == in)) kept.push_back({"the program", other});
+    if (args.in_place) {
+      t.output = in;
+      if (is_backup(in, args.backup_suffix))
+        throw Error(ErrorKind::usage,
+                    fmt::format("'{}' is an --in-place backup (it ends in '{}'): compensate a copy under another name",
+                                in, args.backup_suffix));
+    }
     if (!args.out_dir.empty()) {
       if (in == "-") throw Error(ErrorKind::usage, "--out-dir needs file inputs, not '-'");
-      fs::create_directories(args.out_dir);
-      t.output = (fs::path(args.out_dir) / fs::path(in).filename()).string();
       std::error_code ec;
-      if (fs::equivalent(t.output, in, ec))
-        throw Error(ErrorKind::usage, fmt::format("--out-dir would overwrite the input '{}'", in));
+      fs::create_directories(args.out_dir, ec);
+      if (ec) throw Error(ErrorKind::io, fmt::format("cannot create the folder '{}': {}", args.out_dir, ec.message()));
+      t.output = (fs::path(args.out_dir) / fs::path(in).filename()).string();
     }
+    check_output(t.output, kept, args.in_place ? "--in-place" : args.out_dir.empty() ? "-o" : "--out-dir");
+    outputs.push_back(t.output);
     targets.push_back(t);
   }
+  check_distinct_outputs(outputs);
 
   std::mutex report;
   std::atomic<int> worst{0};

@@ -16,6 +16,7 @@
 #include "ccomp/identify/simulate.hpp"
 #include "ccomp/report/html_report.hpp"
 #include "commands.hpp"
+#include "output_file.hpp"
 
 namespace ccomp::cli {
 namespace {
@@ -55,18 +56,18 @@ std::string read_text(const std::string& path) {
   return s.str();
 }
 
-void write_text(const std::string& path, const std::string& text) {
-  if (path == "-") {
-    fmt::print("{}", text);
-    return;
-  }
-  const std::string temporary = path + ".ccomp-tmp";
-  {
-    std::ofstream f(temporary, std::ios::binary);
-    if (!f || !(f << text)) throw Error(ErrorKind::io, fmt::format("cannot write '{}'", path));
-  }
-  if (std::rename(temporary.c_str(), path.c_str()) != 0)
-    throw Error(ErrorKind::io, fmt::format("cannot write '{}'", path));
+/// The files a run reads, which no output of it may replace.
+std::vector<RunInput> inputs_of(const IdentifyArgs& args) {
+  std::vector<RunInput> inputs{{"the machine model", args.model}};
+  for (const std::string& m : args.measurements) inputs.push_back({"a measurement file", m});
+  return inputs;
+}
+
+/// Refuses, before any work, outputs that would replace what the run reads.
+void check_outputs(const IdentifyArgs& args) {
+  if (!args.output.empty()) check_output(args.output, inputs_of(args), "-o");
+  if (!args.report.empty()) check_output(args.report, inputs_of(args), "--report");
+  if (!args.output.empty() && !args.report.empty()) check_distinct_outputs({args.output, args.report});
 }
 
 /// A parameter in the units a person reads: um, urad, or as is.
@@ -117,6 +118,7 @@ CLI::App* add_simulate(CLI::App& app, IdentifyArgs& args) {
 }
 
 int run_fit(const IdentifyArgs& args) {
+  check_outputs(args);
   // Terms to add go into the model's text, so the fitted file carries them.
   std::string text = read_text(args.model);
   if (!args.add.empty()) text = model::add_terms(text, args.add, args.model);
@@ -180,7 +182,7 @@ int run_fit(const IdentifyArgs& args) {
       "], observations: {}, free_parameters: {}, identified: {}, significant: {}, rms_before_um: {:.4f}, rms_after_um: "
       "{:.4f}}}",
       data.observations.size(), r.parameters.size(), r.rank, r.significant, r.rms_before * 1e3, r.rms_after * 1e3);
-  write_text(args.output, model::rewrite_parameters(text, m, per_term, record));
+  write_output(args.output, model::rewrite_parameters(text, m, per_term, record));
   fmt::print("wrote {}\n", args.output);
   return 0;
 }
@@ -200,6 +202,7 @@ std::string json_string(const std::string& text) {
 }
 
 int run_check(const IdentifyArgs& args) {
+  check_outputs(args);
   const model::MachineModel m = model::load_machine_model(args.model);
   const model::ForwardModel forward(m);
   const identify::MeasurementSet data = read_all(args, m);
@@ -209,7 +212,7 @@ int run_check(const IdentifyArgs& args) {
   if (args.robust) options.fit.loss = identify::Loss::huber;
   const identify::Diagnosis d = identify::diagnose(forward, data, options);
   if (!args.report.empty()) {
-    write_text(args.report, report::html_check_report({m, data, r, d}));
+    write_output(args.report, report::html_check_report({m, data, r, d}));
     if (!args.json) fmt::print("wrote {}\n", args.report);
   }
   if (args.json) {
@@ -345,6 +348,7 @@ CLI::App* add_nine_line(CLI::App& app, IdentifyArgs& args) {
 }
 
 int run_nine_line(const IdentifyArgs& args) {
+  check_outputs(args);
   const std::string text = read_text(args.model);
   const model::MachineModel m = model::parse_machine_model(text, args.model);
   const model::ForwardModel forward(m);
@@ -385,16 +389,17 @@ int run_nine_line(const IdentifyArgs& args) {
     for (std::size_t t = 0; t < m.terms.size(); ++t)
       per_term.push_back(r.fit.all_parameters.segment(static_cast<Eigen::Index>(forward.parameter_offset(t)),
                                                       m.terms[t].parameters.size()));
-    write_text(args.output,
-               model::rewrite_parameters(text, m, per_term,
-                                         fmt::format("{{method: nine-line, observations: {}, rms_after_um: {:.4f}}}",
-                                                     data.observations.size(), r.fit.rms_after * 1e3)));
+    write_output(args.output,
+                 model::rewrite_parameters(text, m, per_term,
+                                           fmt::format("{{method: nine-line, observations: {}, rms_after_um: {:.4f}}}",
+                                                       data.observations.size(), r.fit.rms_after * 1e3)));
     fmt::print("wrote {}\n", args.output);
   }
   return 0;
 }
 
 int run_simulate(const IdentifyArgs& args) {
+  check_outputs(args);
   const model::MachineModel m = model::load_machine_model(args.model);
   const model::ForwardModel forward(m);
   identify::SimulateOptions o;
@@ -407,7 +412,7 @@ int run_simulate(const IdentifyArgs& args) {
   o.rotary_step = args.rotary_step;
   o.runs = args.runs;
   const identify::MeasurementSet set = identify::simulate(forward, o);
-  write_text(args.output, identify::to_csv(set, m));
+  write_output(args.output, identify::to_csv(set, m));
   if (args.output != "-")
     fmt::print(stderr, "simulated {} observations of '{}' into {}\n", set.observations.size(), m.name, args.output);
   return 0;

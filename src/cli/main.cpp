@@ -7,16 +7,18 @@
 #include "ccomp/error.hpp"
 #include "ccomp/version.hpp"
 #include "commands.hpp"
+#include "output_file.hpp"
 
 namespace {
 
 constexpr const char* kExitCodes = R"(Exit codes:
   0   success (warnings, if any, are on stderr)
-  2   usage: bad command line
+  2   usage: bad command line, or an output that would replace an input, a link, a
+      device or another output
   3   program error: the G-code is wrong (file:line:column on stderr)
   4   unsupported: valid G-code that ccomp does not handle
   5   model error: the machine model file is wrong
-  6   I/O error: a file could not be read or written
+  6   I/O error: a file could not be read or written (standard output included)
   7   refused: compensating would be unsafe (see the message); verify: the output is
       off the path by more than the tolerance, or leaves a cut out
   8   data error: a measurement file is wrong (file:row:column on stderr), or the data
@@ -53,17 +55,24 @@ int main(int argc, char** argv) {
     const int code = app.exit(e);
     return code == 0 ? 0 : ccomp::exit_code(ccomp::ErrorKind::usage);
   }
+  ccomp::cli::remove_temporaries_on_interrupt();
+  // What a command printed must have reached its reader: a full disk or a closed pipe on
+  // standard output is a write error (exit 6), not a success.
+  auto finished = [](int code) {
+    ccomp::cli::finish_standard_output();
+    return code;
+  };
   try {
-    if (trace_cmd->parsed()) return ccomp::cli::run_trace(trace);
-    if (flatten_cmd->parsed()) return ccomp::cli::run_flatten(flatten);
-    if (predict_cmd->parsed()) return ccomp::cli::run_predict(predict);
-    if (verify_cmd->parsed()) return ccomp::cli::run_verify(verify);
-    if (fit_cmd->parsed()) return ccomp::cli::run_fit(fit);
-    if (check_cmd->parsed()) return ccomp::cli::run_check(check);
-    if (simulate_cmd->parsed()) return ccomp::cli::run_simulate(simulate);
-    if (positioning_cmd->parsed()) return ccomp::cli::run_positioning(positioning);
-    if (nine_line_cmd->parsed()) return ccomp::cli::run_nine_line(nine_line);
-    return ccomp::cli::run_compensate(compensate);
+    if (trace_cmd->parsed()) return finished(ccomp::cli::run_trace(trace));
+    if (flatten_cmd->parsed()) return finished(ccomp::cli::run_flatten(flatten));
+    if (predict_cmd->parsed()) return finished(ccomp::cli::run_predict(predict));
+    if (verify_cmd->parsed()) return finished(ccomp::cli::run_verify(verify));
+    if (fit_cmd->parsed()) return finished(ccomp::cli::run_fit(fit));
+    if (check_cmd->parsed()) return finished(ccomp::cli::run_check(check));
+    if (simulate_cmd->parsed()) return finished(ccomp::cli::run_simulate(simulate));
+    if (positioning_cmd->parsed()) return finished(ccomp::cli::run_positioning(positioning));
+    if (nine_line_cmd->parsed()) return finished(ccomp::cli::run_nine_line(nine_line));
+    return finished(ccomp::cli::run_compensate(compensate));
   } catch (const ccomp::Error& e) {
     fmt::print(stderr, "{}\n", ccomp::format_error(e));
     return ccomp::exit_code(e.kind());

@@ -1,0 +1,187 @@
+#include "output_file.hpp"
+
+#include <fcntl.h>
+#include <fmt/format.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <array>
+#include <atomic>
+#include <cerrno>
+#include <csignal>
+#include <cstring>
+#include <filesystem>
+#include <set>
+
+#include "ccomp/error.hpp"
+
+namespace ccomp::cli {
+namespace fs = std::filesystem;
+namespace {
+
+/// The temporary files being written, for the interrupt handler: it may only read what is
+/// already there and call unlink(), so the names are fixed pointers in a fixed table.
+constexpr std::size_t kSlots = 256;
+std::array<std::atomic<const char*>, kSlots> g_temporaries{};
+
+void hold(const char* path) {
+  for (auto& slot : g_temporaries) {
+    const char* empty = nullptr;
+    if (slot.compare_exchange_strong(empty, path)) return;
+  }
+  // More outputs at once than slots: this one is not removed on an interrupt, and the next
+  // run's clean-up (by process id) takes it.
+}
+
+void release(const char* path) {
+  for (auto& slot : g_temporaries) {
+    const char* mine = path;
+    if (slot.compare_exchange_strong(mine, nullptr)) return;
+  }
+}
+
+extern "C" void remove_temporaries_and_stop(int signal) {
+  for (auto& slot : g_temporaries)
+    if (const char* path = slot.load()) ::unlink(path);
+  std::signal(signal, SIG_DFL);
+  std::raise(signal);
+}
+
+/// "<output>.ccomp-<pid>-": what this process' temporary files for `output` start with.
+std::string temporary_prefix(const fs::path& output) {
+  return output.filename().string() + ".ccomp-";
+}
+
+/// Removes temporary files beside `output` that a process no longer running left (a run
+/// killed outright: SIGKILL, a power cut).
+void remove_orphans(const fs::path& output) {
+  const fs::path folder = output.parent_path().empty() ? fs::path(".") : output.parent_path();
+  const std::string prefix = temporary_prefix(output);
+  std::error_code ec;
+  for (const fs::directory_entry& e : fs::directory_iterator(folder, ec)) {
+    const std::string name = e.path().filename().string();
+    if (!name.starts_with(prefix)) continue;
+    const std::string rest = name.substr(prefix.size());
+    const auto dash = rest.find('-');
+    if (dash == std::string::npos || dash == 0) continue;
+    char* end = nullptr;
+    const long pid = std::strtol(rest.c_str(), &end, 10);
+    if (end != rest.c_str() + dash || pid <= 0) continue;
+    if (::kill(static_cast<pid_t>(pid), 0) == -1 && errno == ESRCH) fs::remove(e.path(), ec);
+  }
+}
+
+}  // namespace
+
+void check_output(const std::string& path, const std::vector<RunInput>& inputs, const std::string& what) {
+  if (path == "-") return;
+  struct stat st {};
+  if (::lstat(path.c_str(), &st) == 0) {
+    if (S_ISLNK(st.st_mode)) {
+      std::error_code ec;
+      throw Error(ErrorKind::usage,
+                  fmt::format("{} '{}' is a symbolic link (to '{}'): name the file itself, or remove the link", what,
+                              path, fs::read_symlink(path, ec).string()));
+    }
+    if (!S_ISREG(st.st_mode))
+      throw Error(ErrorKind::usage,
+                  fmt::format("{} '{}' is not a regular file (a folder, a device or a FIFO): ccomp writes files, or "
+                              "standard output with '-'",
+                              what, path));
+  }
+  for (const RunInput& input : inputs) {
+    if (input.path.empty() || input.path == "-") continue;
+    std::error_code ec;
+    if (fs::equivalent(path, input.path, ec))
+      throw Error(ErrorKind::usage,
+                  fmt::format("{} '{}' is {} '{}', which this run reads: it would be lost; write "
+                              "elsewhere{}",
+                              what, path, input.role, input.path,
+                              input.role == "the program" ? " (or use --in-place, which keeps a backup)" : ""));
+  }
+}
+
+void check_distinct_outputs(const std::vector<std::string>& outputs) {
+  std::set<std::string> seen;
+  for (const std::string& o : outputs) {
+    if (o == "-") continue;
+    std::error_code ec;
+    const fs::path key = fs::weakly_canonical(o, ec);
+    if (!seen.insert(ec ? o : key.string()).second)
+      throw Error(ErrorKind::usage,
+                  fmt::format("two inputs would both be written to '{}': one would be lost (rename one, or write "
+                              "them to different folders)",
+                              o));
+  }
+}
+
+OutputFile::OutputFile(std::string path) : path_(std::move(path)) {
+  const fs::path out(path_);
+  remove_orphans(out);
+  temporary_ = ((out.parent_path().empty() ? fs::path(".") : out.parent_path()) /
+                (temporary_prefix(out) + std::to_string(::getpid()) + "-XXXXXX"))
+                   .string();
+  const int fd = ::mkstemp(temporary_.data());
+  if (fd < 0)
+    throw Error(ErrorKind::io,
+                fmt::format("cannot create a temporary file beside '{}': {}", path_, std::strerror(errno)));
+  hold(temporary_.c_str());
+  file_ = ::fdopen(fd, "wb");
+  if (!file_) {
+    ::close(fd);
+    ::unlink(temporary_.c_str());
+    release(temporary_.c_str());
+    throw Error(ErrorKind::io, fmt::format("cannot write '{}'", path_));
+  }
+}
+
+OutputFile::~OutputFile() {
+  if (file_) std::fclose(file_);
+  if (!temporary_.empty()) {
+    ::unlink(temporary_.c_str());
+    release(temporary_.c_str());
+  }
+}
+
+void OutputFile::commit() {
+  const bool written = std::fflush(file_) == 0 && !std::ferror(file_) && ::fsync(::fileno(file_)) == 0;
+  const int error = errno;
+  const bool closed = std::fclose(file_) == 0;
+  file_ = nullptr;
+  if (!written || !closed)
+    throw Error(ErrorKind::io, fmt::format("cannot write '{}': {}", path_, std::strerror(written ? errno : error)));
+  if (std::rename(temporary_.c_str(), path_.c_str()) != 0)
+    throw Error(ErrorKind::io,
+                fmt::format("cannot move the result into place as '{}': {}", path_, std::strerror(errno)));
+  release(temporary_.c_str());
+  temporary_.clear();
+  // The rename itself survives a power cut once the folder is synced.
+  const fs::path folder = fs::path(path_).parent_path().empty() ? fs::path(".") : fs::path(path_).parent_path();
+  if (const int dir = ::open(folder.c_str(), O_RDONLY | O_DIRECTORY); dir >= 0) {
+    (void)::fsync(dir);
+    ::close(dir);
+  }
+}
+
+void write_output(const std::string& path, const std::string& text) {
+  if (path == "-") {
+    std::fwrite(text.data(), 1, text.size(), stdout);
+    return;
+  }
+  OutputFile out(path);
+  std::fwrite(text.data(), 1, text.size(), out.file());
+  out.commit();
+}
+
+void finish_standard_output() {
+  if (std::fflush(stdout) != 0 || std::ferror(stdout))
+    throw Error(ErrorKind::io, fmt::format("cannot write standard output: {}", std::strerror(errno)));
+}
+
+void remove_temporaries_on_interrupt() {
+  std::signal(SIGINT, remove_temporaries_and_stop);
+  std::signal(SIGTERM, remove_temporaries_and_stop);
+  std::signal(SIGHUP, remove_temporaries_and_stop);
+}
+
+}  // namespace ccomp::cli

@@ -1,0 +1,56 @@
+#pragma once
+// Where the CLI writes: never over what the user has. An output goes to a regular file (or
+// "-", standard output) that is not one of the run's inputs, through a temporary file
+// beside it that is synced and renamed into place only when the whole output is written.
+// An interrupted run (SIGINT, SIGTERM) removes its temporary files; one killed outright
+// leaves them named with its process id, and the next run writing there removes them.
+#include <cstdio>
+#include <string>
+#include <vector>
+
+namespace ccomp::cli {
+
+/// A file a run reads, and what it is to the user ("the machine model").
+struct RunInput {
+  std::string role, path;
+};
+
+/// Refuses (ccomp::Error, usage) an output path that is a symbolic link, a device, a FIFO,
+/// a folder or anything but a regular file, or that is the same file as one of `inputs`
+/// (the program, the model, the tool table, the measurements); `what` names the option.
+void check_output(const std::string& path, const std::vector<RunInput>& inputs, const std::string& what);
+
+/// Refuses (usage) two targets that would write the same file.
+void check_distinct_outputs(const std::vector<std::string>& outputs);
+
+/// An output being written: `file()` is a temporary file beside `path`; `commit()` flushes,
+/// syncs and renames it into place; destroyed without a commit it is removed.
+class OutputFile {
+ public:
+  /// Throws ccomp::Error (io) when the temporary file cannot be made.
+  explicit OutputFile(std::string path);
+  OutputFile(const OutputFile&) = delete;
+  OutputFile& operator=(const OutputFile&) = delete;
+  ~OutputFile();
+
+  [[nodiscard]] std::FILE* file() const { return file_; }
+  [[nodiscard]] const std::string& temporary() const { return temporary_; }
+  /// Throws ccomp::Error (io, exit 6) on any write, sync or rename failure.
+  void commit();
+
+ private:
+  std::string path_, temporary_;
+  std::FILE* file_ = nullptr;
+};
+
+/// `text` into `path` ("-": standard output) through an OutputFile.
+void write_output(const std::string& path, const std::string& text);
+
+/// Standard output flushed; throws ccomp::Error (io) if anything written to it was lost
+/// (a full disk, a closed pipe).
+void finish_standard_output();
+
+/// Installs the SIGINT/SIGTERM handler that removes the temporary files being written.
+void remove_temporaries_on_interrupt();
+
+}  // namespace ccomp::cli
