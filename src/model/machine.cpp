@@ -12,13 +12,15 @@
 #include "ccomp/gcode/dialect.hpp"
 #include "ccomp/util/sha256.hpp"
 #include "model_file.hpp"
+#include "model_schema.hpp"
 
 namespace ccomp::model {
 
 namespace file {
 
 void bad(const std::string& file, const YAML::Node& node, const std::string& message) {
-  const auto mark = node.Mark();
+  // A key that is not there has no place in the file: the message alone, with the file.
+  const auto mark = node.IsDefined() ? node.Mark() : YAML::Mark::null_mark();
   throw Error(ErrorKind::model, message,
               SourceLocation{file, mark.line >= 0 ? static_cast<std::uint32_t>(mark.line + 1) : 0,
                              mark.column >= 0 ? static_cast<std::uint32_t>(mark.column + 1) : 0});
@@ -44,7 +46,9 @@ double number(const std::string& file, const YAML::Node& node, const std::string
   try {
     const std::string s = node.as<std::string>();
     if (s == ".nan" || s == "nan" || s == "NaN") bad(file, node, what + " is NaN");
-    return node.as<double>();
+    const double v = node.as<double>();
+    if (std::isnan(v)) bad(file, node, what + " is NaN");
+    return v;
   } catch (const YAML::Exception&) {
     bad(file, node, fmt::format("{} must be a number, not '{}'", what, YAML::Dump(node)));
   }
@@ -52,34 +56,38 @@ double number(const std::string& file, const YAML::Node& node, const std::string
 
 }  // namespace
 
-MachineModel parse_machine_model(const std::string& text, const std::string& name) {
-  YAML::Node root;
-  try {
-    root = YAML::Load(text);
-  } catch (const YAML::ParserException& e) {
-    throw Error(ErrorKind::model, e.msg,
-                SourceLocation{name, static_cast<std::uint32_t>(e.mark.line + 1),
-                               static_cast<std::uint32_t>(e.mark.column + 1)});
-  }
-  if (!root.IsMap()) throw Error(ErrorKind::model, "a machine model is a YAML mapping", SourceLocation{name});
+namespace {
+
+/// The model from its root mapping (parse_machine_model() loads and guards it).
+MachineModel read_model(const YAML::Node& root, const std::string& name, const std::string& text) {
+  file::check_keys(name, root, file::kTopLevel);
   MachineModel m;
   m.path = name;
   m.sha256 = util::sha256_hex(text);
-  if (root["name"]) m.name = root["name"].as<std::string>();
-  if (root["description"]) m.description = root["description"].as<std::string>();
-  if (root["dialect"]) m.dialect = root["dialect"].as<std::string>();
+  if (!root["name"]) bad(name, root, "the model needs a 'name' (what outputs and reports call the machine)");
+  m.name = file::text(name, root["name"], "name");
+  if (root["description"]) m.description = file::text(name, root["description"], "description");
+  if (root["dialect"]) {
+    m.dialect = file::text(name, root["dialect"], "dialect");
+    if (!gcode::dialect_named(m.dialect))
+      bad(name, root["dialect"],
+          fmt::format("unknown dialect '{}' (known: linuxcnc, fanuc, mazak, wincnc)", m.dialect));
+  }
   const YAML::Node axes = root["axes"];
   if (!axes || !axes.IsMap()) bad(name, root, "the model needs 'axes': a map from axis letter to its type and limits");
   for (const auto& entry : axes) {
     AxisSpec a;
-    const std::string letter = entry.first.as<std::string>();
-    if (letter.size() != 1) bad(name, entry.first, fmt::format("axis '{}' is not one letter of XYZABCUVW", letter));
+    const std::string letter = file::text(name, entry.first, "an axis letter");
+    if (letter.size() != 1 || std::string_view("XYZABCUVWxyzabcuvw").find(letter[0]) == std::string_view::npos)
+      bad(name, entry.first, fmt::format("axis '{}' is not one letter of XYZABCUVW", letter));
     a.letter = static_cast<char>(std::toupper(static_cast<unsigned char>(letter[0])));
+    if (m.axis(a.letter)) bad(name, entry.first, fmt::format("axis {} is declared twice", a.letter));
     a.type = (a.letter >= 'A' && a.letter <= 'C') ? AxisType::rotary : AxisType::linear;
     const YAML::Node spec = entry.second;
-    if (spec && spec.IsMap()) {
+    if (spec && !spec.IsNull()) {
+      file::check_keys(name, spec, file::Section{fmt::format("axis {}", a.letter), file::kAxis.keys});
       if (spec["type"]) {
-        const std::string type = spec["type"].as<std::string>();
+        const std::string type = file::text(name, spec["type"], fmt::format("axis {} type", a.letter));
         if (type == "linear")
           a.type = AxisType::linear;
         else if (type == "rotary")
@@ -89,19 +97,56 @@ MachineModel parse_machine_model(const std::string& text, const std::string& nam
       }
       if (spec["min"]) a.min = number(name, spec["min"], fmt::format("axis {} min", a.letter));
       if (spec["max"]) a.max = number(name, spec["max"], fmt::format("axis {} max", a.letter));
+      if (!(a.min < a.max))
+        bad(name, spec["max"] ? spec["max"] : spec["min"],
+            fmt::format("axis {}: min {} is not below max {}", a.letter, a.min, a.max));
     }
     m.axes.push_back(a);
   }
-  file::read_chains(name, root["chain"], m);
   if (const YAML::Node s = root["sensors"]) {
     if (!s.IsSequence()) bad(name, s, "'sensors' must be a list of sensor names");
-    for (const YAML::Node& n : s) m.sensors.push_back(n.as<std::string>());
+    for (const YAML::Node& n : s) {
+      const std::string sensor = file::text(name, n, "a sensor's name");
+      if (std::find(m.sensors.begin(), m.sensors.end(), sensor) != m.sensors.end())
+        bad(name, n, fmt::format("sensor '{}' is listed twice", sensor));
+      m.sensors.push_back(sensor);
+    }
   }
-  if (root["max_correction"])
+  file::read_chains(name, root["chain"], m);
+  if (root["max_correction"]) {
     m.max_correction = file::quantity(name, root["max_correction"], kLength, "mm", "max_correction");
+    if (!(m.max_correction > 0) || !std::isfinite(m.max_correction))
+      bad(name, root["max_correction"], fmt::format("max_correction must be positive, not {}", m.max_correction));
+  }
   file::read_terms(name, root["terms"], m);
   validate(m);
   return m;
+}
+
+SourceLocation at(const std::string& name, const YAML::Mark& mark) {
+  return SourceLocation{name, mark.line >= 0 ? static_cast<std::uint32_t>(mark.line + 1) : 0,
+                        mark.column >= 0 ? static_cast<std::uint32_t>(mark.column + 1) : 0};
+}
+
+}  // namespace
+
+MachineModel parse_machine_model(const std::string& text, const std::string& name) {
+  std::vector<YAML::Node> documents;
+  try {
+    documents = YAML::LoadAll(text);
+  } catch (const YAML::ParserException& e) {
+    throw Error(ErrorKind::model, e.msg, at(name, e.mark));
+  }
+  if (documents.empty() || !documents.front().IsMap())
+    throw Error(ErrorKind::model, "a machine model is a YAML mapping", SourceLocation{name});
+  if (documents.size() > 1)
+    bad(name, documents[1], "a machine model is one YAML document; this file holds more ('---' starts another)");
+  try {
+    return read_model(documents.front(), name, text);
+  } catch (const YAML::Exception& e) {
+    // A conversion the readers above did not guard: still the file's fault, at its place.
+    throw Error(ErrorKind::model, fmt::format("a value of the wrong kind: {}", e.msg), at(name, e.mark));
+  }
 }
 
 MachineModel with_terms(MachineModel model, const std::vector<std::string>& specs, const std::string& name) {

@@ -8,6 +8,7 @@
 
 #include "ccomp/error.hpp"
 #include "model_file.hpp"
+#include "model_schema.hpp"
 
 namespace ccomp::model::file {
 namespace {
@@ -33,11 +34,12 @@ std::vector<LinkSpec> read_chain(const std::string& file, const YAML::Node& list
   std::vector<LinkSpec> links;
   for (const YAML::Node& n : list) {
     LinkSpec l;
+    check_keys(file, n, kLink);
     if (!n["link"]) bad(file, n, fmt::format("every link of chain.{} needs a 'link' name", side));
-    l.name = n["link"].as<std::string>();
+    l.name = text(file, n["link"], fmt::format("chain.{} link", side));
     const std::string what = fmt::format("chain.{} link {}", side, l.name);
     if (n["axis"]) {
-      const std::string a = n["axis"].as<std::string>();
+      const std::string a = text(file, n["axis"], what + " axis");
       if (a.size() != 1 || kAxisLetters.find(static_cast<char>(std::toupper(a[0]))) == std::string_view::npos)
         bad(file, n["axis"], fmt::format("{}: axis '{}' is not one of X Y Z A B C U V W", what, a));
       l.axis = static_cast<char>(std::toupper(a[0]));
@@ -200,8 +202,31 @@ std::pair<Dimension, std::string_view> variable_unit(const Variable& v, const Ma
 
 void read_chains(const std::string& file, const YAML::Node& chain, MachineModel& m) {
   if (!chain) return;
+  check_keys(file, chain, kChain);
+  for (const char* side : {"workpiece", "tool"})
+    if (!chain[side]) bad(file, chain, fmt::format("the chain needs '{}': the links from the base to that side", side));
   m.workpiece_chain = read_chain(file, chain["workpiece"], "workpiece");
   m.tool_chain = read_chain(file, chain["tool"], "tool");
+  // What validate() checks, here where the file's lines are known.
+  std::string seen;
+  int tools = 0;
+  for (const char* side : {"workpiece", "tool"}) {
+    const YAML::Node list = chain[side];
+    const auto& links = std::string_view(side) == "tool" ? m.tool_chain : m.workpiece_chain;
+    for (std::size_t i = 0; i < links.size(); ++i) {
+      const LinkSpec& l = links[i];
+      if (l.tool && ++tools > 1) bad(file, list[i], "the chains have more than one tool link");
+      if (!l.axis) continue;
+      if (!m.axis(*l.axis))
+        bad(file, list[i]["axis"], fmt::format("link {} moves axis {}, which is not in 'axes'", l.name, *l.axis));
+      if (seen.find(*l.axis) != std::string::npos)
+        bad(file, list[i]["axis"], fmt::format("axis {} moves two links", *l.axis));
+      seen.push_back(*l.axis);
+    }
+  }
+  for (const AxisSpec& a : m.axes)
+    if (seen.find(a.letter) == std::string::npos)
+      bad(file, chain, fmt::format("axis {} moves no link of the chains", a.letter));
 }
 
 void read_terms(const std::string& file, const YAML::Node& terms, MachineModel& m) {
@@ -209,8 +234,17 @@ void read_terms(const std::string& file, const YAML::Node& terms, MachineModel& 
   if (!terms.IsSequence()) bad(file, terms, "'terms' must be a list");
   for (const YAML::Node& n : terms) {
     ErrorTermSpec t;
+    if (!n.IsMap()) bad(file, n, "a term is a mapping {name: ..., form: ..., ...}");
     if (!n["name"]) bad(file, n, "every term needs a 'name' (its ISO 230-1 name, e.g. EXX)");
-    t.name = n["name"].as<std::string>();
+    t.name = text(file, n["name"], "a term's name");
+    {
+      const std::string form = n["form"] ? text(file, n["form"], "term " + t.name + " form") : "constant";
+      std::vector<std::string_view> keys = kTermKeys;
+      const std::vector<std::string_view> own = form_keys(form);
+      keys.insert(keys.end(), own.begin(), own.end());
+      const std::string section = fmt::format("term {} (form {})", t.name, form);
+      if (!own.empty()) check_keys(file, n, Section{section, keys});
+    }
     const IsoName iso = iso_name(t.name);
     t.iso = iso.name;
     const std::string what = "term " + t.name;
@@ -220,19 +254,19 @@ void read_terms(const std::string& file, const YAML::Node& terms, MachineModel& 
           fmt::format("{}: not an ISO 230-1 name (E<X Y Z A B C><axis> or E<..>0<axis>); give "
                       "'link' and 'component'",
                       what));
-    if (n["link"]) t.link = n["link"].as<std::string>();
+    if (n["link"]) t.link = text(file, n["link"], what + " link");
     if (n["component"]) {
-      const std::string c = n["component"].as<std::string>();
+      const std::string c = text(file, n["component"], what + " component");
       const auto k = std::string_view("xyzabc").find(c.size() == 1 ? c[0] : '?');
       if (k == std::string_view::npos) bad(file, n["component"], what + ": component is one of x y z a b c");
       t.component = static_cast<int>(k);
     }
-    if (n["note"]) t.note = n["note"].as<std::string>();
-    t.free = n["fit"] && n["fit"].as<bool>();
-    t.free_period = n["fit_period"] && n["fit_period"].as<bool>();
+    if (n["note"]) t.note = text(file, n["note"], what + " note");
+    t.free = n["fit"] && flag(file, n["fit"], what + " fit");
+    t.free_period = n["fit_period"] && flag(file, n["fit_period"], what + " fit_period");
     const bool rotation = t.component >= 3;
     const Dimension out_dim = rotation ? kAngle : kLength;
-    const std::string out_text = n["unit"] ? n["unit"].as<std::string>() : (rotation ? "urad" : "um");
+    const std::string out_text = n["unit"] ? text(file, n["unit"], what + " unit") : (rotation ? "urad" : "um");
     const auto out_unit = parse_unit(out_text);
     if (!out_unit) bad(file, n["unit"], fmt::format("{}: unknown unit '{}'", what, out_text));
     if (!(out_unit->dimension == out_dim))
@@ -241,17 +275,18 @@ void read_terms(const std::string& file, const YAML::Node& terms, MachineModel& 
                       rotation ? "rotation" : "translation", t.iso, out_dim.describe()));
     const double out = out_unit->scale;
 
-    const std::string form = n["form"] ? n["form"].as<std::string>() : "constant";
+    const std::string form = n["form"] ? text(file, n["form"], what + " form") : "constant";
     // The variable: given, or the link's own axis for an error motion.
     std::string var_text;
     if (n["variable"]) {
-      var_text = n["variable"].as<std::string>();
+      var_text = text(file, n["variable"], what + " variable");
     } else if (!location && form != "constant" && t.link.size() == 1) {
       var_text = std::string(1, static_cast<char>(std::tolower(t.link[0])));
     }
     if (!var_text.empty()) t.primary = read_variable(file, n["variable"] ? n["variable"] : n, var_text, m, what);
     const auto [vdim, vdefault] = variable_unit(t.primary, m);
-    const std::string vunit_text = n["variable_unit"] ? n["variable_unit"].as<std::string>() : std::string(vdefault);
+    const std::string vunit_text =
+        n["variable_unit"] ? text(file, n["variable_unit"], what + " variable_unit") : std::string(vdefault);
     const auto vunit = parse_unit(vunit_text);
     if (!vunit || !(vunit->dimension == vdim))
       bad(file, n,
@@ -265,9 +300,9 @@ void read_terms(const std::string& file, const YAML::Node& terms, MachineModel& 
     };
     // An amount of the term's value: a bare number in `unit`, or a quantity with its own.
     auto amount = [&](const YAML::Node& v, const std::string& field) {
-      const std::string text = v.IsScalar() ? v.as<std::string>() : std::string();
-      if (text.find_first_of("abcdefghijklmnopqrstuvwxyzµ") != std::string::npos &&
-          text.find("e-") == std::string::npos && text.find("e+") == std::string::npos)
+      const std::string written = v.IsScalar() ? v.Scalar() : std::string();
+      if (written.find_first_of("abcdefghijklmnopqrstuvwxyzµ") != std::string::npos &&
+          written.find("e-") == std::string::npos && written.find("e+") == std::string::npos)
         return quantity(file, v, out_dim, out_text, what + " " + field);
       return number(v, field) * out;
     };
@@ -309,7 +344,8 @@ void read_terms(const std::string& file, const YAML::Node& terms, MachineModel& 
         p.push_back(amount(values[k], fmt::format("values[{}]", k)));
         scale.push_back(out);
       }
-      const std::string interp = n["interpolation"] ? n["interpolation"].as<std::string>() : "linear";
+      const std::string interp =
+          n["interpolation"] ? text(file, n["interpolation"], what + " interpolation") : "linear";
       if (interp != "linear" && interp != "cubic")
         bad(file, n["interpolation"], what + ": interpolation is linear or cubic");
       t.shape.interpolation = interp == "cubic" ? Interpolation::cubic : Interpolation::linear;
@@ -356,7 +392,8 @@ void read_terms(const std::string& file, const YAML::Node& terms, MachineModel& 
       need_variable();
       t.shape.form = TermForm::scale_expansion;
       if (rotation || vdim != kLength) bad(file, n, what + ": scale expansion is a translation along a linear axis");
-      t.secondary = read_variable(file, require("temperature"), require("temperature").as<std::string>(), m, what);
+      t.secondary = read_variable(file, require("temperature"),
+                                  text(file, require("temperature"), what + " temperature"), m, what);
       if (t.secondary.kind != VariableKind::temperature)
         bad(file, n["temperature"], what + ": temperature is T_<sensor>");
       if (n["reference"]) t.shape.reference = quantity(file, n["reference"], kTemperature, "degC", what + " reference");
@@ -374,7 +411,7 @@ void read_terms(const std::string& file, const YAML::Node& terms, MachineModel& 
       need_variable();
       t.shape.form = TermForm::cross_axis;
       const YAML::Node other = require("other");
-      t.secondary = read_variable(file, other, other.as<std::string>(), m, what);
+      t.secondary = read_variable(file, other, text(file, other, what + " other"), m, what);
       if (t.secondary.kind != VariableKind::axis) bad(file, other, what + ": 'other' is another axis");
       const double other_unit = variable_unit(t.secondary, m).first == kAngle ? 3.14159265358979323846 / 180.0 : 1.0;
       const YAML::Node c = require("coefficients");
@@ -411,6 +448,8 @@ void read_terms(const std::string& file, const YAML::Node& terms, MachineModel& 
     t.parameters = Eigen::Map<Eigen::VectorXd>(p.data(), static_cast<Eigen::Index>(p.size()));
     t.parameter_unit = scale;
     t.placement = placement_of(file, n["name"], t, location, m);
+    if (!find_link(m, t.link))
+      bad(file, n["name"], fmt::format("{} belongs to link {}, which no chain has", what, t.link));
     m.terms.push_back(std::move(t));
   }
 }

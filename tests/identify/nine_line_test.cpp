@@ -27,11 +27,12 @@ model::MachineModel vmc(double scale) {
   for (const auto& [name, value] : {std::pair{"EC0X", 20.0}, std::pair{"EB0X", -15.0}, std::pair{"EA0Y", 10.0}})
     terms +=
         "  - {name: " + std::string(name) + ", value: " + std::to_string(scale * value) + ", unit: urad, fit: true}\n";
-  return model::parse_machine_model(std::string(test::kVmcChain) +
-                                        "axes: {X: {min: -300, max: 300}, Y: {min: -200, max: "
-                                        "200}, Z: {min: -250, max: 250}}\n" +
-                                        terms,
-                                    "vmc.yaml");
+  return model::parse_machine_model(
+      test::with_axes(test::kVmcChain,
+                      "axes: {X: {min: -300, max: 300}, Y: {min: -200, max: 200}, Z: {min: -250, "
+                      "max: 250}}\n") +
+          terms,
+      "vmc.yaml");
 }
 
 TEST(NineLine, FitsTheGeometricErrorsAndStudiesThePlacement) {
@@ -66,9 +67,10 @@ TEST(NineLine, DeterminesTheSquarenessBetweenTheLines) {
   // is the line's direction): seed 003 reports the angles between the lines, X along
   // (1, EC0X + EYX', -EB0X + EZX'), Y along (EXY', 1, EA0Y + EZY'), Z along (EXZ', EYZ', 1),
   // a prime the slope. The start knows nothing; the truth's carriages do not turn.
-  std::string text = std::string(test::kVmcChain) +
-                     "axes: {X: {min: -300, max: 300}, Y: {min: -200, max: 200}, Z: {min: -250, max: 250}}\n"
-                     "terms:\n";
+  std::string text =
+      test::with_axes(test::kVmcChain,
+                      "axes: {X: {min: -300, max: 300}, Y: {min: -200, max: 200}, Z: {min: -250, max: 250}}\n") +
+      "terms:\n";
   const char* slopes[] = {"EYX", "EZX", "EXY", "EZY", "EXZ", "EYZ"};
   const double slope_urad[] = {6, -4, 3, 5, -2, 7};
   for (int i = 0; i < 6; ++i)

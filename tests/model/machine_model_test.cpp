@@ -2,6 +2,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <filesystem>
 
 #include "ccomp/error.hpp"
 #include "ccomp/model/machine.hpp"
@@ -42,29 +43,95 @@ TEST_P(BadModels, AreRefusedNamingTheEntry) {
     EXPECT_EQ(e.kind(), ErrorKind::model);
     EXPECT_NE(e.message().find(GetParam().words), std::string::npos) << e.message();
     EXPECT_EQ(e.where().file, "m.yaml");
+    EXPECT_GT(e.where().line, 0U) << "no line: " << e.message();
   }
 }
 
-INSTANTIATE_TEST_SUITE_P(Files, BadModels,
-                         ::testing::Values(BadModel{"name: m\n", "axes"}, BadModel{"axes: {Q: {}}\n", "Q"},
-                                           BadModel{"axes: {X: {min: 5, max: 1}}\n", "min 5"},
-                                           BadModel{"axes: {X: {min: .nan}}\n", "NaN"},
-                                           BadModel{"axes: {X: {max: fast}}\n", "must be a number"},
-                                           BadModel{"axes: {X: {type: spiral}}\n", "spiral"},
-                                           BadModel{"axes: {X: {}}\ndialect: heidenhain\n", "heidenhain"},
-                                           BadModel{"axes: [X\n", ""}));
+/// The smallest valid model: one axis moving one link, a tool.
+constexpr const char* kOk =
+    "name: m\naxes: {X: {min: -100, max: 100}}\nchain:\n  workpiece: [{link: X, axis: X}]\n"
+    "  tool: [{link: tool, tool_length: [0, 0, -1]}]\n";
 
-// What check suggests, added to a model in memory, is the term the file would have, with
-// the sensor it needs; a spec that is not a term is refused as a model error.
-TEST(MachineModel, WithTermsAddsTheSpecAndItsSensor) {
-  const MachineModel base = load_machine_model(test::source_dir() + "/samples/machines/hmc-xyzb-geometric.yaml");
-  const MachineModel with = with_terms(
-      base, {"{name: EZS, variable: T_spindle, form: thermal, unit: um, coefficient: 1.5, fit: true}"}, "check");
-  ASSERT_EQ(with.terms.size(), base.terms.size() + 1);
-  EXPECT_EQ(with.terms.back().iso, "EZS");
-  EXPECT_NE(std::find(with.sensors.begin(), with.sensors.end(), "spindle"), with.sensors.end());
-  EXPECT_THROW((void)with_terms(base, {"[1, 2]"}, "check"), Error);
-  EXPECT_THROW((void)with_terms(base, {"{name: EQQ, value: 1}"}, "check"), Error);
+std::string ok(const std::string& more) {
+  return std::string(kOk) + more;
+}
+
+// Every one of these was accepted, or ended as "a bug in ccomp" (exit 70), before the
+// model file had a schema.
+INSTANTIATE_TEST_SUITE_P(
+    Files, BadModels,
+    ::testing::Values(
+        BadModel{"name: m\n", "axes"}, BadModel{"name: m\naxes: {Q: {}}\n", "Q"},
+        BadModel{"name: m\naxes: {X: {min: 5, max: 1}}\n", "min 5"},
+        BadModel{"name: m\naxes: {X: {min: .nan}}\n", "NaN"},
+        BadModel{"name: m\naxes: {X: {max: fast}}\n", "must be a number"},
+        BadModel{"name: m\naxes: {X: {type: spiral}}\n", "spiral"},
+        BadModel{"name: m\naxes: {X: {}}\ndialect: heidenhain\n", "heidenhain"}, BadModel{"name: m\naxes: [X\n", ""},
+        // A misspelt safety bound is not silently dropped.
+        BadModel{"name: m\nmax_corection: 0.001 mm\naxes: {X: {}}\n", "did you mean 'max_correction'"},
+        BadModel{"name: m\naxes: {X: {mni: 3}}\n", "did you mean 'min'"}, BadModel{"axes: {X: {}}\n", "needs a 'name'"},
+        BadModel{"name: m\nname: n\naxes: {X: {}}\n", "written twice"},
+        BadModel{"name: m\naxes: {X: {}}\n---\nname: n\n", "one YAML document"},
+        BadModel{"name: m\naxes: {X: [1, 2]}\n", "mapping"}, BadModel{"name: m\naxes: {X: {}, X: {}}\n", "twice"},
+        BadModel{"name: [m]\naxes: {X: {}}\n", "single value"},
+        BadModel{"name: m\nchain: 5\naxes: {X: {}}\n", "mapping"},
+        BadModel{"name: m\naxes: {X: {}}\nmax_correction: -1 mm\n", "positive"},
+        BadModel{"name: m\naxes: {X: {}}\nmax_correction: .inf\n", "not a number"},
+        BadModel{"name: m\naxes: {X: {}, Y: {}}\nchain:\n  workpiece: [{link: X, axis: X}]\n  tool: [{link: tool, "
+                 "tool_length: [0, 0, -1]}]\n",
+                 "axis Y moves no link"},
+        BadModel{"name: m\naxes: {X: {}}\nchain:\n  workpiece: [{link: X, axis: X}, {link: Q, axis: X}]\n  tool: "
+                 "[{link: tool, tool_length: [0, 0, -1]}]\n",
+                 "moves two links"},
+        BadModel{"name: m\naxes: {X: {}}\nchain:\n  workpiece: [{link: X, axis: Y}]\n  tool: [{link: tool, "
+                 "tool_length: [0, 0, -1]}]\n",
+                 "not in 'axes'"},
+        BadModel{"name: m\naxes: {X: {}}\nchain:\n  workpiece: [{link: X, axis: X, speed: 3}]\n  tool: [{link: tool, "
+                 "tool_length: [0, 0, -1]}]\n",
+                 "unknown key 'speed'"},
+        BadModel{"name: m\naxes: {X: {}}\nchain:\n  workpiece: [{link: X, axis: X}]\n  tol: []\n",
+                 "did you mean 'tool'"},
+        BadModel{"name: m\naxes: {X: {}}\nchain:\n  workpiece: [{link: X, axis: X}]\n"
+                 "  tool: [{link: t, tool_length: [0, 0, -1]}, {link: u, tool_length: [0, 0, -1]}]\n",
+                 "more than one tool link"},
+        BadModel{"name: m\naxes: {X: {}}\nchain:\n  workpiece: [{link: X, axis: X}]\n", "needs 'tool'"}),
+    [](const auto& test) { return "case" + std::to_string(test.index); });
+
+class BadTerms : public ::testing::TestWithParam<BadModel> {};
+
+// Terms: every key known for the term's form, every value of the right kind.
+TEST_P(BadTerms, AreRefusedAtTheirLine) {
+  try {
+    (void)parse_machine_model(ok(std::string("terms:\n  - ") + GetParam().yaml + "\n"), "m.yaml");
+    FAIL() << "accepted";
+  } catch (const Error& e) {
+    EXPECT_EQ(e.kind(), ErrorKind::model);
+    EXPECT_NE(e.message().find(GetParam().words), std::string::npos) << e.message();
+    EXPECT_EQ(e.where().line, 7U) << e.message();
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(Files, BadTerms,
+                         ::testing::Values(BadModel{"{name: EXX, value: 1, fit: ture}", "true or false"},
+                                           BadModel{"{name: EXX, value: 1, unit: [um]}", "single value"},
+                                           BadModel{"{name: EXX, vlaue: 1}", "did you mean 'value'"},
+                                           BadModel{"{name: EXX, form: polynomial, coefficients: [0, 1], period: 3}",
+                                                    "unknown key 'period'"},
+                                           BadModel{"{name: EXX, value: .nan}", "not a number"},
+                                           BadModel{"{name: EXX, value: 1e999}", "not a number"},
+                                           BadModel{"{name: EXQ, value: 1}", "no chain has"},
+                                           BadModel{"EXX", "mapping"}),
+                         [](const auto& test) { return "case" + std::to_string(test.index); });
+
+TEST(MachineModel, EveryShippedModelPassesTheSchema) {
+  int models = 0;
+  for (const char* folder : {"/samples/machines", "/samples/test-piece"})
+    for (const auto& e : std::filesystem::directory_iterator(test::source_dir() + folder))
+      if (e.path().extension() == ".yaml") {
+        EXPECT_NO_THROW((void)load_machine_model(e.path().string())) << e.path();
+        ++models;
+      }
+  EXPECT_GE(models, 4);
 }
 
 }  // namespace

@@ -37,6 +37,14 @@ chain:
     - {link: tool, tool_length: [0, 0, -1]}
 )";
 
+/// A chain with its `axes:` line replaced by `axes` (limits of the test's own).
+inline std::string with_axes(std::string chain, const std::string& axes) {
+  const std::string line = "axes: {X: {}, Y: {}, Z: {}}\n";
+  const auto at = chain.find(line);
+  if (at != std::string::npos) chain.replace(at, line.size(), axes);
+  return chain;
+}
+
 /// `chain` with its X, Y and Z limited to +-`mm` and a B axis to +-`deg` (the chains above
 /// leave their axes unlimited).
 inline std::string with_limits(std::string chain, double mm, double deg = 360.0) {
@@ -45,7 +53,8 @@ inline std::string with_limits(std::string chain, double mm, double deg = 360.0)
   };
   const std::string limit = "{min: " + std::to_string(-mm) + ", max: " + std::to_string(mm) + "}";
   replace("X: {}, Y: {}, Z: {}", "X: " + limit + ", Y: " + limit + ", Z: " + limit);
-  replace("B: {type: rotary}", "B: {type: rotary, min: " + std::to_string(-deg) + ", max: " + std::to_string(deg) + "}");
+  replace("B: {type: rotary}",
+          "B: {type: rotary, min: " + std::to_string(-deg) + ", max: " + std::to_string(deg) + "}");
   return chain;
 }
 

@@ -1,0 +1,91 @@
+#include "model_schema.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <set>
+
+#include "model_file.hpp"
+
+namespace ccomp::model::file {
+
+const Section kTopLevel{
+    "the model", {"name", "description", "dialect", "axes", "chain", "sensors", "max_correction", "terms", "fitted"}};
+const Section kAxis{"an axis", {"type", "min", "max"}};
+const Section kChain{"chain", {"workpiece", "tool"}};
+const Section kLink{"a link", {"link", "axis", "direction", "offset", "tool_length"}};
+const std::vector<std::string_view> kTermKeys{"name",       "link", "component", "note",     "fit",
+                                              "fit_period", "unit", "form",      "variable", "variable_unit"};
+
+std::vector<std::string_view> form_keys(std::string_view form) {
+  if (form == "constant") return {"value"};
+  if (form == "polynomial") return {"coefficients"};
+  if (form == "table") return {"at", "values", "interpolation"};
+  if (form == "periodic") return {"period", "harmonics"};
+  if (form == "reversal") return {"reversal"};
+  if (form == "thermal" || form == "thermal_linear") return {"coefficient", "reference"};
+  if (form == "warmup") return {"amplitude", "time_constant"};
+  if (form == "scale_expansion") return {"temperature", "coefficient", "reference"};
+  if (form == "bump") return {"at", "width", "amplitude"};
+  if (form == "cross_axis") return {"other", "coefficients"};
+  return {};
+}
+
+namespace {
+
+std::size_t edit_distance(std::string_view a, std::string_view b) {
+  std::vector<std::size_t> row(b.size() + 1);
+  for (std::size_t j = 0; j <= b.size(); ++j) row[j] = j;
+  for (std::size_t i = 1; i <= a.size(); ++i) {
+    std::size_t diagonal = row[0];
+    row[0] = i;
+    for (std::size_t j = 1; j <= b.size(); ++j) {
+      const std::size_t up = row[j];
+      row[j] = std::min({row[j] + 1, row[j - 1] + 1, diagonal + (a[i - 1] == b[j - 1] ? 0 : 1)});
+      diagonal = up;
+    }
+  }
+  return row[b.size()];
+}
+
+}  // namespace
+
+std::string nearest_key(std::string_view key, const std::vector<std::string_view>& keys) {
+  std::string best;
+  std::size_t best_distance = std::max<std::size_t>(2, key.size() / 3) + 1;
+  for (const std::string_view k : keys)
+    if (const std::size_t d = edit_distance(key, k); d < best_distance) best_distance = d, best = std::string(k);
+  return best;
+}
+
+void check_keys(const std::string& file, const YAML::Node& node, const Section& section) {
+  if (!node.IsMap()) bad(file, node, fmt::format("{} is a mapping of keys to values", section.what));
+  std::set<std::string> seen;
+  for (const auto& entry : node) {
+    const YAML::Node& key = entry.first;
+    if (!key.IsScalar()) bad(file, key, fmt::format("{}: a key is a plain word", section.what));
+    const std::string& k = key.Scalar();
+    if (!seen.insert(k).second) bad(file, key, fmt::format("{}: '{}' is written twice", section.what, k));
+    if (std::find(section.keys.begin(), section.keys.end(), k) != section.keys.end()) continue;
+    const std::string near = nearest_key(k, section.keys);
+    std::string known;
+    for (const std::string_view s : section.keys) known += (known.empty() ? "" : ", ") + std::string(s);
+    bad(file, key,
+        near.empty() ? fmt::format("{}: unknown key '{}' (known: {})", section.what, k, known)
+                     : fmt::format("{}: unknown key '{}': did you mean '{}'?", section.what, k, near));
+  }
+}
+
+std::string text(const std::string& file, const YAML::Node& node, const std::string& what) {
+  if (!node || !node.IsScalar()) bad(file, node, fmt::format("{} must be a single value, not a list or mapping", what));
+  return node.Scalar();
+}
+
+bool flag(const std::string& file, const YAML::Node& node, const std::string& what) {
+  bool value = false;
+  if (!node.IsScalar() || !YAML::convert<bool>::decode(node, value))
+    bad(file, node, fmt::format("{} is true or false, not '{}'", what, node.IsScalar() ? node.Scalar() : "a list"));
+  return value;
+}
+
+}  // namespace ccomp::model::file
