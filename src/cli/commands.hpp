@@ -17,6 +17,7 @@ struct ProgramArgs {
   std::string dialect;              ///< empty: the model's, else linuxcnc
   std::vector<std::string> sub_path;
   bool block_delete = false;
+  std::uint64_t max_blocks = 0;  ///< 0: the interpreter's own limit
 };
 void add_program_options(CLI::App& cmd, ProgramArgs& args);
 /// Interpreter options from the shared arguments; `model_dialect` when none is given.

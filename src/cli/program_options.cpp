@@ -19,6 +19,9 @@ void add_program_options(CLI::App& cmd, ProgramArgs& args) {
       ->check(CLI::IsMember(gcode::dialect_names()));
   cmd.add_option("--sub-path", args.sub_path, "folder with subroutine files (name.ngc)");
   cmd.add_flag("--block-delete", args.block_delete, "skip lines that start with '/'");
+  cmd.add_option("--max-blocks", args.max_blocks,
+                 "blocks a program may execute (loops counted each run) before it is taken for an endless loop")
+      ->check(CLI::PositiveNumber);
 }
 
 gcode::InterpreterOptions interpreter_options(const ProgramArgs& args, const std::string& model_dialect) {
@@ -43,6 +46,7 @@ gcode::InterpreterOptions interpreter_options(const ProgramArgs& args, const std
   }
   o.subroutine_path = args.sub_path;
   o.block_delete = args.block_delete;
+  if (args.max_blocks > 0) o.max_blocks = args.max_blocks;
   return o;
 }
 

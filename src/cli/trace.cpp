@@ -1,5 +1,6 @@
 #include "ccomp/gcode/trace.hpp"
 
+#include <algorithm>
 #include <cstdio>
 
 #include "ccomp/gcode/flatten.hpp"
@@ -32,7 +33,10 @@ int run_flatten(const TraceArgs& args) {
 
 int run_trace(const TraceArgs& args) {
   gcode::LineSource source = gcode::LineSource::open(args.input);
-  gcode::Interpreter interpreter(interpreter_options(args.program, ""));
+  gcode::InterpreterOptions options = interpreter_options(args.program, "");
+  // A trace prints every run of a loop, as flatten does: the same cap on what it writes.
+  if (args.program.max_blocks == 0) options.max_blocks = std::min(options.max_blocks, gcode::kFlattenMaxBlocks);
+  gcode::Interpreter interpreter(options);
   std::setvbuf(stdout, nullptr, _IOFBF, 1 << 16);
   gcode::TracePrinter printer(stdout);
   printer.set_file_name(source.name());

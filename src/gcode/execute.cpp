@@ -11,6 +11,8 @@ namespace ccomp::gcode {
 namespace {
 
 constexpr double kPi = 3.14159265358979323846;
+/// More turns than any helix a program cuts: a runaway P (each turn is written out).
+constexpr double kMaxArcTurns = 10000;
 
 /// Modal group of a G code (times ten); -1 when unknown. Group numbers follow RS-274/NGC.
 int g_group(int code) {
@@ -284,6 +286,17 @@ void Interpreter::Impl::decode(const Block& b) {
   }
 }
 
+void Interpreter::Impl::abort_comment(const Block& b) {
+  for (const Comment& c : b.comments) {
+    if (c.end_of_line) continue;
+    const std::string_view text = b.slice(c.text);
+    if (text.size() < 6) continue;
+    std::string upper;
+    for (char ch : text.substr(0, 6)) upper.push_back(static_cast<char>(std::toupper(static_cast<unsigned char>(ch))));
+    if (upper == "ABORT,") fail_at(b, c.span, fmt::format("(ABORT) {}", substitute_parameters(b, text.substr(6))));
+  }
+}
+
 void Interpreter::Impl::comment(const Block& b) {
   for (const Comment& c : b.comments) {
     if (c.end_of_line) continue;
@@ -383,6 +396,7 @@ void Interpreter::Impl::straight(MotionKind kind, const Axes& target, MotionSour
   m.offsets = &offsets;
   m.line = block.line;
   position = target;
+  blocks_since_motion = 0;
   if (sink) sink->motion(m);
 }
 
@@ -429,7 +443,12 @@ void Interpreter::Impl::execute(const Block& b) {
   check_unused_words(b, motion_code, non_modal);
 
   // 1. comments
-  if (sink && sink->wants_calls()) comment(b);
+  if (!b.comments.empty()) {
+    if (sink && sink->wants_calls())
+      comment(b);
+    else
+      abort_comment(b);  // an (ABORT, ...) stops every run, not only a trace
+  }
   // 2. feed rate mode
   if (words.has_group(5)) {
     if (words.has_g(930)) modal.feed_mode = FeedMode::inverse_time, emit("SET_FEED_MODE", "0, 1");
@@ -579,7 +598,7 @@ int Interpreter::Impl::passthrough_code() const {
 void Interpreter::Impl::check_unused_words(const Block& b, int motion_code, int non_modal) {
   constexpr auto bit = [](char c) { return 1U << (c - 'A'); };
   constexpr std::uint32_t kChecked =
-      bit('R') | bit('I') | bit('J') | bit('K') | bit('L') | bit('Q') | bit('P') | bit('D') | bit('H');
+      bit('R') | bit('I') | bit('J') | bit('K') | bit('L') | bit('Q') | bit('P') | bit('D') | bit('H') | bit('E');
   if ((words.present & kChecked) == 0) return;  // the common block: nothing to check
   const int motion_mode = motion_code >= 0 ? motion_code : modal.motion;
   const bool arc = motion_mode == 20 || motion_mode == 30;
@@ -610,6 +629,9 @@ void Interpreter::Impl::check_unused_words(const Block& b, int motion_code, int 
                       words.has_g(960) || words.has_g(432);
   if (!d_user) unused('D', "G41, G42, G96");
   if (!(words.has_g(430) || words.has_g(432))) unused('H', "G43");
+  // LinuxCNC's E is G70/G76's taper and M66-M68's analog channel ("X1e999" is X1 and E999).
+  if (!(motion_mode == 760 || words.has_g(700) || words.has_m(66) || words.has_m(67) || words.has_m(68)))
+    unused('E', "G70, G76, M66, M67, M68");
 }
 
 void Interpreter::Impl::motion(const Block& b, int code, int non_modal) {
@@ -703,6 +725,10 @@ void Interpreter::Impl::arc(const Block& b, int code, const Axes& target) {
     const double p = words['P'];
     if (p < 1 || p != std::floor(p))
       fail(b, words.word['P' - 'A'], fmt::format("P value for arc turns must be a positive integer, not {}", p));
+    if (p > kMaxArcTurns)
+      fail(
+          b, words.word['P' - 'A'],
+          fmt::format("an arc of {} turns: more than {}, a runaway value rather than a helix to cut", p, kMaxArcTurns));
     turns = static_cast<int>(p);
   }
   if (words.has('R')) {
@@ -775,6 +801,7 @@ void Interpreter::Impl::arc(const Block& b, int code, const Axes& target) {
   m.offsets = &offsets;
   m.line = b.line;
   position = target;
+  blocks_since_motion = 0;
   if (sink) sink->motion(m);
 }
 

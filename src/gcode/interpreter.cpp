@@ -391,7 +391,14 @@ void Interpreter::Impl::run(LineSource& source, CanonSink& out) {
   bool first_line = true;
   while (!ended && next_block()) {
     if (++blocks_executed > options.max_blocks)
-      fail(block, nullptr, fmt::format("more than {} blocks executed: an endless loop?", options.max_blocks));
+      fail(block, nullptr,
+           fmt::format("more than {} blocks executed: an endless loop? (--max-blocks raises the limit)",
+                       options.max_blocks));
+    if (++blocks_since_motion > options.max_blocks_without_motion)
+      fail(block, nullptr,
+           fmt::format("{} blocks executed without a move: an endless loop (a while that never ends, a "
+                       "subroutine that calls itself)?",
+                       options.max_blocks_without_motion));
     if (block.program_delimiter) {
       if (first_line || !percent_seen) {
         percent_seen = true;

@@ -108,6 +108,7 @@ struct Interpreter::Impl {
   double value_returned = 0.0;
   bool has_value_returned = false;
   std::uint64_t blocks_executed = 0;
+  std::uint64_t blocks_since_motion = 0;  ///< a loop that never moves is endless
 
   CanonSink* sink = nullptr;
   Block block;
@@ -142,6 +143,7 @@ struct Interpreter::Impl {
   /// A dialect pass-through G code of the block that moves axes ccomp does not model, or -1.
   [[nodiscard]] int passthrough_code() const;
   void comment(const Block& b);
+  void abort_comment(const Block& b);
   std::string substitute_parameters(const Block& b, std::string_view body);
   void set_units(Units u);
   void motion(const Block& b, int code, int non_modal);

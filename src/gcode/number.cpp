@@ -4,12 +4,18 @@
 #include <charconv>
 #include <cmath>
 #include <cstdint>
+#include <limits>
 
 namespace ccomp::gcode {
 
 double read_long_decimal(std::string_view digits) {
   double value = 0.0;
-  std::from_chars(digits.data(), digits.data() + digits.size(), value);
+  const auto [ptr, ec] = std::from_chars(digits.data(), digits.data() + digits.size(), value);
+  if (ec == std::errc::result_out_of_range) {
+    // Below the smallest double is zero; beyond the largest, infinity (a caller refuses it).
+    const std::string_view integer = digits.substr(0, digits.find('.'));
+    return integer.find_first_not_of('0') == std::string_view::npos ? 0.0 : std::numeric_limits<double>::infinity();
+  }
   return value;
 }
 

@@ -1,8 +1,12 @@
 #include "ccomp/gcode/parser.hpp"
 
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <array>
 #include <charconv>
+#include <cmath>
+#include <limits>
 #include <string>
 
 #include "ccomp/error.hpp"
@@ -197,7 +201,10 @@ double decimal_value(const char* first, const char* last) {
   }
   if (digits <= 15 && fraction <= 22) return static_cast<double>(mantissa) / kPow10[fraction];
   double v = 0.0;
-  std::from_chars(first, last, v);
+  const auto [ptr, ec] = std::from_chars(first, last, v);
+  // Out of range: zero below the smallest double; beyond the largest, infinity, which the
+  // action refuses (not a number a program can mean, and not one to drop).
+  if (ec == std::errc::result_out_of_range) return read_long_decimal(std::string_view(first, last - first));
   return v;
 }
 
@@ -205,7 +212,12 @@ template <>
 struct Action<g::unsigned_real> {
   template <typename Input>
   static void apply(const Input& in, State& st) {
-    st.block->rpn.push_back(ExprNode{ExprOp::number, decimal_value(in.begin(), in.end()), 0, 0});
+    const double v = decimal_value(in.begin(), in.end());
+    if (!std::isfinite(v))
+      throw pegtl::parse_error(fmt::format("the number {}... is beyond any machine's range (1.8e308 at most)",
+                                           std::string_view(in.begin(), std::min<std::size_t>(in.size(), 12))),
+                               in);
+    st.block->rpn.push_back(ExprNode{ExprOp::number, v, 0, 0});
   }
 };
 
@@ -631,7 +643,7 @@ bool Parser::parse_simple(std::string_view t, Block& out) const {
     const std::size_t start = i++;
     skip_blanks();
     const std::size_t value_start = i;
-    if (i == n || !number()) return false;
+    if (i == n || !number() || !std::isfinite(value)) return false;  // the grammar says why
     // A digit right after the number (a blank inside it, `X1 5`) is the grammar's to read.
     const std::size_t after = i;
     skip_blanks();
@@ -646,16 +658,47 @@ bool Parser::parse_simple(std::string_view t, Block& out) const {
   }
 }
 
+constexpr std::size_t kMaxLineBytes = 1 << 20;
+constexpr std::size_t kMaxBracketDepth = 256;
+
+/// Refuses what would exhaust the parser rather than be read: a line longer than any
+/// program has (kMaxLineBytes), brackets nested deeper than kMaxBracketDepth (the grammar
+/// recurses once per bracket; LinuxCNC's own limit on expressions is far below).
+void check_size(std::string_view text, std::uint32_t line, std::string_view file) {
+  auto refuse = [&](std::size_t at, const std::string& message) {
+    throw Error(ErrorKind::program, message,
+                SourceLocation{std::string(file), line, static_cast<std::uint32_t>(at + 1)},
+                std::string(text.substr(0, std::min<std::size_t>(text.size(), 200))));
+  };
+  if (text.size() > kMaxLineBytes)
+    refuse(kMaxLineBytes, fmt::format("a line of {} bytes: more than {}, not a line of G-code", text.size(),
+                                      kMaxLineBytes));
+  std::size_t depth = 0;
+  bool in_comment = false;
+  for (std::size_t i = 0; i < text.size(); ++i) {
+    const char c = text[i];
+    if (c == ';' && !in_comment) break;
+    if (c == '(') in_comment = true;
+    if (c == ')') in_comment = false;
+    if (in_comment) continue;
+    if (c == '[' && ++depth > kMaxBracketDepth)
+      refuse(i, fmt::format("brackets nested more than {} deep", kMaxBracketDepth));
+    if (c == ']' && depth > 0) --depth;
+  }
+}
+
 void Parser::parse(std::string_view text, std::uint32_t line, std::string_view file, Block& out) {
   out.clear();
   out.text = text;
   out.line = line;
+  if (text.size() > kMaxLineBytes) check_size(text, line, file);
   if (fast_path_ && !dialect_.bracket_comments) {
     if (parse_simple(text, out)) return;
     out.clear();
     out.text = text;
     out.line = line;
   }
+  check_size(text, line, file);
   fold(text, dialect_, folded_, offsets_);
   marks_.clear();
   operators_.clear();

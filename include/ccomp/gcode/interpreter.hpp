@@ -30,8 +30,10 @@ struct InterpreterOptions {
   std::vector<std::string> subroutine_path;
   /// When set, lines starting with `/` are skipped (the operator's block-delete switch).
   bool block_delete = false;
-  /// A guard against endless loops: executing more blocks than this is an error.
-  std::uint64_t max_blocks = 2'000'000'000;
+  /// Guards against endless loops: executing more blocks than this is an error (some 20 s
+  /// of interpreting), and so is this many blocks in a row without a move.
+  std::uint64_t max_blocks = 100'000'000;
+  std::uint64_t max_blocks_without_motion = 1'000'000;
 };
 
 /// The modal state an observer may read between blocks (G codes times ten).

@@ -9,7 +9,8 @@
 
 namespace ccomp::gcode {
 
-/// What std::from_chars reads of `digits` (more digits than read_decimal's fast path takes).
+/// What std::from_chars reads of `digits` (more digits than read_decimal's fast path takes);
+/// infinity beyond the largest double, zero below the smallest.
 double read_long_decimal(std::string_view digits);
 
 /// Reads `[+-] digits [. digits] | [+-] . digits` at `i` in `t` into `value`, advancing `i`

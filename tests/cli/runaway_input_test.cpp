@@ -1,0 +1,67 @@
+// Input that used to hang, write without end or turn silently into other numbers: each is
+// refused with its position and exit 3, by the main job and by trace alike.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+
+#include "trace_capture.hpp"
+
+namespace ccomp::test {
+namespace {
+
+struct Runaway {
+  const char* name;
+  std::string program;
+  const char* words;  ///< in the error
+  int line = 3;       ///< where the error points
+};
+void PrintTo(const Runaway& r, std::ostream* os) {
+  *os << r.name;
+}
+
+std::string digits(int count) {
+  return "1" + std::string(static_cast<std::size_t>(count), '0');
+}
+
+class RunawayInput : public ::testing::TestWithParam<Runaway> {};
+
+TEST_P(RunawayInput, IsRefusedByTheMainJobAndByTrace) {
+  const std::string dir = temp_dir(std::string("runaway_") + GetParam().name);
+  write_file(dir + "/part.nc", "G21 G90\nG0 X0 Y0 Z0\n" + GetParam().program + "M2\n");
+  const std::string part = shell_quote(dir + "/part.nc");
+  const std::string model = shell_quote(source_dir() + "/samples/machines/hmc-xyzb-geometric.yaml");
+  for (const std::string& command :
+       {shell_quote(ccomp_binary()) + " " + part + " -m " + model + " -q -o " + shell_quote(dir + "/out.nc"),
+        shell_quote(ccomp_binary()) + " trace " + part + " > /dev/null"}) {
+    const CommandResult r = run_command("timeout 60 " + command);
+    EXPECT_EQ(r.exit_code, 3) << command << "\n" << r.err;
+    EXPECT_NE(r.err.find(GetParam().words), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("part.nc:" + std::to_string(GetParam().line) + ":"), std::string::npos)
+        << "positioned: " << r.err;
+  }
+  EXPECT_FALSE(std::filesystem::exists(dir + "/out.nc"));
+}
+
+INSTANTIATE_TEST_SUITE_P(
+    Cli, RunawayInput,
+    ::testing::Values(
+        // Above the largest double: was dropped, the line written as a bare G1.
+        Runaway{"number_beyond_range", "G1 X" + digits(320) + " F100\n", "beyond any machine's range"},
+        Runaway{"number_beyond_range_in_an_expression", "G1 X[" + digits(320) + "+1] F100\n",
+                "beyond any machine's range"},
+        // LinuxCNC reads X1e999 as X1 and E999, and refuses an E no code uses.
+        Runaway{"exponent", "G1 X1e999 F100\n", "E word with no G code that uses it"},
+        // An endless loop that never moves: ran for ever.
+        Runaway{"loop_without_motion", "#1=0\nO100 while [1]\n#1=[#1+1]\nO100 endwhile\n", "without a move", 4},
+        // Written out turn by turn without end.
+        Runaway{"arc_turns", "G2 X0 Y0 I5 J0 P100000000 F100\n", "turns"},
+        // Honoured by trace, ignored by the main job.
+        // Brackets nested 200,000 deep overflowed the parser's stack (SIGSEGV).
+        Runaway{"nested_brackets", "G1 X" + std::string(200000, '[') + "1" + std::string(200000, ']') + " F100\n",
+                "nested more than"},
+        Runaway{"line_of_megabytes", "G1 X1 F100 (" + std::string(2 << 20, 'a') + ")\n", "not a line of G-code"},
+        Runaway{"abort_comment", "(abort, the fixture is not clamped)\nG1 X10 F100\n", "the fixture is not clamped"}),
+    [](const auto& test) { return std::string(test.param.name); });
+
+}  // namespace
+}  // namespace ccomp::test
