@@ -55,7 +55,13 @@ void Interpreter::Impl::fail(const Block& b, const Word* where, const std::strin
 }
 
 void Interpreter::Impl::fail_at(const Block& b, Span span, const std::string& message) const {
-  const std::uint32_t column = span.empty() && span.begin == 0 ? 0 : span.begin + 1;
+  // Without a word to point at (an unknown subroutine, a radius that does not fit, a
+  // division by zero), the block itself: where its text starts.
+  std::uint32_t column = span.begin + 1;
+  if (span.empty() && span.begin == 0) {
+    const auto first = b.text.find_first_not_of(" \t");
+    column = first == std::string_view::npos ? 1 : static_cast<std::uint32_t>(first + 1);
+  }
   throw Error(ErrorKind::program, message, SourceLocation{file_name(), b.line, column}, std::string(b.text));
 }
 

@@ -530,6 +530,8 @@ constexpr ByteClasses kBytes;
 
 // The lexical layer: blanks out, letters up, comments verbatim; remember where each kept
 // byte came from.
+constexpr std::string_view kByteOrderMark = "\xEF\xBB\xBF";
+
 void fold(std::string_view line, const Dialect& dialect, std::string& folded, std::vector<std::uint32_t>& offsets) {
   const std::size_t n = line.size();
   folded.resize(n);
@@ -537,7 +539,8 @@ void fold(std::string_view line, const Dialect& dialect, std::string& folded, st
   char* f = folded.data();
   std::uint32_t* o = offsets.data();
   std::size_t k = 0;  // bytes kept
-  std::size_t i = 0;
+  // A UTF-8 byte-order mark (editors on Windows write one) is not text of the program.
+  std::size_t i = line.starts_with(kByteOrderMark) ? kByteOrderMark.size() : 0;
   auto keep = [&](std::size_t at) {
     f[k] = line[at];
     o[k++] = static_cast<std::uint32_t>(at);
@@ -601,6 +604,7 @@ bool Parser::parse_simple(std::string_view t, Block& out) const {
   auto is_letter = [](char c) { return (c >= 'A' && c <= 'Z') || (c >= 'a' && c <= 'z'); };
   auto upper = [](char c) { return c >= 'a' && c <= 'z' ? static_cast<char>(c - 'a' + 'A') : c; };
 
+  if (t.starts_with(kByteOrderMark)) i = kByteOrderMark.size();
   skip_blanks();
   if (i < n && t[i] == '%') {
     out.program_delimiter = true;
@@ -671,8 +675,12 @@ void check_size(std::string_view text, std::uint32_t line, std::string_view file
                 std::string(text.substr(0, std::min<std::size_t>(text.size(), 200))));
   };
   if (text.size() > kMaxLineBytes)
-    refuse(kMaxLineBytes, fmt::format("a line of {} bytes: more than {}, not a line of G-code", text.size(),
-                                      kMaxLineBytes));
+    refuse(kMaxLineBytes,
+           fmt::format("a line of {} bytes: more than {}, not a line of G-code", text.size(), kMaxLineBytes));
+  if (const auto cr = text.find('\r'); cr != std::string_view::npos)
+    refuse(cr,
+           "a carriage return inside the line: line ends of CR alone (classic Mac files) are not read; "
+           "convert them to LF or CRLF");
   std::size_t depth = 0;
   bool in_comment = false;
   for (std::size_t i = 0; i < text.size(); ++i) {

@@ -60,8 +60,36 @@ INSTANTIATE_TEST_SUITE_P(
         Runaway{"nested_brackets", "G1 X" + std::string(200000, '[') + "1" + std::string(200000, ']') + " F100\n",
                 "nested more than"},
         Runaway{"line_of_megabytes", "G1 X1 F100 (" + std::string(2 << 20, 'a') + ")\n", "not a line of G-code"},
+        // Was "unexpected text" and, in the main job, nothing compensated.
+        Runaway{"carriage_returns_alone", "G1 X5 F100\rG1 X6\n", "CR alone"},
         Runaway{"abort_comment", "(abort, the fixture is not clamped)\nG1 X10 F100\n", "the fixture is not clamped"}),
     [](const auto& test) { return std::string(test.param.name); });
+
+// A UTF-8 byte-order mark (Windows editors) is not text of the program: read past, kept.
+TEST(Input, AByteOrderMarkIsReadPastAndKept) {
+  const std::string dir = temp_dir("bom");
+  write_file(dir + "/part.nc", "\xEF\xBB\xBFG21 G90\nG0 X0 Y0 Z0\nG1 X10 F100\nM2\n");
+  const CommandResult r =
+      run_command(shell_quote(ccomp_binary()) + " " + shell_quote(dir + "/part.nc") + " -m " +
+                  shell_quote(source_dir() + "/samples/machines/hmc-xyzb-geometric.yaml") + " -q -o -");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find("\xEF\xBB\xBFG21 G90"), std::string::npos);
+  EXPECT_EQ(r.out.find("G1 X10 F100"), std::string::npos) << "compensated";
+}
+
+// Errors with no word to point at still carry a column: where the block starts.
+TEST(Input, ErrorsWithoutAWordPointAtTheBlock) {
+  const std::string dir = temp_dir("columns");
+  for (const std::string& program :
+       {std::string("  O<nowhere> call\n"), std::string("  #1=[1/0]\n"), std::string("  G2 X10 Y0 I3 J0 F100\n")}) {
+    write_file(dir + "/part.nc", "G21 G90 G17\nG0 X0 Y0 Z0\n" + program + "M2\n");
+    const CommandResult r = run_command(shell_quote(ccomp_binary()) + " trace " + shell_quote(dir + "/part.nc"));
+    EXPECT_EQ(r.exit_code, 3) << program;
+    const auto at = r.err.find("part.nc:3:");
+    ASSERT_NE(at, std::string::npos) << program << r.err;
+    EXPECT_GE(std::stoi(r.err.substr(at + 10)), 3) << "a column: " << r.err;
+  }
+}
 
 }  // namespace
 }  // namespace ccomp::test
