@@ -16,6 +16,9 @@
 namespace ccomp::identify {
 namespace {
 
+/// The largest magnitude a reading's number may have (mm, deg, s, degC).
+constexpr double kLargestReading = 1e7;
+
 constexpr double kRadPerDeg = 3.14159265358979323846 / 180.0;
 constexpr std::string_view kAxes = "xyzabcuvw";
 
@@ -188,6 +191,12 @@ void parse_measurements(const std::string& text, const std::string& name, const 
       if (!std::isfinite(v))
         fail(number, at_column[static_cast<std::size_t>(c)],
              fmt::format("column '{}' is {}: every value must be finite", column, f));
+      // Beyond any machine (10 km, 10 million degrees or seconds, degC):
+      // a corrupt value, which would otherwise swamp the fit's arithmetic.
+      if (std::abs(v) > kLargestReading)
+        fail(number, at_column[static_cast<std::size_t>(c)],
+             fmt::format("column '{}' is {}: beyond any machine's range (at most {:g})", column, f,
+                         kLargestReading));
       return v;
     };
     auto required = [&](const std::string& column) {

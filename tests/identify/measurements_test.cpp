@@ -71,6 +71,9 @@ TEST(Measurements, ErrorsNameRowColumnAndCause) {
       {"x,y,z,T_spindle,nx,ny,nz,d\n1,2,3,20,1,0,0,0.1\n1,2,nan,20,1,0,0,0.1\n", 3, 5, "column 'z' is nan"},
       {"x,y,z,T_spindle,nx,ny,nz,d\n1,2,3,20,1,1,0,0.1\n", 2, 10, "not a unit vector"},
       {"x,y,z,T_spindle,nx,ny,nz,d\n1,2,3,20,1,0,0,1O\n", 2, 16, "'1O' is not a number"},
+      // A position of 1e100 mm crashed fit and check (SIGSEGV in the eigen-solver).
+      {"x,y,z,T_spindle,nx,ny,nz,d\n1e100,2,3,20,1,0,0,0.001\n", 2, 1, "beyond any machine's range"},
+      {"x,y,z,T_spindle,nx,ny,nz,d\n1,2,3,-3e9,1,0,0,0.001\n", 2, 7, "beyond any machine's range"},
       {"x,y,z,T_spindle,nx,ny,nz,d\n1,2,3,20,1,0,0\n", 2, 1, "this row has 7 fields"},
       {"x,y,z,T_spindle,dx,dy\n", 1, 1, "needs dy and dz"},
       {"x,y,z,a,T_spindle,dx,dy,dz\n", 1, 7, "an axis machine 'test-hmc' does not have"},
