@@ -397,6 +397,7 @@ void Interpreter::Impl::straight(MotionKind kind, const Axes& target, MotionSour
   m.line = block.line;
   position = target;
   blocks_since_motion = 0;
+  leaving_compensation = false;
   if (sink) sink->motion(m);
 }
 
@@ -518,6 +519,7 @@ void Interpreter::Impl::execute(const Block& b) {
       if (!words.has_g(code)) continue;
       if (code != 400 && modal.cutter_compensation != 400)
         fail(b, nullptr, "cannot turn cutter radius compensation on when it is already on");
+      if (code == 400 && modal.cutter_compensation != 400) leaving_compensation = true;
       modal.cutter_compensation = code;
       emit("COMMENT", code == 400 ? "\"interpreter: cutter radius compensation off\""
                                   : "\"interpreter: cutter radius compensation on\"");
@@ -714,6 +716,9 @@ void Interpreter::Impl::motion(const Block& b, int code, int non_modal) {
 }
 
 void Interpreter::Impl::arc(const Block& b, int code, const Axes& target) {
+  // As LinuxCNC: the exit move of cutter compensation is where the offset is taken off.
+  if (leaving_compensation)
+    fail(b, nullptr, "the move just after exiting cutter compensation mode (G40) must be straight, not an arc");
   const PlaneAxes pa = plane_axes(modal.plane);
   const double u = unit();
   const double s1 = position[pa.first], s2 = position[pa.second];
@@ -802,6 +807,7 @@ void Interpreter::Impl::arc(const Block& b, int code, const Axes& target) {
   m.line = b.line;
   position = target;
   blocks_since_motion = 0;
+  leaving_compensation = false;
   if (sink) sink->motion(m);
 }
 

@@ -109,6 +109,7 @@ struct Interpreter::Impl {
   bool has_value_returned = false;
   std::uint64_t blocks_executed = 0;
   std::uint64_t blocks_since_motion = 0;  ///< a loop that never moves is endless
+  bool leaving_compensation = false;      ///< G40 has ended compensation; no move since
 
   CanonSink* sink = nullptr;
   Block block;

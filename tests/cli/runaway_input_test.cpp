@@ -62,6 +62,8 @@ INSTANTIATE_TEST_SUITE_P(
         Runaway{"line_of_megabytes", "G1 X1 F100 (" + std::string(2 << 20, 'a') + ")\n", "not a line of G-code"},
         // Was "unexpected text" and, in the main job, nothing compensated.
         Runaway{"carriage_returns_alone", "G1 X5 F100\rG1 X6\n", "CR alone"},
+        // LinuxCNC refuses it; ccomp wrote it.
+        Runaway{"arc_right_after_g40", "G41 D0\nG1 X10 Y0 F100\nG40\nG2 X20 Y0 I5 J0\n", "must be straight", 6},
         Runaway{"abort_comment", "(abort, the fixture is not clamped)\nG1 X10 F100\n", "the fixture is not clamped"}),
     [](const auto& test) { return std::string(test.param.name); });
 
