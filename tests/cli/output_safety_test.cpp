@@ -169,17 +169,24 @@ std::string long_program() {
   return text + "M2\n";
 }
 
+/// Compensates `dir`/part.nc into `dir`/out.nc and sends `signal` while the output is being
+/// written; the job's wait status.
+int signalled_while_writing(const std::string& dir, int signal) {
+  const pid_t pid = spawn({ccomp_binary(), dir + "/part.nc", "-m", sample_model(), "-o", dir + "/out.nc", "-q"});
+  EXPECT_GT(pid, 0);
+  EXPECT_TRUE(writing(dir)) << "no temporary output appeared";
+  ::kill(pid, signal);
+  int status = 0;
+  ::waitpid(pid, &status, 0);
+  return status;
+}
+
 TEST(OutputSafety, AnInterruptedRunLeavesThePreviousOutputAndNoTemporary) {
   const std::string dir = temp_dir("interrupted");
   write_file(dir + "/part.nc", long_program());
   for (const int signal : {SIGINT, SIGTERM}) {
     write_file(dir + "/out.nc", "previous\n");
-    const pid_t pid = spawn({ccomp_binary(), dir + "/part.nc", "-m", sample_model(), "-o", dir + "/out.nc", "-q"});
-    ASSERT_GT(pid, 0);
-    ASSERT_TRUE(writing(dir));
-    ::kill(pid, signal);
-    int status = 0;
-    ::waitpid(pid, &status, 0);
+    const int status = signalled_while_writing(dir, signal);
     ASSERT_TRUE(WIFSIGNALED(status)) << "the job ended before the signal: make the program longer";
     EXPECT_EQ(WTERMSIG(status), signal);
     EXPECT_EQ(read_file(dir + "/out.nc"), "previous\n");
@@ -192,12 +199,7 @@ TEST(OutputSafety, AKilledRunsTemporaryIsRemovedByTheNextRun) {
   write_file(dir + "/part.nc", long_program());
   write_file(dir + "/small.nc", kProgram);
   write_file(dir + "/out.nc", "previous\n");
-  const pid_t pid = spawn({ccomp_binary(), dir + "/part.nc", "-m", sample_model(), "-o", dir + "/out.nc", "-q"});
-  ASSERT_GT(pid, 0);
-  ASSERT_TRUE(writing(dir));
-  ::kill(pid, SIGKILL);
-  int status = 0;
-  ::waitpid(pid, &status, 0);
+  (void)signalled_while_writing(dir, SIGKILL);
   EXPECT_EQ(read_file(dir + "/out.nc"), "previous\n");
   ASSERT_EQ(temporaries(dir).size(), 1U) << "SIGKILL cannot be caught: its temporary stays";
   const CommandResult r = run_command(ccomp() + " " + shell_quote(dir + "/small.nc") + " -m " +
