@@ -1210,6 +1210,7 @@ std::optional<HeaderFacts> read_header(std::string_view line) {
 }
 
 bool is_header_line(std::string_view line) {
+  if (line.starts_with("\xEF\xBB\xBF")) line.remove_prefix(3);  // a byte-order mark before it
   const auto first = line.find_first_not_of(" \t");
   return first != std::string_view::npos && line.substr(first).starts_with(kHeaderPrefix) &&
          line.find("compensated for machine") != std::string_view::npos;

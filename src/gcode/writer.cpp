@@ -70,8 +70,15 @@ void ProgramWriter::edit(std::uint64_t line_offset, std::span<Edit> edits) {
 }
 
 void ProgramWriter::write_line(const SourceLine& line, bool terminate) {
+  // A UTF-8 byte-order mark stays the file's first bytes, before the header.
+  std::size_t skip = 0;
   if (!header_written_) {
-    const auto first = line.text.find_first_not_of(" \t");
+    constexpr std::string_view kByteOrderMark = "\xEF\xBB\xBF";
+    if (line.offset == 0 && line.text.starts_with(kByteOrderMark)) {
+      std::fwrite(kByteOrderMark.data(), 1, kByteOrderMark.size(), out_);
+      skip = kByteOrderMark.size();
+    }
+    const auto first = line.text.find_first_not_of(" \t", skip);
     const bool percent = first != std::string_view::npos && line.text[first] == '%';
     if (!(percent && line.offset == 0)) {
       const std::string_view terminator = line.terminator.empty() ? std::string_view("\n") : line.terminator;
@@ -89,13 +96,13 @@ void ProgramWriter::write_line(const SourceLine& line, bool terminate) {
     for (std::size_t k = 0; k < n; ++k) line_edits_.push_back(std::move(pending_[k].edit));
     pending_.erase(pending_.begin(), pending_.begin() + static_cast<std::ptrdiff_t>(n));
     apply_edits(line.text, line_edits_, edited_);
-    std::fwrite(edited_.data(), 1, edited_.size(), out_);
+    std::fwrite(edited_.data() + skip, 1, edited_.size() - skip, out_);
     if (terminate) std::fwrite(line.terminator.data(), 1, line.terminator.size(), out_);
   } else if (!terminate) {
-    std::fwrite(line.text.data(), 1, line.text.size(), out_);
+    std::fwrite(line.text.data() + skip, 1, line.text.size() - skip, out_);
   } else {
     // The text and its terminator are adjacent in the reader's buffer: one write.
-    std::fwrite(line.text.data(), 1, line.text.size() + line.terminator.size(), out_);
+    std::fwrite(line.text.data() + skip, 1, line.text.size() + line.terminator.size() - skip, out_);
   }
 }
 

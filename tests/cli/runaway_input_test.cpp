@@ -75,7 +75,14 @@ TEST(Input, AByteOrderMarkIsReadPastAndKept) {
       run_command(shell_quote(ccomp_binary()) + " " + shell_quote(dir + "/part.nc") + " -m " +
                   shell_quote(source_dir() + "/samples/machines/hmc-xyzb-geometric.yaml") + " -q -o -");
   ASSERT_EQ(r.exit_code, 0) << r.err;
-  EXPECT_NE(r.out.find("\xEF\xBB\xBFG21 G90"), std::string::npos);
+  EXPECT_EQ(r.out.rfind("\xEF\xBB\xBF(ccomp ", 0), 0U) << "the mark first, then the header";
+  EXPECT_NE(r.out.find("\nG21 G90\n"), std::string::npos);
+  // And the header is still seen: a second run is refused as double compensation.
+  write_file(dir + "/once.nc", r.out);
+  EXPECT_EQ(run_command(shell_quote(ccomp_binary()) + " " + shell_quote(dir + "/once.nc") + " -m " +
+                        shell_quote(source_dir() + "/samples/machines/hmc-xyzb-geometric.yaml") + " -q -o -")
+                .exit_code,
+            7);
   EXPECT_EQ(r.out.find("G1 X10 F100"), std::string::npos) << "compensated";
 }
 
