@@ -7,6 +7,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
+#include <fstream>
 #include <mutex>
 #include <thread>
 
@@ -73,17 +74,23 @@ void report(const Target& t, const model::MachineModel& model, const compensate:
              r.max_correction * 1000.0, r.max_orientation_error * 1e6);
 }
 
-/// The first free backup name: `<input><suffix>`, else numbered `.1`, `.2`... (a backup
-/// already there is the user's: a second --in-place run with --force must not replace the
-/// original with the compensated text).
-std::string free_backup_name(const std::string& input, const std::string& suffix) {
-  std::error_code ec;
-  std::string name = input + suffix;
-  for (int k = 1; fs::exists(fs::symlink_status(name, ec)); ++k) {
-    if (k > 999) throw Error(ErrorKind::io, fmt::format("'{}' has 999 numbered backups: clear some first", input));
-    name = fmt::format("{}{}.{}", input, suffix, k);
+/// Keeps a copy of `input` as `<input><suffix>`, else numbered `.1`, `.2`... (a backup already
+/// there is the user's: a second --in-place run with --force must not replace the original
+/// with the compensated text). Written whole and synced before it gets its name, so a backup
+/// is never partial, even after an interrupt or a power cut.
+void keep_backup(const std::string& input, const std::string& suffix) {
+  OutputFile backup(input + suffix);
+  {
+    std::ifstream in(input, std::ios::binary);
+    if (!in) throw Error(ErrorKind::io, fmt::format("cannot read '{}' to back it up", input));
+    char buffer[1 << 16];
+    while (in.read(buffer, sizeof buffer) || in.gcount() > 0)
+      std::fwrite(buffer, 1, static_cast<std::size_t>(in.gcount()), backup.file());
   }
-  return name;
+  backup.finish();
+  for (int k = 0; k < 1000; ++k)
+    if (backup.link_as(k == 0 ? input + suffix : fmt::format("{}{}.{}", input, suffix, k))) return;
+  throw Error(ErrorKind::io, fmt::format("'{}' has 999 numbered backups: clear some first", input));
 }
 
 /// Writes through an OutputFile (a temporary beside the output, renamed into place only on
@@ -99,15 +106,13 @@ void compensate_one(const Target& t, const model::MachineModel& model, const com
   OutputFile out(t.output);
   std::setvbuf(out.file(), nullptr, _IOFBF, 1 << 20);
   const compensate::JobReport r = compensate::run_program_job(input, out.file(), model, options);
-  if (args.in_place) {
-    const std::string backup = free_backup_name(t.input, args.backup_suffix);
-    std::error_code ec;
-    fs::copy_file(t.input, backup, fs::copy_options::none, ec);
-    if (ec) throw Error(ErrorKind::io, fmt::format("cannot write the backup '{}': {}", backup, ec.message()));
-  }
+  if (args.in_place) keep_backup(t.input, args.backup_suffix);
   // Keep the input's permissions on the output (post processors may mark files executable).
   std::error_code ec;
-  if (t.input != "-") fs::permissions(out.temporary(), fs::status(t.input).permissions(), ec);
+  if (t.input != "-") {
+    const fs::file_status input_status = fs::status(t.input, ec);
+    if (!ec) fs::permissions(out.temporary(), input_status.permissions(), ec);
+  }
   out.commit();
   report(t, model, r, args);
 }
@@ -203,7 +208,10 @@ int run_compensate(const CompensateArgs& args) {
         };
       try {
         compensate_one(targets[i], model, mine, args);
-      } catch (const Error& e) {
+      } catch (const std::exception& caught) {
+        // Anything but a ccomp::Error is a bug in ccomp; it must not end the other programs.
+        const auto* known = dynamic_cast<const Error*>(&caught);
+        const Error e = known ? *known : Error(ErrorKind::internal, caught.what());
         std::lock_guard lock(report);
         fmt::print(stderr, "{}\n", format_error(e));
         int code = exit_code(e.kind());

@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 
 #include <CLI/CLI.hpp>
+#include <system_error>
 
 #include "ccomp/error.hpp"
 #include "ccomp/version.hpp"
@@ -76,6 +77,10 @@ int main(int argc, char** argv) {
   } catch (const ccomp::Error& e) {
     fmt::print(stderr, "{}\n", ccomp::format_error(e));
     return ccomp::exit_code(e.kind());
+  } catch (const std::system_error& e) {
+    // fmt's writes report a full disk or a closed pipe so: an I/O error, not a bug.
+    fmt::print(stderr, "error: {}\n", e.what());
+    return ccomp::exit_code(ccomp::ErrorKind::io);
   } catch (const std::exception& e) {
     fmt::print(stderr, "internal error: {}\n", e.what());
     return ccomp::exit_code(ccomp::ErrorKind::internal);

@@ -21,7 +21,7 @@ namespace {
 
 /// The temporary files being written, for the interrupt handler: it may only read what is
 /// already there and call unlink(), so the names are fixed pointers in a fixed table.
-constexpr std::size_t kSlots = 256;
+constexpr std::size_t kSlots = 1024;
 std::array<std::atomic<const char*>, kSlots> g_temporaries{};
 
 void hold(const char* path) {
@@ -109,11 +109,25 @@ void check_distinct_outputs(const std::vector<std::string>& outputs) {
     const fs::path key = fs::weakly_canonical(o, ec);
     if (!seen.insert(ec ? o : key.string()).second)
       throw Error(ErrorKind::usage,
-                  fmt::format("two inputs would both be written to '{}': one would be lost (rename one, or write "
-                              "them to different folders)",
+                  fmt::format("two outputs would both be written to '{}': one would be lost (rename an input, or "
+                              "write them to different folders)",
                               o));
   }
 }
+
+namespace {
+
+/// The process' umask, read once at start-up (reading it means setting it).
+mode_t g_umask = 022;
+
+/// The mode the output gets: the file's it replaces, else what a plain open() would give.
+mode_t output_mode(const std::string& path) {
+  struct stat st {};
+  if (::stat(path.c_str(), &st) == 0) return st.st_mode & 07777;
+  return 0666 & ~g_umask;
+}
+
+}  // namespace
 
 OutputFile::OutputFile(std::string path) : path_(std::move(path)) {
   const fs::path out(path_);
@@ -126,6 +140,7 @@ OutputFile::OutputFile(std::string path) : path_(std::move(path)) {
     throw Error(ErrorKind::io,
                 fmt::format("cannot create a temporary file beside '{}': {}", path_, std::strerror(errno)));
   hold(temporary_.c_str());
+  (void)::fchmod(fd, output_mode(path_));  // mkstemp makes 0600
   file_ = ::fdopen(fd, "wb");
   if (!file_) {
     ::close(fd);
@@ -144,12 +159,7 @@ OutputFile::~OutputFile() {
 }
 
 void OutputFile::commit() {
-  const bool written = std::fflush(file_) == 0 && !std::ferror(file_) && ::fsync(::fileno(file_)) == 0;
-  const int error = errno;
-  const bool closed = std::fclose(file_) == 0;
-  file_ = nullptr;
-  if (!written || !closed)
-    throw Error(ErrorKind::io, fmt::format("cannot write '{}': {}", path_, std::strerror(written ? errno : error)));
+  finish();
   if (std::rename(temporary_.c_str(), path_.c_str()) != 0)
     throw Error(ErrorKind::io,
                 fmt::format("cannot move the result into place as '{}': {}", path_, std::strerror(errno)));
@@ -163,6 +173,22 @@ void OutputFile::commit() {
   }
 }
 
+void OutputFile::finish() {
+  const bool written = std::fflush(file_) == 0 && !std::ferror(file_) && ::fsync(::fileno(file_)) == 0;
+  const int error = errno;
+  const bool closed = std::fclose(file_) == 0;
+  file_ = nullptr;
+  if (!written || !closed)
+    throw Error(ErrorKind::io, fmt::format("cannot write '{}': {}", path_, std::strerror(written ? errno : error)));
+}
+
+bool OutputFile::link_as(const std::string& path) {
+  // link() never replaces: a file of that name, even one appearing meanwhile, is kept.
+  if (::link(temporary_.c_str(), path.c_str()) == 0) return true;
+  if (errno == EEXIST) return false;
+  throw Error(ErrorKind::io, fmt::format("cannot write '{}': {}", path, std::strerror(errno)));
+}
+
 void write_output(const std::string& path, const std::string& text) {
   if (path == "-") {
     std::fwrite(text.data(), 1, text.size(), stdout);
@@ -174,14 +200,23 @@ void write_output(const std::string& path, const std::string& text) {
 }
 
 void finish_standard_output() {
+  errno = 0;
   if (std::fflush(stdout) != 0 || std::ferror(stdout))
-    throw Error(ErrorKind::io, fmt::format("cannot write standard output: {}", std::strerror(errno)));
+    throw Error(ErrorKind::io, fmt::format("cannot write standard output{}",
+                                           errno ? fmt::format(": {}", std::strerror(errno)) : std::string()));
 }
 
 void remove_temporaries_on_interrupt() {
-  std::signal(SIGINT, remove_temporaries_and_stop);
-  std::signal(SIGTERM, remove_temporaries_and_stop);
-  std::signal(SIGHUP, remove_temporaries_and_stop);
+  g_umask = ::umask(0);
+  ::umask(g_umask);
+  for (const int signal : {SIGINT, SIGTERM, SIGHUP}) {
+    struct sigaction old {};
+    // A signal the caller ignores (nohup, a background job) stays ignored.
+    if (::sigaction(signal, nullptr, &old) == 0 && old.sa_handler == SIG_IGN) continue;
+    std::signal(signal, remove_temporaries_and_stop);
+  }
+  // A closed pipe is a write error (exit 6), not a silent death by SIGPIPE.
+  std::signal(SIGPIPE, SIG_IGN);
 }
 
 }  // namespace ccomp::cli

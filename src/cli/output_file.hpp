@@ -37,6 +37,11 @@ class OutputFile {
   [[nodiscard]] const std::string& temporary() const { return temporary_; }
   /// Throws ccomp::Error (io, exit 6) on any write, sync or rename failure.
   void commit();
+  /// Flushes, syncs and closes the temporary (throws io on failure); link_as() then gives
+  /// it a name that does not exist yet: false when `path` exists. The temporary itself is
+  /// removed on destruction, the linked name stays.
+  void finish();
+  [[nodiscard]] bool link_as(const std::string& path);
 
  private:
   std::string path_, temporary_;
@@ -50,7 +55,9 @@ void write_output(const std::string& path, const std::string& text);
 /// (a full disk, a closed pipe).
 void finish_standard_output();
 
-/// Installs the SIGINT/SIGTERM handler that removes the temporary files being written.
+/// Installs the SIGINT/SIGTERM/SIGHUP handler that removes the temporary files being
+/// written (not over a signal the caller ignores), ignores SIGPIPE (a closed pipe is then a
+/// write error, exit 6) and reads the umask the outputs' modes follow. Call it first.
 void remove_temporaries_on_interrupt();
 
 }  // namespace ccomp::cli

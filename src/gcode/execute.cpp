@@ -293,7 +293,14 @@ void Interpreter::Impl::abort_comment(const Block& b) {
     if (text.size() < 6) continue;
     std::string upper;
     for (char ch : text.substr(0, 6)) upper.push_back(static_cast<char>(std::toupper(static_cast<unsigned char>(ch))));
-    if (upper == "ABORT,") fail_at(b, c.span, fmt::format("(ABORT) {}", substitute_parameters(b, text.substr(6))));
+    // The machine stops here; ccomp's run goes on, with a warning: the condition around an
+    // abort usually reads the machine's state (the tool in the spindle, a probe result),
+    // which ccomp only simulates, so stopping would refuse programs that run.
+    if (upper == "ABORT,")
+      warn(fmt::format("(ABORT, {}) reached as ccomp runs the program: on the machine it stops here unless the "
+                       "machine's state (tool, parameters) differs from ccomp's",
+                       substitute_parameters(b, text.substr(6))),
+           b.line);
   }
 }
 
@@ -398,6 +405,7 @@ void Interpreter::Impl::straight(MotionKind kind, const Axes& target, MotionSour
   position = target;
   blocks_since_motion = 0;
   leaving_compensation = false;
+  compensated_move = compensated_move || m.radius_compensation;
   if (sink) sink->motion(m);
 }
 
@@ -448,7 +456,7 @@ void Interpreter::Impl::execute(const Block& b) {
     if (sink && sink->wants_calls())
       comment(b);
     else
-      abort_comment(b);  // an (ABORT, ...) stops every run, not only a trace
+      abort_comment(b);  // an (ABORT, ...) is said in every run, not only a trace
   }
   // 2. feed rate mode
   if (words.has_group(5)) {
@@ -519,7 +527,10 @@ void Interpreter::Impl::execute(const Block& b) {
       if (!words.has_g(code)) continue;
       if (code != 400 && modal.cutter_compensation != 400)
         fail(b, nullptr, "cannot turn cutter radius compensation on when it is already on");
-      if (code == 400 && modal.cutter_compensation != 400) leaving_compensation = true;
+      // LinuxCNC's rule, after a move made with the offset on.
+      if (code == 400 && modal.cutter_compensation != 400 && compensated_move && options.dialect.name == "linuxcnc")
+        leaving_compensation = true;
+      compensated_move = false;
       modal.cutter_compensation = code;
       emit("COMMENT", code == 400 ? "\"interpreter: cutter radius compensation off\""
                                   : "\"interpreter: cutter radius compensation on\"");
@@ -620,9 +631,11 @@ void Interpreter::Impl::check_unused_words(const Block& b, int motion_code, int 
   }
   if (!(arc || (cycle && motion_mode == 870) || motion_mode == 331 || motion_mode == 330))
     unused('K', "G2, G3, G33, G87");
-  if (!(cycle || g10 || words.has_m(98) || motion_mode == 760)) unused('L', "canned cycles, G10, M98");
-  if (!(cycle || words.has_m(61) || words.has_m(66) || words.has_m(19) || words.has_g(640) || g10 || words.has_g(50)))
-    unused('Q', "G73, G83, G64, M61, M66, G10");
+  if (!(cycle || g10 || words.has_m(98) || words.has_m(66) || motion_mode == 760))
+    unused('L', "canned cycles, G10, M98, M66");
+  if (!(cycle || words.has_m(61) || words.has_m(66) || words.has_m(67) || words.has_m(68) || words.has_m(19) ||
+        words.has_g(640) || g10 || words.has_g(50)))
+    unused('Q', "G73, G83, G64, M61, M66, M67, M68, G10");
   const bool p_user = non_modal == 40 || g10 || arc || cycle || words.has_g(640) || words.has_m(98) ||
                       words.has_m(66) || words.has_m(19) || words.has_m(62) || words.has_m(63) || words.has_m(64) ||
                       words.has_m(65) || words.has_g(50) || motion_mode == 760;
@@ -808,6 +821,7 @@ void Interpreter::Impl::arc(const Block& b, int code, const Axes& target) {
   position = target;
   blocks_since_motion = 0;
   leaving_compensation = false;
+  compensated_move = compensated_move || m.radius_compensation;
   if (sink) sink->motion(m);
 }
 

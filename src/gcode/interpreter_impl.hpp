@@ -110,6 +110,7 @@ struct Interpreter::Impl {
   std::uint64_t blocks_executed = 0;
   std::uint64_t blocks_since_motion = 0;  ///< a loop that never moves is endless
   bool leaving_compensation = false;      ///< G40 has ended compensation; no move since
+  bool compensated_move = false;          ///< a move was made with cutter compensation on
 
   CanonSink* sink = nullptr;
   Block block;

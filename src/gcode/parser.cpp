@@ -663,25 +663,29 @@ bool Parser::parse_simple(std::string_view t, Block& out) const {
 }
 
 constexpr std::size_t kMaxLineBytes = 1 << 20;
-constexpr std::size_t kMaxBracketDepth = 256;
+constexpr std::size_t kMaxNesting = 256;
 
 /// Refuses what would exhaust the parser rather than be read: a line longer than any
-/// program has (kMaxLineBytes), brackets nested deeper than kMaxBracketDepth (the grammar
-/// recurses once per bracket; LinuxCNC's own limit on expressions is far below).
+/// program has (kMaxLineBytes), brackets and `#` nested deeper than kMaxNesting (the grammar
+/// recurses once for each; LinuxCNC's own limit on expressions is far below), and a
+/// carriage return inside the line (a file of CR-only line ends read as one line).
 void check_size(std::string_view text, std::uint32_t line, std::string_view file) {
   auto refuse = [&](std::size_t at, const std::string& message) {
     throw Error(ErrorKind::program, message,
                 SourceLocation{std::string(file), line, static_cast<std::uint32_t>(at + 1)},
                 std::string(text.substr(0, std::min<std::size_t>(text.size(), 200))));
   };
-  if (text.size() > kMaxLineBytes)
-    refuse(kMaxLineBytes,
-           fmt::format("a line of {} bytes: more than {}, not a line of G-code", text.size(), kMaxLineBytes));
-  if (const auto cr = text.find('\r'); cr != std::string_view::npos)
-    refuse(cr,
+  auto refuse_cr = [&](std::size_t at) {
+    refuse(at,
            "a carriage return inside the line: line ends of CR alone (classic Mac files) are not read; "
            "convert them to LF or CRLF");
-  std::size_t depth = 0;
+  };
+  if (text.size() > kMaxLineBytes) {
+    if (const auto cr = text.find('\r'); cr != std::string_view::npos) refuse_cr(cr);
+    refuse(kMaxLineBytes,
+           fmt::format("a line of {} bytes: more than {}, not a line of G-code", text.size(), kMaxLineBytes));
+  }
+  std::size_t depth = 0, hashes = 0;  // brackets open; '#' in a row (each nests a parameter)
   bool in_comment = false;
   for (std::size_t i = 0; i < text.size(); ++i) {
     const char c = text[i];
@@ -689,9 +693,15 @@ void check_size(std::string_view text, std::uint32_t line, std::string_view file
     if (c == '(') in_comment = true;
     if (c == ')') in_comment = false;
     if (in_comment) continue;
-    if (c == '[' && ++depth > kMaxBracketDepth)
-      refuse(i, fmt::format("brackets nested more than {} deep", kMaxBracketDepth));
+    if (c == '\r') refuse_cr(i);
+    if (c == '#')
+      ++hashes;
+    else if (c != '+' && c != '-' && c != ' ' && c != '\t' && c != '[')
+      hashes = 0;
+    if (c == '[') ++depth;
     if (c == ']' && depth > 0) --depth;
+    if (depth + hashes > kMaxNesting)
+      refuse(i, fmt::format("brackets and parameters nested more than {} deep", kMaxNesting));
   }
 }
 

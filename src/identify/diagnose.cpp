@@ -270,7 +270,10 @@ constexpr double kProjectionShare = 0.005;
 void refit_with(const model::ForwardModel& model, const MeasurementSet& data, const FitOptions& options,
                 Suggestion& s) {
   try {
-    const model::ForwardModel with(model::with_terms(model.machine(), {s.spec}, "suggestion"));
+    // The data's sensors, in the data's order, so a suggested sensor reads its own column.
+    model::MachineModel machine = model.machine();
+    machine.sensors = data.sensors;
+    const model::ForwardModel with(model::with_terms(std::move(machine), {s.spec}, "suggestion"));
     const FitReport r = fit(with, data, options);
     if (!r.refusals.empty() || !std::isfinite(r.rms_after)) return;
     s.rms_after = r.rms_after;
@@ -365,7 +368,7 @@ Diagnosis diagnose(const model::ForwardModel& model, const MeasurementSet& data,
     s.effect = c.effect, s.error = c.error, s.term = c.term, s.variable = c.variable, s.form = c.form;
     s.period = c.scan_points > 0 || c.form == "harmonic" ? value : 0.0;
     s.period_uncertainty = uncertainty;
-    s.rms_before = out.rms_refit;
+    s.rms_before = rms_projected;  // like with like for the tests below; the refit's own is shown
     const double sse1 = std::max(sse0 - gain, 0.0);
     s.rms_after = std::sqrt(sse1 / static_cast<double>(n));
     const auto k = static_cast<double>(c.basis_count + (c.scan_points > 0 ? 1 : 0));
@@ -588,12 +591,13 @@ Diagnosis diagnose(const model::ForwardModel& model, const MeasurementSet& data,
   // readings, the projection takes the noise along every direction the base could move,
   // while a fit holds what the noise does not support; the rms after is then the fit's of
   // the model with the spec, as `fit --add` would write it.
+  // (The ties are read first, off the projection's residuals, all alike.)
+  out.ties = find_ties(out.suggestions, base.r);
   if (static_cast<double>(base.W.cols()) > kProjectionShare * static_cast<double>(n))
     for (Suggestion& s : out.suggestions) refit_with(model, data, options.fit, s);
 
   const std::vector<Region> bins = residual_bins(data, axes, base.r, rms_projected);
   out.regions = residual_regions(bins, out.noise);
-  out.ties = find_ties(out.suggestions, base.r);
   out.residual = std::move(base.r);
   if (out.suggestions.empty()) out.unexplained = unexplained_structure(out, data, bins);
   return out;

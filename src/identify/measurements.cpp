@@ -18,6 +18,8 @@ namespace {
 
 /// The largest magnitude a reading's number may have (mm, deg, s, degC).
 constexpr double kLargestReading = 1e7;
+/// Times may be clock readings (s since 1970: 1.7e9 today).
+constexpr double kLatestTime = 1e11;
 
 constexpr double kRadPerDeg = 3.14159265358979323846 / 180.0;
 constexpr std::string_view kAxes = "xyzabcuvw";
@@ -193,10 +195,10 @@ void parse_measurements(const std::string& text, const std::string& name, const 
              fmt::format("column '{}' is {}: every value must be finite", column, f));
       // Beyond any machine (10 km, 10 million degrees or seconds, degC):
       // a corrupt value, which would otherwise swamp the fit's arithmetic.
-      if (std::abs(v) > kLargestReading)
+      if (std::abs(v) > (column == "t" ? kLatestTime : kLargestReading))
         fail(number, at_column[static_cast<std::size_t>(c)],
              fmt::format("column '{}' is {}: beyond any machine's range (at most {:g})", column, f,
-                         kLargestReading));
+                         column == "t" ? kLatestTime : kLargestReading));
       return v;
     };
     auto required = [&](const std::string& column) {

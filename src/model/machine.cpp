@@ -139,8 +139,10 @@ MachineModel parse_machine_model(const std::string& text, const std::string& nam
   }
   if (documents.empty() || !documents.front().IsMap())
     throw Error(ErrorKind::model, "a machine model is a YAML mapping", SourceLocation{name});
-  if (documents.size() > 1)
-    bad(name, documents[1], "a machine model is one YAML document; this file holds more ('---' starts another)");
+  // A trailing `---` makes an empty document: only one with content is a second model.
+  for (std::size_t k = 1; k < documents.size(); ++k)
+    if (!documents[k].IsNull())
+      bad(name, documents[k], "a machine model is one YAML document; this file holds more ('---' starts another)");
   try {
     return read_model(documents.front(), name, text);
   } catch (const YAML::Exception& e) {

@@ -212,5 +212,36 @@ TEST(OutputSafety, AKilledRunsTemporaryIsRemovedByTheNextRun) {
   EXPECT_NE(read_file(dir + "/out.nc").find("G1 X"), std::string::npos);
 }
 
+TEST(OutputSafety, AnIgnoredHangupStaysIgnoredAsUnderNohup) {
+  const std::string dir = temp_dir("nohup");
+  write_file(dir + "/part.nc", long_program());
+  // The shell ignores SIGHUP and starts ccomp, which must keep it ignored; the signal is sent
+  // while ccomp writes.
+  const CommandResult r = run_command(
+      "cd " + shell_quote(dir) + " && trap '' HUP && (" + ccomp() + " part.nc -m " + shell_quote(sample_model()) +
+      " -q -o out.nc & pid=$!; while ! ls out.nc.ccomp-* >/dev/null 2>&1; do sleep 0.01; done; kill -HUP $pid; "
+      "wait $pid; echo status=$?)");
+  EXPECT_NE(r.out.find("status=0"), std::string::npos) << r.out << r.err;
+  EXPECT_NE(read_file(dir + "/out.nc").find("(ccomp "), std::string::npos);
+}
+
+TEST(OutputSafety, OutputsTakeTheModeAPlainWriteWouldGive) {
+  const std::string dir = temp_dir("modes");
+  const CommandResult r = run_command("cd " + shell_quote(dir) + " && umask 022 && " + ccomp() + " simulate -m " +
+                                      shell_quote(sample_model()) + " --plan grid -o data.csv");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(fs::status(dir + "/data.csv").permissions() & fs::perms::all,
+            fs::perms::owner_read | fs::perms::owner_write | fs::perms::group_read | fs::perms::others_read);
+}
+
+TEST(OutputSafety, AClosedPipeIsAWriteErrorNotASignal) {
+  const std::string dir = temp_dir("pipe");
+  write_file(dir + "/part.nc", long_program());
+  const CommandResult r =
+      run_command("bash -c " + shell_quote(ccomp() + " trace " + shell_quote(dir + "/part.nc") +
+                                           " | head -c 1 > /dev/null; echo status=${PIPESTATUS[0]}"));
+  EXPECT_NE(r.out.find("status=6"), std::string::npos) << r.out << r.err;
+}
+
 }  // namespace
 }  // namespace ccomp::test

@@ -54,17 +54,7 @@ INSTANTIATE_TEST_SUITE_P(
         // An endless loop that never moves: ran for ever.
         Runaway{"loop_without_motion", "#1=0\nO100 while [1]\n#1=[#1+1]\nO100 endwhile\n", "without a move", 4},
         // Written out turn by turn without end.
-        Runaway{"arc_turns", "G2 X0 Y0 I5 J0 P100000000 F100\n", "turns"},
-        // Honoured by trace, ignored by the main job.
-        // Brackets nested 200,000 deep overflowed the parser's stack (SIGSEGV).
-        Runaway{"nested_brackets", "G1 X" + std::string(200000, '[') + "1" + std::string(200000, ']') + " F100\n",
-                "nested more than"},
-        Runaway{"line_of_megabytes", "G1 X1 F100 (" + std::string(2 << 20, 'a') + ")\n", "not a line of G-code"},
-        // Was "unexpected text" and, in the main job, nothing compensated.
-        Runaway{"carriage_returns_alone", "G1 X5 F100\rG1 X6\n", "CR alone"},
-        // LinuxCNC refuses it; ccomp wrote it.
-        Runaway{"arc_right_after_g40", "G41 D0\nG1 X10 Y0 F100\nG40\nG2 X20 Y0 I5 J0\n", "must be straight", 6},
-        Runaway{"abort_comment", "(abort, the fixture is not clamped)\nG1 X10 F100\n", "the fixture is not clamped"}),
+        Runaway{"arc_turns", "G2 X0 Y0 I5 J0 P100000000 F100\n", "turns"}),
     [](const auto& test) { return std::string(test.param.name); });
 
 // A UTF-8 byte-order mark (Windows editors) is not text of the program: read past, kept.
@@ -98,6 +88,41 @@ TEST(Input, ErrorsWithoutAWordPointAtTheBlock) {
     ASSERT_NE(at, std::string::npos) << program << r.err;
     EXPECT_GE(std::stoi(r.err.substr(at + 10)), 3) << "a column: " << r.err;
   }
+}
+
+// An (ABORT, ...) stops a trace, which shows what the interpreter does; the main job says it
+// and goes on (the condition around an abort reads the machine's state, which ccomp only
+// simulates). It was honoured by trace and passed over in silence by the main job.
+TEST(Input, AnAbortStopsATraceAndIsSaidByTheMainJob) {
+  const std::string dir = temp_dir("abort");
+  write_file(dir + "/part.nc", "G21 G90\nG0 X0 Y0 Z0\n(abort, the fixture is not clamped)\nG1 X10 F100\nM2\n");
+  const std::string part = shell_quote(dir + "/part.nc");
+  const CommandResult trace = run_command(shell_quote(ccomp_binary()) + " trace " + part);
+  EXPECT_EQ(trace.exit_code, 3);
+  EXPECT_NE(trace.err.find("part.nc:3:1: error: (ABORT)"), std::string::npos) << trace.err;
+  EXPECT_NE(trace.err.find("the fixture is not clamped"), std::string::npos) << trace.err;
+  const CommandResult job =
+      run_command(shell_quote(ccomp_binary()) + " " + part + " -m " +
+                  shell_quote(source_dir() + "/samples/machines/hmc-xyzb-geometric.yaml") + " -q -o -");
+  EXPECT_EQ(job.exit_code, 0) << job.err;
+  EXPECT_NE(job.err.find("part.nc:3: warning: (ABORT,"), std::string::npos) << job.err;
+  EXPECT_NE(job.err.find("the fixture is not clamped) reached"), std::string::npos) << job.err;
+}
+
+// Cutter compensation's exit rule is LinuxCNC's, after a move made with the offset on.
+TEST(Input, AnArcAfterG40IsRefusedOnlyWhereLinuxcncRefusesIt) {
+  const std::string dir = temp_dir("g40");
+  const std::string model = shell_quote(source_dir() + "/samples/machines/hmc-xyzb-geometric.yaml");
+  auto run = [&](const std::string& program, const std::string& dialect) {
+    write_file(dir + "/part.nc", "G21 G90 G17\nG0 X-20 Y-20 Z0\n" + program + "M2\n");
+    return run_command(shell_quote(ccomp_binary()) + " trace " + shell_quote(dir + "/part.nc") + " --dialect " +
+                       dialect)
+        .exit_code;
+  };
+  EXPECT_EQ(run("G41.1 D2\nG1 X0 Y0 F100\nG40\nG2 X10 Y0 I5 J0\n", "linuxcnc"), 3);
+  EXPECT_EQ(run("G41.1 D2\nG40\nG2 X-10 Y-20 I5 J0 F100\n", "linuxcnc"), 0) << "no move was made with the offset on";
+  EXPECT_EQ(run("G41.1 D2\nG1 X0 Y0 F100\nG40\nG1 X5\nG2 X10 Y0 I2.5 J0\n", "linuxcnc"), 0);
+  EXPECT_EQ(run("G41.1 D2\nG1 X0 Y0 F100\nG40\nG2 X10 Y0 I5 J0\n", "fanuc"), 0);
 }
 
 }  // namespace
