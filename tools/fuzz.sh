@@ -18,6 +18,7 @@ case "$budget" in
   *) limit=("-max_total_time=$budget") ;;
 esac
 
+bash tools/install-deps.sh --fuzz
 build=build-fuzz
 seeds="$build/seeds/$target"
 rm -rf "$seeds"
