@@ -50,9 +50,15 @@ double number(const std::string& file, const YAML::Node& node, const std::string
   }
 }
 
-}  // namespace
+/// A yaml-cpp exception the reader let through (a value of the wrong type: a mapping where
+/// a name is due), as the model error at its mark.
+[[noreturn]] void wrong_value(const std::string& file, const YAML::Exception& e) {
+  throw Error(ErrorKind::model, fmt::format("a value of the wrong type ({})", e.msg),
+              SourceLocation{file, e.mark.line >= 0 ? static_cast<std::uint32_t>(e.mark.line + 1) : 0,
+                             e.mark.column >= 0 ? static_cast<std::uint32_t>(e.mark.column + 1) : 0});
+}
 
-MachineModel parse_machine_model(const std::string& text, const std::string& name) {
+MachineModel read_machine_model(const std::string& text, const std::string& name) {
   YAML::Node root;
   try {
     root = YAML::Load(text);
@@ -104,6 +110,16 @@ MachineModel parse_machine_model(const std::string& text, const std::string& nam
   return m;
 }
 
+}  // namespace
+
+MachineModel parse_machine_model(const std::string& text, const std::string& name) {
+  try {
+    return read_machine_model(text, name);
+  } catch (const YAML::Exception& e) {
+    wrong_value(name, e);
+  }
+}
+
 MachineModel with_terms(MachineModel model, const std::vector<std::string>& specs, const std::string& name) {
   YAML::Node terms(YAML::NodeType::Sequence);
   for (const std::string& spec : specs) {
@@ -122,7 +138,11 @@ MachineModel with_terms(MachineModel model, const std::vector<std::string>& spec
       }
     terms.push_back(term);
   }
-  file::read_terms(name, terms, model);
+  try {
+    file::read_terms(name, terms, model);
+  } catch (const YAML::Exception& e) {
+    wrong_value(name, e);
+  }
   validate(model);
   return model;
 }

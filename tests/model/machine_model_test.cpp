@@ -2,6 +2,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <tuple>
 
 #include "ccomp/error.hpp"
 #include "ccomp/model/machine.hpp"
@@ -54,6 +55,25 @@ INSTANTIATE_TEST_SUITE_P(Files, BadModels,
                                            BadModel{"axes: {X: {}}\ndialect: heidenhain\n", "heidenhain"},
                                            BadModel{"axes: [X\n", ""}));
 
+// Fuzzing (tools/fuzz.sh model): a value of the wrong type where the reader converts it
+// (a mapping for a name) let yaml-cpp's TypedBadConversion escape, an internal error (70).
+TEST(MachineModel, AValueOfTheWrongTypeIsAModelErrorAtIt) {
+  for (const auto& [yaml, line, column] :
+       {std::tuple{"name: {a: 1}\naxes: {X: {}}\n", 1U, 7U}, std::tuple{"axes: {X: {}}\nsensors: [[1]]\n", 2U, 11U},
+        std::tuple{"axes: {X: {}}\nchain:\n  workpiece:\n    - {link: [X], axis: X}\n", 4U, 14U}}) {
+    try {
+      (void)parse_machine_model(yaml, "m.yaml");
+      ADD_FAILURE() << "accepted: " << yaml;
+    } catch (const Error& e) {
+      EXPECT_EQ(e.kind(), ErrorKind::model) << yaml;
+      EXPECT_NE(e.message().find("wrong type"), std::string::npos) << e.message();
+      EXPECT_EQ(e.where().file, "m.yaml");
+      EXPECT_EQ(e.where().line, line) << yaml;
+      EXPECT_EQ(e.where().column, column) << yaml;
+    }
+  }
+}
+
 // What check suggests, added to a model in memory, is the term the file would have, with
 // the sensor it needs; a spec that is not a term is refused as a model error.
 TEST(MachineModel, WithTermsAddsTheSpecAndItsSensor) {
@@ -65,6 +85,7 @@ TEST(MachineModel, WithTermsAddsTheSpecAndItsSensor) {
   EXPECT_NE(std::find(with.sensors.begin(), with.sensors.end(), "spindle"), with.sensors.end());
   EXPECT_THROW((void)with_terms(base, {"[1, 2]"}, "check"), Error);
   EXPECT_THROW((void)with_terms(base, {"{name: EQQ, value: 1}"}, "check"), Error);
+  EXPECT_THROW((void)with_terms(base, {"{name: [EXX], value: 1}"}, "check"), Error) << "not a YAML exception";
 }
 
 }  // namespace
