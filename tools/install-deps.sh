@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # Installs what ccomp builds and tests with, from Debian 12's packages only. Skips apt when
-# everything is there already.
+# everything is there already. --fuzz adds clang and libFuzzer for tools/fuzz.sh (the
+# sanitizer build, tools/sanitize.sh, uses GCC's own ASan and UBSan).
 set -euo pipefail
 packages=(cmake ninja-build g++ pkg-config
           libeigen3-dev libcli11-dev libfmt-dev libyaml-cpp-dev tao-pegtl-dev
@@ -9,6 +10,7 @@ packages=(cmake ninja-build g++ pkg-config
           chromium
           # what LinuxCNC's rs274 (the differential-test oracle) links against
           libpython3.11 libedit2 libtirpc3)
+if [ "${1:-}" = --fuzz ]; then packages+=(clang libclang-rt-14-dev); fi
 missing=()
 for p in "${packages[@]}"; do dpkg -s "$p" >/dev/null 2>&1 || missing+=("$p"); done
 if [ ${#missing[@]} -gt 0 ]; then

@@ -1,11 +1,13 @@
 #!/usr/bin/env bash
-# Runs the main job on samples/: each program with each machine model, into build/samples-out/.
+# Runs the main job on samples/: each program with each machine model, into build/samples-out/
+# (CCOMP picks the command, CCOMP_SAMPLES_OUT the folder: ctest passes its build's own).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 ccomp=${CCOMP:-build/src/ccomp}
+out_root=${CCOMP_SAMPLES_OUT:-build/samples-out}
 for model in samples/machines/*.yaml; do
   name=$(basename "$model" .yaml)
-  out="build/samples-out/$name"
+  out="$out_root/$name"
   mkdir -p "$out"
   # The full HMC model has thermal terms: give it the sensor readings of a warm machine.
   extra=()

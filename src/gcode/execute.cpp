@@ -857,11 +857,16 @@ void Interpreter::Impl::canned_cycle(const Block& b, int code) {
   if (words.has('P')) cycle_p = words['P'];
   if (words.has('Q')) cycle_q = words['Q'] * u;
   cycle_values_set = true;
+  // A bound on the moves one cycle block makes: L repeats and pecks (a Q far smaller than
+  // the depth, or too small to change it at all) would otherwise run for hours or for ever.
+  constexpr int kMaxCycleMoves = 100'000;
   int repeats = 1;
   if (words.has('L')) {
     const double l = words['L'];
     if (l < 0 || l != std::floor(l))
       fail(b, words.word['L' - 'A'], "L word for canned cycle repeats must be a non-negative integer");
+    if (l > kMaxCycleMoves)
+      fail(b, words.word['L' - 'A'], fmt::format("L{} canned cycle repeats: more than {}", l, kMaxCycleMoves));
     repeats = static_cast<int>(l);
   }
   double old_cc = program(pa.normal);
@@ -890,10 +895,19 @@ void Interpreter::Impl::canned_cycle(const Block& b, int code) {
   if ((code == 840 || code == 860 || code == 880) && modal.spindle == 0 && options.dialect.cycles_need_spindle)
     fail(b, nullptr, fmt::format("spindle not turning in {}", g_name(code)));
   position_unknown &= ~((1U << pa.first) | (1U << pa.second) | (1U << pa.normal));
+  int moves = 0;
+  auto count_move = [&] {
+    if (++moves > kMaxCycleMoves)
+      fail(b, nullptr,
+           fmt::format("{} makes more than {} moves (L repeats, and pecks of Q {} down to {} {}): a runaway cycle",
+                       g_name(code), kMaxCycleMoves, cycle_q / u, depth_letter, cc / u));
+  };
   auto traverse = [&](double a, double bv, double c) {
+    count_move();
     cycle_move(MotionKind::traverse, pa.first, pa.second, pa.normal, a, bv, c);
   };
   auto feed = [&](double a, double bv, double c) {
+    count_move();
     cycle_move(MotionKind::feed, pa.first, pa.second, pa.normal, a, bv, c);
   };
   if (old_cc < r) {

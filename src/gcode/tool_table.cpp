@@ -1,9 +1,12 @@
 #include "ccomp/gcode/tool_table.hpp"
 
+#include <fmt/format.h>
+
 #include <cctype>
 #include <charconv>
 #include <cmath>
 #include <fstream>
+#include <limits>
 
 #include "ccomp/error.hpp"
 
@@ -38,6 +41,13 @@ ToolTable read_tool_table(std::istream& in, const std::string& name) {
       if (ec != std::errc() || ptr != field.data() + field.size() || !std::isfinite(value))
         throw Error(ErrorKind::io,
                     "tool table: bad number in field '" + std::string(line.substr(start, i - start)) + "'",
+                    SourceLocation{name, line_no, static_cast<std::uint32_t>(start + 1)}, text);
+      // A tool or pocket number beyond int cannot be one: its conversion would be undefined.
+      if ((letter == 'T' || letter == 'P') &&
+          !(value >= 0.0 && value <= static_cast<double>(std::numeric_limits<int>::max())))
+        throw Error(ErrorKind::io,
+                    fmt::format("tool table: {} number {} is out of range (0 to {})", letter,
+                                line.substr(start + 1, i - start - 1), std::numeric_limits<int>::max()),
                     SourceLocation{name, line_no, static_cast<std::uint32_t>(start + 1)}, text);
       switch (letter) {
         case 'T':

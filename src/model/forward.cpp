@@ -273,9 +273,11 @@ KeyMatch update_variables(const ForwardModel& model, ForwardData& d, const Chain
   double* key = d.key.data();
   KeyMatch match;
   match.conditions = d.key_valid && std::memcmp(key, v + ForwardModel::kTimeVariable, n * sizeof(double)) == 0;
-  match.parameters = d.key_valid && std::memcmp(key + n, d.parameters.data(), p * sizeof(double)) == 0;
+  // A model without terms has no parameters: data() is null, which memcmp and memcpy may
+  // not be given even for no bytes.
+  match.parameters = d.key_valid && (p == 0 || std::memcmp(key + n, d.parameters.data(), p * sizeof(double)) == 0);
   if (!match.conditions) std::memcpy(key, v + ForwardModel::kTimeVariable, n * sizeof(double));
-  if (!match.parameters) std::memcpy(key + n, d.parameters.data(), p * sizeof(double));
+  if (!match.parameters && p > 0) std::memcpy(key + n, d.parameters.data(), p * sizeof(double));
   d.key_valid = true;
   return match;
 }

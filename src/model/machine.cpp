@@ -169,7 +169,11 @@ MachineModel with_terms(MachineModel model, const std::vector<std::string>& spec
       }
     terms.push_back(term);
   }
-  file::read_terms(name, terms, model);
+  try {
+    file::read_terms(name, terms, model);
+  } catch (const YAML::Exception& e) {
+    throw Error(ErrorKind::model, fmt::format("a value of the wrong kind: {}", e.msg), at(name, e.mark));
+  }
   validate(model);
   return model;
 }

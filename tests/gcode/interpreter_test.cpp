@@ -158,6 +158,26 @@ TEST(Interpreter, CannedCycleRefusals) {
   EXPECT_NE(refused("F1 G81 X0 Y0 Z-1 R0 A9\nM2\n").find("canned cycle"), std::string::npos);
 }
 
+// Fuzzing (tools/fuzz.sh gcode): L repeats and pecks were unbounded. An L of 1e20 went to
+// int (undefined); a Q too small to change the depth (Z of -1e20, Q0.0000001) pecked for ever.
+TEST(Interpreter, RunawayCannedCyclesAreRefused) {
+  const std::string repeats = refused("G21 G91 F10 G0 Z5\nG81 X0.001 Z-1 R1 L40000\nM2\n");
+  EXPECT_NE(repeats.find("G81 makes more than 100000 moves"), std::string::npos) << repeats;
+  const std::string pecks = refused("G21 F10 G0 X0 Y0 Z5\nG83 X1 Z-2 R0 Q0.00002\nM2\n");
+  EXPECT_NE(pecks.find("G83 makes more than 100000 moves"), std::string::npos) << pecks;
+  const RunResult huge_l = run_program("G21 G91 F10 G0 Z5\nG81 X1 Z-1 R1 L100000000000000000000\nM2\n");
+  ASSERT_TRUE(huge_l.error);
+  EXPECT_NE(huge_l.error->message().find("repeats: more than 100000"), std::string::npos);
+  EXPECT_EQ(huge_l.error->where().line, 2U);
+  EXPECT_EQ(huge_l.error->where().column, 15U) << "at the L word";
+  const RunResult absorbed = run_program("G21 F10 G0 X0 Y0 Z5\nG83 X1 Z-100000000000000000000 R1 Q0.0000001\nM2\n");
+  ASSERT_TRUE(absorbed.error) << "the peck depth never changes";
+  EXPECT_EQ(absorbed.error->where().line, 2U);
+  // What real programs do stays: 799 pecks (3 moves each), and 1000 holes (3 each).
+  EXPECT_EQ(ok("G21 F10 G0 X0 Y0 Z5\nG83 X1 Z-100 R0 Q0.125\nM2\n").motions.size(), 3U + 799U * 3U + 2U);
+  EXPECT_EQ(ok("G21 G91 F10 G0 Z5\nG81 X1 Z-1 R1 L1000\nM2\n").motions.size(), 2U + 1000U * 3U);
+}
+
 TEST(Interpreter, FanucDialectReturnsToG0AfterG80) {
   gcode::InterpreterOptions o;
   o.dialect = *gcode::dialect_named("fanuc");

@@ -22,6 +22,21 @@ ForwardData at(const ForwardModel& m, double x, double y, double z, double b_deg
   return d;
 }
 
+// Fuzzing (tools/fuzz.sh model): a model without terms has no parameters, and the key of
+// what was last evaluated was compared and copied from their null data() (UBSan: null
+// passed to memcmp/memcpy). It fails under tools/sanitize.sh without the fix.
+TEST(Forward, AModelWithoutTermsHasNoError) {
+  const ForwardModel m(parse_machine_model("name: m\naxes: {X: {}}\n", "m.yaml"));
+  ASSERT_EQ(m.parameter_count(), 0U);
+  ForwardData d(m);
+  for (double x : {0.0, 0.0, 12.5}) {
+    ChainQ q = ChainQ::Zero();
+    q[0] = x;
+    forward(m, d, q, {}, true);
+    EXPECT_EQ(deviation(d), Eigen::Vector3d::Zero()) << x;
+  }
+}
+
 TEST(Forward, ErrorMotionsShowWithTheirIsoSign) {
   for (const char* term : {"{name: EXX, value: 10}", "{name: EYY, value: 10}", "{name: EZZ, value: 10}"}) {
     const MachineModel mm = parse_machine_model(std::string(kChain) + "terms:\n  - " + term + "\n", "m.yaml");

@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <filesystem>
+#include <tuple>
 
 #include "ccomp/error.hpp"
 #include "ccomp/model/machine.hpp"
@@ -132,6 +133,41 @@ TEST(MachineModel, EveryShippedModelPassesTheSchema) {
         ++models;
       }
   EXPECT_GE(models, 4);
+}
+
+// Fuzzing (tools/fuzz.sh model): a value of the wrong type where the reader converts it
+// (a mapping for a name) let yaml-cpp's TypedBadConversion escape, an internal error (70).
+TEST(MachineModel, AValueOfTheWrongTypeIsAModelErrorAtIt) {
+  for (const auto& [yaml, line, column] :
+       {std::tuple{"name: {a: 1}\naxes: {X: {}}\n", 1U, 7U},
+        std::tuple{"name: m\naxes: {X: {}}\nsensors: [[1]]\n", 3U, 11U},
+        std::tuple{"name: m\naxes: {X: {}}\nchain:\n  workpiece:\n    - {link: [X], axis: X}\n  tool: []\n", 5U,
+                   14U}}) {
+    try {
+      (void)parse_machine_model(yaml, "m.yaml");
+      ADD_FAILURE() << "accepted: " << yaml;
+    } catch (const Error& e) {
+      EXPECT_EQ(e.kind(), ErrorKind::model) << yaml;
+      EXPECT_NE(e.message().find("single value"), std::string::npos) << e.message();
+      EXPECT_EQ(e.where().file, "m.yaml");
+      EXPECT_EQ(e.where().line, line) << yaml;
+      EXPECT_EQ(e.where().column, column) << yaml;
+    }
+  }
+}
+
+// What check suggests, added to a model in memory, is the term the file would have, with
+// the sensor it needs; a spec that is not a term is refused as a model error.
+TEST(MachineModel, WithTermsAddsTheSpecAndItsSensor) {
+  const MachineModel base = load_machine_model(test::source_dir() + "/samples/machines/hmc-xyzb-geometric.yaml");
+  const MachineModel with = with_terms(
+      base, {"{name: EZS, variable: T_spindle, form: thermal, unit: um, coefficient: 1.5, fit: true}"}, "check");
+  ASSERT_EQ(with.terms.size(), base.terms.size() + 1);
+  EXPECT_EQ(with.terms.back().iso, "EZS");
+  EXPECT_NE(std::find(with.sensors.begin(), with.sensors.end(), "spindle"), with.sensors.end());
+  EXPECT_THROW((void)with_terms(base, {"[1, 2]"}, "check"), Error);
+  EXPECT_THROW((void)with_terms(base, {"{name: EQQ, value: 1}"}, "check"), Error);
+  EXPECT_THROW((void)with_terms(base, {"{name: [EXX], value: 1}"}, "check"), Error) << "not a YAML exception";
 }
 
 }  // namespace

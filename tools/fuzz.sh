@@ -1,0 +1,68 @@
+#!/usr/bin/env bash
+# Builds one libFuzzer target (fuzz/) with clang, ASan and UBSan in build-fuzz/ and runs it
+# on seeds assembled from the repository's own inputs.
+#   tools/fuzz.sh gcode|model|measurements|tool_table SECONDS|-runs=N [libFuzzer flags...]
+# New inputs that reach new code are kept in build-fuzz/corpus/<target>/ (reused by the next
+# run); a crash, a sanitizer report, an exception other than ccomp::Error or an input that
+# runs over 10 s is written to build-fuzz/findings/<target>/ and stops the run (exit != 0).
+# Replay one: build-fuzz/fuzz/ccomp_fuzz_<target> build-fuzz/findings/<target>/crash-...
+set -euo pipefail
+cd "$(dirname "$0")/.."
+usage="usage: tools/fuzz.sh gcode|model|measurements|tool_table SECONDS|-runs=N [libFuzzer flags...]"
+target=${1:?$usage}
+budget=${2:?$usage}
+shift 2
+case "$budget" in
+  -runs=*) limit=("$budget") ;;
+  *[!0-9]* | "") echo "$usage" >&2; exit 2 ;;
+  *) limit=("-max_total_time=$budget") ;;
+esac
+
+bash tools/install-deps.sh --fuzz
+build=build-fuzz
+seeds="$build/seeds/$target"
+rm -rf "$seeds"
+mkdir -p "$seeds" "$build/corpus/$target" "$build/findings/$target"
+# Seeds: copies with names unique across folders; the large files give their head (the
+# fuzzer reads no more than -max_len bytes of an input anyway).
+seed() {
+  local n=0 f
+  while IFS= read -r -d '' f; do
+    head -c 65536 "$f" >"$seeds/$n-$(basename "$f")"
+    n=$((n + 1))
+  done < <(find "$@" -type f -print0 | sort -z)
+}
+case "$target" in
+  gcode)
+    # Programs are short lines; 4 kB holds most of the corpus' programs whole.
+    max_len=4096
+    seed tests/data/corpus samples/programs samples/test-piece -name '*.ngc' ;;
+  model)
+    max_len=8192
+    seed samples/machines samples/measurements samples/test-piece -name '*.yaml' ;;
+  measurements)
+    max_len=4096
+    seed samples/measurements samples/test-piece -name '*.csv' ;;
+  tool_table)
+    max_len=1024
+    seed samples tests/data -name '*.tbl' ;;
+  *) echo "$usage" >&2; exit 2 ;;
+esac
+[ -n "$(ls -A "$seeds")" ] || { echo "fuzz.sh: no seeds for $target" >&2; exit 1; }
+
+if [ ! -f "$build/build.ninja" ]; then
+  CXX=clang++ nice -n 10 cmake -S . -B "$build" -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo \
+    -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O2 -g" -DCCOMP_FUZZ=ON \
+    -DCCOMP_BUILD_TESTS=OFF -DCCOMP_BUILD_BENCHMARKS=OFF >/dev/null
+fi
+nice -n 10 cmake --build "$build" --target "ccomp_fuzz_$target"
+
+dict=()
+[ -f "fuzz/$target.dict" ] && dict=("-dict=fuzz/$target.dict")
+# One process on purpose (no -jobs/-workers): the machines are shared. -timeout turns a
+# hang into a finding; a report of either sanitizer aborts the run.
+export ASAN_OPTIONS=${ASAN_OPTIONS:-abort_on_error=1:detect_leaks=1}
+export UBSAN_OPTIONS=${UBSAN_OPTIONS:-print_stacktrace=1:halt_on_error=1}
+exec nice -n 15 "$build/fuzz/ccomp_fuzz_$target" "${limit[@]}" -max_len="$max_len" -timeout=10 \
+  -artifact_prefix="$build/findings/$target/" -print_final_stats=1 "${dict[@]}" "$@" \
+  "$build/corpus/$target" "$seeds"
