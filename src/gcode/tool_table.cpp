@@ -26,6 +26,7 @@ ToolTable read_tool_table(std::istream& in, const std::string& name) {
       line = line.substr(0, semi);
     }
     bool has_tool = false;
+    std::string seen;  // the letters of this line so far
     std::size_t i = 0;
     while (i < line.size()) {
       if (std::isspace(static_cast<unsigned char>(line[i]))) {
@@ -36,6 +37,10 @@ ToolTable read_tool_table(std::istream& in, const std::string& name) {
       const std::size_t start = i++;
       while (i < line.size() && !std::isspace(static_cast<unsigned char>(line[i]))) ++i;
       const std::string_view field = line.substr(start + 1, i - start - 1);
+      if (seen.find(letter) != std::string::npos)
+        throw Error(ErrorKind::io, std::string("tool table: field '") + letter + "' is written twice on this line",
+                    SourceLocation{name, line_no, static_cast<std::uint32_t>(start + 1)}, text);
+      seen.push_back(letter);
       double value = 0.0;
       const auto [ptr, ec] = std::from_chars(field.data(), field.data() + field.size(), value);
       if (ec != std::errc() || ptr != field.data() + field.size() || !std::isfinite(value))

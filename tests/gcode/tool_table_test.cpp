@@ -57,5 +57,13 @@ TEST(ToolTable, RefusesToolAndPocketNumbersBeyondInt) {
   EXPECT_NE(read("T2147483647 P2147483647\n").find(2147483647), nullptr);
 }
 
+// A field written twice on a line (`Z1 Z2`) was read as the last; which one the operator
+// meant is not for ccomp to guess.
+TEST(ToolTable, RefusesAFieldWrittenTwice) {
+  const Error e = refusal("T1 P1 Z1 D3 Z2\n");
+  EXPECT_NE(e.message().find("'Z' is written twice"), std::string::npos) << e.message();
+  EXPECT_EQ(e.where().column, 13U);
+}
+
 }  // namespace
 }  // namespace ccomp::gcode
