@@ -18,6 +18,8 @@ rm -rf "$reports"
 mkdir -p "$reports"
 export ASAN_OPTIONS="abort_on_error=1:detect_leaks=1:detect_stack_use_after_return=1:strict_string_checks=1:log_path=$reports/asan"
 export UBSAN_OPTIONS="print_stacktrace=1:halt_on_error=1:abort_on_error=1:log_path=$reports/ubsan"
+# The whole suite: CI runs this after tools/test.sh on 2 cores within 90 minutes, and it
+# fits (docs/robustness.md has the times).
 status=0
 nice -n 15 ctest --test-dir "$build" --output-on-failure -j"$(nproc)" || status=$?
 if [ -n "$(ls -A "$reports")" ]; then

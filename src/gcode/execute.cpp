@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include "interpreter_impl.hpp"
 
@@ -484,7 +485,9 @@ void Interpreter::Impl::execute(const Block& b) {
   // 5. select tool
   if (words.has('T')) {
     const double t = words['T'];
-    if (t < 0 || t != std::floor(t)) fail(b, words.word['T' - 'A'], fmt::format("bad tool number T{}", t));
+    // Beyond int it is no tool either, and its conversion would be undefined.
+    if (t < 0 || t != std::floor(t) || t > std::numeric_limits<int>::max())
+      fail(b, words.word['T' - 'A'], fmt::format("bad tool number T{}", t));
     modal.selected_tool = static_cast<int>(t);
     emit_lazy("SELECT_TOOL", [&] { return fmt::format("{}", modal.selected_tool); });
   }
@@ -498,7 +501,10 @@ void Interpreter::Impl::execute(const Block& b) {
     }
     if (words.has_m(61)) {
       if (!words.has('Q')) fail(b, nullptr, "M61 needs a Q word (the tool number)");
-      modal.tool = static_cast<int>(words['Q']);
+      const double q = words['Q'];
+      if (q < 0 || q != std::floor(q) || q > std::numeric_limits<int>::max())
+        fail(b, words.word['Q' - 'A'], fmt::format("bad tool number Q{} with M61", q));
+      modal.tool = static_cast<int>(q);
     }
     // 7. spindle
     if (words.has_m(3)) modal.spindle = 1, emit("START_SPINDLE_CLOCKWISE", "0");
@@ -741,7 +747,7 @@ void Interpreter::Impl::arc(const Block& b, int code, const Axes& target) {
   int turns = 1;
   if (words.has('P')) {
     const double p = words['P'];
-    if (p < 1 || p != std::floor(p))
+    if (p < 1 || p != std::floor(p) || p > std::numeric_limits<int>::max())
       fail(b, words.word['P' - 'A'], fmt::format("P value for arc turns must be a positive integer, not {}", p));
     if (p > kMaxArcTurns)
       fail(

@@ -3,6 +3,8 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <string>
+#include <tuple>
 
 #include "ccomp/gcode/dialect.hpp"
 #include "trace_capture.hpp"
@@ -176,6 +178,23 @@ TEST(Interpreter, RunawayCannedCyclesAreRefused) {
   // What real programs do stays: 799 pecks (3 moves each), and 1000 holes (3 each).
   EXPECT_EQ(ok("G21 F10 G0 X0 Y0 Z5\nG83 X1 Z-100 R0 Q0.125\nM2\n").motions.size(), 3U + 799U * 3U + 2U);
   EXPECT_EQ(ok("G21 G91 F10 G0 Z5\nG81 X1 Z-1 R1 L1000\nM2\n").motions.size(), 2U + 1000U * 3U);
+}
+
+// Fuzzing (tools/fuzz.sh gcode): a T word of 100 digits was converted to int (undefined);
+// M61's Q and an arc's P turns went the same way. Each is refused at its word.
+TEST(Interpreter, ToolNumbersAndTurnsBeyondIntAreRefusedAtTheirWord) {
+  const std::string big = "100000000000000000000";  // 1e20, in digits: G-code has no exponent
+  for (const auto& [program, words, column] :
+       {std::tuple{"T" + big + " M6\nM2\n", "bad tool number T", 1U},
+        std::tuple{"M61 Q" + big + "\nM2\n", "bad tool number Q", 5U},
+        std::tuple{"G21 G17 G2 X1 Y0 I0.5 P" + big + " F1\nM2\n", "P value for arc turns", 23U}}) {
+    const RunResult r = run_program(program);
+    ASSERT_TRUE(r.error) << program;
+    EXPECT_NE(r.error->message().find(words), std::string::npos) << r.error->message();
+    EXPECT_EQ(r.error->where().line, 1U);
+    EXPECT_EQ(r.error->where().column, column) << program;
+  }
+  EXPECT_FALSE(run_program("T2147483647 M6\nM61 Q7\nM2\n").error);
 }
 
 TEST(Interpreter, FanucDialectReturnsToG0AfterG80) {

@@ -23,8 +23,8 @@ ForwardData at(const ForwardModel& m, double x, double y, double z, double b_deg
 }
 
 // Fuzzing (tools/fuzz.sh model): a model without terms has no parameters, and the key of
-// what was last evaluated was compared and copied from their null data() (UBSan: null
-// passed to memcmp/memcpy). It fails under tools/sanitize.sh without the fix.
+// what was last evaluated was compared and copied from their null data() (clang's UBSan:
+// null passed to memcmp/memcpy; GCC's, in tools/sanitize.sh, does not check those calls).
 TEST(Forward, AModelWithoutTermsHasNoError) {
   const ForwardModel m(parse_machine_model("name: m\naxes: {X: {}}\n", "m.yaml"));
   ASSERT_EQ(m.parameter_count(), 0U);
