@@ -8,6 +8,7 @@
 #include <string>
 
 #include "ccomp/error.hpp"
+#include "error_of.hpp"
 
 namespace ccomp::gcode {
 namespace {
@@ -19,13 +20,7 @@ ToolTable read(const std::string& text) {
 
 /// The error reading `text` gives (it must give one).
 Error refusal(const std::string& text) {
-  try {
-    (void)read(text);
-  } catch (const Error& e) {
-    return e;
-  }
-  ADD_FAILURE() << "accepted: " << text;
-  return Error(ErrorKind::internal, "accepted");
+  return test::error_of([&] { (void)read(text); }, text);
 }
 
 TEST(ToolTable, ReadsToolsPocketsOffsetsAndComments) {

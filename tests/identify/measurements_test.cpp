@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include "ccomp/error.hpp"
+#include "error_of.hpp"
 #include "sample_models.hpp"
 
 namespace ccomp::identify {
@@ -26,13 +27,7 @@ MeasurementSet parse(const std::string& text, double tool_length = 100.0) {
 }
 
 Error parse_error(const std::string& text) {
-  try {
-    (void)parse(text);
-  } catch (const Error& e) {
-    return e;
-  }
-  ADD_FAILURE() << "accepted:\n" << text;
-  return Error(ErrorKind::internal, "accepted");
+  return test::error_of([&] { (void)parse(text); }, text);
 }
 
 TEST(Measurements, ScalarAndFullRowsBecomeObservations) {
