@@ -14,23 +14,28 @@
 #include <exception>
 #include <filesystem>
 #include <memory>
+#include <numbers>
 #include <optional>
 #include <system_error>
 #include <tuple>
 
 #include "ccomp/compensate/compensator.hpp"
 #include "ccomp/compensate/verify.hpp"
+#include "ccomp/constants.hpp"
 #include "ccomp/error.hpp"
 #include "ccomp/gcode/flatten.hpp"
 #include "ccomp/gcode/writer.hpp"
+#include "ccomp/model/chain_values.hpp"
 #include "ccomp/util/parallel.hpp"
 #include "ccomp/version.hpp"
 
 namespace ccomp::compensate {
+
+using model::chain_of;
+using model::controlled_of_chain;
 namespace {
 
 constexpr std::string_view kHeaderPrefix = "(ccomp ";
-constexpr double kRadPerDeg = 3.14159265358979323846 / 180.0;
 
 /// How a compensated coordinate is written, in the style of the word it replaces: at least
 /// as many decimals as the program wrote, and enough for the tolerance: 4 in mm, 5 in
@@ -148,7 +153,7 @@ struct alignas(64) MoveBatch {
 /// How many chords an arc takes to stay within `tolerance` of it (sagitta r (1 - cos(step / 2))).
 std::size_t arc_chord_count(const gcode::ArcGeometry& g, double tolerance) {
   const double r = std::max(g.r_start, g.r_end);
-  const double step = r > tolerance ? 2.0 * std::acos(1.0 - tolerance / r) : 2.0 * 3.14159265358979323846;
+  const double step = r > tolerance ? 2.0 * std::acos(1.0 - tolerance / r) : 2.0 * std::numbers::pi;
   return static_cast<std::size_t>(std::max(1.0, std::ceil(g.sweep / step)));
 }
 
@@ -215,7 +220,7 @@ class alignas(64) MoveSolver {
       model::ChainQ from = compensator.commanded();
       if (from.hasNaN()) from = start;
       const gcode::ArcGeometry g = gcode::arc_geometry(m);
-      const int n = 2 * std::max(8, static_cast<int>(std::ceil(g.sweep / (3.14159265358979323846 / 8))));
+      const int n = 2 * std::max(8, static_cast<int>(std::ceil(g.sweep / (std::numbers::pi / 8))));
       for (int k = 1; k < n; ++k)
         compensator.error_before_at(chain_of(gcode::arc_point(m, g, static_cast<double>(k) / n), offsets), move);
       compensator.error_before_at(end, move);
@@ -390,7 +395,7 @@ class JobSink : public gcode::CanonSink {
       if (w.letter == 'G' && w.value.is_literal() && (w.value.literal == 20 || w.value.literal == 21))
         units = w.value.literal == 20 ? gcode::Units::inch : gcode::Units::mm;
     const bool inch = units == gcode::Units::inch;
-    const double unit = inch ? 25.4 : 1.0;
+    const double unit = inch ? kMmPerInch : 1.0;
     const gcode::Axes written = program_of(chain_of(commanded_, o), o, unit),
                       nominal = program_of(chain_of(nominal_end_, o), o, unit);
     gcode::Axes off{};  // program units: where the machine is, beyond where the original has it
@@ -719,7 +724,7 @@ class JobSink : public gcode::CanonSink {
     compensator_->approach(chain_of(c.motions.front().start, c.offsets), bottom_nominal);
     move.max_deviation_before = std::max(compensator_->error_at(r_nominal), compensator_->error_at(bottom_nominal));
     const bool inch = c.units == gcode::Units::inch;
-    const double unit = inch ? 25.4 : 1.0;
+    const double unit = inch ? kMmPerInch : 1.0;
     // The cycle's axis is the normal of its plane; the hole's position is in the plane.
     std::size_t normal = 2;
     for (std::size_t i = 0; i < 3; ++i)
@@ -818,7 +823,7 @@ class JobSink : public gcode::CanonSink {
     std::vector<gcode::Edit> edits;
     gcode::removal_edits(c.text, cycle_words, edits);
     const bool inch = c.units == gcode::Units::inch;
-    const double unit = inch ? 25.4 : 1.0;
+    const double unit = inch ? kMmPerInch : 1.0;
     const std::string eol = c.terminator.empty() ? "\n" : c.terminator;
     std::string appended;
     if (c.incremental) appended += eol + "G90";
@@ -920,7 +925,7 @@ class JobSink : public gcode::CanonSink {
     checked = true;
     const bool forced = options_.decimals >= 0;
     const int decimals = forced ? options_.decimals : inch ? kDefaultInchDecimals : kDefaultDecimals;
-    const double place = std::pow(10.0, -decimals) * (inch ? 25.4 : 1.0);  // mm
+    const double place = std::pow(10.0, -decimals) * (inch ? kMmPerInch : 1.0);  // mm
     const double worst = 0.5 * place * std::sqrt(static_cast<double>(linear_axes_));
     const std::string digits =
         fmt::format("{} decimal{} in {}", decimals, decimals == 1 ? "" : "s", inch ? "inch" : "mm");
@@ -967,7 +972,7 @@ class JobSink : public gcode::CanonSink {
                    std::string_view terminator, const ChordRange& part = {}) {
     const gcode::Block& b = *block_;
     const bool inch = m.units == gcode::Units::inch;
-    const double unit = inch ? 25.4 : 1.0;
+    const double unit = inch ? kMmPerInch : 1.0;
     const bool incremental = m.incremental;
     std::vector<gcode::Edit>& edits = edits_;  // its storage kept from move to move
     edits.clear();
@@ -1094,7 +1099,7 @@ class JobSink : public gcode::CanonSink {
     const double c1 = m.arc.center_first, c2 = m.arc.center_second;
     const double r = g.r_start, a0 = g.a_start, sweep = g.sweep;
     const bool ccw = g.ccw;
-    constexpr double kTurn = 2.0 * 3.14159265358979323846;
+    constexpr double kTurn = 2.0 * std::numbers::pi;
     for (std::size_t axis : {pa.first, pa.second, pa.normal}) {
       low[axis] = std::min({low[axis], m.start[axis], m.end[axis]});
       high[axis] = std::max({high[axis], m.start[axis], m.end[axis]});

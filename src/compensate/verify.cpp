@@ -7,16 +7,20 @@
 #include <exception>
 #include <functional>
 #include <mutex>
+#include <numbers>
 #include <optional>
 #include <tuple>
 #include <vector>
 
+#include "ccomp/constants.hpp"
+#include "ccomp/model/chain_values.hpp"
 #include "ccomp/util/parallel.hpp"
 
 namespace ccomp::compensate {
-namespace {
 
-constexpr double kPi = 3.14159265358979323846;
+using model::chain_of;
+using model::controlled_of_chain;
+namespace {
 
 /// A piece of the nominal path in the table frame: a straight segment, or an arc/helix (the
 /// nominal map is rigid while the rotary axes hold still, so an arc stays an arc).
@@ -48,16 +52,16 @@ struct Piece {
     const double u = v.dot(e1), w = v.dot(e2), h = v.dot(n), radial = std::hypot(u, w);
     double phi = std::atan2(w, u) - a0;
     if (!ccw) phi = -phi;
-    phi -= 2 * kPi * std::floor(phi / (2 * kPi));  // [0, 2 pi)
+    phi -= 2 * std::numbers::pi * std::floor(phi / (2 * std::numbers::pi));  // [0, 2 pi)
     // A helix of several turns passes p's angle once a turn: the turn at p's height, and its
     // neighbours, are the candidates.
-    const double turns_after = std::floor((sweep - phi) / (2 * kPi));  // < 0: p's angle is past the end
+    const double turns_after = std::floor((sweep - phi) / (2 * std::numbers::pi));  // < 0: p's angle is past the end
     if (turns_after < 0) return best;
     const auto turns = static_cast<long>(turns_after);
     long k0 = 0;
-    if (turns >= 1 && dw != 0) k0 = std::clamp(std::lround((h / dw * sweep - phi) / (2 * kPi)), 0L, turns);
+    if (turns >= 1 && dw != 0) k0 = std::clamp(std::lround((h / dw * sweep - phi) / (2 * std::numbers::pi)), 0L, turns);
     for (long k = std::max(0L, k0 - 1); k <= std::min(turns, k0 + 1); ++k) {
-      const double f = (phi + 2 * kPi * static_cast<double>(k)) / sweep;
+      const double f = (phi + 2 * std::numbers::pi * static_cast<double>(k)) / sweep;
       best = std::min(best, std::hypot(radial - (r0 + f * (r1 - r0)), h - dw * f));
     }
     return best;
@@ -81,8 +85,6 @@ void each_motion(gcode::LineSource& program, const CheckOptions& options, OnMoti
   gcode::Interpreter interpreter(options.interpreter);
   interpreter.run(program, sink);
 }
-
-constexpr double kRadPerDeg = kPi / 180.0;
 
 /// mm: a stretch of the original's path passed over by less than this is a matter of where
 /// points fall, not a cut missing.
@@ -127,7 +129,7 @@ class MotionPath {
     const double length = arc_->sweep * std::max(arc_->r_start, arc_->r_end);
     travel[static_cast<Eigen::Index>(arc_->axes.first)] = length;
     travel[static_cast<Eigen::Index>(arc_->axes.second)] = length;
-    const auto per_turn = static_cast<int>(std::ceil(arc_->sweep / (2 * kPi) * 16));
+    const auto per_turn = static_cast<int>(std::ceil(arc_->sweep / (2 * std::numbers::pi) * 16));
     return 2 * std::max(model.check_points(a_, a_ + travel, minimum, 1 << 16), per_turn);
   }
 
@@ -350,25 +352,6 @@ class NominalPath {
 };
 
 }  // namespace
-
-model::ChainQ chain_of(const gcode::Axes& controlled, const gcode::Offsets& o) {
-  model::ChainQ q = model::ChainQ::Zero();
-  for (std::size_t i = 0; i < gcode::kAxisCount; ++i) {
-    const double axis = controlled[i] + o.tool[i];  // the machine axis carries the tool
-    q[static_cast<Eigen::Index>(i)] = gcode::is_rotary(i) ? axis * kRadPerDeg : axis;
-  }
-  q[static_cast<Eigen::Index>(model::kToolLengthIndex)] = o.tool[2];
-  return q;
-}
-
-gcode::Axes controlled_of_chain(const model::ChainQ& q, const gcode::Offsets& o) {
-  gcode::Axes controlled{};
-  for (std::size_t i = 0; i < gcode::kAxisCount; ++i) {
-    const double axis = q[static_cast<Eigen::Index>(i)];
-    controlled[i] = (gcode::is_rotary(i) ? axis / kRadPerDeg : axis) - o.tool[i];
-  }
-  return controlled;
-}
 
 PathError predict(gcode::LineSource& program, const model::ForwardModel& model, const CheckOptions& options) {
   PathError e;

@@ -1,13 +1,16 @@
 #include "ccomp/gcode/canon.hpp"
 
 #include <cmath>
+#include <numbers>
 #include <tuple>
+
+#include "ccomp/constants.hpp"
 
 namespace ccomp::gcode {
 
 Axes Offsets::rotated(const Axes& p, double degrees) const {
   if (degrees == 0.0) return p;
-  const double a = degrees * 3.14159265358979323846 / 180.0;
+  const double a = degrees * std::numbers::pi / 180.0;  // in this order: the digits of every output depend on it
   const double c = std::cos(a), s = std::sin(a);
   Axes r = p;
   const double x = p[0] - g5x[0], y = p[1] - g5x[1];
@@ -25,7 +28,7 @@ ArcGeometry arc_geometry(const Motion& m) {
   g.r_end = std::hypot(m.end[f] - c1, m.end[s] - c2);
   g.a_start = std::atan2(m.start[s] - c2, m.start[f] - c1);
   const double a_end = std::atan2(m.end[s] - c2, m.end[f] - c1);
-  constexpr double kTurn = 2.0 * 3.14159265358979323846;
+  constexpr double kTurn = 2.0 * std::numbers::pi;
   g.ccw = m.arc.turns > 0;
   g.sweep = g.ccw ? a_end - g.a_start : g.a_start - a_end;
   while (g.sweep <= 1e-12) g.sweep += kTurn;  // equal ends: a full circle

@@ -4,14 +4,15 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <numbers>
 
+#include "ccomp/constants.hpp"
 #include "interpreter_impl.hpp"
 
 namespace ccomp::gcode {
 
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 /// More turns than any helix a program cuts: a runaway P (each turn is written out).
 constexpr double kMaxArcTurns = 10000;
 
@@ -766,7 +767,8 @@ void Interpreter::Impl::arc(const Block& b, int code, const Axes& target) {
       fail(b, words.word['R' - 'A'],
            fmt::format("arc radius {} too small to reach the end point (half chord {})", words['R'], half / u));
     if (half / abs_radius > 1.0 - 1e-12) half = abs_radius;  // a semicircle within rounding
-    const double theta = std::atan2(e2 - s2, e1 - s1) + ((cw == (radius > 0)) ? -kPi / 2 : kPi / 2);
+    const double theta =
+        std::atan2(e2 - s2, e1 - s1) + ((cw == (radius > 0)) ? -std::numbers::pi / 2 : std::numbers::pi / 2);
     const double offset = abs_radius * std::cos(std::asin(half / abs_radius));
     c1 = mid1 + offset * std::cos(theta);
     c2 = mid2 + offset * std::sin(theta);
@@ -921,7 +923,7 @@ void Interpreter::Impl::canned_cycle(const Block& b, int code) {
     old_cc = r;
   }
   const double clear = modal.retract_to_r ? r : old_cc;
-  const double rapid_delta = 0.010 * 25.4;  // rs274ngc: 0.010 inch, in mm
+  const double rapid_delta = 0.010 * kMmPerInch;  // rs274ngc: 0.010 inch, in mm
   for (int rep = 0; rep < repeats; ++rep) {
     aa += aa_step;
     bb += bb_step;
@@ -1079,7 +1081,7 @@ void Interpreter::Impl::g10(const Block& b) {
     const double rotation = words.has('R') ? words['R'] : params.numbered(base + 9);
     // L20: the offset that makes the current point read the given value, in the new frame.
     const Axes machine = offsets.to_machine(position);
-    const double a = rotation * kPi / 180.0;
+    const double a = rotation * std::numbers::pi / 180.0;
     // The point should read the given values, and keep reading what it reads on the axes
     // not given (with a rotation, X and Y offsets both change when either is given).
     Axes local{};  // value + G92, rotated into the machine frame

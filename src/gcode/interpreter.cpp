@@ -5,6 +5,7 @@
 #include <cmath>
 #include <filesystem>
 
+#include "ccomp/constants.hpp"
 #include "interpreter_impl.hpp"
 
 namespace ccomp::gcode {
@@ -18,8 +19,6 @@ std::string label_of(const OStatement& o) {
 std::string label_of_number(double v) {
   return std::to_string(static_cast<long long>(std::lround(v)));
 }
-
-constexpr double kDegree = 3.14159265358979323846 / 180.0;
 
 // Parameters only a running controller can know: probe results, M66 inputs, tool-changer
 // faults. Reading one without --param is refused rather than guessed.
@@ -257,17 +256,17 @@ double Interpreter::Impl::evaluate(const Block& b, const Value& v) {
       case ExprOp::acos: {
         const double x = pop();
         if (x < -1.0 || x > 1.0) fail(b, nullptr, fmt::format("argument to ACOS out of range: {}", x));
-        push(std::acos(x) / kDegree);
+        push(std::acos(x) / kRadPerDeg);
         break;
       }
       case ExprOp::asin: {
         const double x = pop();
         if (x < -1.0 || x > 1.0) fail(b, nullptr, fmt::format("argument to ASIN out of range: {}", x));
-        push(std::asin(x) / kDegree);
+        push(std::asin(x) / kRadPerDeg);
         break;
       }
       case ExprOp::cos:
-        push(std::cos(pop() * kDegree));
+        push(std::cos(pop() * kRadPerDeg));
         break;
       case ExprOp::exp:
         push(std::exp(pop()));
@@ -288,7 +287,7 @@ double Interpreter::Impl::evaluate(const Block& b, const Value& v) {
         push(std::round(pop()));
         break;
       case ExprOp::sin:
-        push(std::sin(pop() * kDegree));
+        push(std::sin(pop() * kRadPerDeg));
         break;
       case ExprOp::sqrt: {
         const double x = pop();
@@ -297,7 +296,7 @@ double Interpreter::Impl::evaluate(const Block& b, const Value& v) {
         break;
       }
       case ExprOp::tan:
-        push(std::tan(pop() * kDegree));
+        push(std::tan(pop() * kRadPerDeg));
         break;
       default: {  // binary
         const double rhs = pop();
@@ -355,7 +354,7 @@ double Interpreter::Impl::evaluate(const Block& b, const Value& v) {
             r = (lhs != 0.0) != (rhs != 0.0);
             break;
           case ExprOp::atan2:
-            r = std::atan2(lhs, rhs) / kDegree;
+            r = std::atan2(lhs, rhs) / kRadPerDeg;
             break;
           default:
             fail(b, nullptr, "internal: bad expression node");

@@ -10,6 +10,7 @@
 #include <unordered_map>
 #include <vector>
 
+#include "ccomp/constants.hpp"
 #include "ccomp/error.hpp"
 #include "ccomp/gcode/interpreter.hpp"
 #include "ccomp/gcode/parameters.hpp"
@@ -172,8 +173,8 @@ struct Interpreter::Impl {
     if (sink && sink->wants_calls()) emit(name, make());
   }
   /// mm per program unit (G20/G21) and per machine unit (parameters, tool table).
-  [[nodiscard]] double unit() const { return modal.units == Units::inch ? 25.4 : 1.0; }
-  [[nodiscard]] double machine_unit() const { return options.machine_units == Units::inch ? 25.4 : 1.0; }
+  [[nodiscard]] double unit() const { return modal.units == Units::inch ? kMmPerInch : 1.0; }
+  [[nodiscard]] double machine_unit() const { return options.machine_units == Units::inch ? kMmPerInch : 1.0; }
   /// mm or deg per stored unit of a parameter for `axis` (machine units; degrees for A B C).
   [[nodiscard]] double stored_scale(std::size_t axis) const { return is_rotary(axis) ? 1.0 : machine_unit(); }
   [[nodiscard]] double program(std::size_t axis) const { return position[axis] - offsets.origin(axis); }

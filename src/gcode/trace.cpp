@@ -2,6 +2,8 @@
 
 #include <fmt/format.h>
 
+#include "ccomp/constants.hpp"
+
 namespace ccomp::gcode {
 
 void TracePrinter::block(const Block& block, const SourceLine& /*line*/) {
@@ -31,7 +33,7 @@ void TracePrinter::warning(const std::string& message, std::uint32_t line) {
 }
 
 void TracePrinter::motion(const Motion& m) {
-  const double u = m.units == Units::inch ? 25.4 : 1.0;
+  const double u = m.units == Units::inch ? kMmPerInch : 1.0;
   // Canonical positions are in the program's units and the active coordinate system.
   const Axes e = m.offsets->program_of(m.end);
   auto p = [&](std::size_t axis, double v) { return is_rotary(axis) ? v : v / u; };

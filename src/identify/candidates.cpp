@@ -5,20 +5,19 @@
 #include <algorithm>
 #include <cctype>
 #include <cmath>
+#include <numbers>
 
+#include "ccomp/constants.hpp"
 #include "ccomp/model/error_term.hpp"
 
 namespace ccomp::identify::detail {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
-constexpr double kRadPerDeg = kPi / 180.0;
-
 /// Makes `c` a sinusoid of a scanned period in `variable` (mm, deg): cos and sin.
 void periodic_in(Candidate& c, std::function<double(const Observation&)> variable) {
   c.basis_count = 2;
   c.basis = [variable](const Observation& o, int k, double period) {
-    const double phase = 2 * kPi * variable(o) / period;
+    const double phase = 2 * std::numbers::pi * variable(o) / period;
     return k == 0 ? std::cos(phase) : std::sin(phase);
   };
   c.phase_variable = std::move(variable);

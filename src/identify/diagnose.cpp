@@ -9,6 +9,7 @@
 #include <cmath>
 #include <functional>
 #include <map>
+#include <numbers>
 #include <optional>
 
 #include "candidates.hpp"
@@ -34,7 +35,6 @@ using detail::candidate_library;
 using detail::Probe;
 using detail::term_name;
 
-constexpr double kPi = 3.14159265358979323846;
 /// A candidate is suggested when the chi-square falls by this much (five sigma) beyond
 /// what noise and its scan would give.
 constexpr double kSignificance = 25.0;
@@ -55,8 +55,8 @@ std::vector<double> coarse_periodic_gains(const std::vector<double>& variable, c
   Eigen::ArrayXd cs(rows), sn(rows), step_c(rows), step_s(rows), gr(rows), g2(rows);
   for (Eigen::Index i = 0; i < rows; ++i) {
     const double v = variable[static_cast<std::size_t>(i)], gi = g[static_cast<std::size_t>(i)];
-    cs[i] = std::cos(2 * kPi * v * f0), sn[i] = std::sin(2 * kPi * v * f0);
-    step_c[i] = std::cos(2 * kPi * v * df), step_s[i] = std::sin(2 * kPi * v * df);
+    cs[i] = std::cos(2 * std::numbers::pi * v * f0), sn[i] = std::sin(2 * std::numbers::pi * v * f0);
+    step_c[i] = std::cos(2 * std::numbers::pi * v * df), step_s[i] = std::sin(2 * std::numbers::pi * v * df);
     gr[i] = gi * r[i];
     g2[i] = gi * gi;
   }

@@ -11,6 +11,7 @@
 #include <sstream>
 #include <unordered_map>
 
+#include "ccomp/constants.hpp"
 #include "ccomp/error.hpp"
 
 namespace ccomp::identify {
@@ -21,7 +22,6 @@ constexpr double kLargestReading = 1e7;
 /// Times may be clock readings (s since 1970: 1.7e9 today).
 constexpr double kLatestTime = 1e11;
 
-constexpr double kRadPerDeg = 3.14159265358979323846 / 180.0;
 constexpr std::string_view kAxes = "xyzabcuvw";
 
 /// Splits one CSV line into its fields (blanks around them trimmed; double quotes allow a

@@ -7,12 +7,11 @@
 #include <cmath>
 #include <random>
 
+#include "ccomp/constants.hpp"
 #include "ccomp/error.hpp"
 
 namespace ccomp::identify {
 namespace {
-
-constexpr double kRadPerDeg = 3.14159265358979323846 / 180.0;
 
 /// The span of an axis to measure over: its limits, or +-200 mm (+-180 deg) when unlimited.
 std::pair<double, double> span(const model::MachineModel& m, char letter) {

@@ -3,6 +3,7 @@
 #include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <cmath>
+#include <numbers>
 
 namespace ccomp::kinematics {
 
@@ -88,7 +89,7 @@ Vec3 so3_log(const Mat3& R, Mat3* J) {
   Vec3 w;
   if (th < 1e-5) {
     w = 0.5 * (1.0 + th * th / 6.0) * v;
-  } else if (th > 3.14159265358979323846 - 1e-6) {
+  } else if (th > std::numbers::pi - 1e-6) {
     // Near pi: from the symmetric part, R ~ 2 a a^T - I.
     const Eigen::SelfAdjointEigenSolver<Mat3> eig(0.5 * (R + Mat3::Identity()));
     Vec3 a = eig.eigenvectors().col(2);

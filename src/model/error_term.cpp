@@ -2,13 +2,14 @@
 
 #include <algorithm>
 #include <cmath>
+#include <numbers>
 
 #include "ccomp/model/cubic_spline.hpp"
 
 namespace ccomp::model {
 namespace {
 
-constexpr double kTwoPi = 2.0 * 3.14159265358979323846;
+constexpr double kTwoPi = 2.0 * std::numbers::pi;
 
 /// A table's value: kept out of evaluate() so its dynamic vectors do not weigh on the
 /// other forms' calls (the forward model evaluates every term at every point).

@@ -6,6 +6,7 @@
 #include <string_view>
 #include <tuple>
 
+#include "ccomp/constants.hpp"
 #include "ccomp/error.hpp"
 #include "model_file.hpp"
 #include "model_schema.hpp"
@@ -413,7 +414,7 @@ void read_terms(const std::string& file, const YAML::Node& terms, MachineModel& 
       const YAML::Node other = require("other");
       t.secondary = read_variable(file, other, text(file, other, what + " other"), m, what);
       if (t.secondary.kind != VariableKind::axis) bad(file, other, what + ": 'other' is another axis");
-      const double other_unit = variable_unit(t.secondary, m).first == kAngle ? 3.14159265358979323846 / 180.0 : 1.0;
+      const double other_unit = variable_unit(t.secondary, m).first == kAngle ? kRadPerDeg : 1.0;
       const YAML::Node c = require("coefficients");
       if (!c.IsSequence() || c.size() == 0 || !c[0].IsSequence() || c[0].size() == 0)
         bad(file, c, what + ": coefficients is a list of rows [c_i1, c_i2, ...], row i for the power of the own axis");

@@ -4,7 +4,9 @@
 
 #include <charconv>
 #include <cmath>
+#include <numbers>
 
+#include "ccomp/constants.hpp"
 #include "ccomp/error.hpp"
 
 namespace ccomp::model {
@@ -15,8 +17,6 @@ struct Named {
   Unit unit;
 };
 
-constexpr double kPi = 3.14159265358979323846;
-
 // Internal units: mm, rad, s, degC.
 const Named kUnits[] = {
     {"nm", {1e-6, kLength}},
@@ -25,16 +25,16 @@ const Named kUnits[] = {
     {"mm", {1.0, kLength}},
     {"cm", {10.0, kLength}},
     {"m", {1000.0, kLength}},
-    {"in", {25.4, kLength}},
-    {"inch", {25.4, kLength}},
+    {"in", {kMmPerInch, kLength}},
+    {"inch", {kMmPerInch, kLength}},
     {"nrad", {1e-9, kAngle}},
     {"urad", {1e-6, kAngle}},
     {"µrad", {1e-6, kAngle}},
     {"mrad", {1e-3, kAngle}},
     {"rad", {1.0, kAngle}},
-    {"arcsec", {kPi / 648000.0, kAngle}},
-    {"arcmin", {kPi / 10800.0, kAngle}},
-    {"deg", {kPi / 180.0, kAngle}},
+    {"arcsec", {std::numbers::pi / 648000.0, kAngle}},
+    {"arcmin", {std::numbers::pi / 10800.0, kAngle}},
+    {"deg", {std::numbers::pi / 180.0, kAngle}},
     {"s", {1.0, kTime}},
     {"min", {60.0, kTime}},
     {"h", {3600.0, kTime}},

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <numbers>
 
 #include "ccomp/model/cubic_spline.hpp"
 
@@ -10,7 +11,7 @@ namespace ccomp::model {
 namespace {
 
 constexpr double kInf = std::numeric_limits<double>::infinity();
-constexpr double kTwoPi = 2.0 * 3.14159265358979323846;
+constexpr double kTwoPi = 2.0 * std::numbers::pi;
 
 /// The bounds of one term over the ranges of its variables: value, slopes and curvatures
 /// in its primary (p) and secondary (s) variable, the largest slope jump (a linear table's

@@ -5,12 +5,11 @@
 #include <algorithm>
 #include <cmath>
 #include <functional>
+#include <numbers>
 #include <vector>
 
 namespace ccomp::report {
 namespace {
-
-constexpr double kPi = 3.14159265358979323846;
 
 std::string escape(const std::string& text) {
   std::string out;
@@ -242,7 +241,7 @@ std::string html_check_report(const CheckReportInput& in) {
       const double period = 2.0 * std::pow((hi - lo) / 2.0 / 2.0, k / 299.0);
       double cc = 0, ss = 0, cs = 0, rc = 0, rs = 0;
       for (const auto& [p, r] : rows) {
-        const double c = std::cos(2 * kPi * p / period), s = std::sin(2 * kPi * p / period);
+        const double c = std::cos(2 * std::numbers::pi * p / period), s = std::sin(2 * std::numbers::pi * p / period);
         cc += c * c, ss += s * s, cs += c * s, rc += r * c, rs += r * s;
       }
       const double det = cc * ss - cs * cs;

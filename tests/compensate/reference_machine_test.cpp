@@ -8,6 +8,7 @@
 #include <limits>
 
 #include "ccomp/compensate/verify.hpp"
+#include "ccomp/model/chain_values.hpp"
 #include "job_runner.hpp"
 #include "reference_hmc.hpp"
 #include "sample_models.hpp"
@@ -66,7 +67,7 @@ struct Chain {
   double x, y, z, b, L;
 };
 Chain chain(const RecordedMotion& m) {
-  const model::ChainQ q = compensate::chain_of(m.motion.end, m.offsets);
+  const model::ChainQ q = model::chain_of(m.motion.end, m.offsets);
   return {q[0], q[1], q[2], q[4] * 180.0 / std::numbers::pi, q[model::kToolLengthIndex]};
 }
 

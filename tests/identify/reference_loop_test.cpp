@@ -13,6 +13,7 @@
 #include "ccomp/compensate/verify.hpp"
 #include "ccomp/identify/diagnose.hpp"
 #include "ccomp/identify/fit.hpp"
+#include "ccomp/model/chain_values.hpp"
 #include "job_runner.hpp"
 #include "metrology_loop.hpp"
 #include "reference_hmc.hpp"
@@ -59,8 +60,8 @@ double contour_error(const test::ReferenceHmc& machine, const std::vector<Segmen
   double worst = 0.0;
   for (const test::RecordedMotion& m : run.motions) {
     if (m.motion.kind != gcode::MotionKind::feed) continue;
-    const model::ChainQ a = compensate::chain_of(m.motion.start, m.offsets);
-    const model::ChainQ b = compensate::chain_of(m.motion.end, m.offsets);
+    const model::ChainQ a = model::chain_of(m.motion.start, m.offsets);
+    const model::ChainQ b = model::chain_of(m.motion.end, m.offsets);
     const int steps = std::max(1, static_cast<int>((b - a).head<3>().norm()));
     for (int k = 0; k <= steps; ++k) {
       const model::ChainQ q = a + (b - a) * (static_cast<double>(k) / steps);
@@ -103,7 +104,7 @@ TEST(ReferenceLoop, FollowingTheSuggestionsThenCompensatingLeavesUnderFivePercen
   for (const test::RecordedMotion& r : test::run_program(program, with_tool).motions) {
     if (r.motion.kind != gcode::MotionKind::feed) continue;
     auto nominal = [&](const gcode::Axes& axes) {
-      const model::ChainQ q = compensate::chain_of(axes, r.offsets);
+      const model::ChainQ q = model::chain_of(axes, r.offsets);
       return machine.nominal_table_point(q[0], q[1], q[2], q[4] * 180.0 / std::numbers::pi, q[model::kToolLengthIndex]);
     };
     path.push_back({nominal(r.motion.start), nominal(r.motion.end)});

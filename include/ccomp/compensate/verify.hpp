@@ -42,9 +42,4 @@ struct CheckOptions {
 [[nodiscard]] PathError verify(gcode::LineSource& original, gcode::LineSource& compensated,
                                const model::ForwardModel& model, const CheckOptions& options);
 
-/// Chain values (axes in mm and rad, tool length) of a controlled point and its offsets.
-[[nodiscard]] model::ChainQ chain_of(const gcode::Axes& controlled, const gcode::Offsets& offsets);
-/// chain_of()'s inverse: the controlled point (machine frame, mm and deg) of chain values.
-[[nodiscard]] gcode::Axes controlled_of_chain(const model::ChainQ& q, const gcode::Offsets& offsets);
-
 }  // namespace ccomp::compensate
