@@ -10,6 +10,7 @@
 #include <utility>
 #include <vector>
 
+#include "ccomp/compensate/program_header.hpp"
 #include "ccomp/gcode/interpreter.hpp"
 #include "ccomp/gcode/source.hpp"
 #include "ccomp/model/machine.hpp"
@@ -69,19 +70,6 @@ struct JobReport {
 /// tolerance not positive and finite (NaN included), decimals outside -1..9, a thread
 /// count other than 1 or 2, a time or sensor reading that is not finite.
 void validate(const JobOptions& options);
-
-/// The header comment that marks a compensated program, names the model by its hash and
-/// says the tolerance (mm) it was compensated to.
-[[nodiscard]] std::string header_line(const model::MachineModel& model, double tolerance);
-/// True when `line` is a header that header_line() wrote.
-[[nodiscard]] bool is_header_line(std::string_view line);
-/// What a header line says: the model's SHA-256 (hex) and the tolerance in mm (NaN when
-/// the header is older than the tolerance in it).
-struct HeaderFacts {
-  std::string model_sha256;
-  double tolerance = std::numeric_limits<double>::quiet_NaN();
-};
-[[nodiscard]] std::optional<HeaderFacts> read_header(std::string_view line);
 
 /// Runs the job. Throws ccomp::Error; on error part of the output may have been written
 /// (the CLI writes to a temporary file and renames it only on success).

@@ -1,0 +1,27 @@
+#pragma once
+// The header comment that marks a compensated program: which model (by its hash) and which
+// tolerance it was compensated to. The job writes it; the job, verify and the CLI read it
+// (a program with it is not compensated twice).
+#include <limits>
+#include <optional>
+#include <string>
+#include <string_view>
+
+#include "ccomp/model/machine.hpp"
+
+namespace ccomp::compensate {
+
+/// The header comment that marks a compensated program, names the model by its hash and
+/// says the tolerance (mm) it was compensated to.
+[[nodiscard]] std::string header_line(const model::MachineModel& model, double tolerance);
+/// True when `line` is a header that header_line() wrote.
+[[nodiscard]] bool is_header_line(std::string_view line);
+/// What a header line says: the model's SHA-256 (hex) and the tolerance in mm (NaN when
+/// the header is older than the tolerance in it).
+struct HeaderFacts {
+  std::string model_sha256;
+  double tolerance = std::numeric_limits<double>::quiet_NaN();
+};
+[[nodiscard]] std::optional<HeaderFacts> read_header(std::string_view line);
+
+}  // namespace ccomp::compensate

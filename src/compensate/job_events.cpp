@@ -1,0 +1,274 @@
+#include "job_events.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+
+#include "canned_cycles.hpp"
+#include "ccomp/error.hpp"
+#include "ccomp/model/chain_values.hpp"
+#include "job_guards.hpp"
+#include "move_pipeline.hpp"
+#include "move_rewriter.hpp"
+#include "move_solver.hpp"
+#include "offset_keeping.hpp"
+
+namespace ccomp::compensate {
+
+using model::chain_of;
+
+namespace {
+
+/// The compensation's options from the job's: the tolerance, and the conditions the
+/// thermal terms are evaluated at.
+CompensationOptions compensation_options(const model::MachineModel& model, const JobOptions& options) {
+  CompensationOptions c;
+  c.tolerance = options.tolerance;
+  c.conditions.time = options.time;
+  c.conditions.temperatures.assign(model.sensors.size(), std::nan(""));
+  for (const auto& [name, value] : options.sensors) {
+    const auto it = std::find(model.sensors.begin(), model.sensors.end(), name);
+    if (it == model.sensors.end())
+      throw Error(ErrorKind::usage,
+                  fmt::format("--sensor {}: machine '{}' has no sensor of that name", name, model.name));
+    c.conditions.temperatures[static_cast<std::size_t>(it - model.sensors.begin())] = value;
+  }
+  for (const model::ErrorTermSpec& t : model.terms)
+    for (const model::Variable* v : {&t.primary, &t.secondary})
+      if (v->kind == model::VariableKind::temperature && std::isnan(c.conditions.temperatures[v->index]))
+        throw Error(ErrorKind::safety,
+                    fmt::format("term {} depends on sensor '{}', and no reading was given: --sensor {}=VALUE", t.name,
+                                model.sensors[v->index], model.sensors[v->index]));
+  return c;
+}
+
+}  // namespace
+
+/// The stages after reading, in the order a move passes them; built only for a model with
+/// terms (without, the program is written as it was, with the header).
+struct CompensationStages {
+  CompensationStages(const model::MachineModel& machine, const JobOptions& options, const CompensationOptions& c,
+                     gcode::ProgramWriter& writer, JobReport& report, std::string_view file, MovePipeline::Writer write)
+      : forward(machine),
+        nominal(forward),
+        solver(forward, c),
+        error_before(forward, c),
+        guards(machine, options, report, file),
+        rewriter(writer, machine, DecimalsOption{options.decimals, options.rotary_decimals}, report, file),
+        cycles(CycleStages{solver, error_before, rewriter, guards, writer, report}, machine, options.expand_cycles,
+               file),
+        pipeline(solver, options.threads > 1, std::move(write)) {}
+
+  model::ForwardModel forward;
+  model::ForwardData nominal;  ///< scratch for the moves' nominal ends, on the reading thread
+  MoveSolver solver;
+  /// The uncompensated machine's error, for the report, is taken by a compensator of its own
+  /// on the writing side (it changes nothing the compensation decides).
+  Compensator error_before;
+  JobGuards guards;
+  MoveRewriter rewriter;
+  CannedCycles cycles;
+  /// Last: destroyed (its worker joined) first, while what it works on still exists.
+  MovePipeline pipeline;
+};
+
+JobSink::JobSink(gcode::ProgramWriter& writer, const model::MachineModel& model, const JobOptions& options,
+                 const gcode::LineSource& input, JobReport& report)
+    : writer_(writer), model_(model), options_(options), input_(input), report_(report) {
+  for (const model::AxisSpec& a : model.axes) {
+    machine_axes_ |= 1U << (a.letter - 'A');
+    has_limits_ = has_limits_ || std::isfinite(a.min) || std::isfinite(a.max);
+  }
+  if (!model.terms.empty())
+    stages_ = std::make_unique<CompensationStages>(model, options, compensation_options(model, options), writer, report,
+                                                   input.name(), [this](MoveTask& t) { write_move(t); });
+}
+
+JobSink::~JobSink() = default;
+
+void JobSink::block(const gcode::Block& block, const gcode::SourceLine& line) {
+  finish_cycle();
+  if (stages_) stages_->cycles.note_block(block);
+  ++report_.blocks;
+  block_ = &block;
+  line_ = line;
+  note_line(line);
+  check_axes(block);
+  if (stages_ && live_offsets_) keep_offsets(block);
+  report_progress(line);
+}
+
+/// A line of another file (a subroutine file on the path) is not in the program written
+/// here; a line before the furthest one read runs again (a loop, a subroutine).
+void JobSink::note_line(const gcode::SourceLine& line) {
+  elsewhere_ = line.file.data() != input_.name().data() && line.file != input_.name();
+  repeated_ = !elsewhere_ && line.offset < furthest_;
+  if (!elsewhere_) furthest_ = std::max(furthest_, line.offset);
+}
+
+void JobSink::check_axes(const gcode::Block& block) const {
+  for (const gcode::Word& w : block.words) {
+    if (w.letter < 'A' || w.letter > 'Z' || ((machine_axes_ >> (w.letter - 'A')) & 1U) || !gcode::axis_index(w.letter))
+      continue;
+    throw Error(ErrorKind::safety,
+                fmt::format("the program uses axis {}, which machine '{}' does not have", w.letter, model_.name),
+                SourceLocation{input_.name(), block.line, w.span.begin + 1}, std::string(block.text));
+  }
+}
+
+void JobSink::report_progress(const gcode::SourceLine& line) {
+  if (!options_.progress || input_.size() == 0) return;
+  const auto percent = static_cast<int>(100.0 * static_cast<double>(line.offset) / static_cast<double>(input_.size()));
+  if (percent == last_percent_) return;
+  last_percent_ = percent;
+  options_.progress(percent / 100.0);
+}
+
+void JobSink::keep_offsets(const gcode::Block& block) {
+  if (!sets_offset_from_position(block)) return;
+  stages_->pipeline.drain();
+  const OffsetContext at{*live_offsets_,
+                         last_units_,
+                         nominal_end_,
+                         stages_->rewriter.position(),
+                         repeated_ || elsewhere_,
+                         stages_->rewriter.decimals(),
+                         input_.name()};
+  std::vector<gcode::Edit> edits = offset_keeping_edits(block, at);
+  if (!edits.empty()) writer_.edit(line_.offset, std::move(edits));
+}
+
+void JobSink::motion(const gcode::Motion& m) {
+  ++report_.motions;
+  live_offsets_ = m.offsets;
+  nominal_end_ = m.end;
+  last_units_ = m.units;
+  if (has_limits_) check_limits(m, model_, input_.name());
+  if (stages_) compensate(m);
+}
+
+void JobSink::warning(const std::string& message, std::uint32_t line) {
+  if (options_.warning) options_.warning(message, line);
+}
+
+void JobSink::compensate(const gcode::Motion& m) {
+  using gcode::MotionKind;
+  using gcode::MotionSource;
+  const bool machine = m.source == MotionSource::machine_coordinates || m.source == MotionSource::reference_return;
+  if (!machine && m.kind != MotionKind::probe && m.source != MotionSource::canned_cycle && !repeated_ && !elsewhere_) {
+    queue_move(m);
+    return;
+  }
+  // The rest is rare, and done here once every move before it is written.
+  stages_->pipeline.drain();
+  if (!started_) {  // the play is followed from where the program starts
+    stages_->solver.compensator.moved(chain_of(m.start, *m.offsets));
+    started_ = true;
+  }
+  if (machine) return follow_machine_move(m);
+  if (m.kind == MotionKind::probe) refuse(ErrorKind::unsupported, "a probe move (G38.x) cannot be compensated");
+  if (elsewhere_)
+    throw Error(ErrorKind::unsupported,
+                fmt::format("this line is in the subroutine file '{}', which the compensated program does not "
+                            "include: --flatten writes the program as it runs, the subroutine's lines in it",
+                            line_.file),
+                SourceLocation{std::string(line_.file), block_->line, 0}, std::string(block_->text));
+  if (m.source == MotionSource::canned_cycle) return stages_->cycles.add(m, *block_, line_, repeated_);
+  refuse(ErrorKind::unsupported,
+         "this line runs more than once (a loop or a subroutine), and each run needs its own "
+         "correction: --flatten writes the program as it runs, loops and subroutines unrolled");
+}
+
+/// Moves in machine coordinates (G53, G28/G30) go where they say: they are not part of the
+/// workpiece's geometry. Nothing else may go uncompensated.
+void JobSink::follow_machine_move(const gcode::Motion& m) {
+  WrittenPosition& position = stages_->rewriter.position();
+  position.commanded = m.end;
+  position.rounding = {};  // the block's own words, as written
+  stages_->solver.compensator.moved(chain_of(m.end, *m.offsets));
+}
+
+void JobSink::queue_move(const gcode::Motion& m) {
+  if (m.kind == gcode::MotionKind::arc && !m.radius_compensation) {
+    const std::size_t n = arc_chord_count(gcode::arc_geometry(m), options_.tolerance / 2.0);
+    if (n > MovePipeline::kPartChords) {
+      for (std::size_t begin = 0; begin < n; begin += MovePipeline::kPartChords)
+        queue_task(m, ChordRange{begin, std::min(n, begin + MovePipeline::kPartChords), n});
+      return;
+    }
+  }
+  queue_task(m, {});
+}
+
+void JobSink::queue_task(const gcode::Motion& m, const ChordRange& chords) {
+  MoveTask& t = stages_->pipeline.next_task();
+  t.first = !started_;
+  started_ = true;
+  t.offsets = *m.offsets;
+  t.motion = m;
+  t.motion.offsets = &t.offsets;
+  t.text.assign(block_->text);
+  t.block.text = t.text;
+  t.block.words = block_->words;
+  t.block.line = block_->line;
+  t.offset = line_.offset;
+  t.terminator.assign(line_.terminator);
+  t.chords = chords;
+  // The nominal pose at its end, here: it balances the two threads' work.
+  const model::ChainQ end = chain_of(m.end, t.offsets);
+  model::forward(stages_->forward, stages_->nominal, end, {}, false, model::Evaluate::nominal);
+  t.end_pose = {stages_->nominal.nominal, stages_->nominal.R_nominal};
+  // The points it is expected to give: its chords (half the tolerance, as the solver takes
+  // them), else the points the model checks it at.
+  std::size_t points = chords.end - chords.begin;
+  if (chords.whole())
+    points = m.kind == gcode::MotionKind::arc && !m.radius_compensation
+                 ? arc_chord_count(gcode::arc_geometry(m), options_.tolerance / 2.0)
+                 : static_cast<std::size_t>(stages_->forward.check_points(chain_of(m.start, t.offsets), end, 1));
+  stages_->pipeline.queued(points);
+}
+
+/// A compensated move, in program order: its error is reported at its line, its figures
+/// counted, its points written.
+void JobSink::write_move(MoveTask& t) {
+  if (t.error) {
+    try {
+      std::rethrow_exception(t.error);
+    } catch (const Error& e) {
+      if (!e.where().file.empty() || e.where().line != 0) throw;
+      throw Error(e.kind(), e.message(), SourceLocation{input_.name(), t.block.line, 0}, t.text);
+    }
+  }
+  writer_.advance_to(t.offset);
+  for (const ErrorProbe& p : t.probes) {
+    // Only what may raise the program's maximum is evaluated (the rest is bounded below it).
+    const double at_least = std::max(report_.max_error_before, t.report.max_deviation_before);
+    t.report.max_deviation_before =
+        std::max(t.report.max_deviation_before, stages_->error_before.error_at(p, at_least));
+  }
+  stages_->guards.account(t.report, t.motion.units, t.block.line, t.text, t.chords.last());
+  stages_->rewriter.rewrite(t.motion, t.block, t.points, t.offset, t.terminator, t.chords);
+}
+
+/// Compensates a cycle still waiting for its block's end, once every move before it is written.
+void JobSink::finish_cycle() {
+  if (!stages_ || !stages_->cycles.pending()) return;
+  stages_->pipeline.drain();
+  stages_->cycles.finish();
+}
+
+void JobSink::finish() {
+  if (stages_) stages_->pipeline.drain();
+  finish_cycle();
+}
+
+void JobSink::abandon() {
+  if (stages_) stages_->pipeline.abandon();
+}
+
+void JobSink::refuse(ErrorKind kind, const std::string& message) const {
+  throw Error(kind, message, SourceLocation{input_.name(), block_->line, 0}, std::string(block_->text));
+}
+
+}  // namespace ccomp::compensate

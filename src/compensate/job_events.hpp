@@ -1,0 +1,74 @@
+#pragma once
+// The job's first stage: the interpreter's events (blocks, motions, warnings) read into
+// moves. Each motion goes where it belongs: a move of the program's own lines to the
+// pipeline (solving, then rewriting), a canned cycle's to the cycles, a move in machine
+// coordinates straight to the compensator; what cannot be compensated line for line is
+// refused here. The stages it feeds are built here too, once, from the model.
+#include <cstdint>
+#include <memory>
+#include <string>
+
+#include "ccomp/compensate/program_job.hpp"
+#include "ccomp/error.hpp"
+#include "ccomp/gcode/canon.hpp"
+#include "ccomp/gcode/source.hpp"
+#include "ccomp/gcode/writer.hpp"
+#include "ccomp/model/forward.hpp"
+#include "move_task.hpp"
+
+namespace ccomp::compensate {
+
+struct CompensationStages;
+
+class JobSink : public gcode::CanonSink {
+ public:
+  JobSink(gcode::ProgramWriter& writer, const model::MachineModel& model, const JobOptions& options,
+          const gcode::LineSource& input, JobReport& report);
+  ~JobSink() override;
+  JobSink(const JobSink&) = delete;
+  JobSink& operator=(const JobSink&) = delete;
+
+  void block(const gcode::Block& block, const gcode::SourceLine& line) override;
+  void motion(const gcode::Motion& m) override;
+  void warning(const std::string& message, std::uint32_t line) override;
+
+  /// Finishes the program: the moves still queued, then a cycle still open.
+  void finish();
+  /// The job stopped with an error: a move queued before it may have failed first (its
+  /// error is the one to report), unless the error came from writing the moves.
+  void abandon();
+
+ private:
+  void note_line(const gcode::SourceLine& line);
+  void check_axes(const gcode::Block& block) const;
+  void report_progress(const gcode::SourceLine& line);
+  void keep_offsets(const gcode::Block& block);
+  void compensate(const gcode::Motion& m);
+  void follow_machine_move(const gcode::Motion& m);
+  void queue_move(const gcode::Motion& m);
+  void queue_task(const gcode::Motion& m, const ChordRange& chords);
+  void write_move(MoveTask& t);
+  void finish_cycle();
+  [[noreturn]] void refuse(ErrorKind kind, const std::string& message) const;
+
+  gcode::ProgramWriter& writer_;
+  const model::MachineModel& model_;
+  const JobOptions& options_;
+  const gcode::LineSource& input_;
+  JobReport& report_;
+  bool has_limits_ = false;
+  std::uint32_t machine_axes_ = 0;  ///< bit (letter - 'A') for each axis the machine has
+  int last_percent_ = -1;
+  const gcode::Block* block_ = nullptr;  ///< the block being read
+  gcode::SourceLine line_;
+  std::uint64_t furthest_ = 0;                    ///< the offset of the furthest line read
+  bool repeated_ = false;                         ///< the current line is before it
+  bool elsewhere_ = false;                        ///< the current line is in another file (a subroutine's)
+  bool started_ = false;                          ///< a motion was compensated: the play is followed
+  const gcode::Offsets* live_offsets_ = nullptr;  ///< the interpreter's, as it runs (from its motions)
+  gcode::Axes nominal_end_{};                     ///< where the original's last motion ended
+  gcode::Units last_units_ = gcode::Units::mm;    ///< the units of the original's last motion
+  std::unique_ptr<CompensationStages> stages_;    ///< none when the model has no terms
+};
+
+}  // namespace ccomp::compensate

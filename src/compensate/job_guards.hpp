@@ -1,0 +1,55 @@
+#pragma once
+// Guards, beside every stage of the job: what may not pass (an axis beyond its limits, a
+// correction beyond the model's bound, digits too coarse for the tolerance) is refused at
+// its line; what the output cannot do (a reversal left in it, the control's offset, a
+// rotary axis' rounding) is warned of once. The report's figures are added up here too.
+#include <cstdint>
+#include <string>
+#include <string_view>
+
+#include "ccomp/compensate/compensator.hpp"
+#include "ccomp/compensate/program_job.hpp"
+#include "ccomp/gcode/canon.hpp"
+#include "ccomp/model/machine.hpp"
+
+namespace ccomp::compensate {
+
+/// Throws Error(safety) at the motion's line when the machine axes (controlled point plus
+/// tool offset) leave the model's limits: at the move's end, and for arcs at the extremes
+/// they pass through.
+void check_limits(const gcode::Motion& m, const model::MachineModel& model, std::string_view file);
+
+/// Widens [low, high] by the points of the arc where its in-plane axes are extreme.
+void widen_by_arc_extremes(const gcode::Motion& arc, gcode::Axes& low, gcode::Axes& high);
+
+class JobGuards {
+ public:
+  JobGuards(const model::MachineModel& model, const JobOptions& options, JobReport& report, std::string_view file);
+
+  /// Adds a compensated move's figures to the report (a move in parts counts at its last,
+  /// `whole_move`), refuses a correction beyond the model's bound and says once what the
+  /// output cannot do.
+  void account(const MoveReport& move, gcode::Units units, std::uint32_t line, const std::string& text,
+               bool whole_move = true);
+
+ private:
+  void check_rounding(gcode::Units units, std::uint32_t line, const std::string& text);
+  void check_rotary_rounding(std::uint32_t line);
+  void warn_unhidden_reversals(unsigned axes, std::uint32_t line);
+  void warn_once(bool& said, const std::string& message, std::uint32_t line);
+
+  const model::MachineModel& model_;
+  const JobOptions& options_;
+  JobReport& report_;
+  std::string_view file_;
+  int linear_axes_ = 0;
+  /// mm: how far the tool may be from a rotary axis, for its rounding (the farthest limit).
+  double rotary_lever_ = 100.0;
+  unsigned warned_reversals_ = 0;  ///< bit i: axis i's reversal was warned of
+  bool warned_start_error_ = false;
+  bool warned_jogs_ = false;
+  std::array<bool, 2> rounding_checked_{};  ///< check_rounding() done, for mm and for inch
+  bool rotary_checked_ = false;
+};
+
+}  // namespace ccomp::compensate

@@ -1,0 +1,69 @@
+#pragma once
+// Batching and the worker thread, the job's second stage. The interpreter's thread fills a
+// batch of moves while those before it are compensated (on the worker thread, or in line),
+// then the compensated batches are handed to the writer here, in program order; so the
+// compensator sees the same moves in the same order either way, and the output is the same
+// for one thread and two.
+#include <array>
+#include <cstddef>
+#include <deque>
+#include <functional>
+#include <memory>
+
+#include "ccomp/util/parallel.hpp"
+#include "move_solver.hpp"
+#include "move_task.hpp"
+
+namespace ccomp::compensate {
+
+class MovePipeline {
+ public:
+  /// A batch holds at most kBatch moves and about kBatchPoints compensated points (arcs'
+  /// chords, long moves' checks, as the reader foresees them): a program of full circles at
+  /// 1 um gives thousands of points a move, and memory must not grow with that.
+  static constexpr std::size_t kBatch = 4096;
+  static constexpr std::size_t kBatchPoints = 4 * kBatch;
+  /// Three batches: while one fills, two may wait for or be in compensation, so that a
+  /// batch the reading thread took longer over does not leave the worker idle.
+  static constexpr std::size_t kBatches = 3;
+  /// An arc of more chords is compensated and written in parts of this many: a helix of a
+  /// thousand turns must not hold a million points.
+  static constexpr std::size_t kPartChords = kBatchPoints / 2;
+
+  using Writer = std::function<void(MoveTask&)>;
+
+  /// `write` takes each compensated move, in program order, on the caller's thread.
+  MovePipeline(MoveSolver& solver, bool worker_thread, Writer write);
+
+  /// The next task to fill; queued() hands it on once filled.
+  [[nodiscard]] MoveTask& next_task();
+  /// The task next_task() gave is filled; it is expected to give about `points` points.
+  void queued(std::size_t points);
+
+  /// Compensates and writes every move queued so far.
+  void drain();
+  /// The job stopped with an error: a move queued before it may have failed first (its
+  /// error is the one to report), unless the error came from writing the moves.
+  void abandon();
+
+ private:
+  void pass_batch();
+  void write_oldest();
+  void write_batch(MoveBatch& batch);
+
+  MoveSolver& solver_;
+  Writer write_;
+  std::array<MoveBatch, kBatches> batches_;
+  std::size_t filling_ = 0;       ///< the batch the interpreter fills
+  std::size_t batch_points_ = 0;  ///< the points expected of the batch being filled
+  struct InFlight {
+    std::size_t batch = 0;   ///< index into batches_
+    std::size_t ticket = 0;  ///< the worker's, for its compensation
+  };
+  std::deque<InFlight> in_flight_;  ///< filled batches in program order, to be written
+  bool failed_ = false;             ///< writing a move failed: nothing more is written
+  /// Last: destroyed (joined) first, while what it works on still exists.
+  std::unique_ptr<util::BackgroundThread> worker_;
+};
+
+}  // namespace ccomp::compensate

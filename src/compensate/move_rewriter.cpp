@@ -1,0 +1,167 @@
+#include "move_rewriter.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <span>
+
+#include "ccomp/error.hpp"
+#include "ccomp/model/chain_values.hpp"
+#include "number_style.hpp"
+
+namespace ccomp::compensate {
+namespace {
+
+/// Words the block lacks go right after its last axis word (or its last word).
+std::uint32_t insertion_point(const gcode::Block& b) {
+  std::uint32_t insert_at = 0, after_axes = 0;
+  for (const gcode::Word& w : b.words) {
+    insert_at = std::max(insert_at, w.span.end);
+    if (gcode::axis_index(w.letter)) after_axes = std::max(after_axes, w.span.end);
+  }
+  return after_axes > 0 ? after_axes : insert_at;
+}
+
+}  // namespace
+
+/// One point of a move as it is written: on the block's own line (its words edited) or on a
+/// line added after it.
+struct MoveRewriter::PointLine {
+  bool own = false;      ///< the block's own line
+  std::string segment;   ///< an added line's text
+  std::size_t bare = 0;  ///< the segment's length before any axis word
+  std::uint32_t insert_at = 0;
+};
+
+MoveRewriter::MoveRewriter(gcode::ProgramWriter& writer, const model::MachineModel& model, DecimalsOption decimals,
+                           JobReport& report, std::string_view file)
+    : writer_(writer), model_(model), decimals_(decimals), report_(report), file_(file) {}
+
+std::optional<std::string> MoveRewriter::axis_word(std::size_t i, double p, double last, bool incremental, bool named,
+                                                   std::string_view styled, bool inch) {
+  gcode::Axes& rounding = position_.rounding;
+  const bool rotary = gcode::is_rotary(i);
+  const double value = incremental ? p - last - rounding[i] : p;
+  const NumberStyle style = style_of(styled, inch && !rotary, rotary, decimals_.for_axis(rotary));
+  if (!named) {
+    const double unmoved = incremental ? 0.0 : last + rounding[i];
+    if (written_alike(value, unmoved, style)) {
+      rounding[i] += last - p;
+      return std::nullopt;
+    }
+  }
+  WrittenValue written = format_value(value, style);
+  rounding[i] = incremental ? rounding[i] + written.value - (p - last) : written.value - p;
+  return std::move(written.text);
+}
+
+void MoveRewriter::point_words(const gcode::Motion& m, const gcode::Block& b, const CompensatedPoint& point,
+                               PointLine& line) {
+  const bool inch = m.units == gcode::Units::inch;
+  const double unit = mm_per_unit(m.units);
+  const gcode::Axes p = program_of(point.q, *m.offsets, unit);
+  const gcode::Axes last = program_of(model::chain_of(position_.commanded, *m.offsets), *m.offsets, unit);
+  for (std::size_t i = 0; i < gcode::kAxisCount; ++i) {
+    const char letter = gcode::kAxisLetters[i];
+    if (!model_.axis(letter)) continue;
+    const gcode::Word* own = b.find(letter);
+    const gcode::Word* word = line.own ? own : nullptr;
+    const std::optional<std::string> text = axis_word(i, p[i], last[i], m.incremental, word != nullptr,
+                                                      own ? b.slice(own->value_span) : std::string_view(), inch);
+    if (!text) continue;
+    if (word)
+      edits_.push_back(gcode::Edit{word->value_span, *text});
+    else if (line.own)
+      edits_.push_back(gcode::Edit{{line.insert_at, line.insert_at}, std::string(" ") + letter + *text});
+    else
+      line.segment += std::string(" ") + letter + *text;
+  }
+}
+
+void MoveRewriter::rewrite(const gcode::Motion& m, const gcode::Block& b, const std::vector<CompensatedPoint>& points,
+                           std::uint64_t offset, std::string_view terminator, const ChordRange& part) {
+  edits_.clear();
+  std::string appended;
+  // A part after the first adds lines only: its first point is not the block's own.
+  const std::size_t own_line = part.first() ? 0 : static_cast<std::size_t>(-1);
+  double previous_s = part.whole() ? 0.0 : static_cast<double>(part.begin) / static_cast<double>(part.count);
+  const std::uint32_t insert_at = insertion_point(b);
+  for (std::size_t k = 0; k < points.size(); ++k) {
+    std::string segment = k == own_line ? "" : (m.kind == gcode::MotionKind::traverse ? "G0" : "G1");
+    const std::size_t bare = segment.size();
+    PointLine line{k == own_line, std::move(segment), bare, insert_at};
+    point_words(m, b, points[k], line);
+    // A take-up finer than the program's digits moves nothing: no line for it.
+    if (!line.own && points[k].take_up && line.segment.size() == line.bare) continue;
+    // Inverse time: each piece keeps its share of the block's duration; a take-up move
+    // of a few micrometres gets a thousandth of it.
+    if (m.feed_mode == gcode::FeedMode::inverse_time && m.kind != gcode::MotionKind::traverse) {
+      const double share = points[k].take_up ? 1e-3 : points[k].s - previous_s;
+      const std::string f = fmt::format("{:.4f}", m.feed / share);
+      if (!line.own)
+        line.segment += " F" + f;
+      else if (const gcode::Word* fw = b.find('F'))
+        edits_.push_back(gcode::Edit{fw->value_span, f});
+    }
+    previous_s = points[k].s;
+    // The machine is now at the compensated point: incremental words count from there.
+    position_.commanded = controlled_of(points[k].q, *m.offsets);
+    if (!line.own) {
+      appended += std::string(terminator.empty() ? "\n" : terminator) + line.segment;
+      ++report_.added_lines;
+    }
+    if (points[k].take_up) ++report_.take_up_moves;
+  }
+  if ((points.size() > 1 || !part.whole()) && has_stop_code(b))
+    throw Error(ErrorKind::unsupported,
+                "a move that must be split shares its block with a program stop (M0 M1 M2 M30 M60)",
+                SourceLocation{std::string(file_), b.line, 0}, std::string(b.text));
+  finish_lines(m, b, offset, part, appended);
+}
+
+/// Hands the move's edits and added lines to the writer. A part after the first is written
+/// straight out; a part before the last leaves the block's line open for the next.
+void MoveRewriter::finish_lines(const gcode::Motion& m, const gcode::Block& b, std::uint64_t offset,
+                                const ChordRange& part, std::string& appended) {
+  if (!part.first()) {  // the line is open: the lines go straight out
+    writer_.append(appended);
+    if (part.last()) writer_.close_line();
+    return;
+  }
+  if (m.kind == gcode::MotionKind::arc && !m.radius_compensation) arc_to_line_edits(b, edits_);
+  if (!appended.empty())
+    edits_.push_back(
+        gcode::Edit{{static_cast<std::uint32_t>(b.text.size()), static_cast<std::uint32_t>(b.text.size())}, appended});
+  // Inserted words go before any trailing comment: after the last word.
+  if (!part.last())
+    writer_.write_open(offset, std::span<gcode::Edit>(edits_));
+  else if (!edits_.empty())
+    writer_.edit(offset, std::span<gcode::Edit>(edits_));
+}
+
+void arc_to_line_edits(const gcode::Block& b, std::vector<gcode::Edit>& edits) {
+  bool has_motion_code = false;
+  std::vector<gcode::Span> arc_words;
+  for (const gcode::Word& w : b.words) {
+    if (w.letter == 'G' && w.value.is_literal() && (w.value.literal == 2 || w.value.literal == 3)) {
+      edits.push_back(gcode::Edit{w.value_span, "1"});
+      has_motion_code = true;
+    }
+    if (w.letter == 'I' || w.letter == 'J' || w.letter == 'K' || w.letter == 'R' || w.letter == 'P')
+      arc_words.push_back(w.span);
+  }
+  gcode::removal_edits(b.text, arc_words, edits);
+  if (!has_motion_code && !b.words.empty())
+    edits.push_back(gcode::Edit{{b.words.front().span.begin, b.words.front().span.begin}, "G1 "});
+}
+
+bool has_stop_code(const gcode::Block& b) {
+  for (const gcode::Word& w : b.words)
+    if (w.letter == 'M' && w.value.is_literal() &&
+        (w.value.literal == 0 || w.value.literal == 1 || w.value.literal == 2 || w.value.literal == 30 ||
+         w.value.literal == 60))
+      return true;
+  return false;
+}
+
+}  // namespace ccomp::compensate

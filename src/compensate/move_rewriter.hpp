@@ -1,0 +1,74 @@
+#pragma once
+// Rewriting, the job's last stage: a compensated move's points become edits of its block
+// (its axis words replaced, words it lacks inserted) and lines after it (the pieces of a
+// split move, take-ups, an arc's chords), in the program's number style. It follows where
+// the written digits put the machine, so incremental words count from there.
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "ccomp/compensate/compensator.hpp"
+#include "ccomp/compensate/program_job.hpp"
+#include "ccomp/gcode/block.hpp"
+#include "ccomp/gcode/writer.hpp"
+#include "ccomp/model/machine.hpp"
+#include "move_task.hpp"
+#include "program_coordinates.hpp"
+
+namespace ccomp::compensate {
+
+/// The decimals the user asked for (-1: the program's own style).
+struct DecimalsOption {
+  int linear = -1;  ///< in the program's units
+  int rotary = -1;  ///< in degrees
+  [[nodiscard]] int for_axis(bool is_rotary) const { return is_rotary ? rotary : linear; }
+};
+
+class MoveRewriter {
+ public:
+  /// `report` counts the lines and take-up moves written; `file` names the program in errors.
+  MoveRewriter(gcode::ProgramWriter& writer, const model::MachineModel& model, DecimalsOption decimals,
+               JobReport& report, std::string_view file);
+
+  /// Writes a move's points (all of them, or the part `part` of an arc) as edits of its
+  /// block, at `offset` in the input, and lines after it ending in `terminator`.
+  void rewrite(const gcode::Motion& m, const gcode::Block& b, const std::vector<CompensatedPoint>& points,
+               std::uint64_t offset, std::string_view terminator, const ChordRange& part = {});
+
+  /// The word for axis i at program value p (program units, degrees), or nothing for an
+  /// axis the block did not name that need not move; written in the style of `styled` (the
+  /// block's own value for the axis, for its line and the lines a split adds). Counted from
+  /// where the written digits put the machine (`last` plus the rounding): incremental
+  /// distances carry their rounding instead of summing it over a split move's pieces.
+  [[nodiscard]] std::optional<std::string> axis_word(std::size_t i, double p, double last, bool incremental, bool named,
+                                                     std::string_view styled, bool inch);
+
+  [[nodiscard]] WrittenPosition& position() { return position_; }
+  [[nodiscard]] const DecimalsOption& decimals() const { return decimals_; }
+
+ private:
+  struct PointLine;
+  void point_words(const gcode::Motion& m, const gcode::Block& b, const CompensatedPoint& point, PointLine& line);
+  void finish_lines(const gcode::Motion& m, const gcode::Block& b, std::uint64_t offset, const ChordRange& part,
+                    std::string& appended);
+
+  gcode::ProgramWriter& writer_;
+  const model::MachineModel& model_;
+  DecimalsOption decimals_;
+  JobReport& report_;
+  std::string_view file_;
+  WrittenPosition position_;
+  std::vector<gcode::Edit> edits_;  ///< the move's line's edits, storage kept from move to move
+};
+
+/// An arc block becomes the first of its lines: G2/G3 turns into G1 (written in front when
+/// the arc was modal), the centre, radius and turns words go.
+void arc_to_line_edits(const gcode::Block& b, std::vector<gcode::Edit>& edits);
+
+/// Whether the block stops the program (M0 M1 M2 M30 M60): a move split into lines cannot
+/// share it.
+[[nodiscard]] bool has_stop_code(const gcode::Block& b);
+
+}  // namespace ccomp::compensate

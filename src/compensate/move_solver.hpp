@@ -1,0 +1,54 @@
+#pragma once
+// Solving, the job's third stage: the compensated points of each move (the inverse, moves
+// split where the error field needs it, arcs as chords). It runs on the worker thread when
+// the job has one, so it keeps everything it writes to itself.
+#include <cstddef>
+#include <vector>
+
+#include "ccomp/compensate/compensator.hpp"
+#include "ccomp/gcode/canon.hpp"
+#include "ccomp/model/forward.hpp"
+#include "move_task.hpp"
+
+namespace ccomp::compensate {
+
+/// How many chords an arc takes to stay within `tolerance` of it (sagitta r (1 - cos(step / 2))).
+[[nodiscard]] std::size_t arc_chord_count(const gcode::ArcGeometry& g, double tolerance);
+
+/// On cache lines of its own: the interpreter's thread goes on writing its own state while
+/// the worker runs this.
+class alignas(64) MoveSolver {
+ public:
+  MoveSolver(const model::ForwardModel& model, const CompensationOptions& options);
+
+  /// Compensates the batch's moves in order, up to the first that fails (its error kept).
+  void solve_batch(MoveBatch& batch);
+
+  /// The compensated points of a motion into `points`: a rapid's end (its path is the
+  /// control's), a feed move split as its error field needs, an arc as chords within half
+  /// the tolerance, each compensated within the other half; `range`, the chords of an arc
+  /// in parts.
+  void solve(const gcode::Motion& m, const gcode::Offsets& offsets, MoveReport& move,
+             std::vector<CompensatedPoint>& points, const ChordRange& range = {});
+
+  /// Its compensator: followed by the job's other stages only while no batch is in flight.
+  Compensator compensator;
+
+ private:
+  void solve_arc_kept(const gcode::Motion& m, const gcode::Offsets& offsets, MoveReport& move,
+                      std::vector<CompensatedPoint>& points);
+  void solve_arc_chords(const gcode::Motion& m, const gcode::Offsets& offsets, MoveReport& move,
+                        std::vector<CompensatedPoint>& points, const ChordRange& range);
+  [[nodiscard]] double kept_arc_deviation(const gcode::Motion& m, const gcode::ArcGeometry& g,
+                                          const gcode::Offsets& offsets, const model::ChainQ& from,
+                                          const model::ChainQ& to, int n);
+
+  const model::ForwardModel& model_;
+  model::ForwardData data_;  ///< scratch for kept_arc_deviation()
+  double tolerance_;
+  bool offset_before_ = false;  ///< the last move was under the control's radius offset
+  std::vector<gcode::Axes> chords_;
+  std::vector<CompensatedPoint> pieces_;
+};
+
+}  // namespace ccomp::compensate

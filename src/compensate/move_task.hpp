@@ -1,0 +1,49 @@
+#pragma once
+// A move on its way from the interpreter, through the compensation, to the writer: the data
+// the job's stages hand on (reading fills it, solving adds the compensated points, the
+// writer turns them into edits).
+#include <cstdint>
+#include <exception>
+#include <string>
+#include <vector>
+
+#include "ccomp/compensate/compensator.hpp"
+#include "ccomp/gcode/block.hpp"
+#include "ccomp/gcode/canon.hpp"
+
+namespace ccomp::compensate {
+
+/// Which of a move's chords a task compensates: all of them (count 0), or [begin, end) of
+/// `count`. An arc of more chords than a task may hold is compensated in parts.
+struct ChordRange {
+  std::size_t begin = 0, end = 0, count = 0;
+  [[nodiscard]] bool whole() const { return count == 0; }
+  [[nodiscard]] bool first() const { return begin == 0; }
+  [[nodiscard]] bool last() const { return whole() || end == count; }
+};
+
+struct MoveTask {
+  // what its block said
+  gcode::Motion motion;  ///< its offsets point to `offsets`
+  gcode::Offsets offsets;
+  bool first = false;  ///< the program's first motion: the play is followed from its start
+  std::string text, terminator;
+  gcode::Block block;  ///< the words, and the text (in `text`), for the writer
+  std::uint64_t offset = 0;
+  ChordRange chords;     ///< this task's part of the move's chords
+  NominalPose end_pose;  ///< the nominal tool pose at its end (the reading thread's)
+  // what the compensation made of it
+  std::vector<CompensatedPoint> points;
+  MoveReport report;
+  std::vector<ErrorProbe> probes;  ///< where the uncompensated machine's error is taken
+  std::exception_ptr error;
+};
+
+/// A batch of moves: the interpreter's thread fills one while another is compensated.
+/// Each on cache lines of its own, as the two threads write them at once.
+struct alignas(64) MoveBatch {
+  std::vector<MoveTask> tasks;
+  std::size_t filled = 0;
+};
+
+}  // namespace ccomp::compensate

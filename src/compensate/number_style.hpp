@@ -1,0 +1,36 @@
+#pragma once
+// Rewriting, its smallest part: how a compensated coordinate is written. In the style of the
+// word it replaces (as many decimals as the program wrote, ".5" stays ".5"), with enough
+// digits for the tolerance, or exactly as many as the user asked for.
+#include <string>
+#include <string_view>
+
+namespace ccomp::compensate {
+
+/// At least 4 decimals in mm, 5 in inches, 5 in degrees (1e-5 deg is 0.07 um at 400 mm
+/// from the axis): the digits then round the tool by a fraction of a 1 um tolerance.
+inline constexpr int kDefaultDecimals = 4, kDefaultInchDecimals = 5, kDefaultRotaryDecimals = 5;
+
+struct NumberStyle {
+  int decimals = kDefaultDecimals;
+  bool leading_zero = true;  ///< "0.5", not ".5"
+};
+
+/// The style of `original` (the word's value as written, empty for a word the block lacks)
+/// for a linear axis in inches or mm, or a rotary one; `decimals` >= 0 overrides the count.
+[[nodiscard]] NumberStyle style_of(std::string_view original, bool inch, bool rotary, int decimals);
+
+/// A coordinate as written: its text, and the number the text means (what the machine
+/// will be told).
+struct WrittenValue {
+  std::string text;
+  double value = 0.0;
+};
+
+[[nodiscard]] WrittenValue format_value(double v, const NumberStyle& style);
+[[nodiscard]] WrittenValue format_value(double v, std::string_view original, bool inch, bool rotary, int decimals);
+
+/// Whether a and b are written alike in `style` ("-0.0000" is written "0.0000").
+[[nodiscard]] bool written_alike(double a, double b, const NumberStyle& style);
+
+}  // namespace ccomp::compensate

@@ -1,0 +1,55 @@
+#include "ccomp/compensate/program_header.hpp"
+
+#include <fmt/format.h>
+
+#include <charconv>
+#include <system_error>
+
+#include "ccomp/version.hpp"
+
+namespace ccomp::compensate {
+namespace {
+
+constexpr std::string_view kHeaderPrefix = "(ccomp ";
+
+/// The model's name inside a comment: no parenthesis or line end may close it early.
+std::string sanitize(std::string_view s) {
+  std::string out;
+  for (char c : s) out.push_back(c == '(' || c == ')' || c == '\n' || c == '\r' ? '_' : c);
+  return out;
+}
+
+}  // namespace
+
+std::string header_line(const model::MachineModel& model, double tolerance) {
+  return fmt::format("{}{} compensated for machine '{}' model sha256:{} at {:g} um)", kHeaderPrefix, kVersion,
+                     sanitize(model.name), model.sha256, tolerance * 1000.0);
+}
+
+std::optional<HeaderFacts> read_header(std::string_view line) {
+  if (!is_header_line(line)) return std::nullopt;
+  HeaderFacts facts;
+  constexpr std::string_view kSha = "model sha256:", kAt = " at ";
+  if (const auto sha = line.rfind(kSha); sha != std::string_view::npos) {
+    const auto begin = sha + kSha.size();
+    const auto end = line.find_first_not_of("0123456789abcdef", begin);
+    facts.model_sha256 = std::string(line.substr(begin, end == std::string_view::npos ? end : end - begin));
+    if (end != std::string_view::npos && line.substr(end).starts_with(kAt)) {
+      double um = 0.0;
+      const std::string_view number = line.substr(end + kAt.size());
+      if (const auto [p, ec] = std::from_chars(number.data(), number.data() + number.size(), um);
+          ec == std::errc() && std::string_view(p, number.data() + number.size()).starts_with(" um)"))
+        facts.tolerance = um / 1000.0;
+    }
+  }
+  return facts;
+}
+
+bool is_header_line(std::string_view line) {
+  if (line.starts_with("\xEF\xBB\xBF")) line.remove_prefix(3);  // a byte-order mark before it
+  const auto first = line.find_first_not_of(" \t");
+  return first != std::string_view::npos && line.substr(first).starts_with(kHeaderPrefix) &&
+         line.find("compensated for machine") != std::string_view::npos;
+}
+
+}  // namespace ccomp::compensate
