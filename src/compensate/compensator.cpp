@@ -244,64 +244,41 @@ void Compensator::straight(const ChainQ& start, const ChainQ& end, std::vector<C
     a = point(start, report);
     b = point(end, report);
   }
-  auto& need = options_.conditions.directions;
+  lead_in(start, a, tolerance, out, report);
+  const std::size_t first = out.size();
+  // Where the control offsets the path, a straight move stays one line: a piece shorter
+  // than the tool's radius next to an inside corner is one the control refuses (LinuxCNC:
+  // "cannot be reached by the tool without gouging"). Its deviation is measured, not split.
+  split(start, end, a, b, 0.0, 1.0, offset_by_control_ ? options_.max_depth : 0, tolerance, out, report);
+  report.jogs_withheld = report.jogs_withheld || offset_by_control_;
+  error_before(start, end, uncompensated, report);
+  for (std::size_t k = first; k < out.size(); ++k) command(out[k].q);
+}
+
+unsigned Compensator::unsettled_axes() const {
   // Settled within 1% of the play: the take-up's travel differs from the lost motion by
   // what the rest of the error field changes with the approach.
-  auto unsettled = [&] {
-    unsigned axes = 0;
-    for (std::size_t i = 0; i < need.size(); ++i)
-      if (model_.has_reversal(i) && std::abs(play_[i] - need[i]) > 0.02) axes |= 1U << i;
-    return axes;
-  };
-  if (commanded_.allFinite() && unsettled() != 0 && offset_by_control_) {
+  const auto& need = options_.conditions.directions;
+  unsigned axes = 0;
+  for (std::size_t i = 0; i < need.size(); ++i)
+    if (model_.has_reversal(i) && std::abs(play_[i] - need[i]) > 0.02) axes |= 1U << i;
+  return axes;
+}
+
+void Compensator::lead_in(const ChainQ& start, ChainQ& a, double tolerance, std::vector<CompensatedPoint>& out,
+                          MoveReport& report) {
+  if (!commanded_.allFinite()) {  // the first move: the machine is taken to be at its start
+    commanded_ = a;
+    return;
+  }
+  if (unsettled_axes() != 0 && offset_by_control_) {
     // No take-ups where the control offsets the path: the move starts where the last one
     // left the machine, its play as it is, and what that leaves is in the report.
     a = commanded_;
     report.jogs_withheld = true;
-    model::Conditions now = options_.conditions;
-    now.directions = play_;
-    model::forward(model_, check_, a, now, false, model::Evaluate::actual);
-    report.max_deviation_after = std::max(report.max_deviation_after, (check_.actual - nominal_tip(start)).norm());
-  } else if (commanded_.allFinite() && unsettled() != 0) {
-    // One turning axis at a time: it travels what its play needs (the tool holds still
-    // against its own backlash) while the settled axes follow the error motions that
-    // switch with its play; each step is solved for the play it leaves. A settled axis
-    // that would have to follow against its approach (B turning the table to correct a
-    // pitch that switched, say) could not: the play would eat it. So it turns round
-    // first, follows freely, and turns back: a machinist's re-approach from one side.
-    const std::array<double, 9> target = need;
-    auto go = [&](const ChainQ& q) {
-      if ((q - commanded_).cwiseAbs().maxCoeff() <= 1e-9) return;  // a zero move takes nothing up
-      out.push_back({0.0, q, true});
-      command(q);
-    };
-    std::vector<std::size_t> turning, re_approach;
-    for (std::size_t i = 0; i < need.size(); ++i) {
-      if (!model_.has_reversal(i)) continue;
-      const auto k = static_cast<Eigen::Index>(i);
-      if (std::abs(play_[i] - target[i]) > 0.02)
-        turning.push_back(i), need[i] = play_[i];
-      else if ((a[k] - commanded_[k]) * target[i] < -10 * still(i))
-        re_approach.push_back(i);
-    }
-    auto switch_to = [&](std::size_t i, double direction) {
-      need[i] = direction;
-      go(point(start, report));
-    };
-    for (std::size_t i : re_approach) switch_to(i, -target[i]);
-    for (std::size_t i : turning) switch_to(i, target[i]);
-    for (std::size_t i : re_approach) switch_to(i, target[i]);
-    go(a);
-    if (const unsigned short_of = unhidden(target); short_of != 0) {
-      report.unhidden_reversals |= short_of;
-      // What is left shows where the move starts, the play still short of its target.
-      model::Conditions now = options_.conditions;
-      now.directions = play_;
-      model::forward(model_, check_, a, now, false, model::Evaluate::actual);
-      report.max_deviation_after = std::max(report.max_deviation_after, (check_.actual - nominal_tip(start)).norm());
-    }
-  } else if (!commanded_.allFinite()) {
-    commanded_ = a;
+    report.max_deviation_after = std::max(report.max_deviation_after, deviation_at_play(start, a));
+  } else if (unsettled_axes() != 0) {
+    take_up(start, a, out, report);
   } else if (const double off = start_error(start, a); off > 0.25 * tolerance && offset_by_control_) {
     report.jogs_withheld = true;  // the cut starts where the machine was left
     report.max_deviation_after = std::max(report.max_deviation_after, off);
@@ -316,14 +293,52 @@ void Compensator::straight(const ChainQ& start, const ChainQ& end, std::vector<C
     report.max_deviation_after = std::max(report.max_deviation_after, off);
     report.start_error = std::max(report.start_error, off);
   }
-  const std::size_t first = out.size();
-  // Where the control offsets the path, a straight move stays one line: a piece shorter
-  // than the tool's radius next to an inside corner is one the control refuses (LinuxCNC:
-  // "cannot be reached by the tool without gouging"). Its deviation is measured, not split.
-  split(start, end, a, b, 0.0, 1.0, offset_by_control_ ? options_.max_depth : 0, tolerance, out, report);
-  report.jogs_withheld = report.jogs_withheld || offset_by_control_;
-  error_before(start, end, uncompensated, report);
-  for (std::size_t k = first; k < out.size(); ++k) command(out[k].q);
+}
+
+double Compensator::deviation_at_play(const ChainQ& start, const ChainQ& a) {
+  model::Conditions now = options_.conditions;
+  now.directions = play_;
+  model::forward(model_, check_, a, now, false, model::Evaluate::actual);
+  return (check_.actual - nominal_tip(start)).norm();
+}
+
+/// One turning axis at a time: it travels what its play needs (the tool holds still against
+/// its own backlash) while the settled axes follow the error motions that switch with its
+/// play; each step is solved for the play it leaves. A settled axis that would have to
+/// follow against its approach (B turning the table to correct a pitch that switched, say)
+/// could not: the play would eat it. So it turns round first, follows freely, and turns
+/// back: a machinist's re-approach from one side.
+void Compensator::take_up(const ChainQ& start, const ChainQ& a, std::vector<CompensatedPoint>& out,
+                          MoveReport& report) {
+  auto& need = options_.conditions.directions;
+  const std::array<double, 9> target = need;
+  auto go = [&](const ChainQ& q) {
+    if ((q - commanded_).cwiseAbs().maxCoeff() <= 1e-9) return;  // a zero move takes nothing up
+    out.push_back({0.0, q, true});
+    command(q);
+  };
+  std::vector<std::size_t> turning, re_approach;
+  for (std::size_t i = 0; i < need.size(); ++i) {
+    if (!model_.has_reversal(i)) continue;
+    const auto k = static_cast<Eigen::Index>(i);
+    if (std::abs(play_[i] - target[i]) > 0.02)
+      turning.push_back(i), need[i] = play_[i];
+    else if ((a[k] - commanded_[k]) * target[i] < -10 * still(i))
+      re_approach.push_back(i);
+  }
+  auto switch_to = [&](std::size_t i, double direction) {
+    need[i] = direction;
+    go(point(start, report));
+  };
+  for (std::size_t i : re_approach) switch_to(i, -target[i]);
+  for (std::size_t i : turning) switch_to(i, target[i]);
+  for (std::size_t i : re_approach) switch_to(i, target[i]);
+  go(a);
+  if (const unsigned short_of = unhidden(target); short_of != 0) {
+    report.unhidden_reversals |= short_of;
+    // What is left shows where the move starts, the play still short of its target.
+    report.max_deviation_after = std::max(report.max_deviation_after, deviation_at_play(start, a));
+  }
 }
 
 double Compensator::start_error(const ChainQ& start, const ChainQ& a) {

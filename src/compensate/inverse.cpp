@@ -33,73 +33,94 @@ void move_unknowns(const InverseProblem& problem, ChainQ& q, const Step& step, d
 }
 }  // namespace
 
-InverseResult solve_inverse(const model::ForwardModel& model, const InverseProblem& problem, model::ForwardData& d,
-                            const ChainQ& q_nominal, const model::Conditions& conditions, const InverseOptions& options,
-                            const ChainQ* guess, InverseWorkspace* workspace, const NominalPose* nominal) {
-  InverseResult r;
-  // The target: where the tool tip would be on a perfect machine.
-  if (!nominal) model::forward(model, d, q_nominal, conditions, false, model::Evaluate::nominal);
-  const Eigen::Vector3d target = nominal ? nominal->tip : d.nominal;
-  const Eigen::Matrix3d R_target = nominal ? nominal->orientation : d.R_nominal;
-  const auto n = static_cast<Eigen::Index>(problem.unknowns.size());
-  const auto m = 3 + static_cast<Eigen::Index>(problem.rotary_unknowns.size());
-  InverseWorkspace scratch;
-  InverseWorkspace& ws = workspace ? *workspace : scratch;
-  // Without a prediction: the guess, else this point shifted by the last solution's
-  // correction (neighbouring points correct alike), else the nominal point.
-  ChainQ q = guess                         ? *guess
-             : ws.last_nominal.allFinite() ? ChainQ(q_nominal + ws.last_solution - ws.last_nominal)
-                                           : q_nominal;
-  const bool have_solve_matrix = ws.solve_matrix.size() != 0;
-  ChainQ first_order = q;
-  // The same orientation to reach: the last solution moved by the target's shift through the
-  // last Jacobian (first order; its rotary equations are unchanged) and by each changed
-  // approach's learnt effect, plus the last miss where this step repeats the last one
-  // (within 10% and 2.5 degrees). What the solve does not move (the tool length) is this
-  // point's.
-  const bool turned = R_target != ws.last_target_orientation;  // also true on the first solve (zero)
-  // The approach changed since the last solution (a play taken up, an axis reversed): each
-  // changed axis' learnt effect on the solution, where every one is known.
-  ChainQ approach_step;  // set where the approach changed
+namespace {
+
+/// Where a solve starts and what it knows of the last one.
+struct SolveStart {
+  Eigen::Vector3d target;  ///< where the tool tip would be on a perfect machine
+  Eigen::Matrix3d R_target;
+  ChainQ q;            ///< the first iterate
+  ChainQ first_order;  ///< the prediction before the last miss is added
+  /// The approach changed since the last solution (a play taken up, an axis reversed): each
+  /// changed axis' learnt effect on the solution, where every one is known.
+  ChainQ approach_step;  ///< set where the approach changed
   int approach_changes = 0;
   std::size_t changed_axis = 0;
   bool approach_known = true;
-  if (conditions.directions != ws.last_directions) {
-    approach_step.setZero();
-    for (std::size_t i = 0; i < conditions.directions.size(); ++i) {
-      const double change = conditions.directions[i] - ws.last_directions[i];
-      if (change == 0.0) continue;
-      ++approach_changes, changed_axis = i;
-      if (ws.approach_gain_known[i])
-        approach_step += change * ws.approach_gain[i];
-      else
-        approach_known = false;
-    }
+  bool turned = false;       ///< the target's orientation differs from the last one's
+  bool predicted = false;    ///< q is the last solution moved along the path
+  bool same_target = false;  ///< solved again where it was, for another approach
+  Eigen::Vector3d shift;     ///< the target's move since the last solution
+};
+
+void note_approach_change(const model::Conditions& conditions, const InverseWorkspace& ws, SolveStart& s) {
+  if (conditions.directions == ws.last_directions) return;
+  s.approach_step.setZero();
+  for (std::size_t i = 0; i < conditions.directions.size(); ++i) {
+    const double change = conditions.directions[i] - ws.last_directions[i];
+    if (change == 0.0) continue;
+    ++s.approach_changes, s.changed_axis = i;
+    if (ws.approach_gain_known[i])
+      s.approach_step += change * ws.approach_gain[i];
+    else
+      s.approach_known = false;
   }
-  const bool continuing = !turned && have_solve_matrix && ws.last_solution.allFinite();
-  const bool predicted = continuing && approach_known;
-  const bool same_target = continuing && target == ws.last_target;  // solved again, for another approach
-  const Eigen::Vector3d shift = target - ws.last_target;
-  if (turned && have_solve_matrix && ws.last_solution.allFinite() && ws.last_target_orientation.allFinite()) {
+}
+
+/// The first iterate. Without a prediction: the guess, else this point shifted by the last
+/// solution's correction (neighbouring points correct alike), else the nominal point. With
+/// the same orientation to reach: the last solution moved by the target's shift through the
+/// last Jacobian (first order; its rotary equations are unchanged) and by each changed
+/// approach's learnt effect, plus the last miss where this step repeats the last one (within
+/// 10% and 2.5 degrees). What the solve does not move (the tool length) is this point's.
+SolveStart start_of(const InverseProblem& problem, InverseWorkspace& ws, const ChainQ& q_nominal,
+                    const model::Conditions& conditions, const ChainQ* guess, const Eigen::Vector3d& target,
+                    const Eigen::Matrix3d& R_target) {
+  SolveStart s;
+  s.target = target;
+  s.R_target = R_target;
+  s.q = guess                         ? *guess
+        : ws.last_nominal.allFinite() ? ChainQ(q_nominal + ws.last_solution - ws.last_nominal)
+                                      : q_nominal;
+  const bool have_solve_matrix = ws.solve_matrix.size() != 0;
+  s.first_order = s.q;
+  s.turned = R_target != ws.last_target_orientation;  // also true on the first solve (zero)
+  note_approach_change(conditions, ws, s);
+  const bool continuing = !s.turned && have_solve_matrix && ws.last_solution.allFinite();
+  s.predicted = continuing && s.approach_known;
+  s.same_target = continuing && target == ws.last_target;
+  s.shift = target - ws.last_target;
+  if (s.turned && have_solve_matrix && ws.last_solution.allFinite() && ws.last_target_orientation.allFinite()) {
     // The table turned: a machine-frame step of the linear axes shows in the table frame
     // turned with it, so the solve matrix's position columns turn by the same rotation.
     ws.solve_matrix.leftCols<3>() = ws.solve_matrix.leftCols<3>() * (ws.last_target_orientation * R_target.transpose());
   }
-  if (predicted) {
-    q = q_nominal;
-    for (const int k : problem.unknowns) q[k] = ws.last_solution[k];
-    move_unknowns(problem, q, ws.solve_matrix.leftCols<3>() * shift, 1.0);
-    if (approach_changes > 0) q += approach_step;
-    first_order = q;
-    const double last_length = ws.last_shift.norm(), length = shift.norm();
+  if (s.predicted) {
+    s.q = q_nominal;
+    for (const int k : problem.unknowns) s.q[k] = ws.last_solution[k];
+    move_unknowns(problem, s.q, ws.solve_matrix.leftCols<3>() * s.shift, 1.0);
+    if (s.approach_changes > 0) s.q += s.approach_step;
+    s.first_order = s.q;
+    const double last_length = ws.last_shift.norm(), length = s.shift.norm();
     if (last_length > 0 && std::abs(length / last_length - 1.0) < 0.1 &&
-        shift.dot(ws.last_shift) > 0.999 * length * last_length)
-      q += ws.last_miss * (length * length) / (last_length * last_length);
+        s.shift.dot(ws.last_shift) > 0.999 * length * last_length)
+      s.q += ws.last_miss * (length * length) / (last_length * last_length);
   }
+  return s;
+}
+
+/// Newton's iteration from s.q, the solve matrix reused while it cuts the residual tenfold a
+/// step; r gets the outcome, s.q the solution.
+void iterate(const model::ForwardModel& model, const InverseProblem& problem, model::ForwardData& d,
+             const model::Conditions& conditions, const InverseOptions& options, InverseWorkspace& ws, SolveStart& s,
+             InverseResult& r) {
+  ChainQ& q = s.q;
+  const auto n = static_cast<Eigen::Index>(problem.unknowns.size());
+  const auto m = 3 + static_cast<Eigen::Index>(problem.rotary_unknowns.size());
   // At most 3 + 3 equations in at most 9 unknowns: sized on the stack.
   Eigen::Matrix<double, Eigen::Dynamic, 1, 0, 6, 1> residual(m);
   Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, 6, 9> J(m, n);
-  bool fresh = !have_solve_matrix;  // evaluate the Jacobian at this iteration
+  bool fresh = ws.solve_matrix.size() == 0;  // evaluate the Jacobian at this iteration
   double last_norm = std::numeric_limits<double>::infinity();
   Eigen::Matrix<double, Eigen::Dynamic, 1, 0, 6, 1> last_residual(m);  // before the step taken
   bool stepped = false;
@@ -108,15 +129,15 @@ InverseResult solve_inverse(const model::ForwardModel& model, const InverseProbl
   // turned into the tool frame by the target orientation.
   std::array<Eigen::Vector3d, 3> rotary_axes;
   for (std::size_t k = 0; k < problem.rotary_unknowns.size(); ++k)
-    rotary_axes[k] = R_target.transpose() * problem.rotary_directions[k];
+    rotary_axes[k] = s.R_target.transpose() * problem.rotary_directions[k];
   for (r.iterations = 0; r.iterations <= options.max_iterations; ++r.iterations) {
     model::forward(model, d, q, conditions, fresh, model::Evaluate::actual, false);
-    residual.head<3>() = d.actual - target;
+    residual.head<3>() = d.actual - s.target;
     Eigen::Matrix3d Jr_inv;
-    const Eigen::Vector3d omega = kinematics::so3_log(R_target.transpose() * d.R_actual, fresh ? &Jr_inv : nullptr);
+    const Eigen::Vector3d omega = kinematics::so3_log(s.R_target.transpose() * d.R_actual, fresh ? &Jr_inv : nullptr);
     for (std::size_t k = 0; k < problem.rotary_unknowns.size(); ++k)
       residual[3 + static_cast<Eigen::Index>(k)] = rotary_axes[k].dot(omega);
-    if (stepped && turned) {
+    if (stepped && s.turned) {
       // Where the table turns, the error field's slopes change from point to point faster
       // than the matrix turned with it follows: Broyden's update from the step just taken
       // (q moved by -S r_last, the residual changed by delta) makes S delta that step, for
@@ -166,46 +187,67 @@ InverseResult solve_inverse(const model::ForwardModel& model, const InverseProbl
     last_residual = residual;
     stepped = true;
   }
-  r.q = q;
-  r.target = target;
-  if (r.converged && predicted && shift.norm() > 1e-6) {
+}
+
+/// What the next solve predicts from: the solve matrix made exact along the step just taken,
+/// a changed approach's effect, the path's last step and miss, the solution itself.
+void learn(const InverseProblem& problem, InverseWorkspace& ws, const ChainQ& q_nominal,
+           const model::Conditions& conditions, const SolveStart& s) {
+  const ChainQ& q = s.q;
+  const auto n = static_cast<Eigen::Index>(problem.unknowns.size());
+  if (s.predicted && s.shift.norm() > 1e-6) {
     // Broyden's update: the solve matrix made exact along the step just taken (the target
     // shift maps to the solution's shift), so it follows the Jacobian along the path.
     Step s_step(n);
     for (Eigen::Index c = 0; c < n; ++c) {
       const auto k = problem.unknowns[static_cast<std::size_t>(c)];
-      s_step[c] = q[k] - ws.last_solution[k] - (approach_changes > 0 ? approach_step[k] : 0.0);
+      s_step[c] = q[k] - ws.last_solution[k] - (s.approach_changes > 0 ? s.approach_step[k] : 0.0);
     }
-    const Step gap = s_step - ws.solve_matrix.leftCols<3>() * shift;
+    const Step gap = s_step - ws.solve_matrix.leftCols<3>() * s.shift;
     // A secant far from the matrix is not the Jacobian's drift (a jump of the solution):
     // left out.
     // (Squared lengths summed by hand: GCC 12 takes Eigen's packet loop over a vector of
     // dynamic size and capacity 9 for a read past it, and warns with -Warray-bounds.)
     double gap2 = 0.0, step2 = 0.0;
     for (Eigen::Index c = 0; c < n; ++c) gap2 += gap[c] * gap[c], step2 += s_step[c] * s_step[c];
-    if (gap2 < 0.01 * step2) ws.solve_matrix.leftCols<3>() += gap * shift.transpose() / shift.squaredNorm();
+    if (gap2 < 0.01 * step2) ws.solve_matrix.leftCols<3>() += gap * s.shift.transpose() / s.shift.squaredNorm();
   }
-  if (r.converged && same_target && approach_changes == 1) {
+  if (s.same_target && s.approach_changes == 1) {
     // The same point for one axis' changed approach: the solution's move per unit of it.
-    const double change = conditions.directions[changed_axis] - ws.last_directions[changed_axis];
-    ChainQ& gain = ws.approach_gain[changed_axis];
+    const double change = conditions.directions[s.changed_axis] - ws.last_directions[s.changed_axis];
+    ChainQ& gain = ws.approach_gain[s.changed_axis];
     gain.setZero();
     for (const int k : problem.unknowns) gain[k] = (q[k] - ws.last_solution[k]) / change;
-    ws.approach_gain_known[changed_axis] = true;
+    ws.approach_gain_known[s.changed_axis] = true;
   }
-  if (r.converged && !same_target) {
+  if (!s.same_target) {
     // A point solved again where it was (for a changed approach) is no step along the
     // path: the path's last step and miss stand for the next prediction.
-    ws.last_miss = predicted ? ChainQ(q - first_order) : ChainQ(ChainQ::Zero());
-    ws.last_shift = shift;
+    ws.last_miss = s.predicted ? ChainQ(q - s.first_order) : ChainQ(ChainQ::Zero());
+    ws.last_shift = s.shift;
   }
-  if (r.converged) {
-    ws.last_solution = q;
-    ws.last_nominal = q_nominal;
-    ws.last_directions = conditions.directions;
-    ws.last_target = target;
-    ws.last_target_orientation = R_target;
-  }
+  ws.last_solution = q;
+  ws.last_nominal = q_nominal;
+  ws.last_directions = conditions.directions;
+  ws.last_target = s.target;
+  ws.last_target_orientation = s.R_target;
+}
+
+}  // namespace
+
+InverseResult solve_inverse(const model::ForwardModel& model, const InverseProblem& problem, model::ForwardData& d,
+                            const ChainQ& q_nominal, const model::Conditions& conditions, const InverseOptions& options,
+                            const ChainQ* guess, InverseWorkspace* workspace, const NominalPose* nominal) {
+  InverseResult r;
+  if (!nominal) model::forward(model, d, q_nominal, conditions, false, model::Evaluate::nominal);
+  InverseWorkspace scratch;
+  InverseWorkspace& ws = workspace ? *workspace : scratch;
+  SolveStart s = start_of(problem, ws, q_nominal, conditions, guess, nominal ? nominal->tip : d.nominal,
+                          nominal ? nominal->orientation : d.R_nominal);
+  iterate(model, problem, d, conditions, options, ws, s, r);
+  r.q = s.q;
+  r.target = s.target;
+  if (r.converged) learn(problem, ws, q_nominal, conditions, s);
   return r;
 }
 

@@ -6,6 +6,7 @@
 #include <deque>
 #include <exception>
 #include <functional>
+#include <limits>
 #include <mutex>
 #include <numbers>
 #include <optional>
@@ -89,6 +90,7 @@ void each_motion(gcode::LineSource& program, const CheckOptions& options, OnMoti
 /// mm: a stretch of the original's path passed over by less than this is a matter of where
 /// points fall, not a cut missing.
 constexpr double kUncutMm = 0.01;
+constexpr double kInfinity = std::numeric_limits<double>::infinity();
 
 struct Evaluator {
   const model::ForwardModel& model;
@@ -208,7 +210,8 @@ void nominal_pieces(const gcode::Motion& m, Evaluator& ev, std::vector<Piece>& o
 /// A box around a piece (an arc's: around its whole circle, and the circle moved by its
 /// rise): no point of the piece is outside it.
 struct Box {
-  Eigen::Vector3d low = Eigen::Vector3d::Constant(1e300), high = Eigen::Vector3d::Constant(-1e300);
+  // Empty: every point is infinitely far from it.
+  Eigen::Vector3d low = Eigen::Vector3d::Constant(kInfinity), high = Eigen::Vector3d::Constant(-kInfinity);
   void add(const Piece& p) {
     if (!p.arc) {
       low = low.cwiseMin(p.a).cwiseMin(p.b), high = high.cwiseMax(p.a).cwiseMax(p.b);
@@ -377,101 +380,144 @@ PathError predict(gcode::LineSource& program, const model::ForwardModel& model, 
   return e;
 }
 
+namespace {
+
+/// Where each executed point is on the nominal path. The programs run in the same order, so
+/// each point is searched for in a window of the nominal path around the piece it was last
+/// found nearest (the cursor); pieces the search moves past without a point near them are
+/// not cut.
+class PathSearch {
+ public:
+  explicit PathSearch(NominalPath& nominal) : nominal_(nominal) {}
+
+  /// A rapid: pieces passed over before the next cut's first point were not cut.
+  void rapid() { after_rapid_ = true; }
+
+  /// The distance of executed point p from the nominal path, the cursor moved to where p
+  /// is; nothing where there is no nominal path (a program without cuts).
+  std::optional<double> distance(const Eigen::Vector3d& p) {
+    const std::size_t from = std::max(nominal_.first(), behind());
+    const std::size_t to = nominal_.available(cursor_ + kAhead);
+    if (from >= to) return std::nullopt;
+    const double best = gather_near(p, from, to);
+    move_cursor();
+    // A piece is cut once a point near it is past its start (a point where one piece ends
+    // and the next begins has cut only the first), and the search has come to it (a closed
+    // contour's last piece ends where its first begins).
+    for (const auto& [i, d] : near_)
+      if (i <= cursor_ && (p - nominal_[i].a).norm() > slack(best)) uncut_from_ = std::max(uncut_from_, i + 1);
+    note_passed_over(p);
+    nominal_.drop_before(behind());
+    return best;
+  }
+
+  /// The length (mm) of the original's cuts never come to, and the line of the first.
+  std::pair<double, std::uint32_t> uncut() {
+    auto [length, line] = nominal_.rest_from(uncut_from_);
+    if (length <= kUncutMm) length = 0.0, line = 0;  // where sampling ends, not a missing cut
+    length += skipped_length_;
+    if (skipped_line_ != 0) line = skipped_line_;
+    return {length, line};
+  }
+
+ private:
+  static constexpr std::size_t kBehind = 64, kAhead = 4096;
+  [[nodiscard]] std::size_t behind() const { return cursor_ > kBehind ? cursor_ - kBehind : 0; }
+  static double slack(double d) { return d + std::max(d, 0.5e-3); }
+
+  /// The pieces (in program order) nearly as near p as the nearest (within the distance
+  /// again, or 0.5 um), into near_; the nearest one's distance.
+  double gather_near(const Eigen::Vector3d& p, std::size_t from, std::size_t to) {
+    double best = kInfinity;  // to start with, the pieces just ahead of the cursor
+    for (std::size_t i = std::min(cursor_, to - 1); i < std::min(cursor_ + 4, to); ++i)
+      best = std::min(best, nominal_[i].distance(p));
+    near_.clear();
+    for (std::size_t g = from - from % NominalPath::kGroup; g < to; g += NominalPath::kGroup) {
+      if (nominal_.group_box(std::max(g, from)).distance(p) > slack(best)) continue;
+      for (std::size_t i = std::max(g, from); i < std::min(g + NominalPath::kGroup, to); ++i) {
+        const double d = nominal_[i].distance(p);
+        if (d > slack(best)) continue;
+        best = std::min(best, d);
+        near_.emplace_back(i, d);
+      }
+    }
+    std::erase_if(near_, [&](const auto& candidate) { return candidate.second > slack(best); });
+    return best;
+  }
+
+  /// The cursor goes to the near piece closest to it, and on along those that follow it: a
+  /// path that runs twice over the same place (a spring pass) must not pull it ahead, and
+  /// one that turns back over itself must not hold it.
+  void move_cursor() {
+    std::size_t at = 0;  // in near_, which is in program order
+    auto gap = static_cast<std::size_t>(-1);
+    for (std::size_t c = 0; c < near_.size(); ++c) {
+      const std::size_t i = near_[c].first, apart = i > cursor_ ? i - cursor_ : cursor_ - i;
+      if (apart < gap) gap = apart, at = c;
+    }
+    while (at + 1 < near_.size() && near_[at + 1].first == near_[at].first + 1) ++at;
+    cursor_ = near_[at].first;
+  }
+
+  /// Pieces passed over between one point and the next must be no longer than the path
+  /// between them (straight on, within 1%); after a rapid, none may be (a cut missing).
+  void note_passed_over(const Eigen::Vector3d& p) {
+    const std::size_t reached = near_.front().first;  // the first piece the point is on
+    if (reached > next_piece_) {
+      double passed = 0.0;
+      for (std::size_t i = next_piece_; i < reached; ++i) passed += nominal_[i].cycle ? 0.0 : nominal_[i].length();
+      const double path_length = after_rapid_ ? 0.0 : 1.01 * (p - last_point_).norm();
+      if (passed > path_length + kUncutMm) {
+        skipped_length_ += passed;
+        for (std::size_t i = next_piece_; i < reached && skipped_line_ == 0; ++i)
+          if (!nominal_[i].cycle) skipped_line_ = nominal_[i].line;
+      }
+    }
+    next_piece_ = std::max(next_piece_, cursor_ + 1);
+    last_point_ = p;
+    after_rapid_ = false;
+  }
+
+  NominalPath& nominal_;
+  std::size_t cursor_ = 0;
+  std::size_t uncut_from_ = 0;                        ///< the first piece after the furthest the search has been
+  std::vector<std::pair<std::size_t, double>> near_;  ///< pieces near the point, and their distances
+  std::size_t next_piece_ = 0;                        ///< the piece after the last point's
+  Eigen::Vector3d last_point_ = Eigen::Vector3d::Zero();
+  bool after_rapid_ = true;
+  double skipped_length_ = 0.0;
+  std::uint32_t skipped_line_ = 0;
+};
+
+}  // namespace
+
 PathError verify(gcode::LineSource& original, gcode::LineSource& compensated, const model::ForwardModel& model,
                  const CheckOptions& options) {
-  // The programs run in the same order, so each executed point is searched for in a window
-  // of the nominal path around the piece it was last found nearest.
-  constexpr std::size_t kBehind = 64, kAhead = 4096;
   NominalPath nominal(original, model, options);
+  PathSearch search(nominal);
   Evaluator ev{model, model::ForwardData(model), options.conditions};
   PathError e;
   double sum2 = 0.0;
-  std::size_t cursor = 0;
-  std::size_t uncut_from = 0;                        ///< the first piece after the furthest the search has been
-  std::vector<std::pair<std::size_t, double>> near;  // pieces near the point, and their distances
-  // Pieces passed over between one point and the next must be no longer than the path
-  // between them (straight on, within 1%); after a rapid, none may be (a cut missing).
-  std::size_t next_piece = 0;  ///< the piece after the last point's
-  Eigen::Vector3d last_point = Eigen::Vector3d::Zero();
-  bool after_rapid = true;
-  double skipped_length = 0.0;
-  std::uint32_t skipped_line = 0;
   each_motion(compensated, options, [&](const gcode::Motion& m) {
     const MotionPath path(m);
     ev.advance(path.start());
     const FollowPlay follow{ev, path.end()};
-    if (m.kind != gcode::MotionKind::feed && m.kind != gcode::MotionKind::arc) {
-      after_rapid = true;
-      return;
-    }
+    if (m.kind != gcode::MotionKind::feed && m.kind != gcode::MotionKind::arc) return search.rapid();
     ++e.moves;
     const int steps = path.steps(model, options.samples);  // finer than the job checks
     for (int k = 0; k <= steps; ++k) {
       const model::ChainQ q = path.at(static_cast<double>(k) / steps);
       model::forward(model, ev.data, q, ev.advance(q), false, model::Evaluate::actual);
       const Eigen::Vector3d p = ev.data.actual;
-      const std::size_t from = std::max(nominal.first(), cursor > kBehind ? cursor - kBehind : 0);
-      const std::size_t to = nominal.available(cursor + kAhead);
-      if (from >= to) continue;  // no nominal path (a program without cuts)
-      // The distance is the nearest piece's. The cursor goes to the piece nearest it among
-      // those nearly as near as that (within the distance again, or 0.5 um), and on along
-      // those that follow it: a path that runs twice over the same place (a spring pass)
-      // must not pull it ahead, and one that turns back over itself must not hold it.
-      auto slack = [](double d) { return d + std::max(d, 0.5e-3); };
-      double best = 1e300;  // to start with, the pieces just ahead of the cursor
-      for (std::size_t i = std::min(cursor, to - 1); i < std::min(cursor + 4, to); ++i)
-        best = std::min(best, nominal[i].distance(p));
-      near.clear();
-      for (std::size_t g = from - from % NominalPath::kGroup; g < to; g += NominalPath::kGroup) {
-        if (nominal.group_box(std::max(g, from)).distance(p) > slack(best)) continue;
-        for (std::size_t i = std::max(g, from); i < std::min(g + NominalPath::kGroup, to); ++i) {
-          const double d = nominal[i].distance(p);
-          if (d > slack(best)) continue;
-          best = std::min(best, d);
-          near.emplace_back(i, d);
-        }
-      }
-      std::erase_if(near, [&](const auto& candidate) { return candidate.second > slack(best); });
-      std::size_t at = 0;  // in `near`, which is in program order
-      auto gap = static_cast<std::size_t>(-1);
-      for (std::size_t c = 0; c < near.size(); ++c) {
-        const std::size_t i = near[c].first, apart = i > cursor ? i - cursor : cursor - i;
-        if (apart < gap) gap = apart, at = c;
-      }
-      // Pieces that follow on from it and are as near go with it: where the path turns back
-      // over itself, the point is on the next piece as much as on the last.
-      while (at + 1 < near.size() && near[at + 1].first == near[at].first + 1) ++at;
-      cursor = near[at].first;
-      // A piece is cut once a point near it is past its start (a point where one piece
-      // ends and the next begins has cut only the first), and the search has come to it (a
-      // closed contour's last piece ends where its first begins).
-      for (const auto& [i, d] : near)
-        if (i <= cursor && (p - nominal[i].a).norm() > slack(best)) uncut_from = std::max(uncut_from, i + 1);
-      const std::size_t reached = near.front().first;  // the first piece the point is on
-      if (reached > next_piece) {
-        double passed = 0.0;
-        for (std::size_t i = next_piece; i < reached; ++i) passed += nominal[i].cycle ? 0.0 : nominal[i].length();
-        const double path_length = after_rapid ? 0.0 : 1.01 * (p - last_point).norm();
-        if (passed > path_length + kUncutMm) {
-          skipped_length += passed;
-          for (std::size_t i = next_piece; i < reached && skipped_line == 0; ++i)
-            if (!nominal[i].cycle) skipped_line = nominal[i].line;
-        }
-      }
-      next_piece = std::max(next_piece, cursor + 1);
-      last_point = p;
-      after_rapid = false;
-      nominal.drop_before(cursor > kBehind ? cursor - kBehind : 0);
-      sum2 += best * best;
+      const std::optional<double> off = search.distance(p);
+      if (!off) continue;
+      sum2 += *off * *off;
       ++e.points;
-      if (best > e.max) e.max = best, e.worst_line = m.line, e.worst_point = p;
+      if (*off > e.max) e.max = *off, e.worst_line = m.line, e.worst_point = p;
     }
   });
   e.rms = e.points ? std::sqrt(sum2 / static_cast<double>(e.points)) : 0.0;
-  std::tie(e.uncut_length, e.uncut_line) = nominal.rest_from(uncut_from);
-  if (e.uncut_length <= kUncutMm) e.uncut_length = 0.0, e.uncut_line = 0;  // where sampling ends, not a missing cut
-  e.uncut_length += skipped_length;
-  if (skipped_line != 0) e.uncut_line = skipped_line;
+  std::tie(e.uncut_length, e.uncut_line) = search.uncut();
   return e;
 }
 

@@ -122,6 +122,17 @@ class Compensator {
   void split(const model::ChainQ& a_nominal, const model::ChainQ& b_nominal, const model::ChainQ& a_comp,
              const model::ChainQ& b_comp, double s0, double s1, int depth, double tolerance,
              std::vector<CompensatedPoint>& out, MoveReport& report);
+  /// How the move from nominal `start` (compensated `a`) begins from where the machine is:
+  /// take-ups (or, under the control's offset, none: `a` becomes where the machine is), a
+  /// lead to the start after a move not planned here, or nothing.
+  void lead_in(const model::ChainQ& start, model::ChainQ& a, double tolerance, std::vector<CompensatedPoint>& out,
+               MoveReport& report);
+  void take_up(const model::ChainQ& start, const model::ChainQ& a, std::vector<CompensatedPoint>& out,
+               MoveReport& report);
+  /// Axes with reversal terms whose play differs from the approach the move needs.
+  [[nodiscard]] unsigned unsettled_axes() const;
+  /// How far the tool at commanded `a`, under the play as it is, is from nominal `start`.
+  [[nodiscard]] double deviation_at_play(const model::ChainQ& start, const model::ChainQ& a);
   /// Axes whose play is short of `target` by more than the tolerance can bear.
   [[nodiscard]] unsigned unhidden(const std::array<double, 9>& target) const;
   /// How far the tool, where a move the compensator did not plan left the machine, is from
