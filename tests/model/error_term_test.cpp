@@ -1,93 +1,20 @@
-// Every term form: value, derivatives with respect to its variables and to each parameter,
-// all checked against central finite differences by one parametrised suite; plus what each
-// form must do by definition.
+// What each term form must do by definition. Its derivatives, with respect to its variables
+// and to each parameter, are checked with every other Jacobian in tests/jacobian_suite_test.cpp.
 #include "ccomp/model/error_term.hpp"
 
 #include <gtest/gtest.h>
 
 #include <cmath>
 
+#include "term_shapes.hpp"
+
 namespace ccomp::model {
 namespace {
 
-struct FormCase {
-  const char* name;
-  TermShape shape;
-  Eigen::VectorXd parameters;
-  TermInputs at;
-};
-void PrintTo(const FormCase& c, std::ostream* os) {
-  *os << c.name;
-}
-
-Eigen::VectorXd vec(std::initializer_list<double> v) {
-  Eigen::VectorXd x(static_cast<Eigen::Index>(v.size()));
-  Eigen::Index i = 0;
-  for (double d : v) x[i++] = d;
-  return x;
-}
-
-TermShape shape(TermForm form, int order = 1) {
-  TermShape s;
-  s.form = form;
-  s.order = order;
-  return s;
-}
-
-TermShape table(Interpolation interpolation) {
-  TermShape s;
-  s.form = TermForm::table;
-  s.interpolation = interpolation;
-  s.knots = {-200, -100, 0, 50, 150, 300};
-  return s;
-}
-
-TermShape cross() {
-  TermShape s;
-  s.form = TermForm::cross_axis;
-  s.order = 2;
-  s.order_primary = 1;
-  return s;
-}
-
-const FormCase kForms[] = {
-    {"constant", shape(TermForm::constant), vec({0.004}), {123.0, 0.0}},
-    {"polynomial", shape(TermForm::polynomial, 3), vec({1e-3, 2e-5, -3e-8, 4e-11}), {157.0, 0.0}},
-    {"table_linear", table(Interpolation::linear), vec({0.001, -0.002, 0.0, 0.003, 0.001, -0.004}), {87.0, 0.0}},
-    {"table_cubic", table(Interpolation::cubic), vec({0.001, -0.002, 0.0, 0.003, 0.001, -0.004}), {87.0, 0.0}},
-    {"periodic", shape(TermForm::periodic, 2), vec({10.0, 0.003, -0.001, 0.0005, 0.0002}), {37.3, 0.0}},
-    {"reversal", shape(TermForm::reversal), vec({0.006}), {-1.0, 0.0}},
-    {"thermal_linear", shape(TermForm::thermal_linear), vec({0.0011}), {27.5, 0.0}},
-    {"thermal_warmup", shape(TermForm::thermal_warmup), vec({0.015, 1800.0}), {900.0, 0.0}},
-    {"scale_expansion", shape(TermForm::scale_expansion), vec({11.5e-6}), {250.0, 24.0}},
-    {"cross_axis", cross(), vec({1e-5, 2e-8, -3e-8, 4e-11}), {120.0, -80.0}},
-    {"bump", shape(TermForm::bump), vec({0.006, 110.0, 12.5}), {118.0, 0.0}},
-};
-
-class TermForms : public ::testing::TestWithParam<FormCase> {};
-
-TEST_P(TermForms, DerivativesMatchFiniteDifferences) {
-  const FormCase& c = GetParam();
-  ASSERT_EQ(static_cast<std::size_t>(c.parameters.size()), parameter_count(c.shape));
-  const TermValue v = evaluate(c.shape, c.parameters, c.at, true);
-  const double h = 1e-4;
-  auto at = [&](double dp, double ds) {
-    return evaluate(c.shape, c.parameters, TermInputs{c.at.primary + dp, c.at.secondary + ds}).value;
-  };
-  EXPECT_NEAR(v.d_primary, (at(h, 0) - at(-h, 0)) / (2 * h), 1e-9 + 1e-6 * std::abs(v.d_primary)) << c.name;
-  EXPECT_NEAR(v.d_secondary, (at(0, h) - at(0, -h)) / (2 * h), 1e-9 + 1e-6 * std::abs(v.d_secondary)) << c.name;
-  for (Eigen::Index k = 0; k < c.parameters.size(); ++k) {
-    const double step = 1e-6 * std::max(1.0, std::abs(c.parameters[k]));
-    Eigen::VectorXd up = c.parameters, down = c.parameters;
-    up[k] += step;
-    down[k] -= step;
-    const double numeric = (evaluate(c.shape, up, c.at).value - evaluate(c.shape, down, c.at).value) / (2 * step);
-    EXPECT_NEAR(v.d_parameters[k], numeric, 1e-9 + 1e-6 * std::abs(numeric)) << c.name << " parameter " << k;
-  }
-}
-
-INSTANTIATE_TEST_SUITE_P(Forms, TermForms, ::testing::ValuesIn(kForms),
-                         [](const auto& test) { return std::string(test.param.name); });
+using test::cross;
+using test::shape;
+using test::table;
+using test::vec;
 
 TEST(TermForms, TablesPassThroughTheirValuesAndHoldOutside) {
   for (Interpolation i : {Interpolation::linear, Interpolation::cubic}) {

@@ -1,5 +1,5 @@
 // The forward model through a parsed model file: signs of the ISO error motions, the Abbe
-// effect of the tool length, and the exact Jacobians against finite differences.
+// effect of the tool length. Its Jacobians are checked in tests/jacobian_suite_test.cpp.
 #include "ccomp/model/forward.hpp"
 
 #include <gtest/gtest.h>
@@ -70,57 +70,6 @@ TEST(Forward, NominalIsTheProgramPointOnTheRotatedTable) {
   // B = 90 deg about -Y turns that point (v) into (v.z, v.y, -v.x) in the table frame.
   const ForwardData d90 = at(m, 10, 20, 30, 90, 0);
   EXPECT_LT((d90.nominal - Eigen::Vector3d(430, 20, -10)).norm(), 1e-12);
-}
-
-TEST(Forward, JacobiansMatchFiniteDifferences) {
-  const std::string terms = R"(terms:
-  - {name: EXX, form: polynomial, coefficients: [1, 0.02, -3.0e-5], fit: true}
-  - {name: EXX, form: periodic, period: 10 mm, harmonics: [[2, -1], [0.5, 0.3]], fit: true}
-  - {name: ECX, form: polynomial, coefficients: [0, 0.05], fit: true}
-  - {name: EBZ, form: table, interpolation: cubic, at: [-300, -100, 0, 200, 300], values: [1, -2, 0, 3, 1], fit: true}
-  - {name: EYZ, form: cross_axis, other: x, coefficients: [[1.0e-3, 2.0e-6]], fit: true}
-  - {name: EAY, value: 12, fit: true}
-  - {name: EZS, variable: T_spindle, form: thermal, coefficient: 1.5, fit: true}
-  - {name: EBB, form: periodic, period: 90 deg, harmonics: [[5, 3]], fit: true}
-  - {name: EC0X, value: 15, fit: true}
-  - {name: EA0B, value: 8, fit: true}
-  - {name: EXB, form: polynomial, coefficients: [2, 0.01], fit: true}
-  - {name: EX0B, value: 9, fit: true}
-  - {name: EZ0B, value: -4, fit: true}
-  - {name: EA0Y, value: 6, fit: true}
-  - {name: EB0X, value: -7, fit: true}
-)";
-  const MachineModel mm = parse_machine_model(std::string(kChain) + terms, "m.yaml");
-  const ForwardModel m(mm);
-  Conditions c;
-  c.temperatures = {27.0};
-  ChainQ q = ChainQ::Zero();
-  q << 137.0, -58.0, 71.0, 0, 0.7, 0, 0, 0, 0, 123.0;
-  ForwardData d(m);
-  forward(m, d, q, c, true);
-  const double h = 1e-5;
-  for (Eigen::Index k : {0, 1, 2, 4, 9}) {
-    ChainQ up = q, down = q;
-    up[k] += h;
-    down[k] -= h;
-    ForwardData a(m), b(m);
-    forward(m, a, up, c);
-    forward(m, b, down, c);
-    const Eigen::Vector3d numeric = (a.actual - b.actual) / (2 * h);
-    EXPECT_LT((d.J_q.col(k) - numeric).norm(), 1e-7 * std::max(1.0, numeric.norm())) << "axis " << k;
-  }
-  for (Eigen::Index k = 0; k < d.parameters.size(); ++k) {
-    // Positions are hundreds of mm: a step of 1e-5 keeps rounding (1e-16 x 400 / 1e-5) far
-    // below the tolerance, and the model is nearly linear in its parameters.
-    const double step = 1e-5;
-    ForwardData a(m), b(m);
-    a.parameters[k] += step;
-    b.parameters[k] -= step;
-    forward(m, a, q, c);
-    forward(m, b, q, c);
-    const Eigen::Vector3d numeric = (a.actual - b.actual) / (2 * step);
-    EXPECT_LT((d.J_parameters.col(k) - numeric).norm(), 1e-8 + 1e-6 * numeric.norm()) << "parameter " << k;
-  }
 }
 
 TEST(Forward, LostMotionIsTheAxisOwnPositioningReversal) {

@@ -1,0 +1,78 @@
+// The kinematic chain and its poses: round trips and the error matrix's meaning. Their
+// Jacobians are checked with every other one in tests/jacobian_suite_test.cpp.
+#include "ccomp/kinematics/chain.hpp"
+
+#include <gtest/gtest.h>
+
+#include "ccomp/kinematics/pose.hpp"
+#include "random_chain.hpp"
+
+namespace ccomp::kinematics {
+namespace {
+
+using test::random_vec;
+using test::randomise;
+using test::sample_chain;
+using test::uniform;
+
+TEST(Pose, ExpLogRoundTrip) {
+  for (int i = 0; i < 20; ++i) {
+    // Rotation vectors shorter than pi: Log returns the shortest rotation.
+    // (Halves assigned one by one: GCC 12 takes the comma initializer's packet load of
+    // a 3-vector temporary for a read past it and warns with -Warray-bounds.)
+    Vec6 tau;
+    tau.head<3>() = random_vec(100);
+    tau.tail<3>() = random_vec(1.5);
+    EXPECT_LT((se3_log(se3_exp(tau)) - tau).norm(), 1e-9);
+  }
+}
+
+TEST(Chain, ErrorMatrixIsIdentityWithoutErrorsAndSeesEachError) {
+  ChainModel m = sample_chain();
+  ChainData d(m);
+  VecQ q;
+  randomise(d, q);
+  for (Pose& e : d.work_error) e = Pose{};
+  for (Pose& e : d.tool_error) e = Pose{};
+  for (Pose& e : d.work_location) e = Pose{};
+  for (Pose& e : d.tool_location) e = Pose{};
+  // The workpiece point p is where the error-free tool tip is, in the table's frame.
+  error_matrix(m, d, q, ChainJacobians::none);
+  m.workpiece.joints.back().placement = compose(inverse(d.work_oMi[2]), d.oMtool);
+  d = ChainData(m);  // data belongs to the model as it was built from
+  error_matrix(m, d, q, ChainJacobians::none);
+  EXPECT_LT((d.E.matrix() - Eigen::Matrix4d::Identity()).norm(), 1e-9);
+  // A 10 um positioning error of the tool side's first link shows in E's translation.
+  d.tool_error[0] = error_pose(Vec3(0, 0.010, 0), Vec3::Zero());
+  error_matrix(m, d, q, ChainJacobians::none);
+  EXPECT_NEAR((d.E.t - Vec3(0, 0, 0)).norm(), 0.010, 1e-9);
+}
+
+TEST(Chain, NominalPosesAreTheErrorMatrixWithoutErrors) {
+  // The compensation asks for the perfect machine at every move, by the shorter products
+  // of nominal_poses(): they must be error_matrix()'s with identity error poses, to the
+  // bit, on links of every kind (a tilted placement on a rotary axis too), as the rotary
+  // axes turn, stand still and come back.
+  ChainModel m = sample_chain();
+  m.workpiece.joints[2].placement.R = so3_exp(random_vec(1e-3));
+  ChainData d(m);
+  NominalData nominal(m);
+  VecQ q;
+  randomise(d, q);
+  for (Pose& e : d.work_error) e = Pose{};
+  for (Pose& e : d.tool_error) e = Pose{};
+  for (Pose& e : d.work_location) e = Pose{};
+  for (Pose& e : d.tool_location) e = Pose{};
+  for (int k = 0; k < 200; ++k) {
+    if (k % 3 == 0) q[4] = uniform(-3, 3);  // else B stands still
+    q[0] = uniform(-400, 400), q[1] = uniform(-300, 300), q[2] = uniform(-200, 200);
+    error_matrix(m, d, q, ChainJacobians::none);
+    nominal_poses(m, nominal, q);
+    ASSERT_EQ(nominal.E.matrix(), d.E.matrix()) << "at q = " << q.transpose();
+    ASSERT_EQ(nominal.oMp.matrix(), d.work_oMi.back().matrix());
+    ASSERT_EQ(nominal.oMtool.matrix(), d.oMtool.matrix());
+  }
+}
+
+}  // namespace
+}  // namespace ccomp::kinematics
