@@ -12,6 +12,7 @@
 #include "ccomp/compensate/program_job.hpp"
 #include "ccomp/compensate/verify.hpp"
 #include "ccomp/model/forward.hpp"
+#include "error_of.hpp"
 #include "job_runner.hpp"
 #include "random_terms.hpp"
 #include "sample_models.hpp"
@@ -90,16 +91,16 @@ TEST(ClosedLoop, Refusals) {
   big.terms.push_back(big.terms.front());
   big.terms.back().shape = model::TermShape{};
   big.terms.back().parameters = Eigen::VectorXd::Constant(1, 0.8);  // 0.8 mm: beyond the 0.5 mm bound
-  try {
-    gcode::LineSource in = gcode::LineSource::from_string("G21 G0 X10\nM30\n", "in.ngc");
-    std::FILE* sink = std::tmpfile();
-    (void)compensate::run_program_job(in, sink, big, {});
-    std::fclose(sink);
-    ADD_FAILURE() << "accepted a 0.8 mm correction";
-  } catch (const Error& e) {
-    EXPECT_EQ(e.kind(), ErrorKind::safety);
-    EXPECT_NE(e.message().find("beyond the model's bound"), std::string::npos) << e.message();
-  }
+  const Error e = test::error_of(
+      [&] {
+        gcode::LineSource in = gcode::LineSource::from_string("G21 G0 X10\nM30\n", "in.ngc");
+        std::FILE* sink = std::tmpfile();
+        (void)compensate::run_program_job(in, sink, big, {});
+        std::fclose(sink);
+      },
+      "accepted a 0.8 mm correction");
+  EXPECT_EQ(e.kind(), ErrorKind::safety);
+  EXPECT_NE(e.message().find("beyond the model's bound"), std::string::npos) << e.message();
 }
 
 TEST(ClosedLoop, AModalArcLineThatStartsWithItsCentreWords) {
@@ -156,12 +157,9 @@ TEST(ClosedLoop, ExpandedCyclesAreCompensatedMovesAndTheBlocksKeepTheirOtherWord
       "G91 G81 X15 Y0 Z-12 R-18 L3\nG90 G80\nG0 Z-80\n"
       "G99 G83 X-100 Y-50 Z-125 R-98 Q5 F150\nG80\nG0 Z-60\nM30\n";
   compensate::JobOptions o;
-  try {
-    (void)compensate(program, mm, o);
-    ADD_FAILURE() << "an incremental cycle with L repeats was compensated in its words";
-  } catch (const Error& e) {
-    EXPECT_NE(e.message().find("--expand-cycles"), std::string::npos) << e.message();
-  }
+  const Error in_words = test::error_of([&] { (void)compensate(program, mm, o); },
+                                        "an incremental cycle with L repeats was compensated in its words");
+  EXPECT_NE(in_words.message().find("--expand-cycles"), std::string::npos) << in_words.message();
   o.expand_cycles = true;
   compensate::JobReport report;
   const std::string output = compensate(program, mm, o, &report);
@@ -173,12 +171,10 @@ TEST(ClosedLoop, ExpandedCyclesAreCompensatedMovesAndTheBlocksKeepTheirOtherWord
   EXPECT_LE(left.max, 0.001 + 1e-4) << left.max * 1000 << " um left at line " << left.worst_line << " of\n" << output;
   EXPECT_GE(left.moves, 5U + 6U) << "five G81 holes fed once each, and the G83 hole's six pecks (27 mm by 5)";
   // G82 dwells at the bottom: moves cannot say that.
-  try {
-    (void)compensate("G21 G90 G0 X0 Y0 Z-80\nG82 X10 Y10 Z-110 R-98 P0.5 F100\nG80\nM30\n", mm, o);
-    ADD_FAILURE() << "G82 was expanded without its dwell";
-  } catch (const Error& e) {
-    EXPECT_NE(e.message().find("G82"), std::string::npos) << e.message();
-  }
+  const Error dwell = test::error_of(
+      [&] { (void)compensate("G21 G90 G0 X0 Y0 Z-80\nG82 X10 Y10 Z-110 R-98 P0.5 F100\nG80\nM30\n", mm, o); },
+      "G82 was expanded without its dwell");
+  EXPECT_NE(dwell.message().find("G82"), std::string::npos) << dwell.message();
 }
 
 TEST(ClosedLoop, AfterACycleBlockTheNextIncrementalMoveCountsFromWhereItsWordsLeftTheMachine) {

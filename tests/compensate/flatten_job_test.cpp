@@ -6,6 +6,7 @@
 #include "ccomp/compensate/program_job.hpp"
 #include "ccomp/compensate/verify.hpp"
 #include "ccomp/error.hpp"
+#include "error_of.hpp"
 #include "job_runner.hpp"
 #include "trace_capture.hpp"
 
@@ -36,14 +37,12 @@ const std::string kLoops =
     "M30\n";
 
 TEST(FlattenJob, ALoopIsRefusedWithoutItAndCompensatedRunByRunWithIt) {
-  try {
-    (void)compensate(kLoops, sample_machine("hmc-xyzb-geometric"), compensate::JobOptions{});
-    ADD_FAILURE() << "a line run four times was compensated once";
-  } catch (const Error& e) {
-    EXPECT_EQ(e.kind(), ErrorKind::unsupported);
-    EXPECT_EQ(e.where().line, 5U);
-    EXPECT_NE(e.message().find("--flatten"), std::string::npos) << e.message();
-  }
+  const Error e =
+      test::error_of([&] { (void)compensate(kLoops, sample_machine("hmc-xyzb-geometric"), compensate::JobOptions{}); },
+                     "a line run four times was compensated once");
+  EXPECT_EQ(e.kind(), ErrorKind::unsupported);
+  EXPECT_EQ(e.where().line, 5U);
+  EXPECT_NE(e.message().find("--flatten"), std::string::npos) << e.message();
   compensate::JobOptions o;
   o.flatten = true;
   compensate::JobReport report;
@@ -82,15 +81,12 @@ TEST(FlattenJob, ARefusalInASubroutineNamesTheOriginalLine) {
       "o7 call [0]\no7 call [300]\no7 call [600]\nM30\n";
   compensate::JobOptions o;
   o.flatten = true;
-  try {
-    (void)compensate(program, sample_machine("hmc-xyzb-geometric"), o);
-    ADD_FAILURE() << "X600 was accepted";
-  } catch (const Error& e) {
-    EXPECT_EQ(e.kind(), ErrorKind::safety);
-    EXPECT_EQ(e.where().file, "in.ngc");
-    EXPECT_EQ(e.where().line, 5U) << e.message();
-    EXPECT_NE(e.message().find("600"), std::string::npos) << e.message();
-  }
+  const Error e =
+      test::error_of([&] { (void)compensate(program, sample_machine("hmc-xyzb-geometric"), o); }, "X600 was accepted");
+  EXPECT_EQ(e.kind(), ErrorKind::safety);
+  EXPECT_EQ(e.where().file, "in.ngc");
+  EXPECT_EQ(e.where().line, 5U) << e.message();
+  EXPECT_NE(e.message().find("600"), std::string::npos) << e.message();
 }
 
 TEST(FlattenJob, ASubroutineFileIsNotEditedInPlaceButFlattenedIn) {
@@ -103,15 +99,12 @@ TEST(FlattenJob, ASubroutineFileIsNotEditedInPlaceButFlattenedIn) {
   const model::MachineModel mm = sample_machine("hmc-xyzb-geometric");
   compensate::JobOptions o;
   o.interpreter.subroutine_path = {dir};
-  try {
-    (void)compensate(program, mm, o);
-    ADD_FAILURE() << "a subroutine file's line was compensated in place";
-  } catch (const Error& e) {
-    EXPECT_EQ(e.kind(), ErrorKind::unsupported);
-    EXPECT_EQ(e.where().file, dir + "/hole.ngc");
-    EXPECT_EQ(e.where().line, 2U);
-    EXPECT_NE(e.message().find("--flatten"), std::string::npos) << e.message();
-  }
+  const Error e =
+      test::error_of([&] { (void)compensate(program, mm, o); }, "a subroutine file's line was compensated in place");
+  EXPECT_EQ(e.kind(), ErrorKind::unsupported);
+  EXPECT_EQ(e.where().file, dir + "/hole.ngc");
+  EXPECT_EQ(e.where().line, 2U);
+  EXPECT_NE(e.message().find("--flatten"), std::string::npos) << e.message();
   o.flatten = true;
   const std::string output = compensate(program, mm, o);
   EXPECT_EQ(output.find("o<hole>"), std::string::npos) << output;

@@ -11,6 +11,7 @@
 #include "ccomp/compensate/program_job.hpp"
 #include "ccomp/compensate/verify.hpp"
 #include "ccomp/error.hpp"
+#include "error_of.hpp"
 #include "job_runner.hpp"
 #include "trace_capture.hpp"
 
@@ -115,15 +116,11 @@ TEST(NumberStyle, DecimalsAsToldForEveryCompensatedWordAndNoOtherLine) {
 TEST(NumberStyle, DecimalsTooCoarseForTheToleranceAreRefusedNamingBoth) {
   compensate::JobOptions o;
   o.decimals = 2;  // 5 um a place: 8.7 um on the tool, beyond 1 um
-  try {
-    (void)run(kProgram, o);
-    ADD_FAILURE() << "accepted 2 decimals at 1 um";
-  } catch (const Error& e) {
-    EXPECT_EQ(e.kind(), ErrorKind::usage);
-    EXPECT_NE(e.message().find("--decimals 2"), std::string::npos) << e.message();
-    EXPECT_NE(e.message().find("8.66 um"), std::string::npos) << e.message();
-    EXPECT_NE(e.message().find("tolerance of 1 um"), std::string::npos) << e.message();
-  }
+  const Error e = test::error_of([&] { (void)run(kProgram, o); }, "accepted 2 decimals at 1 um");
+  EXPECT_EQ(e.kind(), ErrorKind::usage);
+  EXPECT_NE(e.message().find("--decimals 2"), std::string::npos) << e.message();
+  EXPECT_NE(e.message().find("8.66 um"), std::string::npos) << e.message();
+  EXPECT_NE(e.message().find("tolerance of 1 um"), std::string::npos) << e.message();
   o.tolerance = 0.010;  // the same digits are fine at 10 um
   EXPECT_NO_THROW((void)run(kProgram, o));
 }

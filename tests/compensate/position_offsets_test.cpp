@@ -13,6 +13,7 @@
 #include "ccomp/compensate/verify.hpp"
 #include "ccomp/error.hpp"
 #include "ccomp/model/forward.hpp"
+#include "error_of.hpp"
 #include "job_runner.hpp"
 
 namespace ccomp::test {
@@ -58,14 +59,11 @@ TEST(PositionOffsets, WhatCannotBeRewrittenIsRefusedNamingTheLine) {
   const std::string head = "G21 G90 G54 T1 M6 G43 H1\nG0 X-50 Y-40 Z-60\nG0 X0 Y0\n" + std::string(kSquare);
   for (const std::string& block : {std::string("G10 L11 P1 X0 Z100\n"), std::string("G10 L20 P0 X0 Y0 R30\n"),
                                    std::string("G10 L20 P2 X0 Y0\n")}) {
-    try {
-      (void)compensate(head + block + "M30\n", mm, 0.001);
-      ADD_FAILURE() << block << "was not refused";
-    } catch (const Error& e) {
-      EXPECT_EQ(e.kind(), ErrorKind::unsupported) << e.what();
-      EXPECT_EQ(e.where().line, 10U) << e.what();
-      EXPECT_NE(e.message().find("sets an offset from where the machine is"), std::string::npos) << e.what();
-    }
+    const Error e =
+        test::error_of([&] { (void)compensate(head + block + "M30\n", mm, 0.001); }, block, "was not refused");
+    EXPECT_EQ(e.kind(), ErrorKind::unsupported) << e.what();
+    EXPECT_EQ(e.where().line, 10U) << e.what();
+    EXPECT_NE(e.message().find("sets an offset from where the machine is"), std::string::npos) << e.what();
   }
   // Before any compensated move the machine is where the original has it: nothing to do.
   const std::string early =

@@ -14,6 +14,7 @@
 #include "ccomp/error.hpp"
 #include "ccomp/identify/check.hpp"
 #include "ccomp/identify/simulate.hpp"
+#include "error_of.hpp"
 #include "sample_models.hpp"
 #include "trace_capture.hpp"
 
@@ -246,13 +247,9 @@ TEST(Fit, FewerReadingsThanFreeParametersIsAClearErrorNotACrash) {
   for (std::size_t rows : {1U, 5U, 7U, 40U}) {
     MeasurementSet few = all;
     few.observations.resize(rows);
-    try {
-      (void)fit(model::ForwardModel(truth), few);
-      ADD_FAILURE() << rows << " readings were fitted";
-    } catch (const Error& e) {
-      EXPECT_EQ(e.kind(), ErrorKind::data);
-      EXPECT_NE(e.message().find(fmt::format("{} readings cannot determine", rows)), std::string::npos) << e.message();
-    }
+    const Error e = test::error_of([&] { (void)fit(model::ForwardModel(truth), few); }, rows, " readings were fitted");
+    EXPECT_EQ(e.kind(), ErrorKind::data);
+    EXPECT_NE(e.message().find(fmt::format("{} readings cannot determine", rows)), std::string::npos) << e.message();
   }
   // With few free parameters, a handful of readings is fitted.
   std::string text = std::string(test::kHmcChain) + "terms:\n  - {name: EXX, value: 0, unit: um, fit: true}\n";

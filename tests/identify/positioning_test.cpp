@@ -6,6 +6,7 @@
 
 #include "ccomp/error.hpp"
 #include "ccomp/identify/simulate.hpp"
+#include "error_of.hpp"
 #include "trace_capture.hpp"
 
 namespace ccomp::identify {
@@ -69,13 +70,11 @@ TEST(Positioning, SeedTwoSplitsCumulativePeriodicAndReversal) {
 }
 
 TEST(Positioning, OneWayRunsAreRefused) {
-  try {
-    (void)analyse_positioning(read("x,y,z,vx,nx,ny,nz,d\n0,0,0,1,1,0,0,0.001\n10,0,0,1,1,0,0,0.001\n"), 0);
-    ADD_FAILURE() << "accepted";
-  } catch (const Error& e) {
-    EXPECT_EQ(e.kind(), ErrorKind::data);
-    EXPECT_NE(e.message().find("from both sides"), std::string::npos) << e.message();
-  }
+  const Error e = test::error_of(
+      [&] { (void)analyse_positioning(read("x,y,z,vx,nx,ny,nz,d\n0,0,0,1,1,0,0,0.001\n10,0,0,1,1,0,0,0.001\n"), 0); },
+      "accepted");
+  EXPECT_EQ(e.kind(), ErrorKind::data);
+  EXPECT_NE(e.message().find("from both sides"), std::string::npos) << e.message();
 }
 
 }  // namespace

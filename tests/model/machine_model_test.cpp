@@ -7,6 +7,7 @@
 
 #include "ccomp/error.hpp"
 #include "ccomp/model/machine.hpp"
+#include "error_of.hpp"
 #include "trace_capture.hpp"
 
 namespace ccomp::model {
@@ -143,16 +144,12 @@ TEST(MachineModel, AValueOfTheWrongTypeIsAModelErrorAtIt) {
         std::tuple{"name: m\naxes: {X: {}}\nsensors: [[1]]\n", 3U, 11U},
         std::tuple{"name: m\naxes: {X: {}}\nchain:\n  workpiece:\n    - {link: [X], axis: X}\n  tool: []\n", 5U,
                    14U}}) {
-    try {
-      (void)parse_machine_model(yaml, "m.yaml");
-      ADD_FAILURE() << "accepted: " << yaml;
-    } catch (const Error& e) {
-      EXPECT_EQ(e.kind(), ErrorKind::model) << yaml;
-      EXPECT_NE(e.message().find("single value"), std::string::npos) << e.message();
-      EXPECT_EQ(e.where().file, "m.yaml");
-      EXPECT_EQ(e.where().line, line) << yaml;
-      EXPECT_EQ(e.where().column, column) << yaml;
-    }
+    const Error e = test::error_of([&] { (void)parse_machine_model(yaml, "m.yaml"); }, "accepted: ", yaml);
+    EXPECT_EQ(e.kind(), ErrorKind::model) << yaml;
+    EXPECT_NE(e.message().find("single value"), std::string::npos) << e.message();
+    EXPECT_EQ(e.where().file, "m.yaml");
+    EXPECT_EQ(e.where().line, line) << yaml;
+    EXPECT_EQ(e.where().column, column) << yaml;
   }
 }
 

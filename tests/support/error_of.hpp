@@ -3,6 +3,7 @@
 // place; a call that throws none is a test failure (and an internal-kind error comes back).
 #include <gtest/gtest.h>
 
+#include <sstream>
 #include <string>
 #include <utility>
 
@@ -10,14 +11,17 @@
 
 namespace ccomp::test {
 
-template <typename Call>
-Error error_of(Call&& call, const std::string& what) {
+/// `what` says what was given, in parts streamed one after the other ("rows, \" readings\"").
+template <typename Call, typename... What>
+Error error_of(Call&& call, const What&... what) {
   try {
     std::forward<Call>(call)();
   } catch (const Error& e) {
     return e;
   }
-  ADD_FAILURE() << "accepted: " << what;
+  std::ostringstream said;
+  (said << ... << what);
+  ADD_FAILURE() << "accepted: " << said.str();
   return Error(ErrorKind::internal, "accepted");
 }
 
