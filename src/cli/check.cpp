@@ -9,6 +9,7 @@
 #include "ccomp/compensate/program_job.hpp"
 #include "ccomp/compensate/verify.hpp"
 #include "ccomp/error.hpp"
+#include "ccomp/model/model_file.hpp"
 #include "commands.hpp"
 
 namespace ccomp::cli {

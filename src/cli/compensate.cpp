@@ -13,6 +13,7 @@
 
 #include "ccomp/compensate/program_job.hpp"
 #include "ccomp/error.hpp"
+#include "ccomp/model/model_file.hpp"
 #include "ccomp/util/parallel.hpp"
 #include "commands.hpp"
 #include "output_file.hpp"

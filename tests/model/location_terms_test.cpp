@@ -10,6 +10,7 @@
 
 #include "ccomp/error.hpp"
 #include "ccomp/model/forward.hpp"
+#include "ccomp/model/model_file.hpp"
 #include "sample_models.hpp"
 
 namespace ccomp::model {
