@@ -11,6 +11,7 @@
 
 #include "ccomp/compensate/inverse.hpp"
 #include "ccomp/model/forward.hpp"
+#include "ccomp/model/model_file.hpp"
 
 namespace {
 

@@ -12,6 +12,7 @@
 
 #include "ccomp/identify/diagnose.hpp"
 #include "ccomp/identify/fit.hpp"
+#include "ccomp/model/model_file.hpp"
 
 namespace {
 

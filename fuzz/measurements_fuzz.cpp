@@ -7,6 +7,7 @@
 
 #include "ccomp/identify/measurements.hpp"
 #include "ccomp/model/machine.hpp"
+#include "ccomp/model/model_file.hpp"
 #include "fuzz_outcome.hpp"
 
 namespace {

@@ -7,6 +7,7 @@
 
 #include "ccomp/model/forward.hpp"
 #include "ccomp/model/machine.hpp"
+#include "ccomp/model/model_file.hpp"
 #include "fuzz_outcome.hpp"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {

@@ -16,6 +16,7 @@
 #include "ccomp/model/error_term.hpp"
 #include "ccomp/model/forward.hpp"
 #include "ccomp/model/machine.hpp"
+#include "ccomp/model/model_file.hpp"
 #include "random_chain.hpp"
 #include "sample_models.hpp"
 #include "term_shapes.hpp"

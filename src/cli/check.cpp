@@ -2,13 +2,14 @@
 // left on a compensated program), against the machine model.
 #include <fmt/format.h>
 
-#include <algorithm>
 #include <cmath>
 #include <optional>
 
 #include "ccomp/compensate/program_job.hpp"
 #include "ccomp/compensate/verify.hpp"
 #include "ccomp/error.hpp"
+#include "ccomp/model/conditions.hpp"
+#include "ccomp/model/model_file.hpp"
 #include "commands.hpp"
 
 namespace ccomp::cli {
@@ -27,23 +28,9 @@ compensate::CheckOptions check_options(const CheckArgs& args, const model::Machi
   compensate::CheckOptions o;
   o.interpreter = interpreter_options(args.program, m.dialect);
   o.samples = args.samples;
-  o.conditions.time = args.time;
-  o.conditions.temperatures.assign(m.sensors.size(), std::nan(""));
-  for (const std::string& s : args.sensors) {
-    const auto eq = s.find('=');
-    const auto it =
-        eq == std::string::npos ? m.sensors.end() : std::find(m.sensors.begin(), m.sensors.end(), s.substr(0, eq));
-    if (it == m.sensors.end())
-      throw Error(ErrorKind::usage, "--sensor " + s + ": not NAME=DEGC of a sensor of the model");
-    o.conditions.temperatures[static_cast<std::size_t>(it - m.sensors.begin())] = std::stod(s.substr(eq + 1));
-  }
   // As the main job: a thermal term needs its reading (the same one the program was
   // compensated with, or the check proves nothing).
-  for (const model::ErrorTermSpec& t : m.terms)
-    for (const model::Variable* v : {&t.primary, &t.secondary})
-      if (v->kind == model::VariableKind::temperature && std::isnan(o.conditions.temperatures[v->index]))
-        throw Error(ErrorKind::usage, fmt::format("term {} depends on sensor '{}': give --sensor {}=DEGC", t.name,
-                                                  m.sensors[v->index], m.sensors[v->index]));
+  o.conditions = model::conditions_for(m, model::parse_sensor_readings(args.sensors), args.time);
   return o;
 }
 

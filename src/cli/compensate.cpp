@@ -3,9 +3,7 @@
 
 #include <algorithm>
 #include <atomic>
-#include <cmath>
 #include <cstdio>
-#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <mutex>
@@ -13,6 +11,8 @@
 
 #include "ccomp/compensate/program_job.hpp"
 #include "ccomp/error.hpp"
+#include "ccomp/model/conditions.hpp"
+#include "ccomp/model/model_file.hpp"
 #include "ccomp/util/parallel.hpp"
 #include "commands.hpp"
 #include "output_file.hpp"
@@ -152,14 +152,7 @@ int run_compensate(const CompensateArgs& args) {
   options.decimals = args.decimals;
   options.rotary_decimals = args.rotary_decimals;
   options.time = args.time;
-  for (const std::string& s : args.sensors) {
-    const auto eq = s.find('=');
-    char* end = nullptr;
-    const double v = eq == std::string::npos ? 0.0 : std::strtod(s.c_str() + eq + 1, &end);
-    if (eq == std::string::npos || eq == 0 || !end || *end != '\0' || !std::isfinite(v))
-      throw Error(ErrorKind::usage, "--sensor takes NAME=DEGC, not '" + s + "'");
-    options.sensors.emplace_back(s.substr(0, eq), v);
-  }
+  options.sensors = model::parse_sensor_readings(args.sensors);
 
   // Nothing of the user's is overwritten: no output is an input, the model or the tool
   // table, or a link, device or FIFO; no two outputs are one file.
@@ -224,6 +217,9 @@ int run_compensate(const CompensateArgs& args) {
   const int threads = std::clamp(args.jobs, 1, static_cast<int>(targets.size()));
   options.threads = args.threads > 0 ? args.threads : util::hardware_threads() >= 2 * threads ? 2 : 1;
   compensate::validate(options);
+  // A sensor mistake is refused here, once and before any program is read, as predict and
+  // verify refuse it; the job builds the same conditions again for itself.
+  (void)model::conditions_for(model, options.sensors, options.time);
   std::vector<std::thread> pool;
   for (int i = 1; i < threads; ++i) pool.emplace_back(worker);
   worker();

@@ -14,6 +14,7 @@
 #include "ccomp/identify/nine_line.hpp"
 #include "ccomp/identify/positioning.hpp"
 #include "ccomp/identify/simulate.hpp"
+#include "ccomp/model/model_file.hpp"
 #include "ccomp/report/html_report.hpp"
 #include "commands.hpp"
 #include "output_file.hpp"

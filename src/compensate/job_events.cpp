@@ -8,6 +8,7 @@
 #include "canned_cycles.hpp"
 #include "ccomp/error.hpp"
 #include "ccomp/model/chain_values.hpp"
+#include "ccomp/model/conditions.hpp"
 #include "job_guards.hpp"
 #include "move_pipeline.hpp"
 #include "move_rewriter.hpp"
@@ -21,25 +22,11 @@ using model::chain_of;
 namespace {
 
 /// The compensation's options from the job's: the tolerance, and the conditions the
-/// thermal terms are evaluated at.
+/// thermal terms are evaluated at (model/conditions.hpp checks the readings).
 CompensationOptions compensation_options(const model::MachineModel& model, const JobOptions& options) {
   CompensationOptions c;
   c.tolerance = options.tolerance;
-  c.conditions.time = options.time;
-  c.conditions.temperatures.assign(model.sensors.size(), std::nan(""));
-  for (const auto& [name, value] : options.sensors) {
-    const auto it = std::find(model.sensors.begin(), model.sensors.end(), name);
-    if (it == model.sensors.end())
-      throw Error(ErrorKind::usage,
-                  fmt::format("--sensor {}: machine '{}' has no sensor of that name", name, model.name));
-    c.conditions.temperatures[static_cast<std::size_t>(it - model.sensors.begin())] = value;
-  }
-  for (const model::ErrorTermSpec& t : model.terms)
-    for (const model::Variable* v : {&t.primary, &t.secondary})
-      if (v->kind == model::VariableKind::temperature && std::isnan(c.conditions.temperatures[v->index]))
-        throw Error(ErrorKind::safety,
-                    fmt::format("term {} depends on sensor '{}', and no reading was given: --sensor {}=VALUE", t.name,
-                                model.sensors[v->index], model.sensors[v->index]));
+  c.conditions = model::conditions_for(model, options.sensors, options.time);
   return c;
 }
 

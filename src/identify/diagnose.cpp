@@ -19,6 +19,7 @@
 #include "ccomp/identify/next_measurement.hpp"
 #include "ccomp/identify/physical_scale.hpp"
 #include "ccomp/model/machine.hpp"
+#include "ccomp/model/model_file.hpp"
 #include "ccomp/util/parallel.hpp"
 #include "held_out.hpp"
 

@@ -109,6 +109,91 @@ std::size_t parameter_count(const TermShape& s) {
   return 0;
 }
 
+namespace {
+
+void evaluate_polynomial(const TermShape& s, const Eigen::Ref<const Eigen::VectorXd>& p, double v, bool grad,
+                         TermValue& r) {
+  double power = 1.0, previous = 0.0;  // v^k and v^(k-1)
+  for (int k = 0; k <= s.order; ++k) {
+    r.value += p[k] * power;
+    r.d_primary += k * p[k] * previous;
+    if (grad) r.d_parameters[k] = power;
+    previous = power;
+    power *= v;
+  }
+}
+
+/// The first harmonic's cosine and sine, turned from the reference phase when it is near;
+/// the higher harmonics by the angle-sum recurrence.
+void evaluate_periodic(const TermShape& s, const Eigen::Ref<const Eigen::VectorXd>& p, double v, bool grad,
+                       TermValue& r) {
+  const double period = p[0];
+  const double phase1 = kTwoPi * v / period;
+  double c1 = 0.0, s1 = 0.0;
+  first_harmonic(phase1, r, c1, s1);
+  double c = 1.0, sn = 0.0;  // cos and sin of k phase1
+  for (int k = 1; k <= s.order; ++k) {
+    const double a = p[2 * k - 1], b = p[2 * k];
+    const double phase = k * phase1;
+    const double c_next = c * c1 - sn * s1;
+    sn = sn * c1 + c * s1;
+    c = c_next;
+    r.value += a * c + b * sn;
+    const double d_phase = -a * sn + b * c;  // d(value)/d(phase)
+    r.d_primary += d_phase * kTwoPi * k / period;
+    if (grad) {
+      r.d_parameters[2 * k - 1] = c;
+      r.d_parameters[2 * k] = sn;
+      r.d_parameters[0] += d_phase * (-phase / period);
+    }
+  }
+}
+
+void evaluate_warmup(const Eigen::Ref<const Eigen::VectorXd>& p, double v, bool grad, TermValue& r) {
+  const double amplitude = p[0], tau = p[1];
+  const double e = std::exp(-v / tau);
+  r.value = amplitude * (1.0 - e);
+  r.d_primary = amplitude * e / tau;
+  if (grad) {
+    r.d_parameters[0] = 1.0 - e;
+    r.d_parameters[1] = -amplitude * e * v / (tau * tau);
+  }
+}
+
+void evaluate_bump(const Eigen::Ref<const Eigen::VectorXd>& p, double v, bool grad, TermValue& r) {
+  // A (amplitude), c (where), w (how wide: one standard deviation of the bell).
+  const double amplitude = p[0], centre = p[1], width = p[2];
+  const double u = (v - centre) / width, g = std::exp(-0.5 * u * u);
+  r.value = amplitude * g;
+  r.d_primary = -amplitude * g * u / width;
+  if (grad) {
+    r.d_parameters[0] = g;
+    r.d_parameters[1] = amplitude * g * u / width;
+    r.d_parameters[2] = amplitude * g * u * u / width;
+  }
+}
+
+void evaluate_cross_axis(const TermShape& s, const Eigen::Ref<const Eigen::VectorXd>& p, double v, double w, bool grad,
+                         TermValue& r) {
+  Eigen::Index index = 0;
+  double ui = 1.0, ui_1 = 0.0;  // v^i and v^(i-1)
+  for (int i = 0; i <= s.order_primary; ++i) {
+    double wj_1 = 1.0;  // w^(j-1)
+    for (int j = 1; j <= s.order; ++j, ++index) {
+      const double wj = wj_1 * w;
+      r.value += p[index] * ui * wj;
+      r.d_primary += p[index] * i * ui_1 * wj;
+      r.d_secondary += p[index] * ui * j * wj_1;
+      if (grad) r.d_parameters[index] = ui * wj;
+      wj_1 = wj;
+    }
+    ui_1 = ui;
+    ui *= v;
+  }
+}
+
+}  // namespace
+
 TermValue evaluate(const TermShape& s, const Eigen::VectorXd& p, const TermInputs& in, bool grad) {
   TermValue r;
   evaluate(s, p, in, grad, r);
@@ -128,45 +213,15 @@ void evaluate(const TermShape& s, const Eigen::Ref<const Eigen::VectorXd>& p, co
       r.value = p[0];
       if (grad) r.d_parameters[0] = 1.0;
       break;
-    case TermForm::polynomial: {
-      double power = 1.0, previous = 0.0;  // v^k and v^(k-1)
-      for (int k = 0; k <= s.order; ++k) {
-        r.value += p[k] * power;
-        r.d_primary += k * p[k] * previous;
-        if (grad) r.d_parameters[k] = power;
-        previous = power;
-        power *= v;
-      }
+    case TermForm::polynomial:
+      evaluate_polynomial(s, p, v, grad, r);
       break;
-    }
     case TermForm::table:
       evaluate_table(s, p, v, grad, r);
       break;
-    case TermForm::periodic: {
-      const double period = p[0];
-      // The first harmonic's cosine and sine, turned from the reference phase when it is
-      // near; the higher harmonics by the angle-sum recurrence.
-      const double phase1 = kTwoPi * v / period;
-      double c1 = 0.0, s1 = 0.0;
-      first_harmonic(phase1, r, c1, s1);
-      double c = 1.0, sn = 0.0;  // cos and sin of k phase1
-      for (int k = 1; k <= s.order; ++k) {
-        const double a = p[2 * k - 1], b = p[2 * k];
-        const double phase = k * phase1;
-        const double c_next = c * c1 - sn * s1;
-        sn = sn * c1 + c * s1;
-        c = c_next;
-        r.value += a * c + b * sn;
-        const double d_phase = -a * sn + b * c;  // d(value)/d(phase)
-        r.d_primary += d_phase * kTwoPi * k / period;
-        if (grad) {
-          r.d_parameters[2 * k - 1] = c;
-          r.d_parameters[2 * k] = sn;
-          r.d_parameters[0] += d_phase * (-phase / period);
-        }
-      }
+    case TermForm::periodic:
+      evaluate_periodic(s, p, v, grad, r);
       break;
-    }
     case TermForm::reversal:
       // Half the reversal on each side: the two approach directions differ by r.
       r.value = 0.5 * p[0] * v;
@@ -178,17 +233,9 @@ void evaluate(const TermShape& s, const Eigen::Ref<const Eigen::VectorXd>& p, co
       r.d_primary = p[0];
       if (grad) r.d_parameters[0] = v - s.reference;
       break;
-    case TermForm::thermal_warmup: {
-      const double amplitude = p[0], tau = p[1];
-      const double e = std::exp(-v / tau);
-      r.value = amplitude * (1.0 - e);
-      r.d_primary = amplitude * e / tau;
-      if (grad) {
-        r.d_parameters[0] = 1.0 - e;
-        r.d_parameters[1] = -amplitude * e * v / (tau * tau);
-      }
+    case TermForm::thermal_warmup:
+      evaluate_warmup(p, v, grad, r);
       break;
-    }
     case TermForm::scale_expansion: {
       const double dT = in.secondary - s.reference;
       r.value = p[0] * v * dT;
@@ -197,38 +244,12 @@ void evaluate(const TermShape& s, const Eigen::Ref<const Eigen::VectorXd>& p, co
       if (grad) r.d_parameters[0] = v * dT;
       break;
     }
-    case TermForm::bump: {
-      // A (amplitude), c (where), w (how wide: one standard deviation of the bell).
-      const double amplitude = p[0], centre = p[1], width = p[2];
-      const double u = (v - centre) / width, g = std::exp(-0.5 * u * u);
-      r.value = amplitude * g;
-      r.d_primary = -amplitude * g * u / width;
-      if (grad) {
-        r.d_parameters[0] = g;
-        r.d_parameters[1] = amplitude * g * u / width;
-        r.d_parameters[2] = amplitude * g * u * u / width;
-      }
+    case TermForm::bump:
+      evaluate_bump(p, v, grad, r);
       break;
-    }
-    case TermForm::cross_axis: {
-      const double w = in.secondary;
-      Eigen::Index index = 0;
-      double ui = 1.0, ui_1 = 0.0;  // v^i and v^(i-1)
-      for (int i = 0; i <= s.order_primary; ++i) {
-        double wj_1 = 1.0;  // w^(j-1)
-        for (int j = 1; j <= s.order; ++j, ++index) {
-          const double wj = wj_1 * w;
-          r.value += p[index] * ui * wj;
-          r.d_primary += p[index] * i * ui_1 * wj;
-          r.d_secondary += p[index] * ui * j * wj_1;
-          if (grad) r.d_parameters[index] = ui * wj;
-          wj_1 = wj;
-        }
-        ui_1 = ui;
-        ui *= v;
-      }
+    case TermForm::cross_axis:
+      evaluate_cross_axis(s, p, v, in.secondary, grad, r);
       break;
-    }
   }
 }
 

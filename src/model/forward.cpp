@@ -30,84 +30,92 @@ double link_sign(int side, const ErrorTermSpec& t) {
   return side == 0 ? -1.0 : 1.0;
 }
 
-}  // namespace
-
-ForwardModel::ForwardModel(const MachineModel& model) : machine_(model) {
-  chain_.nq = kChainVariables;
-  auto build = [&](const std::vector<LinkSpec>& links, kinematics::Chain& chain) {
-    for (const LinkSpec& l : links) {
-      Joint j;
-      j.name = l.name;
-      j.placement = Pose::translation(l.offset);
-      j.direction = l.direction;
-      if (l.tool) {
-        j.type = JointType::linear;  // the tool length is an axis of its own: L along the tool
-        j.axis = kToolLengthIndex;
-      } else if (l.axis) {
-        const auto* a = machine_.axis(*l.axis);
-        j.type = a && a->type == AxisType::rotary ? JointType::rotary : JointType::linear;
-        j.axis = std::string_view("XYZABCUVW").find(*l.axis);
-      }
-      chain.joints.push_back(j);
+/// The chain's joints for `links`: a linear or rotary joint per moving link, the tool
+/// length as an axis of its own, a fixed joint for the rest.
+void add_joints(const MachineModel& machine, const std::vector<LinkSpec>& links, kinematics::Chain& chain) {
+  for (const LinkSpec& l : links) {
+    Joint j;
+    j.name = l.name;
+    j.placement = Pose::translation(l.offset);
+    j.direction = l.direction;
+    if (l.tool) {
+      j.type = JointType::linear;  // the tool length is an axis of its own: L along the tool
+      j.axis = kToolLengthIndex;
+    } else if (l.axis) {
+      const auto* a = machine.axis(*l.axis);
+      j.type = a && a->type == AxisType::rotary ? JointType::rotary : JointType::linear;
+      j.axis = std::string_view("XYZABCUVW").find(*l.axis);
     }
-  };
-  build(machine_.workpiece_chain, chain_.workpiece);
-  build(machine_.tool_chain, chain_.tool);
-  // The workpiece point: the table frame itself (program coordinates are table coordinates).
-  chain_.workpiece.joints.push_back(Joint{"p", JointType::fixed, 0, Eigen::Vector3d::UnitX(), Pose{}});
-  for (const ErrorTermSpec& t : machine_.terms) {
-    Site s;
-    bool found = false;
-    for (int side = 0; side < 2 && !found; ++side) {
-      const auto& joints = side == 0 ? chain_.workpiece.joints : chain_.tool.joints;
-      for (std::size_t j = 0; j < joints.size() && !found; ++j)
-        if (joints[j].name == t.link) s = Site{side, j}, found = true;
-    }
-    if (!found) throw Error(ErrorKind::model, fmt::format("term {}: no link {} in the chains", t.name, t.link));
-    sites_.push_back(s);
-    auto variable_slot = [](const Variable& v) -> std::int16_t {
-      switch (v.kind) {
-        case VariableKind::axis:
-          return static_cast<std::int16_t>(v.index);
-        case VariableKind::tool_length:
-          return static_cast<std::int16_t>(kToolLengthIndex);
-        case VariableKind::time:
-          return static_cast<std::int16_t>(kTimeVariable);
-        case VariableKind::direction:
-          return static_cast<std::int16_t>(kFirstDirectionVariable + v.index);
-        case VariableKind::temperature:
-          return static_cast<std::int16_t>(kFirstTemperatureVariable + v.index);
-        case VariableKind::none:
-          break;
-      }
-      return -1;
-    };
-    TermSlot slot;
-    slot.form = t.shape.form;
-    slot.primary = variable_slot(t.primary);
-    slot.secondary = variable_slot(t.secondary);
-    slot.on_axes = (slot.primary >= 0 && slot.primary < static_cast<int>(kChainVariables)) ||
-                   (slot.secondary >= 0 && slot.secondary < static_cast<int>(kChainVariables));
-    slot.offset = parameter_count_;
-    const std::size_t link = s.side == 0 ? s.joint : chain_.workpiece.joints.size() + s.joint;
-    const bool location = t.placement == ErrorPlacement::location;
-    slot.error_index = kLinkErrorSize * link + (location ? 6 : 0) + static_cast<std::size_t>(t.component);
-    slot.sign = link_sign(s.side, t);
-    slot.order = t.shape.order;
-    if (slot.on_axes && slot.form == TermForm::periodic)
-      for (const std::size_t j : on_axes_terms_)
-        if (slots_[j].form == TermForm::periodic && slots_[j].primary == slot.primary &&
-            machine_.terms[j].parameters[0] == t.parameters[0]) {
-          slot.phase_source = static_cast<std::int32_t>(j);
-          break;
-        }
-    if (slot.on_axes) on_axes_terms_.push_back(slots_.size());
-    slots_.push_back(slot);
-    offsets_.push_back(parameter_count_);
-    parameter_count_ += static_cast<std::size_t>(t.parameters.size());
+    chain.joints.push_back(j);
   }
-  feature_ = ChainQ::Constant(std::numeric_limits<double>::infinity());
-  for (const ErrorTermSpec& t : machine_.terms) {
+}
+
+/// Where term t's error enters the chains: its link's side and joint.
+ForwardModel::Site site_of(const kinematics::ChainModel& chain, const ErrorTermSpec& t) {
+  for (int side = 0; side < 2; ++side) {
+    const auto& joints = side == 0 ? chain.workpiece.joints : chain.tool.joints;
+    for (std::size_t j = 0; j < joints.size(); ++j)
+      if (joints[j].name == t.link) return ForwardModel::Site{side, j};
+  }
+  throw Error(ErrorKind::model, fmt::format("term {}: no link {} in the chains", t.name, t.link));
+}
+
+/// A variable's index into forward()'s vector of variables (ForwardModel::TermSlot); -1
+/// for none.
+std::int16_t variable_slot(const Variable& v) {
+  switch (v.kind) {
+    case VariableKind::axis:
+      return static_cast<std::int16_t>(v.index);
+    case VariableKind::tool_length:
+      return static_cast<std::int16_t>(kToolLengthIndex);
+    case VariableKind::time:
+      return static_cast<std::int16_t>(ForwardModel::kTimeVariable);
+    case VariableKind::direction:
+      return static_cast<std::int16_t>(ForwardModel::kFirstDirectionVariable + v.index);
+    case VariableKind::temperature:
+      return static_cast<std::int16_t>(ForwardModel::kFirstTemperatureVariable + v.index);
+    case VariableKind::none:
+      break;
+  }
+  return -1;
+}
+
+/// Term t's slot, at site s, its parameters from `offset` on (phase_source left at none).
+ForwardModel::TermSlot slot_of(const kinematics::ChainModel& chain, const ForwardModel::Site& s, const ErrorTermSpec& t,
+                               std::size_t offset) {
+  ForwardModel::TermSlot slot;
+  slot.form = t.shape.form;
+  slot.primary = variable_slot(t.primary);
+  slot.secondary = variable_slot(t.secondary);
+  slot.on_axes = (slot.primary >= 0 && slot.primary < static_cast<int>(kChainVariables)) ||
+                 (slot.secondary >= 0 && slot.secondary < static_cast<int>(kChainVariables));
+  slot.offset = offset;
+  const std::size_t link = s.side == 0 ? s.joint : chain.workpiece.joints.size() + s.joint;
+  const bool location = t.placement == ErrorPlacement::location;
+  slot.error_index = kLinkErrorSize * link + (location ? 6 : 0) + static_cast<std::size_t>(t.component);
+  slot.sign = link_sign(s.side, t);
+  slot.order = t.shape.order;
+  return slot;
+}
+
+/// An earlier periodic term on the axes of the same variable and period as `slot` (term
+/// t): the one whose phase it can take; -1 for none.
+std::int32_t phase_source(const std::vector<ForwardModel::TermSlot>& slots, const std::vector<std::size_t>& on_axes,
+                          const std::vector<ErrorTermSpec>& terms, const ForwardModel::TermSlot& slot,
+                          const ErrorTermSpec& t) {
+  if (!slot.on_axes || slot.form != TermForm::periodic) return -1;
+  for (const std::size_t j : on_axes)
+    if (slots[j].form == TermForm::periodic && slots[j].primary == slot.primary &&
+        terms[j].parameters[0] == t.parameters[0])
+      return static_cast<std::int32_t>(j);
+  return -1;
+}
+
+/// The shortest error feature along each chain variable (mm, rad), or +inf: what
+/// check_points() spaces its points by.
+ChainQ shortest_features(const std::vector<ErrorTermSpec>& terms) {
+  ChainQ shortest = ChainQ::Constant(std::numeric_limits<double>::infinity());
+  for (const ErrorTermSpec& t : terms) {
     if (t.primary.kind != VariableKind::axis) continue;
     double feature = std::numeric_limits<double>::infinity();
     if (t.shape.form == TermForm::periodic)
@@ -116,26 +124,65 @@ ForwardModel::ForwardModel(const MachineModel& model) : machine_(model) {
       for (std::size_t k = 1; k < t.shape.knots.size(); ++k)
         feature = std::min(feature, (t.shape.knots[k] - t.shape.knots[k - 1]) / 4.0);
     if (t.shape.form == TermForm::bump) feature = std::abs(t.parameters[2]) / 4.0;  // a quarter of its width
-    auto& f = feature_[static_cast<Eigen::Index>(t.primary.index)];
+    auto& f = shortest[static_cast<Eigen::Index>(t.primary.index)];
     f = std::min(f, std::abs(feature));
   }
-  // An axis' lost motion is its own positioning reversal: a term on the axis' link, along
-  // (or about) the axis' direction, switched by that axis' approach.
+  return shortest;
+}
+
+/// The reversal terms of each axis: which axes have any, their summed sizes, and the axis'
+/// lost motion.
+struct Reversals {
+  unsigned axes = 0;
+  std::array<double, 9> size{}, lost_motion{};
+};
+
+/// An axis' lost motion is its own positioning reversal: a term on the axis' link, along
+/// (or about) the axis' direction, switched by that axis' approach.
+Reversals reversals_of(const std::vector<ErrorTermSpec>& terms, const std::vector<ForwardModel::Site>& sites,
+                       const kinematics::ChainModel& chain) {
+  Reversals r;
   std::array<double, 9> own_reversal{};
-  for (std::size_t i = 0; i < machine_.terms.size(); ++i) {
-    const ErrorTermSpec& t = machine_.terms[i];
+  for (std::size_t i = 0; i < terms.size(); ++i) {
+    const ErrorTermSpec& t = terms[i];
     if (t.shape.form != TermForm::reversal || t.primary.kind != VariableKind::direction) continue;
-    reversal_axes_ |= 1U << t.primary.index;
-    reversal_size_[t.primary.index] += std::abs(t.parameters[0]);
-    const auto& joints = sites_[i].side == 0 ? chain_.workpiece.joints : chain_.tool.joints;
-    const Joint& j = joints[sites_[i].joint];
+    r.axes |= 1U << t.primary.index;
+    r.size[t.primary.index] += std::abs(t.parameters[0]);
+    const auto& joints = sites[i].side == 0 ? chain.workpiece.joints : chain.tool.joints;
+    const Joint& j = joints[sites[i].joint];
     if (j.type == JointType::fixed || j.axis != t.primary.index) continue;
     Eigen::Index along = 0;
     j.direction.cwiseAbs().maxCoeff(&along);
     if (t.component == static_cast<int>(along) + (j.type == JointType::rotary ? 3 : 0))
       own_reversal[t.primary.index] += t.parameters[0];
   }
-  for (std::size_t i = 0; i < lost_motion_.size(); ++i) lost_motion_[i] = std::abs(own_reversal[i]);
+  for (std::size_t i = 0; i < r.lost_motion.size(); ++i) r.lost_motion[i] = std::abs(own_reversal[i]);
+  return r;
+}
+
+}  // namespace
+
+ForwardModel::ForwardModel(const MachineModel& model) : machine_(model) {
+  chain_.nq = kChainVariables;
+  add_joints(machine_, machine_.workpiece_chain, chain_.workpiece);
+  add_joints(machine_, machine_.tool_chain, chain_.tool);
+  // The workpiece point: the table frame itself (program coordinates are table coordinates).
+  chain_.workpiece.joints.push_back(Joint{"p", JointType::fixed, 0, Eigen::Vector3d::UnitX(), Pose{}});
+  for (const ErrorTermSpec& t : machine_.terms) {
+    const Site s = site_of(chain_, t);
+    sites_.push_back(s);
+    TermSlot slot = slot_of(chain_, s, t, parameter_count_);
+    slot.phase_source = phase_source(slots_, on_axes_terms_, machine_.terms, slot, t);
+    if (slot.on_axes) on_axes_terms_.push_back(slots_.size());
+    slots_.push_back(slot);
+    offsets_.push_back(parameter_count_);
+    parameter_count_ += static_cast<std::size_t>(t.parameters.size());
+  }
+  feature_ = shortest_features(machine_.terms);
+  const Reversals reversals = reversals_of(machine_.terms, sites_, chain_);
+  reversal_axes_ = reversals.axes;
+  reversal_size_ = reversals.size;
+  lost_motion_ = reversals.lost_motion;
 }
 
 int ForwardModel::check_points(const ChainQ& a, const ChainQ& b, int minimum, int maximum) const {
@@ -284,128 +331,132 @@ KeyMatch update_variables(const ForwardModel& model, ForwardData& d, const Chain
 
 }  // namespace
 
-void forward(const ForwardModel& model, ForwardData& d, const ChainQ& q, const Conditions& c, bool jacobians,
-             Evaluate which, bool parameter_jacobian) {
-  if (which == Evaluate::nominal) {  // the perfect machine: no terms to evaluate
-    kinematics::nominal_poses(model.chain(), d.nominal_chain, q);
-    d.nominal = d.nominal_chain.E.t;
-    d.R_nominal = d.nominal_chain.E.R;
-    return;
-  }
+namespace {
+
+/// Evaluates every term with its derivatives (for the Jacobians) and sums the values per
+/// link component into d.errors.
+void evaluate_terms_with_derivatives(const ForwardModel& model, ForwardData& d, const ChainQ& q, const Conditions& c,
+                                     bool gradient) {
   const auto& terms = model.machine().terms;
   const auto& slots = model.slots();
-  // Term values, summed per link component (delta x y z in mm, epsilon a b c in rad).
-  std::fill(d.errors.begin(), d.errors.end(), 0.0);
-  // Location terms are constants: their poses change only with the parameters and the
-  // conditions (or after an evaluation with Jacobians, which keeps no key).
-  bool locations_stale = true;
-  if (jacobians) {
-    const bool gradient = parameter_jacobian;
-    for (std::size_t i = 0; i < terms.size(); ++i) {
-      const ErrorTermSpec& t = terms[i];
-      const TermInputs in{variable_value(t.primary, q, c), variable_value(t.secondary, q, c)};
-      const auto params =
-          d.parameters.segment(static_cast<Eigen::Index>(model.parameter_offset(i)), t.parameters.size());
-      evaluate(t.shape, params, in, gradient, d.values[i]);
-      d.evaluated_inputs[i] = in;
-      d.errors[slots[i].error_index] += slots[i].sign * d.values[i].value;
-    }
-    d.key_valid = false;  // the values were evaluated with parameters it does not record
-  } else {
-    // The forward model runs this at every point the compensation checks: the terms off the
-    // axes are summed once for the conditions and parameters, the others at each point.
-    auto inputs = [&](const ForwardModel::TermSlot& s) {
-      return TermInputs{s.primary >= 0 ? d.variables[static_cast<std::size_t>(s.primary)] : 0.0,
-                        s.secondary >= 0 ? d.variables[static_cast<std::size_t>(s.secondary)] : 0.0};
-    };
-    const KeyMatch same = update_variables(model, d, q, c);
-    locations_stale = !same.conditions || !same.parameters;
-    if (!same.conditions || !same.parameters) {
-      std::fill(d.off_axes_errors.begin(), d.off_axes_errors.end(), 0.0);
-      for (std::size_t i = 0; i < terms.size(); ++i)
-        if (!slots[i].on_axes)
-          d.off_axes_errors[slots[i].error_index] +=
-              slots[i].sign * term_value(terms[i], slots[i].offset, d, i, inputs(slots[i]), same.parameters);
-    }
-    d.errors = d.off_axes_errors;
-    const double* parameters = d.parameters.data();
-    for (const std::size_t i : model.on_axes_terms()) {
-      const ForwardModel::TermSlot& s = slots[i];
-      double value = 0.0;
-      if (s.form == TermForm::polynomial) {  // Horner, as inline_value() does
-        const double v = d.variables[static_cast<std::size_t>(s.primary)];
-        const double* p = parameters + s.offset;
-        value = p[s.order];
-        for (int k = s.order - 1; k >= 0; --k) value = value * v + p[k];
-      } else if (s.form == TermForm::periodic) {  // a lead screw's error: its value alone
-        const double v = d.variables[static_cast<std::size_t>(s.primary)];
-        TermInputs& last = d.evaluated_inputs[i];
-        if (!same.parameters || v != last.primary || last.secondary != 0.0) {
-          const double* p = parameters + s.offset;
-          PeriodicPhase& phase = d.phases[i];
-          const PeriodicPhase* shared =
-              s.phase_source >= 0 ? &d.phases[static_cast<std::size_t>(s.phase_source)] : nullptr;
-          if (shared && shared->at == v && shared->period == p[0])
-            phase = *shared;
-          else
-            periodic_phase(p[0], v, d.values[i], phase);
-          d.values[i].value = periodic_sum(p, s.order, phase);
-          last = TermInputs{v, 0.0};
-        }
-        value = d.values[i].value;
-      } else {
-        value = term_value(terms[i], s.offset, d, i, inputs(s), same.parameters);
-      }
-      d.errors[s.error_index] += s.sign * value;
-    }
+  for (std::size_t i = 0; i < terms.size(); ++i) {
+    const ErrorTermSpec& t = terms[i];
+    const TermInputs in{variable_value(t.primary, q, c), variable_value(t.secondary, q, c)};
+    const auto params = d.parameters.segment(static_cast<Eigen::Index>(model.parameter_offset(i)), t.parameters.size());
+    evaluate(t.shape, params, in, gradient, d.values[i]);
+    d.evaluated_inputs[i] = in;
+    d.errors[slots[i].error_index] += slots[i].sign * d.values[i].value;
   }
+  d.key_valid = false;  // the values were evaluated with parameters it does not record
+}
+
+TermInputs slot_inputs(const ForwardData& d, const ForwardModel::TermSlot& s) {
+  return TermInputs{s.primary >= 0 ? d.variables[static_cast<std::size_t>(s.primary)] : 0.0,
+                    s.secondary >= 0 ? d.variables[static_cast<std::size_t>(s.secondary)] : 0.0};
+}
+
+/// The value of term i, one that depends on the axes, at d's variables.
+double on_axes_value(const ForwardModel& model, ForwardData& d, std::size_t i, bool same_parameters) {
+  const ForwardModel::TermSlot& s = model.slots()[i];
+  const double* parameters = d.parameters.data();
+  if (s.form == TermForm::polynomial) {  // Horner, as inline_value() does
+    const double v = d.variables[static_cast<std::size_t>(s.primary)];
+    const double* p = parameters + s.offset;
+    double value = p[s.order];
+    for (int k = s.order - 1; k >= 0; --k) value = value * v + p[k];
+    return value;
+  }
+  if (s.form == TermForm::periodic) {  // a lead screw's error: its value alone
+    const double v = d.variables[static_cast<std::size_t>(s.primary)];
+    TermInputs& last = d.evaluated_inputs[i];
+    if (!same_parameters || v != last.primary || last.secondary != 0.0) {
+      const double* p = parameters + s.offset;
+      PeriodicPhase& phase = d.phases[i];
+      const PeriodicPhase* shared = s.phase_source >= 0 ? &d.phases[static_cast<std::size_t>(s.phase_source)] : nullptr;
+      if (shared && shared->at == v && shared->period == p[0])
+        phase = *shared;
+      else
+        periodic_phase(p[0], v, d.values[i], phase);
+      d.values[i].value = periodic_sum(p, s.order, phase);
+      last = TermInputs{v, 0.0};
+    }
+    return d.values[i].value;
+  }
+  return term_value(model.machine().terms[i], s.offset, d, i, slot_inputs(d, s), same_parameters);
+}
+
+/// Sums the terms' values per link component into d.errors, without derivatives. The
+/// forward model runs this at every point the compensation checks: the terms off the axes
+/// are summed once for the conditions and parameters, the others at each point. True when
+/// the location terms (constants) must be posed again.
+bool sum_term_values(const ForwardModel& model, ForwardData& d, const ChainQ& q, const Conditions& c) {
+  const auto& terms = model.machine().terms;
+  const auto& slots = model.slots();
+  const KeyMatch same = update_variables(model, d, q, c);
+  if (!same.conditions || !same.parameters) {
+    std::fill(d.off_axes_errors.begin(), d.off_axes_errors.end(), 0.0);
+    for (std::size_t i = 0; i < terms.size(); ++i)
+      if (!slots[i].on_axes)
+        d.off_axes_errors[slots[i].error_index] +=
+            slots[i].sign * term_value(terms[i], slots[i].offset, d, i, slot_inputs(d, slots[i]), same.parameters);
+  }
+  d.errors = d.off_axes_errors;
+  for (const std::size_t i : model.on_axes_terms()) {
+    const ForwardModel::TermSlot& s = slots[i];
+    const double value = on_axes_value(model, d, i, same.parameters);
+    d.errors[s.error_index] += s.sign * value;
+  }
+  return !same.conditions || !same.parameters;
+}
+
+using Vec6 = Eigen::Matrix<double, 6, 1>;
+
+/// d.errors as each link's error motion and (when `locations` is set) location.
+void split_link_errors(ForwardData& d, bool locations) {
   const std::size_t work_links = d.work_error.size();
-  using Vec6 = Eigen::Matrix<double, 6, 1>;
   for (std::size_t j = 0; j < work_links; ++j) {
     d.work_error[j] = Eigen::Map<const Vec6>(d.errors.data() + kLinkErrorSize * j);
-    if (locations_stale) d.work_location[j] = Eigen::Map<const Vec6>(d.errors.data() + kLinkErrorSize * j + 6);
+    if (locations) d.work_location[j] = Eigen::Map<const Vec6>(d.errors.data() + kLinkErrorSize * j + 6);
   }
   for (std::size_t j = 0; j < d.tool_error.size(); ++j) {
     d.tool_error[j] = Eigen::Map<const Vec6>(d.errors.data() + kLinkErrorSize * (work_links + j));
-    if (locations_stale)
-      d.tool_location[j] = Eigen::Map<const Vec6>(d.errors.data() + kLinkErrorSize * (work_links + j) + 6);
+    if (locations) d.tool_location[j] = Eigen::Map<const Vec6>(d.errors.data() + kLinkErrorSize * (work_links + j) + 6);
   }
-  // Error and location poses of the links, with their Jacobians w.r.t. (delta, epsilon).
-  auto set_poses = [&](const std::vector<Vec6>& errors, std::vector<Pose>& poses, std::vector<Vec6>& posed,
-                       std::vector<Eigen::Matrix<double, 6, 6>>* J) {
-    for (std::size_t j = 0; j < errors.size(); ++j) {
-      if (!J && errors[j] == posed[j]) continue;
-      posed[j] = errors[j];
-      if (!J) {
-        poses[j] = kinematics::error_pose(errors[j].head<3>(), errors[j].tail<3>());
-        continue;
-      }
-      Eigen::Matrix<double, 6, 3> Jd, Je;
-      poses[j] = kinematics::error_pose(errors[j].head<3>(), errors[j].tail<3>(), &Jd, &Je);
-      (*J)[j] << Jd, Je;
+}
+
+/// Error (or location) poses of the links, with their Jacobians w.r.t. (delta, epsilon)
+/// when J is given; without, only the links whose errors changed since they were posed.
+void set_poses(const std::vector<Vec6>& errors, std::vector<Pose>& poses, std::vector<Vec6>& posed,
+               std::vector<Eigen::Matrix<double, 6, 6>>* J) {
+  for (std::size_t j = 0; j < errors.size(); ++j) {
+    if (!J && errors[j] == posed[j]) continue;
+    posed[j] = errors[j];
+    if (!J) {
+      poses[j] = kinematics::error_pose(errors[j].head<3>(), errors[j].tail<3>());
+      continue;
     }
-  };
+    Eigen::Matrix<double, 6, 3> Jd, Je;
+    poses[j] = kinematics::error_pose(errors[j].head<3>(), errors[j].tail<3>(), &Jd, &Je);
+    (*J)[j] << Jd, Je;
+  }
+}
+
+void pose_links(ForwardData& d, bool jacobians, bool locations) {
   set_poses(d.work_error, d.actual_chain.work_error, d.posed_work_error, jacobians ? &d.J_work_pose : nullptr);
   set_poses(d.tool_error, d.actual_chain.tool_error, d.posed_tool_error, jacobians ? &d.J_tool_pose : nullptr);
-  if (locations_stale) {
+  if (locations) {
     set_poses(d.work_location, d.actual_chain.work_location, d.posed_work_location,
               jacobians ? &d.J_work_location_pose : nullptr);
     set_poses(d.tool_location, d.actual_chain.tool_location, d.posed_tool_location,
               jacobians ? &d.J_tool_location_pose : nullptr);
   }
-  using kinematics::ChainJacobians;
-  kinematics::error_matrix(model.chain(), d.actual_chain, q,
-                           !jacobians           ? ChainJacobians::none
-                           : parameter_jacobian ? ChainJacobians::all
-                                                : ChainJacobians::axes);
-  d.actual = d.actual_chain.E.t;
-  d.R_actual = d.actual_chain.E.R;
-  if (which == Evaluate::both) {
-    kinematics::nominal_poses(model.chain(), d.nominal_chain, q);
-    d.nominal = d.nominal_chain.E.t;
-    d.R_nominal = d.nominal_chain.E.R;
-  }
-  if (!jacobians) return;
+}
+
+/// d.J_q and (with `parameter_jacobian`) d.J_parameters, from the chain's Jacobians and the
+/// terms' derivatives.
+void fill_jacobians(const ForwardModel& model, ForwardData& d, bool parameter_jacobian) {
+  const auto& terms = model.machine().terms;
+  const auto& slots = model.slots();
   // The translation of E moves by R * rho for a right perturbation (rho, theta).
   const Eigen::Matrix3d R = d.actual_chain.E.R;
   auto position_rows = [&](const Eigen::Matrix<double, 6, Eigen::Dynamic>& J6) {
@@ -433,6 +484,42 @@ void forward(const ForwardModel& model, ForwardData& d, const ChainQ& q, const C
     if (const int k = chain_index(t.primary); k >= 0) d.J_q.col(k) += column * d.values[i].d_primary;
     if (const int k = chain_index(t.secondary); k >= 0) d.J_q.col(k) += column * d.values[i].d_secondary;
   }
+}
+
+void set_nominal(const ForwardModel& model, ForwardData& d, const ChainQ& q) {
+  kinematics::nominal_poses(model.chain(), d.nominal_chain, q);
+  d.nominal = d.nominal_chain.E.t;
+  d.R_nominal = d.nominal_chain.E.R;
+}
+
+}  // namespace
+
+void forward(const ForwardModel& model, ForwardData& d, const ChainQ& q, const Conditions& c, bool jacobians,
+             Evaluate which, bool parameter_jacobian) {
+  if (which == Evaluate::nominal) {  // the perfect machine: no terms to evaluate
+    set_nominal(model, d, q);
+    return;
+  }
+  // Term values, summed per link component (delta x y z in mm, epsilon a b c in rad).
+  std::fill(d.errors.begin(), d.errors.end(), 0.0);
+  // Location terms are constants: their poses change only with the parameters and the
+  // conditions (or after an evaluation with Jacobians, which keeps no key).
+  bool locations_stale = true;
+  if (jacobians)
+    evaluate_terms_with_derivatives(model, d, q, c, parameter_jacobian);
+  else
+    locations_stale = sum_term_values(model, d, q, c);
+  split_link_errors(d, locations_stale);
+  pose_links(d, jacobians, locations_stale);
+  using kinematics::ChainJacobians;
+  kinematics::error_matrix(model.chain(), d.actual_chain, q,
+                           !jacobians           ? ChainJacobians::none
+                           : parameter_jacobian ? ChainJacobians::all
+                                                : ChainJacobians::axes);
+  d.actual = d.actual_chain.E.t;
+  d.R_actual = d.actual_chain.E.R;
+  if (which == Evaluate::both) set_nominal(model, d, q);
+  if (jacobians) fill_jacobians(model, d, parameter_jacobian);
 }
 
 void take_up_play(const ForwardModel& model, Conditions& c, const ChainQ& a, const ChainQ& b) {

@@ -108,6 +108,48 @@ void table_bound(const TermShape& s, const Eigen::VectorXd& p, TermBound& b) {
   b.kink = b.slope_p;                          // held constant outside: the ends' slopes
 }
 
+void polynomial_bound(const TermShape& s, const Eigen::VectorXd& p, double U, TermBound& b) {
+  for (int k = 0; k <= s.order; ++k) {
+    b.value += power_bound(p[k], U, k);
+    if (k >= 1) b.slope_p += k * power_bound(p[k], U, k - 1);
+    if (k >= 2) b.curvature_pp += k * (k - 1) * power_bound(p[k], U, k - 2);
+  }
+}
+
+void periodic_bound(const TermShape& s, const Eigen::VectorXd& p, TermBound& b) {
+  for (int k = 1; k <= s.order; ++k) {
+    const double amplitude = std::hypot(p[2 * k - 1], p[2 * k]);
+    const double omega = kTwoPi * k / std::abs(p[0]);
+    b.value += amplitude;
+    b.slope_p += omega * amplitude;
+    b.curvature_pp += omega * omega * amplitude;
+  }
+}
+
+/// |c| d^du/du d^dw/dw (u^i w^j) bounded, for |u| <= U and |w| <= W.
+double monomial_derivative_bound(double c, int i, int j, int du, int dw, double U, double W) {
+  if (du > i || dw > j) return 0.0;
+  double falling = 1.0;
+  for (int k = 0; k < du; ++k) falling *= i - k;
+  for (int k = 0; k < dw; ++k) falling *= j - k;
+  const double pu = power_bound(1.0, U, i - du), pw = power_bound(1.0, W, j - dw);
+  return c == 0.0 ? 0.0 : std::abs(c) * falling * pu * pw;
+}
+
+void cross_axis_bound(const TermShape& s, const Eigen::VectorXd& p, double U, double W, TermBound& b) {
+  Eigen::Index index = 0;
+  for (int i = 0; i <= s.order_primary; ++i)
+    for (int j = 1; j <= s.order; ++j, ++index) {
+      auto term = [&](int du, int dw) { return monomial_derivative_bound(p[index], i, j, du, dw, U, W); };
+      b.value += term(0, 0);
+      b.slope_p += term(1, 0);
+      b.slope_s += term(0, 1);
+      b.curvature_pp += term(2, 0);
+      b.curvature_ps += term(1, 1);
+      b.curvature_ss += term(0, 2);
+    }
+}
+
 TermBound term_bound(const ErrorTermSpec& t, const Range& u, const Range& w) {
   TermBound b;
   const Eigen::VectorXd& p = t.parameters;
@@ -117,23 +159,13 @@ TermBound term_bound(const ErrorTermSpec& t, const Range& u, const Range& w) {
       b.value = std::abs(p[0]);
       break;
     case TermForm::polynomial:
-      for (int k = 0; k <= t.shape.order; ++k) {
-        b.value += power_bound(p[k], U, k);
-        if (k >= 1) b.slope_p += k * power_bound(p[k], U, k - 1);
-        if (k >= 2) b.curvature_pp += k * (k - 1) * power_bound(p[k], U, k - 2);
-      }
+      polynomial_bound(t.shape, p, U, b);
       break;
     case TermForm::table:
       table_bound(t.shape, p, b);
       break;
     case TermForm::periodic:
-      for (int k = 1; k <= t.shape.order; ++k) {
-        const double amplitude = std::hypot(p[2 * k - 1], p[2 * k]);
-        const double omega = kTwoPi * k / std::abs(p[0]);
-        b.value += amplitude;
-        b.slope_p += omega * amplitude;
-        b.curvature_pp += omega * omega * amplitude;
-      }
+      periodic_bound(t.shape, p, b);
       break;
     case TermForm::reversal:
       b.value = b.slope_p = 0.5 * std::abs(p[0]) * std::max(1.0, U);
@@ -166,28 +198,9 @@ TermBound term_bound(const ErrorTermSpec& t, const Range& u, const Range& w) {
       b.curvature_ps = std::abs(p[0]);
       break;
     }
-    case TermForm::cross_axis: {
-      Eigen::Index index = 0;
-      for (int i = 0; i <= t.shape.order_primary; ++i)
-        for (int j = 1; j <= t.shape.order; ++j, ++index) {
-          const double c = p[index];
-          auto term = [&](int du, int dw) {  // |c| d^du/du d^dw/dw (u^i w^j) bounded
-            if (du > i || dw > j) return 0.0;
-            double falling = 1.0;
-            for (int k = 0; k < du; ++k) falling *= i - k;
-            for (int k = 0; k < dw; ++k) falling *= j - k;
-            const double pu = power_bound(1.0, U, i - du), pw = power_bound(1.0, W, j - dw);
-            return c == 0.0 ? 0.0 : std::abs(c) * falling * pu * pw;
-          };
-          b.value += term(0, 0);
-          b.slope_p += term(1, 0);
-          b.slope_s += term(0, 1);
-          b.curvature_pp += term(2, 0);
-          b.curvature_ps += term(1, 1);
-          b.curvature_ss += term(0, 2);
-        }
+    case TermForm::cross_axis:
+      cross_axis_bound(t.shape, p, U, W, b);
       break;
-    }
   }
   return b;
 }

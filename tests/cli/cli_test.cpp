@@ -188,9 +188,12 @@ TEST(Cli, RefusesAThermalTermWithoutItsSensorReading) {
   write_file(dir + "/m.yaml", kThermalModel);
   write_file(dir + "/in.nc", "G21 G0 X10 Y10 Z10\nG1 X20 F100\nM30\n");
   const std::string base = shell_quote(ccomp_binary()) + " " + dir + "/in.nc -m " + dir + "/m.yaml -o " + dir;
+  // A reading the user forgot is a usage error (exit 2), as every other sensor mistake.
   const CommandResult missing = run_command(base + "/out.nc");
-  EXPECT_EQ(missing.exit_code, 7);
-  EXPECT_NE(missing.err.find("no reading was given: --sensor spindle=VALUE"), std::string::npos) << missing.err;
+  EXPECT_EQ(missing.exit_code, 2);
+  EXPECT_NE(missing.err.find("term EZZ depends on sensor 'spindle', and no reading was given: --sensor spindle=VALUE"),
+            std::string::npos)
+      << missing.err;
   EXPECT_FALSE(std::filesystem::exists(dir + "/out.nc"));
   // With the reading: 30 degC is 10 K above the reference, 30 um of Z growth to take out.
   const CommandResult given = run_command(base + "/out.nc --sensor spindle=30");
@@ -201,7 +204,12 @@ TEST(Cli, RefusesAThermalTermWithoutItsSensorReading) {
   EXPECT_EQ(hot.exit_code, 7);
   EXPECT_NE(hot.err.find("beyond the model's bound"), std::string::npos) << hot.err;
   EXPECT_FALSE(std::filesystem::exists(dir + "/hot.nc"));
-  EXPECT_EQ(run_command(base + "/x.nc --sensor nozzle=30").exit_code, 2) << "an unknown sensor is a usage error";
+  const CommandResult unknown = run_command(base + "/x.nc --sensor nozzle=30");
+  EXPECT_EQ(unknown.exit_code, 2) << "an unknown sensor is a usage error";
+  EXPECT_NE(unknown.err.find("machine 'test-vmc' has no sensor of that name (its sensors: spindle)"), std::string::npos)
+      << unknown.err;
+  EXPECT_EQ(run_command(base + "/x.nc --sensor spindle=30 --sensor spindle=31").exit_code, 2) << "read twice";
+  EXPECT_FALSE(std::filesystem::exists(dir + "/x.nc"));
 }
 
 }  // namespace

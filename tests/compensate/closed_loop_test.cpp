@@ -12,6 +12,7 @@
 #include "ccomp/compensate/program_job.hpp"
 #include "ccomp/compensate/verify.hpp"
 #include "ccomp/model/forward.hpp"
+#include "ccomp/model/model_file.hpp"
 #include "error_of.hpp"
 #include "job_runner.hpp"
 #include "random_terms.hpp"

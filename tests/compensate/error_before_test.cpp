@@ -7,6 +7,7 @@
 
 #include "ccomp/compensate/compensator.hpp"
 #include "ccomp/model/machine.hpp"
+#include "ccomp/model/model_file.hpp"
 
 namespace ccomp::compensate {
 namespace {

@@ -8,6 +8,7 @@
 #include <numbers>
 #include <random>
 
+#include "ccomp/model/model_file.hpp"
 #include "sample_models.hpp"
 
 namespace ccomp::compensate {

@@ -11,6 +11,7 @@
 #include "ccomp/compensate/program_job.hpp"
 #include "ccomp/error.hpp"
 #include "ccomp/model/machine.hpp"
+#include "ccomp/model/model_file.hpp"
 #include "job_runner.hpp"
 #include "sample_models.hpp"
 #include "trace_capture.hpp"

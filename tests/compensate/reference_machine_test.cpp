@@ -9,6 +9,7 @@
 
 #include "ccomp/compensate/verify.hpp"
 #include "ccomp/model/chain_values.hpp"
+#include "ccomp/model/model_file.hpp"
 #include "job_runner.hpp"
 #include "reference_hmc.hpp"
 #include "sample_models.hpp"

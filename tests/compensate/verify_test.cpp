@@ -16,6 +16,7 @@
 #include "ccomp/model/chain_values.hpp"
 #include "ccomp/model/forward.hpp"
 #include "ccomp/model/machine.hpp"
+#include "ccomp/model/model_file.hpp"
 #include "job_runner.hpp"
 #include "sample_models.hpp"
 #include "trace_capture.hpp"

@@ -10,6 +10,7 @@
 #include "ccomp/identify/check.hpp"
 #include "ccomp/identify/fit.hpp"
 #include "ccomp/identify/simulate.hpp"
+#include "ccomp/model/model_file.hpp"
 #include "trace_capture.hpp"
 
 namespace ccomp::identify {

@@ -14,6 +14,7 @@
 #include "ccomp/error.hpp"
 #include "ccomp/identify/check.hpp"
 #include "ccomp/identify/simulate.hpp"
+#include "ccomp/model/model_file.hpp"
 #include "error_of.hpp"
 #include "sample_models.hpp"
 #include "trace_capture.hpp"

@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include "ccomp/error.hpp"
+#include "ccomp/model/model_file.hpp"
 #include "error_of.hpp"
 #include "sample_models.hpp"
 

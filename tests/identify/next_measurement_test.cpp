@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include "ccomp/identify/simulate.hpp"
+#include "ccomp/model/model_file.hpp"
 #include "sample_models.hpp"
 #include "trace_capture.hpp"
 

@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include "ccomp/identify/simulate.hpp"
+#include "ccomp/model/model_file.hpp"
 #include "sample_models.hpp"
 
 namespace ccomp::identify {

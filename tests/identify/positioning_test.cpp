@@ -6,6 +6,7 @@
 
 #include "ccomp/error.hpp"
 #include "ccomp/identify/simulate.hpp"
+#include "ccomp/model/model_file.hpp"
 #include "error_of.hpp"
 #include "trace_capture.hpp"
 

@@ -10,6 +10,7 @@
 #include <functional>
 #include <numbers>
 
+#include "ccomp/model/model_file.hpp"
 #include "metrology_loop.hpp"
 #include "reference_hmc.hpp"
 #include "reference_measurements.hpp"
@@ -173,9 +174,8 @@ TEST(ReferenceNull, NothingHiddenNothingSuggestedWhateverTheNoiseDraw) {
   for (const unsigned seed : {31U, 32U, 33U}) {
     ReferencePlans plans;
     plans.noise = kNoise, plans.seed = seed, plans.line_step = 2.5, plans.thermal = true;
-    const LoopResult loop =
-        follow_the_loop(read_file(source_dir() + "/samples/machines/hmc-xyzb-geometric.yaml"),
-                        reference_measurements(measure_reference(geometric_reference(), plans)), 2);
+    const LoopResult loop = follow_the_loop(read_file(source_dir() + "/samples/machines/hmc-xyzb-geometric.yaml"),
+                                            reference_measurements(measure_reference(geometric_reference(), plans)), 2);
     EXPECT_TRUE(loop.ended && loop.added.empty())
         << "seed " << seed << ": added " << ::testing::PrintToString(loop.added);
     EXPECT_TRUE(loop.unexplained.empty()) << "seed " << seed << ": " << loop.unexplained;

@@ -14,6 +14,7 @@
 #include "ccomp/identify/diagnose.hpp"
 #include "ccomp/identify/fit.hpp"
 #include "ccomp/model/chain_values.hpp"
+#include "ccomp/model/model_file.hpp"
 #include "job_runner.hpp"
 #include "metrology_loop.hpp"
 #include "reference_hmc.hpp"

@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include "ccomp/identify/fit.hpp"
+#include "ccomp/model/model_file.hpp"
 #include "trace_capture.hpp"
 
 namespace ccomp::identify {

@@ -6,6 +6,7 @@
 
 #include <cmath>
 
+#include "ccomp/model/model_file.hpp"
 #include "sample_models.hpp"
 
 namespace ccomp::model {

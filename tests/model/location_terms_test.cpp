@@ -10,6 +10,7 @@
 
 #include "ccomp/error.hpp"
 #include "ccomp/model/forward.hpp"
+#include "ccomp/model/model_file.hpp"
 #include "error_of.hpp"
 #include "sample_models.hpp"
 

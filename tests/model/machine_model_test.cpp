@@ -7,6 +7,7 @@
 
 #include "ccomp/error.hpp"
 #include "ccomp/model/machine.hpp"
+#include "ccomp/model/model_file.hpp"
 #include "error_of.hpp"
 #include "trace_capture.hpp"
 

@@ -8,6 +8,7 @@
 #include <cmath>
 #include <random>
 
+#include "ccomp/model/model_file.hpp"
 #include "random_terms.hpp"
 #include "sample_models.hpp"
 
@@ -146,10 +147,10 @@ TEST(VariationBound, IsTightForOneTermAtItsMostBent) {
     EXPECT_GE(measured, 0.5 * limit) << k.term;
   }
   // The error's change: the pitch acting through its arm (100 mm here).
-  const MachineModel mm = parse_machine_model(
-      test::with_limits(test::kHmcChain, 600.0) + "terms:\n  - {name: EBX, form: polynomial, unit: urad, "
+  const MachineModel mm = parse_machine_model(test::with_limits(test::kHmcChain, 600.0) +
+                                                  "terms:\n  - {name: EBX, form: polynomial, unit: urad, "
                                                   "coefficients: [0, 1]}\n",
-      "pitch.yaml");
+                                              "pitch.yaml");
   const ForwardModel m(mm);
   ChainQ a = ChainQ::Zero();
   a[kToolLengthIndex] = 100.0;

@@ -8,6 +8,7 @@
 #include <cstdlib>
 #include <random>
 
+#include "ccomp/model/model_file.hpp"
 #include "trace_capture.hpp"
 
 namespace ccomp::test {

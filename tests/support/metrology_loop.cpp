@@ -1,5 +1,7 @@
 #include "metrology_loop.hpp"
 
+#include "ccomp/model/model_file.hpp"
+
 namespace ccomp::test {
 namespace {
 

@@ -1,6 +1,7 @@
 #pragma once
-// The machine model file (YAML): which axes the machine has, their limits, the G-code
-// dialect of its control. (The kinematic chain and error terms are added on top.)
+// The machine model: which axes the machine has, their limits, the G-code dialect of its
+// control, its kinematic chains and error terms. Plain data; reading and writing its file
+// is ccomp/model/model_file.hpp.
 #include <Eigen/Core>
 #include <cstdint>
 #include <limits>
@@ -92,30 +93,6 @@ struct MachineModel {
     return nullptr;
   }
 };
-
-/// Reads and validates a model file. Throws ccomp::Error (model) naming the file, the key
-/// and the bad value.
-[[nodiscard]] MachineModel load_machine_model(const std::string& path);
-[[nodiscard]] MachineModel parse_machine_model(const std::string& text, const std::string& name);
-
-/// The model file's text with new parameter values for its terms (one vector per term, in
-/// internal units; written back in the file's units) and `record` (YAML lines, a mapping)
-/// under a top-level `fitted:` key. Comments do not survive: yaml-cpp does not keep them.
-[[nodiscard]] std::string rewrite_parameters(const std::string& text, const MachineModel& model,
-                                             const std::vector<Eigen::VectorXd>& parameters, const std::string& record);
-
-/// The model file's text with more terms (each a YAML mapping, one line: what `ccomp check`
-/// suggests) appended to its `terms`. Throws ccomp::Error (usage) for a spec that is not
-/// a mapping.
-[[nodiscard]] std::string add_terms(const std::string& text, const std::vector<std::string>& specs,
-                                    const std::string& name);
-
-/// The model with more terms, each a one-line YAML mapping (what `ccomp check` suggests),
-/// read as the model file's own terms are, and with any sensor a term names that the
-/// model lacks: the model `add_terms` would write, without a text to write it into.
-/// Throws ccomp::Error (model) for a spec that is not a valid term, `name` as its file.
-[[nodiscard]] MachineModel with_terms(MachineModel model, const std::vector<std::string>& specs,
-                                      const std::string& name);
 
 /// Checks a model: known axis letters, no duplicates, limits ordered and not NaN, a dialect
 /// ccomp knows. Throws ccomp::Error (model) with the offending entry.

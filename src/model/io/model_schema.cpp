@@ -5,9 +5,9 @@
 #include <algorithm>
 #include <set>
 
-#include "model_file.hpp"
+#include "yaml_node.hpp"
 
-namespace ccomp::model::file {
+namespace ccomp::model::io {
 
 const Section kTopLevel{
     "the model", {"name", "description", "dialect", "axes", "chain", "sensors", "max_correction", "terms", "fitted"}};
@@ -76,16 +76,4 @@ void check_keys(const std::string& file, const YAML::Node& node, const Section& 
   }
 }
 
-std::string text(const std::string& file, const YAML::Node& node, const std::string& what) {
-  if (!node || !node.IsScalar()) bad(file, node, fmt::format("{} must be a single value, not a list or mapping", what));
-  return node.Scalar();
-}
-
-bool flag(const std::string& file, const YAML::Node& node, const std::string& what) {
-  bool value = false;
-  if (!node.IsScalar() || !YAML::convert<bool>::decode(node, value))
-    bad(file, node, fmt::format("{} is true or false, not '{}'", what, node.IsScalar() ? node.Scalar() : "a list"));
-  return value;
-}
-
-}  // namespace ccomp::model::file
+}  // namespace ccomp::model::io

@@ -1,14 +1,14 @@
 #pragma once
-// Private: the keys each section of the machine model file may have, and the readers of
-// typed scalars. A key the schema lacks is refused where it is written, with the nearest
-// known key (a misspelt `max_corection` would otherwise silently drop a safety bound).
+// Private to src/model/io: the keys each section of the machine model file may have. A
+// key the schema lacks is refused where it is written, with the nearest known key (a
+// misspelt `max_corection` would otherwise silently drop a safety bound).
 #include <yaml-cpp/yaml.h>
 
 #include <string>
 #include <string_view>
 #include <vector>
 
-namespace ccomp::model::file {
+namespace ccomp::model::io {
 
 /// A section of the file and the keys it may have.
 struct Section {
@@ -30,9 +30,4 @@ void check_keys(const std::string& file, const YAML::Node& node, const Section& 
 /// The known key nearest `key` (by edit distance), or empty when none is near.
 [[nodiscard]] std::string nearest_key(std::string_view key, const std::vector<std::string_view>& keys);
 
-/// A scalar's text; anything else (a list, a mapping, nothing) is refused naming `what`.
-[[nodiscard]] std::string text(const std::string& file, const YAML::Node& node, const std::string& what);
-/// true or false (YAML's yes/no/on/off too); anything else is refused naming `what`.
-[[nodiscard]] bool flag(const std::string& file, const YAML::Node& node, const std::string& what);
-
-}  // namespace ccomp::model::file
+}  // namespace ccomp::model::io

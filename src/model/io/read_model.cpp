@@ -1,0 +1,176 @@
+// Reading a machine model file: the document, its name, dialect, axes and sensors; the
+// chains and the terms have their own readers (read_chain.hpp, read_terms.hpp).
+#include <fmt/format.h>
+#include <yaml-cpp/yaml.h>
+
+#include <algorithm>
+#include <cctype>
+#include <cmath>
+#include <fstream>
+#include <sstream>
+
+#include "ccomp/error.hpp"
+#include "ccomp/gcode/dialect.hpp"
+#include "ccomp/model/model_file.hpp"
+#include "ccomp/util/sha256.hpp"
+#include "model_schema.hpp"
+#include "read_chain.hpp"
+#include "read_terms.hpp"
+#include "yaml_node.hpp"
+
+namespace ccomp::model {
+namespace {
+
+using io::bad;
+
+/// The model's name, description and dialect.
+void read_identity(const std::string& file, const YAML::Node& root, MachineModel& m) {
+  if (!root["name"]) bad(file, root, "the model needs a 'name' (what outputs and reports call the machine)");
+  m.name = io::text(file, root["name"], "name");
+  if (root["description"]) m.description = io::text(file, root["description"], "description");
+  if (root["dialect"]) {
+    m.dialect = io::text(file, root["dialect"], "dialect");
+    if (!gcode::dialect_named(m.dialect))
+      bad(file, root["dialect"],
+          fmt::format("unknown dialect '{}' (known: linuxcnc, fanuc, mazak, wincnc)", m.dialect));
+  }
+}
+
+/// An axis' type and limits, from its mapping (or nothing: a linear or rotary axis by its
+/// letter, without limits).
+void read_axis_spec(const std::string& file, const YAML::Node& spec, AxisSpec& a) {
+  if (!spec || spec.IsNull()) return;
+  io::check_keys(file, spec, io::Section{fmt::format("axis {}", a.letter), io::kAxis.keys});
+  if (spec["type"]) {
+    const std::string type = io::text(file, spec["type"], fmt::format("axis {} type", a.letter));
+    if (type == "linear")
+      a.type = AxisType::linear;
+    else if (type == "rotary")
+      a.type = AxisType::rotary;
+    else
+      bad(file, spec["type"], fmt::format("axis {}: type '{}' is neither linear nor rotary", a.letter, type));
+  }
+  if (spec["min"]) a.min = io::number(file, spec["min"], fmt::format("axis {} min", a.letter));
+  if (spec["max"]) a.max = io::number(file, spec["max"], fmt::format("axis {} max", a.letter));
+  if (!(a.min < a.max))
+    bad(file, spec["max"] ? spec["max"] : spec["min"],
+        fmt::format("axis {}: min {} is not below max {}", a.letter, a.min, a.max));
+}
+
+void read_axes(const std::string& file, const YAML::Node& root, MachineModel& m) {
+  const YAML::Node axes = root["axes"];
+  if (!axes || !axes.IsMap()) bad(file, root, "the model needs 'axes': a map from axis letter to its type and limits");
+  for (const auto& entry : axes) {
+    AxisSpec a;
+    const std::string letter = io::text(file, entry.first, "an axis letter");
+    if (letter.size() != 1 || std::string_view("XYZABCUVWxyzabcuvw").find(letter[0]) == std::string_view::npos)
+      bad(file, entry.first, fmt::format("axis '{}' is not one letter of XYZABCUVW", letter));
+    a.letter = static_cast<char>(std::toupper(static_cast<unsigned char>(letter[0])));
+    if (m.axis(a.letter)) bad(file, entry.first, fmt::format("axis {} is declared twice", a.letter));
+    a.type = (a.letter >= 'A' && a.letter <= 'C') ? AxisType::rotary : AxisType::linear;
+    read_axis_spec(file, entry.second, a);
+    m.axes.push_back(a);
+  }
+}
+
+void read_sensors(const std::string& file, const YAML::Node& sensors, MachineModel& m) {
+  if (!sensors) return;
+  if (!sensors.IsSequence()) bad(file, sensors, "'sensors' must be a list of sensor names");
+  for (const YAML::Node& n : sensors) {
+    const std::string sensor = io::text(file, n, "a sensor's name");
+    if (std::find(m.sensors.begin(), m.sensors.end(), sensor) != m.sensors.end())
+      bad(file, n, fmt::format("sensor '{}' is listed twice", sensor));
+    m.sensors.push_back(sensor);
+  }
+}
+
+void read_max_correction(const std::string& file, const YAML::Node& node, MachineModel& m) {
+  if (!node) return;
+  m.max_correction = io::quantity(file, node, kLength, "mm", "max_correction");
+  if (!(m.max_correction > 0) || !std::isfinite(m.max_correction))
+    bad(file, node, fmt::format("max_correction must be positive, not {}", m.max_correction));
+}
+
+/// The model from its root mapping (parse_machine_model() loads and guards it).
+MachineModel read_model(const YAML::Node& root, const std::string& name, const std::string& text) {
+  io::check_keys(name, root, io::kTopLevel);
+  MachineModel m;
+  m.path = name;
+  m.sha256 = util::sha256_hex(text);
+  read_identity(name, root, m);
+  read_axes(name, root, m);
+  read_sensors(name, root["sensors"], m);
+  io::read_chains(name, root["chain"], m);
+  read_max_correction(name, root["max_correction"], m);
+  io::read_terms(name, root["terms"], m);
+  validate(m);
+  return m;
+}
+
+/// A one-line term spec as a YAML node; `name` stands for its file.
+YAML::Node term_of_spec(const std::string& spec, const std::string& name) {
+  YAML::Node term;
+  try {
+    term = YAML::Load(spec);
+  } catch (const YAML::ParserException& e) {
+    throw Error(ErrorKind::model, e.msg, SourceLocation{name, 1, static_cast<std::uint32_t>(e.mark.column + 1)});
+  }
+  if (!term.IsMap()) bad(name, term, fmt::format("'{}': a term is a mapping {{name: ..., form: ...}}", spec));
+  return term;
+}
+
+/// Adds to the model the sensors a term names that it lacks.
+void add_term_sensors(const YAML::Node& term, MachineModel& model) {
+  for (const std::string& sensor : io::sensors_of_term(term))
+    if (std::find(model.sensors.begin(), model.sensors.end(), sensor) == model.sensors.end())
+      model.sensors.push_back(sensor);
+}
+
+}  // namespace
+
+MachineModel parse_machine_model(const std::string& text, const std::string& name) {
+  std::vector<YAML::Node> documents;
+  try {
+    documents = YAML::LoadAll(text);
+  } catch (const YAML::ParserException& e) {
+    throw Error(ErrorKind::model, e.msg, io::at(name, e.mark));
+  }
+  if (documents.empty() || !documents.front().IsMap())
+    throw Error(ErrorKind::model, "a machine model is a YAML mapping", SourceLocation{name});
+  // A trailing `---` makes an empty document: only one with content is a second model.
+  for (std::size_t k = 1; k < documents.size(); ++k)
+    if (!documents[k].IsNull())
+      bad(name, documents[k], "a machine model is one YAML document; this file holds more ('---' starts another)");
+  try {
+    return read_model(documents.front(), name, text);
+  } catch (const YAML::Exception& e) {
+    // A conversion the readers above did not guard: still the file's fault, at its place.
+    throw Error(ErrorKind::model, fmt::format("a value of the wrong kind: {}", e.msg), io::at(name, e.mark));
+  }
+}
+
+MachineModel with_terms(MachineModel model, const std::vector<std::string>& specs, const std::string& name) {
+  YAML::Node terms(YAML::NodeType::Sequence);
+  for (const std::string& spec : specs) {
+    const YAML::Node term = term_of_spec(spec, name);
+    add_term_sensors(term, model);
+    terms.push_back(term);
+  }
+  try {
+    io::read_terms(name, terms, model);
+  } catch (const YAML::Exception& e) {
+    throw Error(ErrorKind::model, fmt::format("a value of the wrong kind: {}", e.msg), io::at(name, e.mark));
+  }
+  validate(model);
+  return model;
+}
+
+MachineModel load_machine_model(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw Error(ErrorKind::io, "cannot open machine model '" + path + "'");
+  std::ostringstream text;
+  text << in.rdbuf();
+  return parse_machine_model(text.str(), path);
+}
+
+}  // namespace ccomp::model

@@ -1,0 +1,134 @@
+// Writing fitted parameters back into a model file, in the file's own units and keys.
+#include <fmt/format.h>
+#include <yaml-cpp/yaml.h>
+
+#include <cstdlib>
+
+#include "ccomp/error.hpp"
+#include "ccomp/model/model_file.hpp"
+#include "yaml_node.hpp"
+
+namespace ccomp::model {
+namespace {
+
+/// A number as the file would write it: enough digits to round-trip.
+std::string number(double v) {
+  return fmt::format("{:.10g}", v);
+}
+
+/// Replaces a scalar's number. A unit written after it ("-4 um") stays, the number scaled
+/// by what the file's number meant (`before`, internal); without one, or when the file's
+/// number was 0, the value is written in the term's units (`value` / `unit`).
+void set(YAML::Node node, double after, double before, double unit) {
+  const std::string text = node.IsScalar() ? node.as<std::string>() : "";
+  const auto space = text.find(' ');
+  if (space != std::string::npos) {
+    const double written = std::strtod(text.c_str(), nullptr);
+    if (written != 0.0 && before != 0.0) {
+      node = number(after * written / before) + text.substr(space);
+      return;
+    }
+  }
+  node = number(after / unit);
+}
+
+/// Writes a term's parameters `p` into its node `n`, each under the key that holds it.
+void write_parameters(YAML::Node n, const ErrorTermSpec& t, const Eigen::VectorXd& p) {
+  auto put = [&](YAML::Node node, Eigen::Index k) {
+    set(node, p[k], t.parameters[k], t.parameter_unit[static_cast<std::size_t>(k)]);
+  };
+  switch (t.shape.form) {
+    case TermForm::constant:
+      put(n["value"], 0);
+      break;
+    case TermForm::polynomial:
+      for (Eigen::Index k = 0; k < p.size(); ++k) put(n["coefficients"][static_cast<std::size_t>(k)], k);
+      break;
+    case TermForm::table:
+      for (Eigen::Index k = 0; k < p.size(); ++k) put(n["values"][static_cast<std::size_t>(k)], k);
+      break;
+    case TermForm::periodic:
+      put(n["period"], 0);
+      for (Eigen::Index k = 1; k < p.size(); ++k)
+        put(n["harmonics"][static_cast<std::size_t>((k - 1) / 2)][static_cast<std::size_t>((k - 1) % 2)], k);
+      break;
+    case TermForm::reversal:
+      put(n["reversal"], 0);
+      break;
+    case TermForm::thermal_linear:
+    case TermForm::scale_expansion:
+      put(n["coefficient"], 0);
+      break;
+    case TermForm::thermal_warmup:
+      put(n["amplitude"], 0);
+      put(n["time_constant"], 1);
+      break;
+    case TermForm::bump:
+      put(n["amplitude"], 0);
+      put(n["at"], 1);
+      put(n["width"], 2);
+      break;
+    case TermForm::cross_axis: {
+      const auto order = static_cast<std::size_t>(t.shape.order);
+      for (Eigen::Index k = 0; k < p.size(); ++k)
+        put(n["coefficients"][static_cast<std::size_t>(k) / order][static_cast<std::size_t>(k) % order], k);
+      break;
+    }
+  }
+}
+
+/// A term on a sensor the model lacks (found in the measurements' T_<name> columns)
+/// brings the sensor with it into the file's `sensors`.
+void add_term_sensors(const YAML::Node& term, YAML::Node& root) {
+  for (const std::string& sensor : io::sensors_of_term(term)) {
+    YAML::Node sensors = root["sensors"];
+    bool known = false;
+    if (sensors && sensors.IsSequence())
+      for (const YAML::Node& s : sensors) known = known || (s.IsScalar() && s.Scalar() == sensor);
+    if (!known) {
+      sensors.push_back(sensor);
+      root["sensors"] = sensors;
+    }
+  }
+}
+
+/// The node's YAML text, ending in a newline.
+std::string emit(const YAML::Node& root, const std::string& what) {
+  YAML::Emitter out;
+  out << root;
+  if (!out.good()) throw Error(ErrorKind::internal, fmt::format("{}: {}", what, out.GetLastError()));
+  return std::string(out.c_str()) + "\n";
+}
+
+}  // namespace
+
+std::string rewrite_parameters(const std::string& text, const MachineModel& model,
+                               const std::vector<Eigen::VectorXd>& parameters, const std::string& record) {
+  YAML::Node root = YAML::Load(text);
+  YAML::Node terms = root["terms"];
+  for (std::size_t i = 0; i < model.terms.size() && i < parameters.size(); ++i)
+    write_parameters(terms[i], model.terms[i], parameters[i]);
+  if (!record.empty()) root["fitted"] = YAML::Load(record);
+  return emit(root, "writing the model");
+}
+
+std::string add_terms(const std::string& text, const std::vector<std::string>& specs, const std::string& name) {
+  YAML::Node root = YAML::Load(text);
+  YAML::Node terms = root["terms"];
+  for (const std::string& spec : specs) {
+    YAML::Node term;
+    try {
+      term = YAML::Load(spec);
+    } catch (const YAML::Exception& e) {
+      throw Error(ErrorKind::usage, fmt::format("--add '{}': not YAML: {}", spec, e.msg));
+    }
+    if (!term.IsMap())
+      throw Error(ErrorKind::usage, fmt::format("--add '{}': a term is a mapping {{name: ..., form: ...}}", spec));
+    add_term_sensors(term, root);
+    terms.push_back(term);
+  }
+  root["terms"] = terms;
+  return emit(root, "adding terms to " + name);
+}
+
+}  // namespace ccomp::model
