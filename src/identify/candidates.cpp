@@ -9,6 +9,7 @@
 
 #include "ccomp/constants.hpp"
 #include "ccomp/model/error_term.hpp"
+#include "ccomp/util/interval.hpp"
 
 namespace ccomp::identify::detail {
 namespace {
@@ -60,12 +61,10 @@ std::vector<AxisInfo> axes_of(const model::MachineModel& mm, const MeasurementSe
       Eigen::Index along = 0;
       l.direction.cwiseAbs().maxCoeff(&along);
       a.own = static_cast<int>(along) + (a.rotary ? 3 : 0);
-      a.from = 1e300, a.to = -1e300;
       const auto qi = static_cast<Eigen::Index>(a.index);
-      for (const Observation& o : data.observations) {
-        const double v = axis_value(o, a);
-        a.from = std::min(a.from, v), a.to = std::max(a.to, v);
-      }
+      util::Interval reach;
+      for (const Observation& o : data.observations) reach.add(axis_value(o, a));
+      a.from = reach.lo, a.to = reach.hi;
       // The median spacing between consecutive readings that differ along this axis only.
       std::vector<double> steps;
       for (std::size_t i = 1; i < data.observations.size(); ++i) {
@@ -117,11 +116,12 @@ std::vector<Candidate> candidate_library(const model::MachineModel& mm, const Me
     return o.q[static_cast<Eigen::Index>(a.index)];
   };
   auto varies = [&](auto get) {
-    double lo = 1e300, hi = -1e300;
-    for (const Observation& o : data.observations) lo = std::min(lo, get(o)), hi = std::max(hi, get(o));
-    return hi > lo + 1e-12;
+    util::Interval range;
+    for (const Observation& o : data.observations) range.add(get(o));
+    return range.width() > 1e-12;
   };
-  const bool tool_length_varies = varies([](const Observation& o) { return o.q[9]; });
+  const bool tool_length_varies =
+      varies([](const Observation& o) { return o.q[static_cast<Eigen::Index>(model::kToolLengthIndex)]; });
   // A sensor is a candidate variable when every reading has it and it changes: the model's
   // own, and any other T_<name> column of the files (a suggestion then adds the sensor).
   auto read_and_varies = [&](std::size_t sensor) {

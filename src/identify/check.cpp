@@ -54,7 +54,8 @@ NoiseFloor noise_floor(const MeasurementSet& data, const Eigen::VectorXd& r) {
     auto k = [](double v, double unit) { return static_cast<long long>(std::llround(v / unit)); };
     // Every rotary axis (a trunnion's A as well as a table's B) and its approach.
     groups[Key{k(o.q[0], 1e-3), k(o.q[1], 1e-3), k(o.q[2], 1e-3), k(o.q[3], 1e-8), k(o.q[4], 1e-8), k(o.q[5], 1e-8),
-               k(o.q[9], 1e-3), k(o.direction.x() + 2 * o.direction.y() + 4 * o.direction.z(), 1e-6),
+               k(o.q[static_cast<Eigen::Index>(model::kToolLengthIndex)], 1e-3),
+               k(o.direction.x() + 2 * o.direction.y() + 4 * o.direction.z(), 1e-6),
                k(o.directions[0] + 3 * o.directions[1] + 9 * o.directions[2] + 27 * o.directions[3] +
                      81 * o.directions[4] + 243 * o.directions[5],
                  1.0),

@@ -20,6 +20,7 @@
 #include "ccomp/identify/physical_scale.hpp"
 #include "ccomp/model/machine.hpp"
 #include "ccomp/model/model_file.hpp"
+#include "ccomp/util/interval.hpp"
 #include "ccomp/util/parallel.hpp"
 #include "held_out.hpp"
 
@@ -212,10 +213,11 @@ std::vector<Region> residual_bins(const MeasurementSet& data, const std::vector<
   const auto n = static_cast<Eigen::Index>(data.observations.size());
   std::vector<Region> bins;
   auto add_bins = [&](const std::string& variable, auto get) {
-    double lo = 1e300, hi = -1e300;
+    util::Interval range;
     for (const Observation& o : data.observations)
-      if (const double v = get(o); !std::isnan(v)) lo = std::min(lo, v), hi = std::max(hi, v);
-    if (!(hi > lo)) return;
+      if (const double v = get(o); !std::isnan(v)) range.add(v);
+    if (!(range.width() > 0)) return;
+    const double lo = range.lo, hi = range.hi;
     constexpr int kBins = 8;
     std::vector<double> sum(kBins, 0.0), count(kBins, 0.0);
     for (Eigen::Index i = 0; i < n; ++i) {
@@ -233,7 +235,7 @@ std::vector<Region> residual_bins(const MeasurementSet& data, const std::vector<
     }
   };
   for (const AxisInfo& a : axes) add_bins(axis_name(a.index), [&a](const Observation& o) { return axis_value(o, a); });
-  add_bins("L", [](const Observation& o) { return o.q[9]; });
+  add_bins("L", [](const Observation& o) { return o.q[static_cast<Eigen::Index>(model::kToolLengthIndex)]; });
   add_bins("t", [](const Observation& o) { return o.time; });
   for (std::size_t s = 0; s < data.sensors.size(); ++s)
     add_bins("T_" + data.sensors[s],

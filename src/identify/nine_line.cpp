@@ -4,6 +4,7 @@
 #include <Eigen/QR>
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include "ccomp/identify/simulate.hpp"
 
@@ -149,7 +150,7 @@ NineLineReport nine_line(const model::ForwardModel& model, const MeasurementSet&
     fitted.terms[t].parameters = report.fit.all_parameters.segment(static_cast<Eigen::Index>(model.parameter_offset(t)),
                                                                    fitted.terms[t].parameters.size());
   const model::ForwardModel f(fitted);
-  double best = 1e300;
+  double best = std::numeric_limits<double>::infinity();
   for (double inset : {0.02, 0.05, 0.1, 0.2, 0.3, 0.4}) {
     SimulateOptions o;
     o.plans = {Plan::nine_lines};

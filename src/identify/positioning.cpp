@@ -5,9 +5,12 @@
 #include <Eigen/Dense>
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <map>
+#include <numbers>
 
 #include "ccomp/error.hpp"
+#include "ccomp/util/interval.hpp"
 
 namespace ccomp::identify {
 
@@ -59,27 +62,26 @@ PositioningReport analyse_positioning(const MeasurementSet& data, std::size_t ax
                                              "bidirectional runs",
                                              letter));
   // The axis' figures (ISO 230-2 sect. 3).
-  double up_hi = -1e300, up_lo = 1e300, down_hi = -1e300, down_lo = 1e300, mean_hi = -1e300, mean_lo = 1e300;
-  double a_up_hi = -1e300, a_up_lo = 1e300, a_down_hi = -1e300, a_down_lo = 1e300, b_sum = 0;
+  util::Interval up, down, bidirectional, a_up, a_down;
+  double b_sum = 0;
   for (const PositioningTarget& t : report.targets) {
-    up_hi = std::max(up_hi, t.mean_up), up_lo = std::min(up_lo, t.mean_up);
-    down_hi = std::max(down_hi, t.mean_down), down_lo = std::min(down_lo, t.mean_down);
-    const double bidirectional = 0.5 * (t.mean_up + t.mean_down);
-    mean_hi = std::max(mean_hi, bidirectional), mean_lo = std::min(mean_lo, bidirectional);
-    a_up_hi = std::max(a_up_hi, t.mean_up + 2 * t.s_up), a_up_lo = std::min(a_up_lo, t.mean_up - 2 * t.s_up);
-    a_down_hi = std::max(a_down_hi, t.mean_down + 2 * t.s_down),
-    a_down_lo = std::min(a_down_lo, t.mean_down - 2 * t.s_down);
+    up.add(t.mean_up);
+    down.add(t.mean_down);
+    bidirectional.add(0.5 * (t.mean_up + t.mean_down));
+    a_up.add(t.mean_up + 2 * t.s_up), a_up.add(t.mean_up - 2 * t.s_up);
+    a_down.add(t.mean_down + 2 * t.s_down), a_down.add(t.mean_down - 2 * t.s_down);
     report.B = std::max(report.B, std::abs(t.reversal));
     b_sum += t.reversal;
     report.R_up = std::max(report.R_up, 4 * t.s_up), report.R_down = std::max(report.R_down, 4 * t.s_down);
     report.R = std::max(report.R, t.repeatability);
   }
   report.B_mean = b_sum / static_cast<double>(report.targets.size());
-  report.E_up = up_hi - up_lo, report.E_down = down_hi - down_lo;
-  report.E = std::max(up_hi, down_hi) - std::min(up_lo, down_lo);
-  report.M = mean_hi - mean_lo;
-  report.A_up = a_up_hi - a_up_lo, report.A_down = a_down_hi - a_down_lo;
-  report.A = std::max(a_up_hi, a_down_hi) - std::min(a_up_lo, a_down_lo);
+  util::Interval both = up, a_both = a_up;
+  both.add(down);
+  a_both.add(a_down);
+  report.E_up = up.width(), report.E_down = down.width(), report.E = both.width();
+  report.M = bidirectional.width();
+  report.A_up = a_up.width(), report.A_down = a_down.width(), report.A = a_both.width();
 
   // Seed 002: the mean deviation is cumulative (a smooth curve: a cubic here) plus periodic
   // (the pitch); the reversal is B_mean. The period is the best of a scan from 2.5 target
@@ -97,13 +99,16 @@ PositioningReport analyse_positioning(const MeasurementSet& data, std::size_t ax
     for (Eigen::Index i = 0; i < n; ++i) {
       const double u = (x[i] - centre) / half;
       D(i, 0) = 1, D(i, 1) = u, D(i, 2) = u * u, D(i, 3) = u * u * u;
-      if (period > 0) D(i, 4) = std::cos(2 * M_PI * x[i] / period), D(i, 5) = std::sin(2 * M_PI * x[i] / period);
+      if (period > 0)
+        D(i, 4) = std::cos(2 * std::numbers::pi * x[i] / period),
+             D(i, 5) = std::sin(2 * std::numbers::pi * x[i] / period);
     }
     return D;
   };
+  // The sum of squares left by the fit (no fit: fewer targets than coefficients, infinite).
   auto solve = [&](double period, Eigen::VectorXd& c) {
     const Eigen::MatrixXd D = design(period);
-    if (n <= D.cols()) return 1e300;
+    if (n <= D.cols()) return std::numeric_limits<double>::infinity();
     c = D.colPivHouseholderQr().solve(y);
     return (y - D * c).squaredNorm();
   };

@@ -8,6 +8,8 @@
 #include <numbers>
 #include <vector>
 
+#include "ccomp/util/interval.hpp"
+
 namespace ccomp::report {
 namespace {
 
@@ -38,12 +40,11 @@ struct Series {
 std::string chart(const std::string& title, const std::string& x_label, const std::string& y_label,
                   const std::vector<Series>& series) {
   constexpr double kW = 520, kH = 300, kLeft = 70, kRight = 15, kTop = 30, kBottom = 45;
-  double x0 = 1e300, x1 = -1e300, y0 = 1e300, y1 = -1e300;
+  util::Interval xs, ys;
   for (const Series& s : series)
-    for (std::size_t i = 0; i < s.x.size(); ++i) {
-      x0 = std::min(x0, s.x[i]), x1 = std::max(x1, s.x[i]);
-      y0 = std::min(y0, s.y[i]), y1 = std::max(y1, s.y[i]);
-    }
+    for (std::size_t i = 0; i < s.x.size(); ++i) xs.add(s.x[i]), ys.add(s.y[i]);
+  if (xs.empty()) xs = {0.0, 0.0}, ys = {0.0, 0.0};  // no points: an empty chart about zero
+  double x0 = xs.lo, x1 = xs.hi, y0 = ys.lo, y1 = ys.hi;
   if (!(x1 > x0)) x0 -= 1, x1 += 1;
   if (!(y1 > y0)) y0 -= 1, y1 += 1;
   auto px = [&](double x) { return kLeft + (x - x0) / (x1 - x0) * (kW - kLeft - kRight); };
@@ -148,7 +149,9 @@ std::string html_check_report(const CheckReportInput& in) {
         {std::string(1, static_cast<char>(std::tolower(a.letter))) + (rotary ? " (deg)" : " (mm)"),
          [i, rotary](const identify::Observation& o) { return identify::file_axis_value(o, i, rotary); }});
   }
-  variables.push_back({"L (mm)", [](const identify::Observation& o) { return o.q[9]; }});
+  variables.push_back({"L (mm)", [](const identify::Observation& o) {
+                         return o.q[static_cast<Eigen::Index>(model::kToolLengthIndex)];
+                       }});
   variables.push_back({"t (s)", [](const identify::Observation& o) { return o.time; }});
   for (std::size_t s = 0; s < in.model.sensors.size(); ++s)
     variables.push_back(
@@ -158,9 +161,9 @@ std::string html_check_report(const CheckReportInput& in) {
       "<h2>Residual against each variable</h2>\n<p>Grey: the model as it is; blue: refitted.</p>\n<div "
       "class=\"charts\">\n";
   for (const Variable& v : variables) {
-    double lo = 1e300, hi = -1e300;
-    for (const identify::Observation& o : obs) lo = std::min(lo, v.get(o)), hi = std::max(hi, v.get(o));
-    if (!(hi > lo)) continue;
+    util::Interval range;
+    for (const identify::Observation& o : obs) range.add(v.get(o));
+    if (!(range.width() > 0)) continue;
     Series before{{}, {}, "#aaa", false}, after{{}, {}, "#1565c0", false};
     for (std::size_t i : shown) {
       before.x.push_back(v.get(obs[i])), before.y.push_back(in.check.residual[static_cast<Eigen::Index>(i)] * um);
@@ -233,9 +236,10 @@ std::string html_check_report(const CheckReportInput& in) {
       if (std::abs(std::abs(obs[i].direction[static_cast<Eigen::Index>(axis)]) - 1.0) < 1e-6)
         rows.emplace_back(variables[axis].get(obs[i]), in.diagnosis.residual[static_cast<Eigen::Index>(i)]);
     if (rows.size() < 20) continue;
-    double lo = 1e300, hi = -1e300;
-    for (const auto& [p, r] : rows) lo = std::min(lo, p), hi = std::max(hi, p);
-    if (!(hi - lo > 10)) continue;
+    util::Interval range;
+    for (const auto& [p, r] : rows) range.add(p);
+    if (!(range.width() > 10)) continue;
+    const double lo = range.lo, hi = range.hi;
     Series spectrum{{}, {}, "#c62828", true};
     for (int k = 0; k < 300; ++k) {
       const double period = 2.0 * std::pow((hi - lo) / 2.0 / 2.0, k / 299.0);
