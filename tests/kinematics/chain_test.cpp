@@ -15,6 +15,12 @@ using test::randomise;
 using test::sample_chain;
 using test::uniform;
 
+/// Every error motion and location of the chain's links set to none.
+void without_errors(ChainData& d) {
+  for (auto* poses : {&d.work_error, &d.tool_error, &d.work_location, &d.tool_location})
+    for (Pose& e : *poses) e = Pose{};
+}
+
 TEST(Pose, ExpLogRoundTrip) {
   for (int i = 0; i < 20; ++i) {
     // Rotation vectors shorter than pi: Log returns the shortest rotation.
@@ -32,10 +38,7 @@ TEST(Chain, ErrorMatrixIsIdentityWithoutErrorsAndSeesEachError) {
   ChainData d(m);
   VecQ q;
   randomise(d, q);
-  for (Pose& e : d.work_error) e = Pose{};
-  for (Pose& e : d.tool_error) e = Pose{};
-  for (Pose& e : d.work_location) e = Pose{};
-  for (Pose& e : d.tool_location) e = Pose{};
+  without_errors(d);
   // The workpiece point p is where the error-free tool tip is, in the table's frame.
   error_matrix(m, d, q, ChainJacobians::none);
   m.workpiece.joints.back().placement = compose(inverse(d.work_oMi[2]), d.oMtool);
@@ -59,10 +62,7 @@ TEST(Chain, NominalPosesAreTheErrorMatrixWithoutErrors) {
   NominalData nominal(m);
   VecQ q;
   randomise(d, q);
-  for (Pose& e : d.work_error) e = Pose{};
-  for (Pose& e : d.tool_error) e = Pose{};
-  for (Pose& e : d.work_location) e = Pose{};
-  for (Pose& e : d.tool_location) e = Pose{};
+  without_errors(d);
   for (int k = 0; k < 200; ++k) {
     if (k % 3 == 0) q[4] = uniform(-3, 3);  // else B stands still
     q[0] = uniform(-400, 400), q[1] = uniform(-300, 300), q[2] = uniform(-200, 200);

@@ -12,6 +12,7 @@
 #include "ccomp/model/chain_values.hpp"
 #include "error_of.hpp"
 #include "job_runner.hpp"
+#include "memory_file.hpp"
 
 namespace ccomp::compensate {
 namespace {
@@ -24,17 +25,12 @@ class CycleRun : public gcode::CanonSink {
       : machine_(test::sample_machine("hmc-xyzb-geometric")),
         forward_(machine_),
         source_(gcode::LineSource::from_string(program, "p.ngc")),
-        out_(open_memstream(&buffer_, &size_)),
-        writer_(source_.another_reader(), out_, "(header)"),
+        writer_(source_.another_reader(), out_.get(), "(header)"),
         solver_(forward_, {}),
         error_before_(forward_, {}),
         guards_(machine_, options_, report_, "p.ngc"),
         rewriter_(writer_, machine_, {}, report_, "p.ngc"),
         cycles_(CycleStages{solver_, error_before_, rewriter_, guards_, writer_, report_}, machine_, expand, "p.ngc") {}
-  ~CycleRun() override {
-    std::fclose(out_);
-    std::free(buffer_);
-  }
 
   /// The program run through the cycles stage: its output.
   std::string run() {
@@ -42,8 +38,7 @@ class CycleRun : public gcode::CanonSink {
     gcode::Interpreter().run(in, *this);
     cycles_.finish();
     writer_.finish();
-    std::fflush(out_);
-    return std::string(buffer_, size_);
+    return out_.text();
   }
   const JobReport& report() const { return report_; }
 
@@ -73,9 +68,7 @@ class CycleRun : public gcode::CanonSink {
   model::MachineModel machine_;
   model::ForwardModel forward_;
   gcode::LineSource source_;
-  char* buffer_ = nullptr;
-  std::size_t size_ = 0;
-  std::FILE* out_;
+  test::MemoryFile out_;
   gcode::ProgramWriter writer_;
   JobOptions options_;
   JobReport report_;

@@ -9,6 +9,7 @@
 
 #include "ccomp/model/chain_values.hpp"
 #include "job_runner.hpp"
+#include "memory_file.hpp"
 #include "parsed_block.hpp"
 
 namespace ccomp::compensate {
@@ -22,27 +23,19 @@ class Rewriting {
   explicit Rewriting(const std::string& program)
       : machine_(test::sample_machine("zero")),
         source_(gcode::LineSource::from_string(program, "p.ngc")),
-        out_(open_memstream(&buffer_, &size_)),
-        writer_(source_.another_reader(), out_, "(header)"),
+        writer_(source_.another_reader(), out_.get(), "(header)"),
         rewriter_(writer_, machine_, {}, report_, "p.ngc") {}
-  ~Rewriting() {
-    std::fclose(out_);
-    std::free(buffer_);
-  }
   MoveRewriter& rewriter() { return rewriter_; }
   const JobReport& report() const { return report_; }
   std::string output() {
     writer_.finish();
-    std::fflush(out_);
-    return std::string(buffer_, size_);
+    return out_.text();
   }
 
  private:
   model::MachineModel machine_;
   gcode::LineSource source_;
-  char* buffer_ = nullptr;
-  std::size_t size_ = 0;
-  std::FILE* out_;
+  test::MemoryFile out_;
   gcode::ProgramWriter writer_;
   JobReport report_;
   MoveRewriter rewriter_;
