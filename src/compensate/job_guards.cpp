@@ -11,23 +11,9 @@
 #include "number_style.hpp"
 
 namespace ccomp::compensate {
+namespace {
 
-void check_limits(const gcode::Motion& m, const model::MachineModel& model, std::string_view file) {
-  gcode::Axes low = m.end, high = m.end;
-  if (m.kind == gcode::MotionKind::arc) widen_by_arc_extremes(m, low, high);
-  for (const model::AxisSpec& a : model.axes) {
-    const auto i = *gcode::axis_index(a.letter);
-    const double tool = m.offsets ? m.offsets->tool[i] : 0.0;
-    const double lo = low[i] + tool, hi = high[i] + tool;
-    if (lo >= a.min - 1e-9 && hi <= a.max + 1e-9) continue;
-    const double bad = lo < a.min - 1e-9 ? lo : hi;
-    throw Error(ErrorKind::safety,
-                fmt::format("axis {} would go to {:.4f}, outside its limits [{}, {}] of machine '{}'", a.letter, bad,
-                            a.min, a.max, model.name),
-                SourceLocation{std::string(file), m.line, 0});
-  }
-}
-
+/// Widens [low, high] by the points of the arc where its in-plane axes are extreme.
 void widen_by_arc_extremes(const gcode::Motion& m, gcode::Axes& low, gcode::Axes& high) {
   const gcode::ArcGeometry g = gcode::arc_geometry(m);
   const gcode::PlaneAxes pa = g.axes;
@@ -47,6 +33,24 @@ void widen_by_arc_extremes(const gcode::Motion& m, gcode::Axes& low, gcode::Axes
     high[pa.first] = std::max(high[pa.first], p1);
     low[pa.second] = std::min(low[pa.second], p2);
     high[pa.second] = std::max(high[pa.second], p2);
+  }
+}
+
+}  // namespace
+
+void check_limits(const gcode::Motion& m, const model::MachineModel& model, std::string_view file) {
+  gcode::Axes low = m.end, high = m.end;
+  if (m.kind == gcode::MotionKind::arc) widen_by_arc_extremes(m, low, high);
+  for (const model::AxisSpec& a : model.axes) {
+    const auto i = *gcode::axis_index(a.letter);
+    const double tool = m.offsets ? m.offsets->tool[i] : 0.0;
+    const double lo = low[i] + tool, hi = high[i] + tool;
+    if (lo >= a.min - 1e-9 && hi <= a.max + 1e-9) continue;
+    const double bad = lo < a.min - 1e-9 ? lo : hi;
+    throw Error(ErrorKind::safety,
+                fmt::format("axis {} would go to {:.4f}, outside its limits [{}, {}] of machine '{}'", a.letter, bad,
+                            a.min, a.max, model.name),
+                SourceLocation{std::string(file), m.line, 0});
   }
 }
 

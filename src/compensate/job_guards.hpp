@@ -19,9 +19,6 @@ namespace ccomp::compensate {
 /// they pass through.
 void check_limits(const gcode::Motion& m, const model::MachineModel& model, std::string_view file);
 
-/// Widens [low, high] by the points of the arc where its in-plane axes are extreme.
-void widen_by_arc_extremes(const gcode::Motion& arc, gcode::Axes& low, gcode::Axes& high);
-
 class JobGuards {
  public:
   JobGuards(const model::MachineModel& model, const JobOptions& options, JobReport& report, std::string_view file);

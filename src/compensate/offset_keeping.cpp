@@ -60,8 +60,8 @@ PositionOff position_off(const OffsetContext& at, double unit) {
 
 /// Refuses what no edit of the block's words can keep the original's.
 void refuse_what_cannot_be_kept(const gcode::Block& b, const OffsetContext& at, const PositionOff& p, double unit) {
-  const bool g92 = has_g(b, 92);
-  const double l = g92 ? std::nan("") : g10_l(b);
+  const bool g92 = has_g(b, 92), g10 = has_g(b, 10);
+  const double l = g10 ? g10_l(b) : std::nan("");
   const std::string what = g92 ? "G92" : std::isnan(l) ? "G10" : fmt::format("G10 L{:g}", l);
   auto refuse = [&](const std::string& why) {
     const double most = std::max(std::abs(p.off[0]), std::max(std::abs(p.off[1]), std::abs(p.off[2])));
@@ -72,13 +72,12 @@ void refuse_what_cannot_be_kept(const gcode::Block& b, const OffsetContext& at, 
                 SourceLocation{std::string(at.file), b.line, 0}, std::string(b.text));
   };
   if (at.runs_again) refuse("its line runs more than once or is in another file: --flatten writes it once per run");
-  if (g92) return;
-  if (std::isnan(l)) refuse("its L, an expression, shows what it sets only as the program runs");
-  if (l == 11 && p.xy)
+  if (g10 && std::isnan(l)) refuse("its L, an expression, shows what it sets only as the program runs");
+  if (g10 && l == 11 && p.xy)
     refuse(
         "L11 counts in G59.3's frame, whose rotation would couple X and Y; give it before the first "
         "compensated move");
-  if (l == 20) {  // a rotation couples X and Y, known here only for the system in force
+  if (g10 && l == 20) {  // a rotation couples X and Y, known here only for the system in force
     const std::optional<double> system = literal_of(b, 'P');
     const bool system_in_force = system && (*system == 0 || *system == at.offsets.coordinate_system);
     if (p.xy && (b.find('R') || !system_in_force))

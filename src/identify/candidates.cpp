@@ -118,7 +118,7 @@ std::vector<Candidate> candidate_library(const model::MachineModel& mm, const Me
   auto varies = [&](auto get) {
     util::Interval range;
     for (const Observation& o : data.observations) range.add(get(o));
-    return range.width() > 1e-12;
+    return range.hi > range.lo + 1e-12;
   };
   const bool tool_length_varies =
       varies([](const Observation& o) { return o.q[static_cast<Eigen::Index>(model::kToolLengthIndex)]; });

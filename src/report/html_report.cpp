@@ -43,7 +43,8 @@ std::string chart(const std::string& title, const std::string& x_label, const st
   util::Interval xs, ys;
   for (const Series& s : series)
     for (std::size_t i = 0; i < s.x.size(); ++i) xs.add(s.x[i]), ys.add(s.y[i]);
-  if (xs.empty()) xs = {0.0, 0.0}, ys = {0.0, 0.0};  // no points: an empty chart about zero
+  if (xs.empty()) xs = {0.0, 0.0};  // no points (or none a number): an empty chart about zero
+  if (ys.empty()) ys = {0.0, 0.0};
   double x0 = xs.lo, x1 = xs.hi, y0 = ys.lo, y1 = ys.hi;
   if (!(x1 > x0)) x0 -= 1, x1 += 1;
   if (!(y1 > y0)) y0 -= 1, y1 += 1;

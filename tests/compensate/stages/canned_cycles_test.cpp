@@ -106,12 +106,13 @@ TEST(CannedCycles, OneHoleIsCompensatedInItsBlocksWords) {
   EXPECT_GT(run.report().max_error_before, 0.0);
 }
 
-TEST(CannedCycles, LRepeatsAreRefusedInWordsAndExpandedIntoMoves) {
+TEST(CannedCycles, IncrementalRepeatsAreRefusedInWordsAndExpandedIntoMoves) {
   const std::string repeats = "G17 G21 G90 G94\nG0 X10 Y10 Z-80\nG91 G81 X5 Z-20 R-5 L3 F100\nG90 G80\nM30\n";
   CycleRun words(repeats, false);
   const Error e = test::error_of([&] { (void)words.run(); }, "a G91 cycle in its words");
   EXPECT_EQ(e.kind(), ErrorKind::unsupported);
   EXPECT_EQ(e.where().line, 3U);
+  EXPECT_NE(e.message().find("incremental (G91) canned cycles"), std::string::npos) << e.message();
   EXPECT_NE(e.message().find("--expand-cycles"), std::string::npos) << e.message();
   CycleRun expanded(repeats, true);
   const std::string out = expanded.run();

@@ -64,7 +64,7 @@ TEST(MoveRewriter, ASplitMoveKeepsItsLineForTheFirstPointAndAddsLinesForTheRest)
 TEST(MoveRewriter, IncrementalWordsCarryTheirRoundingInsteadOfSummingIt) {
   Rewriting r("G91 G1 X1\n");
   MoveRewriter& w = r.rewriter();
-  // Three steps of 0.00004 mm: each rounds to nothing alone; carried, the third is written.
+  // Three steps of 0.00004 mm: each rounds to nothing alone; carried, the second writes 0.0001.
   double sum = 0.0;
   for (int k = 1; k <= 3; ++k) {
     const double p = 0.00004 * k, last = 0.00004 * (k - 1);

@@ -6,7 +6,7 @@
 namespace ccomp::compensate {
 namespace {
 
-TEST(NumberStyle, TakesTheDecimalsAndLeadingZeroOfTheWordItReplaces) {
+TEST(NumberStyleAlone, TakesTheDecimalsAndLeadingZeroOfTheWordItReplaces) {
   const NumberStyle bare = style_of(".5", false, false, -1);
   EXPECT_EQ(bare.decimals, kDefaultDecimals);
   EXPECT_FALSE(bare.leading_zero);
@@ -17,14 +17,14 @@ TEST(NumberStyle, TakesTheDecimalsAndLeadingZeroOfTheWordItReplaces) {
   EXPECT_TRUE(style_of("12", false, false, -1).leading_zero);
 }
 
-TEST(NumberStyle, DefaultsDependOnUnitsAndAxisAndTheUserOverridesThem) {
+TEST(NumberStyleAlone, DefaultsDependOnUnitsAndAxisAndTheUserOverridesThem) {
   EXPECT_EQ(style_of("", true, false, -1).decimals, kDefaultInchDecimals);
   EXPECT_EQ(style_of("", false, true, -1).decimals, kDefaultRotaryDecimals);
   EXPECT_EQ(style_of("1.123456", false, false, 2).decimals, 2);  // fewer than the program wrote: asked for
   EXPECT_EQ(format_value(1.005, style_of("", false, false, 0)).text, "1");
 }
 
-TEST(NumberStyle, NeverWritesMinusZeroAndTellsTheValueTheTextMeans) {
+TEST(NumberStyleAlone, NeverWritesMinusZeroAndTellsTheValueTheTextMeans) {
   const NumberStyle four{4, true};
   EXPECT_EQ(format_value(-0.00001, four).text, "0.0000");
   const WrittenValue w = format_value(1.23456789, four);
@@ -33,7 +33,7 @@ TEST(NumberStyle, NeverWritesMinusZeroAndTellsTheValueTheTextMeans) {
   EXPECT_EQ(format_value(-12.5, NumberStyle{1, true}).text, "-12.5");
 }
 
-TEST(NumberStyle, WrittenAlikeComparesTheRoundedDigits) {
+TEST(NumberStyleAlone, WrittenAlikeComparesTheRoundedDigits) {
   const NumberStyle four{4, true};
   EXPECT_TRUE(written_alike(1.00004, 1.0, four));
   EXPECT_FALSE(written_alike(1.00006, 1.0, four));
