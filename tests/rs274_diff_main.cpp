@@ -25,7 +25,7 @@ int main(int argc, char** argv) {
   const auto first = static_cast<unsigned>(std::strtoul(argv[1], nullptr, 10));
   const auto count = static_cast<unsigned>(std::strtoul(argv[2], nullptr, 10));
   const int blocks = std::atoi(argv[3]);
-  const std::filesystem::path out = argv[4];
+  const std::filesystem::path out = std::filesystem::absolute(argv[4]);  // rs274 runs in a folder of its own
   std::filesystem::create_directories(out);
   const std::string tools = (out / "tools.tbl").string();
   write_file(tools, "T1 P1 Z0.5 D0.25\nT2 P2 Z1.25 D0.5\n");
