@@ -75,6 +75,9 @@ INSTANTIATE_TEST_SUITE_P(
         BadModel{"name: m\naxes: {X: {mni: 3}}\n", "did you mean 'min'"}, BadModel{"axes: {X: {}}\n", "needs a 'name'"},
         BadModel{"name: m\nname: n\naxes: {X: {}}\n", "written twice"},
         BadModel{"name: m\naxes: {X: {}}\n---\nname: n\n", "one YAML document"},
+        // Fuzzing (tools/fuzz.sh model): yaml-cpp's LoadAll looped for ever on these.
+        BadModel{",:\n", "a YAML mapping"},
+        BadModel{",:\x01\xf6\xff\xff\xff\xff\xff\xff\x7f\xff\xff\xf8\xff", "a YAML mapping"},
         BadModel{"name: m\naxes: {X: [1, 2]}\n", "mapping"}, BadModel{"name: m\naxes: {X: {}, X: {}}\n", "twice"},
         BadModel{"name: [m]\naxes: {X: {}}\n", "single value"},
         BadModel{"name: m\nchain: 5\naxes: {X: {}}\n", "mapping"},

@@ -1,12 +1,15 @@
 // Reading a machine model file: the document, its name, dialect, axes and sensors; the
 // chains and the terms have their own readers (read_chain.hpp, read_terms.hpp).
 #include <fmt/format.h>
+#include <yaml-cpp/anchor.h>
+#include <yaml-cpp/eventhandler.h>
 #include <yaml-cpp/yaml.h>
 
 #include <algorithm>
 #include <cctype>
 #include <cmath>
 #include <fstream>
+#include <optional>
 #include <sstream>
 
 #include "ccomp/error.hpp"
@@ -126,23 +129,67 @@ void add_term_sensors(const YAML::Node& term, MachineModel& model) {
       model.sensors.push_back(sensor);
 }
 
+/// What the documents after a file's first hold: a model is one YAML document, and a
+/// trailing `---` (an empty document) is not a second one. Counted from the parser's events
+/// rather than with YAML::LoadAll, which loops for ever on some malformed texts (",:" makes
+/// a document that consumes nothing; found by fuzzing), so the count stops at the most
+/// documents the text's `---` markers can start.
+class LaterDocuments : public YAML::EventHandler {
+ public:
+  int documents = 0;
+  std::optional<YAML::Mark> content;  ///< where a later document's first content is
+
+  void OnDocumentStart(const YAML::Mark&) override { ++documents; }
+  void OnDocumentEnd() override {}
+  void OnNull(const YAML::Mark&, YAML::anchor_t) override {}
+  void OnAlias(const YAML::Mark& mark, YAML::anchor_t) override { note(mark); }
+  void OnScalar(const YAML::Mark& mark, const std::string&, YAML::anchor_t, const std::string&) override { note(mark); }
+  void OnSequenceStart(const YAML::Mark& mark, const std::string&, YAML::anchor_t, YAML::EmitterStyle::value) override {
+    note(mark);
+  }
+  void OnSequenceEnd() override {}
+  void OnMapStart(const YAML::Mark& mark, const std::string&, YAML::anchor_t, YAML::EmitterStyle::value) override {
+    note(mark);
+  }
+  void OnMapEnd() override {}
+
+ private:
+  void note(const YAML::Mark& mark) {
+    if (documents > 1 && !content) content = mark;
+  }
+};
+
+/// Refuses a text with a second document that has content.
+void check_one_document(const std::string& text, const std::string& name) {
+  std::size_t markers = 0;
+  for (std::size_t at = text.find("---"); at != std::string::npos; at = text.find("---", at + 3)) ++markers;
+  std::istringstream in(text);
+  YAML::Parser parser(in);
+  LaterDocuments later;
+  while (later.documents <= static_cast<int>(markers) + 1 && !later.content && parser.HandleNextDocument(later)) {
+  }
+  if (later.content)
+    throw Error(ErrorKind::model, "a machine model is one YAML document; this file holds more ('---' starts another)",
+                io::at(name, *later.content));
+}
+
 }  // namespace
 
 MachineModel parse_machine_model(const std::string& text, const std::string& name) {
-  std::vector<YAML::Node> documents;
+  YAML::Node root;
   try {
-    documents = YAML::LoadAll(text);
+    root = YAML::Load(text);
+    check_one_document(text, name);
   } catch (const YAML::ParserException& e) {
     throw Error(ErrorKind::model, e.msg, io::at(name, e.mark));
   }
-  if (documents.empty() || !documents.front().IsMap())
-    throw Error(ErrorKind::model, "a machine model is a YAML mapping", SourceLocation{name});
-  // A trailing `---` makes an empty document: only one with content is a second model.
-  for (std::size_t k = 1; k < documents.size(); ++k)
-    if (!documents[k].IsNull())
-      bad(name, documents[k], "a machine model is one YAML document; this file holds more ('---' starts another)");
+  if (!root.IsMap()) {  // at the document's start where it has no place of its own (an empty file)
+    const YAML::Mark mark = root.Mark();
+    throw Error(ErrorKind::model, "a machine model is a YAML mapping",
+                mark.line >= 0 ? io::at(name, mark) : SourceLocation{name, 1, 1});
+  }
   try {
-    return read_model(documents.front(), name, text);
+    return read_model(root, name, text);
   } catch (const YAML::Exception& e) {
     // A conversion the readers above did not guard: still the file's fault, at its place.
     throw Error(ErrorKind::model, fmt::format("a value of the wrong kind: {}", e.msg), io::at(name, e.mark));
