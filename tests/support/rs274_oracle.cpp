@@ -23,11 +23,12 @@ bool have_rs274() {
 
 TraceResult rs274_trace(const std::string& program, const std::string& tool_table) {
   // rs274 reads and writes rs274ngc.var in its working folder, so it gets one of its own;
-  // and two rs274 at once crash (bus error, LinuxCNC's shared tool data), so runs from
-  // parallel test processes take turns on a lock. A program that loops for ever (the
-  // suite has some) is stopped after 60 s, as an error.
+  // and two rs274 at once crash or lose tools (bus error, "tool 2 not found": LinuxCNC's
+  // tool data is shared machine-wide), so every run on this machine (parallel test
+  // processes, another checkout's tests, tools/rs274-diff.sh) takes turns on one lock. A
+  // program that loops for ever (the suite has some) is stopped after 60 s, as an error.
   const std::string cwd = temp_dir("rs274_cwd");
-  const std::string lock = std::string(CCOMP_TEST_TMP) + "/rs274.lock";
+  const std::string lock = (fs::temp_directory_path() / "ccomp-rs274.lock").string();
   const CommandResult r =
       run_command("cd " + shell_quote(cwd) + " && flock " + shell_quote(lock) + " timeout 60 " + shell_quote(rs274()) +
                   " -t " + shell_quote(tool_table) + " -g " + shell_quote(program));
