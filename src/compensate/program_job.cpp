@@ -103,7 +103,10 @@ JobReport run_program_job(gcode::LineSource& input, std::FILE* out, const model:
   }
   gcode::ProgramWriter writer(input.another_reader(), out, header_line(model, options.tolerance));
   JobSink sink(writer, model, options, input, report);
-  gcode::Interpreter interpreter(options.interpreter);
+  // The program's G41/G42 stay for the control: the job rewrites the programmed path.
+  gcode::InterpreterOptions interpreting = options.interpreter;
+  interpreting.cutter_path = gcode::CutterPath::programmed;
+  gcode::Interpreter interpreter(interpreting);
   try {
     interpreter.run(input, sink);
     sink.finish();

@@ -391,12 +391,12 @@ Axes Interpreter::Impl::target_of(const Block& /*b*/, bool machine_coordinates) 
   return machine_coordinates ? offsets.from_machine(t) : t;
 }
 
-void Interpreter::Impl::straight(MotionKind kind, const Axes& target, MotionSource source) {
+Motion Interpreter::Impl::motion_to(MotionKind kind, MotionSource source, const Axes& target) const {
   Motion m;
   m.kind = kind;
   m.source = source;
-  m.start = offsets.to_machine(position);
-  m.end = offsets.to_machine(target);
+  m.start = position;
+  m.end = target;
   m.feed_mode = modal.feed_mode;
   m.feed = modal.feed;
   m.units = modal.units;
@@ -404,11 +404,36 @@ void Interpreter::Impl::straight(MotionKind kind, const Axes& target, MotionSour
   m.radius_compensation = modal.cutter_compensation != 400;
   m.offsets = &offsets;
   m.line = block.line;
+  return m;
+}
+
+void Interpreter::Impl::send(Motion m, const Axes& target) {
+  if (comp.offsetting()) {
+    m.tool_offset = comp.side() == CompensationSide::left ? comp.radius() : -comp.radius();
+    m.offset_entry = entry_move;
+  }
   position = target;
   blocks_since_motion = 0;
   leaving_compensation = false;
-  compensated_move = compensated_move || m.radius_compensation;
+  // Under G41/G42 the offset path went out through the compensation's queue.
+  if (comp.offsetting() && options.cutter_path == CutterPath::tool_centre) return;
+  m.start = offsets.to_machine(m.start);
+  m.end = offsets.to_machine(m.end);
   if (sink) sink->motion(m);
+}
+
+void Interpreter::Impl::straight(MotionKind kind, const Axes& target, MotionSource source) {
+  Motion m = motion_to(kind, source, target);
+  entry_move = false;
+  if (comp.offsetting()) {
+    if (source == MotionSource::machine_coordinates)
+      fail(block, nullptr, "cannot use G53 with cutter radius compensation on");
+    if (kind == MotionKind::probe) fail(block, nullptr, "cannot probe with cutter radius compensation on");
+    entry_move = comp.first_move();
+    const Axes from = position;
+    offset_path([&] { comp.straight(m, from, unit(), out()); });
+  }
+  send(m, target);
 }
 
 // ----------------------------------------------------------------------------------------
@@ -495,6 +520,7 @@ void Interpreter::Impl::execute(const Block& b) {
   // 6. tool change; 7. spindle (M codes are rare: skip them together)
   if (words.m_count > 0) {
     if (words.has_m(6)) {
+      refuse_under_compensation(b, "change tools");
       if (modal.selected_tool >= 0) modal.tool = modal.selected_tool;
       modal.spindle = 0;  // a tool change stops the spindle
       emit("STOP_SPINDLE_TURNING", "0");
@@ -523,25 +549,17 @@ void Interpreter::Impl::execute(const Block& b) {
       (1U << 2) | (1U << 3) | (1U << 4) | (1U << 6) | (1U << 7) | (1U << 8) | (1U << 10) | (1U << 12) | (1U << 13);
   if (words.groups & kSettingGroups) {
     // 11. plane
+    const Plane plane_before = modal.plane;
     if (words.has_g(170)) modal.plane = Plane::xy, emit("SELECT_PLANE", "CANON_PLANE_XY");
     if (words.has_g(180)) modal.plane = Plane::zx, emit("SELECT_PLANE", "CANON_PLANE_XZ");
     if (words.has_g(190)) modal.plane = Plane::yz, emit("SELECT_PLANE", "CANON_PLANE_YZ");
+    if (modal.plane != plane_before) refuse_under_compensation(b, "change planes");
     // 12. units
     if (words.has_g(200)) set_units(Units::inch);
     if (words.has_g(210)) set_units(Units::mm);
-    // 13. cutter radius compensation: tracked; the controller offsets the (compensated) path.
-    for (int code : {400, 410, 411, 420, 421}) {
-      if (!words.has_g(code)) continue;
-      if (code != 400 && modal.cutter_compensation != 400)
-        fail(b, nullptr, "cannot turn cutter radius compensation on when it is already on");
-      // LinuxCNC's rule, after a move made with the offset on.
-      if (code == 400 && modal.cutter_compensation != 400 && compensated_move && options.dialect.name == "linuxcnc")
-        leaving_compensation = true;
-      compensated_move = false;
-      modal.cutter_compensation = code;
-      emit("COMMENT", code == 400 ? "\"interpreter: cutter radius compensation off\""
-                                  : "\"interpreter: cutter radius compensation on\"");
-    }
+    // 13. cutter radius compensation
+    for (int code : {400, 410, 411, 420, 421})
+      if (words.has_g(code)) cutter_compensation(b, code);
     // 14. tool length offset
     for (int code : {430, 431, 432, 490})
       if (words.has_g(code)) tool_length(b, code);
@@ -603,7 +621,10 @@ void Interpreter::Impl::execute(const Block& b) {
     }
     return;
   }
-  if (words.has_m(0) || words.has_m(1) || words.has_m(60)) emit("PROGRAM_STOP", "");
+  if (words.has_m(0) || words.has_m(1) || words.has_m(60)) {
+    comp.flush(out());  // rs274 issues the waiting moves before it stops
+    emit("PROGRAM_STOP", "");
+  }
   if (words.has_m(2) || words.has_m(30)) end_program(b);
 }
 
@@ -665,6 +686,8 @@ void Interpreter::Impl::motion(const Block& b, int code, int non_modal) {
   switch (code) {
     case 0:
     case 10: {
+      if (code == 10 && modal.feed == 0.0 && modal.feed_mode != FeedMode::inverse_time && words.has_g(code))
+        fail(b, nullptr, "cannot do G1 with zero feed rate (no F word yet)");
       if (words.axis_mask() == 0) {
         // An explicit G0/G1 without axis words moves nowhere, yet LinuxCNC still issues it.
         if (words.has_g(code))
@@ -735,13 +758,10 @@ void Interpreter::Impl::motion(const Block& b, int code, int non_modal) {
   if (is_cycle(code)) canned_cycle(b, code);
 }
 
-void Interpreter::Impl::arc(const Block& b, int code, const Axes& target) {
-  // As LinuxCNC: the exit move of cutter compensation is where the offset is taken off.
-  if (leaving_compensation)
-    fail(b, nullptr, "the move just after exiting cutter compensation mode (G40) must be straight, not an arc");
+PlaneArc Interpreter::Impl::arc_centre(const Block& b, int code, const Axes& start, const Axes& target) {
   const PlaneAxes pa = plane_axes(modal.plane);
   const double u = unit();
-  const double s1 = position[pa.first], s2 = position[pa.second];
+  const double s1 = start[pa.first], s2 = start[pa.second];
   const double e1 = target[pa.first], e2 = target[pa.second];
   double c1 = 0.0, c2 = 0.0;
   const bool cw = code == 20;
@@ -806,31 +826,35 @@ void Interpreter::Impl::arc(const Block& b, int code, const Axes& target) {
                        (e2 - o2p) / u, r1, r2, abs_err, rel_err * 100.0));
     }
   }
+  return PlaneArc{c1, c2, cw ? -turns : turns};
+}
+
+void Interpreter::Impl::arc(const Block& b, int code, const Axes& target) {
+  // As LinuxCNC: the exit move of cutter compensation is where the offset is taken off.
+  if (leaving_compensation)
+    fail(b, nullptr, "the move just after exiting cutter compensation mode (G40) must be straight, not an arc");
+  const PlaneAxes pa = plane_axes(modal.plane);
+  // rs274 measures the entry arc's I and J from where the tool centre is.
+  const bool entry = comp.offsetting() && comp.first_move();
+  if (entry) offset_path([&] { comp.check_entry_arc(target); });
+  const PlaneArc centre_of = arc_centre(b, code, entry ? comp.tool() : position, target);
+  entry_move = entry;
   if (offsets.rotation != 0.0 && modal.plane != Plane::xy)
     throw Error(ErrorKind::unsupported, "arcs outside the XY plane with a rotated coordinate system are not supported",
                 SourceLocation{file_name(), b.line, 0}, std::string(b.text));
+  Motion m = motion_to(MotionKind::arc, MotionSource::program, target);
+  m.arc = Arc{modal.plane, centre_of.center_first, centre_of.center_second, centre_of.turns};
+  if (comp.offsetting()) {
+    const Axes from = position;
+    offset_path([&] { comp.arc(m, from, centre_of, unit(), out()); });
+  }
   Axes centre = target;
-  centre[pa.first] = c1;
-  centre[pa.second] = c2;
+  centre[pa.first] = centre_of.center_first;
+  centre[pa.second] = centre_of.center_second;
   centre = offsets.to_machine(centre);
-  Motion m;
-  m.kind = MotionKind::arc;
-  m.source = MotionSource::program;
-  m.start = offsets.to_machine(position);
-  m.end = offsets.to_machine(target);
-  m.arc = Arc{modal.plane, centre[pa.first], centre[pa.second], cw ? -turns : turns};
-  m.feed_mode = modal.feed_mode;
-  m.feed = modal.feed;
-  m.units = modal.units;
-  m.incremental = !modal.absolute;
-  m.radius_compensation = modal.cutter_compensation != 400;
-  m.offsets = &offsets;
-  m.line = b.line;
-  position = target;
-  blocks_since_motion = 0;
-  leaving_compensation = false;
-  compensated_move = compensated_move || m.radius_compensation;
-  if (sink) sink->motion(m);
+  m.arc.center_first = centre[pa.first];
+  m.arc.center_second = centre[pa.second];
+  send(m, target);
 }
 
 void Interpreter::Impl::cycle_move(MotionKind kind, std::size_t first, std::size_t second, std::size_t normal, double a,
@@ -851,6 +875,8 @@ void Interpreter::Impl::canned_cycle(const Block& b, int code) {
            fmt::format("cannot put an {} in canned cycle", static_cast<char>(std::tolower(kAxisLetters[i]))));
   if (modal.cutter_compensation != 400)
     fail(b, nullptr, "cannot use a canned cycle with cutter radius compensation on");
+  if (modal.feed == 0.0 && modal.feed_mode != FeedMode::inverse_time)
+    fail(b, nullptr, "cannot feed with zero feed rate: a canned cycle feeds (no F word yet)");
   const char first_letter = kAxisLetters[pa.first], second_letter = kAxisLetters[pa.second];
   const char depth_letter = kAxisLetters[pa.normal];
   // R, the depth, P and Q are sticky while the cycle stays in force.
@@ -1025,6 +1051,7 @@ void Interpreter::Impl::reference_return(const Block& b, int code) {
 }
 
 void Interpreter::Impl::set_g92(const Block& b, int code) {
+  if (code == 920 || code == 520) refuse_under_compensation(b, "change axis offsets (G92, G52)");
   const double u = unit();
   auto publish = [&]() {
     for (std::size_t i = 0; i < kAxisCount; ++i)
@@ -1077,6 +1104,7 @@ void Interpreter::Impl::g10(const Block& b) {
   if (l == 2 || l == 20) {
     if (p < 0 || p > 9) fail(b, words.word['P' - 'A'], fmt::format("P value out of range with G10 L{}: {}", l, p));
     const int system = p == 0 ? offsets.coordinate_system : p;
+    if (system == offsets.coordinate_system) refuse_under_compensation(b, "change the active coordinate system");
     const int base = 5221 + (system - 1) * 20;
     const double rotation = words.has('R') ? words['R'] : params.numbered(base + 9);
     // L20: the offset that makes the current point read the given value, in the new frame.
@@ -1140,6 +1168,7 @@ void Interpreter::Impl::g10(const Block& b) {
 }
 
 void Interpreter::Impl::tool_length(const Block& b, int code) {
+  refuse_under_compensation(b, "change the tool length offset");
   const double u = unit();
   Axes next{};
   switch (code) {
@@ -1185,6 +1214,7 @@ void Interpreter::Impl::end_program(const Block& /*b*/) {
   modal.plane = Plane::xy;
   modal.absolute = true;
   modal.feed_mode = FeedMode::units_per_minute;
+  comp.stop(out());
   modal.cutter_compensation = 400;
   modal.motion = 10;
   emit("PROGRAM_END", "");

@@ -28,11 +28,17 @@ bool controller_only(int n) {
 
 }  // namespace
 
-Interpreter::Impl::Impl(InterpreterOptions o) : options(std::move(o)), parser(options.dialect), tools(options.tools) {
+Interpreter::Impl::Impl(InterpreterOptions o)
+    : options(std::move(o)),
+      parser(options.dialect),
+      tools(options.tools),
+      comp(options.cutter_path == CutterPath::tool_centre) {
   // Hold the tool table in mm, like every other length inside the interpreter.
-  for (auto& [number, entry] : tools.tools)
+  for (auto& [number, entry] : tools.tools) {
     for (std::size_t i = 0; i < kAxisCount; ++i)
       if (!is_rotary(i)) entry.offset[i] *= machine_unit();
+    entry.diameter *= machine_unit();
+  }
   for (const auto& [name, value] : options.parameters) {
     std::string folded;
     for (char c : name)
@@ -68,8 +74,13 @@ void Interpreter::Impl::warn(const std::string& message, std::uint32_t line_no) 
   if (sink) sink->warning(message, line_no);
 }
 
-void Interpreter::Impl::emit(std::string_view name, std::string args) const {
-  if (sink && sink->wants_calls()) sink->call(CanonCall{name, std::move(args), block.line});
+void Interpreter::Impl::emit(std::string_view name, std::string args) {
+  if (!sink || !sink->wants_calls()) return;
+  CanonCall call{name, std::move(args), block.line};
+  if (comp.holds(call))
+    comp.hold(call);  // after the moves still waiting for the offset, as rs274 orders them
+  else
+    sink->call(call);
 }
 
 // ----------------------------------------------------------------------------------------
@@ -425,6 +436,7 @@ void Interpreter::Impl::run(LineSource& source, CanonSink& out) {
     execute(block);
   }
   if (ended) return;
+  comp.flush(out);
   if (!controls.empty()) {
     const ControlFrame& open = controls.back();
     throw Error(ErrorKind::program,

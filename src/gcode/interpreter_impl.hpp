@@ -15,6 +15,7 @@
 #include "ccomp/gcode/interpreter.hpp"
 #include "ccomp/gcode/parameters.hpp"
 #include "ccomp/gcode/parser.hpp"
+#include "cutter_compensation.hpp"
 
 namespace ccomp::gcode {
 
@@ -111,7 +112,9 @@ struct Interpreter::Impl {
   std::uint64_t blocks_executed = 0;
   std::uint64_t blocks_since_motion = 0;  ///< a loop that never moves is endless
   bool leaving_compensation = false;      ///< G40 has ended compensation; no move since
-  bool compensated_move = false;          ///< a move was made with cutter compensation on
+  CutterCompensation comp;                ///< G41/G42's offset path and its waiting moves
+  bool entry_move = false;                ///< the move being sent enters the offset path
+  CanonSink discard;                      ///< where output goes without a sink
 
   CanonSink* sink = nullptr;
   Block block;
@@ -152,6 +155,27 @@ struct Interpreter::Impl {
   void motion(const Block& b, int code, int non_modal);
   void straight(MotionKind kind, const Axes& target, MotionSource source);
   void arc(const Block& b, int code, const Axes& target);
+  /// The centre and signed turns of the block's arc from `start` (interpreter frame).
+  PlaneArc arc_centre(const Block& b, int code, const Axes& start, const Axes& target);
+  /// A motion of the programmed point from here to `target`, in the interpreter's frame.
+  [[nodiscard]] Motion motion_to(MotionKind kind, MotionSource source, const Axes& target) const;
+  /// Moves the programmed point to `target` and reports `m` (interpreter frame) unless the
+  /// offset path took its place.
+  void send(Motion m, const Axes& target);
+
+  // --- cutter radius compensation (execute_cutter_comp.cpp)
+  void cutter_compensation(const Block& b, int code);
+  void refuse_under_compensation(const Block& b, const char* what) const;
+  /// Runs a step of the offset path; its refusal becomes an error at the block.
+  template <typename Step>
+  void offset_path(Step&& step) {
+    try {
+      step();
+    } catch (const CompensationError& e) {
+      fail(block, nullptr, e.what());
+    }
+  }
+  CanonSink& out() { return sink ? *sink : discard; }
   void canned_cycle(const Block& b, int code);
   void cycle_move(MotionKind kind, std::size_t first, std::size_t second, std::size_t normal, double a, double b,
                   double c);
@@ -166,10 +190,10 @@ struct Interpreter::Impl {
   [[noreturn]] void fail(const Block& b, const Word* where, const std::string& message) const;
   [[noreturn]] void fail_at(const Block& b, Span span, const std::string& message) const;
   void warn(const std::string& message, std::uint32_t line_no) const;
-  void emit(std::string_view name, std::string args) const;
+  void emit(std::string_view name, std::string args);
   /// For calls on hot paths: formats only when a sink reads canonical calls.
   template <typename MakeArguments>
-  void emit_lazy(std::string_view name, MakeArguments&& make) const {
+  void emit_lazy(std::string_view name, MakeArguments&& make) {
     if (sink && sink->wants_calls()) emit(name, make());
   }
   /// mm per program unit (G20/G21) and per machine unit (parameters, tool table).

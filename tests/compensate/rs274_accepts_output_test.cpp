@@ -12,8 +12,8 @@
 
 #include <filesystem>
 #include <regex>
-#include <tuple>
 #include <string>
+#include <tuple>
 #include <utility>
 
 #include "ccomp/error.hpp"
@@ -68,8 +68,8 @@ TEST_P(Rs274AcceptsOutput, OnTheSampleMachinesAndWithCyclesExpanded) {
     const std::string out = dir + "/" + machine + ".ngc";
     const CommandResult job =
         run_command("cd " + shell_quote(path.parent_path().string()) + " && " + shell_quote(ccomp_binary()) + " " +
-                    shell_quote(path.filename().string()) + " -m " + shell_quote(model) + " --flatten" + options +
-                    " -q -o " + shell_quote(out));
+                    shell_quote(path.filename().string()) + " -m " + shell_quote(model) + " --tool-table " +
+                    shell_quote(tools) + " --machine-units inch --flatten" + options + " -q -o " + shell_quote(out));
     const bool zero = machine == "zero";
     const bool refused_for_a_reason = job.exit_code == exit_code(ErrorKind::safety) ||
                                       job.exit_code == exit_code(ErrorKind::unsupported) ||

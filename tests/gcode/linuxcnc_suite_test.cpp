@@ -53,17 +53,6 @@ TEST_P(LinuxcncSuite, MatchesLinuxcnc) {
   const fs::path expected_path = folder / (*c.expected ? c.expected : "expected");
   std::vector<std::string> expected_lines = read_lines(expected_path.string());
   std::vector<std::string> actual_lines = result.lines;
-  if (c.expect == Expect::motions_before_ccomp) {
-    auto cut = [](std::vector<std::string>& lines) {
-      for (std::size_t i = 0; i < lines.size(); ++i)
-        if (lines[i].find("cutter radius compensation on") != std::string::npos) {
-          lines.resize(i);
-          return;
-        }
-    };
-    cut(expected_lines);
-    cut(actual_lines);
-  }
   const auto expected = observable(expected_lines, false);
   auto actual = observable(actual_lines, c.awk);
   if (c.expect == Expect::same_messages)
@@ -77,14 +66,12 @@ TEST_P(LinuxcncSuite, MatchesLinuxcnc) {
 INSTANTIATE_TEST_SUITE_P(Corpus, LinuxcncSuite, ::testing::ValuesIn(suite_cases()),
                          [](const auto& test) { return std::string(test.param.name); });
 
-// interp/bad: every program must be rejected with a positioned message. ccomp-gouging needs
-// the controller's cutter compensation path to see the gouge, which ccomp does not compute.
+// interp/bad: every program must be rejected with a positioned message.
 TEST(LinuxcncBad, EveryBadProgramIsRejectedWithAPosition) {
   const fs::path dir = fs::path(corpus_dir()) / "linuxcnc/interp/bad";
   int checked = 0;
   for (const auto& entry : fs::directory_iterator(dir)) {
     if (entry.path().extension() != ".ngc") continue;
-    if (entry.path().filename() == "ccomp-gouging.ngc") continue;  // out of scope, see above
     const TraceResult r = trace_file(entry.path().string());
     ++checked;
     EXPECT_TRUE(r.error.has_value()) << entry.path().filename() << " was accepted";
@@ -93,7 +80,7 @@ TEST(LinuxcncBad, EveryBadProgramIsRejectedWithAPosition) {
       EXPECT_FALSE(r.error->where().file.empty()) << entry.path().filename();
     }
   }
-  EXPECT_GE(checked, 15);
+  EXPECT_GE(checked, 16);
 }
 
 // interp/good: accepted, with the motions LinuxCNC gives.

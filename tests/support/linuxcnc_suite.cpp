@@ -22,14 +22,13 @@ constexpr const char* kG84Permuted =
 
 const std::vector<SuiteCase>& suite_cases() {
   static const std::vector<SuiteCase> cases = {
-      // tests/ccomp: cutter radius compensation. ccomp leaves the offset path to the
-      // controller, so only the motions before G41/G42 take effect are compared.
-      {"ccomp_mill_g90g91g92", "ccomp/mill-g90g91g92/test.ngc", Expect::motions_before_ccomp, "", "test.tbl"},
-      {"ccomp_mill_zchanges", "ccomp/mill-zchanges/test.ngc", Expect::motions_before_ccomp, "", "test.tbl"},
+      // tests/ccomp: cutter radius compensation, the offset path as rs274 computes it.
+      {"ccomp_mill_g90g91g92", "ccomp/mill-g90g91g92/test.ngc", Expect::same_motions, "", "test.tbl"},
+      {"ccomp_mill_zchanges", "ccomp/mill-zchanges/test.ngc", Expect::same_motions, "", "test.tbl"},
       {"ccomp_lathe_comp", "ccomp/lathe-comp/test.ngc", Expect::out_of_scope, "", "", "", "",
        "lathe (G7/G18 diameter mode with cutter compensation)"},
-      {"crazy_paths", "interp/crazy-paths/test.ngc", Expect::motions_before_ccomp},
-      {"inside_corners", "interp/inside-corners/test.ngc", Expect::motions_before_ccomp},
+      {"crazy_paths", "interp/crazy-paths/test.ngc", Expect::same_motions},
+      {"inside_corners", "interp/inside-corners/test.ngc", Expect::same_motions},
       {"exists", "interp/exists/test.ngc", Expect::same_motions},
       {"flowsnake", "interp/flowsnake/flowsnake.ngc", Expect::same_motions},
       {"g10_l1_l10", "interp/g10/g10-l1-l10/test.ngc", Expect::same_motions, "", "test.tbl"},

@@ -17,11 +17,10 @@ struct SuiteProgram {
 std::ostream& operator<<(std::ostream& os, const SuiteProgram& p);
 
 enum class Expect {
-  same_motions,          ///< motions equal to `expected`
-  motions_before_ccomp,  ///< equal up to where cutter radius compensation turns on
-  same_messages,         ///< (DEBUG,...) messages equal to `expected` (test.sh keeps only those)
-  accepted,              ///< accepted, no motion in `expected` to compare
-  rejected,              ///< the interpreter must refuse the program
+  same_motions,   ///< motions equal to `expected`
+  same_messages,  ///< (DEBUG,...) messages equal to `expected` (test.sh keeps only those)
+  accepted,       ///< accepted, no motion in `expected` to compare
+  rejected,       ///< the interpreter must refuse the program
   out_of_scope,
 };
 

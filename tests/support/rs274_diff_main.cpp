@@ -30,12 +30,15 @@ int main(int argc, char** argv) {
   const std::string tools = (out / "tools.tbl").string();
   write_file(tools, "T1 P1 Z0.5 D0.25\nT2 P2 Z1.25 D0.5\n");
   const std::string program = (out / "program.ngc").string(), scratch = (out / "candidate.ngc").string();
-  unsigned diverged = 0;
+  unsigned diverged = 0, refused = 0;
   for (unsigned seed = first; seed < first + count; ++seed) {
     const std::string text = generated_program(seed, blocks);
     write_file(program, text);
     const auto divergence = rs274_divergence(program, tools);
-    if (!divergence) continue;
+    if (!divergence) {
+      if (rs274_trace(program, tools).error) ++refused;  // both refuse, after the same motions
+      continue;
+    }
     ++diverged;
     const std::string smallest = smallest_divergent(text, tools, scratch);
     const auto still = rs274_divergence(scratch, tools);
@@ -47,7 +50,9 @@ int main(int argc, char** argv) {
   }
   std::filesystem::remove(program);
   std::filesystem::remove(scratch);
-  std::printf("%u programs of %d blocks (seeds %u..%u): %u diverge from rs274\n", count, blocks, first,
-              first + count - 1, diverged);
+  std::printf(
+      "%u programs of %d blocks (seeds %u..%u): %u diverge from rs274; %u both refuse (a gouge), "
+      "after the same motions\n",
+      count, blocks, first, first + count - 1, diverged, refused);
   return diverged == 0 ? 0 : 1;
 }

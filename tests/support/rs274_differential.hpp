@@ -25,7 +25,8 @@ std::optional<std::string> rs274_divergence(const std::string& path, const std::
 std::string generated_program(unsigned seed, int blocks);
 
 /// The program with as many of its lines removed as can be while it still diverges from
-/// rs274 (whole halves first, then smaller pieces, then single lines); `scratch` is a file
+/// rs274 in the same way (a refusal by either, or different motions), whole halves first,
+/// then smaller pieces, then single lines; `scratch` is a file
 /// path the candidates are written to.
 std::string smallest_divergent(const std::string& program, const std::string& tool_table, const std::string& scratch);
 

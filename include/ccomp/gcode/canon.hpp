@@ -81,6 +81,11 @@ struct Motion {
   bool incremental = false;  ///< G91 in force: the block's axis words are distances
   /// G41/G42 in force: the controller offsets the path by the tool's radius.
   bool radius_compensation = false;
+  /// With the programmed path reported under G41/G42 (CutterPath::programmed): mm the tool
+  /// centre runs to the left (+) or right (-) of this move, 0 without an offset; and whether
+  /// this is the entry move, along which the tool only reaches the offset path.
+  double tool_offset = 0.0;
+  bool offset_entry = false;
   const Offsets* offsets = nullptr;  ///< in force during the move
   std::uint32_t line = 0;            ///< source line of the block that commanded it
 };

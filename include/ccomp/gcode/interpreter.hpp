@@ -17,6 +17,12 @@
 
 namespace ccomp::gcode {
 
+/// The motions a program reports under cutter radius compensation (G41/G42): the path the
+/// tool centre runs, offset as LinuxCNC's rs274 offsets it (trace, verify), or the programmed
+/// path, each motion saying how far to which side its tool centre runs (the main job, which
+/// leaves the offsetting to the control).
+enum class CutterPath : std::uint8_t { tool_centre, programmed };
+
 struct InterpreterOptions {
   Dialect dialect;
   ToolTable tools;
@@ -34,6 +40,7 @@ struct InterpreterOptions {
   /// of interpreting), and so is this many blocks in a row without a move.
   std::uint64_t max_blocks = 100'000'000;
   std::uint64_t max_blocks_without_motion = 1'000'000;
+  CutterPath cutter_path = CutterPath::tool_centre;
 };
 
 /// The modal state an observer may read between blocks (G codes times ten).
