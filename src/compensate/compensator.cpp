@@ -77,6 +77,16 @@ bool Compensator::approach_by_travel(const ChainQ& from, const ChainQ& to) {
   return changed;
 }
 
+ChainQ Compensator::path_end(const ChainQ& start, const ChainQ& end, MoveReport& report) {
+  if (!commanded_.allFinite()) commanded_ = start;
+  approach(start, end);
+  ChainQ q = point(end, report);
+  if (approach_by_travel(commanded_, q)) q = point(end, report);
+  command(q);
+  report.unhidden_reversals |= unhidden(options_.conditions.directions);
+  return q;
+}
+
 void Compensator::rapid(const ChainQ& end, std::vector<CompensatedPoint>& out, MoveReport& report) {
   out.clear();
   if (!commanded_.allFinite()) commanded_ = end;
@@ -246,11 +256,10 @@ void Compensator::straight(const ChainQ& start, const ChainQ& end, std::vector<C
   }
   lead_in(start, a, tolerance, out, report);
   const std::size_t first = out.size();
-  // Where the control offsets the path, a straight move stays one line: a piece shorter
-  // than the tool's radius next to an inside corner is one the control refuses (LinuxCNC:
-  // "cannot be reached by the tool without gouging"). Its deviation is measured, not split.
-  split(start, end, a, b, 0.0, 1.0, offset_by_control_ ? options_.max_depth : 0, tolerance, out, report);
-  report.jogs_withheld = report.jogs_withheld || offset_by_control_;
+  // Where the control offsets the path, the move given is the tool centre's as the control
+  // settles it between its corners: pieces of it stay within them, so the control offsets
+  // each the same way, and no piece is one it refuses.
+  split(start, end, a, b, 0.0, 1.0, 0, tolerance, out, report);
   error_before(start, end, uncompensated, report);
   for (std::size_t k = first; k < out.size(); ++k) command(out[k].q);
 }

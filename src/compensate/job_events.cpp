@@ -235,7 +235,7 @@ void JobSink::write_move(MoveTask& t) {
         std::max(t.report.max_deviation_before, stages_->error_before.error_at(p, at_least));
   }
   stages_->guards.account(t.report, t.motion.units, t.block.line, t.text, t.chords.last());
-  stages_->rewriter.rewrite(t.motion, t.block, t.points, t.offset, t.terminator, t.chords);
+  stages_->rewriter.rewrite(t.motion, t.block, t.points, t.offset, t.terminator, t.chords, t.arc_starts);
 }
 
 /// Compensates a cycle still waiting for its block's end, once every move before it is written.

@@ -80,10 +80,11 @@ void JobGuards::account(const MoveReport& move, gcode::Units units, std::uint32_
   warn_unhidden_reversals(move.unhidden_reversals, line);
   if (move.jogs_withheld)
     warn_once(warned_jogs_,
-              "cutter radius compensation (G41/G42) is on: the control offsets each line as a piece of its "
-              "own, and refuses or gouges short ones at inside corners, so ccomp neither splits straight moves "
-              "there nor writes take-up moves; what that leaves is in the summary's 'after' (said once)",
+              "cutter radius compensation (G41/G42) is on: a move that turns back is an inside corner the "
+              "control refuses, so ccomp writes no take-up moves there; what that leaves is in the summary's "
+              "'after' (said once)",
               line);
+  if (move.kept_whole && move.max_deviation_after > options_.tolerance) warn_kept_whole(move, line);
   if (move.start_error > 0.0 && !warned_start_error_)
     warn_once(warned_start_error_,
               fmt::format("this cut starts where a move in machine coordinates (G53, G28, G30) or a canned "
@@ -93,6 +94,22 @@ void JobGuards::account(const MoveReport& move, gcode::Units units, std::uint32_
                           move.start_error * 1000.0),
               line);
   if (whole_move) ++report_.compensated_moves;  // a move in parts counts at its last
+}
+
+/// Per block, as the issue of each is its own: the first 20, then once how to see them all.
+void JobGuards::warn_kept_whole(const MoveReport& move, std::uint32_t line) {
+  constexpr int kShown = 20;
+  if (!options_.warning || ++kept_whole_over_ > kShown + 1) return;
+  if (kept_whole_over_ > kShown) {
+    options_.warning("more blocks like the above: the summary's 'after' is the worst of them", line);
+    return;
+  }
+  options_.warning(fmt::format("this move keeps {:.2f} um of error, more than the tolerance of {:.2f} um: the "
+                               "control offsets it (G41/G42) as one piece (an entry move, an arc of several "
+                               "turns), and the error field needs it split. --resolve-cutter-comp writes the "
+                               "offset path itself, under G40, split as needed",
+                               move.max_deviation_after * 1000.0, options_.tolerance * 1000.0),
+                   line);
 }
 
 void JobGuards::warn_once(bool& said, const std::string& message, std::uint32_t line) {

@@ -34,6 +34,7 @@ class JobGuards {
   void check_rotary_rounding(std::uint32_t line);
   void warn_unhidden_reversals(unsigned axes, std::uint32_t line);
   void warn_once(bool& said, const std::string& message, std::uint32_t line);
+  void warn_kept_whole(const MoveReport& move, std::uint32_t line);
 
   const model::MachineModel& model_;
   const JobOptions& options_;
@@ -45,6 +46,7 @@ class JobGuards {
   unsigned warned_reversals_ = 0;  ///< bit i: axis i's reversal was warned of
   bool warned_start_error_ = false;
   bool warned_jogs_ = false;
+  int kept_whole_over_ = 0;                 ///< blocks the control's radius offset leaves over the tolerance
   std::array<bool, 2> rounding_checked_{};  ///< check_rounding() done, for mm and for inch
   bool rotary_checked_ = false;
 };

@@ -79,18 +79,27 @@ void MoveRewriter::point_words(const gcode::Motion& m, const gcode::Block& b, co
 }
 
 void MoveRewriter::rewrite(const gcode::Motion& m, const gcode::Block& b, const std::vector<CompensatedPoint>& points,
-                           std::uint64_t offset, std::string_view terminator, const ChordRange& part) {
+                           std::uint64_t offset, std::string_view terminator, const ChordRange& part,
+                           std::span<const gcode::Axes> arc_starts) {
   edits_.clear();
+  const bool arc_pieces = arc_starts.size() == points.size() && points.size() > 1;
+  if (arc_pieces) centre_by_words(m, b, arc_starts.front());
   std::string appended;
   // A part after the first adds lines only: its first point is not the block's own.
   const std::size_t own_line = part.first() ? 0 : static_cast<std::size_t>(-1);
   double previous_s = part.whole() ? 0.0 : static_cast<double>(part.begin) / static_cast<double>(part.count);
   const std::uint32_t insert_at = insertion_point(b);
   for (std::size_t k = 0; k < points.size(); ++k) {
-    std::string segment = k == own_line ? "" : (m.kind == gcode::MotionKind::traverse ? "G0" : "G1");
+    std::string segment = k == own_line                           ? ""
+                          : arc_pieces                            ? (m.arc.turns > 0 ? "G3" : "G2")
+                          : m.kind == gcode::MotionKind::traverse ? "G0"
+                                                                  : "G1";
     const std::size_t bare = segment.size();
+    // Its centre words count from where the piece starts: the machine, before its words move it.
+    const std::string centre = arc_pieces && k != own_line ? centre_words(m, b, arc_starts[k]) : "";
     PointLine line{k == own_line, std::move(segment), bare, insert_at};
     point_words(m, b, points[k], line);
+    line.segment += centre;
     // A take-up finer than the program's digits moves nothing: no line for it.
     if (!line.own && points[k].take_up && line.segment.size() == line.bare) continue;
     // Inverse time: each piece keeps its share of the block's duration; a take-up move
@@ -121,6 +130,42 @@ void MoveRewriter::rewrite(const gcode::Motion& m, const gcode::Block& b, const 
 
 /// Hands the move's edits and added lines to the writer. A part after the first is written
 /// straight out; a part before the last leaves the block's line open for the next.
+std::string MoveRewriter::centre_words(const gcode::Motion& m, const gcode::Block& b, const gcode::Axes& start) {
+  // (plane axes: XY -> I J, ZX -> K I, YZ -> J K)
+  const gcode::PlaneAxes pa = gcode::plane_axes(m.arc.plane);
+  const double unit = mm_per_unit(m.units);
+  gcode::Axes centre = m.end;
+  centre[pa.first] = m.arc.center_first;
+  centre[pa.second] = m.arc.center_second;
+  const gcode::Axes c = m.offsets->program_of(centre), p = m.offsets->program_of(start);
+  // Absolute centres move with the piece's start as written, as incremental ones do.
+  const gcode::Axes written = program_of(model::chain_of(position_.commanded, *m.offsets), *m.offsets, unit);
+  std::string words;
+  for (std::size_t axis : {pa.first, pa.second}) {
+    const char letter = "IJK"[axis];
+    const double value =
+        m.absolute_centre ? c[axis] / unit + written[axis] - p[axis] / unit : (c[axis] - p[axis]) / unit;
+    const gcode::Word* own = b.find(letter);
+    const gcode::Word* styled = own ? own : b.find(gcode::kAxisLetters[axis]);
+    words += std::string(" ") + letter +
+             format_value(value, styled ? b.slice(styled->value_span) : std::string_view(),
+                          m.units == gcode::Units::inch, false, decimals_.linear)
+                 .text;
+  }
+  return words;
+}
+
+/// The block's own line is the first piece: a radius word becomes centre words (a negative
+/// radius, the long way round, would be wrong for a piece of it).
+void MoveRewriter::centre_by_words(const gcode::Motion& m, const gcode::Block& b, const gcode::Axes& start) {
+  const gcode::Word* r = b.find('R');
+  if (!r) return;
+  std::vector<gcode::Span> radius{r->span};
+  gcode::removal_edits(b.text, radius, edits_);
+  const std::string words = centre_words(m, b, start);
+  edits_.push_back(gcode::Edit{{r->span.end, r->span.end}, words});
+}
+
 void MoveRewriter::finish_lines(const gcode::Motion& m, const gcode::Block& b, std::uint64_t offset,
                                 const ChordRange& part, std::string& appended) {
   if (!part.first()) {  // the line is open: the lines go straight out

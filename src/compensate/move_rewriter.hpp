@@ -5,6 +5,7 @@
 // the written digits put the machine, so incremental words count from there.
 #include <cstdint>
 #include <optional>
+#include <span>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -33,9 +34,12 @@ class MoveRewriter {
                JobReport& report, std::string_view file);
 
   /// Writes a move's points (all of them, or the part `part` of an arc) as edits of its
-  /// block, at `offset` in the input, and lines after it ending in `terminator`.
+  /// block, at `offset` in the input, and lines after it ending in `terminator`. An arc
+  /// under the control's radius offset in pieces (`arc_starts`: each piece's programmed
+  /// start) is written as arcs, each with its centre words.
   void rewrite(const gcode::Motion& m, const gcode::Block& b, const std::vector<CompensatedPoint>& points,
-               std::uint64_t offset, std::string_view terminator, const ChordRange& part = {});
+               std::uint64_t offset, std::string_view terminator, const ChordRange& part = {},
+               std::span<const gcode::Axes> arc_starts = {});
 
   /// The word for axis i at program value p (program units, degrees), or nothing for an
   /// axis the block did not name that need not move; written in the style of `styled` (the
@@ -51,6 +55,9 @@ class MoveRewriter {
  private:
   struct PointLine;
   void point_words(const gcode::Motion& m, const gcode::Block& b, const CompensatedPoint& point, PointLine& line);
+  /// The centre words of an arc piece from `start` (the programmed, nominal point).
+  [[nodiscard]] std::string centre_words(const gcode::Motion& m, const gcode::Block& b, const gcode::Axes& start);
+  void centre_by_words(const gcode::Motion& m, const gcode::Block& b, const gcode::Axes& start);
   void finish_lines(const gcode::Motion& m, const gcode::Block& b, std::uint64_t offset, const ChordRange& part,
                     std::string& appended);
 

@@ -30,6 +30,46 @@ void arc_chords(const gcode::Motion& m, double tolerance, const ChordRange& rang
     out[k - begin] = gcode::arc_point(m, g, static_cast<double>(k) / static_cast<double>(n));
 }
 
+gcode::Axes linear_point(const gcode::Motion& m, double s) {
+  gcode::Axes p = m.start;
+  for (std::size_t i = 0; i < gcode::kAxisCount; ++i) p[i] += s * (m.end[i] - m.start[i]);
+  return p;
+}
+
+gcode::Axes minus(gcode::Axes a, const gcode::Axes& b) {
+  for (std::size_t i = 0; i < gcode::kAxisCount; ++i) a[i] -= b[i];
+  return a;
+}
+
+/// The tool centre's offset from a straight move's programmed path: across the line (a
+/// concave corner takes some of its length, along it). A move with no length in the plane
+/// keeps the offset it was left with.
+gcode::Axes offset_across(const gcode::Motion& m) {
+  gcode::Axes v = minus(m.tool_end, m.end);
+  gcode::Axes d = minus(m.end, m.start);
+  for (std::size_t i = 3; i < gcode::kAxisCount; ++i) d[i] = 0.0, v[i] = 0.0;
+  double dd = 0.0, vd = 0.0;
+  for (std::size_t i = 0; i < 3; ++i) dd += d[i] * d[i], vd += v[i] * d[i];
+  if (dd < 1e-24) return v;
+  for (std::size_t i = 0; i < 3; ++i) v[i] -= vd / dd * d[i];
+  return v;
+}
+
+/// The programmed point the control offsets to `tool` on an arc: on the same radius line,
+/// at the programmed radius.
+gcode::Axes programmed_under(const gcode::Motion& m, const gcode::Axes& tool) {
+  const gcode::PlaneAxes pa = gcode::plane_axes(m.arc.plane);
+  const double c1 = m.arc.center_first, c2 = m.arc.center_second;
+  const double r_tool = std::hypot(tool[pa.first] - c1, tool[pa.second] - c2);
+  const double r_programmed = std::hypot(m.end[pa.first] - c1, m.end[pa.second] - c2);
+  gcode::Axes p = tool;
+  if (r_tool > 0.0) {
+    p[pa.first] = c1 + (tool[pa.first] - c1) * r_programmed / r_tool;
+    p[pa.second] = c2 + (tool[pa.second] - c2) * r_programmed / r_tool;
+  }
+  return p;
+}
+
 }  // namespace
 
 MoveSolver::MoveSolver(const model::ForwardModel& model, const CompensationOptions& options)
@@ -46,9 +86,9 @@ void MoveSolver::solve_batch(MoveBatch& batch) {
     if (failed) continue;  // never written: the writing stops at the failure
     try {
       compensator.defer_error_before(&t.probes);
-      if (t.first) compensator.moved(chain_of(t.motion.start, t.offsets));
+      if (t.first) compensator.moved(chain_of(t.motion.offset ? t.motion.tool_start : t.motion.start, t.offsets));
       compensator.expect(chain_of(t.motion.end, t.offsets), t.end_pose);
-      solve(t.motion, t.offsets, t.report, t.points, t.chords);
+      solve(t.motion, t.offsets, t.report, t.points, t.chords, &t.arc_starts);
     } catch (...) {
       t.error = std::current_exception();
       failed = true;
@@ -58,13 +98,54 @@ void MoveSolver::solve_batch(MoveBatch& batch) {
 }
 
 void MoveSolver::solve(const gcode::Motion& m, const gcode::Offsets& offsets, MoveReport& move,
-                       std::vector<CompensatedPoint>& points, const ChordRange& range) {
+                       std::vector<CompensatedPoint>& points, const ChordRange& range,
+                       std::vector<gcode::Axes>* arc_starts) {
+  if (arc_starts) arc_starts->clear();
+  if (!m.offset) {
+    tool_end_.setConstant(std::nan(""));
+    solve_path(m, offsets, move, points, range);
+    return;
+  }
+  // The axes run the tool centre's path: its points are compensated (the compensator follows
+  // where the axes are), and each is written as the programmed point the control offsets to
+  // it: a line's less its offset across the line, an arc's drawn in to the programmed radius.
+  gcode::Motion centre = m;
+  centre.start = m.tool_start;
+  centre.end = m.tool_end;
+  centre.offset = false;
+  // Between one offset move's end and the next one's start the control goes round the
+  // corner (or cuts it short), the correction with it.
+  const model::ChainQ start = chain_of(m.tool_start, offsets);
+  if (tool_end_.allFinite() && compensator.commanded().allFinite()) compensator.carried(start - tool_end_);
+  tool_end_ = m.radius_compensation ? chain_of(m.tool_end, offsets) : model::ChainQ::Constant(std::nan(""));
+  solve_path(centre, offsets, move, points, range);
+  const bool arc = m.kind == gcode::MotionKind::arc && m.radius_compensation;
+  const gcode::ArcGeometry g = arc ? gcode::arc_geometry(centre) : gcode::ArcGeometry{};
+  // The move's end is the corner: the programmed end, where the tool is as the control
+  // settles the corner (a concave one pulls it back along the move).
+  const gcode::Axes across = offset_across(m);
+  double s0 = 0.0;
+  for (std::size_t k = 0; k < points.size(); ++k) {
+    CompensatedPoint& p = points[k];
+    const bool end = k + 1 == points.size();
+    const gcode::Axes tool = end ? m.tool_end : arc ? gcode::arc_point(centre, g, p.s) : linear_point(centre, p.s);
+    const gcode::Axes programmed = end ? m.end : arc ? programmed_under(m, tool) : minus(tool, across);
+    p.q -= chain_of(tool, offsets) - chain_of(programmed, offsets);
+    if (arc && arc_starts)
+      arc_starts->push_back(k == 0 ? m.start : programmed_under(m, gcode::arc_point(centre, g, s0)));
+    s0 = p.s;
+  }
+}
+
+void MoveSolver::solve_path(const gcode::Motion& m, const gcode::Offsets& offsets, MoveReport& move,
+                            std::vector<CompensatedPoint>& points, const ChordRange& range) {
   compensator.offset_by_control(m.radius_compensation);
   // The move that starts the control's offset must stay one line longer than the tool's
   // radius (LinuxCNC refuses a shorter one): its end is compensated, as a rapid's.
   const bool entry = m.radius_compensation && !offset_before_;
   offset_before_ = m.radius_compensation;
-  if (m.kind == gcode::MotionKind::traverse || (entry && m.kind == gcode::MotionKind::feed)) {
+  move.kept_whole = entry;
+  if (m.kind == gcode::MotionKind::traverse || entry) {
     const model::ChainQ end = chain_of(m.end, offsets);
     compensator.error_before_at(end, move);
     compensator.rapid(end, points, move);
@@ -77,9 +158,10 @@ void MoveSolver::solve(const gcode::Motion& m, const gcode::Offsets& offsets, Mo
   }
 }
 
-/// The control offsets an arc as one piece; its chords would be pieces shorter than the
-/// radius at inside corners, which it refuses. So it stays an arc, its end compensated (its
-/// centre words count from its start, as written), and what the arc does between is measured.
+/// Under the control's radius offset an arc stays arcs: its chords would make corners the
+/// control offsets on their own. It is written in as few pieces of the arc as keep each
+/// within the tolerance (an arc of several turns as one), each piece's end compensated (its
+/// centre words count from its start, as written); what each does between is measured.
 void MoveSolver::solve_arc_kept(const gcode::Motion& m, const gcode::Offsets& offsets, MoveReport& move,
                                 std::vector<CompensatedPoint>& points) {
   const model::ChainQ start = chain_of(m.start, offsets), end = chain_of(m.end, offsets);
@@ -90,9 +172,47 @@ void MoveSolver::solve_arc_kept(const gcode::Motion& m, const gcode::Offsets& of
   for (int k = 1; k < n; ++k)
     compensator.error_before_at(chain_of(gcode::arc_point(m, g, static_cast<double>(k) / n), offsets), move);
   compensator.error_before_at(end, move);
-  compensator.rapid(end, points, move);
-  move.max_deviation_after =
-      std::max(move.max_deviation_after, kept_arc_deviation(m, g, offsets, from, points.back().q, n));
+  const int pieces = std::abs(m.arc.turns) == 1 ? arc_pieces(m, g, offsets) : 1;
+  move.kept_whole = pieces == 1 && std::abs(m.arc.turns) != 1;
+  points.clear();
+  for (int k = 1; k <= pieces; ++k) {
+    const double f0 = static_cast<double>(k - 1) / pieces, f1 = static_cast<double>(k) / pieces;
+    gcode::Motion piece = m;
+    piece.start = gcode::arc_point(m, g, f0);
+    piece.end = gcode::arc_point(m, g, f1);
+    if (pieces > 1) piece.arc.turns = m.arc.turns > 0 ? 1 : -1;
+    const model::ChainQ to = compensator.path_end(chain_of(piece.start, offsets), chain_of(piece.end, offsets), move);
+    points.push_back({f1, to, false});
+    const gcode::ArcGeometry pg = gcode::arc_geometry(piece);
+    const int checks = std::max(8, n / pieces);
+    move.max_deviation_after =
+        std::max(move.max_deviation_after, kept_arc_deviation(piece, pg, offsets, from, to, checks));
+    from = to;
+  }
+}
+
+/// How many equal pieces an arc under the control's offset needs: the uncompensated error's
+/// departure from its straight-line blend between a piece's ends is what its compensated
+/// ends cannot take out along it; it falls as the square of the piece's sweep.
+int MoveSolver::arc_pieces(const gcode::Motion& m, const gcode::ArcGeometry& g, const gcode::Offsets& offsets) {
+  constexpr int kMostPieces = 64, kSamples = 8;
+  auto error = [&](double f) {
+    model::forward(model_, data_, chain_of(gcode::arc_point(m, g, f), offsets), compensator.conditions(), false,
+                   model::Evaluate::both);
+    return Eigen::Vector3d(data_.actual - data_.nominal);
+  };
+  for (int pieces = 1;; pieces *= 2) {
+    double worst = 0.0;
+    for (int k = 0; k < pieces; ++k) {
+      const double f0 = static_cast<double>(k) / pieces, f1 = static_cast<double>(k + 1) / pieces;
+      const Eigen::Vector3d e0 = error(f0), e1 = error(f1);
+      for (int j = 1; j < kSamples; ++j) {
+        const double t = static_cast<double>(j) / kSamples;
+        worst = std::max(worst, (error(f0 + t * (f1 - f0)) - ((1 - t) * e0 + t * e1)).norm());
+      }
+    }
+    if (worst <= 0.5 * tolerance_ || pieces >= kMostPieces) return pieces;
+  }
 }
 
 void MoveSolver::solve_arc_chords(const gcode::Motion& m, const gcode::Offsets& offsets, MoveReport& move,

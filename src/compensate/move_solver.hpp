@@ -27,18 +27,26 @@ class alignas(64) MoveSolver {
   /// The compensated points of a motion into `points`: a rapid's end (its path is the
   /// control's), a feed move split as its error field needs, an arc as chords within half
   /// the tolerance, each compensated within the other half; `range`, the chords of an arc
-  /// in parts.
+  /// in parts. Under the control's radius offset (G41/G42) the error is that of the tool
+  /// centre's path: it is compensated, and each point written where the control's offset
+  /// puts it there.
+  /// `arc_starts`: for an arc under the control's offset, the programmed start of each piece
+  /// it is written in (machine frame), for their centre words.
   void solve(const gcode::Motion& m, const gcode::Offsets& offsets, MoveReport& move,
-             std::vector<CompensatedPoint>& points, const ChordRange& range = {});
+             std::vector<CompensatedPoint>& points, const ChordRange& range = {},
+             std::vector<gcode::Axes>* arc_starts = nullptr);
 
   /// Its compensator: followed by the job's other stages only while no batch is in flight.
   Compensator compensator;
 
  private:
+  void solve_path(const gcode::Motion& m, const gcode::Offsets& offsets, MoveReport& move,
+                  std::vector<CompensatedPoint>& points, const ChordRange& range);
   void solve_arc_kept(const gcode::Motion& m, const gcode::Offsets& offsets, MoveReport& move,
                       std::vector<CompensatedPoint>& points);
   void solve_arc_chords(const gcode::Motion& m, const gcode::Offsets& offsets, MoveReport& move,
                         std::vector<CompensatedPoint>& points, const ChordRange& range);
+  [[nodiscard]] int arc_pieces(const gcode::Motion& m, const gcode::ArcGeometry& g, const gcode::Offsets& offsets);
   [[nodiscard]] double kept_arc_deviation(const gcode::Motion& m, const gcode::ArcGeometry& g,
                                           const gcode::Offsets& offsets, const model::ChainQ& from,
                                           const model::ChainQ& to, int n);
@@ -47,6 +55,9 @@ class alignas(64) MoveSolver {
   model::ForwardData data_;  ///< scratch for kept_arc_deviation()
   double tolerance_;
   bool offset_before_ = false;  ///< the last move was under the control's radius offset
+  /// Where the last move's tool centre ended under the control's radius offset, as the
+  /// control offsets it alone (chain values; NaN when there was none).
+  model::ChainQ tool_end_ = model::ChainQ::Constant(std::nan(""));
   std::vector<gcode::Axes> chords_;
   std::vector<CompensatedPoint> pieces_;
 };

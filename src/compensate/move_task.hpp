@@ -34,6 +34,7 @@ struct MoveTask {
   NominalPose end_pose;  ///< the nominal tool pose at its end (the reading thread's)
   // what the compensation made of it
   std::vector<CompensatedPoint> points;
+  std::vector<gcode::Axes> arc_starts;  ///< an arc under the control's offset: each piece's programmed start
   MoveReport report;
   std::vector<ErrorProbe> probes;  ///< where the uncompensated machine's error is taken
   std::exception_ptr error;

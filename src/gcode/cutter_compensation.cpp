@@ -88,7 +88,8 @@ bool CutterCompensation::holds(const CanonCall& call) const {
                                                                "ORIENT_SPINDLE",
                                                                "WAIT_ORIENT_SPINDLE_COMPLETE",
                                                                "START_SPINDLE_COUNTERCLOCKWISE"};
-  if (!issue_ || queue_.empty()) return false;
+  if (queue_.empty()) return false;
+  if (path_ != CutterPath::tool_centre) return true;
   for (std::string_view name : kQueued)
     if (name == call.name) return true;
   return false;
@@ -96,9 +97,32 @@ bool CutterCompensation::holds(const CanonCall& call) const {
 
 void CutterCompensation::hold(const CanonCall& call) {
   Queued q;
-  q.is_motion = false;
+  q.kind = Queued::Kind::call;
   q.call = call;
   queue_.push_back(std::move(q));
+}
+
+void CutterCompensation::hold(const Block& block, const SourceLine& line) {
+  Queued q;
+  q.kind = Queued::Kind::block;
+  q.block = std::make_unique<HeldBlock>();
+  HeldBlock& h = *q.block;
+  h.block = block;
+  h.text.assign(block.text);
+  h.line = line;
+  h.line_text.assign(line.text);
+  h.terminator.assign(line.terminator);
+  h.file.assign(line.file);
+  queue_.push_back(std::move(q));
+}
+
+void CutterCompensation::attach(const Motion& programmed) {
+  for (auto q = queue_.rbegin(); q != queue_.rend(); ++q)
+    if (q->kind == Queued::Kind::motion) {
+      q->has_programmed = true;
+      q->programmed = programmed;
+      return;
+    }
 }
 
 // ----------------------------------------------------------------------------------------
@@ -115,6 +139,7 @@ void CutterCompensation::set_plane(Axes& p, double first, double second) const {
 
 void CutterCompensation::enqueue_straight(const Motion& m, double dir_first, double dir_second) {
   Queued q;
+  q.kind = Queued::Kind::motion;
   q.motion = m;
   q.dir_first = dir_first;
   q.dir_second = dir_second;
@@ -123,6 +148,7 @@ void CutterCompensation::enqueue_straight(const Motion& m, double dir_first, dou
 
 void CutterCompensation::enqueue_arc(const Motion& m, double original_turn) {
   Queued q;
+  q.kind = Queued::Kind::motion;
   q.motion = m;
   q.original_turn = original_turn;
   queue_.push_back(std::move(q));
@@ -135,7 +161,8 @@ void CutterCompensation::set_endpoint(double first, double second) {
 }
 
 const CutterCompensation::Queued* CutterCompensation::front_arc() const {
-  if (queue_.empty() || !queue_.front().is_motion || queue_.front().motion.kind != MotionKind::arc) return nullptr;
+  if (queue_.empty() || queue_.front().kind != Queued::Kind::motion || queue_.front().motion.kind != MotionKind::arc)
+    return nullptr;
   return &queue_.front();
 }
 
@@ -144,7 +171,7 @@ void CutterCompensation::move_endpoint_and_flush(double first, double second, do
   // Every queued move ends here: moving into a concave corner, then up and down again,
   // leaves three moves to change.
   for (Queued& q : queue_) {
-    if (!q.is_motion) continue;
+    if (q.kind != Queued::Kind::motion) continue;
     Motion& m = q.motion;
     if (m.kind == MotionKind::arc) {
       const auto [e1, e2] = plane_of(m.end);
@@ -175,27 +202,55 @@ void CutterCompensation::move_endpoint_and_flush(double first, double second, do
 void CutterCompensation::flush(CanonSink& sink) {
   endpoint_valid_ = false;
   for (Queued& q : queue_) {
-    if (!q.is_motion) {
-      sink.call(q.call);
-      continue;
+    switch (q.kind) {
+      case Queued::Kind::call:
+        sink.call(q.call);
+        break;
+      case Queued::Kind::block: {
+        // Kept until the next is issued: a sink reads a block until the next one comes.
+        last_block_ = std::move(q.block);
+        HeldBlock& h = *last_block_;
+        h.block.text = h.text;
+        h.line.text = h.line_text;
+        h.line.terminator = h.terminator;
+        h.line.file = h.file;
+        sink.block(h.block, h.line);
+        break;
+      }
+      case Queued::Kind::motion:
+        issue_motion(q, sink);
+        break;
     }
-    Motion m = q.motion;
-    m.start = issued_;
-    issued_ = m.end;
-    if (!issue_) continue;
-    const Offsets& o = *m.offsets;
-    if (m.kind == MotionKind::arc) {
-      Axes centre = m.end;
-      set_plane(centre, m.arc.center_first, m.arc.center_second);
-      centre = o.to_machine(centre);
-      m.arc.center_first = centre[axes_.first];
-      m.arc.center_second = centre[axes_.second];
-    }
-    m.start = o.to_machine(m.start);
-    m.end = o.to_machine(m.end);
-    sink.motion(m);
   }
   queue_.clear();
+}
+
+void CutterCompensation::issue_motion(Queued& q, CanonSink& sink) {
+  // Settled: the move starts where the last one issued ended (its corner's arc, or a
+  // concave corner's meeting point) and ends where the next move left it.
+  Motion m = q.motion;
+  m.start = issued_;
+  issued_ = m.end;
+  const Offsets& o = *m.offsets;
+  if (path_ == CutterPath::programmed) {
+    if (!q.has_programmed) return;  // a corner's arc: the control's own
+    Motion programmed = q.programmed;
+    programmed.offset = true;
+    programmed.tool_start = o.to_machine(m.start);
+    programmed.tool_end = o.to_machine(m.end);
+    sink.motion(programmed);
+    return;
+  }
+  if (m.kind == MotionKind::arc) {
+    Axes centre = m.end;
+    set_plane(centre, m.arc.center_first, m.arc.center_second);
+    centre = o.to_machine(centre);
+    m.arc.center_first = centre[axes_.first];
+    m.arc.center_second = centre[axes_.second];
+  }
+  m.start = o.to_machine(m.start);
+  m.end = o.to_machine(m.end);
+  sink.motion(m);
 }
 
 // ----------------------------------------------------------------------------------------
@@ -286,7 +341,7 @@ void CutterCompensation::middle_straight(const Motion& m, const Axes& from, doub
     const double retreat = radius_ / std::tan(half_corner);
     move_endpoint_and_flush(cx + retreat * std::cos(theta + gamma), cy + retreat * std::sin(theta + gamma), unit, sink);
   } else if (concave) {
-    const Queued prev = *arc_before;
+    const Motion prev = arc_before->motion;
     concave_after_arc(prev, opx, opy, px, py, unit, sink);
   } else {  // in line, or leaving an arc along its tangent
     flush(sink);
@@ -297,11 +352,11 @@ void CutterCompensation::middle_straight(const Motion& m, const Axes& from, doub
   tool_ = q.end;
 }
 
-void CutterCompensation::concave_after_arc(const Queued& prev, double from1, double from2, double to1, double to2,
+void CutterCompensation::concave_after_arc(const Motion& prev, double from1, double from2, double to1, double to2,
                                            double unit, CanonSink& sink) {
   // The queued arc is the offset one; find where it meets the new line's offset.
-  const Arc& a = prev.motion.arc;
-  const auto [e1, e2] = plane_of(prev.motion.end);
+  const Arc& a = prev.arc;
+  const auto [e1, e2] = plane_of(prev.end);
   const double old_radius = std::hypot(a.center_second - e2, a.center_first - e1);
   const double base_dir = std::atan2(to2 - from2, to1 - from1);
   const double theta = a.turns > 0 ? base_dir + kHalfPi : base_dir - kHalfPi;
@@ -414,7 +469,7 @@ void CutterCompensation::middle_arc(const Motion& m, const Axes& from, const Pla
         angle = arc.turns > 0 ? theta + kPi - std::asin(l) : theta + kPi + std::asin(l);
       move_endpoint_and_flush(ccx + reach * std::cos(angle), ccy + reach * std::sin(angle), unit, sink);
     } else {
-      const Queued prev = *before;
+      const Motion prev = before->motion;
       concave_arc_after_arc(prev, ccx, ccy, inside ? arc_radius - radius_ : arc_radius + radius_, arc.turns, unit,
                             sink);
     }
@@ -435,10 +490,10 @@ void CutterCompensation::middle_arc(const Motion& m, const Axes& from, const Pla
   tool_ = main.end;
 }
 
-void CutterCompensation::concave_arc_after_arc(const Queued& prev, double ccx, double ccy, double new_radius, int turns,
+void CutterCompensation::concave_arc_after_arc(const Motion& prev, double ccx, double ccy, double new_radius, int turns,
                                                double unit, CanonSink& sink) {
-  const Arc& a = prev.motion.arc;
-  const auto [e1, e2] = plane_of(prev.motion.end);
+  const Arc& a = prev.arc;
+  const auto [e1, e2] = plane_of(prev.end);
   const double old_radius = std::hypot(a.center_second - e2, a.center_first - e1);
   const double centres = std::hypot(a.center_second - ccy, a.center_first - ccx);
   if (old_radius == 0.0 || centres == 0.0) refuse("arc to arc motion is invalid because the arcs have the same center");

@@ -10,11 +10,13 @@
 // Points are in the interpreter's frame (program + origin, unrotated) in mm; the offset is
 // computed in the plane's two axes (XY, or ZX as Z then X), as rs274 does.
 #include <cstdint>
+#include <memory>
 #include <stdexcept>
 #include <string>
 #include <vector>
 
 #include "ccomp/gcode/canon.hpp"
+#include "ccomp/gcode/interpreter.hpp"
 
 namespace ccomp::gcode {
 
@@ -34,9 +36,9 @@ struct PlaneArc {
 
 class CutterCompensation {
  public:
-  /// `issue_offset_path` false: the offset is computed (for its errors) but the moves it
-  /// makes are dropped and no call waits: the caller sends the programmed path instead.
-  explicit CutterCompensation(bool issue_offset_path = true) : issue_(issue_offset_path) {}
+  /// What goes to the sink (CutterPath): the offset path as rs274 issues it, or block by
+  /// block, or the programmed path with the tool centre's moves.
+  explicit CutterCompensation(CutterPath path = CutterPath::tool_centre) : path_(path) {}
 
   /// G41/G42 with the radius already made positive (a negative one swaps the side).
   void turn_on(CompensationSide side, double radius_mm, Plane plane, const Axes& tool);
@@ -61,10 +63,20 @@ class CutterCompensation {
   /// rs274 refuses an entry arc ending within a radius of the tool before finding its centre.
   void check_entry_arc(const Axes& end) const;
 
-  /// Whether `call` waits behind queued moves (rs274 queues these calls only; others it
-  /// issues at once, ahead of the moves still waiting).
+  /// Whether `call` waits behind queued moves: rs274 queues some calls and issues the others
+  /// at once, ahead of the moves still waiting; block by block, every call waits.
   [[nodiscard]] bool holds(const CanonCall& call) const;
   void hold(const CanonCall& call);
+  /// Whether a block waits in the queue (block by block, under an offset: it comes before its
+  /// own moves, which wait for the next, and a sink reads it until the next block comes).
+  /// `turns_on`: the block has G41/G42, and its move may wait.
+  [[nodiscard]] bool holds_blocks(bool turns_on) const {
+    return path_ != CutterPath::tool_centre && (turns_on || offsetting() || !queue_.empty());
+  }
+  void hold(const Block& block, const SourceLine& line);
+  /// The programmed path: `programmed` (machine frame) goes out with the last queued move,
+  /// the tool centre's move, when that is settled.
+  void attach(const Motion& programmed);
   /// Issues everything queued, in order (a stop, the program's end, G40).
   void flush(CanonSink& sink);
   /// The program's end: what waits is issued as it stands, and the offset is off.
@@ -75,14 +87,24 @@ class CutterCompensation {
   }
 
  private:
+  /// A block held back, its text and line owned (views into them set when it is issued).
+  struct HeldBlock {
+    Block block;
+    std::string text, line_text, terminator, file;
+    SourceLine line;
+  };
   struct Queued {
+    enum class Kind : std::uint8_t { motion, call, block } kind = Kind::motion;
     Motion motion;         ///< interpreter frame; kind arc or straight
     double dir_first = 0;  ///< straight: programmed direction in the plane
     double dir_second = 0;
-    double original_turn = 0;  ///< arc: sweep (rad) when queued; 0 = never moved
-    CanonCall call;            ///< when !is_motion
-    bool is_motion = true;
+    double original_turn = 0;     ///< arc: sweep (rad) when queued; 0 = never moved
+    bool has_programmed = false;  ///< the programmed move it carries (CutterPath::programmed)
+    Motion programmed;
+    CanonCall call;
+    std::unique_ptr<HeldBlock> block;
   };
+  void issue_motion(Queued& q, CanonSink& sink);
   [[nodiscard]] std::pair<double, double> plane_of(const Axes& p) const;
   void set_plane(Axes& p, double first, double second) const;
   void enqueue_straight(const Motion& m, double dir_first, double dir_second);
@@ -93,15 +115,15 @@ class CutterCompensation {
   [[nodiscard]] const Queued* front_arc() const;
   void entry_straight(const Motion& m);
   void middle_straight(const Motion& m, const Axes& from, double unit, CanonSink& sink);
-  void concave_after_arc(const Queued& prev, double from1, double from2, double to1, double to2, double unit,
+  void concave_after_arc(const Motion& prev, double from1, double from2, double to1, double to2, double unit,
                          CanonSink& sink);
   void entry_arc(const Motion& m, const PlaneArc& arc, double unit);
   void middle_arc(const Motion& m, const Axes& from, const PlaneArc& arc, double unit, CanonSink& sink);
-  void concave_arc_after_arc(const Queued& prev, double ccx, double ccy, double new_radius, int turns, double unit,
+  void concave_arc_after_arc(const Motion& prev, double ccx, double ccy, double new_radius, int turns, double unit,
                              CanonSink& sink);
   Motion corner_arc(const Motion& m, const Axes& from, double end1, double end2) const;
 
-  bool issue_ = true;
+  CutterPath path_ = CutterPath::tool_centre;
   bool on_ = false;
   CompensationSide side_ = CompensationSide::left;
   double radius_ = 0.0;
@@ -111,6 +133,7 @@ class CutterCompensation {
   Axes tool_{};    ///< rs274's current point: the tool centre after the last queued move
   Axes issued_{};  ///< where the last issued move ended, the start of the next one issued
   std::vector<Queued> queue_;
+  std::unique_ptr<HeldBlock> last_block_;            ///< the last block issued from the queue
   double endpoint_first_ = 0, endpoint_second_ = 0;  ///< start of the first queued move
   bool endpoint_valid_ = false;
 };

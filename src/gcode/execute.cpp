@@ -401,6 +401,7 @@ Motion Interpreter::Impl::motion_to(MotionKind kind, MotionSource source, const 
   m.feed = modal.feed;
   m.units = modal.units;
   m.incremental = !modal.absolute;
+  m.absolute_centre = modal.arc_absolute;
   m.radius_compensation = modal.cutter_compensation != 400;
   m.offsets = &offsets;
   m.line = block.line;
@@ -408,28 +409,48 @@ Motion Interpreter::Impl::motion_to(MotionKind kind, MotionSource source, const 
 }
 
 void Interpreter::Impl::send(Motion m, const Axes& target) {
-  if (comp.offsetting()) {
-    m.tool_offset = comp.side() == CompensationSide::left ? comp.radius() : -comp.radius();
-    m.offset_entry = entry_move;
-  }
+  const bool leaving = leaving_offset;
   position = target;
   blocks_since_motion = 0;
   leaving_compensation = false;
-  // Under G41/G42 the offset path went out through the compensation's queue.
-  if (comp.offsetting() && options.cutter_path == CutterPath::tool_centre) return;
+  leaving_offset = false;
+  // Under G41/G42 the offset path went out through the offset's queue, or the programmed
+  // move goes with it, once the next move settles where the tool centre ends.
+  const bool through_queue = comp.offsetting();
+  if (through_queue && options.cutter_path != CutterPath::programmed) return;
+  if (m.kind == MotionKind::arc) {
+    const PlaneAxes pa = plane_axes(m.arc.plane);
+    Axes centre = m.end;
+    centre[pa.first] = m.arc.center_first;
+    centre[pa.second] = m.arc.center_second;
+    centre = offsets.to_machine(centre);
+    m.arc.center_first = centre[pa.first];
+    m.arc.center_second = centre[pa.second];
+  }
+  if (leaving) {  // the move after G40 leaves from where the offset left the tool
+    m.offset = true;
+    m.tool_start = comp.tool();
+    m.tool_end = m.end;
+    if (options.cutter_path != CutterPath::programmed) m.start = comp.tool();
+    m.tool_start = offsets.to_machine(m.tool_start);
+    m.tool_end = offsets.to_machine(m.tool_end);
+  }
   m.start = offsets.to_machine(m.start);
   m.end = offsets.to_machine(m.end);
+  if (through_queue) {
+    comp.attach(m);
+    return;
+  }
+  comp.flush(out());  // blocks held for the offset go first
   if (sink) sink->motion(m);
 }
 
 void Interpreter::Impl::straight(MotionKind kind, const Axes& target, MotionSource source) {
   Motion m = motion_to(kind, source, target);
-  entry_move = false;
   if (comp.offsetting()) {
     if (source == MotionSource::machine_coordinates)
       fail(block, nullptr, "cannot use G53 with cutter radius compensation on");
     if (kind == MotionKind::probe) fail(block, nullptr, "cannot probe with cutter radius compensation on");
-    entry_move = comp.first_move();
     const Axes from = position;
     offset_path([&] { comp.straight(m, from, unit(), out()); });
   }
@@ -833,12 +854,10 @@ void Interpreter::Impl::arc(const Block& b, int code, const Axes& target) {
   // As LinuxCNC: the exit move of cutter compensation is where the offset is taken off.
   if (leaving_compensation)
     fail(b, nullptr, "the move just after exiting cutter compensation mode (G40) must be straight, not an arc");
-  const PlaneAxes pa = plane_axes(modal.plane);
   // rs274 measures the entry arc's I and J from where the tool centre is.
   const bool entry = comp.offsetting() && comp.first_move();
   if (entry) offset_path([&] { comp.check_entry_arc(target); });
   const PlaneArc centre_of = arc_centre(b, code, entry ? comp.tool() : position, target);
-  entry_move = entry;
   if (offsets.rotation != 0.0 && modal.plane != Plane::xy)
     throw Error(ErrorKind::unsupported, "arcs outside the XY plane with a rotated coordinate system are not supported",
                 SourceLocation{file_name(), b.line, 0}, std::string(b.text));
@@ -848,12 +867,6 @@ void Interpreter::Impl::arc(const Block& b, int code, const Axes& target) {
     const Axes from = position;
     offset_path([&] { comp.arc(m, from, centre_of, unit(), out()); });
   }
-  Axes centre = target;
-  centre[pa.first] = centre_of.center_first;
-  centre[pa.second] = centre_of.center_second;
-  centre = offsets.to_machine(centre);
-  m.arc.center_first = centre[pa.first];
-  m.arc.center_second = centre[pa.second];
   send(m, target);
 }
 

@@ -18,6 +18,7 @@ void Interpreter::Impl::cutter_compensation(const Block& b, int code) {
     offset_path([&] { moved = comp.turn_off(unit(), out()); });
     // LinuxCNC's rule, once a move was made with the offset on.
     leaving_compensation = moved && options.dialect.name == "linuxcnc";
+    leaving_offset = moved;
     modal.cutter_compensation = code;
     return;
   }

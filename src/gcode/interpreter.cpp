@@ -29,10 +29,7 @@ bool controller_only(int n) {
 }  // namespace
 
 Interpreter::Impl::Impl(InterpreterOptions o)
-    : options(std::move(o)),
-      parser(options.dialect),
-      tools(options.tools),
-      comp(options.cutter_path == CutterPath::tool_centre) {
+    : options(std::move(o)), parser(options.dialect), tools(options.tools), comp(options.cutter_path) {
   // Hold the tool table in mm, like every other length inside the interpreter.
   for (auto& [number, entry] : tools.tools) {
     for (std::size_t i = 0; i < kAxisCount; ++i)
@@ -72,6 +69,19 @@ void Interpreter::Impl::fail_at(const Block& b, Span span, const std::string& me
 
 void Interpreter::Impl::warn(const std::string& message, std::uint32_t line_no) const {
   if (sink) sink->warning(message, line_no);
+}
+
+void Interpreter::Impl::announce(const Block& b, const SourceLine& l) {
+  const auto turns_on = [&] {
+    for (const Word& w : b.words)
+      if (w.letter == 'G' && w.value.is_literal() && std::floor(w.value.literal) >= 41 && w.value.literal < 43)
+        return true;
+    return false;
+  };
+  if (comp.holds_blocks(options.cutter_path != CutterPath::tool_centre && turns_on()))
+    comp.hold(b, l);  // after the moves still waiting for the offset: each block before its own
+  else
+    sink->block(b, l);
 }
 
 void Interpreter::Impl::emit(std::string_view name, std::string args) {
@@ -419,16 +429,16 @@ void Interpreter::Impl::run(LineSource& source, CanonSink& out) {
       if (first_line || !percent_seen) {
         percent_seen = true;
         first_line = false;
-        out.block(block, line);
+        announce(block, line);
         continue;
       }
-      out.block(block, line);
+      announce(block, line);
       ended = true;
       break;  // the closing % ends the program
     }
     if (!block.text.empty()) first_line = false;
     if (block.block_delete && options.block_delete) continue;
-    out.block(block, line);
+    announce(block, line);
     if (block.o.present) {
       execute_o(block);
       continue;
@@ -466,7 +476,7 @@ void Interpreter::Impl::define_sub(const Block& b, bool fanuc) {
                   SourceLocation{file_name(), start_line, 1}, start_text);
     }
     parser.parse(line.text, line.number, file_name(), block);
-    if (sink) sink->block(block, line);
+    if (sink) announce(block, line);
     if (fanuc) {
       if (block.o.present && block.o.keyword == OKeyword::endsub)
         fail(block, nullptr, "Fanuc 'O....' subroutine definition must end with 'M99'");
@@ -487,7 +497,7 @@ void Interpreter::Impl::skip_to(const std::string& label, std::initializer_list<
     if (!sources[current_source]->next(line))
       throw Error(ErrorKind::program, "no matching end for O" + label, SourceLocation{file_name(), start_line, 0});
     parser.parse(line.text, line.number, file_name(), block);
-    if (sink) sink->block(block, line);
+    if (sink) announce(block, line);
     if (!block.o.present || label_of(block.o) != label) continue;
     for (OKeyword k : stops)
       if (block.o.keyword == k) return;

@@ -113,7 +113,7 @@ struct Interpreter::Impl {
   std::uint64_t blocks_since_motion = 0;  ///< a loop that never moves is endless
   bool leaving_compensation = false;      ///< G40 has ended compensation; no move since
   CutterCompensation comp;                ///< G41/G42's offset path and its waiting moves
-  bool entry_move = false;                ///< the move being sent enters the offset path
+  bool leaving_offset = false;            ///< G40 took an offset off: the next move leaves it
   CanonSink discard;                      ///< where output goes without a sink
 
   CanonSink* sink = nullptr;
@@ -159,8 +159,8 @@ struct Interpreter::Impl {
   PlaneArc arc_centre(const Block& b, int code, const Axes& start, const Axes& target);
   /// A motion of the programmed point from here to `target`, in the interpreter's frame.
   [[nodiscard]] Motion motion_to(MotionKind kind, MotionSource source, const Axes& target) const;
-  /// Moves the programmed point to `target` and reports `m` (interpreter frame) unless the
-  /// offset path took its place.
+  /// Moves the programmed point to `target` and reports `m` (interpreter frame): at once, or
+  /// under G41/G42 through the offset's queue (the offset path, or `m` with it).
   void send(Motion m, const Axes& target);
 
   // --- cutter radius compensation (execute_cutter_comp.cpp)
@@ -191,6 +191,8 @@ struct Interpreter::Impl {
   [[noreturn]] void fail_at(const Block& b, Span span, const std::string& message) const;
   void warn(const std::string& message, std::uint32_t line_no) const;
   void emit(std::string_view name, std::string args);
+  /// Tells the sink a block is about to run (or holds it behind moves the offset keeps).
+  void announce(const Block& b, const SourceLine& l);
   /// For calls on hot paths: formats only when a sink reads canonical calls.
   template <typename MakeArguments>
   void emit_lazy(std::string_view name, MakeArguments&& make) {

@@ -1,17 +1,23 @@
-// Under cutter radius compensation (G41/G42) the control offsets every line by the tool's
-// radius as a piece of its own: it refuses an entry move shorter than the radius, and a
-// piece shorter than the radius next to an inside corner ("cannot be reached by the tool
-// without gouging"). So there the job neither splits straight moves nor writes take-ups,
-// and LinuxCNC's own interpreter accepts what it writes.
+// Under cutter radius compensation (G41/G42) the control offsets the path by the tool's
+// radius, so the axes run the tool centre's path: the job compensates that path, and writes
+// each point as the programmed point the control offsets to it. It splits moves only within
+// the stretch the control settles between its corners (so no piece is one the control
+// refuses), keeps arcs as arcs, writes no take-ups (a jog that turns back is an inside corner
+// the control refuses), and LinuxCNC's own interpreter accepts what it writes.
+#include <fmt/format.h>
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
+#include <sstream>
 #include <string>
 #include <vector>
 
 #include "ccomp/compensate/program_job.hpp"
+#include "ccomp/model/model_file.hpp"
 #include "job_runner.hpp"
 #include "rs274_oracle.hpp"
+#include "sample_models.hpp"
 #include "trace_capture.hpp"
 
 namespace ccomp::test {
@@ -42,10 +48,32 @@ compensate::JobOptions warm_machine(std::vector<std::string>* warnings) {
   return o;
 }
 
-TEST(RadiusCompensation, ArcsStayArcsTheirEndsCompensated) {
+/// The lines of `text` between the line holding `from` and the one holding `to`.
+std::vector<std::string> lines_between(const std::string& text, const std::string& from, const std::string& to) {
+  std::vector<std::string> lines;
+  std::istringstream in(text);
+  bool inside = false;
+  for (std::string line; std::getline(in, line);) {
+    if (inside && line.find(to) != std::string::npos) break;
+    if (inside) lines.push_back(line);
+    if (line.find(from) != std::string::npos) inside = true;
+  }
+  return lines;
+}
+
+/// The value of `letter` in the last of `lines` that has it.
+double last_word(const std::vector<std::string>& lines, char letter) {
+  for (auto line = lines.rbegin(); line != lines.rend(); ++line)
+    if (const auto at = line->find(letter); at != std::string::npos) return std::stod(line->substr(at + 1));
+  ADD_FAILURE() << "no " << letter << " word";
+  return 0.0;
+}
+
+TEST(RadiusCompensation, ArcsStayArcsInPiecesWithTheirCentreWords) {
   // An arc entering the offset (as LinuxCNC's mill-g90g91g92 test does) and a fillet at an
-  // inside corner: as chords, the first chord would be a too short entry move and the last
-  // a piece too short next to the corner. They stay arcs with their centre words.
+  // inside corner: as chords, the control would offset each chord on its own. They stay
+  // arcs: the entry arc whole (the control computes its path from where the tool stands),
+  // the fillet in as many arcs as the machine's error needs, each with its centre words.
   const std::string program =
       "G21 G90 G94 G54\nT1 M6\nG43 H1\nG0 X-30 Y-20 Z-90 B0\nG1 F800\nG41.1 D10\n"
       "G3 X-20 Y-30 R10\nG1 X20\nG3 X30 Y-20 I0 J10\nG1 Y20\nG1 X-30\nG40\nG0 Z-60\nM30\n";
@@ -53,43 +81,67 @@ TEST(RadiusCompensation, ArcsStayArcsTheirEndsCompensated) {
   std::vector<std::string> warnings;
   compensate::JobReport report;
   const std::string output = compensate(program, mm, warm_machine(&warnings), &report);
-  const auto on = output.find("G41.1 D10\n") + 10, off = output.find("G40\n");
-  ASSERT_LT(on, off) << output;
-  const std::string offset = output.substr(on, off - on);
-  EXPECT_EQ(std::count(offset.begin(), offset.end(), '\n'), 5) << "five moves, five lines\n" << output;
-  EXPECT_EQ(offset.rfind("G3 X-20.0", 0), 0U) << output;
-  EXPECT_NE(offset.find(" R10\n"), std::string::npos) << output;
-  EXPECT_NE(offset.find("\nG3 X29.9"), std::string::npos) << "its end compensated\n" << output;
-  EXPECT_NE(offset.find(" I0 J10\n"), std::string::npos) << output;
+  const std::vector<std::string> offset = lines_between(output, "G41.1 D10", "G40");
+  ASSERT_GE(offset.size(), 5U) << output;
+  EXPECT_EQ(offset.front().rfind("G3 X-20.0", 0), 0U) << output;
+  EXPECT_NE(offset.front().find(" R10"), std::string::npos) << "the entry arc is whole\n" << output;
+  std::size_t arcs = 0;
+  for (const std::string& line : offset) {
+    if (line.rfind("G3", 0) != 0) continue;
+    ++arcs;
+    EXPECT_TRUE(line.find(" R10") != std::string::npos ||
+                (line.find(" I") != std::string::npos && line.find(" J") != std::string::npos))
+        << line;
+  }
+  EXPECT_GT(arcs, 2U) << "the fillet in pieces\n" << output;
+  for (const std::string& line : offset)
+    EXPECT_EQ(line.rfind("G1", 0) == 0 && line.find(" I") != std::string::npos, false);
   // What the arcs do between their compensated ends is measured, not assumed.
   EXPECT_GT(report.max_error_after, 0.0);
   if (!have_rs274()) GTEST_SKIP() << "rs274 not found at " << rs274() << ": run tools/rs274/fetch.sh build/rs274";
   expect_rs274_accepts(output);
 }
 
-TEST(RadiusCompensation, StraightMovesStayOneLineAndNothingIsTakenUp) {
+TEST(RadiusCompensation, StraightMovesAreSplitAndNothingIsTakenUp) {
   const model::MachineModel mm = sample_machine("hmc-xyzb");
   std::vector<std::string> warnings;
-  compensate::JobReport free, offset;
-  (void)compensate(zigzag(false), mm, warm_machine(&warnings), &free);
-  ASSERT_GT(free.added_lines, 0U) << "without G41 the long moves are split";
-  ASSERT_GT(free.take_up_moves, 0U) << "and the turns taken up";
-  warnings.clear();
+  compensate::JobReport offset;
   const std::string output = compensate(zigzag(true), mm, warm_machine(&warnings), &offset);
-  // Between G41.1 and G40 the seven moves stay seven lines (after G40 the last rapid's
-  // re-approach is written as ever).
-  const auto on = output.find("G41.1 D10\n") + 10, off = output.find("G40\n");
-  ASSERT_LT(on, off) << output;
-  EXPECT_EQ(std::count(output.begin() + static_cast<std::ptrdiff_t>(on),
-                       output.begin() + static_cast<std::ptrdiff_t>(off), '\n'),
-            7)
-      << output;
+  EXPECT_GT(offset.added_lines, 0U) << "the long moves are split\n" << output;
+  EXPECT_EQ(offset.take_up_moves, 0U) << output;
   ASSERT_FALSE(warnings.empty());
   EXPECT_NE(warnings.front().find("cutter radius compensation (G41/G42) is on"), std::string::npos) << warnings.front();
   EXPECT_GT(offset.max_error_after, 0.001) << "the turns' backlash is left, and said";
-
   if (!have_rs274()) GTEST_SKIP() << "rs274 not found at " << rs274() << ": run tools/rs274/fetch.sh build/rs274";
   expect_rs274_accepts(output);
+}
+
+TEST(RadiusCompensation, TheErrorIsTakenWhereTheToolCentreRuns) {
+  // A line at Y0 under G41 with a 10 mm tool: the tool centre runs at Y5, where the machine's
+  // X is 2.5 um off (Y's straightness in X grows 0.5 um a millimetre). Written out, the
+  // line's end must carry the correction the same path gets programmed at Y5 without G41
+  // (the corner's arc written as the control makes it); not the one at Y0.
+  const model::MachineModel mm = model::parse_machine_model(std::string(kVmcChain) + R"(terms:
+  - {name: EXY, form: polynomial, unit: um, coefficients: [0, 0.5]}
+)",
+                                                            "vmc.yaml");
+  const std::string with_offset =
+      "G21 G90 G94 G54\nG0 X-60 Y-10 Z-90\nG1 F800\nG41.1 D10\nG1 X-50 Y0\n"
+      "(the line)\nG1 X50\n(the line's end)\nG40\nG1 X60 Y-10\nM30\n";
+  auto tool_path = [](double y) {
+    const double ay = y - 5.0 + 3.535534;
+    return fmt::format(
+        "G21 G90 G94 G54\nG0 X-60 Y-10 Z-90\nG1 F800\nG1 X-53.535534 Y{}\nG2 X-50 Y{} I3.535534 J-3.535534\n"
+        "(the line)\nG1 X50\n(the line's end)\nG1 X60 Y-10\nM30\n",
+        ay, y);
+  };
+  const std::string a = compensate(with_offset, mm, 0.001), at_tool = compensate(tool_path(5.0), mm, 0.001),
+                    at_program = compensate(tool_path(0.0), mm, 0.001);
+  auto end_of_line = [](const std::string& output, char letter) {
+    return last_word(lines_between(output, "(the line)", "(the line's end)"), letter);
+  };
+  EXPECT_NEAR(end_of_line(a, 'X'), end_of_line(at_tool, 'X'), 1.5e-4) << a << "\n" << at_tool;
+  EXPECT_GT(std::abs(end_of_line(a, 'X') - end_of_line(at_program, 'X')), 0.002) << a << "\n" << at_program;
 }
 
 }  // namespace

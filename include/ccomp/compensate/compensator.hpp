@@ -53,9 +53,12 @@ struct MoveReport {
   /// mm: how far the tool was from the move's start where a move the compensator did not
   /// plan (machine coordinates, a canned cycle) left it; 0 after a planned one.
   double start_error = 0.0;
-  /// The control offsets the path (G41/G42): the move was not split, or a take-up,
-  /// re-approach or lead-to-start move it needed was not written.
+  /// The control offsets the path (G41/G42): a take-up, re-approach or lead-to-start move
+  /// the move needed was not written.
   bool jogs_withheld = false;
+  /// The control offsets this move as one piece (G41/G42: the entry move, or an arc of
+  /// several turns): it was not split, whatever the error field needs along it.
+  bool kept_whole = false;
 };
 
 class Compensator {
@@ -70,10 +73,12 @@ class Compensator {
   /// The compensated end of a rapid to `end` (the control chooses a rapid's path), then
   /// any re-approach an axis needs to leave the rapid with its play settled.
   void rapid(const model::ChainQ& end, std::vector<CompensatedPoint>& out, MoveReport& report);
+  /// The compensated end of a move from `start` to `end` (nominal) whose path between the
+  /// control makes (an arc kept as an arc): approached as the move travels, no jogs.
+  [[nodiscard]] model::ChainQ path_end(const model::ChainQ& start, const model::ChainQ& end, MoveReport& report);
   /// Whether the control offsets the path by the tool's radius (G41/G42) from now on: then
-  /// straight moves are not split, and no take-up, re-approach or lead-to-start moves are
-  /// written. The control offsets every line as a piece of its own: it refuses a piece
-  /// shorter than the radius next to an inside corner, and a jog that turns back.
+  /// no take-up, re-approach or lead-to-start moves are written (a jog that turns back is
+  /// an inside corner the control refuses). The moves given are the tool centre's.
   void offset_by_control(bool on) { offset_by_control_ = on; }
   /// The compensated values for one point, for the approach the compensator assumes now.
   [[nodiscard]] model::ChainQ point(const model::ChainQ& nominal, MoveReport& report);
@@ -86,6 +91,9 @@ class Compensator {
   /// Tells the compensator the machine was commanded to `q` by something it did not plan (a
   /// move in machine coordinates, a canned cycle's motions, the program's start).
   void moved(const model::ChainQ& q);
+  /// Tells the compensator the control moved the axes by `by` (chain values) on a path of
+  /// its own with the correction kept: round the corner of a radius-offset path (G41/G42).
+  void carried(const model::ChainQ& by) { command(commanded_ + by); }
   /// The error of the uncompensated machine at a point: |actual - nominal| (mm).
   [[nodiscard]] double error_at(const model::ChainQ& nominal);
   /// The same for a probe, under its own approach.

@@ -76,16 +76,18 @@ struct Motion {
   Axes end{};    ///< after the move
   Arc arc;       ///< when kind == arc
   FeedMode feed_mode = FeedMode::units_per_minute;
-  double feed = 0.0;         ///< mm/min, or 1/min in inverse time, or mm/rev
-  Units units = Units::mm;   ///< the program's units at the time (for printing)
-  bool incremental = false;  ///< G91 in force: the block's axis words are distances
+  double feed = 0.0;             ///< mm/min, or 1/min in inverse time, or mm/rev
+  Units units = Units::mm;       ///< the program's units at the time (for printing)
+  bool incremental = false;      ///< G91 in force: the block's axis words are distances
+  bool absolute_centre = false;  ///< G90.1 in force: an arc's I J K are a point, not distances
   /// G41/G42 in force: the controller offsets the path by the tool's radius.
   bool radius_compensation = false;
-  /// With the programmed path reported under G41/G42 (CutterPath::programmed): mm the tool
-  /// centre runs to the left (+) or right (-) of this move, 0 without an offset; and whether
-  /// this is the entry move, along which the tool only reaches the offset path.
-  double tool_offset = 0.0;
-  bool offset_entry = false;
+  /// With the programmed path reported (CutterPath::programmed): the move the tool centre
+  /// makes under G41/G42 (and on the move after G40, from where the offset left it), as the
+  /// control offsets it before the next move settles its corner; machine frame. Without an
+  /// offset, `offset` is false and the tool centre is the controlled point.
+  bool offset = false;
+  Axes tool_start{}, tool_end{};
   const Offsets* offsets = nullptr;  ///< in force during the move
   std::uint32_t line = 0;            ///< source line of the block that commanded it
 };

@@ -17,11 +17,19 @@
 
 namespace ccomp::gcode {
 
-/// The motions a program reports under cutter radius compensation (G41/G42): the path the
-/// tool centre runs, offset as LinuxCNC's rs274 offsets it (trace, verify), or the programmed
-/// path, each motion saying how far to which side its tool centre runs (the main job, which
-/// leaves the offsetting to the control).
-enum class CutterPath : std::uint8_t { tool_centre, programmed };
+/// The motions a program reports under cutter radius compensation (G41/G42):
+enum class CutterPath : std::uint8_t {
+  /// the path the tool centre runs, offset as LinuxCNC's rs274 offsets it, each motion
+  /// issued when rs274 issues it (after the next move settles its corner): trace, verify;
+  tool_centre,
+  /// the programmed path, each motion with the tool centre's move under it, once settled;
+  /// the blocks held back with their motions, so each block still comes before its own
+  /// (the main job, which leaves the offsetting to the control);
+  programmed,
+  /// the tool centre's path, blocks held back likewise: each block, then the motions the
+  /// offset makes for it, a corner's arc included (the main job's --resolve-cutter-comp).
+  tool_centre_by_block,
+};
 
 struct InterpreterOptions {
   Dialect dialect;
