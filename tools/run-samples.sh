@@ -14,7 +14,9 @@ for model in samples/machines/*.yaml; do
   grep -q '^sensors:' "$model" && extra=(--sensor bed=24 --sensor column=23 --sensor spindle=31 --time 3600)
   # The 3-axis and trunnion machines have no B: they take the programs without a B word.
   programs=(samples/programs/*.ngc)
-  if ! grep -q '^  B:' "$model" && [ "$name" != zero ]; then programs=(samples/programs/pocket-xy.ngc); fi
+  if ! grep -q '^  B:' "$model" && [ "$name" != zero ]; then
+    programs=(samples/programs/pocket-xy.ngc samples/programs/profile-g41.ngc)
+  fi
   "$ccomp" "${programs[@]}" -m "$model" --out-dir "$out" \
     --tool-table samples/tools.tbl -j "$(nproc)" "${extra[@]}"
   echo "ccomp: samples/programs/*.ngc with $model -> $out/"

@@ -34,6 +34,7 @@ struct CompensateArgs {
   int threads = 0;  ///< per program, 1 or 2; 0: 2 when the machine has a core for each
   bool force = false;
   bool expand_cycles = false;
+  bool resolve_cutter_comp = false;
   bool flatten = false;
   bool progress = false;
   double tolerance = 0.001;

@@ -36,6 +36,9 @@ void add_compensate(CLI::App& app, CompensateArgs& args) {
   app.add_flag("--expand-cycles", args.expand_cycles,
                "write canned cycles (G73 G81 G83 G85) as the compensated moves they make; takes L repeats "
                "and G91 cycles");
+  app.add_flag("--resolve-cutter-comp", args.resolve_cutter_comp,
+               "under G41/G42, write the tool centre's path (the offset taken out), compensated and split like "
+               "any path, instead of the programmed path the control offsets");
   app.add_flag("--flatten", args.flatten,
                "compensate the program as it runs: loops and subroutine calls unrolled, expressions replaced by "
                "their values (a line that runs several times needs a correction for each run)");
@@ -147,6 +150,7 @@ int run_compensate(const CompensateArgs& args) {
   options.interpreter = interpreter_options(args.program, model.dialect);
   options.force = args.force;
   options.expand_cycles = args.expand_cycles;
+  options.resolve_cutter_comp = args.resolve_cutter_comp;
   options.flatten = args.flatten;
   options.tolerance = args.tolerance;
   options.decimals = args.decimals;

@@ -80,7 +80,9 @@ void JobSink::block(const gcode::Block& block, const gcode::SourceLine& line) {
   ++report_.blocks;
   block_ = &block;
   line_ = line;
+  moves_in_block_ = 0;
   note_line(line);
+  if (options_.resolve_cutter_comp) take_out_offset(block);
   check_axes(block);
   if (stages_ && live_offsets_) keep_offsets(block);
   report_progress(line);
@@ -92,6 +94,24 @@ void JobSink::note_line(const gcode::SourceLine& line) {
   elsewhere_ = line.file.data() != input_.name().data() && line.file != input_.name();
   repeated_ = !elsewhere_ && line.offset < furthest_;
   if (!elsewhere_) furthest_ = std::max(furthest_, line.offset);
+}
+
+/// --resolve-cutter-comp: the offset path is written, so the control's offset goes (G41,
+/// G42, G41.1, G42.1 and their D word); G40 stays, harmless.
+void JobSink::take_out_offset(const gcode::Block& block) {
+  std::vector<gcode::Span> words;
+  bool turns_on = false;
+  for (const gcode::Word& w : block.words)
+    if (w.letter == 'G' && w.value.is_literal() && std::floor(w.value.literal) >= 41 && w.value.literal < 43) {
+      words.push_back(w.span);
+      turns_on = true;
+    }
+  if (!turns_on || repeated_ || elsewhere_) return;
+  if (const gcode::Word* d = block.find('D')) words.push_back(d->span);
+  if (stages_) stages_->pipeline.drain();  // the lines before it are written first
+  std::vector<gcode::Edit> edits;
+  gcode::removal_edits(block.text, words, edits);
+  writer_.edit(line_.offset, edits);
 }
 
 void JobSink::check_axes(const gcode::Block& block) const {
@@ -182,10 +202,12 @@ void JobSink::queue_move(const gcode::Motion& m) {
     if (n > MovePipeline::kPartChords) {
       for (std::size_t begin = 0; begin < n; begin += MovePipeline::kPartChords)
         queue_task(m, ChordRange{begin, std::min(n, begin + MovePipeline::kPartChords), n});
+      ++moves_in_block_;
       return;
     }
   }
   queue_task(m, {});
+  ++moves_in_block_;
 }
 
 void JobSink::queue_task(const gcode::Motion& m, const ChordRange& chords) {
@@ -202,6 +224,7 @@ void JobSink::queue_task(const gcode::Motion& m, const ChordRange& chords) {
   t.offset = line_.offset;
   t.terminator.assign(line_.terminator);
   t.chords = chords;
+  t.adds_lines_only = moves_in_block_ > 0;
   // The nominal pose at its end, here: it balances the two threads' work.
   const model::ChainQ end = chain_of(m.end, t.offsets);
   model::forward(stages_->forward, stages_->nominal, end, {}, false, model::Evaluate::nominal);
@@ -235,7 +258,8 @@ void JobSink::write_move(MoveTask& t) {
         std::max(t.report.max_deviation_before, stages_->error_before.error_at(p, at_least));
   }
   stages_->guards.account(t.report, t.motion.units, t.block.line, t.text, t.chords.last());
-  stages_->rewriter.rewrite(t.motion, t.block, t.points, t.offset, t.terminator, t.chords, t.arc_starts);
+  stages_->rewriter.rewrite(t.motion, t.block, t.points, t.offset, t.terminator, t.chords, t.arc_starts,
+                            t.adds_lines_only);
 }
 
 /// Compensates a cycle still waiting for its block's end, once every move before it is written.

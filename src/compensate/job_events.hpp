@@ -41,6 +41,7 @@ class JobSink : public gcode::CanonSink {
  private:
   void note_line(const gcode::SourceLine& line);
   void check_axes(const gcode::Block& block) const;
+  void take_out_offset(const gcode::Block& block);
   void report_progress(const gcode::SourceLine& line);
   void keep_offsets(const gcode::Block& block);
   void compensate(const gcode::Motion& m);
@@ -63,6 +64,7 @@ class JobSink : public gcode::CanonSink {
   gcode::SourceLine line_;
   std::uint64_t furthest_ = 0;                    ///< the offset of the furthest line read
   bool repeated_ = false;                         ///< the current line is before it
+  int moves_in_block_ = 0;                        ///< moves of the current block so far
   bool elsewhere_ = false;                        ///< the current line is in another file (a subroutine's)
   bool started_ = false;                          ///< a motion was compensated: the play is followed
   const gcode::Offsets* live_offsets_ = nullptr;  ///< the interpreter's, as it runs (from its motions)

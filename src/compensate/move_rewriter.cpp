@@ -80,13 +80,13 @@ void MoveRewriter::point_words(const gcode::Motion& m, const gcode::Block& b, co
 
 void MoveRewriter::rewrite(const gcode::Motion& m, const gcode::Block& b, const std::vector<CompensatedPoint>& points,
                            std::uint64_t offset, std::string_view terminator, const ChordRange& part,
-                           std::span<const gcode::Axes> arc_starts) {
+                           std::span<const gcode::Axes> arc_starts, bool adds_lines_only) {
   edits_.clear();
   const bool arc_pieces = arc_starts.size() == points.size() && points.size() > 1;
   if (arc_pieces) centre_by_words(m, b, arc_starts.front());
   std::string appended;
   // A part after the first adds lines only: its first point is not the block's own.
-  const std::size_t own_line = part.first() ? 0 : static_cast<std::size_t>(-1);
+  const std::size_t own_line = part.first() && !adds_lines_only ? 0 : static_cast<std::size_t>(-1);
   double previous_s = part.whole() ? 0.0 : static_cast<double>(part.begin) / static_cast<double>(part.count);
   const std::uint32_t insert_at = insertion_point(b);
   for (std::size_t k = 0; k < points.size(); ++k) {
@@ -125,7 +125,7 @@ void MoveRewriter::rewrite(const gcode::Motion& m, const gcode::Block& b, const 
     throw Error(ErrorKind::unsupported,
                 "a move that must be split shares its block with a program stop (M0 M1 M2 M30 M60)",
                 SourceLocation{std::string(file_), b.line, 0}, std::string(b.text));
-  finish_lines(m, b, offset, part, appended);
+  finish_lines(m, b, offset, part, appended, adds_lines_only);
 }
 
 /// Hands the move's edits and added lines to the writer. A part after the first is written
@@ -167,13 +167,13 @@ void MoveRewriter::centre_by_words(const gcode::Motion& m, const gcode::Block& b
 }
 
 void MoveRewriter::finish_lines(const gcode::Motion& m, const gcode::Block& b, std::uint64_t offset,
-                                const ChordRange& part, std::string& appended) {
+                                const ChordRange& part, std::string& appended, bool adds_lines_only) {
   if (!part.first()) {  // the line is open: the lines go straight out
     writer_.append(appended);
     if (part.last()) writer_.close_line();
     return;
   }
-  if (m.kind == gcode::MotionKind::arc && !m.radius_compensation) arc_to_line_edits(b, edits_);
+  if (m.kind == gcode::MotionKind::arc && !m.radius_compensation && !adds_lines_only) arc_to_line_edits(b, edits_);
   if (!appended.empty())
     edits_.push_back(
         gcode::Edit{{static_cast<std::uint32_t>(b.text.size()), static_cast<std::uint32_t>(b.text.size())}, appended});
@@ -192,6 +192,8 @@ void arc_to_line_edits(const gcode::Block& b, std::vector<gcode::Edit>& edits) {
       edits.push_back(gcode::Edit{w.value_span, "1"});
       has_motion_code = true;
     }
+    // (a corner's arc written on a G1 block, the offset path resolved)
+    if (w.letter == 'G' && w.value.is_literal() && w.value.literal == 1) has_motion_code = true;
     if (w.letter == 'I' || w.letter == 'J' || w.letter == 'K' || w.letter == 'R' || w.letter == 'P')
       arc_words.push_back(w.span);
   }

@@ -36,10 +36,11 @@ class MoveRewriter {
   /// Writes a move's points (all of them, or the part `part` of an arc) as edits of its
   /// block, at `offset` in the input, and lines after it ending in `terminator`. An arc
   /// under the control's radius offset in pieces (`arc_starts`: each piece's programmed
-  /// start) is written as arcs, each with its centre words.
+  /// start) is written as arcs, each with its centre words. A block's move after its first
+  /// (`adds_lines_only`: a corner's arc, then the move) adds lines only.
   void rewrite(const gcode::Motion& m, const gcode::Block& b, const std::vector<CompensatedPoint>& points,
                std::uint64_t offset, std::string_view terminator, const ChordRange& part = {},
-               std::span<const gcode::Axes> arc_starts = {});
+               std::span<const gcode::Axes> arc_starts = {}, bool adds_lines_only = false);
 
   /// The word for axis i at program value p (program units, degrees), or nothing for an
   /// axis the block did not name that need not move; written in the style of `styled` (the
@@ -59,7 +60,7 @@ class MoveRewriter {
   [[nodiscard]] std::string centre_words(const gcode::Motion& m, const gcode::Block& b, const gcode::Axes& start);
   void centre_by_words(const gcode::Motion& m, const gcode::Block& b, const gcode::Axes& start);
   void finish_lines(const gcode::Motion& m, const gcode::Block& b, std::uint64_t offset, const ChordRange& part,
-                    std::string& appended);
+                    std::string& appended, bool adds_lines_only);
 
   gcode::ProgramWriter& writer_;
   const model::MachineModel& model_;

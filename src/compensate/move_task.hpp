@@ -30,8 +30,9 @@ struct MoveTask {
   std::string text, terminator;
   gcode::Block block;  ///< the words, and the text (in `text`), for the writer
   std::uint64_t offset = 0;
-  ChordRange chords;     ///< this task's part of the move's chords
-  NominalPose end_pose;  ///< the nominal tool pose at its end (the reading thread's)
+  ChordRange chords;             ///< this task's part of the move's chords
+  bool adds_lines_only = false;  ///< not the block's first move: its line is the first's
+  NominalPose end_pose;          ///< the nominal tool pose at its end (the reading thread's)
   // what the compensation made of it
   std::vector<CompensatedPoint> points;
   std::vector<gcode::Axes> arc_starts;  ///< an arc under the control's offset: each piece's programmed start

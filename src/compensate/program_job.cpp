@@ -103,9 +103,11 @@ JobReport run_program_job(gcode::LineSource& input, std::FILE* out, const model:
   }
   gcode::ProgramWriter writer(input.another_reader(), out, header_line(model, options.tolerance));
   JobSink sink(writer, model, options, input, report);
-  // The program's G41/G42 stay for the control: the job rewrites the programmed path.
+  // The program's G41/G42 stay for the control (the job rewrites the programmed path), or
+  // the offset path is written instead.
   gcode::InterpreterOptions interpreting = options.interpreter;
-  interpreting.cutter_path = gcode::CutterPath::programmed;
+  interpreting.cutter_path =
+      options.resolve_cutter_comp ? gcode::CutterPath::tool_centre_by_block : gcode::CutterPath::programmed;
   gcode::Interpreter interpreter(interpreting);
   try {
     interpreter.run(input, sink);

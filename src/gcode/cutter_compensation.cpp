@@ -250,6 +250,8 @@ void CutterCompensation::issue_motion(Queued& q, CanonSink& sink) {
   }
   m.start = o.to_machine(m.start);
   m.end = o.to_machine(m.end);
+  // Block by block the offset path is written with the offset taken out.
+  if (path_ == CutterPath::tool_centre_by_block) m.radius_compensation = false;
   sink.motion(m);
 }
 

@@ -19,8 +19,9 @@ std::string apply_edits(std::string_view line, std::vector<Edit> edits) {
 }
 
 void apply_edits(std::string_view line, std::span<Edit> edits, std::string& out) {
-  // By position; an insertion before a replacement that starts at the same byte.
-  std::sort(edits.begin(), edits.end(), [](const Edit& a, const Edit& b) {
+  // By position; an insertion before a replacement that starts at the same byte; two
+  // insertions at one place in the order they came (a block's moves, one after the other).
+  std::stable_sort(edits.begin(), edits.end(), [](const Edit& a, const Edit& b) {
     return a.span.begin != b.span.begin ? a.span.begin < b.span.begin : a.span.end < b.span.end;
   });
   out.clear();

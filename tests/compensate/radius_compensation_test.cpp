@@ -14,6 +14,9 @@
 #include <vector>
 
 #include "ccomp/compensate/program_job.hpp"
+#include "ccomp/compensate/verify.hpp"
+#include "ccomp/model/conditions.hpp"
+#include "ccomp/model/forward.hpp"
 #include "ccomp/model/model_file.hpp"
 #include "job_runner.hpp"
 #include "rs274_oracle.hpp"
@@ -31,10 +34,11 @@ std::string zigzag(bool offset_by_control) {
          "G1 X-50 Y-40\nG1 X50\nG1 Y-30\nG1 X-50\nG1 Y-20\nG1 X50\nG1 Y20\n" + off + "G0 Z-60\nM30\n";
 }
 
-/// LinuxCNC's interpreter runs `output` with tool 1 (10 mm) to its end.
+/// LinuxCNC's interpreter runs `output` with tool 1 (10 mm; rs274 alone reads its table in
+/// inches) to its end.
 void expect_rs274_accepts(const std::string& output) {
   const std::string dir = temp_dir("radius_compensation");
-  write_file(dir + "/tools.tbl", "T1 P1 Z100 D10 ;\n");
+  write_file(dir + "/tools.tbl", "T1 P1 Z3.937008 D0.393701 ;\n");
   write_file(dir + "/out.ngc", output);
   const TraceResult theirs = rs274_trace(dir + "/out.ngc", dir + "/tools.tbl");
   EXPECT_FALSE(theirs.error) << theirs.error->what() << "\n" << output;
@@ -142,6 +146,51 @@ TEST(RadiusCompensation, TheErrorIsTakenWhereTheToolCentreRuns) {
   };
   EXPECT_NEAR(end_of_line(a, 'X'), end_of_line(at_tool, 'X'), 1.5e-4) << a << "\n" << at_tool;
   EXPECT_GT(std::abs(end_of_line(a, 'X') - end_of_line(at_program, 'X')), 0.002) << a << "\n" << at_program;
+}
+
+/// How far the tool centre strays from the original's (its offset path, as the control
+/// runs both programs), on `mm` warm.
+compensate::PathError tool_centre_error(const std::string& original, const std::string& output,
+                                        const model::MachineModel& mm) {
+  const model::ForwardModel fm(mm);
+  compensate::CheckOptions o;
+  o.interpreter.tools.tools[1] = kTool1;
+  o.conditions = model::conditions_for(
+      mm,
+      mm.sensors.empty() ? std::vector<model::SensorReading>{}
+                         : std::vector<model::SensorReading>{{"bed", 24}, {"column", 23}, {"spindle", 31}},
+      mm.sensors.empty() ? 0.0 : 3600.0);
+  gcode::LineSource a = gcode::LineSource::from_string(original, "original.ngc");
+  gcode::LineSource b = gcode::LineSource::from_string(output, "output.ngc");
+  return compensate::verify(a, b, fm, o);
+}
+
+TEST(RadiusCompensation, TheSampleProfilePassesVerifyOnTheToolCentresPath) {
+  // samples/programs/profile-g41.ngc, a finishing pass under G41: kept for the control on
+  // the geometric HMC, resolved (the offset path written) on the full HMC, whose backlash
+  // needs take-ups the control's offset cannot have. Checked on the tool centre's path.
+  const std::string program = read_file(source_dir() + "/samples/programs/profile-g41.ngc");
+  for (const auto& [machine, resolve] :
+       {std::pair{"hmc-xyzb-geometric", false}, std::pair{"hmc-xyzb", true}, std::pair{"hmc-xyzb-geometric", true}}) {
+    const model::MachineModel mm = sample_machine(machine);
+    std::vector<std::string> warnings;
+    compensate::JobOptions o = warm_machine(&warnings);
+    if (mm.sensors.empty()) o.sensors.clear(), o.time = 0;
+    o.resolve_cutter_comp = resolve;
+    const std::string output = compensate(program, mm, o);
+    const compensate::PathError e = tool_centre_error(program, output, mm);
+    EXPECT_LE(e.max, 0.001) << machine << (resolve ? " resolved" : "") << " line " << e.worst_line << "\n" << output;
+    EXPECT_EQ(e.uncut_length, 0.0) << machine;
+    EXPECT_EQ(output.find("G41"), resolve ? std::string::npos : output.find("G41 D1")) << output;
+    if (have_rs274()) expect_rs274_accepts(output);
+  }
+  // Kept for the control on the full HMC, its turns' backlash stays: said, and measured.
+  const model::MachineModel mm = sample_machine("hmc-xyzb");
+  std::vector<std::string> warnings;
+  const std::string kept = compensate(program, mm, warm_machine(&warnings));
+  EXPECT_GT(tool_centre_error(program, kept, mm).max, 0.001);
+  EXPECT_TRUE(std::any_of(warnings.begin(), warnings.end(),
+                          [](const std::string& w) { return w.find("no take-up moves") != std::string::npos; }));
 }
 
 }  // namespace

@@ -32,6 +32,11 @@ struct JobOptions {
   /// what the block form cannot: L repeats, G91 cycles, and a hole whose correction
   /// differs between its R plane and its bottom.
   bool expand_cycles = false;
+  /// Under cutter radius compensation (G41/G42), write the path the tool centre runs (as
+  /// LinuxCNC offsets it, its corners' arcs included) with the offset taken out (G41/G42
+  /// and their D words go): each move then compensated and split like any, take-ups and
+  /// all, where the control's own offset would run each block as one piece.
+  bool resolve_cutter_comp = false;
   /// Compensate the program as it runs (gcode::flatten(): loops and subroutine calls
   /// unrolled, expressions replaced by their values) instead of line for line: a line that
   /// runs more than once may need a different correction each time, which one line cannot
