@@ -700,6 +700,7 @@ void Interpreter::Impl::check_unused_words(const Block& b, int motion_code, int 
 
 void Interpreter::Impl::motion(const Block& b, int code, int non_modal) {
   (void)non_modal;
+  if (!is_cycle(code)) cycle_initial_set = false;  // a run of cycle blocks ends
   const bool g53_rapid = code == 0 && words.has_g(530) && options.dialect.g53_alone_is_rapid;
   if (g_group(code) == 1 && code != 800 && !g53_rapid) modal.motion = code;
   if (code <= 30 && !g53_rapid) modal.basic_motion = code;
@@ -916,7 +917,10 @@ void Interpreter::Impl::canned_cycle(const Block& b, int code) {
       fail(b, words.word['L' - 'A'], fmt::format("L{} canned cycle repeats: more than {}", l, kMaxCycleMoves));
     repeats = static_cast<int>(l);
   }
-  double old_cc = program(pa.normal);
+  // The initial level is where the first of a run of cycle blocks started (rs274's
+  // cycle_il): a G91 R counts from it, and G98 returns to it, however the blocks come.
+  if (!cycle_initial_set) cycle_initial = program(pa.normal), cycle_initial_set = true;
+  double old_cc = cycle_initial;
   double aa = program(pa.first), bb = program(pa.second);
   double aa_step = 0.0, bb_step = 0.0, r = 0.0, cc = 0.0;
   if (modal.absolute) {
@@ -957,17 +961,25 @@ void Interpreter::Impl::canned_cycle(const Block& b, int code) {
     count_move();
     cycle_move(MotionKind::feed, pa.first, pa.second, pa.normal, a, bv, c);
   };
+  double current_cc = program(pa.normal);  // the level the tool is at
   if (old_cc < r) {
     traverse(program(pa.first), program(pa.second), r);
-    old_cc = r;
+    old_cc = current_cc = r;
   }
   const double clear = modal.retract_to_r ? r : old_cc;
   const double rapid_delta = 0.010 * kMmPerInch;  // rs274ngc: 0.010 inch, in mm
   for (int rep = 0; rep < repeats; ++rep) {
     aa += aa_step;
     bb += bb_step;
-    traverse(aa, bb, old_cc);
-    if (old_cc != r) traverse(aa, bb, r);
+    // rs274: the first hole is reached at the level the tool is at (when above R), every
+    // other at the clearance level; then down to R.
+    if (rep == 0 && current_cc > r) {
+      traverse(aa, bb, current_cc);
+      traverse(aa, bb, r);
+    } else {
+      traverse(aa, bb, clear);
+      if (clear > r) traverse(aa, bb, r);
+    }
     switch (code) {
       case 810:
         feed(aa, bb, cc);
@@ -1023,7 +1035,6 @@ void Interpreter::Impl::canned_cycle(const Block& b, int code) {
       default:
         break;
     }
-    old_cc = clear;
   }
 }
 

@@ -610,6 +610,12 @@ void Interpreter::Impl::execute_o(const Block& b) {
         execute(b);
         return;
       }
+      // Run into from the main program: it has not ended (M2, M30, %) before its
+      // subprograms, and LinuxCNC refuses it (a control would run their lines as its own).
+      if (calls.empty())
+        fail(b, nullptr,
+             "the main program runs into subprogram O" + label +
+                 ": end it (M2, M30 or %) before its subprograms, or a control runs their lines as its own");
       define_sub(b, true);
       return;
     case OKeyword::sub:

@@ -96,6 +96,8 @@ struct Interpreter::Impl {
   double cycle_r = 0.0, cycle_bottom = 0.0, cycle_p = 0.0, cycle_q = 0.0;
   double cycle_r_increment = 0.0, cycle_bottom_increment = 0.0;
   bool cycle_values_set = false;
+  double cycle_initial = 0.0;  ///< the initial level of a run of cycle blocks (program frame)
+  bool cycle_initial_set = false;
 
   // control flow
   std::vector<std::unique_ptr<LineSource>> owned_sources;

@@ -132,6 +132,30 @@ TEST(Interpreter, CannedCycleDrillsEachHoleWithStickyValues) {
   EXPECT_EQ(r.motions[3].motion.source, gcode::MotionSource::canned_cycle);
 }
 
+TEST(Interpreter, ARunOfCycleBlocksKeepsItsInitialLevel) {
+  // rs274: a G91 R counts from the level where the run of cycle blocks began, however the
+  // blocks come (here a subprogram repeated), and every hole after the first is reached at
+  // the clearance level.
+  const RunResult r = ok("G21 G90 F10 G0 X0 Y0 Z10\nM98 P1 L3\nG80 G90\nM30\nO1\nG91 G99 G81 X10 Z-5 R-2.5\nM99\n");
+  std::vector<double> bottoms;
+  for (const auto& m : r.motions)
+    if (m.motion.kind == MotionKind::feed) bottoms.push_back(m.motion.end[2]);
+  EXPECT_EQ(bottoms, (std::vector<double>{2.5, 2.5, 2.5})) << "R 7.5 each time, not 2.5 below the last R";
+  const RunResult g98 = ok("G21 G90 F100 G0 X0 Y0 Z10\nG99 G81 X1 Y1 Z-2 R2\nG98 X10 R3\nG80\nM2\n");
+  ASSERT_GE(g98.motions.size(), 7U);
+  EXPECT_EQ(g98.motions[5].motion.end[0], 10.0);
+  EXPECT_EQ(g98.motions[5].motion.end[2], 10.0) << "to the next hole at the initial level (G98)";
+}
+
+TEST(Interpreter, AMainProgramMayNotRunIntoItsSubprograms) {
+  // LinuxCNC refuses a Fanuc-style main program without M2, M30 or % before its subprograms.
+  const RunResult r = run_program("G21\nG0 X1\nM98 P100\nO100\nG0 X2\nM99\n");
+  ASSERT_TRUE(r.error);
+  EXPECT_EQ(r.error->where().line, 4U);
+  EXPECT_NE(r.error->message().find("runs into subprogram O100"), std::string::npos) << r.error->message();
+  EXPECT_EQ(ok("G21\nG0 X1\nM98 P100\nM30\nO100\nG0 X2\nM99\n").motions.size(), 2U);
+}
+
 TEST(Interpreter, TappingOutsideXYFeedsAlongThePlaneNormal) {
   // G18: Y is the cycle axis. (LinuxCNC's own output permutes this; see the suite test.)
   const RunResult r = ok("G21 F100 S100 M3 G18 G0 X0 Y5 Z0\nG98 G84 X1 Z2 Y-1 R1\nG80\nM2\n");

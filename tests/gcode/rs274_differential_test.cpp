@@ -73,6 +73,40 @@ TEST(Rs274Differential, CorpusProgramsInTheLinuxcncDialect) {
 }
 
 // ----------------------------------------------------------------------------------------
+// Programs ccomp once read otherwise than rs274 (each found by a held-out test or by the
+// fuzzer), kept as they are.
+
+TEST(Rs274Differential, ProgramsThatOnceDiffered) {
+  if (!have_rs274()) GTEST_SKIP() << "rs274 not found at " << rs274() << ": run tools/rs274/fetch.sh build/rs274";
+  const std::string tools = tool_table_file();
+  const std::string dir = temp_dir("rs274_once");
+  const std::pair<const char*, const char*> cases[] = {
+      {"g91-cycle-in-repeated-sub",
+       "G20 G17 G40 G80 G90 G94\nG0 X0 Y0 Z1\nF10\nM98 P1 L3\nG80 G90\nM30\nO1\nG91 G99 G81 X1 Z-0.5 "
+       "R-0.25\nM99\n%\n"},
+      {"cycle-holes-at-the-clearance-level",
+       "G21 G17 G90 G94\nG0 X0 Y0 Z10\nF100\nG99 G81 X1 Y1 Z-2 R2\nX5\nG98 X10 R3\nG91 X2 Z-1 R-1 L2\nG90 "
+       "G80\nG0 Z12\nG98 G83 X1 Y1 Z-4 R1 Q1\nY3\nG99 Y5\nG80\nG0 Z0\nG91 G98 G81 X1 Z-1 R2\nX1\nG80\nM2\n"},
+      {"cutter-comp-corners-and-queued-calls",
+       "G20 F60\nG0 X0 Y0 Z0\nG41 D1\nG1 X1 Y0\nM3 S100\nG1 X1 Y1\n(msg, hi)\nM8\nG1 X0 Y1\nG1 X0.5 "
+       "Y0.5\nG3 X1 Y0 R0.5\nG40\nG1 X2 Y2\nM2\n"},
+      {"cutter-comp-arc-allowance-in-mm",
+       "G21 G17 G90 G94 F500\nT1 M6\nG0 X76.3838 Y-20.7814 Z-4.9431\nG41\nG1 X59.5137 Y-22.4172\nG1 X42.6436 "
+       "Y-24.0530\nG3 X31.0430 Y-30.1714 I0.9600 J-15.8768\nG1 X20.7320 Y-28.6021\nG40\nG1 X0 Y0\nM2\n"},
+      {"cutter-comp-stops-issue-what-waits",
+       "G20 F60\nG0 X0 Y0\nG41 D1\nG1 X1\nM0\nG1 Y1\nG1 X0\nM1\nG3 X-1 Y0 R1\nM1\nG1 X-1 Y-1\nG40\nG1 X-2 "
+       "Y-2\nM2\n"},
+      {"cutter-comp-in-g18",
+       "G21 G18 F100\nG0 X0 Y0 Z0\nG42 D2\nG1 Z20 X0\nG1 X20\nG2 Z40 X40 K20 I0\nG1 Z60\nG40\nG1 X80\nM2\n"},
+  };
+  for (const auto& [name, program] : cases) {
+    const std::string path = dir + "/" + name + ".ngc";
+    write_file(path, program);
+    expect_same_as_rs274(path, tools, name);
+  }
+}
+
+// ----------------------------------------------------------------------------------------
 // Generated programs: random blocks of every kind the milling dialect has
 // (tests/support/rs274_differential.cpp; tools/rs274-diff.sh runs thousands).
 
