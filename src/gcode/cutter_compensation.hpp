@@ -77,6 +77,12 @@ class CutterCompensation {
   /// The programmed path: `programmed` (machine frame) goes out with the last queued move,
   /// the tool centre's move, when that is settled.
   void attach(const Motion& programmed);
+  /// G20/G21 while moves wait: rs274 converts them, so they are issued in the new units
+  /// (block by block, a move is written in its own block's units).
+  void print_in(Units units) {
+    if (path_ != CutterPath::tool_centre) return;
+    for (Queued& q : queue_) q.motion.units = units;
+  }
   /// Issues everything queued, in order (a stop, the program's end, G40).
   void flush(CanonSink& sink);
   /// The program's end: what waits is issued as it stands, and the offset is off.

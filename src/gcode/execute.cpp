@@ -370,6 +370,7 @@ std::string Interpreter::Impl::substitute_parameters(const Block& b, std::string
 
 void Interpreter::Impl::set_units(Units u) {
   modal.units = u;
+  comp.print_in(u);
   emit("USE_LENGTH_UNITS", u == Units::mm ? "CANON_UNITS_MM" : "CANON_UNITS_INCHES");
 }
 

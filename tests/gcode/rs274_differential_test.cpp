@@ -96,6 +96,8 @@ TEST(Rs274Differential, ProgramsThatOnceDiffered) {
       {"cutter-comp-stops-issue-what-waits",
        "G20 F60\nG0 X0 Y0\nG41 D1\nG1 X1\nM0\nG1 Y1\nG1 X0\nM1\nG3 X-1 Y0 R1\nM1\nG1 X-1 Y-1\nG40\nG1 X-2 "
        "Y-2\nM2\n"},
+      {"cutter-comp-units-change-while-a-move-waits",
+       "G20 F60\nG0 X0 Y0 Z0\nG41 D1\nG1 X1\nG21\nG1 Y25\nG40\nG1 X50\nM2\n"},
       {"cutter-comp-in-g18",
        "G21 G18 F100\nG0 X0 Y0 Z0\nG42 D2\nG1 Z20 X0\nG1 X20\nG2 Z40 X40 K20 I0\nG1 Z60\nG40\nG1 X80\nM2\n"},
   };
