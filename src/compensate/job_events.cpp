@@ -101,11 +101,18 @@ void JobSink::note_line(const gcode::SourceLine& line) {
 void JobSink::take_out_offset(const gcode::Block& block) {
   std::vector<gcode::Span> words;
   bool turns_on = false;
-  for (const gcode::Word& w : block.words)
-    if (w.letter == 'G' && w.value.is_literal() && std::floor(w.value.literal) >= 41 && w.value.literal < 43) {
+  for (const gcode::Word& w : block.words) {
+    if (w.letter != 'G') continue;
+    if (!w.value.is_literal())
+      throw Error(ErrorKind::unsupported,
+                  "--resolve-cutter-comp takes G41/G42 out of the program, and this G code is an expression that "
+                  "may be one: --flatten writes the program with its values",
+                  SourceLocation{input_.name(), block.line, w.span.begin + 1}, std::string(block.text));
+    if (std::floor(w.value.literal) >= 41 && w.value.literal < 43) {
       words.push_back(w.span);
       turns_on = true;
     }
+  }
   if (!turns_on || repeated_ || elsewhere_) return;
   if (const gcode::Word* d = block.find('D')) words.push_back(d->span);
   if (stages_) stages_->pipeline.drain();  // the lines before it are written first

@@ -45,13 +45,17 @@ gcode::Axes minus(gcode::Axes a, const gcode::Axes& b) {
 /// concave corner takes some of its length, along it). A move with no length in the plane
 /// keeps the offset it was left with.
 gcode::Axes offset_across(const gcode::Motion& m) {
-  gcode::Axes v = minus(m.tool_end, m.end);
-  gcode::Axes d = minus(m.end, m.start);
-  for (std::size_t i = 3; i < gcode::kAxisCount; ++i) d[i] = 0.0, v[i] = 0.0;
-  double dd = 0.0, vd = 0.0;
-  for (std::size_t i = 0; i < 3; ++i) dd += d[i] * d[i], vd += v[i] * d[i];
+  // In the plane of the offset only: a ramp's travel along the normal is not the offset's.
+  const gcode::PlaneAxes pa = gcode::plane_axes(m.arc.plane);
+  gcode::Axes v{};
+  v[pa.first] = m.tool_end[pa.first] - m.end[pa.first];
+  v[pa.second] = m.tool_end[pa.second] - m.end[pa.second];
+  const double d1 = m.end[pa.first] - m.start[pa.first], d2 = m.end[pa.second] - m.start[pa.second];
+  const double dd = d1 * d1 + d2 * d2;
   if (dd < 1e-24) return v;
-  for (std::size_t i = 0; i < 3; ++i) v[i] -= vd / dd * d[i];
+  const double along = (v[pa.first] * d1 + v[pa.second] * d2) / dd;
+  v[pa.first] -= along * d1;
+  v[pa.second] -= along * d2;
   return v;
 }
 

@@ -160,14 +160,24 @@ void CutterCompensation::set_endpoint(double first, double second) {
   endpoint_valid_ = true;
 }
 
+const CutterCompensation::Queued* CutterCompensation::first_queued_move() const {
+  for (const Queued& q : queue_)
+    if (q.kind == Queued::Kind::motion) return &q;
+  return nullptr;
+}
+
 const CutterCompensation::Queued* CutterCompensation::front_arc() const {
-  if (queue_.empty() || queue_.front().kind != Queued::Kind::motion || queue_.front().motion.kind != MotionKind::arc)
-    return nullptr;
-  return &queue_.front();
+  // rs274's queue starts with a move (it queues calls only behind one); blocks and calls
+  // held here before it are not in rs274's.
+  const Queued* q = first_queued_move();
+  return q != nullptr && q->motion.kind == MotionKind::arc ? q : nullptr;
 }
 
 void CutterCompensation::move_endpoint_and_flush(double first, double second, double unit, CanonSink& sink) {
-  if (queue_.empty()) return;
+  if (first_queued_move() == nullptr) {  // rs274's queue is empty: nothing moves, no endpoint is set
+    flush(sink);
+    return;
+  }
   // Every queued move ends here: moving into a concave corner, then up and down again,
   // leaves three moves to change.
   for (Queued& q : queue_) {
@@ -236,6 +246,7 @@ void CutterCompensation::issue_motion(Queued& q, CanonSink& sink) {
     if (!q.has_programmed) return;  // a corner's arc: the control's own
     Motion programmed = q.programmed;
     programmed.offset = true;
+    programmed.arc.plane = plane_;  // (a straight move's too: the plane it is offset in)
     programmed.tool_start = o.to_machine(m.start);
     programmed.tool_end = o.to_machine(m.end);
     sink.motion(programmed);

@@ -67,6 +67,8 @@ class CutterCompensation {
   /// at once, ahead of the moves still waiting; block by block, every call waits.
   [[nodiscard]] bool holds(const CanonCall& call) const;
   void hold(const CanonCall& call);
+  /// A move waits for the next to settle it.
+  [[nodiscard]] bool move_waits() const { return first_queued_move() != nullptr; }
   /// Whether a block waits in the queue (block by block, under an offset: it comes before its
   /// own moves, which wait for the next, and a sink reads it until the next block comes).
   /// `turns_on`: the block has G41/G42, and its move may wait.
@@ -85,6 +87,12 @@ class CutterCompensation {
   }
   /// Issues everything queued, in order (a stop, the program's end, G40).
   void flush(CanonSink& sink);
+  /// The program ends at its closing %: the moves that wait are not run (as in rs274), the
+  /// blocks and calls held are still issued.
+  void flush_held(CanonSink& sink) {
+    std::erase_if(queue_, [](const Queued& q) { return q.kind == Queued::Kind::motion; });
+    flush(sink);
+  }
   /// The program's end: what waits is issued as it stands, and the offset is off.
   void stop(CanonSink& sink) {
     flush(sink);
@@ -118,6 +126,7 @@ class CutterCompensation {
   /// rs274's move_endpoint_and_flush: every queued move now ends at (first, second).
   void move_endpoint_and_flush(double first, double second, double unit, CanonSink& sink);
   void set_endpoint(double first, double second);
+  [[nodiscard]] const Queued* first_queued_move() const;
   [[nodiscard]] const Queued* front_arc() const;
   void entry_straight(const Motion& m);
   void middle_straight(const Motion& m, const Axes& from, double unit, CanonSink& sink);

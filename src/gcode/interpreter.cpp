@@ -72,13 +72,20 @@ void Interpreter::Impl::warn(const std::string& message, std::uint32_t line_no) 
 }
 
 void Interpreter::Impl::announce(const Block& b, const SourceLine& l) {
-  const auto turns_on = [&] {
+  // A G41/G42 (or a G code an expression gives: it may be one) may make this block's move
+  // wait: the block waits with it.
+  const auto may_turn_on = [&] {
     for (const Word& w : b.words)
-      if (w.letter == 'G' && w.value.is_literal() && std::floor(w.value.literal) >= 41 && w.value.literal < 43)
+      if (w.letter == 'G' && (!w.value.is_literal() || (std::floor(w.value.literal) >= 41 && w.value.literal < 43)))
         return true;
     return false;
   };
-  if (comp.holds_blocks(options.cutter_path != CutterPath::tool_centre && turns_on()))
+  if (options.cutter_path == CutterPath::tool_centre) {
+    sink->block(b, l);
+    return;
+  }
+  if (!comp.offsetting() && !comp.move_waits()) comp.flush(*sink);  // what was held, for no move
+  if (comp.holds_blocks(may_turn_on()))
     comp.hold(b, l);  // after the moves still waiting for the offset: each block before its own
   else
     sink->block(b, l);
@@ -434,6 +441,13 @@ void Interpreter::Impl::run(LineSource& source, CanonSink& out) {
       }
       announce(block, line);
       ended = true;
+      // As rs274: the program ends here, and a move waiting for the offset's next is not run.
+      if (comp.move_waits())
+        warn(
+            "the closing % ends the program under cutter radius compensation (G41/G42) with the last move "
+            "waiting for the next to settle its corner: LinuxCNC does not run it (G40 and a move before % do)",
+            block.line);
+      comp.flush_held(out);
       break;  // the closing % ends the program
     }
     if (!block.text.empty()) first_line = false;

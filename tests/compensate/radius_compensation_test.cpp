@@ -193,5 +193,38 @@ TEST(RadiusCompensation, TheSampleProfilePassesVerifyOnTheToolCentresPath) {
                           [](const std::string& w) { return w.find("no take-up moves") != std::string::npos; }));
 }
 
+TEST(RadiusCompensation, OutsideCornersAndRadiusArcsBothWays) {
+  // Round a boss clockwise with the tool on the left (outside): every corner is convex, so
+  // the control adds an arc before the move; the arcs are R-format, one the long way round.
+  const std::string program =
+      "G21 G90 G94 G54\nT1 M6\nG43 H1\nG0 X-70 Y-50 Z-90 B0\nG1 F800\nG41 D1\nG1 X-50 Y-30\nG1 Y20\n"
+      "G2 X-30 Y40 R20\nG1 X30\nG1 X40 Y0\nG2 X-10 Y-30 R-45\nG1 X-50\nG40\nG1 X-70 Y-50\nM30\n";
+  const model::MachineModel mm = sample_machine("hmc-xyzb");
+  for (const bool resolve : {false, true}) {
+    std::vector<std::string> warnings;
+    compensate::JobOptions o = warm_machine(&warnings);
+    o.resolve_cutter_comp = resolve;
+    const std::string output = compensate(program, mm, o);
+    if (!resolve) {
+      // The arcs in pieces, each with its centre words: a radius word, the long way round,
+      // would be wrong for a piece.
+      std::size_t arcs = 0;
+      for (const std::string& line : lines_between(output, "G41 D1", "G40")) {
+        if (line.rfind("G2", 0) != 0) continue;
+        ++arcs;
+        EXPECT_EQ(line.find(" R"), std::string::npos) << line;
+        EXPECT_NE(line.find(" I"), std::string::npos) << line;
+      }
+      EXPECT_GT(arcs, 2U) << output;
+    } else {
+      EXPECT_EQ(output.find("G41"), std::string::npos) << output;
+      const compensate::PathError e = tool_centre_error(program, output, mm);
+      EXPECT_LE(e.max, 0.001) << "line " << e.worst_line << "\n" << output;
+      EXPECT_EQ(e.uncut_length, 0.0);
+    }
+    if (have_rs274()) expect_rs274_accepts(output);
+  }
+}
+
 }  // namespace
 }  // namespace ccomp::test

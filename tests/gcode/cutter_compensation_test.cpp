@@ -6,9 +6,11 @@
 #include <gtest/gtest.h>
 
 #include <array>
+#include <cmath>
 #include <string>
 #include <vector>
 
+#include "rs274_differential.hpp"
 #include "trace_capture.hpp"
 
 namespace ccomp::test {
@@ -125,6 +127,60 @@ TEST(CutterCompensation, TheProgrammedPathCarriesTheToolCentresSettledMoves) {
   EXPECT_TRUE(exit.offset);
   EXPECT_NEAR(exit.tool_start[0], 9.0, 1e-9);
   EXPECT_NEAR(exit.tool_start[1], 10.0, 1e-9);
+}
+
+/// Where the tool centre is after each motion: the motion's end, or under the control's
+/// offset the tool centre's settled end.
+std::vector<gcode::Axes> tool_path(const RunResult& r) {
+  std::vector<gcode::Axes> ends;
+  for (const auto& m : r.motions)
+    ends.push_back(m.motion.offset && m.motion.radius_compensation ? m.motion.tool_end : m.motion.end);
+  return ends;
+}
+
+bool same_point(const gcode::Axes& a, const gcode::Axes& b) {
+  for (std::size_t i = 0; i < gcode::kAxisCount; ++i)
+    if (std::abs(a[i] - b[i]) > 1e-9) return false;
+  return true;
+}
+
+TEST(CutterCompensation, TheThreeWaysOfReportingItAgreeOnGeneratedProfiles) {
+  // The offset path as rs274 issues it (trace), block by block (--resolve-cutter-comp) and
+  // under the programmed path (the main job): the same tool path and the same refusals,
+  // on the differential fuzzer's programs (profiles under G41/G42 among the rest).
+  int with_offset = 0;
+  for (unsigned seed = 1; seed <= 150; ++seed) {
+    const std::string program = generated_program(seed, 60);
+    gcode::InterpreterOptions o;
+    o.tools.tools[1] = gcode::ToolEntry{1, 1, {0, 0, 12.7}, 6.35, ""};
+    o.tools.tools[2] = gcode::ToolEntry{2, 2, {0, 0, 31.75}, 12.7, ""};
+    const RunResult trace = run_program(program, o);
+    o.cutter_path = gcode::CutterPath::tool_centre_by_block;
+    const RunResult by_block = run_program(program, o);
+    o.cutter_path = gcode::CutterPath::programmed;
+    const RunResult programmed = run_program(program, o);
+    ASSERT_EQ(trace.error.has_value(), by_block.error.has_value()) << "seed " << seed;
+    ASSERT_EQ(trace.error.has_value(), programmed.error.has_value())
+        << "seed " << seed << "\n"
+        << (programmed.error ? format_error(*programmed.error) : format_error(*trace.error));
+    if (trace.error) {
+      EXPECT_EQ(trace.error->message(), programmed.error->message()) << "seed " << seed;
+      EXPECT_EQ(trace.error->where().line, programmed.error->where().line) << "seed " << seed;
+    }
+    const auto ends = tool_path(trace), block_ends = tool_path(by_block), under = tool_path(programmed);
+    ASSERT_EQ(ends.size(), block_ends.size()) << "seed " << seed;
+    for (std::size_t k = 0; k < ends.size(); ++k) ASSERT_TRUE(same_point(ends[k], block_ends[k])) << "seed " << seed;
+    // The programmed path leaves out the control's corner arcs: its tool centre's ends come
+    // in the same order.
+    std::size_t at = 0;
+    for (const gcode::Axes& e : under) {
+      while (at < ends.size() && !same_point(ends[at], e)) ++at;
+      ASSERT_LT(at, ends.size()) << "seed " << seed << ": a tool centre end the offset path does not reach";
+      ++at;
+    }
+    for (const auto& m : programmed.motions) with_offset += m.motion.offset ? 1 : 0;
+  }
+  EXPECT_GT(with_offset, 500) << "moves under the offset compared";
 }
 
 }  // namespace

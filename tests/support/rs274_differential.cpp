@@ -117,9 +117,25 @@ class ProgramGenerator {
     double heading = uniform(0, 2 * std::numbers::pi);
     auto line_to = [&](double length) {
       p1 += length * std::cos(heading), p2 += length * std::sin(heading);
-      out_ << "G1 " << plane_words(p1, p2) << "\n";
+      out_ << "G1 " << plane_words(p1, p2);
+      if (pick(5) == 0) out_ << " " << normal << len(uniform(-5, 5));  // a ramp
+      out_ << "\n";
     };
-    line_to(uniform(12, 30));
+    if (pick(4) == 0) {  // an entry arc, a half circle at most
+      const bool ccw = pick(2) == 0;
+      const double r = uniform(12, 25), sweep = uniform(0.5, 2.8);
+      const double to_centre = heading + (ccw ? 1 : -1) * std::numbers::pi / 2;
+      const double c1 = p1 + r * std::cos(to_centre), c2 = p2 + r * std::sin(to_centre);
+      const double end_angle = to_centre + std::numbers::pi + (ccw ? sweep : -sweep);
+      const double e1 = c1 + r * std::cos(end_angle), e2 = c2 + r * std::sin(end_angle);
+      out_ << (ccw ? "G3 " : "G2 ") << plane_words(e1, e2)
+           << (plane_ == 18 ? " K" + len(c1 - p1) + " I" + len(c2 - p2) : " I" + len(c1 - p1) + " J" + len(c2 - p2))
+           << "\n";
+      p1 = e1, p2 = e2;
+      heading = end_angle + (ccw ? 1 : -1) * std::numbers::pi / 2;
+    } else {
+      line_to(uniform(12, 30));
+    }
     for (int k = 2 + pick(6); k > 0; --k) {
       const int kind = pick(8);
       if (kind <= 2) {
@@ -148,8 +164,8 @@ class ProgramGenerator {
       } else if (kind == 6) {
         out_ << "G1 " << normal << len(uniform(-5, 5)) << "\n";
       } else {
-        static const char* kBetween[] = {"M8", "M9", "F400", "G4 P0.1", "S800", "(a comment)"};
-        out_ << kBetween[pick(6)] << "\n";
+        static const char* kBetween[] = {"M8", "M9", "F400", "G4 P0.1", "S800", "(a comment)", "M1"};
+        out_ << kBetween[pick(7)] << "\n";
       }
     }
     out_ << "G40\n";
@@ -296,8 +312,9 @@ std::vector<std::string> geometry(const std::vector<std::string>& lines) {
   return out;
 }
 
-std::optional<std::string> rs274_divergence(const std::string& path, const std::string& tool_table) {
+std::optional<std::string> rs274_divergence(const std::string& path, const std::string& tool_table, bool* refused) {
   const TraceResult theirs = rs274_trace(path, tool_table);
+  if (refused) *refused = theirs.error.has_value();
   gcode::InterpreterOptions o;
   o.machine_units = gcode::Units::inch;
   o.tools = gcode::read_tool_table_file(tool_table);

@@ -15,8 +15,10 @@ std::vector<std::string> geometry(const std::vector<std::string>& lines);
 
 /// How ccomp's motions for the program file `path` differ from rs274's (to 1e-4, rs274's
 /// print precision), both run with the tool table file `tool_table` in inch machine units
-/// as LinuxCNC's suite runs rs274; nothing when they agree or both refuse the program.
-std::optional<std::string> rs274_divergence(const std::string& path, const std::string& tool_table);
+/// as LinuxCNC's suite runs rs274; nothing when they agree, or both refuse the program after
+/// the same motions. `refused` (if given) says whether rs274 refused it.
+std::optional<std::string> rs274_divergence(const std::string& path, const std::string& tool_table,
+                                            bool* refused = nullptr);
 
 /// A random program of `blocks` blocks of every kind the milling dialect has (moves, arcs in
 /// every plane with IJK or R and turns, units, G91, G10 L2, G92/G52, drilling cycles with L
