@@ -160,6 +160,11 @@ void CutterCompensation::set_endpoint(double first, double second) {
   endpoint_valid_ = true;
 }
 
+double CutterCompensation::radius_of(const Motion& arc) const {
+  const auto [e1, e2] = plane_of(arc.end);
+  return std::hypot(e1 - arc.arc.center_first, e2 - arc.arc.center_second);
+}
+
 const CutterCompensation::Queued* CutterCompensation::first_queued_move() const {
   for (const Queued& q : queue_)
     if (q.kind == Queued::Kind::motion) return &q;
@@ -369,8 +374,7 @@ void CutterCompensation::concave_after_arc(const Motion& prev, double from1, dou
                                            double unit, CanonSink& sink) {
   // The queued arc is the offset one; find where it meets the new line's offset.
   const Arc& a = prev.arc;
-  const auto [e1, e2] = plane_of(prev.end);
-  const double old_radius = std::hypot(a.center_second - e2, a.center_first - e1);
+  const double old_radius = radius_of(prev);
   const double base_dir = std::atan2(to2 - from2, to1 - from1);
   const double theta = a.turns > 0 ? base_dir + kHalfPi : base_dir - kHalfPi;
   const double phi = std::atan2(a.center_second - from2, a.center_first - from1);
@@ -506,8 +510,7 @@ void CutterCompensation::middle_arc(const Motion& m, const Axes& from, const Pla
 void CutterCompensation::concave_arc_after_arc(const Motion& prev, double ccx, double ccy, double new_radius, int turns,
                                                double unit, CanonSink& sink) {
   const Arc& a = prev.arc;
-  const auto [e1, e2] = plane_of(prev.end);
-  const double old_radius = std::hypot(a.center_second - e2, a.center_first - e1);
+  const double old_radius = radius_of(prev);
   const double centres = std::hypot(a.center_second - ccy, a.center_first - ccx);
   if (old_radius == 0.0 || centres == 0.0) refuse("arc to arc motion is invalid because the arcs have the same center");
   const double cosine =

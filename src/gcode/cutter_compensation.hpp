@@ -127,6 +127,8 @@ class CutterCompensation {
   void move_endpoint_and_flush(double first, double second, double unit, CanonSink& sink);
   void set_endpoint(double first, double second);
   [[nodiscard]] const Queued* first_queued_move() const;
+  /// The radius a queued arc ends at (the offset one).
+  [[nodiscard]] double radius_of(const Motion& arc) const;
   [[nodiscard]] const Queued* front_arc() const;
   void entry_straight(const Motion& m);
   void middle_straight(const Motion& m, const Axes& from, double unit, CanonSink& sink);
