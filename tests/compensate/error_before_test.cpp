@@ -4,6 +4,8 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstring>
+#include <new>
 
 #include "ccomp/compensate/compensator.hpp"
 #include "ccomp/model/machine.hpp"
@@ -48,6 +50,25 @@ TEST(ErrorBefore, TheMaximumIsExactWhileMostProbesAreBounded) {
   }
   EXPECT_EQ(skipping, all);
   EXPECT_LT(evaluated, probes / 4) << "most probes of a finishing pass are bounded below the maximum";
+}
+
+TEST(ErrorBefore, TheChainsZeroIsAPointLikeAnyOther) {
+  // Nominal tips are remembered by chain values; a remembered slot never filled must not
+  // stand for the chain's zero (machine zero, no tool length): its error there is the
+  // model's, micrometres, not the distance to a tip at the origin.
+  const model::MachineModel mm =
+      model::load_machine_model(std::string(CCOMP_SOURCE_DIR) + "/samples/machines/vmc-xyz.yaml");
+  const model::ForwardModel m(mm);
+  // Built in zeroed memory, as a fresh heap page is: what an uninitialised slot would hold.
+  alignas(Compensator) static unsigned char storage[sizeof(Compensator)];
+  std::memset(storage, 0, sizeof storage);
+  Compensator* c = new (storage) Compensator(m, CompensationOptions{});
+  const model::ChainQ zero = model::ChainQ::Zero();
+  model::ForwardData d(m);
+  model::forward(m, d, zero, CompensationOptions{}.conditions, false, model::Evaluate::both);
+  EXPECT_NEAR(c->error_at(zero), (d.actual - d.nominal).norm(), 1e-12);
+  EXPECT_LT(c->error_at(zero), 0.01);
+  c->~Compensator();
 }
 
 }  // namespace

@@ -169,7 +169,13 @@ class Compensator {
   bool offset_by_control_ = false;  ///< see offset_by_control()
   model::ChainQ last_straight_end_ = model::ChainQ::Constant(std::nan(""));  ///< its error before is counted
   // The nominal tips of the last points solved (a move's ends and midpoints), round robin.
-  std::array<std::pair<model::ChainQ, Eigen::Vector3d>, 4> tips_;
+  /// The last nominal tips taken, by chain values; NaN keys match nothing (Eigen leaves a
+  /// fixed-size vector uninitialised: zeroed memory would "match" the chain's zero).
+  std::array<std::pair<model::ChainQ, Eigen::Vector3d>, 4> tips_ = {
+      std::pair{model::ChainQ::Constant(std::nan("")), Eigen::Vector3d::Zero()},
+      std::pair{model::ChainQ::Constant(std::nan("")), Eigen::Vector3d::Zero()},
+      std::pair{model::ChainQ::Constant(std::nan("")), Eigen::Vector3d::Zero()},
+      std::pair{model::ChainQ::Constant(std::nan("")), Eigen::Vector3d::Zero()}};
   std::size_t next_tip_ = 0;
   std::vector<ErrorProbe>* deferred_probes_ = nullptr;
   model::ChainQ expected_ = model::ChainQ::Constant(std::nan(""));  ///< see expect()
