@@ -5,7 +5,8 @@
 #   tools/rs274/fetch.sh build/rs274
 set -euo pipefail
 dest=$(mkdir -p "${1:?usage: fetch.sh DEST}" && cd "$1" && pwd)
-if [ -x "$dest/rs274" ] && "$dest/rs274" -h >/dev/null 2>&1 </dev/null; then exit 0; fi
+# Unpacked before: nothing to download (rs274 -h exits 1, so its binary is what is checked).
+if [ -x "$dest/rs274" ] && [ -x "$dest/root/usr/bin/rs274" ]; then exit 0; fi
 mkdir -p "$dest/debs" "$dest/root"
 (cd "$dest/debs" && apt-get download linuxcnc-uspace libboost-python1.74.0 >/dev/null)
 for deb in "$dest"/debs/*.deb; do dpkg -x "$deb" "$dest/root"; done
