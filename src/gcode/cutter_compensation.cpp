@@ -72,6 +72,14 @@ bool CutterCompensation::turn_off(double unit, CanonSink& sink) {
   return moved;
 }
 
+void CutterCompensation::settle(double unit, CanonSink& sink) {
+  if (offsetting()) {
+    const auto [first, second] = plane_of(tool_);
+    move_endpoint_and_flush(first, second, unit, sink);
+  }
+  flush(sink);
+}
+
 bool CutterCompensation::holds(const CanonCall& call) const {
   static constexpr std::array<std::string_view, 15> kQueued = {"SET_FEED_RATE",
                                                                "DWELL",
@@ -171,11 +179,14 @@ const CutterCompensation::Queued* CutterCompensation::first_queued_move() const 
   return nullptr;
 }
 
-const CutterCompensation::Queued* CutterCompensation::front_arc() const {
+const Motion* CutterCompensation::front_arc() const {
   // rs274's queue starts with a move (it queues calls only behind one); blocks and calls
-  // held here before it are not in rs274's.
+  // held here before it are not in rs274's. Emptied (after a stop), rs274 still reads its
+  // front: the move that was there last, left in the vector's storage. Its corner rules
+  // take that move as the one before, so they do here.
   const Queued* q = first_queued_move();
-  return q != nullptr && q->motion.kind == MotionKind::arc ? q : nullptr;
+  const Motion* front = q != nullptr ? &q->motion : (last_front_valid_ ? &last_front_ : nullptr);
+  return front != nullptr && front->kind == MotionKind::arc ? front : nullptr;
 }
 
 void CutterCompensation::move_endpoint_and_flush(double first, double second, double unit, CanonSink& sink) {
@@ -216,6 +227,10 @@ void CutterCompensation::move_endpoint_and_flush(double first, double second, do
 
 void CutterCompensation::flush(CanonSink& sink) {
   endpoint_valid_ = false;
+  if (const Queued* front = first_queued_move()) {
+    last_front_ = front->motion;
+    last_front_valid_ = true;
+  }
   for (Queued& q : queue_) {
     switch (q.kind) {
       case Queued::Kind::call:
@@ -335,10 +350,11 @@ void CutterCompensation::middle_straight(const Motion& m, const Axes& from, doub
   const double gamma = left ? kHalfPi : -kHalfPi;
   const double end_x = px + radius_ * std::cos(alpha + gamma), end_y = py + radius_ * std::sin(alpha + gamma);
   const double mid_x = opx + radius_ * std::cos(alpha + gamma), mid_y = opy + radius_ * std::sin(alpha + gamma);
-  const Queued* arc_before = front_arc();
-  // Over the round top of an "h" from its right, staying right means staying above.
+  const Motion* arc_before = front_arc();
+  // Over the round top of an "h" from its right, staying right means staying above (rs274
+  // asks this of a queue that holds a move).
   const bool h_shape =
-      beta > kPi - kCorner && arc_before != nullptr && tool_inside_arc(side_, -arc_before->motion.arc.turns);
+      beta > kPi - kCorner && move_waits() && arc_before != nullptr && tool_inside_arc(side_, -arc_before->arc.turns);
   const bool concave = beta < -kCorner || beta > kPi + kCorner || h_shape;
   if (!concave && beta > kCorner) {  // convex: around the corner first
     move_endpoint_and_flush(cx, cy, unit, sink);
@@ -359,7 +375,7 @@ void CutterCompensation::middle_straight(const Motion& m, const Axes& from, doub
     const double retreat = radius_ / std::tan(half_corner);
     move_endpoint_and_flush(cx + retreat * std::cos(theta + gamma), cy + retreat * std::sin(theta + gamma), unit, sink);
   } else if (concave) {
-    const Motion prev = arc_before->motion;
+    const Motion prev = *arc_before;
     concave_after_arc(prev, opx, opy, px, py, unit, sink);
   } else {  // in line, or leaving an arc along its tangent
     flush(sink);
@@ -474,7 +490,7 @@ void CutterCompensation::middle_arc(const Motion& m, const Axes& from, const Pla
   // Tangent arc to arc over a convex top (the middle of an "m") counts as a corner too.
   const bool concave = beta < -kCorner || beta > kPi + kCorner || (std::abs(beta - kPi) < kCorner && !inside);
   if (concave) {
-    if (const Queued* before = front_arc(); before == nullptr) {
+    if (const Motion* before = front_arc(); before == nullptr) {
       const double across = arc_radius * std::sin(beta - kHalfPi);
       const double reach = inside ? arc_radius - radius_ : arc_radius + radius_;
       const double l = (inside ? across + radius_ : across - radius_) / reach;
@@ -486,7 +502,7 @@ void CutterCompensation::middle_arc(const Motion& m, const Axes& from, const Pla
         angle = arc.turns > 0 ? theta + kPi - std::asin(l) : theta + kPi + std::asin(l);
       move_endpoint_and_flush(ccx + reach * std::cos(angle), ccy + reach * std::sin(angle), unit, sink);
     } else {
-      const Motion prev = before->motion;
+      const Motion prev = *before;
       concave_arc_after_arc(prev, ccx, ccy, inside ? arc_radius - radius_ : arc_radius + radius_, arc.turns, unit,
                             sink);
     }

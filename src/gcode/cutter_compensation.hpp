@@ -93,9 +93,11 @@ class CutterCompensation {
     std::erase_if(queue_, [](const Queued& q) { return q.kind == Queued::Kind::motion; });
     flush(sink);
   }
-  /// The program's end: what waits is issued as it stands, and the offset is off.
-  void stop(CanonSink& sink) {
-    flush(sink);
+  /// A stop (M0, M1, M60): the waiting moves end where the tool is and are issued.
+  void settle(double unit, CanonSink& sink);
+  /// The program's end (M2, M30): settled as at a stop, and the offset is off.
+  void stop(double unit, CanonSink& sink) {
+    settle(unit, sink);
     on_ = false;
     first_move_ = true;
   }
@@ -129,7 +131,7 @@ class CutterCompensation {
   [[nodiscard]] const Queued* first_queued_move() const;
   /// The radius a queued arc ends at (the offset one).
   [[nodiscard]] double radius_of(const Motion& arc) const;
-  [[nodiscard]] const Queued* front_arc() const;
+  [[nodiscard]] const Motion* front_arc() const;
   void entry_straight(const Motion& m);
   void middle_straight(const Motion& m, const Axes& from, double unit, CanonSink& sink);
   void concave_after_arc(const Motion& prev, double from1, double from2, double to1, double to2, double unit,
@@ -150,7 +152,9 @@ class CutterCompensation {
   Axes tool_{};    ///< rs274's current point: the tool centre after the last queued move
   Axes issued_{};  ///< where the last issued move ended, the start of the next one issued
   std::vector<Queued> queue_;
-  std::unique_ptr<HeldBlock> last_block_;            ///< the last block issued from the queue
+  std::unique_ptr<HeldBlock> last_block_;  ///< the last block issued from the queue
+  Motion last_front_;                      ///< the move at the queue's front when it was last emptied
+  bool last_front_valid_ = false;
   double endpoint_first_ = 0, endpoint_second_ = 0;  ///< start of the first queued move
   bool endpoint_valid_ = false;
 };

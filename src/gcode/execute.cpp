@@ -361,7 +361,8 @@ void Interpreter::Impl::execute(const Block& b) {
     emit_lazy("SET_FEED_RATE", [&] { return fixed4(f); });
   } else if (modal.feed_mode == FeedMode::inverse_time) {
     const int m = motion_code >= 0 ? motion_code : modal.motion;
-    if ((m == 10 || m == 20 || m == 30) && words.axis_mask() != 0)
+    // (an explicit G1 without axis words moves too, to where it is)
+    if ((m == 10 || m == 20 || m == 30) && (words.axis_mask() != 0 || (m == 10 && motion_code == 10)))
       fail(b, nullptr, fmt::format("F word missing with inverse time {} move", g_name(m)));
   }
   // 4. spindle speed
@@ -484,7 +485,8 @@ void Interpreter::Impl::execute(const Block& b) {
     return;
   }
   if (words.has_m(0) || words.has_m(1) || words.has_m(60)) {
-    comp.flush(out());  // rs274 issues the waiting moves before it stops
+    // rs274 settles the waiting moves where the tool is, as G40 does, before it stops.
+    offset_path([&] { comp.settle(unit(), out()); });
     emit("PROGRAM_STOP", "");
   }
   if (words.has_m(2) || words.has_m(30)) end_program(b);
@@ -718,7 +720,7 @@ void Interpreter::Impl::end_program(const Block& /*b*/) {
   modal.plane = Plane::xy;
   modal.absolute = true;
   modal.feed_mode = FeedMode::units_per_minute;
-  comp.stop(out());
+  offset_path([&] { comp.stop(unit(), out()); });
   modal.cutter_compensation = 400;
   modal.motion = 10;
   emit("PROGRAM_END", "");

@@ -460,7 +460,6 @@ void Interpreter::Impl::run(LineSource& source, CanonSink& out) {
     execute(block);
   }
   if (ended) return;
-  comp.flush(out);
   if (!controls.empty()) {
     const ControlFrame& open = controls.back();
     throw Error(ErrorKind::program,
@@ -470,6 +469,7 @@ void Interpreter::Impl::run(LineSource& source, CanonSink& out) {
                                                             : "loop"),
                 SourceLocation{file_name(), line.number, 0});
   }
+  comp.flush(out);  // the file's end: what waits is issued as it stands
   if (!calls.empty()) warn("program ended inside a subroutine call", line.number);
   if (!percent_seen) warn("the program ends without M2, M30 or a closing %", line.number);
 }

@@ -1,6 +1,6 @@
 // ccomp_rs274_diff: the differential fuzzer against LinuxCNC's rs274. Generates programs
 // seed by seed, compares ccomp's motions with rs274's, and writes each program that diverges,
-// cut down to the smallest that still does, with what differs (tools/rs274-diff.sh).
+// cut down to the smallest that still does (and whole), with what differs (tools/rs274-diff.sh).
 //   ccomp_rs274_diff FIRST_SEED COUNT BLOCKS OUT_DIR
 #include <cstdio>
 #include <cstdlib>
@@ -45,6 +45,7 @@ int main(int argc, char** argv) {
     const auto still = rs274_divergence(scratch, tools);
     const std::string name = "seed-" + std::to_string(seed);
     write_file((out / (name + ".ngc")).string(), smallest);
+    write_file((out / (name + ".whole.ngc")).string(), text);
     write_file((out / (name + ".txt")).string(), "whole program: " + *divergence + "\nsmallest: " +
                                                      still.value_or("(none: the cut program agrees)") + "\n");
     std::printf("seed %u diverges: %s\n", seed, still.value_or(*divergence).c_str());

@@ -337,14 +337,18 @@ std::string smallest_divergent(const std::string& program, const std::string& to
   std::vector<std::string> lines = split_lines(program);
   // A cut keeps the kind of divergence it started from: one that only drops the program's
   // end (which rs274 refuses and ccomp warns about) shows nothing new.
-  auto kind_of = [](const std::optional<std::string>& d) {
-    if (!d) return 0;
-    if (d->starts_with("rs274 refuses")) return 1;
-    if (d->starts_with("ccomp refuses")) return 2;
-    return 3;
+  // A refusal keeps its reason too: rs274's message (the line after its "executing").
+  auto kind_of = [](const std::optional<std::string>& d) -> std::string {
+    if (!d) return "";
+    if (d->starts_with("ccomp refuses")) return "ccomp refuses";
+    if (!d->starts_with("rs274 refuses")) return "motions";
+    const auto at = d->find("executing\n");
+    if (at == std::string::npos) return "rs274 refuses";
+    const auto from = at + 10;
+    return "rs274 refuses: " + d->substr(from, d->find('\n', from) - from);
   };
   write_file(scratch, program);
-  const int kind = kind_of(rs274_divergence(scratch, tool_table));
+  const std::string kind = kind_of(rs274_divergence(scratch, tool_table));
   auto diverges = [&](const std::vector<std::string>& candidate) {
     write_file(scratch, joined(candidate));
     return kind_of(rs274_divergence(scratch, tool_table)) == kind;
