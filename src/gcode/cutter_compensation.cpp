@@ -227,6 +227,7 @@ void CutterCompensation::move_endpoint_and_flush(double first, double second, do
 
 void CutterCompensation::flush(CanonSink& sink) {
   endpoint_valid_ = false;
+  if (queue_.empty()) return;  // (the common case, on every move and block outside G41/G42)
   if (const Queued* front = first_queued_move()) {
     last_front_ = front->motion;
     last_front_valid_ = true;

@@ -67,6 +67,8 @@ class CutterCompensation {
   /// at once, ahead of the moves still waiting; block by block, every call waits.
   [[nodiscard]] bool holds(const CanonCall& call) const;
   void hold(const CanonCall& call);
+  /// Nothing waits in the queue.
+  [[nodiscard]] bool idle() const { return queue_.empty(); }
   /// A move waits for the next to settle it.
   [[nodiscard]] bool move_waits() const { return first_queued_move() != nullptr; }
   /// Whether a block waits in the queue (block by block, under an offset: it comes before its

@@ -282,7 +282,7 @@ void Interpreter::Impl::send(Motion m, const Axes& target) {
     comp.attach(m);
     return;
   }
-  comp.flush(out());  // blocks held for the offset go first
+  if (!comp.idle()) comp.flush(out());  // blocks held for the offset go first
   if (sink) sink->motion(m);
 }
 

@@ -80,7 +80,7 @@ void Interpreter::Impl::announce(const Block& b, const SourceLine& l) {
         return true;
     return false;
   };
-  if (options.cutter_path == CutterPath::tool_centre) {
+  if (options.cutter_path == CutterPath::tool_centre || (!comp.on() && comp.idle() && !may_turn_on())) {
     sink->block(b, l);
     return;
   }

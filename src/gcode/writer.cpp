@@ -21,9 +21,15 @@ std::string apply_edits(std::string_view line, std::vector<Edit> edits) {
 void apply_edits(std::string_view line, std::span<Edit> edits, std::string& out) {
   // By position; an insertion before a replacement that starts at the same byte; two
   // insertions at one place in the order they came (a block's moves, one after the other).
-  std::stable_sort(edits.begin(), edits.end(), [](const Edit& a, const Edit& b) {
-    return a.span.begin != b.span.begin ? a.span.begin < b.span.begin : a.span.end < b.span.end;
-  });
+  // A line has a handful of edits: an insertion sort, stable and without allocation.
+  for (std::size_t i = 1; i < edits.size(); ++i)
+    for (std::size_t j = i; j > 0; --j) {
+      const Edit& a = edits[j - 1];
+      const Edit& b = edits[j];
+      const bool before = b.span.begin != a.span.begin ? b.span.begin < a.span.begin : b.span.end < a.span.end;
+      if (!before) break;
+      std::swap(edits[j - 1], edits[j]);
+    }
   out.clear();
   std::uint32_t at = 0;
   for (const Edit& e : edits) {
