@@ -253,7 +253,6 @@ void Interpreter::Impl::send(Motion m, const Axes& target) {
   const bool leaving = leaving_offset;
   position = target;
   blocks_since_motion = 0;
-  leaving_compensation = false;
   leaving_offset = false;
   // Under G41/G42 the offset path went out through the offset's queue, or the programmed
   // move goes with it, once the next move settles where the tool centre ends.
@@ -696,7 +695,8 @@ PlaneArc Interpreter::Impl::arc_centre(const Block& b, int code, const Axes& sta
 
 void Interpreter::Impl::arc(const Block& b, int code, const Axes& target) {
   // As LinuxCNC: the exit move of cutter compensation is where the offset is taken off.
-  if (leaving_compensation)
+  // (LinuxCNC's rule; other dialects' controls take an arc there)
+  if (leaving_offset && options.dialect.name == "linuxcnc")
     fail(b, nullptr, "the move just after exiting cutter compensation mode (G40) must be straight, not an arc");
   // rs274 measures the entry arc's I and J from where the tool centre is.
   const bool entry = comp.offsetting() && comp.first_move();

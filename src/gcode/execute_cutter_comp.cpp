@@ -16,8 +16,7 @@ void Interpreter::Impl::cutter_compensation(const Block& b, int code) {
     emit("COMMENT", "\"interpreter: cutter radius compensation off\"");
     bool moved = false;
     offset_path([&] { moved = comp.turn_off(unit(), out()); });
-    // LinuxCNC's rule, once a move was made with the offset on.
-    leaving_compensation = moved && options.dialect.name == "linuxcnc";
+    // The next move leaves from where the offset left the tool (and, in LinuxCNC, is no arc).
     leaving_offset = moved;
     modal.cutter_compensation = code;
     return;

@@ -113,7 +113,6 @@ struct Interpreter::Impl {
   bool has_value_returned = false;
   std::uint64_t blocks_executed = 0;
   std::uint64_t blocks_since_motion = 0;  ///< a loop that never moves is endless
-  bool leaving_compensation = false;      ///< G40 has ended compensation; no move since
   CutterCompensation comp;                ///< G41/G42's offset path and its waiting moves
   bool leaving_offset = false;            ///< G40 took an offset off: the next move leaves it
   CanonSink discard;                      ///< where output goes without a sink
