@@ -1,6 +1,7 @@
 #pragma once
 // The subcommands of the ccomp CLI: argument structs, their CLI11 wiring and their runs.
 #include <CLI/CLI.hpp>
+#include <limits>
 #include <string>
 #include <utility>
 #include <vector>
@@ -105,5 +106,26 @@ CLI::App* add_positioning(CLI::App& app, IdentifyArgs& args);
 CLI::App* add_nine_line(CLI::App& app, IdentifyArgs& args);
 int run_nine_line(const IdentifyArgs& args);
 int run_positioning(const IdentifyArgs& args);
+
+/// export: a model as a control's compensation tables.
+struct ExportArgs {
+  std::string model;
+  std::string control;
+  std::string axis;
+  std::string output = "-";
+  double step = 0.0;  ///< mm; 0: the finest the control holds
+  double from = std::numeric_limits<double>::quiet_NaN(), to = std::numeric_limits<double>::quiet_NaN();
+  std::vector<std::string> at;  ///< AXIS=VALUE
+  double tool_length = 100.0;
+  std::vector<std::string> sensors;
+  double time = 0.0;
+  int comp_file_type = 0;
+  int axis_number = 0;
+  double fanuc_unit = 0.001;
+  int fanuc_reference_point = 0;
+  bool json = false;
+};
+CLI::App* add_export(CLI::App& app, ExportArgs& args);
+int run_export(const ExportArgs& args);
 
 }  // namespace ccomp::cli

@@ -50,6 +50,8 @@ int main(int argc, char** argv) {
   CLI::App* simulate_cmd = ccomp::cli::add_simulate(app, simulate);
   CLI::App* positioning_cmd = ccomp::cli::add_positioning(app, positioning);
   CLI::App* nine_line_cmd = ccomp::cli::add_nine_line(app, nine_line);
+  ccomp::cli::ExportArgs export_args;
+  CLI::App* export_cmd = ccomp::cli::add_export(app, export_args);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -73,6 +75,7 @@ int main(int argc, char** argv) {
     if (simulate_cmd->parsed()) return finished(ccomp::cli::run_simulate(simulate));
     if (positioning_cmd->parsed()) return finished(ccomp::cli::run_positioning(positioning));
     if (nine_line_cmd->parsed()) return finished(ccomp::cli::run_nine_line(nine_line));
+    if (export_cmd->parsed()) return finished(ccomp::cli::run_export(export_args));
     return finished(ccomp::cli::run_compensate(compensate));
   } catch (const ccomp::Error& e) {
     fmt::print(stderr, "{}\n", ccomp::format_error(e));

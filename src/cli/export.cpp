@@ -1,0 +1,278 @@
+// ccomp export: a machine model as the compensation tables a control reads (LinuxCNC,
+// Fanuc, Siemens, Heidenhain), with what the tables leave that only ccomp's rewriting
+// corrects.
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+#include <string_view>
+
+#include "ccomp/controller/control_tables.hpp"
+#include "ccomp/error.hpp"
+#include "ccomp/model/conditions.hpp"
+#include "ccomp/model/model_file.hpp"
+#include "ccomp/util/json.hpp"
+#include "ccomp/version.hpp"
+#include "commands.hpp"
+#include "output_file.hpp"
+
+namespace ccomp::cli {
+namespace {
+
+constexpr std::string_view kAxisLetters = "XYZABCUVW";
+
+const model::AxisSpec* axis_spec(const model::MachineModel& m, char letter) {
+  const auto a =
+      std::find_if(m.axes.begin(), m.axes.end(), [&](const model::AxisSpec& s) { return s.letter == letter; });
+  return a == m.axes.end() ? nullptr : &*a;
+}
+
+/// The line the tables are taken along: each other axis at --at's value, else at 0 when
+/// its travel holds 0, else mid-travel; rotary axes at 0.
+model::ChainQ table_line(const model::MachineModel& m, const ExportArgs& args) {
+  model::ChainQ q = model::ChainQ::Zero();
+  for (const model::AxisSpec& a : m.axes) {
+    const auto j = static_cast<Eigen::Index>(kAxisLetters.find(a.letter));
+    if (a.type == model::AxisType::linear && !(a.min <= 0 && a.max >= 0) && std::isfinite(a.min) &&
+        std::isfinite(a.max))
+      q[j] = 0.5 * (a.min + a.max);
+  }
+  for (const std::string& at : args.at) {
+    const auto eq = at.find('=');
+    double v = 0;
+    if (eq != 1) throw Error(ErrorKind::usage, "--at takes AXIS=VALUE (Y=0, B=90), not '" + at + "'");
+    const char letter = static_cast<char>(std::toupper(static_cast<unsigned char>(at[0])));
+    const model::AxisSpec* spec = axis_spec(m, letter);
+    if (spec == nullptr)
+      throw Error(ErrorKind::usage, fmt::format("--at {}: the machine '{}' has no {} axis", at, m.name, letter));
+    try {
+      std::size_t used = 0;
+      v = std::stod(at.substr(2), &used);
+      if (used != at.size() - 2 || !std::isfinite(v)) throw std::invalid_argument(at);
+    } catch (const std::exception&) {
+      throw Error(ErrorKind::usage, "--at " + at + ": '" + at.substr(2) + "' is not a number");
+    }
+    q[static_cast<Eigen::Index>(kAxisLetters.find(letter))] =
+        spec->type == model::AxisType::rotary ? v * M_PI / 180.0 : v;
+  }
+  q[static_cast<Eigen::Index>(model::kToolLengthIndex)] = args.tool_length;
+  return q;
+}
+
+controller::TableOptions table_options(const model::MachineModel& m, const ExportArgs& args, char axis,
+                                       controller::Control control) {
+  const model::AxisSpec* spec = axis_spec(m, axis);
+  if (spec == nullptr)
+    throw Error(ErrorKind::usage, fmt::format("--axis {}: the machine '{}' has no such axis", axis, m.name));
+  if (spec->type == model::AxisType::rotary)
+    throw Error(
+        ErrorKind::unsupported,
+        fmt::format("--axis {}: tables of rotary axes are not exported yet (ccomp's rewriting corrects them)", axis));
+  const double lo = std::isnan(args.from) ? spec->min : args.from;
+  const double hi = std::isnan(args.to) ? spec->max : args.to;
+  const controller::ControlLimits limits = controller::control_limits(control);
+  // Finest step the control's points allow over the travel, unless told.
+  const double wanted = args.step > 0 ? args.step : limits.granularity;
+  const controller::Grid grid = controller::grid_for(lo, hi, wanted, limits.max_points, limits.granularity);
+  if (args.step > 0 && std::abs(grid.step - args.step) > 1e-9)
+    throw Error(ErrorKind::usage,
+                fmt::format("--step {}: {} needs more than the {} points {} holds; {} mm fits", args.step, axis,
+                            limits.max_points, controller::control_name(control), grid.step));
+  controller::TableOptions o;
+  o.axis = axis;
+  o.from = grid.from, o.to = grid.to, o.step = grid.step;
+  o.reference = std::clamp(0.0, o.from, o.to);
+  o.line = table_line(m, args);
+  o.conditions = model::conditions_for(m, model::parse_sensor_readings(args.sensors), args.time);
+  return o;
+}
+
+controller::WriteOptions write_options(const ExportArgs& args, const model::MachineModel& m,
+                                       const controller::TableOptions& o) {
+  controller::WriteOptions w;
+  w.linuxcnc_file_type = args.comp_file_type;
+  w.axis_number = args.axis_number;
+  w.fanuc_unit = args.fanuc_unit;
+  w.fanuc_reference_point = args.fanuc_reference_point;
+  w.header.push_back(
+      fmt::format("ccomp {} export of axis {} of '{}' (model SHA-256 {})", kVersion, o.axis, m.name, m.sha256));
+  return w;
+}
+
+/// What the model holds that no table of this control carries, by term.
+struct Uncarried {
+  std::vector<std::string> thermal, rotary, off_line;
+};
+Uncarried uncarried_terms(const model::MachineModel& m) {
+  Uncarried u;
+  for (const model::ErrorTermSpec& t : m.terms) {
+    const auto link = std::find_if(m.workpiece_chain.begin(), m.workpiece_chain.end(),
+                                   [&](const model::LinkSpec& l) { return l.name == t.link; });
+    const auto tool_link = std::find_if(m.tool_chain.begin(), m.tool_chain.end(),
+                                        [&](const model::LinkSpec& l) { return l.name == t.link; });
+    const model::LinkSpec* l = link != m.workpiece_chain.end()   ? &*link
+                               : tool_link != m.tool_chain.end() ? &*tool_link
+                                                                 : nullptr;
+    const bool thermal =
+        t.primary.kind == model::VariableKind::temperature || t.primary.kind == model::VariableKind::time ||
+        t.secondary.kind == model::VariableKind::temperature || t.secondary.kind == model::VariableKind::time;
+    const model::AxisSpec* spec = l != nullptr && l->axis ? axis_spec(m, *l->axis) : nullptr;
+    auto add = [&](std::vector<std::string>& names) {
+      if (std::find(names.begin(), names.end(), t.name) == names.end()) names.push_back(t.name);
+    };
+    if (thermal)
+      add(u.thermal);
+    else if (spec != nullptr && spec->type == model::AxisType::rotary)
+      add(u.rotary);
+    else if (t.component >= 3)
+      add(u.off_line);
+  }
+  return u;
+}
+
+std::string joined(const std::vector<std::string>& names) {
+  std::string out;
+  for (const std::string& n : names) out += (out.empty() ? "" : " ") + n;
+  return out;
+}
+
+void json_names(util::JsonWriter& j, std::string_view key, const std::vector<std::string>& names) {
+  j.key(key).begin_array();
+  for (const std::string& n : names) j.value(n);
+  j.end_array();
+}
+
+void json_residual(util::JsonWriter& j, std::string_view key, const controller::Residual& r) {
+  j.key(key).begin_object();
+  j.field("points", r.points).field("max_before_um", r.max_before_um).field("rms_before_um", r.rms_before_um);
+  j.field("max_after_um", r.max_after_um).field("rms_after_um", r.rms_after_um);
+  j.field("reference_um", r.reference_um).end_object();
+}
+
+}  // namespace
+
+CLI::App* add_export(CLI::App& app, ExportArgs& args) {
+  CLI::App* cmd = app.add_subcommand(
+      "export", "a fitted model as a control's compensation tables (LinuxCNC, Fanuc, Siemens 840D sl, Heidenhain)");
+  cmd->add_option("-m,--model", args.model, "machine model (YAML)")->required();
+  cmd->add_option("--control", args.control, "linuxcnc, fanuc, siemens or heidenhain")
+      ->required()
+      ->check(CLI::IsMember({"linuxcnc", "fanuc", "siemens", "heidenhain"}));
+  cmd->add_option("--axis", args.axis, "the linear axis the table is for (X, Y, Z ...)")->required();
+  cmd->add_option("-o,--output", args.output, "the table file (- for stdout, the default)");
+  cmd->add_option("--step", args.step, "mm between the table's points (default: the finest the control holds)")
+      ->check(CLI::PositiveNumber);
+  cmd->add_option("--from", args.from, "mm: the table's first point (default: the axis' travel)");
+  cmd->add_option("--to", args.to, "mm: the table's last point (default: the axis' travel)");
+  cmd->add_option("--at", args.at,
+                  "AXIS=VALUE: where the other axes stand on the table's line (mm, deg; default 0 or mid-travel)")
+      ->take_all();
+  cmd->add_option("--tool-length", args.tool_length, "mm: the tool the table is for (100)");
+  cmd->add_option("--sensor", args.sensors, "a temperature reading for the model's thermal terms: NAME=DEGC");
+  cmd->add_option("--time", args.time, "s since the machine's warm-up started");
+  cmd->add_option("--comp-file-type", args.comp_file_type, "LinuxCNC COMP_FILE_TYPE: 0 (actual positions) or 1 (trims)")
+      ->check(CLI::IsMember({0, 1}));
+  cmd->add_option("--axis-number", args.axis_number, "Fanuc's axis number (A), Siemens' AXn (default: X 1, Y 2, Z 3)")
+      ->check(CLI::PositiveNumber);
+  cmd->add_option("--fanuc-unit", args.fanuc_unit, "mm per detection unit (0.001)")->check(CLI::PositiveNumber);
+  cmd->add_option("--fanuc-reference-point", args.fanuc_reference_point,
+                  "parameter 3620, the point of the reference position (default: the first point is 0)")
+      ->check(CLI::PositiveNumber);
+  cmd->add_flag("--json", args.json, "the summary as JSON on stdout (the table then needs -o FILE)");
+  return cmd;
+}
+
+int run_export(const ExportArgs& args) {
+  if (args.json && args.output == "-")
+    throw Error(ErrorKind::usage, "--json writes the summary on stdout: give the table -o FILE");
+  if (args.axis.size() != 1) throw Error(ErrorKind::usage, "--axis takes one axis letter, not '" + args.axis + "'");
+  if (args.output != "-") check_output(args.output, {{"the machine model", args.model}}, "-o");
+  const char axis = static_cast<char>(std::toupper(args.axis[0]));
+  const controller::Control control = *controller::control_named(args.control);
+  const model::MachineModel m = model::load_machine_model(args.model);
+  const model::ForwardModel forward(m);
+  const controller::TableOptions o = table_options(m, args, axis, control);
+  const controller::WriteOptions w = write_options(args, m, o);
+  const controller::AxisTable table = controller::sample_axis_table(forward, o);
+  const std::string text = controller::write_table(control, table, w);
+  const controller::AxisTable applied = controller::as_control_applies(control, table, w);
+  // Along the table's own line: its own axis (what the table is for), and the whole error.
+  const std::vector<model::ChainQ> line = controller::line_points(table, o);
+  const model::ChainQ reference = controller::reference_point(table, o);
+  const controller::Residual own =
+      controller::table_residual(forward, {applied}, line, reference, o.conditions, static_cast<int>(table.axis_index));
+  const controller::Residual along = controller::table_residual(forward, {applied}, line, reference, o.conditions);
+  // Over the workspace, with every linear axis' table made the same way.
+  std::vector<controller::AxisTable> all;
+  ExportArgs others = args;  // the other axes over their travel, at the finest step
+  others.from = others.to = std::nan(""), others.step = 0;
+  for (const model::AxisSpec& a : m.axes) {
+    if (a.type != model::AxisType::linear || !std::isfinite(a.min) || !std::isfinite(a.max)) continue;
+    if (a.letter == axis) {
+      all.push_back(applied);
+      continue;
+    }
+    const controller::TableOptions other = table_options(m, others, a.letter, control);
+    all.push_back(controller::as_control_applies(control, controller::sample_axis_table(forward, other), w));
+  }
+  const controller::Residual workspace =
+      controller::table_residual(forward, all, controller::workspace_points(m, o.line, 5), reference, o.conditions);
+  const controller::Residual linear_workspace = controller::table_residual(
+      forward, all, controller::workspace_points(m, o.line, 5, false), reference, o.conditions);
+  const Uncarried u = uncarried_terms(m);
+  write_output(args.output, text);
+  if (args.json) {
+    util::JsonWriter j;
+    j.begin_object().field("command", "export").field("control", args.control).field("axis", std::string(1, axis));
+    j.field("model", m.name).field("model_sha256", m.sha256).field("output", args.output);
+    j.field("points", table.positions.size()).field("from_mm", o.from).field("to_mm", o.to).field("step_mm", o.step);
+    j.field("bidirectional", table.bidirectional()).field("tool_length_mm", args.tool_length);
+    j.field("reference_mm", o.reference);
+    json_residual(j, "line_own_axis", own);
+    json_residual(j, "line", along);
+    json_residual(j, "workspace", workspace);
+    json_residual(j, "workspace_linear_axes", linear_workspace);
+    json_names(j, "thermal_terms", u.thermal);
+    json_names(j, "rotary_terms", u.rotary);
+    json_names(j, "angular_terms", u.off_line);
+    j.end_object();
+    fmt::print("{}", j.text());
+    return 0;
+  }
+  std::string on_line;
+  for (const model::AxisSpec& a : m.axes)
+    if (a.letter != axis) {
+      const double v = o.line[static_cast<Eigen::Index>(kAxisLetters.find(a.letter))];
+      on_line += fmt::format(" {}={:g}", a.letter, a.type == model::AxisType::rotary ? v * 180.0 / M_PI : v);
+    }
+  fmt::print(stderr,
+             "{}: {} table of {} for '{}': {} points from {:g} to {:g} mm every {:g} mm{}, on the line{} with a {:g} "
+             "mm tool\n",
+             args.output == "-" ? "stdout" : args.output, args.control, axis, m.name, table.positions.size(), o.from,
+             o.to, o.step, table.bidirectional() ? ", by direction of travel" : "", on_line, args.tool_length);
+  fmt::print(stderr,
+             "  errors relative to the reference point ({} at {:g}, where every table is 0; the machine is {:.3f} um "
+             "off there, which a work offset probed there takes)\n",
+             axis, o.reference, along.reference_um);
+  fmt::print(stderr, "  along the line, {}'s own error: max {:.3f} um -> {:.3f} um as the control applies the table\n",
+             axis, own.max_before_um, own.max_after_um);
+  fmt::print(stderr, "  along the line, the whole error: max {:.3f} um -> {:.3f} um\n", along.max_before_um,
+             along.max_after_um);
+  fmt::print(stderr,
+             "  with every linear axis' table made so, over the workspace ({} points, both directions of travel; "
+             "without -> with tables):\n    the linear axes alone (rotary axes as on the line): max {:.2f} -> {:.2f} "
+             "um, rms {:.2f} -> {:.2f} um\n    every axis: max {:.2f} -> {:.2f} um, rms {:.2f} -> {:.2f} um\n  "
+             "the tables hold their own lines; the rest only ccomp's rewriting corrects:\n",
+             workspace.points, linear_workspace.max_before_um, linear_workspace.max_after_um,
+             linear_workspace.rms_before_um, linear_workspace.rms_after_um, workspace.max_before_um,
+             workspace.max_after_um, workspace.rms_before_um, workspace.rms_after_um);
+  if (!u.thermal.empty())
+    fmt::print(stderr, "    not carried (they change with temperature or time): {}\n", joined(u.thermal));
+  if (!u.rotary.empty()) fmt::print(stderr, "    not carried (rotary axes): {}\n", joined(u.rotary));
+  if (!u.off_line.empty())
+    fmt::print(stderr, "    carried on this line only (angular errors act through offsets that change elsewhere): {}\n",
+               joined(u.off_line));
+  return 0;
+}
+
+}  // namespace ccomp::cli

@@ -1,0 +1,239 @@
+#include "ccomp/controller/axis_table.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+#include <string_view>
+
+#include "ccomp/error.hpp"
+
+namespace ccomp::controller {
+namespace {
+
+constexpr std::string_view kAxisLetters = "XYZABCUVW";
+
+/// The tool tip's miss, in machine-axis directions: where it is with the axes commanded
+/// to `commanded`, against where a perfect machine puts it at `target`.
+class TipMiss {
+ public:
+  TipMiss(const model::ForwardModel& model, const model::Conditions& conditions)
+      : model_(model), data_(model), conditions_(conditions) {}
+
+  Eigen::Vector3d operator()(const model::ChainQ& commanded, const model::ChainQ& target, int direction) {
+    model::forward(model_, data_, target, conditions_, false, model::Evaluate::nominal);
+    const Eigen::Vector3d wanted = data_.nominal;
+    for (double& d : conditions_.directions) d = direction;
+    model::forward(model_, data_, commanded, conditions_, false, model::Evaluate::both);
+    return data_.nominal_chain.oMp.R * (data_.actual - wanted);
+  }
+
+  /// How far the tip moves along machine axis j when axis j is commanded 1 mm further:
+  /// +1 or -1, as the chain carries the tool or the workpiece.
+  double sense(const model::ChainQ& q, std::size_t j) {
+    model::ChainQ moved = q;
+    moved[static_cast<Eigen::Index>(j)] += 1.0;
+    model::forward(model_, data_, q, conditions_, false, model::Evaluate::nominal);
+    const Eigen::Vector3d at = data_.nominal_chain.oMp.R * data_.nominal;
+    model::forward(model_, data_, moved, conditions_, false, model::Evaluate::nominal);
+    const Eigen::Vector3d there = data_.nominal_chain.oMp.R * data_.nominal;
+    return there[static_cast<Eigen::Index>(j)] - at[static_cast<Eigen::Index>(j)];
+  }
+
+ private:
+  const model::ForwardModel& model_;
+  model::ForwardData data_;
+  model::Conditions conditions_;
+};
+
+std::size_t linear_axis_index(const model::MachineModel& machine, char letter) {
+  const auto spec = std::find_if(machine.axes.begin(), machine.axes.end(),
+                                 [&](const model::AxisSpec& a) { return a.letter == letter; });
+  if (spec == machine.axes.end())
+    throw Error(ErrorKind::usage, fmt::format("--axis {}: the machine '{}' has no such axis", letter, machine.name));
+  if (spec->type != model::AxisType::linear)
+    throw Error(
+        ErrorKind::unsupported,
+        fmt::format("--axis {}: tables of rotary axes are not exported yet (ccomp's rewriting corrects them)", letter));
+  return kAxisLetters.find(letter);
+}
+
+/// Linear interpolation in `values` over the table's points, constant beyond its ends.
+double interpolate(const std::vector<double>& positions, const std::vector<double>& values, double p) {
+  if (p <= positions.front()) return values.front();
+  if (p >= positions.back()) return values.back();
+  const auto upper = std::upper_bound(positions.begin(), positions.end(), p);
+  const std::size_t k = static_cast<std::size_t>(upper - positions.begin());
+  const double w = (p - positions[k - 1]) / (positions[k] - positions[k - 1]);
+  return values[k - 1] + w * (values[k] - values[k - 1]);
+}
+
+}  // namespace
+
+bool AxisTable::bidirectional() const {
+  for (std::size_t k = 0; k < forward.size(); ++k)
+    if (std::abs(forward[k] - reverse[k]) > 1e-9) return true;
+  return false;
+}
+
+std::size_t Grid::points() const {
+  return static_cast<std::size_t>(std::llround((to - from) / step)) + 1;
+}
+
+Grid grid_for(double lo, double hi, double step, std::size_t max_points, double granularity) {
+  if (!std::isfinite(lo) || !std::isfinite(hi) || !(hi > lo))
+    throw Error(ErrorKind::usage,
+                fmt::format("the table's span [{}, {}] is not a finite range: give --from and --to", lo, hi));
+  if (!(step > 0) || !std::isfinite(step)) throw Error(ErrorKind::usage, fmt::format("--step {}: not > 0", step));
+  Grid g;
+  for (g.step = step;; g.step = (std::floor(g.step / granularity + 1e-9) + 1) * granularity) {
+    g.from = std::floor(lo / g.step + 1e-9) * g.step;
+    g.to = std::ceil(hi / g.step - 1e-9) * g.step;
+    if (g.points() <= max_points) return g;
+  }
+}
+
+AxisTable sample_axis_table(const model::ForwardModel& model, const TableOptions& options) {
+  const model::MachineModel& machine = model.machine();
+  AxisTable table;
+  table.axis = options.axis;
+  table.axis_index = linear_axis_index(machine, options.axis);
+  if (!(options.step > 0) || !std::isfinite(options.from) || !std::isfinite(options.to) || !(options.to > options.from))
+    throw Error(ErrorKind::usage, fmt::format("--axis {}: no grid from {} to {} step {}", options.axis, options.from,
+                                              options.to, options.step));
+  const auto a = static_cast<Eigen::Index>(table.axis_index);
+  const std::size_t n = static_cast<std::size_t>(std::llround((options.to - options.from) / options.step)) + 1;
+  TipMiss miss(model, options.conditions);
+  const double own_sense = miss.sense(options.line, table.axis_index);
+  for (const model::AxisSpec& other : machine.axes) {
+    const std::size_t j = kAxisLetters.find(other.letter);
+    if (other.type == model::AxisType::linear && j < 3 && j != table.axis_index)
+      table.cross.push_back({other.letter, j, {}});
+  }
+  std::vector<double> sense(table.cross.size());
+  for (std::size_t k = 0; k < table.cross.size(); ++k) sense[k] = miss.sense(options.line, table.cross[k].axis_index);
+  for (std::size_t i = 0; i < n; ++i) {
+    const double p = options.from + static_cast<double>(i) * options.step;
+    table.positions.push_back(p);
+    model::ChainQ target = options.line;
+    target[a] = p;
+    double mean = 0.0;
+    Eigen::Vector3d miss_mean = Eigen::Vector3d::Zero();
+    for (int direction : {+1, -1}) {
+      // Newton with the nominal slope: the error's own slope is ~1e-4, so each step
+      // gains four digits.
+      double t = 0.0;
+      Eigen::Vector3d m = Eigen::Vector3d::Zero();
+      for (int iteration = 0; iteration < 8; ++iteration) {
+        model::ChainQ commanded = target;
+        commanded[a] = p + t;
+        m = miss(commanded, target, direction);
+        const double step = m[a] / own_sense;
+        t -= step;
+        if (std::abs(step) < 1e-10) break;
+      }
+      (direction > 0 ? table.forward : table.reverse).push_back(t);
+      mean += 0.5 * t;
+      miss_mean += 0.5 * m;
+    }
+    for (std::size_t k = 0; k < table.cross.size(); ++k)
+      table.cross[k].correction.push_back(-miss_mean[static_cast<Eigen::Index>(table.cross[k].axis_index)] / sense[k]);
+  }
+  // Nothing at the reference position: there the work offset takes the machine's error.
+  const double own = correction_at(table, options.reference, +1);
+  for (std::size_t i = 0; i < n; ++i) table.forward[i] -= own, table.reverse[i] -= own;
+  for (std::size_t k = 0; k < table.cross.size(); ++k) {
+    const double c = cross_correction_at(table, k, options.reference);
+    for (double& v : table.cross[k].correction) v -= c;
+  }
+  return table;
+}
+
+double correction_at(const AxisTable& table, double p, int direction) {
+  return interpolate(table.positions, direction > 0 ? table.forward : table.reverse, p);
+}
+
+double cross_correction_at(const AxisTable& table, std::size_t k, double p) {
+  return interpolate(table.positions, table.cross[k].correction, p);
+}
+
+Residual table_residual(const model::ForwardModel& model, const std::vector<AxisTable>& tables,
+                        const std::vector<model::ChainQ>& points, const model::ChainQ& reference,
+                        const model::Conditions& conditions, int component) {
+  Residual r;
+  TipMiss miss(model, conditions);
+  const Eigen::Vector3d offset = miss(reference, reference, +1);
+  auto size = [component, &offset](const Eigen::Vector3d& m) {
+    const Eigen::Vector3d relative = m - offset;
+    return (component < 0 ? relative.norm() : std::abs(relative[component])) * 1e3;
+  };
+  r.reference_um = (component < 0 ? offset.norm() : std::abs(offset[component])) * 1e3;
+  double sum_before = 0.0, sum_after = 0.0;
+  for (const model::ChainQ& q : points) {
+    for (int direction : {+1, -1}) {
+      model::ChainQ commanded = q;
+      for (const AxisTable& t : tables) {
+        const double p = q[static_cast<Eigen::Index>(t.axis_index)];
+        commanded[static_cast<Eigen::Index>(t.axis_index)] += correction_at(t, p, direction);
+        for (std::size_t k = 0; k < t.cross.size(); ++k)
+          commanded[static_cast<Eigen::Index>(t.cross[k].axis_index)] += cross_correction_at(t, k, p);
+      }
+      const double before = size(miss(q, q, direction));
+      const double after = size(miss(commanded, q, direction));
+      r.max_before_um = std::max(r.max_before_um, before);
+      r.max_after_um = std::max(r.max_after_um, after);
+      sum_before += before * before, sum_after += after * after;
+      ++r.points;
+    }
+  }
+  if (r.points > 0) {
+    r.rms_before_um = std::sqrt(sum_before / static_cast<double>(r.points));
+    r.rms_after_um = std::sqrt(sum_after / static_cast<double>(r.points));
+  }
+  return r;
+}
+
+model::ChainQ reference_point(const AxisTable& table, const TableOptions& options) {
+  model::ChainQ q = options.line;
+  q[static_cast<Eigen::Index>(table.axis_index)] = options.reference;
+  return q;
+}
+
+std::vector<model::ChainQ> line_points(const AxisTable& table, const TableOptions& options) {
+  std::vector<model::ChainQ> points;
+  const double spacing = options.step / 8;
+  for (double p = table.positions.front(); p <= table.positions.back() + 1e-9; p += spacing) {
+    model::ChainQ q = options.line;
+    q[static_cast<Eigen::Index>(table.axis_index)] = p;
+    points.push_back(q);
+  }
+  return points;
+}
+
+std::vector<model::ChainQ> workspace_points(const model::MachineModel& machine, const model::ChainQ& line,
+                                            std::size_t per_axis, bool rotaries) {
+  std::vector<model::ChainQ> points{line};
+  for (const model::AxisSpec& spec : machine.axes) {
+    const auto j = static_cast<Eigen::Index>(kAxisLetters.find(spec.letter));
+    const bool rotary = spec.type == model::AxisType::rotary;
+    if (rotary && !rotaries) continue;
+    double lo = spec.min, hi = spec.max;
+    if (rotary) {
+      if (!std::isfinite(lo) || !std::isfinite(hi) || hi - lo > 360.0)
+        lo = 0.0, hi = 360.0 - 360.0 / static_cast<double>(per_axis);
+      lo *= M_PI / 180.0, hi *= M_PI / 180.0;
+    }
+    if (!std::isfinite(lo) || !std::isfinite(hi)) continue;  // no travel known: keep the line's
+    std::vector<model::ChainQ> grown;
+    for (const model::ChainQ& q : points)
+      for (std::size_t k = 0; k < per_axis; ++k) {
+        model::ChainQ p = q;
+        p[j] = lo + (hi - lo) * static_cast<double>(k) / static_cast<double>(per_axis - 1);
+        grown.push_back(p);
+      }
+    points = std::move(grown);
+  }
+  return points;
+}
+
+}  // namespace ccomp::controller
