@@ -10,7 +10,9 @@
 #include "ccomp/error.hpp"
 #include "ccomp/model/conditions.hpp"
 #include "ccomp/model/model_file.hpp"
+#include "ccomp/util/json.hpp"
 #include "commands.hpp"
+#include "progress.hpp"
 
 namespace ccomp::cli {
 
@@ -21,6 +23,7 @@ void add_model_options(CLI::App& cmd, CheckArgs& args) {
   cmd.add_option("--sensor", args.sensors, "a temperature reading for the model's thermal terms: NAME=DEGC");
   cmd.add_option("--time", args.time, "s since the machine's warm-up started");
   cmd.add_option("--samples", args.samples, "points checked inside each move (8)")->check(CLI::PositiveNumber);
+  cmd.add_flag("--json", args.json, "the figures as JSON on stdout (docs/json.md)");
   add_program_options(cmd, args.program);
 }
 
@@ -32,6 +35,27 @@ compensate::CheckOptions check_options(const CheckArgs& args, const model::Machi
   // compensated with, or the check proves nothing).
   o.conditions = model::conditions_for(m, model::parse_sensor_readings(args.sensors), args.time);
   return o;
+}
+
+/// The figures as JSON: `what` is "predict" or "verify".
+std::string path_error_json(const char* what, const CheckArgs& args, const model::MachineModel& m,
+                            const compensate::PathError& e, double tolerance) {
+  util::JsonWriter j;
+  j.begin_object().field("command", what).field("program", args.input);
+  if (!args.compensated.empty()) j.field("compensated", args.compensated);
+  j.field("model", m.name).field("model_sha256", m.sha256).field("moves", e.moves).field("points", e.points);
+  j.field("max_um", e.max * 1000.0).field("rms_um", e.rms * 1000.0).field("worst_line", e.worst_line);
+  j.key("worst_point_mm").begin_array().value(e.worst_point.x()).value(e.worst_point.y()).value(e.worst_point.z());
+  j.end_array();
+  if (tolerance > 0) {
+    j.field("tolerance_um", tolerance * 1000.0).field("uncut_mm", e.uncut_length);
+    if (e.uncut_length > 0)
+      j.field("uncut_line", e.uncut_line);
+    else
+      j.key("uncut_line").null();
+    j.field("passed", e.uncut_length <= 0.0 && e.max <= tolerance);
+  }
+  return j.end_object().text();
 }
 
 void print(const char* what, const std::string& file, const compensate::PathError& e) {
@@ -67,7 +91,15 @@ int run_predict(const CheckArgs& args) {
   const model::MachineModel m = model::load_machine_model(args.model);
   const model::ForwardModel forward(m);
   gcode::LineSource program = gcode::LineSource::open(args.input);
-  print("machine error", program.name(), compensate::predict(program, forward, check_options(args, m)));
+  ProgressBar bar(program.name(), !args.json && stderr_is_terminal());
+  compensate::CheckOptions o = check_options(args, m);
+  o.progress = [&bar](double done) { bar.update(done); };
+  const compensate::PathError e = compensate::predict(program, forward, o);
+  bar.clear();
+  if (args.json)
+    fmt::print("{}", path_error_json("predict", args, m, e, 0.0));
+  else
+    print("machine error", program.name(), e);
   return 0;
 }
 
@@ -95,8 +127,15 @@ int run_verify(const CheckArgs& args) {
       break;
     }
   }
-  const compensate::PathError e = compensate::verify(original, compensated, forward, check_options(args, m));
-  print("contour error left", compensated.name(), e);
+  ProgressBar bar(compensated.name(), !args.json && stderr_is_terminal());
+  compensate::CheckOptions o = check_options(args, m);
+  o.progress = [&bar](double done) { bar.update(done); };
+  const compensate::PathError e = compensate::verify(original, compensated, forward, o);
+  bar.clear();
+  if (args.json)
+    fmt::print("{}", path_error_json("verify", args, m, e, tolerance));
+  else
+    print("contour error left", compensated.name(), e);
   if (e.uncut_length > 0.0)
     throw Error(ErrorKind::safety,
                 fmt::format("{} leaves {:.3f} mm of the original's cuts uncut, the first at this line of the original",

@@ -44,6 +44,7 @@ struct CompensateArgs {
   std::vector<std::string> sensors;  ///< NAME=VALUE (degC)
   double time = 0.0;
   bool quiet = false;
+  bool json = false;
   ProgramArgs program;
 };
 void add_compensate(CLI::App& app, CompensateArgs& args);
@@ -57,6 +58,7 @@ struct CheckArgs {
   double time = 0.0;
   int samples = 8;
   double tolerance = 0.0;  ///< verify: mm; 0: the one in the output's header, else 0.001
+  bool json = false;
   ProgramArgs program;
 };
 CLI::App* add_predict(CLI::App& app, CheckArgs& args);
@@ -66,6 +68,7 @@ int run_verify(const CheckArgs& args);
 
 struct TraceArgs {
   std::string input;
+  bool json = false;
   ProgramArgs program;
 };
 CLI::App* add_trace(CLI::App& app, TraceArgs& args);

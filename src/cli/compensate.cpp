@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <memory>
 #include <mutex>
 #include <thread>
 
@@ -13,9 +14,11 @@
 #include "ccomp/error.hpp"
 #include "ccomp/model/conditions.hpp"
 #include "ccomp/model/model_file.hpp"
+#include "ccomp/util/json.hpp"
 #include "ccomp/util/parallel.hpp"
 #include "commands.hpp"
 #include "output_file.hpp"
+#include "progress.hpp"
 
 namespace ccomp::cli {
 namespace fs = std::filesystem;
@@ -55,6 +58,7 @@ void add_compensate(CLI::App& app, CompensateArgs& args) {
   app.add_option("--sensor", args.sensors, "a temperature reading for the model's thermal terms: NAME=DEGC");
   app.add_option("--time", args.time, "s since the machine's warm-up started, for warm-up terms");
   app.add_flag("-q,--quiet", args.quiet, "no summary line per program");
+  app.add_flag("--json", args.json, "the summary of every program as JSON on stdout (docs/json.md)");
   add_program_options(app, args.program);
 }
 
@@ -66,8 +70,8 @@ struct Target {
 };
 
 /// One line per program on stderr: what the machine's error was and what is left.
-void report(const Target& t, const model::MachineModel& model, const compensate::JobReport& r,
-            const CompensateArgs& args) {
+void print_summary(const Target& t, const model::MachineModel& model, const compensate::JobReport& r,
+                   const CompensateArgs& args) {
   if (args.quiet || model.terms.empty()) return;
   fmt::print(stderr,
              "{}: {} moves compensated ({} lines added) for '{}' at {} um: error before {:.2f} um, after {:.2f} um; "
@@ -98,13 +102,12 @@ void keep_backup(const std::string& input, const std::string& suffix) {
 
 /// Writes through an OutputFile (a temporary beside the output, renamed into place only on
 /// success), so a failed or interrupted run leaves the previous output as it was.
-void compensate_one(const Target& t, const model::MachineModel& model, const compensate::JobOptions& options,
-                    const CompensateArgs& args) {
+compensate::JobReport compensate_one(const Target& t, const model::MachineModel& model,
+                                     const compensate::JobOptions& options, const CompensateArgs& args) {
   gcode::LineSource input = gcode::LineSource::open(t.input);
   if (t.output == "-") {
     std::setvbuf(stdout, nullptr, _IOFBF, 1 << 20);
-    report(t, model, compensate::run_program_job(input, stdout, model, options), args);
-    return;
+    return compensate::run_program_job(input, stdout, model, options);
   }
   OutputFile out(t.output);
   std::setvbuf(out.file(), nullptr, _IOFBF, 1 << 20);
@@ -117,7 +120,41 @@ void compensate_one(const Target& t, const model::MachineModel& model, const com
     if (!ec) fs::permissions(out.temporary(), input_status.permissions(), ec);
   }
   out.commit();
-  report(t, model, r, args);
+  return r;
+}
+
+/// What became of one program, for --json.
+struct Outcome {
+  bool done = false;
+  compensate::JobReport report;
+  int exit_code = 0;
+  std::string error;
+};
+
+std::string outcomes_json(const std::vector<Target>& targets, const std::vector<Outcome>& outcomes,
+                          const model::MachineModel& model, const CompensateArgs& args, int exit_code) {
+  util::JsonWriter j;
+  j.begin_object().field("command", "compensate").field("model", model.name).field("model_sha256", model.sha256);
+  j.field("tolerance_um", args.tolerance * 1000.0).field("exit_code", exit_code).key("programs").begin_array();
+  for (std::size_t i = 0; i < targets.size(); ++i) {
+    const Outcome& o = outcomes[i];
+    const compensate::JobReport& r = o.report;
+    j.begin_object().field("input", targets[i].input).field("output", targets[i].output);
+    j.field("exit_code", o.exit_code);
+    if (o.error.empty())
+      j.key("error").null();
+    else
+      j.field("error", o.error);
+    if (o.done) {
+      j.field("moves_compensated", r.compensated_moves).field("lines_added", r.added_lines);
+      j.field("error_before_um", r.max_error_before * 1000.0).field("error_after_um", r.max_error_after * 1000.0);
+      j.field("largest_correction_um", r.max_correction * 1000.0);
+      j.field("orientation_error_urad", r.max_orientation_error * 1e6);
+    }
+    j.end_object();
+  }
+  j.end_array().end_object();
+  return j.text();
 }
 
 /// Whether `input` is itself an --in-place backup: `<name><suffix>` or `<name><suffix>.N`.
@@ -137,6 +174,9 @@ int run_compensate(const CompensateArgs& args) {
   if (args.inputs.empty())
     throw Error(ErrorKind::usage, "no input program: ccomp in.nc -m machine.yaml -o out.nc (see --help)");
   if (args.model.empty()) throw Error(ErrorKind::usage, "no machine model: give one with -m machine.yaml");
+  if (args.json && args.output == "-")
+    throw Error(ErrorKind::usage,
+                "--json writes the report on stdout: give the program -o FILE, --out-dir or --in-place");
   const int modes = !args.output.empty() + !args.out_dir.empty() + args.in_place;
   if (modes != 1)
     throw Error(ErrorKind::usage, "say where the output goes: exactly one of -o FILE, -o -, --out-dir DIR, --in-place");
@@ -188,30 +228,49 @@ int run_compensate(const CompensateArgs& args) {
   check_distinct_outputs(outputs);
 
   std::mutex report;
+  std::vector<Outcome> outcomes(targets.size());
   std::atomic<int> worst{0};
   std::atomic<std::size_t> next{0};
+  // Progress: LinuxCNC's FILTER_PROGRESS lines when asked, else a bar at a terminal.
+  std::vector<std::uint64_t> sizes;
+  for (const Target& t : targets) {
+    std::error_code ec;
+    sizes.push_back(t.input == "-" ? 0 : static_cast<std::uint64_t>(fs::file_size(t.input, ec)));
+  }
+  SharedProgress whole(sizes);
+  ProgressBar bar(targets.size() == 1 ? targets[0].input : fmt::format("{} programs", targets.size()),
+                  !args.progress && !args.quiet && stderr_is_terminal());
+  std::vector<std::unique_ptr<FilterProgress>> filter;
+  for (const Target& t : targets)
+    filter.push_back(std::make_unique<FilterProgress>(targets.size() > 1 ? t.input + ": " : std::string()));
   auto worker = [&]() {
     for (std::size_t i = next++; i < targets.size(); i = next++) {
       compensate::JobOptions mine = options;
       const std::string name = targets[i].input == "-" ? "<stdin>" : targets[i].input;
-      mine.warning = [&report, name](const std::string& message, std::uint32_t line) {
+      mine.warning = [&report, &bar, name](const std::string& message, std::uint32_t line) {
         std::lock_guard lock(report);
+        bar.clear();
         fmt::print(stderr, "{}:{}: warning: {}\n", name, line, message);
       };
       if (args.progress)
-        mine.progress = [&report](double fraction) {
-          std::lock_guard lock(report);
-          fmt::print(stderr, "FILTER_PROGRESS={}\n", static_cast<int>(fraction * 100.0));
-        };
+        mine.progress = [&filter, i](double fraction) { filter[i]->update(fraction); };
+      else
+        mine.progress = [&bar, &whole, i](double fraction) { bar.update(whole.update(i, fraction)); };
       try {
-        compensate_one(targets[i], model, mine, args);
+        const compensate::JobReport r = compensate_one(targets[i], model, mine, args);
+        std::lock_guard lock(report);
+        outcomes[i].done = true, outcomes[i].report = r;
+        bar.clear();
+        if (!args.json) print_summary(targets[i], model, r, args);
       } catch (const std::exception& caught) {
         // Anything but a ccomp::Error is a bug in ccomp; it must not end the other programs.
         const auto* known = dynamic_cast<const Error*>(&caught);
         const Error e = known ? *known : Error(ErrorKind::internal, caught.what());
         std::lock_guard lock(report);
+        bar.clear();
         fmt::print(stderr, "{}\n", format_error(e));
         int code = exit_code(e.kind());
+        outcomes[i].exit_code = code, outcomes[i].error = format_error(e);
         int seen = worst.load();
         while (code > seen && !worst.compare_exchange_weak(seen, code)) {
         }
@@ -228,6 +287,8 @@ int run_compensate(const CompensateArgs& args) {
   for (int i = 1; i < threads; ++i) pool.emplace_back(worker);
   worker();
   for (auto& t : pool) t.join();
+  bar.clear();
+  if (args.json) fmt::print("{}", outcomes_json(targets, outcomes, model, args, worst.load()));
   return worst.load();
 }
 

@@ -17,7 +17,9 @@
 #include "ccomp/model/model_file.hpp"
 #include "ccomp/report/html_report.hpp"
 #include "commands.hpp"
+#include "identify_json.hpp"
 #include "output_file.hpp"
+#include "progress.hpp"
 
 namespace ccomp::cli {
 namespace {
@@ -87,6 +89,7 @@ CLI::App* add_fit(CLI::App& app, IdentifyArgs& args) {
   cmd->add_option("--weight", args.weights, "weight of a source's rows: SOURCE=W");
   cmd->add_flag("--robust", args.robust, "Huber loss: outlying rows count linearly, not squared");
   cmd->add_option("--add", args.add, "a term to add before fitting, as check suggests it: '{name: EXX, form: ...}'");
+  cmd->add_flag("--json", args.json, "the fit as JSON on stdout (docs/json.md)");
   return cmd;
 }
 
@@ -115,8 +118,42 @@ CLI::App* add_simulate(CLI::App& app, IdentifyArgs& args) {
       ->check(CLI::PositiveNumber);
   cmd->add_option("--rotary-step", args.rotary_step, "deg between the sphere's probings (15)")
       ->check(CLI::PositiveNumber);
+  cmd->add_flag("--json", args.json, "what was written as JSON on stdout (needs -o FILE; docs/json.md)");
   return cmd;
 }
+
+namespace {
+
+/// The fitted model file, with a record of what was fitted from which data.
+void write_fitted(const std::string& text, const model::MachineModel& m, const model::ForwardModel& forward,
+                  const identify::MeasurementSet& data, const identify::FitReport& r, const std::string& output) {
+  std::vector<Eigen::VectorXd> per_term;
+  for (std::size_t t = 0; t < m.terms.size(); ++t)
+    per_term.push_back(
+        r.all_parameters.segment(static_cast<Eigen::Index>(forward.parameter_offset(t)), m.terms[t].parameters.size()));
+  std::string record = "{data: [";
+  for (std::size_t i = 0; i < data.files.size(); ++i) record += (i ? ", " : "") + fmt::format("\"{}\"", data.files[i]);
+  record += fmt::format(
+      "], observations: {}, free_parameters: {}, identified: {}, significant: {}, rms_before_um: {:.4f}, rms_after_um: "
+      "{:.4f}}}",
+      data.observations.size(), r.parameters.size(), r.rank, r.significant, r.rms_before * 1e3, r.rms_after * 1e3);
+  write_output(output, model::rewrite_parameters(text, m, per_term, record));
+}
+
+void write_nine_line(const std::string& text, const model::MachineModel& m, const model::ForwardModel& forward,
+                     const identify::MeasurementSet& data, const identify::NineLineReport& r,
+                     const std::string& output) {
+  std::vector<Eigen::VectorXd> per_term;
+  for (std::size_t t = 0; t < m.terms.size(); ++t)
+    per_term.push_back(r.fit.all_parameters.segment(static_cast<Eigen::Index>(forward.parameter_offset(t)),
+                                                    m.terms[t].parameters.size()));
+  write_output(output, model::rewrite_parameters(text, m, per_term,
+                                                 fmt::format("{{method: nine-line, observations: {}, rms_after_um: "
+                                                             "{:.4f}}}",
+                                                             data.observations.size(), r.fit.rms_after * 1e3)));
+}
+
+}  // namespace
 
 int run_fit(const IdentifyArgs& args) {
   check_outputs(args);
@@ -126,7 +163,7 @@ int run_fit(const IdentifyArgs& args) {
   const model::MachineModel m = model::parse_machine_model(text, args.model);
   const model::ForwardModel forward(m);
   const identify::MeasurementSet data = read_all(args, m);
-  print_summary(data);
+  if (!args.json) print_summary(data);
   identify::FitOptions options;
   options.loss = args.robust ? identify::Loss::huber : identify::Loss::least_squares;
   for (const std::string& w : args.weights) {
@@ -134,7 +171,17 @@ int run_fit(const IdentifyArgs& args) {
     if (eq == std::string::npos) throw Error(ErrorKind::usage, "--weight " + w + ": not SOURCE=W");
     options.source_weights.emplace_back(w.substr(0, eq), std::stod(w.substr(eq + 1)));
   }
+  ProgressBar bar("fit", !args.json && stderr_is_terminal());
+  options.progress = [&bar](double done) { bar.update(done); };
   const identify::FitReport r = identify::fit(forward, data, options);
+  bar.clear();
+  if (args.json) {
+    fmt::print("{}", fit_json(forward, data, r, args.output, r.refusals.empty()));
+    if (!r.refusals.empty())
+      throw Error(ErrorKind::data, fmt::format("the fit is not written to {}: {}", args.output, r.refusals.front()));
+    write_fitted(text, m, forward, data, r, args.output);
+    return 0;
+  }
   fmt::print(
       "fit: {} free parameters; the data determine {} combinations of them (condition number {:.3g}), {} of "
       "which changed by more than the noise; {} iterations{}\n",
@@ -172,18 +219,7 @@ int run_fit(const IdentifyArgs& args) {
     for (const std::string& refusal : r.refusals) why += "\n  " + refusal;
     throw Error(ErrorKind::data, fmt::format("the fit is not written to {}: {}", args.output, why));
   }
-  // The fitted file, with a record of what was fitted from which data.
-  std::vector<Eigen::VectorXd> per_term;
-  for (std::size_t t = 0; t < m.terms.size(); ++t)
-    per_term.push_back(
-        r.all_parameters.segment(static_cast<Eigen::Index>(forward.parameter_offset(t)), m.terms[t].parameters.size()));
-  std::string record = "{data: [";
-  for (std::size_t i = 0; i < data.files.size(); ++i) record += (i ? ", " : "") + fmt::format("\"{}\"", data.files[i]);
-  record += fmt::format(
-      "], observations: {}, free_parameters: {}, identified: {}, significant: {}, rms_before_um: {:.4f}, rms_after_um: "
-      "{:.4f}}}",
-      data.observations.size(), r.parameters.size(), r.rank, r.significant, r.rms_before * 1e3, r.rms_after * 1e3);
-  write_output(args.output, model::rewrite_parameters(text, m, per_term, record));
+  write_fitted(text, m, forward, data, r, args.output);
   fmt::print("wrote {}\n", args.output);
   return 0;
 }
@@ -211,7 +247,10 @@ int run_check(const IdentifyArgs& args) {
   identify::DiagnoseOptions options;
   options.noise = r.noise_floor;
   if (args.robust) options.fit.loss = identify::Loss::huber;
+  ProgressBar bar("check", !args.json && stderr_is_terminal());
+  options.progress = [&bar](double done) { bar.update(done); };
   const identify::Diagnosis d = identify::diagnose(forward, data, options);
+  bar.clear();
   if (!args.report.empty()) {
     write_output(args.report, report::html_check_report({m, data, r, d}));
     if (!args.json) fmt::print("wrote {}\n", args.report);
@@ -243,7 +282,8 @@ int run_check(const IdentifyArgs& args) {
           fmt::format("{}{{\"first\": {}, \"second\": {}, \"correlation\": {:.4f}, \"measurement\": {}}}",
                       ties.empty() ? "" : ", ", t.first + 1, t.second + 1, t.correlation, json_string(t.measurement));
     fmt::print(
-        "{{\"observations\": {}, \"rms_um\": {:.6f}, \"max_um\": {:.6f}, \"noise_floor_um\": {:.6f}, "
+        "{{\"command\": \"check\", \"observations\": {}, \"rms_um\": {:.6f}, \"max_um\": {:.6f}, \"noise_floor_um\": "
+        "{:.6f}, "
         "\"noise_method\": {}, \"rms_refit_um\": {:.6f}, \"sources\": [{}], \"regions\": [{}], "
         "\"candidates_tried\": {}, \"unproven\": {}, \"implausible\": {}, \"suggestions\": [{}], \"ties\": [{}], "
         "\"unexplained\": {}, \"skipped\": {}}}\n",
@@ -313,15 +353,7 @@ int run_positioning(const IdentifyArgs& args) {
   const identify::PositioningReport r = identify::analyse_positioning(data, axis, args.source);
   const double um = 1e3;
   if (args.json) {
-    fmt::print(
-        "{{\"axis\": \"{}\", \"targets\": {}, \"runs\": {}, \"A_um\": {:.4f}, \"A_up_um\": {:.4f}, \"A_down_um\": "
-        "{:.4f}, "
-        "\"B_um\": {:.4f}, \"B_mean_um\": {:.4f}, \"E_um\": {:.4f}, \"E_up_um\": {:.4f}, \"E_down_um\": {:.4f}, "
-        "\"M_um\": {:.4f}, \"R_um\": {:.4f}, \"R_up_um\": {:.4f}, \"R_down_um\": {:.4f}, \"period_mm\": {:.6g}, "
-        "\"periodic_amplitude_um\": {:.4f}, \"rms_left_um\": {:.4f}}}\n",
-        args.axis, r.targets.size(), r.runs, r.A * um, r.A_up * um, r.A_down * um, r.B * um, r.B_mean * um, r.E * um,
-        r.E_up * um, r.E_down * um, r.M * um, r.R * um, r.R_up * um, r.R_down * um, r.period, r.periodic_amplitude * um,
-        r.rms_left * um);
+    fmt::print("{}", positioning_json(args.axis, r));
     return 0;
   }
   fmt::print("ISO 230-2, axis {}: {} targets, {} run(s) each way{}\n", static_cast<char>(std::toupper(args.axis[0])),
@@ -345,6 +377,7 @@ CLI::App* add_nine_line(CLI::App& app, IdentifyArgs& args) {
   cmd->add_option("measurements", args.measurements, "the nine lines (CSV; sources x-line1 .. z-line3)")->required();
   add_common(*cmd, args);
   cmd->add_option("-o,--output", args.output, "the fitted model (YAML)");
+  cmd->add_flag("--json", args.json, "the figures as JSON on stdout (docs/json.md)");
   return cmd;
 }
 
@@ -354,8 +387,13 @@ int run_nine_line(const IdentifyArgs& args) {
   const model::MachineModel m = model::parse_machine_model(text, args.model);
   const model::ForwardModel forward(m);
   const identify::MeasurementSet data = read_all(args, m);
-  print_summary(data);
   const identify::NineLineReport r = identify::nine_line(forward, data);
+  if (args.json) {
+    fmt::print("{}", nine_line_json(forward, data, r, args.output));
+    if (!args.output.empty()) write_nine_line(text, m, forward, data, r, args.output);
+    return 0;
+  }
+  print_summary(data);
   fmt::print("fit: {} free parameters, {} combinations determined by the lines; rms {:.3f} -> {:.3f} um\n",
              r.fit.parameters.size(), r.fit.rank, r.fit.rms_before * 1e3, r.fit.rms_after * 1e3);
   for (const identify::FittedParameter& p : r.fit.parameters) {
@@ -386,20 +424,15 @@ int run_nine_line(const IdentifyArgs& args) {
   fmt::print("recommended: lines 1 and 3 at {:.2f} of the workspace from its edges (seed 003: spread them across it)\n",
              r.recommended_inset);
   if (!args.output.empty()) {
-    std::vector<Eigen::VectorXd> per_term;
-    for (std::size_t t = 0; t < m.terms.size(); ++t)
-      per_term.push_back(r.fit.all_parameters.segment(static_cast<Eigen::Index>(forward.parameter_offset(t)),
-                                                      m.terms[t].parameters.size()));
-    write_output(args.output,
-                 model::rewrite_parameters(text, m, per_term,
-                                           fmt::format("{{method: nine-line, observations: {}, rms_after_um: {:.4f}}}",
-                                                       data.observations.size(), r.fit.rms_after * 1e3)));
+    write_nine_line(text, m, forward, data, r, args.output);
     fmt::print("wrote {}\n", args.output);
   }
   return 0;
 }
 
 int run_simulate(const IdentifyArgs& args) {
+  if (args.json && args.output == "-")
+    throw Error(ErrorKind::usage, "--json writes on stdout: give the measurements -o FILE");
   check_outputs(args);
   const model::MachineModel m = model::load_machine_model(args.model);
   const model::ForwardModel forward(m);
@@ -414,7 +447,9 @@ int run_simulate(const IdentifyArgs& args) {
   o.runs = args.runs;
   const identify::MeasurementSet set = identify::simulate(forward, o);
   write_output(args.output, identify::to_csv(set, m));
-  if (args.output != "-")
+  if (args.json)
+    fmt::print("{}", simulate_json(m, set, args.output));
+  else if (args.output != "-")
     fmt::print(stderr, "simulated {} observations of '{}' into {}\n", set.observations.size(), m.name, args.output);
   return 0;
 }

@@ -1,9 +1,14 @@
 #include "ccomp/gcode/trace.hpp"
 
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <cstdio>
+#include <memory>
 
+#include "ccomp/error.hpp"
 #include "ccomp/gcode/flatten.hpp"
+#include "ccomp/util/json.hpp"
 #include "commands.hpp"
 
 namespace ccomp::cli {
@@ -12,6 +17,7 @@ CLI::App* add_trace(CLI::App& app, TraceArgs& args) {
   CLI::App* cmd =
       app.add_subcommand("trace", "print what the interpreter does, in the canonical format of LinuxCNC's rs274 -g");
   cmd->add_option("input", args.input, "G-code program ('-' for standard input)")->required();
+  cmd->add_flag("--json", args.json, "JSON Lines: one object per call (docs/json.md)");
   add_program_options(*cmd, args.program);
   return cmd;
 }
@@ -20,14 +26,47 @@ CLI::App* add_flatten(CLI::App& app, TraceArgs& args) {
   CLI::App* cmd = app.add_subcommand(
       "flatten", "print the program as it runs: loops and subroutine calls unrolled, values in place of expressions");
   cmd->add_option("input", args.input, "G-code program ('-' for standard input)")->required();
+  cmd->add_flag("--json", args.json,
+                "JSON Lines: one object per line written, with the file and line it came from (docs/json.md)");
   add_program_options(*cmd, args.program);
   return cmd;
 }
 
+namespace {
+
+/// The flattened program spooled in `spool`, as JSON Lines with each line's origin.
+void print_flattened_json(std::FILE* spool, const gcode::LineOrigins& origins) {
+  std::rewind(spool);
+  std::string line;
+  std::uint32_t number = 0;
+  for (int c = std::fgetc(spool);; c = std::fgetc(spool)) {
+    if (c != EOF && c != '\n') {
+      line.push_back(static_cast<char>(c));
+      continue;
+    }
+    if (c == EOF && line.empty()) break;
+    if (!line.empty() && line.back() == '\r') line.pop_back();
+    const SourceLocation from = origins.at(++number);
+    util::JsonWriter j;
+    j.begin_object().field("line", number).field("text", line).field("file", from.file).field("source_line", from.line);
+    fmt::print("{}", j.end_object().text());
+    line.clear();
+    if (c == EOF) break;
+  }
+}
+
+}  // namespace
+
 int run_flatten(const TraceArgs& args) {
   gcode::LineSource source = gcode::LineSource::open(args.input);
   std::setvbuf(stdout, nullptr, _IOFBF, 1 << 16);
-  (void)gcode::flatten(source, stdout, interpreter_options(args.program, ""));
+  if (!args.json) {
+    (void)gcode::flatten(source, stdout, interpreter_options(args.program, ""));
+    return 0;
+  }
+  const std::unique_ptr<std::FILE, int (*)(std::FILE*)> spool(std::tmpfile(), &std::fclose);
+  if (!spool) throw Error(ErrorKind::io, "cannot make a temporary file for --json");
+  print_flattened_json(spool.get(), gcode::flatten(source, spool.get(), interpreter_options(args.program, "")));
   return 0;
 }
 
@@ -40,6 +79,7 @@ int run_trace(const TraceArgs& args) {
   std::setvbuf(stdout, nullptr, _IOFBF, 1 << 16);
   gcode::TracePrinter printer(stdout);
   printer.set_file_name(source.name());
+  printer.set_json(args.json);
   interpreter.run(source, printer);
   std::fflush(stdout);
   return 0;

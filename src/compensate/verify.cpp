@@ -356,11 +356,22 @@ class NominalPath {
 
 }  // namespace
 
+namespace {
+
+/// The share of `program` read so far, to the caller's progress report.
+void report_progress(const CheckOptions& options, const gcode::LineSource& program) {
+  if (!options.progress || program.size() == 0) return;
+  options.progress(static_cast<double>(program.tell().offset) / static_cast<double>(program.size()));
+}
+
+}  // namespace
+
 PathError predict(gcode::LineSource& program, const model::ForwardModel& model, const CheckOptions& options) {
   PathError e;
   Evaluator ev{model, model::ForwardData(model), options.conditions};
   double sum2 = 0.0;
   each_motion(program, options, [&](const gcode::Motion& m) {
+    report_progress(options, program);
     const MotionPath path(m);
     ev.advance(path.start());
     const FollowPlay follow{ev, path.end()};
@@ -377,6 +388,7 @@ PathError predict(gcode::LineSource& program, const model::ForwardModel& model, 
     }
   });
   e.rms = e.points ? std::sqrt(sum2 / static_cast<double>(e.points)) : 0.0;
+  if (options.progress) options.progress(1.0);
   return e;
 }
 
@@ -499,6 +511,7 @@ PathError verify(gcode::LineSource& original, gcode::LineSource& compensated, co
   PathError e;
   double sum2 = 0.0;
   each_motion(compensated, options, [&](const gcode::Motion& m) {
+    report_progress(options, compensated);
     const MotionPath path(m);
     ev.advance(path.start());
     const FollowPlay follow{ev, path.end()};
@@ -518,6 +531,7 @@ PathError verify(gcode::LineSource& original, gcode::LineSource& compensated, co
   });
   e.rms = e.points ? std::sqrt(sum2 / static_cast<double>(e.points)) : 0.0;
   std::tie(e.uncut_length, e.uncut_line) = search.uncut();
+  if (options.progress) options.progress(1.0);
   return e;
 }
 

@@ -2,11 +2,15 @@
 
 #include <fmt/format.h>
 
+#include <charconv>
+
 #include "ccomp/constants.hpp"
+#include "ccomp/util/json.hpp"
 
 namespace ccomp::gcode {
 
-void TracePrinter::block(const Block& block, const SourceLine& /*line*/) {
+void TracePrinter::block(const Block& block, const SourceLine& line) {
+  source_line_ = line.number;
   if (block.has_line_number) {
     line_number_.clear();
     for (char c : block.slice(block.line_number_span))
@@ -17,14 +21,43 @@ void TracePrinter::block(const Block& block, const SourceLine& /*line*/) {
 }
 
 void TracePrinter::print(const char* name, const std::string& arguments) {
+  if (json_) return print_json(name, arguments);
   fmt::print(out_, "{:5} {:<6} {}({})\n", ++counter_, line_number_, name, arguments);
+}
+
+void TracePrinter::print_json(const std::string& name, const std::string& arguments) {
+  util::JsonWriter j;
+  j.begin_object()
+      .field("n", ++counter_)
+      .field("line", source_line_)
+      .field("block", line_number_)
+      .field("call", name)
+      .key("arguments");
+  j.begin_array();
+  // rs274's arguments are ", "-separated: numbers stay numbers, the rest (CANON_PLANE_XY) strings.
+  for (std::size_t at = 0; at < arguments.size();) {
+    const std::size_t comma = std::min(arguments.find(", ", at), arguments.size());
+    const std::string token = arguments.substr(at, comma - at);
+    double v = 0;
+    const auto [end, ec] = std::from_chars(token.data(), token.data() + token.size(), v);
+    if (ec == std::errc() && end == token.data() + token.size() && !token.empty())
+      j.value(v);
+    else
+      j.value(token);
+    at = comma + 2;
+  }
+  fmt::print(out_, "{}", j.end_array().end_object().text());
 }
 
 void TracePrinter::call(const CanonCall& call) {
   if (call.name.empty()) {  // (PRINT,...): rs274 writes the text as it is
-    fmt::print(out_, "{}\n", call.arguments);
+    if (json_)
+      fmt::print(out_, "{}", util::JsonWriter().begin_object().field("print", call.arguments).end_object().text());
+    else
+      fmt::print(out_, "{}\n", call.arguments);
     return;
   }
+  if (json_) return print_json(std::string(call.name), call.arguments);
   fmt::print(out_, "{:5} {:<6} {}({})\n", ++counter_, line_number_, call.name, call.arguments);
 }
 

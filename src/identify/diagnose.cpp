@@ -6,6 +6,7 @@
 #include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <array>
+#include <atomic>
 #include <cmath>
 #include <functional>
 #include <map>
@@ -353,7 +354,9 @@ Diagnosis diagnose(const model::ForwardModel& model, const MeasurementSet& data,
   std::vector<Probe> probes;
   const std::vector<Candidate> candidates = candidate_library(mm, data, axes, probes);
   out.candidates_tried = candidates.size();
-  Projector base = refitted_base(model, data, probes, options.fit, out);
+  FitOptions refit_options = options.fit;
+  if (options.progress) refit_options.progress = [&options](double done) { options.progress(0.3 * done); };
+  Projector base = refitted_base(model, data, probes, refit_options, out);
   probe_rows(base, n, probes);
   const double sse0 = base.r.squaredNorm();
   const double rms_projected = std::sqrt(sse0 / static_cast<double>(n));
@@ -545,9 +548,12 @@ Diagnosis diagnose(const model::ForwardModel& model, const MeasurementSet& data,
   for (std::size_t i = 0; i < candidates.size(); ++i)
     if (fixed_column[i] >= 0) order.push_back(i);
   std::vector<std::optional<Scored>> results(candidates.size());
+  std::atomic<std::size_t> candidates_scored{0};
   util::for_each_index(order.size(), options.threads, [&](std::size_t j) {
     const std::size_t i = order[j];
     results[i] = fixed_column[i] >= 0 ? score_fixed(i) : score_scanned(candidates[i]);
+    if (options.progress)
+      options.progress(0.3 + 0.6 * static_cast<double>(++candidates_scored) / static_cast<double>(order.size()));
   });
   // Significant: the chi-square falls by 25 (five sigma) beyond what noise and the scan
   // would give, the information criterion agrees, and the rms falls by 3% at least.
@@ -603,6 +609,7 @@ Diagnosis diagnose(const model::ForwardModel& model, const MeasurementSet& data,
   out.regions = residual_regions(bins, out.noise);
   out.residual = std::move(base.r);
   if (out.suggestions.empty()) out.unexplained = unexplained_structure(out, data, bins);
+  if (options.progress) options.progress(1.0);
   return out;
 }
 

@@ -326,6 +326,8 @@ FitReport fit(const model::ForwardModel& model, const MeasurementSet& data, cons
   double lambda = 0.0;  // Levenberg-Marquardt damping, relative to the largest singular value squared
   for (int iteration = 0; iteration < options.max_iterations && m > 0; ++iteration) {
     report.iterations = iteration + 1;
+    if (options.progress)
+      options.progress(static_cast<double>(iteration) / static_cast<double>(options.max_iterations));
     if (options.loss == Loss::huber && iteration > 0) {
       // Robust scale from the median absolute residual; rows beyond 1.345 of it count linearly.
       Eigen::VectorXd a = r.cwiseAbs();
@@ -611,6 +613,7 @@ FitReport fit(const model::ForwardModel& model, const MeasurementSet& data, cons
                     "this combination is left as it was",
                     combination, sigma[0] > 0 ? sigma[k] / sigma[0] : 0.0));
   }
+  if (options.progress) options.progress(1.0);
   return report;
 }
 

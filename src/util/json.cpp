@@ -73,7 +73,7 @@ JsonWriter& JsonWriter::value(double number) {
   return *this;
 }
 
-JsonWriter& JsonWriter::value(std::int64_t number) {
+JsonWriter& JsonWriter::integer(std::int64_t number) {
   before_value();
   out_ += fmt::format("{}", number);
   return *this;

@@ -3,6 +3,7 @@
 // it is (the error the machine would make), verify() runs a compensated program through it
 // and measures how far the executed tool tip strays from the path the original meant.
 // Both sample every feed move and arc; rapids are the control's path, not cuts.
+#include <functional>
 #include <Eigen/Core>
 #include <cstdint>
 #include <string>
@@ -32,6 +33,8 @@ struct CheckOptions {
   gcode::InterpreterOptions interpreter;
   model::Conditions conditions;
   int samples = 8;  ///< points checked inside each move
+  /// Called with the fraction of the program read (the compensated one for verify), 0 to 1.
+  std::function<void(double)> progress;
 };
 
 /// The uncompensated machine's error along the program: |actual - nominal| at each point.

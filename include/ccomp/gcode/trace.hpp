@@ -22,9 +22,16 @@ class TracePrinter : public CanonSink {
   /// Where warnings go (stderr by default, nullptr to drop them).
   void set_warning_stream(std::FILE* stream) { warnings_ = stream; }
   void set_file_name(std::string name) { file_ = std::move(name); }
+  /// JSON Lines instead of rs274's text: one object per call, {"n", "line" (in the
+  /// file), "block" (its N word, rs274's N.....), "call", "arguments"} (numbers as numbers, names as strings),
+  /// {"print": text} for (PRINT,...).
+  void set_json(bool json) { json_ = json; }
 
  private:
   void print(const char* name, const std::string& arguments);
+  void print_json(const std::string& name, const std::string& arguments);
+  bool json_ = false;
+  std::uint32_t source_line_ = 0;  ///< of the block being run (for JSON)
 
   std::FILE* out_;
   std::FILE* warnings_ = stderr;

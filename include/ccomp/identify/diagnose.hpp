@@ -7,6 +7,7 @@
 // to the data (its free parameters and the candidate together, by projection), scored by
 // the fall in the residual, the Bayesian information criterion and its significance
 // against the noise floor, and ranked; only the significant are suggested.
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -66,6 +67,8 @@ struct DiagnoseOptions {
   /// How the model as it is gets refitted before the candidates are tried (--robust: the
   /// Huber loss, so that spikes do not pull the base the candidates are scored against).
   FitOptions fit;
+  /// Called as the work goes on with its share done, 0 to 1 (from any scoring thread).
+  std::function<void(double)> progress;
 };
 
 struct Diagnosis {

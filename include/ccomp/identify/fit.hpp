@@ -5,6 +5,7 @@
 // the singular values of the column-scaled design matrix and left at its prior value
 // (truncated SVD), never fitted to noise; the report says which parameters, or which
 // combinations of them, those are.
+#include <functional>
 #include <Eigen/Core>
 #include <string>
 #include <utility>
@@ -27,6 +28,8 @@ struct FitOptions {
   /// the noise, when its singular value (columns in physical scales) is above this fraction
   /// of the largest (numerically zero below).
   double rank_tolerance = 1e-9;
+  /// Called after each iteration with the share of the iterations allowed used (1 at the end).
+  std::function<void(double)> progress;
 };
 
 struct FittedParameter {

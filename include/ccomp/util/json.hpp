@@ -4,6 +4,7 @@
 #include <cstdint>
 #include <string>
 #include <string_view>
+#include <type_traits>
 #include <vector>
 
 namespace ccomp::util {
@@ -16,9 +17,10 @@ class JsonWriter {
   JsonWriter& end_array();
   JsonWriter& key(std::string_view name);
   JsonWriter& value(double number);
-  JsonWriter& value(std::int64_t number);
-  JsonWriter& value(int number) { return value(static_cast<std::int64_t>(number)); }
-  JsonWriter& value(std::size_t number) { return value(static_cast<std::int64_t>(number)); }
+  template <class Integer>
+  requires(std::is_integral_v<Integer> && !std::is_same_v<Integer, bool>) JsonWriter& value(Integer number) {
+    return integer(static_cast<std::int64_t>(number));
+  }
   JsonWriter& value(bool flag);
   JsonWriter& value(std::string_view text);
   JsonWriter& value(const char* text) { return value(std::string_view(text)); }
@@ -33,6 +35,7 @@ class JsonWriter {
   [[nodiscard]] std::string text() const;
 
  private:
+  JsonWriter& integer(std::int64_t number);
   void before_value();
   std::string out_;
   std::vector<bool> first_;  ///< per open object/array: nothing written in it yet

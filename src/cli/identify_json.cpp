@@ -1,0 +1,134 @@
+#include "identify_json.hpp"
+
+#include "ccomp/util/json.hpp"
+
+namespace ccomp::cli {
+namespace {
+
+/// A parameter in the model file's units (um, urad, or as the term writes it).
+double readable(const model::ForwardModel& forward, const identify::FittedParameter& p, double v) {
+  const model::ErrorTermSpec& t = forward.machine().terms[p.term];
+  return v / t.parameter_unit[p.index - forward.parameter_offset(p.term)];
+}
+
+void data_fields(util::JsonWriter& j, const identify::MeasurementSet& data) {
+  j.field("observations", data.observations.size()).key("files").begin_array();
+  for (const std::string& f : data.files) j.value(f);
+  j.end_array().key("sources").begin_array();
+  for (const std::string& s : data.sources) j.value(s);
+  j.end_array();
+}
+
+void parameters(util::JsonWriter& j, const model::ForwardModel& forward, const identify::FitReport& r) {
+  j.key("parameters").begin_array();
+  for (const identify::FittedParameter& p : r.parameters) {
+    j.begin_object().field("label", p.label).field("term", forward.machine().terms[p.term].name);
+    j.field("before", readable(forward, p, p.before)).field("after", readable(forward, p, p.after));
+    j.field("uncertainty", readable(forward, p, p.uncertainty)).field("identified", p.identified).end_object();
+  }
+  j.end_array();
+}
+
+void strings(util::JsonWriter& j, std::string_view key, const std::vector<std::string>& values) {
+  j.key(key).begin_array();
+  for (const std::string& v : values) j.value(v);
+  j.end_array();
+}
+
+}  // namespace
+
+std::string fit_json(const model::ForwardModel& forward, const identify::MeasurementSet& data,
+                     const identify::FitReport& r, const std::string& output, bool written) {
+  util::JsonWriter j;
+  j.begin_object().field("command", "fit").field("model", forward.machine().name);
+  data_fields(j, data);
+  j.field("output", output).field("written", written);
+  j.field("free_parameters", r.parameters.size()).field("identified_combinations", r.rank);
+  j.field("condition_number", r.condition_number).field("significant", r.significant);
+  j.field("iterations", r.iterations).field("converged", r.converged);
+  j.field("rms_before_um", r.rms_before * 1e3).field("rms_after_um", r.rms_after * 1e3);
+  j.field("max_after_um", r.max_after * 1e3).key("per_source").begin_array();
+  for (std::size_t s = 0; s < data.sources.size() && s < r.source_rms_before.size(); ++s)
+    j.begin_object()
+        .field("source", data.sources[s])
+        .field("rms_before_um", r.source_rms_before[s] * 1e3)
+        .field("rms_after_um", r.source_rms_after[s] * 1e3)
+        .end_object();
+  j.end_array();
+  parameters(j, forward, r);
+  strings(j, "unidentifiable", r.unidentifiable);
+  j.key("outliers").begin_array();
+  for (const identify::FitReport::Outlier& o : r.outliers)
+    j.begin_object()
+        .field("file", data.files[o.file])
+        .field("row", o.row)
+        .field("residual_um", o.residual * 1e3)
+        .end_object();
+  j.end_array();
+  strings(j, "refusals", r.refusals);
+  return j.end_object().text();
+}
+
+std::string nine_line_json(const model::ForwardModel& forward, const identify::MeasurementSet& data,
+                           const identify::NineLineReport& r, const std::string& output) {
+  util::JsonWriter j;
+  j.begin_object().field("command", "nine-line").field("model", forward.machine().name);
+  data_fields(j, data);
+  if (output.empty())
+    j.key("output").null();
+  else
+    j.field("output", output);
+  j.field("free_parameters", r.fit.parameters.size()).field("identified_combinations", r.fit.rank);
+  j.field("rms_before_um", r.fit.rms_before * 1e3).field("rms_after_um", r.fit.rms_after * 1e3);
+  parameters(j, forward, r.fit);
+  j.key("squareness").begin_array();
+  for (const identify::LineSquareness& q : r.squareness) {
+    j.begin_object().field("iso", q.iso).field("urad", q.value * 1e6).field("symbol", q.seed);
+    j.field("symbol_urad", q.seed_sign * q.value * 1e6).end_object();
+  }
+  j.end_array().key("placement_sensitivity").begin_array();
+  for (const identify::PlacementSensitivity& s : r.sensitivity) {
+    double unit = 1.0;
+    for (const identify::FittedParameter& p : r.fit.parameters)
+      if (p.label == s.parameter)
+        unit = forward.machine().terms[p.term].parameter_unit[p.index - forward.parameter_offset(p.term)];
+    j.begin_object().field("parameter", s.parameter).field("per_mm", s.per_mm / unit).field("line", s.line);
+    j.end_object();
+  }
+  j.end_array().key("placements").begin_array();
+  for (const auto& [inset, value] : r.placements)
+    j.begin_object().field("inset", inset).field("sensitivity", value).end_object();
+  j.end_array().field("recommended_inset", r.recommended_inset);
+  return j.end_object().text();
+}
+
+std::string simulate_json(const model::MachineModel& m, const identify::MeasurementSet& set,
+                          const std::string& output) {
+  util::JsonWriter j;
+  j.begin_object().field("command", "simulate").field("model", m.name).field("output", output);
+  j.field("observations", set.observations.size());
+  strings(j, "sources", set.sources);
+  return j.end_object().text();
+}
+
+std::string positioning_json(const std::string& axis, const identify::PositioningReport& r) {
+  const double um = 1e3;
+  util::JsonWriter j;
+  j.begin_object().field("command", "positioning").field("axis", axis).field("runs", r.runs);
+  j.field("A_um", r.A * um).field("A_up_um", r.A_up * um).field("A_down_um", r.A_down * um);
+  j.field("B_um", r.B * um).field("B_mean_um", r.B_mean * um);
+  j.field("E_um", r.E * um).field("E_up_um", r.E_up * um).field("E_down_um", r.E_down * um);
+  j.field("M_um", r.M * um).field("R_um", r.R * um).field("R_up_um", r.R_up * um).field("R_down_um", r.R_down * um);
+  j.field("period_mm", r.period).field("periodic_amplitude_um", r.periodic_amplitude * um);
+  j.field("rms_left_um", r.rms_left * um).key("targets").begin_array();
+  for (const identify::PositioningTarget& t : r.targets) {
+    j.begin_object().field("position_mm", t.position).field("runs_up", t.runs_up).field("runs_down", t.runs_down);
+    j.field("mean_up_um", t.mean_up * um).field("mean_down_um", t.mean_down * um);
+    j.field("s_up_um", t.s_up * um).field("s_down_um", t.s_down * um);
+    j.field("reversal_um", t.reversal * um).field("repeatability_um", t.repeatability * um).end_object();
+  }
+  j.end_array();
+  return j.end_object().text();
+}
+
+}  // namespace ccomp::cli
