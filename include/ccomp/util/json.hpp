@@ -36,6 +36,8 @@ class JsonWriter {
 
  private:
   JsonWriter& integer(std::int64_t number);
+  JsonWriter& open(char bracket);
+  JsonWriter& close(char bracket);
   void before_value();
   std::string out_;
   std::vector<bool> first_;  ///< per open object/array: nothing written in it yet
