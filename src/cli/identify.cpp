@@ -87,6 +87,7 @@ CLI::App* add_fit(CLI::App& app, IdentifyArgs& args) {
   cmd->add_option("--weight", args.weights, "weight of a source's rows: SOURCE=W");
   cmd->add_flag("--robust", args.robust, "Huber loss: outlying rows count linearly, not squared");
   cmd->add_option("--add", args.add, "a term to add before fitting, as check suggests it: '{name: EXX, form: ...}'");
+  cmd->add_option("--report", args.report, "also write the check of the fitted model as one self-contained HTML page");
   return cmd;
 }
 
@@ -183,8 +184,21 @@ int run_fit(const IdentifyArgs& args) {
       "], observations: {}, free_parameters: {}, identified: {}, significant: {}, rms_before_um: {:.4f}, rms_after_um: "
       "{:.4f}}}",
       data.observations.size(), r.parameters.size(), r.rank, r.significant, r.rms_before * 1e3, r.rms_after * 1e3);
-  write_output(args.output, model::rewrite_parameters(text, m, per_term, record));
+  const std::string fitted_text = model::rewrite_parameters(text, m, per_term, record);
+  write_output(args.output, fitted_text);
   fmt::print("wrote {}\n", args.output);
+  if (!args.report.empty()) {
+    // The page check --report would write for the fitted model: the check against the same data.
+    const model::MachineModel fitted = model::parse_machine_model(fitted_text, args.output);
+    const model::ForwardModel fitted_forward(fitted);
+    const identify::CheckReport c = identify::check(fitted_forward, data);
+    identify::DiagnoseOptions diagnose_options;
+    diagnose_options.noise = c.noise_floor;
+    diagnose_options.fit = options;
+    const identify::Diagnosis d = identify::diagnose(fitted_forward, data, diagnose_options);
+    write_output(args.report, report::html_check_report({fitted, data, c, d, "fit", {}}));
+    fmt::print("wrote {}\n", args.report);
+  }
   return 0;
 }
 
@@ -213,7 +227,7 @@ int run_check(const IdentifyArgs& args) {
   if (args.robust) options.fit.loss = identify::Loss::huber;
   const identify::Diagnosis d = identify::diagnose(forward, data, options);
   if (!args.report.empty()) {
-    write_output(args.report, report::html_check_report({m, data, r, d}));
+    write_output(args.report, report::html_check_report({m, data, r, d, "check", {}}));
     if (!args.json) fmt::print("wrote {}\n", args.report);
   }
   if (args.json) {

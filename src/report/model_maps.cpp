@@ -117,7 +117,7 @@ std::string term_label(const model::ErrorTermSpec& t) {
 
 Figure map_figure(const std::string& id, const std::string& title, const std::vector<double>& u,
                   const std::vector<double>& v, const std::vector<std::vector<double>>& z, char u_axis, char v_axis,
-                  const std::string& colour_title) {
+                  const std::string& colour_title, double least_top) {
   std::string rows = "[";
   double top = 0;
   for (std::size_t j = 0; j < z.size(); ++j) {
@@ -129,7 +129,7 @@ Figure map_figure(const std::string& id, const std::string& title, const std::ve
   f.id = id;
   f.traces = fmt::format(
       R"j([{{"type":"contour","x":{},"y":{},"z":{},"colorscale":"Viridis","zmin":0,"zmax":{},"ncontours":12,"contours":{{"coloring":"heatmap","showlabels":true,"labelfont":{{"size":9,"color":"#fff"}}}},"line":{{"width":0.5,"color":"rgba(255,255,255,0.6)"}},"colorbar":{{"title":{{"text":{},"side":"right"}},"ticks":"outside","thickness":14,"len":0.9}},"hovertemplate":"{} %{{x:.0f}} mm<br>{} %{{y:.0f}} mm<br>%{{z:.2f}} µm<extra></extra>"}}])j",
-      json_numbers(u), json_numbers(v), rows, json_number(std::max(top, 1e-3)), json_string(colour_title), u_axis,
+      json_numbers(u), json_numbers(v), rows, json_number(std::max(top, least_top)), json_string(colour_title), u_axis,
       v_axis);
   f.layout = fmt::format(
       R"j({{"title":{{"text":{}}},"xaxis":{{"title":{{"text":"{} (mm)"}},"constrain":"domain"}},"yaxis":{{"title":{{"text":"{} (mm)"}},"scaleanchor":"x","constrain":"domain"}},"margin":{{"r":10}}}})j",
@@ -156,7 +156,8 @@ std::vector<Section> model_sections(const CheckReportInput& in, FigureIds& ids) 
       "<b>After compensation</b>: what compensating with the model checked (<code>{}</code>) would leave of that "
       "error, to first order the refitted model's error minus the checked model's; it shows where the model "
       "checked is out of date{}. Errors the model cannot describe at all are not in either map: they are the "
-      "residual (the summary's rms refitted). Each map has its own colour scale.</p>\n",
+      "residual (the summary's rms refitted). Each map has its own colour scale; the after maps' reaches at least "
+      "the noise floor, so that an error below it shows dark.</p>\n",
       w.rotary < 9 ? fmt::format("{} 0&deg;", axis_letter(w.rotary)) : "", w.rotary < 9 ? "" : "no rotary axis", w.tool,
       html_escape(in.model.path.empty() ? in.model.name : in.model.path),
       in.command == "fit" ? " (for a model just fitted to the same data, close to zero)" : "");
@@ -181,10 +182,10 @@ std::vector<Section> model_sections(const CheckReportInput& in, FigureIds& ids) 
       }
     const std::string plane =
         fmt::format("{}{} plane at {} = {:g} mm", axis_letter(a), axis_letter(b), axis_letter(fixed), middle);
-    maps.figures.push_back(map_figure(ids.next("map"), "Before compensation: " + plane, u, v, before, axis_letter(a),
-                                      axis_letter(b), "|e| before (µm)"));
-    maps.figures.push_back(map_figure(ids.next("map"), "After compensation: " + plane, u, v, after, axis_letter(a),
-                                      axis_letter(b), "|e| after (µm)"));
+    maps.figures.push_back(map_figure(ids.next("map"), fmt::format("Before compensation: {}", plane), u, v, before,
+                                      axis_letter(a), axis_letter(b), "|e| before (µm)", 1e-3));
+    maps.figures.push_back(map_figure(ids.next("map"), fmt::format("After compensation: {}", plane), u, v, after,
+                                      axis_letter(a), axis_letter(b), "|e| after (µm)", in.check.noise_floor * kUm));
   }
 
   // Shares: each term's error alone (the model with the term's amplitudes zeroed, subtracted
