@@ -81,7 +81,7 @@ Figure line_figure(const CheckReportInput& in, const SourceShape& shape, const R
     run.points.emplace_back(axis_value(o, shape.axis), values(in, read.readings[k], read.sign[k]));
   }
   std::string traces;
-  auto add = [&](const std::string& trace) { traces += (traces.empty() ? "" : ",") + trace; };
+  auto add = [&](const std::string& trace) { traces += traces.empty() ? "" : ",", traces += trace; };
   for (Run& run : runs) {
     if (run.points.empty()) continue;
     std::sort(run.points.begin(), run.points.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
@@ -234,12 +234,13 @@ std::vector<Figure> rotary_figures(const CheckReportInput& in, const SourceShape
                            json_numbers(r), json_numbers(theta), mode, style);
       };
       std::vector<double> measured_angle(angle.begin(), angle.begin() + static_cast<long>(measured.size()));
-      traces += (traces.empty() ? "" : ",") +
-                polar("measured " + read.label, measured, measured_angle, "markers",
-                      fmt::format(R"("legendgroup":"{0}","marker":{{"color":"{1}","size":6}})", read.label, colour)) +
-                "," +
-                polar("model refitted " + read.label, refitted, angle, "lines",
-                      fmt::format(R"("legendgroup":"{0}","line":{{"color":"{1}","width":1.6}})", read.label, colour));
+      traces += traces.empty() ? "" : ",",
+          traces +=
+          polar("measured " + read.label, measured, measured_angle, "markers",
+                fmt::format(R"("legendgroup":"{0}","marker":{{"color":"{1}","size":6}})", read.label, colour)) +
+          "," +
+          polar("model refitted " + read.label, refitted, angle, "lines",
+                fmt::format(R"("legendgroup":"{0}","line":{{"color":"{1}","width":1.6}})", read.label, colour));
     }
     // Zero deviation as a reference circle: the radial axis starts below zero.
     std::vector<double> circle_theta, circle_r;
