@@ -25,6 +25,7 @@ struct Section {
   std::string id, title;
   std::string html;
   std::vector<Figure> figures;
+  std::string beside;  ///< HTML in a half-width column before the figures (a table next to its plot)
 };
 
 // JSON
@@ -52,7 +53,7 @@ class FigureIds {
 };
 
 // The sections, each in its own file.
-[[nodiscard]] Section summary_section(const CheckReportInput& in);
+[[nodiscard]] Section summary_section(const CheckReportInput& in, FigureIds& ids);
 [[nodiscard]] Section provenance_section(const CheckReportInput& in);
 /// Laser lines, grids, rotary sources: one plot per source and reading direction, and
 /// ISO 230-2's figures for the positioning lines.

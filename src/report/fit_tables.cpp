@@ -81,7 +81,7 @@ std::string parameter_unit_name(const model::MachineModel& m, const model::Error
 }  // namespace
 
 Section effects_section(const CheckReportInput& in) {
-  Section s{"effects", "Missing effects", "", {}};
+  Section s{"effects", "Missing effects", "", {}, ""};
   const identify::Diagnosis& d = in.diagnosis;
   if (!d.skipped.empty()) {
     s.html = "<p>" + html_escape(d.skipped) + "</p>\n";
@@ -131,7 +131,7 @@ Section effects_section(const CheckReportInput& in) {
 }
 
 Section parameters_section(const CheckReportInput& in, FigureIds& ids) {
-  Section s{"parameters", "Parameters and identifiability", "", {}};
+  Section s{"parameters", "Parameters and identifiability", "", {}, ""};
   const identify::FitReport& r = in.diagnosis.refit;
   if (r.parameters.empty()) {
     s.html = "<p>The model has no free parameters, or there was no refit.</p>\n";

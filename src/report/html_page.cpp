@@ -89,12 +89,13 @@ th{background:#eef2f6;font-weight:600;text-align:left}
 td,th{border:1px solid #c9d1d9;padding:3px 8px;vertical-align:top}
 td.num{text-align:right;font-variant-numeric:tabular-nums}
 .kpis{display:flex;flex-wrap:wrap;gap:10px;margin:10px 0}
-.kpi{border:1px solid #c9d1d9;border-left:4px solid #0b3d63;padding:6px 12px;min-width:150px}
+.kpi{border:1px solid #c9d1d9;border-left:4px solid #0b3d63;padding:6px 12px;min-width:128px}
 .kpi b{display:block;font-size:20px;font-weight:600}
 .kpi span{font-size:11px;color:#555}
 .figs{display:flex;flex-wrap:wrap;gap:8px 16px}
 figure{margin:0;width:calc(50% - 8px)}
 figure.wide{width:100%}
+.beside{width:calc(50% - 8px)}
 figcaption{font-size:11px;color:#444;margin:0 0 6px 8px}
 .note{font-size:12px;color:#555}
 code{font-size:11px;word-break:break-all}
@@ -142,7 +143,7 @@ constexpr std::string_view kDrawScript = R"(
 std::string html_check_report(const CheckReportInput& in) {
   FigureIds ids;
   std::vector<Section> sections;
-  sections.push_back(summary_section(in));
+  sections.push_back(summary_section(in, ids));
   for (Section& s : source_sections(in, ids)) sections.push_back(std::move(s));
   for (Section& s : model_sections(in, ids)) sections.push_back(std::move(s));
   sections.push_back(spectrum_section(in, ids));
@@ -168,6 +169,7 @@ std::string html_check_report(const CheckReportInput& in) {
     if (s.title.empty()) continue;
     html += fmt::format("<section id=\"{}\">\n<h2>{}</h2>\n{}", s.id, html_escape(s.title), s.html);
     if (!s.figures.empty()) html += "<div class=\"figs\">\n";
+    if (!s.beside.empty()) html += "<div class=\"beside\">" + s.beside + "</div>\n";
     for (const Figure& f : s.figures) {
       html += fmt::format("<figure{}><div id=\"{}\" class=\"plot\" style=\"height:{}px\"></div>{}</figure>\n",
                           f.wide ? " class=\"wide\"" : "", f.id, f.height,

@@ -148,7 +148,7 @@ std::vector<Section> model_sections(const CheckReportInput& in, FigureIds& ids) 
   const Workspace w = workspace(in);
   ErrorProbe probe(forward);
 
-  Section maps{"maps", "Volumetric error maps", "", {}};
+  Section maps{"maps", "Volumetric error maps", "", {}, ""};
   maps.html = fmt::format(
       "<p>The length of the volumetric error vector |e| (&micro;m) over three mid-planes of the workspace, at "
       "{}{} and tool length L {:g} mm, 20 &deg;C, approach unknown (reversals at mid-play). <b>Before "
@@ -190,7 +190,7 @@ std::vector<Section> model_sections(const CheckReportInput& in, FigureIds& ids) 
 
   // Shares: each term's error alone (the model with the term's amplitudes zeroed, subtracted
   // from the whole), rms over a 9x9x9 grid, rotary angles 0 90 180 270, both approaches.
-  Section shares{"shares", "Effect shares", "", {}};
+  Section shares{"shares", "Effect shares", "", {}, ""};
   std::vector<Eigen::VectorXd> without;
   for (std::size_t t = 0; t < in.model.terms.size(); ++t) {
     Eigen::VectorXd p = machine;

@@ -298,8 +298,8 @@ std::string iso_table(const std::vector<std::pair<std::string, identify::Positio
 }  // namespace
 
 std::vector<Section> source_sections(const CheckReportInput& in, FigureIds& ids) {
-  Section lines{"lines", "Laser lines", "", {}}, grids{"volumetric", "Volumetric measurements", "", {}},
-      rotary{"rotary", "Rotary axes", "", {}};
+  Section lines{"lines", "Laser lines", "", {}, ""}, grids{"volumetric", "Volumetric measurements", "", {}, ""},
+      rotary{"rotary", "Rotary axes", "", {}, ""};
   std::vector<std::pair<std::string, identify::PositioningReport>> iso_reports;
   const std::vector<SourceShape> shapes = source_shapes(in.data, in.model);
   for (std::size_t s = 0; s < shapes.size(); ++s) {

@@ -14,7 +14,7 @@
 namespace ccomp::report {
 
 Section spectrum_section(const CheckReportInput& in, FigureIds& ids) {
-  Section s{"spectrum", "Spectra of the residual", "", {}};
+  Section s{"spectrum", "Spectra of the residual", "", {}, ""};
   const bool refitted = in.diagnosis.residual.size() == in.check.residual.size();
   const Eigen::VectorXd& residual = refitted ? in.diagnosis.residual : in.check.residual;
   const std::vector<SourceShape> shapes = source_shapes(in.data, in.model);

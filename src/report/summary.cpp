@@ -3,6 +3,7 @@
 #include <fmt/chrono.h>
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <fstream>
@@ -29,8 +30,8 @@ std::string kpi(const std::string& value, const std::string& what) {
 
 }  // namespace
 
-Section summary_section(const CheckReportInput& in) {
-  Section s{"summary", "Summary", "", {}};
+Section summary_section(const CheckReportInput& in, FigureIds& ids) {
+  Section s{"summary", "Summary", "", {}, ""};
   const identify::Diagnosis& d = in.diagnosis;
   s.html += "<div class=\"kpis\">";
   s.html += kpi(fmt::format("{:.3f} &micro;m", in.check.rms * kUm), "rms residual, model as it is");
@@ -59,17 +60,23 @@ Section summary_section(const CheckReportInput& in) {
                           d.candidates_tried);
   // Per source.
   const std::vector<SourceShape> shapes = source_shapes(in.data, in.model);
-  s.html +=
+  s.beside +=
       "<table><tr><th>source</th><th>kind</th><th>readings</th><th>rms as it is (&micro;m)</th><th>max as it is "
       "(&micro;m)</th><th>rms refitted (&micro;m)</th></tr>\n";
+  std::vector<double> rms_as_is, rms_refitted;
+  std::vector<std::string> names;
+  const bool refitted = in.diagnosis.residual.size() == in.check.residual.size();
   for (std::size_t k = 0; k < shapes.size(); ++k) {
     const SourceShape& shape = shapes[k];
+    names.push_back(in.data.sources[k]);
+    rms_as_is.push_back(rms_of(in.check.residual, shape.readings) * kUm);
+    rms_refitted.push_back(refitted ? rms_of(in.diagnosis.residual, shape.readings) * kUm : std::nan(""));
     double max = 0;
     for (std::size_t i : shape.readings) max = std::max(max, std::abs(in.check.residual[static_cast<Eigen::Index>(i)]));
     const std::string kind = shape.kind == SourceKind::volumetric
                                  ? "volumetric"
                                  : fmt::format("{} ({})", kind_name(shape.kind), axis_letter(shape.axis));
-    s.html += fmt::format(
+    s.beside += fmt::format(
         "<tr><td>{}</td><td>{}</td><td class=\"num\">{}</td><td class=\"num\">{:.3f}</td><td "
         "class=\"num\">{:.3f}</td><td class=\"num\">{}</td></tr>\n",
         html_escape(in.data.sources[k]), kind, shape.readings.size(), rms_of(in.check.residual, shape.readings) * kUm,
@@ -78,12 +85,25 @@ Section summary_section(const CheckReportInput& in) {
             ? fmt::format("{:.3f}", rms_of(in.diagnosis.residual, shape.readings) * kUm)
             : "&ndash;");
   }
-  s.html += "</table>\n";
+  s.beside += "</table>\n";
+  // The same as bars, against the noise floor: which sources the model fits, which not.
+  std::reverse(names.begin(), names.end()), std::reverse(rms_as_is.begin(), rms_as_is.end()),
+      std::reverse(rms_refitted.begin(), rms_refitted.end());
+  Figure f;
+  f.id = ids.next("sources");
+  f.height = 90 + 24 * static_cast<int>(names.size());
+  f.traces = fmt::format(
+      R"j([{{"type":"bar","orientation":"h","name":"model as it is","x":{},"y":{},"marker":{{"color":"#9aa5b1"}}}},{{"type":"bar","orientation":"h","name":"refitted","x":{},"y":{},"marker":{{"color":"#1f5fa8"}}}}])j",
+      json_numbers(rms_as_is), json_strings(names), json_numbers(rms_refitted), json_strings(names));
+  f.layout = fmt::format(
+      R"j({{"title":{{"text":"rms residual per source"}},"barmode":"group","bargap":0.25,"xaxis":{{"title":{{"text":"rms residual (µm)"}},"rangemode":"tozero"}},"yaxis":{{"showgrid":false,"automargin":true}},"margin":{{"l":80,"t":30}},"legend":{{"y":-0.12}},"shapes":[{{"type":"line","xref":"x","yref":"paper","x0":{0},"x1":{0},"y0":0,"y1":1,"line":{{"color":"#c2410c","width":1.2,"dash":"dash"}}}}],"annotations":[{{"x":{0},"y":1,"xref":"x","yref":"paper","text":"noise floor","showarrow":false,"xanchor":"left","yanchor":"bottom","font":{{"size":10,"color":"#c2410c"}}}}]}})j",
+      json_number(in.check.noise_floor * kUm));
+  s.figures.push_back(std::move(f));
   return s;
 }
 
 Section provenance_section(const CheckReportInput& in) {
-  Section s{"provenance", "Provenance", "", {}};
+  Section s{"provenance", "Provenance", "", {}, ""};
   std::string when = in.generated_at;
   if (when.empty())
     when = fmt::format("{:%Y-%m-%d %H:%M:%S} UTC",
