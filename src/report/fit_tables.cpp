@@ -140,7 +140,8 @@ Section parameters_section(const CheckReportInput& in, FigureIds& ids) {
   s.html = fmt::format(
       "<p>{} free parameters; the data determine {} combinations of them (condition number {:.3g}), {} of which "
       "changed by more than the noise. Values in the model file's units, as <code>ccomp fit</code> prints them; "
-      "uncertainty one standard deviation; a change beyond 3 standard deviations is in bold.</p>\n",
+      "uncertainty one standard deviation; a change beyond 3 standard deviations is in bold. A parameter the data "
+      "do not determine alone moves with the combinations it is part of (listed under the table).</p>\n",
       r.parameters.size(), r.rank, r.condition_number, r.significant);
   s.html +=
       "<table><tr><th>parameter</th><th>unit</th><th>as it is</th><th>refitted</th><th>&plusmn; "
@@ -154,15 +155,18 @@ Section parameters_section(const CheckReportInput& in, FigureIds& ids) {
       return offset;
     }();
     const double unit = t.parameter_unit[k];
-    const double ratio = p.uncertainty > 0 ? (p.after - p.before) / p.uncertainty : std::nan("");
+    // A parameter the data do not determine alone moves with the combinations it is in:
+    // its change against its own uncertainty says nothing.
+    const double ratio = p.identified && p.uncertainty > 0 ? (p.after - p.before) / p.uncertainty : std::nan("");
     const bool moved = std::abs(ratio) > 3;
     s.html += fmt::format(
         "<tr><td>{}</td><td>{}</td><td class=\"num\">{:.6g}</td><td class=\"num\">{}{:.6g}{}</td><td "
         "class=\"num\">{}</td><td class=\"num\">{}</td><td>{}</td></tr>\n",
         html_escape(p.label), html_escape(parameter_unit_name(in.model, t, k)), p.before / unit, moved ? "<b>" : "",
         p.after / unit, moved ? "</b>" : "",
-        p.identified ? fmt::format("{:.3g}", std::abs(p.uncertainty / unit)) : "&ndash;",
-        std::isfinite(ratio) ? fmt::format("{:+.1f}", ratio) : "&ndash;", p.identified ? "yes" : "no (left as it is)");
+        p.uncertainty > 0 ? fmt::format("{:.3g}", std::abs(p.uncertainty / unit)) : "&ndash;",
+        std::isfinite(ratio) ? fmt::format("{:+.1f}", ratio) : "&ndash;",
+        p.identified ? "yes" : "not alone (see below)");
   }
   s.html += "</table>\n";
   for (const std::string& u : r.unidentifiable) s.html += "<p class=\"note\">" + html_escape(u) + "</p>\n";

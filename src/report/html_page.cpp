@@ -96,6 +96,7 @@ td.num{text-align:right;font-variant-numeric:tabular-nums}
 figure{margin:0;width:calc(50% - 8px)}
 figure.wide{width:100%}
 .beside{width:calc(50% - 8px)}
+.beside td{white-space:nowrap}
 figcaption{font-size:11px;color:#444;margin:0 0 6px 8px}
 .note{font-size:12px;color:#555}
 code{font-size:11px;word-break:break-all}
