@@ -1,5 +1,6 @@
 #!/usr/bin/env bash
-# Installs what ccomp builds and tests with, from Debian 12's packages only. Skips apt when
+# Installs what ccomp builds and tests with, from Debian 12's packages, and the HTML report's
+# plotting library from the npm registry (web/report, version pinned). Skips apt and npm when
 # everything is there already. --fuzz adds clang and libFuzzer for tools/fuzz.sh (the
 # sanitizer build, tools/sanitize.sh, uses GCC's own ASan and UBSan).
 set -euo pipefail
