@@ -10,6 +10,7 @@
 
 #include "ccomp/error.hpp"
 #include "ccomp/identify/positioning.hpp"
+#include "ccomp/util/interval.hpp"
 #include "report/figures.hpp"
 #include "report/source_shape.hpp"
 
@@ -144,15 +145,19 @@ Figure line_figure(const CheckReportInput& in, const SourceShape& shape, const R
 
 Figure volumetric_figure(const CheckReportInput& in, const ReadingDirection& read, const std::string& source,
                          FigureIds& ids) {
+  // Points measured over time (a thermal test) against the time; a grid in file order.
+  util::Interval time;
+  for (std::size_t i : read.readings) time.add(in.data.observations[i].time);
+  const bool timed = time.width() > 0;
   std::vector<double> n, measured, refitted, as_is;
   std::vector<std::string> where;
   for (std::size_t k = 0; k < read.readings.size(); ++k) {
     const identify::Observation& o = in.data.observations[read.readings[k]];
     const Values v = values(in, read.readings[k], read.sign[k]);
-    n.push_back(static_cast<double>(k + 1)), measured.push_back(v.measured), refitted.push_back(v.refitted),
-        as_is.push_back(v.as_is);
-    where.push_back(fmt::format("X {:g}, Y {:g}, Z {:g}, L {:g}", axis_value(o, 0), axis_value(o, 1), axis_value(o, 2),
-                                o.q[static_cast<Eigen::Index>(model::kToolLengthIndex)]));
+    n.push_back(timed ? o.time : static_cast<double>(k + 1)), measured.push_back(v.measured),
+        refitted.push_back(v.refitted), as_is.push_back(v.as_is);
+    where.push_back(fmt::format("X {:g}, Y {:g}, Z {:g}, L {:g}, t {:g} s", axis_value(o, 0), axis_value(o, 1),
+                                axis_value(o, 2), o.q[static_cast<Eigen::Index>(model::kToolLengthIndex)], o.time));
   }
   const std::string hover = R"("text":)" + json_strings(where) + R"(,"hovertemplate":"%{text}<br>%{y:.3f} µm")";
   Figure f;
@@ -171,8 +176,9 @@ Figure volumetric_figure(const CheckReportInput& in, const ReadingDirection& rea
               R"(,"marker":{"color":"#c2410c","size":5,"symbol":"x-thin-open","line":{"width":1,"color":"#c2410c"}})") +
       "]";
   f.layout = fmt::format(
-      R"j({{"title":{{"text":{}}},"xaxis":{{"title":{{"text":"point (file order)"}}}},"yaxis":{{"title":{{"text":"deviation along {} (µm)"}}}}}})j",
-      json_string(fmt::format("{}: deviation along {}", source, read.label)), read.label);
+      R"j({{"title":{{"text":{}}},"xaxis":{{"title":{{"text":"{}"}}}},"yaxis":{{"title":{{"text":"deviation along {} (µm)"}}}}}})j",
+      json_string(fmt::format("{}: deviation along {}", source, read.label)), timed ? "time (s)" : "point (file order)",
+      read.label);
   f.caption =
       fmt::format("{} points spread over the workspace; hover for each point's position.", read.readings.size());
   return f;
