@@ -122,7 +122,7 @@ constexpr std::string_view kDrawScript = R"(
     let layout = merge({font: {family: 'Helvetica Neue, Helvetica, Arial, sans-serif', size: 11, color: '#1d1d1d'},
       margin: {l: 60, r: 20, t: 34, b: 40}, paper_bgcolor: '#fff', plot_bgcolor: '#fff', hovermode: 'closest',
       title: {font: {size: 12}, x: 0.01, xanchor: 'left'},
-      legend: {orientation: 'h', x: 0, y: -0.2, yanchor: 'top', font: {size: 10}},
+      legend: {orientation: 'h', x: 0, y: -0.3, yanchor: 'top', font: {size: 10}},
       xaxis: axis, yaxis: axis}, f.layout);
     for (const k of Object.keys(layout)) {
       if (/^[xy]axis\d+$/.test(k)) layout[k] = merge(axis, layout[k]);

@@ -83,6 +83,7 @@ Figure line_figure(const CheckReportInput& in, const SourceShape& shape, const R
   }
   std::string traces;
   auto add = [&](const std::string& trace) { traces += traces.empty() ? "" : ",", traces += trace; };
+  bool legend_shown = false;
   for (Run& run : runs) {
     if (run.points.empty()) continue;
     std::sort(run.points.begin(), run.points.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
@@ -93,14 +94,21 @@ Figure line_figure(const CheckReportInput& in, const SourceShape& shape, const R
       if (curve_x.empty() || p - curve_x.back() > 1e-6)
         curve_x.push_back(p), refitted.push_back(v.refitted), as_is.push_back(v.as_is);
     }
-    add(xy_trace("measured, " + run.name, x, measured, "markers",
-                 fmt::format(R"("legendgroup":"{0}","marker":{{"color":"{1}","size":5,"symbol":"{2}","opacity":0.75}})",
-                             run.name, run.colour, run.symbol)));
-    add(xy_trace("model refitted, " + run.name, curve_x, refitted, "lines",
-                 fmt::format(R"("legendgroup":"{}","line":{{"color":"{}","width":1.8}})", run.name, run.colour)));
+    // One legend entry per kind of trace: the colour says the direction (as the markers do).
+    const std::string first = legend_shown ? R"("showlegend":false,)" : "";
+    legend_shown = true;
     add(xy_trace(
-        "model as it is, " + run.name, curve_x, as_is, "lines",
-        fmt::format(R"("legendgroup":"{}","line":{{"color":"{}","width":1.2,"dash":"dot"}})", run.name, run.colour)));
+        "measured, " + run.name, x, measured, "markers",
+        fmt::format(
+            R"("legendrank":{0},"legendgroup":"measured {0}","marker":{{"color":"{1}","size":5,"symbol":"{2}","opacity":0.75}})",
+            &run - runs.data() + 1, run.colour, run.symbol)));
+    add(xy_trace("model refitted", curve_x, refitted, "lines",
+                 fmt::format(R"({}"legendrank":10,"legendgroup":"refitted","line":{{"color":"{}","width":1.8}})", first,
+                             run.colour)));
+    add(xy_trace(
+        "model as it is", curve_x, as_is, "lines",
+        fmt::format(R"({}"legendrank":11,"legendgroup":"as-is","line":{{"color":"{}","width":1.2,"dash":"dot"}})",
+                    first, run.colour)));
   }
   std::string caption = fmt::format("Line at {}; {} readings ({} up, {} down{}).",
                                     line_place(in.data.observations[read.readings.front()], in.model, shape.axis),
@@ -108,27 +116,27 @@ Figure line_figure(const CheckReportInput& in, const SourceShape& shape, const R
                                     runs[2].points.empty() ? "" : fmt::format(", {} unknown", runs[2].points.size()));
   // ISO 230-2's bands: the mean deviation at each target, each way, +- 2 s.
   if (iso != nullptr && iso->runs >= 2) {
+    std::string bands;  // drawn first, under the points
+    const auto add_band = [&](const std::string& trace) { bands += trace, bands += ","; };
     for (int way = 0; way < 2; ++way) {
-      std::vector<double> x, upper, lower, mean;
+      std::vector<double> x, upper, lower;
       for (const identify::PositioningTarget& t : iso->targets) {
         const double m = way == 0 ? t.mean_up : t.mean_down, s = way == 0 ? t.s_up : t.s_down;
-        x.push_back(t.position), mean.push_back(m * kUm), upper.push_back((m + 2 * s) * kUm),
-            lower.push_back((m - 2 * s) * kUm);
+        x.push_back(t.position), upper.push_back((m + 2 * s) * kUm), lower.push_back((m - 2 * s) * kUm);
       }
       const std::string_view colour = way == 0 ? kUp : kDown;
       const std::string name = way == 0 ? "up" : "down";
       const std::string fill = way == 0 ? "rgba(31,95,168,0.15)" : "rgba(194,65,12,0.15)";
-      add(xy_trace(
-          "mean + 2s, " + name, x, upper, "lines",
-          fmt::format(R"("legendgroup":"iso{}","showlegend":false,"line":{{"width":0,"color":"{}"}})", name, colour)));
-      add(xy_trace(
-          "mean ± 2s (ISO 230-2), " + name, x, lower, "lines",
-          fmt::format(R"("legendgroup":"iso{}","fill":"tonexty","fillcolor":"{}","line":{{"width":0,"color":"{}"}})",
-                      name, fill, colour)));
-      add(xy_trace(
-          "mean, " + name, x, mean, "lines",
-          fmt::format(R"("legendgroup":"iso{}","line":{{"color":"{}","width":1,"dash":"dash"}})", name, colour)));
+      add_band(
+          xy_trace("mean + 2s, " + name, x, upper, "lines",
+                   fmt::format(R"("legendgroup":"iso","showlegend":false,"line":{{"width":0,"color":"{}"}})", colour)));
+      add_band(xy_trace(
+          "ISO 230-2: mean ± 2s", x, lower, "lines",
+          fmt::format(
+              R"({}"legendrank":12,"legendgroup":"iso","fill":"tonexty","fillcolor":"{}","line":{{"width":0,"color":"{}"}})",
+              way == 0 ? "" : R"("showlegend":false,)", fill, colour)));
     }
+    traces = bands + traces;
     caption += fmt::format(" Bands: mean &plusmn; 2s of {} runs each way (ISO 230-2).", iso->runs);
   }
   const std::string axis_unit = is_rotary(shape.axis) ? "deg" : "mm";
