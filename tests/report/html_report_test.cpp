@@ -133,10 +133,13 @@ TEST(HtmlReport, IsSelfContainedAndRendersInChromium) {
     GTEST_SKIP() << "Debian's chromium is not installed (tools/install-deps.sh installs it)";
   const auto started = std::chrono::steady_clock::now();
   r = run_command("timeout 120 " + chromium + chromium_flags(temp_dir("html_report_profile")) +
-                  "--window-size=1280,2400 --dump-dom " + shell_quote("file://" + html));
+                  "--enable-logging=stderr --v=0 --window-size=1280,2400 --dump-dom " + shell_quote("file://" + html));
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
   ASSERT_EQ(r.exit_code, 0) << r.err;
   RecordProperty("render_seconds", std::to_string(seconds));
+  // The page's console: a fetch the policy refused, or a script error, would be logged.
+  EXPECT_EQ(count(r.err, "Content Security Policy"), 0U) << r.err;
+  EXPECT_EQ(count(r.err, "Uncaught"), 0U) << r.err;
   const std::string& dom = r.out;
   const auto drawn = plots(dom);
   const std::size_t divs = count(page, "class=\"plot\"");
