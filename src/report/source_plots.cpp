@@ -267,8 +267,8 @@ std::vector<Figure> rotary_figures(const CheckReportInput& in, const SourceShape
     f.id = ids.next("polar");
     f.traces = "[" + traces + "]";
     f.layout = fmt::format(
-        R"({{"title":{{"text":{}}},"margin":{{"l":40,"r":40,"t":50,"b":40}},"polar":{{"radialaxis":{{"range":[{},{}],"title":{{"text":"µm"}},"angle":90,"tickangle":90}},"angularaxis":{{"rotation":0,"direction":"counterclockwise","dtick":45,"ticksuffix":"°"}}}},"legend":{{"y":-0.12}}}})",
-        json_string(fmt::format("{}: probe {} as {} turns", source, p + 1, axis_letter(shape.axis))),
+        R"({{"title":{{"text":{}}},"margin":{{"l":40,"r":40,"t":50,"b":40}},"polar":{{"radialaxis":{{"range":[{},{}],"angle":112.5,"tickangle":112.5}},"angularaxis":{{"rotation":0,"direction":"counterclockwise","dtick":45,"ticksuffix":"°"}}}},"legend":{{"y":-0.12}}}})",
+        json_string(fmt::format("{}: probe {} as {} turns, deviation (µm)", source, p + 1, axis_letter(shape.axis))),
         json_number(lo - pad), json_number(hi + pad));
     f.caption = fmt::format(
         "Probe {} ({} at the first angle). Radius: deviation in &micro;m along X, Y, Z (the dashed circle is zero; "
