@@ -61,7 +61,9 @@ class FigureIds {
 /// Volumetric error maps (before and after compensation) and the terms' shares.
 [[nodiscard]] std::vector<Section> model_sections(const CheckReportInput& in, FigureIds& ids);
 [[nodiscard]] Section spectrum_section(const CheckReportInput& in, FigureIds& ids);
-[[nodiscard]] Section effects_section(const CheckReportInput& in);
+[[nodiscard]] Section effects_section(const CheckReportInput& in, FigureIds& ids);
+/// Each missing effect on the line that sees it best: the residual before and after adding it.
+[[nodiscard]] std::vector<Figure> effect_figures(const CheckReportInput& in, FigureIds& ids);
 [[nodiscard]] Section parameters_section(const CheckReportInput& in, FigureIds& ids);
 
 }  // namespace ccomp::report

@@ -80,7 +80,7 @@ std::string parameter_unit_name(const model::MachineModel& m, const model::Error
 
 }  // namespace
 
-Section effects_section(const CheckReportInput& in) {
+Section effects_section(const CheckReportInput& in, FigureIds& ids) {
   Section s{"effects", "Missing effects", "", {}, ""};
   const identify::Diagnosis& d = in.diagnosis;
   if (!d.skipped.empty()) {
@@ -108,6 +108,7 @@ Section effects_section(const CheckReportInput& in) {
           g.period > 0 ? fmt::format("{:.6g} &plusmn; {:.2g}", g.period, g.period_uncertainty) : "", g.rms_before * kUm,
           g.rms_after * kUm, g.bic_delta, 100 * g.held_out, html_escape(g.held_out_by), html_escape(g.spec));
     s.html += "</table>\n";
+    s.figures = effect_figures(in, ids);
   }
   for (const identify::Tie& t : d.ties)
     s.html += fmt::format(

@@ -148,7 +148,7 @@ std::string html_check_report(const CheckReportInput& in) {
   for (Section& s : source_sections(in, ids)) sections.push_back(std::move(s));
   for (Section& s : model_sections(in, ids)) sections.push_back(std::move(s));
   sections.push_back(spectrum_section(in, ids));
-  sections.push_back(effects_section(in));
+  sections.push_back(effects_section(in, ids));
   sections.push_back(parameters_section(in, ids));
   sections.push_back(provenance_section(in));
 

@@ -104,6 +104,8 @@ TEST(HtmlReport, IsSelfContainedAndRendersInChromium) {
 
   // The physics the data hold: the truth's backlash is named as missing.
   EXPECT_NE(page.find("reversal of the Y axis"), std::string::npos);
+  // Each missing effect on a Y line: the residual before and after adding it.
+  EXPECT_NE(page.find("{\"text\":\"1. EYY reversal on y-line"), std::string::npos);
   // ISO 230-2 with the two runs the simulation made: its bands are drawn.
   EXPECT_NE(page.find("mean &plusmn; 2s of 2 runs each way"), std::string::npos);
   // Parameters in the model file's units, as fit prints them: EXX's slope is 0.012 um/mm in
