@@ -4,6 +4,7 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <optional>
 
 #include "report/figures.hpp"
 #include "report/source_shape.hpp"
@@ -35,20 +36,22 @@ std::vector<Figure> effect_figures(const CheckReportInput& in, FigureIds& ids) {
     // The direction the term's error is in (E<direction><axis>), where it is a translation.
     const int direction = g.term.size() >= 2 && g.term[1] >= 'X' && g.term[1] <= 'Z' ? g.term[1] - 'X' : -1;
     // The line (or rotary source) moving the effect's axis with the most readings along it.
-    const ReadingDirection* best = nullptr;
-    std::string source;
-    std::vector<ReadingDirection> candidates;
+    struct Candidate {
+      ReadingDirection read;
+      std::string source;
+    };
+    std::optional<Candidate> chosen;
     for (std::size_t k = 0; k < shapes.size(); ++k) {
       if (shapes[k].kind == SourceKind::volumetric || shapes[k].axis != axis) continue;
       for (ReadingDirection& read : reading_directions(in.data, shapes[k].readings))
-        if (direction < 0 || read.axis == direction)
-          candidates.push_back(std::move(read)), candidates.back().label += "\n" + in.data.sources[k];
+        if ((direction < 0 || read.axis == direction) &&
+            (!chosen || read.readings.size() > chosen->read.readings.size()))
+          chosen = Candidate{std::move(read), in.data.sources[k]};
     }
-    for (const ReadingDirection& read : candidates)
-      if (best == nullptr || read.readings.size() > best->readings.size()) best = &read;
-    if (best == nullptr) continue;
-    const std::string along = best->label.substr(0, best->label.find('\n'));
-    source = best->label.substr(best->label.find('\n') + 1);
+    if (!chosen) continue;
+    const ReadingDirection* best = &chosen->read;
+    const std::string& along = best->label;
+    const std::string& source = chosen->source;
     std::string traces;
     for (int way : {1, -1, 0}) {
       std::vector<std::pair<double, std::pair<double, double>>> points;
