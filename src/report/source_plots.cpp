@@ -83,13 +83,17 @@ Figure line_figure(const CheckReportInput& in, const SourceShape& shape, const R
   }
   std::string traces;
   auto add = [&](const std::string& trace) { traces += traces.empty() ? "" : ",", traces += trace; };
+  // A browser draws some thousands of points per plot smoothly; beyond, every stride-th.
+  constexpr std::size_t kMostPoints = 6000;
+  const std::size_t stride = (read.readings.size() + kMostPoints - 1) / kMostPoints;
   bool legend_shown = false;
   for (Run& run : runs) {
     if (run.points.empty()) continue;
     std::sort(run.points.begin(), run.points.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
     std::vector<double> x, measured, curve_x, refitted, as_is;
-    for (const auto& [p, v] : run.points) {
-      x.push_back(p), measured.push_back(v.measured);
+    for (std::size_t k = 0; k < run.points.size(); ++k) {
+      const auto& [p, v] = run.points[k];
+      if (k % stride == 0) x.push_back(p), measured.push_back(v.measured);
       // The models predict the same at a position however often it was measured: one point each.
       if (curve_x.empty() || p - curve_x.back() > 1e-6)
         curve_x.push_back(p), refitted.push_back(v.refitted), as_is.push_back(v.as_is);
@@ -110,10 +114,12 @@ Figure line_figure(const CheckReportInput& in, const SourceShape& shape, const R
         fmt::format(R"({}"legendrank":11,"legendgroup":"as-is","line":{{"color":"{}","width":1.2,"dash":"dot"}})",
                     first, run.colour)));
   }
-  std::string caption = fmt::format("Line at {}; {} readings ({} up, {} down{}).",
-                                    line_place(in.data.observations[read.readings.front()], in.model, shape.axis),
-                                    read.readings.size(), runs[0].points.size(), runs[1].points.size(),
-                                    runs[2].points.empty() ? "" : fmt::format(", {} unknown", runs[2].points.size()));
+  std::string caption =
+      fmt::format("Line at {}; {} readings ({} up, {} down{}){}.",
+                  line_place(in.data.observations[read.readings.front()], in.model, shape.axis), read.readings.size(),
+                  runs[0].points.size(), runs[1].points.size(),
+                  runs[2].points.empty() ? "" : fmt::format(", {} unknown", runs[2].points.size()),
+                  stride > 1 ? fmt::format(", one reading in {} shown (the curves use all)", stride) : "");
   // ISO 230-2's bands: the mean deviation at each target, each way, +- 2 s.
   if (iso != nullptr && iso->runs >= 2) {
     std::string bands;  // drawn first, under the points
