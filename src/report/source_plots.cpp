@@ -245,22 +245,21 @@ std::vector<Figure> rotary_figures(const CheckReportInput& in, const SourceShape
         angle.push_back(a), measured.push_back(v.measured), refitted.push_back(v.refitted);
         lo = std::min({lo, v.measured, v.refitted}), hi = std::max({hi, v.measured, v.refitted});
       }
+      std::vector<double> curve_angle = angle;
       if (!angle.empty() && angle.back() - angle.front() > 300)  // a full turn: close the curve
-        angle.push_back(angle.front() + 360), refitted.push_back(refitted.front());
+        curve_angle.push_back(angle.front() + 360), refitted.push_back(refitted.front());
       const std::string_view colour = read.axis >= 0 ? kAxisColour[static_cast<std::size_t>(read.axis)] : kUnknown;
       const auto polar = [&](const std::string& name, const std::vector<double>& r, const std::vector<double>& theta,
                              std::string_view mode, const std::string& style) {
         return fmt::format(R"({{"type":"scatterpolar","name":{},"r":{},"theta":{},"mode":"{}",{}}})", json_string(name),
                            json_numbers(r), json_numbers(theta), mode, style);
       };
-      std::vector<double> measured_angle(angle.begin(), angle.begin() + static_cast<long>(measured.size()));
-      traces += traces.empty() ? "" : ",",
-          traces +=
-          polar("measured " + read.label, measured, measured_angle, "markers",
-                fmt::format(R"("legendgroup":"{0}","marker":{{"color":"{1}","size":6}})", read.label, colour)) +
-          "," +
-          polar("model refitted " + read.label, refitted, angle, "lines",
-                fmt::format(R"("legendgroup":"{0}","line":{{"color":"{1}","width":1.6}})", read.label, colour));
+      if (!traces.empty()) traces += ",";
+      traces += polar("measured " + read.label, measured, angle, "markers",
+                      fmt::format(R"("legendgroup":"{0}","marker":{{"color":"{1}","size":6}})", read.label, colour));
+      traces += ",";
+      traces += polar("model refitted " + read.label, refitted, curve_angle, "lines",
+                      fmt::format(R"("legendgroup":"{0}","line":{{"color":"{1}","width":1.6}})", read.label, colour));
     }
     // Zero deviation as a reference circle: the radial axis starts below zero.
     std::vector<double> circle_theta, circle_r;
