@@ -32,13 +32,19 @@ std::string json_number(double v) {
 
 std::string json_numbers(const std::vector<double>& v) {
   std::string out = "[";
-  for (std::size_t i = 0; i < v.size(); ++i) out += i ? "," : "", out += json_number(v[i]);
+  for (std::size_t i = 0; i < v.size(); ++i) {
+    if (i > 0) out += ',';
+    out += json_number(v[i]);
+  }
   return out + "]";
 }
 
 std::string json_strings(const std::vector<std::string>& v) {
   std::string out = "[";
-  for (std::size_t i = 0; i < v.size(); ++i) out += i ? "," : "", out += json_string(v[i]);
+  for (std::size_t i = 0; i < v.size(); ++i) {
+    if (i > 0) out += ',';
+    out += json_string(v[i]);
+  }
   return out + "]";
 }
 

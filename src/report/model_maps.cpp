@@ -121,7 +121,8 @@ Figure map_figure(const std::string& id, const std::string& title, const std::ve
   std::string rows = "[";
   double top = 0;
   for (std::size_t j = 0; j < z.size(); ++j) {
-    rows += j ? "," : "", rows += json_numbers(z[j]);
+    if (j > 0) rows += ',';
+    rows += json_numbers(z[j]);
     for (double value : z[j]) top = std::max(top, value);
   }
   rows += "]";

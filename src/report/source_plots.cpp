@@ -82,7 +82,10 @@ Figure line_figure(const CheckReportInput& in, const SourceShape& shape, const R
     run.points.emplace_back(axis_value(o, shape.axis), values(in, read.readings[k], read.sign[k]));
   }
   std::string traces;
-  auto add = [&](const std::string& trace) { traces += traces.empty() ? "" : ",", traces += trace; };
+  auto add = [&](const std::string& trace) {
+    if (!traces.empty()) traces += ',';
+    traces += trace;
+  };
   // A browser draws some thousands of points per plot smoothly; beyond, every stride-th.
   constexpr std::size_t kMostPoints = 6000;
   const std::size_t stride = (read.readings.size() + kMostPoints - 1) / kMostPoints;
