@@ -49,6 +49,12 @@ Section summary_section(const CheckReportInput& in, FigureIds& ids) {
       html_escape(in.model.name), in.data.observations.size(), in.data.files.size(),
       html_escape(in.check.noise_method));
   if (!d.skipped.empty()) s.html += fmt::format("<p class=\"note\">{}</p>\n", html_escape(d.skipped));
+  // Against the noise floor: a residual near 1x it is all the data can show.
+  if (in.check.noise_floor > 0 && d.skipped.empty())
+    s.html += fmt::format(
+        "<p>Residual against the noise floor: <b>{:.1f}&times;</b> for the model as it is, <b>{:.1f}&times;</b> "
+        "refitted.</p>\n",
+        in.check.rms / in.check.noise_floor, d.rms_refit / in.check.noise_floor);
   if (!d.suggestions.empty())
     s.html += fmt::format(
         "<p>Most significant missing effect: <b>{}</b> (rms {:.3f} &rarr; {:.3f} &micro;m); see "
