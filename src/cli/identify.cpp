@@ -90,6 +90,7 @@ CLI::App* add_fit(CLI::App& app, IdentifyArgs& args) {
   cmd->add_flag("--robust", args.robust, "Huber loss: outlying rows count linearly, not squared");
   cmd->add_option("--add", args.add, "a term to add before fitting, as check suggests it: '{name: EXX, form: ...}'");
   cmd->add_flag("--json", args.json, "the fit as JSON on stdout (docs/json.md)");
+  cmd->add_option("--report", args.report, "also write the check of the fitted model as one self-contained HTML page");
   return cmd;
 }
 
@@ -125,7 +126,7 @@ CLI::App* add_simulate(CLI::App& app, IdentifyArgs& args) {
 namespace {
 
 /// The fitted model file, with a record of what was fitted from which data.
-void write_fitted(const std::string& text, const model::MachineModel& m, const model::ForwardModel& forward,
+std::string write_fitted(const std::string& text, const model::MachineModel& m, const model::ForwardModel& forward,
                   const identify::MeasurementSet& data, const identify::FitReport& r, const std::string& output) {
   std::vector<Eigen::VectorXd> per_term;
   for (std::size_t t = 0; t < m.terms.size(); ++t)
@@ -137,7 +138,23 @@ void write_fitted(const std::string& text, const model::MachineModel& m, const m
       "], observations: {}, free_parameters: {}, identified: {}, significant: {}, rms_before_um: {:.4f}, rms_after_um: "
       "{:.4f}}}",
       data.observations.size(), r.parameters.size(), r.rank, r.significant, r.rms_before * 1e3, r.rms_after * 1e3);
-  write_output(output, model::rewrite_parameters(text, m, per_term, record));
+  std::string fitted = model::rewrite_parameters(text, m, per_term, record);
+  write_output(output, fitted);
+  return fitted;
+}
+
+/// The page check --report would write for the fitted model: the check against the same data.
+void write_fit_report(const IdentifyArgs& args, const std::string& fitted_text, const identify::MeasurementSet& data,
+                      const identify::FitOptions& options) {
+  const model::MachineModel fitted = model::parse_machine_model(fitted_text, args.output);
+  const model::ForwardModel fitted_forward(fitted);
+  const identify::CheckReport c = identify::check(fitted_forward, data);
+  identify::DiagnoseOptions diagnose_options;
+  diagnose_options.noise = c.noise_floor;
+  diagnose_options.fit = options;
+  diagnose_options.fit.progress = nullptr;
+  const identify::Diagnosis d = identify::diagnose(fitted_forward, data, diagnose_options);
+  write_output(args.report, report::html_check_report({fitted, data, c, d, "fit", {}}));
 }
 
 void write_nine_line(const std::string& text, const model::MachineModel& m, const model::ForwardModel& forward,
@@ -179,7 +196,8 @@ int run_fit(const IdentifyArgs& args) {
     fmt::print("{}", fit_json(forward, data, r, args.output, r.refusals.empty()));
     if (!r.refusals.empty())
       throw Error(ErrorKind::data, fmt::format("the fit is not written to {}: {}", args.output, r.refusals.front()));
-    write_fitted(text, m, forward, data, r, args.output);
+    const std::string fitted_text = write_fitted(text, m, forward, data, r, args.output);
+    if (!args.report.empty()) write_fit_report(args, fitted_text, data, options);
     return 0;
   }
   fmt::print(
@@ -219,8 +237,12 @@ int run_fit(const IdentifyArgs& args) {
     for (const std::string& refusal : r.refusals) why += "\n  " + refusal;
     throw Error(ErrorKind::data, fmt::format("the fit is not written to {}: {}", args.output, why));
   }
-  write_fitted(text, m, forward, data, r, args.output);
+  const std::string fitted_text = write_fitted(text, m, forward, data, r, args.output);
   fmt::print("wrote {}\n", args.output);
+  if (!args.report.empty()) {
+    write_fit_report(args, fitted_text, data, options);
+    fmt::print("wrote {}\n", args.report);
+  }
   return 0;
 }
 
@@ -252,7 +274,7 @@ int run_check(const IdentifyArgs& args) {
   const identify::Diagnosis d = identify::diagnose(forward, data, options);
   bar.clear();
   if (!args.report.empty()) {
-    write_output(args.report, report::html_check_report({m, data, r, d}));
+    write_output(args.report, report::html_check_report({m, data, r, d, "check", {}}));
     if (!args.json) fmt::print("wrote {}\n", args.report);
   }
   if (args.json) {

@@ -1,8 +1,9 @@
 #pragma once
-// The check as one self-contained HTML page (no network: inline SVG, no scripts): the
-// residual against every variable before and after refitting, error maps over the
-// workspace, spectra along each linear axis, the missing effects (each with the residual
-// left once it is added), the regions, the identifiability of the model's parameters.
+// The check of a model against measurements as one self-contained HTML page (docs/report.md):
+// per-source deviation plots with the model's curves and ISO 230-2's figures, polar plots of
+// rotary-axis data, volumetric error maps before and after compensation, the terms' shares
+// of the error, the spectra of what is left, the missing effects, the parameters, and the
+// provenance of it all. Plots are plotly.js, inlined: the page makes no network request.
 #include <Eigen/Core>
 #include <string>
 
@@ -15,10 +16,12 @@
 namespace ccomp::report {
 
 struct CheckReportInput {
-  const model::MachineModel& model;
-  const identify::MeasurementSet& data;
+  const model::MachineModel& model;      ///< the model checked (its path and SHA-256 name it)
+  const identify::MeasurementSet& data;  ///< its files are read again for their SHA-256
   const identify::CheckReport& check;    ///< with the residual of the model as it is
   const identify::Diagnosis& diagnosis;  ///< with the model refitted to the data, and its residual
+  std::string command = "check";         ///< what made the page: "check", or "fit" (the fitted model)
+  std::string generated_at;              ///< UTC date and time; empty: now
 };
 
 [[nodiscard]] std::string html_check_report(const CheckReportInput& in);

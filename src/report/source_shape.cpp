@@ -1,0 +1,79 @@
+#include "report/source_shape.hpp"
+
+#include <fmt/format.h>
+
+#include <cmath>
+#include <map>
+
+#include "ccomp/util/interval.hpp"
+
+namespace ccomp::report {
+
+bool is_rotary(std::size_t axis) {
+  return axis >= 3 && axis <= 5;
+}
+char axis_letter(std::size_t axis) {
+  return "XYZABCUVW"[axis];
+}
+
+double axis_value(const identify::Observation& o, std::size_t axis) {
+  return identify::file_axis_value(o, axis, is_rotary(axis));
+}
+
+std::string kind_name(SourceKind kind) {
+  switch (kind) {
+    case SourceKind::line:
+      return "line";
+    case SourceKind::rotary:
+      return "rotary";
+    case SourceKind::volumetric:
+      return "volumetric";
+  }
+  return "";
+}
+
+std::vector<SourceShape> source_shapes(const identify::MeasurementSet& data, const model::MachineModel& model) {
+  std::vector<SourceShape> shapes(data.sources.size());
+  for (std::size_t i = 0; i < data.observations.size(); ++i) shapes[data.observations[i].source].readings.push_back(i);
+  for (SourceShape& s : shapes) {
+    std::vector<std::size_t> linear_moving, rotary_moving;
+    for (const model::AxisSpec& a : model.axes) {
+      const auto axis = static_cast<std::size_t>(std::string_view("XYZABCUVW").find(a.letter));
+      util::Interval range;
+      for (std::size_t i : s.readings) range.add(axis_value(data.observations[i], axis));
+      if (range.width() > 1e-6) (is_rotary(axis) ? rotary_moving : linear_moving).push_back(axis);
+    }
+    util::Interval tool;
+    for (std::size_t i : s.readings)
+      tool.add(data.observations[i].q[static_cast<Eigen::Index>(model::kToolLengthIndex)]);
+    if (!rotary_moving.empty())
+      s.kind = SourceKind::rotary, s.axis = rotary_moving.front();
+    else if (linear_moving.size() == 1 && !(tool.width() > 1e-6))
+      s.kind = SourceKind::line, s.axis = linear_moving.front();
+    else
+      s.kind = SourceKind::volumetric;
+  }
+  return shapes;
+}
+
+std::vector<ReadingDirection> reading_directions(const identify::MeasurementSet& data,
+                                                 const std::vector<std::size_t>& readings) {
+  std::map<std::string, ReadingDirection> by_label;
+  for (std::size_t i : readings) {
+    const Eigen::Vector3d& n = data.observations[i].direction;
+    int axis = -1;
+    for (int k = 0; k < 3; ++k)
+      if (std::abs(std::abs(n[k]) - 1.0) < 1e-6) axis = k;
+    const std::string label =
+        axis >= 0 ? std::string(1, "XYZ"[axis]) : fmt::format("({:.3g}, {:.3g}, {:.3g})", n[0], n[1], n[2]);
+    ReadingDirection& d = by_label[label];
+    d.label = label, d.axis = axis;
+    d.readings.push_back(i);
+    d.sign.push_back(axis >= 0 && n[axis] < 0 ? -1.0 : 1.0);
+  }
+  std::vector<ReadingDirection> out;
+  for (auto& [label, d] : by_label) out.push_back(std::move(d));
+  return out;
+}
+
+}  // namespace ccomp::report
