@@ -27,6 +27,17 @@ constexpr const char* kExitCodes = R"(Exit codes:
   70  internal error: a bug in ccomp, please report it
 With several inputs the exit code is the highest of the files' codes.)";
 
+/// Every option of every command takes one value per occurrence; a repeated option repeats
+/// its flag (--sensor a=1 --sensor b=2). CLI11 lets a vector option take every word up to the
+/// next option, so a path that a host appends after the configured options (LinuxCNC's
+/// [FILTER] entry: `ccomp -m m.yaml -o - --sensor s=20 <path>`) became one more reading and
+/// the run had no input program. Positionals (the input programs) still take all.
+void one_value_per_occurrence(CLI::App& app) {
+  for (CLI::Option* option : app.get_options())
+    if (!option->get_positional()) option->allow_extra_args(false);
+  for (CLI::App* sub : app.get_subcommands([](CLI::App*) { return true; })) one_value_per_occurrence(*sub);
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -50,6 +61,7 @@ int main(int argc, char** argv) {
   CLI::App* simulate_cmd = ccomp::cli::add_simulate(app, simulate);
   CLI::App* positioning_cmd = ccomp::cli::add_positioning(app, positioning);
   CLI::App* nine_line_cmd = ccomp::cli::add_nine_line(app, nine_line);
+  one_value_per_occurrence(app);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

@@ -4,6 +4,7 @@
 
 #include <filesystem>
 #include <regex>
+#include <sstream>
 
 #include "trace_capture.hpp"
 
@@ -20,32 +21,108 @@ std::string strip_header(std::string text) {
   return text;
 }
 
-TEST(Integration, LinuxcncFilterEntryRunsAsLinuxcncRunsIt) {
-  // Take the `ngc =` command from the shipped INI snippet, point it at our model, append the
-  // program's path (what LinuxCNC does) and read stdout.
+/// The `ngc =` command of the shipped INI snippet, pointed at this build and a sample model.
+std::string filter_entry(const std::string& model) {
   std::string command;
   static const std::regex ngc(R"(^ngc\s*=\s*(.*)$)");
   for (const std::string& line : read_lines(source_dir() + "/integration/linuxcnc/ccomp-filter.ini")) {
     std::smatch m;
     if (std::regex_match(line, m, ngc)) command = m[1].str();
   }
-  ASSERT_FALSE(command.empty()) << "no `ngc =` line in the INI snippet";
-  ASSERT_EQ(command.rfind("ccomp ", 0), 0U);
+  EXPECT_FALSE(command.empty()) << "no `ngc =` line in the INI snippet";
+  EXPECT_EQ(command.rfind("ccomp ", 0), 0U);
+  if (command.rfind("ccomp ", 0) != 0) return "false";
   command.replace(0, 5, shell_quote(ccomp_binary()));
-  command =
-      std::regex_replace(command, std::regex("/etc/ccomp/machine.yaml"), source_dir() + "/samples/machines/zero.yaml");
-  command = std::regex_replace(command, std::regex("/etc/ccomp/tool.tbl"), source_dir() + "/samples/tools.tbl");
+  command = std::regex_replace(command, std::regex("/etc/ccomp/machine.yaml"), model);
+  return std::regex_replace(command, std::regex("/etc/ccomp/tool.tbl"), source_dir() + "/samples/tools.tbl");
+}
+
+struct FilterRun {
+  int exit_code = -1;
+  std::string loaded;         ///< stdout: the program AXIS loads
+  std::vector<int> progress;  ///< the FILTER_PROGRESS=N values, in order
+  std::string shown;          ///< the other stderr lines: AXIS's "Filter failed" dialog text
+};
+
+/// Runs a [FILTER] command as AXIS's filter_program() does (axis.py; gmoccapy and qtvcp
+/// copy it): `sh -c "<command> '<path>'"` with the path single-quoted ('\'' for a quote in
+/// it), AXIS_PROGRESS_BAR=1 added to the environment, standard input at end of file,
+/// standard output to the file it then loads, and each stderr line matching
+/// ^FILTER_PROGRESS=(\d*)$ taken for the progress bar while the rest is shown to the user
+/// when the exit code is not 0.
+FilterRun run_as_axis(const std::string& filter, const std::string& path) {
+  std::string quoted;
+  for (char c : path) quoted += c == '\'' ? std::string("'\\''") : std::string(1, c);
+  const CommandResult r =
+      run_command("AXIS_PROGRESS_BAR=1 sh -c " + shell_quote(filter + " '" + quoted + "'"), /*stdin_text=*/"");
+  FilterRun run;
+  run.exit_code = r.exit_code;
+  run.loaded = r.out;
+  static const std::regex progress(R"(^FILTER_PROGRESS=(\d*)$)");
+  std::istringstream err(r.err);
+  for (std::string line; std::getline(err, line);) {
+    std::smatch m;
+    if (std::regex_match(line, m, progress))
+      run.progress.push_back(m[1].str().empty() ? 0 : std::stoi(m[1].str()));
+    else
+      run.shown += line + "\n";
+  }
+  return run;
+}
+
+TEST(Integration, LinuxcncFilterEntryRunsAsAxisRunsIt) {
+  const std::string filter = filter_entry(source_dir() + "/samples/machines/zero.yaml");
   const std::string dir = temp_dir("filter");
-  write_file(dir + "/part.ngc", kProgram);
-  const CommandResult r = run_command(command + " " + dir + "/part.ngc");
-  ASSERT_EQ(r.exit_code, 0) << r.err;
-  EXPECT_EQ(strip_header(r.out), kProgram);
-  EXPECT_NE(r.err.find("FILTER_PROGRESS=100"), std::string::npos);
+  // A quote and a blank in the folder's name: AXIS quotes the path for sh itself.
+  fs::create_directories(dir + "/it's here");
+  write_file(dir + "/it's here/part.ngc", kProgram);
+  const FilterRun r = run_as_axis(filter, dir + "/it's here/part.ngc");
+  ASSERT_EQ(r.exit_code, 0) << r.shown;
+  EXPECT_EQ(strip_header(r.loaded), kProgram);
+  ASSERT_FALSE(r.progress.empty()) << "no FILTER_PROGRESS lines for the progress bar";
+  for (int p : r.progress) {
+    EXPECT_GE(p, 0);
+    EXPECT_LE(p, 100);
+  }
 
   write_file(dir + "/bad.ngc", "G0 X1\nG2 X5 F10\nM2\n");
-  const CommandResult bad = run_command(command + " " + dir + "/bad.ngc");
+  const FilterRun bad = run_as_axis(filter, dir + "/bad.ngc");
   EXPECT_EQ(bad.exit_code, 3);
-  EXPECT_NE(bad.err.find("bad.ngc:2"), std::string::npos) << bad.err;
+  EXPECT_NE(bad.shown.find("bad.ngc:2"), std::string::npos) << bad.shown;
+}
+
+TEST(Integration, LinuxcncFilterTakesTheAppendedPathAfterAnyOption) {
+  // A [FILTER] line may end with any option; LinuxCNC appends the path after it. Options that
+  // repeat (--sensor, --param, --sub-path) must not take the path as one more value: the
+  // filter's output must be what the same options give with the path first.
+  const std::string dir = temp_dir("filter_last");
+  fs::create_directories(dir + "/subs");
+  write_file(dir + "/subs/square.ngc", "O<square> sub\nG1 X[#1] F100\nG1 Y[#1]\nO<square> endsub\nM2\n");
+  write_file(dir + "/part.ngc", kProgram);
+  write_file(dir + "/calls.ngc", "G21 G90\nG0 X0 Y0\nO<square> call [4]\nM2\n");
+  write_file(dir + "/reads.ngc", "G21 G90\nG0 X[#5063] Y2\nM2\n");
+  const std::string hmc = source_dir() + "/samples/machines/hmc-xyzb.yaml";
+  const std::string zero = source_dir() + "/samples/machines/zero.yaml";
+  struct Case {
+    std::string model, program, options;
+  };
+  for (const Case& c :
+       {Case{hmc, "part.ngc", "--sensor bed=24 --sensor column=23 --sensor spindle=31"},
+        Case{zero, "reads.ngc", "--param 5063=1.5"}, Case{zero, "reads.ngc", "--param 5064=2 --param 5063=1.5"},
+        Case{zero, "calls.ngc", "--sub-path " + shell_quote(dir + "/subs")}}) {
+    SCOPED_TRACE(c.options);
+    const std::string program = dir + "/" + c.program;
+    const CommandResult direct =
+        run_command(shell_quote(ccomp_binary()) + " " + shell_quote(program) + " -m " + shell_quote(c.model) +
+                    " --tool-table " + shell_quote(source_dir() + "/samples/tools.tbl") + " -o - " + c.options);
+    ASSERT_EQ(direct.exit_code, 0) << direct.err;
+    const FilterRun r = run_as_axis(filter_entry(c.model) + " " + c.options, program);
+    ASSERT_EQ(r.exit_code, 0) << r.shown;
+    EXPECT_EQ(r.loaded, direct.out);
+    EXPECT_FALSE(r.progress.empty());
+  }
+  // Without the option, the programs that need it are refused: the option was used.
+  EXPECT_EQ(run_as_axis(filter_entry(zero), dir + "/calls.ngc").exit_code, 3);
 }
 
 TEST(Integration, BatchScriptCompensatesAFolder) {
