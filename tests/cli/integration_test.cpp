@@ -125,27 +125,46 @@ TEST(Integration, LinuxcncFilterTakesTheAppendedPathAfterAnyOption) {
   EXPECT_EQ(run_as_axis(filter_entry(zero), dir + "/calls.ngc").exit_code, 3);
 }
 
-TEST(Integration, BatchScriptCompensatesAFolder) {
+TEST(Integration, BatchScriptCountsWhatCcompCompensated) {
   const std::string dir = temp_dir("batch_script");
   fs::create_directories(dir + "/in");
+  // A small machine: X within +-100, so a program can be refused as unsafe (exit 7).
+  write_file(dir + "/m.yaml", "name: small\naxes: {X: {min: -100, max: 100}, Y: {min: -100, max: 100}}\n");
   write_file(dir + "/in/a.ngc", kProgram);
   write_file(dir + "/in/b.NC", kProgram);
+  write_file(dir + "/in/c.tap", kProgram);
   write_file(dir + "/in/notes.txt", "not a program");
-  const std::string script = shell_quote(source_dir() + "/integration/batch/ccomp-batch.sh");
-  const CommandResult r = run_command("CCOMP=" + shell_quote(ccomp_binary()) + " JOBS=2 bash " + script + " " + dir +
-                                      "/in " + dir + "/out " + source_dir() + "/samples/machines/zero.yaml");
+  const std::string batch = "CCOMP=" + shell_quote(ccomp_binary()) + " JOBS=2 bash " +
+                            shell_quote(source_dir() + "/integration/batch/ccomp-batch.sh") + " " + dir + "/in " + dir +
+                            "/out " + dir + "/m.yaml";
+  const CommandResult r = run_command(batch);
   ASSERT_EQ(r.exit_code, 0) << r.err << r.out;
   EXPECT_EQ(strip_header(read_file(dir + "/out/a.ngc")), kProgram);
   EXPECT_EQ(strip_header(read_file(dir + "/out/b.NC")), kProgram);
   EXPECT_FALSE(fs::exists(dir + "/out/notes.txt"));
-  EXPECT_NE(r.out.find("2 of 2 programs compensated"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("3 of 3 programs compensated"), std::string::npos) << r.out;
 
-  write_file(dir + "/in/c.ngc", "G0 X1\nG12.3\nM2\n");
-  const CommandResult failing = run_command("CCOMP=" + shell_quote(ccomp_binary()) + " bash " + script + " " + dir +
-                                            "/in " + dir + "/out2 " + source_dir() + "/samples/machines/zero.yaml");
-  EXPECT_EQ(failing.exit_code, 3);
-  EXPECT_NE(failing.out.find("2 of 3 programs"), std::string::npos) << failing.out;
-  EXPECT_NE(read_file(dir + "/out2/ccomp-batch.log").find("c.ngc:2"), std::string::npos);
+  // The programs change: b now has a G-code error (3), c goes beyond X's limit (7). Their
+  // outputs of the first run are still in the folder; they must not be counted.
+  write_file(dir + "/in/b.NC", "G0 X1\nG12.3\nM2\n");
+  write_file(dir + "/in/c.tap", "G21 G90\nG0 X150\nM2\n");
+  const CommandResult failing = run_command(batch);
+  EXPECT_EQ(failing.exit_code, 7) << "the highest of the programs' codes";
+  EXPECT_NE(failing.out.find("1 of 3 programs compensated"), std::string::npos) << failing.out;
+  EXPECT_NE(failing.out.find("b.NC not compensated (exit 3)"), std::string::npos) << failing.out;
+  EXPECT_NE(failing.out.find("c.tap not compensated (exit 7) (" + dir + "/out/c.tap is an earlier run's output"),
+            std::string::npos)
+      << failing.out;
+  EXPECT_EQ(failing.out.find("a.ngc not compensated"), std::string::npos) << failing.out;
+  const std::string log = read_file(dir + "/out/ccomp-batch.log");
+  EXPECT_NE(log.find("b.NC:2"), std::string::npos) << log;
+  EXPECT_NE(log.find("c.tap:2: refused: axis X would go to 150"), std::string::npos) << log;
+
+  // Only the program error: its code, 3.
+  write_file(dir + "/in/c.tap", kProgram);
+  const CommandResult one = run_command(batch);
+  EXPECT_EQ(one.exit_code, 3);
+  EXPECT_NE(one.out.find("2 of 3 programs compensated"), std::string::npos) << one.out;
 }
 
 TEST(Integration, FreecadWrapperCompensatesInPlace) {
