@@ -8,6 +8,8 @@ packages=(cmake ninja-build g++ pkg-config
           libgtest-dev libgmock-dev libbenchmark-dev bc time
           # headless Chromium renders the HTML report in its test
           chromium
+          # the FreeCAD post's and the Fusion 360 hook's tests (tests/cli/integration_test.cpp)
+          python3 nodejs
           # what LinuxCNC's rs274 (the differential-test oracle) links against
           libpython3.11 libedit2 libtirpc3)
 if [ "${1:-}" = --fuzz ]; then packages+=(clang libclang-rt-14-dev); fi

@@ -1,6 +1,6 @@
 // The hooks of docs/integration.md, run the way their hosts run them: LinuxCNC's [FILTER]
-// entry as AXIS runs it, the shop-floor batch script, and the FreeCAD post wrapper as FreeCAD
-// calls a post processor.
+// entry as AXIS runs it, the shop-floor batch script, the FreeCAD post wrapper as FreeCAD
+// calls a post processor, and the Fusion 360 hook as Fusion calls onTerminate().
 #include <gtest/gtest.h>
 
 #include <filesystem>
@@ -178,6 +178,17 @@ TEST(Integration, FreecadPostRunsAsFreecadRunsIt) {
   EXPECT_EQ(r.exit_code, 0) << r.err;
   EXPECT_EQ(r.err.find("Ran 0 tests"), std::string::npos) << r.err;
   EXPECT_NE(r.err.rfind("\nOK"), std::string::npos) << r.err;
+}
+
+TEST(Integration, Fusion360HookRunsAsFusionRunsIt) {
+  // tests/cli/fusion360/fusion_hook_test.js runs the hook's onTerminate() under node with stubs
+  // of Fusion's post functions; its execute() stands for wsl.exe (Windows command line taken
+  // apart, /mnt/c/ mapped to a folder) and runs this build's ccomp.
+  ASSERT_EQ(run_command("command -v node").exit_code, 0) << "node is needed to run the Fusion 360 hook's test";
+  const CommandResult r = run_command("CCOMP=" + shell_quote(ccomp_binary()) + " node " +
+                                      shell_quote(source_dir() + "/tests/cli/fusion360/fusion_hook_test.js"));
+  EXPECT_EQ(r.exit_code, 0) << r.err << r.out;
+  EXPECT_NE(r.out.find("all checks passed"), std::string::npos) << r.out;
 }
 
 }  // namespace
