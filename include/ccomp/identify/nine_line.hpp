@@ -1,5 +1,5 @@
 #pragma once
-// Seed 003's nine-line method as a workflow: from nine laser lines alone (three per axis,
+// The nine-line method (docs/physics.md Ref 4) as a workflow: from nine laser lines alone (three per axis,
 // positioning on all, straightness on lines 1 and 2) the geometric errors of a 3-axis
 // machine are fitted; then how far each identified error moves per millimetre that a
 // line was placed off its assumed position, and which placement of lines 1 and 3 would
@@ -19,7 +19,7 @@ struct PlacementSensitivity {
   std::string line;       ///< the source (line) and direction whose misplacement moves it most
 };
 
-/// A squareness as seed 003 reports it: the angle between two axes' lines as the nine lines
+/// A squareness as the nine-line method reports it: the angle between two axes' lines as the nine lines
 /// show them (each straightness against its least-squares line, the slopes between them),
 /// drawn by the fitted model through the middle of the measured workspace. Rigid turns of
 /// the whole machine (a carriage's constant yaw, the lasers' alignment) do not change it.
