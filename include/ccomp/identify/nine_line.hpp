@@ -25,8 +25,8 @@ struct PlacementSensitivity {
 /// the whole machine (a carriage's constant yaw, the lasers' alignment) do not change it.
 struct LineSquareness {
   std::string iso;     ///< EC0X, EB0X, EA0Y: the term that carries it in the reference frame
-  std::string seed;    ///< S_xy, S_xz, S_yz
-  double value = 0.0;  ///< rad, in the ISO term's sign (the seed's symbol: `seed_sign` times it)
+  std::string seed;    ///< S_xy, S_xz, S_yz: the symbol of docs/physics.md Ref 1
+  double value = 0.0;  ///< rad, in the ISO term's sign (that symbol's value: `seed_sign` times it)
   double seed_sign = 1.0;
 };
 
