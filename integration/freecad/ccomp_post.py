@@ -31,7 +31,8 @@ BASE_POST = "linuxcnc_post"  # the FreeCAD post processor this one wraps
 
 TOOLTIP = "Posts with %s, then compensates the machine's errors with ccomp." % BASE_POST
 
-parser = argparse.ArgumentParser(prog="ccomp_post", add_help=False)
+# No abbreviations: a base post's own option must never be taken for one of ours.
+parser = argparse.ArgumentParser(prog="ccomp_post", add_help=False, allow_abbrev=False)
 parser.add_argument("--ccomp-model", help="machine model (YAML); default $CCOMP_MODEL")
 parser.add_argument("--ccomp-tools", help="tool table (optional); default $CCOMP_TOOLS")
 parser.add_argument("--ccomp", help="the ccomp binary; default $CCOMP, else ccomp on PATH")
