@@ -45,7 +45,7 @@ struct FilterRun {
   std::string shown;          ///< the other stderr lines: AXIS's "Filter failed" dialog text
 };
 
-/// Runs a [FILTER] command as AXIS's filter_program() does (axis.py; gmoccapy and qtvcp
+/// Runs a [FILTER] command as AXIS's filter_program() does (axis.py; QtVCP and GladeVCP
 /// copy it): `sh -c "<command> '<path>'"` with the path single-quoted ('\'' for a quote in
 /// it), AXIS_PROGRESS_BAR=1 added to the environment, standard input at end of file,
 /// standard output to the file it then loads, and each stderr line matching
