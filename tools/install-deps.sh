@@ -11,6 +11,8 @@ packages=(cmake ninja-build g++ pkg-config
           chromium
           # the tests check every command's --json against docs/schemas/
           python3-jsonschema
+          # the FreeCAD post's and the Fusion 360 hook's tests (tests/cli/integration_test.cpp)
+          python3 nodejs
           # what LinuxCNC's rs274 (the differential-test oracle) links against
           libpython3.11 libedit2 libtirpc3)
 if [ "${1:-}" = --fuzz ]; then packages+=(clang libclang-rt-14-dev); fi

@@ -21,6 +21,9 @@ struct ProgramArgs {
   std::uint64_t max_blocks = 0;  ///< 0: the interpreter's own limit
 };
 void add_program_options(CLI::App& cmd, ProgramArgs& args);
+/// --tolerance's check: a positive, finite number of mm. CLI11's PositiveNumber answers '1um'
+/// with its range printed as a 300-digit double; this names the value and the unit.
+[[nodiscard]] CLI::Validator tolerance_in_mm();
 /// Interpreter options from the shared arguments; `model_dialect` when none is given.
 [[nodiscard]] gcode::InterpreterOptions interpreter_options(const ProgramArgs& args, const std::string& model_dialect);
 

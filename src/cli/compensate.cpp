@@ -47,7 +47,7 @@ void add_compensate(CLI::App& app, CompensateArgs& args) {
                "their values (a line that runs several times needs a correction for each run)");
   app.add_flag("--progress", args.progress, "print FILTER_PROGRESS=N lines on stderr (LinuxCNC filters)");
   app.add_option("--tolerance", args.tolerance, "mm: largest distance of the executed path from the nominal (0.001)")
-      ->check(CLI::PositiveNumber);
+      ->check(tolerance_in_mm());
   app.add_option("--decimals", args.decimals,
                  "decimals of the compensated linear coordinates, in the program's units (default: the program's "
                  "own, at least 4 in mm and 5 in inch)")

@@ -25,7 +25,25 @@ constexpr const char* kExitCodes = R"(Exit codes:
   8   data error: a measurement file is wrong (file:row:column on stderr), or the data
       cannot support the fit (too few readings, a value far beyond its scale: not written)
   70  internal error: a bug in ccomp, please report it
+  128+N  stopped by signal N (130 Ctrl-C, 143 SIGTERM, 129 SIGHUP, as the shell reports
+      it): the temporary output is removed, an earlier output left as it was
 With several inputs the exit code is the highest of the files' codes.)";
+
+/// Every option of every command takes one value per occurrence; a repeated option repeats
+/// its flag (--sensor a=1 --sensor b=2). CLI11 lets a vector option take every word up to the
+/// next option, so a path that a host appends after the configured options (LinuxCNC's
+/// [FILTER] entry: `ccomp -m m.yaml -o - --sensor s=20 <path>`) became one more reading and
+/// the run had no input program. Positionals (the input programs) still take all.
+void one_value_per_occurrence(CLI::App& app) {
+  for (CLI::Option* option : app.get_options()) {
+    if (option->get_positional()) continue;
+    option->allow_extra_args(false);
+    // --help would show a repeatable option as `TEXT ...`, several values after one flag.
+    if (option->get_expected_max() == CLI::detail::expected_max_vector_size)
+      option->option_text(option->get_type_name() + " (repeatable)");
+  }
+  for (CLI::App* sub : app.get_subcommands([](CLI::App*) { return true; })) one_value_per_occurrence(*sub);
+}
 
 }  // namespace
 
@@ -52,6 +70,7 @@ int main(int argc, char** argv) {
   CLI::App* nine_line_cmd = ccomp::cli::add_nine_line(app, nine_line);
   ccomp::cli::ExportArgs export_args;
   CLI::App* export_cmd = ccomp::cli::add_export(app, export_args);
+  one_value_per_occurrence(app);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

@@ -24,6 +24,17 @@ void add_program_options(CLI::App& cmd, ProgramArgs& args) {
       ->check(CLI::PositiveNumber);
 }
 
+CLI::Validator tolerance_in_mm() {
+  return CLI::Validator(
+      [](std::string& text) -> std::string {
+        double v = 0.0;
+        const auto [ptr, ec] = std::from_chars(text.data(), text.data() + text.size(), v);
+        if (ec == std::errc() && ptr == text.data() + text.size() && std::isfinite(v) && v > 0.0) return {};
+        return "'" + text + "' is not a number in mm (0 < tolerance; 1 um is 0.001)";
+      },
+      "MM > 0");
+}
+
 gcode::InterpreterOptions interpreter_options(const ProgramArgs& args, const std::string& model_dialect) {
   gcode::InterpreterOptions o;
   const std::string name = !args.dialect.empty() ? args.dialect : model_dialect.empty() ? "linuxcnc" : model_dialect;

@@ -334,5 +334,26 @@ TEST(Cli, VerifyMeetsTheToleranceInTheHeaderAndWarnsOfAnotherModel) {
   EXPECT_EQ(as_made.err.find("another model"), std::string::npos) << as_made.err;
 }
 
+TEST(Cli, ToleranceThatIsNotMillimetresSaysSo) {
+  const std::string dir = temp_dir("cli_tolerance");
+  write_file(dir + "/p.ngc", "G21 G90\nG0 X1 Y2\nG1 X3 F100\nM2\n");
+  const std::string ccomp = shell_quote(ccomp_binary());
+  const std::string model = " -m " + source_dir() + "/samples/machines/zero.yaml ";
+  const std::string compensate = ccomp + " " + dir + "/p.ngc" + model + "-o " + dir + "/out.ngc --tolerance ";
+  const std::string verify = ccomp + " verify " + dir + "/p.ngc " + dir + "/p.ngc" + model + "--tolerance ";
+  for (const std::string& command : {compensate, verify}) {
+    for (const std::string value : {"1um", "0", "-0.001", "inf", "0.001x"}) {
+      const CommandResult r = run_command(command + "'" + value + "'");
+      EXPECT_EQ(r.exit_code, 2) << command << value;
+      EXPECT_NE(r.err.find("--tolerance: '" + value + "' is not a number in mm"), std::string::npos) << r.err;
+      EXPECT_LT(r.err.size(), 200U) << "a short message, not CLI11's range as a 300-digit double: " << r.err;
+    }
+  }
+  // A number of mm passes the check (and reaches the run: its header names it in um).
+  EXPECT_EQ(run_command(compensate + "0.002").exit_code, 0);
+  EXPECT_NE(read_file(dir + "/out.ngc").find(" at 2 um)"), std::string::npos) << read_file(dir + "/out.ngc");
+  EXPECT_EQ(run_command(verify + "0.002").exit_code, 0);
+}
+
 }  // namespace
 }  // namespace ccomp::test

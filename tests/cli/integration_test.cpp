@@ -1,9 +1,11 @@
 // The hooks of docs/integration.md, run the way their hosts run them: LinuxCNC's [FILTER]
-// entry, the shop-floor batch script, and the FreeCAD wrapper's compensate().
+// entry as AXIS runs it, the shop-floor batch script, the FreeCAD post wrapper as FreeCAD
+// calls a post processor, and the Fusion 360 hook as Fusion calls onTerminate().
 #include <gtest/gtest.h>
 
 #include <filesystem>
 #include <regex>
+#include <sstream>
 
 #include "trace_capture.hpp"
 
@@ -20,68 +22,173 @@ std::string strip_header(std::string text) {
   return text;
 }
 
-TEST(Integration, LinuxcncFilterEntryRunsAsLinuxcncRunsIt) {
-  // Take the `ngc =` command from the shipped INI snippet, point it at our model, append the
-  // program's path (what LinuxCNC does) and read stdout.
+/// The `ngc =` command of the shipped INI snippet, pointed at this build and a sample model.
+std::string filter_entry(const std::string& model) {
   std::string command;
   static const std::regex ngc(R"(^ngc\s*=\s*(.*)$)");
   for (const std::string& line : read_lines(source_dir() + "/integration/linuxcnc/ccomp-filter.ini")) {
     std::smatch m;
     if (std::regex_match(line, m, ngc)) command = m[1].str();
   }
-  ASSERT_FALSE(command.empty()) << "no `ngc =` line in the INI snippet";
-  ASSERT_EQ(command.rfind("ccomp ", 0), 0U);
+  EXPECT_FALSE(command.empty()) << "no `ngc =` line in the INI snippet";
+  EXPECT_EQ(command.rfind("ccomp ", 0), 0U);
+  if (command.rfind("ccomp ", 0) != 0) return "false";
   command.replace(0, 5, shell_quote(ccomp_binary()));
-  command =
-      std::regex_replace(command, std::regex("/etc/ccomp/machine.yaml"), source_dir() + "/samples/machines/zero.yaml");
-  command = std::regex_replace(command, std::regex("/etc/ccomp/tool.tbl"), source_dir() + "/samples/tools.tbl");
-  const std::string dir = temp_dir("filter");
-  write_file(dir + "/part.ngc", kProgram);
-  const CommandResult r = run_command(command + " " + dir + "/part.ngc");
-  ASSERT_EQ(r.exit_code, 0) << r.err;
-  EXPECT_EQ(strip_header(r.out), kProgram);
-  EXPECT_NE(r.err.find("FILTER_PROGRESS=100"), std::string::npos);
-
-  write_file(dir + "/bad.ngc", "G0 X1\nG2 X5 F10\nM2\n");
-  const CommandResult bad = run_command(command + " " + dir + "/bad.ngc");
-  EXPECT_EQ(bad.exit_code, 3);
-  EXPECT_NE(bad.err.find("bad.ngc:2"), std::string::npos) << bad.err;
+  command = std::regex_replace(command, std::regex("/etc/ccomp/machine.yaml"), model);
+  return std::regex_replace(command, std::regex("/etc/ccomp/tool.tbl"), source_dir() + "/samples/tools.tbl");
 }
 
-TEST(Integration, BatchScriptCompensatesAFolder) {
+struct FilterRun {
+  int exit_code = -1;
+  std::string loaded;         ///< stdout: the program AXIS loads
+  std::vector<int> progress;  ///< the FILTER_PROGRESS=N values, in order
+  std::string shown;          ///< the other stderr lines: AXIS's "Filter failed" dialog text
+};
+
+/// Runs a [FILTER] command as AXIS's filter_program() does (axis.py; QtVCP and GladeVCP
+/// copy it): `sh -c "<command> '<path>'"` with the path single-quoted ('\'' for a quote in
+/// it), AXIS_PROGRESS_BAR=1 added to the environment, standard input at end of file,
+/// standard output to the file it then loads, and each stderr line matching
+/// ^FILTER_PROGRESS=(\d*)$ taken for the progress bar while the rest is shown to the user
+/// when the exit code is not 0.
+FilterRun run_as_axis(const std::string& filter, const std::string& path) {
+  std::string quoted;
+  for (char c : path) quoted += c == '\'' ? std::string("'\\''") : std::string(1, c);
+  const CommandResult r =
+      run_command("AXIS_PROGRESS_BAR=1 sh -c " + shell_quote(filter + " '" + quoted + "'"), /*stdin_text=*/"");
+  FilterRun run;
+  run.exit_code = r.exit_code;
+  run.loaded = r.out;
+  static const std::regex progress(R"(^FILTER_PROGRESS=(\d*)$)");
+  std::istringstream err(r.err);
+  for (std::string line; std::getline(err, line);) {
+    std::smatch m;
+    if (std::regex_match(line, m, progress))
+      run.progress.push_back(m[1].str().empty() ? 0 : std::stoi(m[1].str()));
+    else
+      run.shown += line + "\n";
+  }
+  return run;
+}
+
+TEST(Integration, LinuxcncFilterEntryRunsAsAxisRunsIt) {
+  const std::string filter = filter_entry(source_dir() + "/samples/machines/zero.yaml");
+  const std::string dir = temp_dir("filter");
+  // A quote and a blank in the folder's name: AXIS quotes the path for sh itself.
+  fs::create_directories(dir + "/it's here");
+  write_file(dir + "/it's here/part.ngc", kProgram);
+  const FilterRun r = run_as_axis(filter, dir + "/it's here/part.ngc");
+  ASSERT_EQ(r.exit_code, 0) << r.shown;
+  EXPECT_EQ(strip_header(r.loaded), kProgram);
+  ASSERT_FALSE(r.progress.empty()) << "no FILTER_PROGRESS lines for the progress bar";
+  for (int p : r.progress) {
+    EXPECT_GE(p, 0);
+    EXPECT_LE(p, 100);
+  }
+
+  write_file(dir + "/bad.ngc", "G0 X1\nG2 X5 F10\nM2\n");
+  const FilterRun bad = run_as_axis(filter, dir + "/bad.ngc");
+  EXPECT_EQ(bad.exit_code, 3);
+  EXPECT_NE(bad.shown.find("bad.ngc:2"), std::string::npos) << bad.shown;
+}
+
+TEST(Integration, LinuxcncFilterTakesTheAppendedPathAfterAnyOption) {
+  // A [FILTER] line may end with any option; LinuxCNC appends the path after it. Options that
+  // repeat (--sensor, --param, --sub-path) must not take the path as one more value: the
+  // filter's output must be what the same options give with the path first.
+  const std::string dir = temp_dir("filter_last");
+  fs::create_directories(dir + "/subs");
+  write_file(dir + "/subs/square.ngc", "O<square> sub\nG1 X[#1] F100\nG1 Y[#1]\nO<square> endsub\nM2\n");
+  write_file(dir + "/part.ngc", kProgram);
+  write_file(dir + "/calls.ngc", "G21 G90\nG0 X0 Y0\nO<square> call [4]\nM2\n");
+  write_file(dir + "/reads.ngc", "G21 G90\nG0 X[#5063] Y2\nM2\n");
+  const std::string hmc = source_dir() + "/samples/machines/hmc-xyzb.yaml";
+  const std::string zero = source_dir() + "/samples/machines/zero.yaml";
+  struct Case {
+    std::string model, program, options;
+  };
+  for (const Case& c :
+       {Case{hmc, "part.ngc", "--sensor bed=24 --sensor column=23 --sensor spindle=31"},
+        Case{zero, "reads.ngc", "--param 5063=1.5"}, Case{zero, "reads.ngc", "--param 5064=2 --param 5063=1.5"},
+        Case{zero, "calls.ngc", "--sub-path " + shell_quote(dir + "/subs")}}) {
+    SCOPED_TRACE(c.options);
+    const std::string program = dir + "/" + c.program;
+    const CommandResult direct =
+        run_command(shell_quote(ccomp_binary()) + " " + shell_quote(program) + " -m " + shell_quote(c.model) +
+                    " --tool-table " + shell_quote(source_dir() + "/samples/tools.tbl") + " -o - " + c.options);
+    ASSERT_EQ(direct.exit_code, 0) << direct.err;
+    const FilterRun r = run_as_axis(filter_entry(c.model) + " " + c.options, program);
+    ASSERT_EQ(r.exit_code, 0) << r.shown;
+    EXPECT_EQ(r.loaded, direct.out);
+    EXPECT_FALSE(r.progress.empty());
+  }
+  // Without the option, the programs that need it are refused: the option was used.
+  EXPECT_EQ(run_as_axis(filter_entry(zero), dir + "/calls.ngc").exit_code, 3);
+}
+
+TEST(Integration, BatchScriptCountsWhatCcompCompensated) {
   const std::string dir = temp_dir("batch_script");
   fs::create_directories(dir + "/in");
+  // A small machine: X within +-100, so a program can be refused as unsafe (exit 7).
+  write_file(dir + "/m.yaml", "name: small\naxes: {X: {min: -100, max: 100}, Y: {min: -100, max: 100}}\n");
   write_file(dir + "/in/a.ngc", kProgram);
   write_file(dir + "/in/b.NC", kProgram);
+  write_file(dir + "/in/c.tap", kProgram);
   write_file(dir + "/in/notes.txt", "not a program");
-  const std::string script = shell_quote(source_dir() + "/integration/batch/ccomp-batch.sh");
-  const CommandResult r = run_command("CCOMP=" + shell_quote(ccomp_binary()) + " JOBS=2 bash " + script + " " + dir +
-                                      "/in " + dir + "/out " + source_dir() + "/samples/machines/zero.yaml");
+  const std::string batch = "CCOMP=" + shell_quote(ccomp_binary()) + " JOBS=2 bash " +
+                            shell_quote(source_dir() + "/integration/batch/ccomp-batch.sh") + " " + dir + "/in " + dir +
+                            "/out " + dir + "/m.yaml";
+  const CommandResult r = run_command(batch);
   ASSERT_EQ(r.exit_code, 0) << r.err << r.out;
   EXPECT_EQ(strip_header(read_file(dir + "/out/a.ngc")), kProgram);
   EXPECT_EQ(strip_header(read_file(dir + "/out/b.NC")), kProgram);
   EXPECT_FALSE(fs::exists(dir + "/out/notes.txt"));
-  EXPECT_NE(r.out.find("2 of 2 programs compensated"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("3 of 3 programs compensated"), std::string::npos) << r.out;
 
-  write_file(dir + "/in/c.ngc", "G0 X1\nG12.3\nM2\n");
-  const CommandResult failing = run_command("CCOMP=" + shell_quote(ccomp_binary()) + " bash " + script + " " + dir +
-                                            "/in " + dir + "/out2 " + source_dir() + "/samples/machines/zero.yaml");
-  EXPECT_EQ(failing.exit_code, 3);
-  EXPECT_NE(failing.out.find("2 of 3 programs"), std::string::npos) << failing.out;
-  EXPECT_NE(read_file(dir + "/out2/ccomp-batch.log").find("c.ngc:2"), std::string::npos);
+  // The programs change: b now has a G-code error (3), c goes beyond X's limit (7). Their
+  // outputs of the first run are still in the folder; they must not be counted.
+  write_file(dir + "/in/b.NC", "G0 X1\nG12.3\nM2\n");
+  write_file(dir + "/in/c.tap", "G21 G90\nG0 X150\nM2\n");
+  const CommandResult failing = run_command(batch);
+  EXPECT_EQ(failing.exit_code, 7) << "the highest of the programs' codes";
+  EXPECT_NE(failing.out.find("1 of 3 programs compensated"), std::string::npos) << failing.out;
+  EXPECT_NE(failing.out.find("b.NC not compensated (exit 3)"), std::string::npos) << failing.out;
+  EXPECT_NE(failing.out.find("c.tap not compensated (exit 7) (" + dir + "/out/c.tap is an earlier run's output"),
+            std::string::npos)
+      << failing.out;
+  EXPECT_EQ(failing.out.find("a.ngc not compensated"), std::string::npos) << failing.out;
+  const std::string log = read_file(dir + "/out/ccomp-batch.log");
+  EXPECT_NE(log.find("b.NC:2"), std::string::npos) << log;
+  EXPECT_NE(log.find("c.tap:2: refused: axis X would go to 150"), std::string::npos) << log;
+
+  // Only the program error: its code, 3.
+  write_file(dir + "/in/c.tap", kProgram);
+  const CommandResult one = run_command(batch);
+  EXPECT_EQ(one.exit_code, 3);
+  EXPECT_NE(one.out.find("2 of 3 programs compensated"), std::string::npos) << one.out;
 }
 
-TEST(Integration, FreecadWrapperCompensatesInPlace) {
-  if (run_command("command -v python3").exit_code != 0) GTEST_SKIP() << "python3 not installed";
-  const std::string dir = temp_dir("freecad");
-  write_file(dir + "/part.nc", kProgram);
-  const CommandResult r = run_command(
-      "cd " + shell_quote(source_dir() + "/integration/freecad") + " && CCOMP=" + shell_quote(ccomp_binary()) +
-      " CCOMP_MODEL=" + shell_quote(source_dir() + "/samples/machines/zero.yaml") +
-      " python3 -c 'import ccomp_post, sys; ccomp_post.compensate(sys.argv[1])' " + dir + "/part.nc");
-  ASSERT_EQ(r.exit_code, 0) << r.err;
-  EXPECT_EQ(strip_header(read_file(dir + "/part.nc")), kProgram);
-  EXPECT_EQ(read_file(dir + "/part.nc.orig"), kProgram);
+TEST(Integration, FreecadPostRunsAsFreecadRunsIt) {
+  // tests/cli/freecad/freecad_post_test.py imports the wrapper by name with stubs of the
+  // FreeCAD modules a post imports, and calls export(objects, filename, argstring) as FreeCAD
+  // 0.21 (a file name) and 1.0 ("-") do. python3 is a test dependency: no python, a failure.
+  ASSERT_EQ(run_command("command -v python3").exit_code, 0) << "python3 is needed to run the FreeCAD post's test";
+  const CommandResult r = run_command("CCOMP=" + shell_quote(ccomp_binary()) + " python3 " +
+                                      shell_quote(source_dir() + "/tests/cli/freecad/freecad_post_test.py"));
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(r.err.find("Ran 0 tests"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.rfind("\nOK"), std::string::npos) << r.err;
+}
+
+TEST(Integration, Fusion360HookRunsAsFusionRunsIt) {
+  // tests/cli/fusion360/fusion_hook_test.js runs the hook's onTerminate() under node with stubs
+  // of Fusion's post functions; its execute() stands for wsl.exe (Windows command line taken
+  // apart, /mnt/c/ mapped to a folder) and runs this build's ccomp.
+  ASSERT_EQ(run_command("command -v node").exit_code, 0) << "node is needed to run the Fusion 360 hook's test";
+  const CommandResult r = run_command("CCOMP=" + shell_quote(ccomp_binary()) + " node " +
+                                      shell_quote(source_dir() + "/tests/cli/fusion360/fusion_hook_test.js"));
+  EXPECT_EQ(r.exit_code, 0) << r.err << r.out;
+  EXPECT_NE(r.out.find("all checks passed"), std::string::npos) << r.out;
 }
 
 }  // namespace

@@ -1,4 +1,4 @@
-// Seed 003's nine-line method: the geometric errors of a 3-axis machine from nine laser
+// The nine-line method (docs/physics.md Ref 4): the geometric errors of a 3-axis machine from nine laser
 // lines, their sensitivity to where the lines were placed, and the placement study.
 #include "ccomp/identify/nine_line.hpp"
 
@@ -12,7 +12,7 @@ namespace ccomp::identify {
 namespace {
 
 /// The 18 error motions (slope and curvature; their constants are the work offset's) and
-/// the 3 squarenesses: seed 003's 21 geometric errors. `scale` 0 gives the blank start.
+/// the 3 squarenesses: Ref 4's 21 geometric errors. `scale` 0 gives the blank start.
 model::MachineModel vmc(double scale) {
   std::string terms = "terms:\n";
   int k = 0;
@@ -52,7 +52,7 @@ TEST(NineLine, FitsTheGeometricErrorsAndStudiesThePlacement) {
     EXPECT_NE(s.line.find("-line"), std::string::npos) << s.parameter << " names the line that moves it";
   }
   ASSERT_EQ(r.placements.size(), 6U);
-  // Seed 003: lines bunched in the middle (0.4 from the edges) make the result far more
+  // Ref 4: lines bunched in the middle (0.4 from the edges) make the result far more
   // sensitive to their placement than lines spread across the workspace (0.1).
   auto at = [&](double inset) {
     for (const auto& [where, value] : r.placements)
@@ -65,7 +65,7 @@ TEST(NineLine, FitsTheGeometricErrorsAndStudiesThePlacement) {
 
 TEST(NineLine, DeterminesTheSquarenessBetweenTheLines) {
   // A machine out of square, its straightness lines sloped too (the slope of a straightness
-  // is the line's direction): seed 003 reports the angles between the lines, X along
+  // is the line's direction): Ref 4 reports the angles between the lines, X along
   // (1, EC0X + EYX', -EB0X + EZX'), Y along (EXY', 1, EA0Y + EZY'), Z along (EXZ', EYZ', 1),
   // a prime the slope. The start knows nothing; the truth's carriages do not turn.
   std::string text =

@@ -1,8 +1,8 @@
 #pragma once
-// Positioning of a linear axis by ISO 230-2 from bidirectional runs (seed 002): per target
+// Positioning of a linear axis by ISO 230-2 from bidirectional runs (docs/physics.md Ref 3): per target
 // the mean deviations in each approach direction, their spread and the reversal; for the
 // axis the accuracy A, reversal B, systematic deviation E, mean deviation M and
-// repeatability R; and seed 002's split of the mean deviation into a cumulative part (a
+// repeatability R; and Ref 3's split of the mean deviation into a cumulative part (a
 // smooth curve), a periodic part (the screw's or scale's pitch) and the reversal.
 #include <cstddef>
 #include <string>
@@ -30,7 +30,7 @@ struct PositioningReport {
   double E = 0, E_up = 0, E_down = 0;  ///< systematic positional deviation
   double M = 0;                        ///< mean bidirectional positional deviation
   double R = 0, R_up = 0, R_down = 0;  ///< repeatability
-  // seed 002's decomposition of the mean bidirectional deviation
+  // Ref 3's decomposition of the mean bidirectional deviation
   std::vector<double> cumulative;   ///< cubic in the position (mm per mm^k), k = 0..3
   double period = 0.0;              ///< mm, the periodic part's (0: none significant)
   double periodic_amplitude = 0.0;  ///< mm

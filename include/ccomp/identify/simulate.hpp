@@ -11,11 +11,11 @@
 namespace ccomp::identify {
 
 enum class Plan : std::uint8_t {
-  nine_lines,  ///< seed 003: three laser lines per linear axis, bidirectional passes
+  nine_lines,  ///< Ref 4 (docs/physics.md): three laser lines per linear axis, bidirectional passes
   grid,        ///< a volumetric grid of full deviations at several tool lengths
   sphere,      ///< a sphere on the table probed at rotary angles
   thermal,     ///< a drift test: fixed points over hours, sensors warming up
-  test_piece,  ///< seed 001: faces cut at B 0/90/180/270 deg, probed on a CMM along their normals
+  test_piece,  ///< Ref 2 (docs/physics.md): faces cut at B 0/90/180/270 deg, probed on a CMM along their normals
 };
 
 /// "nine_lines" -> Plan; throws ccomp::Error (usage) naming the known plans.
@@ -30,7 +30,7 @@ struct SimulateOptions {
   double rotary_step = 15.0;   ///< deg between the sphere's probings
   int runs = 1;
   /// Where lines 1 and 3 of each axis sit, as a fraction of the workspace from its edges
-  /// (0.1: near the edges, seed 003's advice; 0.5 would put all three lines together).
+  /// (0.1: near the edges, Ref 4's advice; 0.5 would put all three lines together).
   double line_inset = 0.1;  ///< out-and-back runs of each laser line (ISO 230-2 asks for 5)
   double hours = 4.0;       ///< length of the thermal run
   /// Sensor temperatures at the end of the thermal run (degC); 20 elsewhere.

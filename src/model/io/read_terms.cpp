@@ -23,7 +23,7 @@ struct IsoName {
   double sign = 1.0;
 };
 
-/// The seed's symbols, accepted as aliases of ISO 230-1 names. The seed's squareness S and
+/// The symbols of docs/physics.md Ref 1, accepted as aliases of ISO 230-1 names. Its squareness S and
 /// parallelism P are positive when the angle between the positive directions (of the two
 /// lines, or of the reference plane's normal and the axis) exceeds 90 deg: with X's line
 /// along (1, EC0X, -EB0X), Y's along (0, 1, EA0Y) and B's along (-EC0B, 1, EA0B),
@@ -375,7 +375,7 @@ Parameters read_form(const TermReading& r, ErrorTermSpec& t) {
                   r.what, r.form));
 }
 
-/// A seed symbol of the opposite sign flips the term's amounts, not its shape (a period,
+/// A symbol of Ref 1 of the opposite sign flips the term's amounts, not its shape (a period,
 /// a time constant, a bump's place and width).
 void apply_sign(const ErrorTermSpec& t, double sign, Parameters& p) {
   for (std::size_t k = 0; k < p.values.size(); ++k) {
