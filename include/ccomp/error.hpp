@@ -20,7 +20,7 @@ enum class ErrorKind : std::uint8_t {
   internal = 70,    ///< a bug in ccomp
 };
 
-/// The process exit code for an error of this kind (0 is success, 1 is "warnings").
+/// The process exit code for an error of this kind (0 is success; warnings do not change it).
 [[nodiscard]] constexpr int exit_code(ErrorKind kind) {
   return static_cast<int>(kind);
 }

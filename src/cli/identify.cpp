@@ -1,5 +1,5 @@
 // ccomp fit, check and simulate: the machine model against measurements (the CSV contract
-// of physics.md sect. 5).
+// of docs/physics.md, sect. 6).
 #include <fmt/format.h>
 
 #include <algorithm>
@@ -127,7 +127,8 @@ namespace {
 
 /// The fitted model file, with a record of what was fitted from which data.
 std::string write_fitted(const std::string& text, const model::MachineModel& m, const model::ForwardModel& forward,
-                  const identify::MeasurementSet& data, const identify::FitReport& r, const std::string& output) {
+                         const identify::MeasurementSet& data, const identify::FitReport& r,
+                         const std::string& output) {
   std::vector<Eigen::VectorXd> per_term;
   for (std::size_t t = 0; t < m.terms.size(); ++t)
     per_term.push_back(
@@ -385,17 +386,20 @@ int run_positioning(const IdentifyArgs& args) {
   fmt::print("  systematic          E  {:8.3f} um  (up {:.3f}, down {:.3f})\n", r.E * um, r.E_up * um, r.E_down * um);
   fmt::print("  mean bidirectional  M  {:8.3f} um\n", r.M * um);
   fmt::print("  repeatability       R  {:8.3f} um  (up {:.3f}, down {:.3f})\n", r.R * um, r.R_up * um, r.R_down * um);
-  fmt::print("seed 002's parts of the mean deviation: cumulative cubic [{:.4g}, {:.4g}, {:.4g}, {:.4g}] um/mm^k",
-             r.cumulative[0] * um, r.cumulative[1] * um, r.cumulative[2] * um, r.cumulative[3] * um);
+  fmt::print(
+      "parts of the mean deviation (docs/physics.md [Ref 3]): cumulative cubic [{:.4g}, {:.4g}, {:.4g}, {:.4g}] "
+      "um/mm^k",
+      r.cumulative[0] * um, r.cumulative[1] * um, r.cumulative[2] * um, r.cumulative[3] * um);
   if (r.period > 0) fmt::print("; periodic {:.4g} mm, {:.3f} um", r.period, r.periodic_amplitude * um);
   fmt::print("; reversal {:+.3f} um; {:.3f} um left\n", r.B_mean * um, r.rms_left * um);
   return 0;
 }
 
 CLI::App* add_nine_line(CLI::App& app, IdentifyArgs& args) {
-  CLI::App* cmd = app.add_subcommand("nine-line",
-                                     "seed 003: a 3-axis machine's geometric errors from nine laser lines, "
-                                     "their sensitivity to line placement, and a better placement");
+  CLI::App* cmd =
+      app.add_subcommand("nine-line",
+                         "a 3-axis machine's geometric errors from nine laser lines (docs/physics.md [Ref 4]), "
+                         "their sensitivity to line placement, and a better placement");
   cmd->add_option("measurements", args.measurements, "the nine lines (CSV; sources x-line1 .. z-line3)")->required();
   add_common(*cmd, args);
   cmd->add_option("-o,--output", args.output, "the fitted model (YAML)");
@@ -425,7 +429,7 @@ int run_nine_line(const IdentifyArgs& args) {
                p.identified ? "" : "(not determined by nine lines alone)");
   }
   if (!r.squareness.empty()) {
-    fmt::print("squareness between the lines (straightness against its least-squares line, seed 003):\n");
+    fmt::print("squareness between the lines (straightness against its least-squares line, [Ref 4]):\n");
     for (const identify::LineSquareness& q : r.squareness)
       fmt::print("  {:<5} {:>9.3f} urad  ({} = {:.3f} urad)\n", q.iso, q.value * 1e6, q.seed,
                  q.seed_sign * q.value * 1e6);
@@ -443,7 +447,7 @@ int run_nine_line(const IdentifyArgs& args) {
   }
   fmt::print("placement of lines 1 and 3 (fraction of the workspace from its edges) against overall sensitivity:\n");
   for (const auto& [inset, value] : r.placements) fmt::print("  {:4.2f}  {:.4g}\n", inset, value);
-  fmt::print("recommended: lines 1 and 3 at {:.2f} of the workspace from its edges (seed 003: spread them across it)\n",
+  fmt::print("recommended: lines 1 and 3 at {:.2f} of the workspace from its edges ([Ref 4]: spread them across it)\n",
              r.recommended_inset);
   if (!args.output.empty()) {
     write_nine_line(text, m, forward, data, r, args.output);

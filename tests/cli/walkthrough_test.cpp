@@ -58,11 +58,10 @@ TEST(Readme, ExitCodeTableListsEveryCodeTheCliReturns) {
 TEST(Readme, DocsAndSamplesPointOnlyInsideTheRepository) {
   // The source papers are cited by docs/physics.md's references, never by a path or a name
   // (../shared/physics.md, "seed 003") a user who clones the project does not have.
-  // src/ is not checked yet: src/cli/identify.cpp still prints "seed 00N" (its owner's).
   namespace fs = std::filesystem;
   static const std::regex outside(R"(\.\./shared/|shared/physics|[Ss]eeds? 00\d|the seed's)");
   std::vector<fs::path> files{source_dir() + "/README.md"};
-  for (const char* folder : {"docs", "samples", "integration", "bench", "tools", "include"})
+  for (const char* folder : {"docs", "samples", "integration", "bench", "tools", "include", "src"})
     for (const auto& entry : fs::recursive_directory_iterator(source_dir() + "/" + folder))
       if (entry.is_regular_file() && entry.file_size() < (1U << 20)) files.push_back(entry.path());
   for (const fs::path& file : files) {
