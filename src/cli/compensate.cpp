@@ -69,16 +69,17 @@ struct Target {
   std::string output;  ///< "-" for stdout
 };
 
-/// One line per program on stderr: what the machine's error was and what is left.
-void print_summary(const Target& t, const model::MachineModel& model, const compensate::JobReport& r,
-                   const CompensateArgs& args) {
-  if (args.quiet || model.terms.empty()) return;
-  fmt::print(stderr,
-             "{}: {} moves compensated ({} lines added) for '{}' at {} um: error before {:.2f} um, after {:.2f} um; "
-             "largest correction {:.1f} um; orientation error left {:.1f} urad\n",
-             t.input == "-" ? "<stdin>" : t.input, r.compensated_moves, r.added_lines, model.name,
-             args.tolerance * 1000.0, r.max_error_before * 1000.0, r.max_error_after * 1000.0,
-             r.max_correction * 1000.0, r.max_orientation_error * 1e6);
+/// One line per program for stderr: what the machine's error was and what is left (none
+/// with -q, or for the zero model).
+std::string summary_line(const Target& t, const model::MachineModel& model, const compensate::JobReport& r,
+                         const CompensateArgs& args) {
+  if (args.quiet || model.terms.empty()) return "";
+  return fmt::format(
+      "{}: {} moves compensated ({} lines added) for '{}' at {} um: error before {:.2f} um, after {:.2f} um; "
+      "largest correction {:.1f} um; orientation error left {:.1f} urad\n",
+      t.input == "-" ? "<stdin>" : t.input, r.compensated_moves, r.added_lines, model.name, args.tolerance * 1000.0,
+      r.max_error_before * 1000.0, r.max_error_after * 1000.0, r.max_correction * 1000.0,
+      r.max_orientation_error * 1e6);
 }
 
 /// Keeps a copy of `input` as `<input><suffix>`, else numbered `.1`, `.2`... (a backup already
@@ -239,7 +240,7 @@ int run_compensate(const CompensateArgs& args) {
   }
   SharedProgress whole(sizes);
   ProgressBar bar(targets.size() == 1 ? targets[0].input : fmt::format("{} programs", targets.size()),
-                  !args.progress && !args.quiet && stderr_is_terminal());
+                  !args.progress && !args.quiet && !args.json && stderr_is_terminal());
   std::vector<std::unique_ptr<FilterProgress>> filter;
   for (const Target& t : targets)
     filter.push_back(std::make_unique<FilterProgress>(targets.size() > 1 ? t.input + ": " : std::string()));
@@ -247,10 +248,8 @@ int run_compensate(const CompensateArgs& args) {
     for (std::size_t i = next++; i < targets.size(); i = next++) {
       compensate::JobOptions mine = options;
       const std::string name = targets[i].input == "-" ? "<stdin>" : targets[i].input;
-      mine.warning = [&report, &bar, name](const std::string& message, std::uint32_t line) {
-        std::lock_guard lock(report);
-        bar.clear();
-        fmt::print(stderr, "{}:{}: warning: {}\n", name, line, message);
+      mine.warning = [&bar, name](const std::string& message, std::uint32_t line) {
+        bar.print_above(fmt::format("{}:{}: warning: {}\n", name, line, message));
       };
       if (args.progress)
         mine.progress = [&filter, i](double fraction) { filter[i]->update(fraction); };
@@ -260,15 +259,13 @@ int run_compensate(const CompensateArgs& args) {
         const compensate::JobReport r = compensate_one(targets[i], model, mine, args);
         std::lock_guard lock(report);
         outcomes[i].done = true, outcomes[i].report = r;
-        bar.clear();
-        if (!args.json) print_summary(targets[i], model, r, args);
+        if (!args.json) bar.print_above(summary_line(targets[i], model, r, args));
       } catch (const std::exception& caught) {
         // Anything but a ccomp::Error is a bug in ccomp; it must not end the other programs.
         const auto* known = dynamic_cast<const Error*>(&caught);
         const Error e = known ? *known : Error(ErrorKind::internal, caught.what());
         std::lock_guard lock(report);
-        bar.clear();
-        fmt::print(stderr, "{}\n", format_error(e));
+        bar.print_above(format_error(e) + "\n");
         int code = exit_code(e.kind());
         outcomes[i].exit_code = code, outcomes[i].error = format_error(e);
         int seen = worst.load();

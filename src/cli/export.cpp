@@ -29,7 +29,9 @@ const model::AxisSpec* axis_spec(const model::MachineModel& m, char letter) {
 
 /// The line the tables are taken along: each other axis at --at's value, else at 0 when
 /// its travel holds 0, else mid-travel; rotary axes at 0.
-model::ChainQ table_line(const model::MachineModel& m, const ExportArgs& args) {
+/// `axis` is the table's: an --at for it is refused when `own_table`, else (another axis'
+/// table, for the workspace figures) left out.
+model::ChainQ table_line(const model::MachineModel& m, const ExportArgs& args, char axis, bool own_table) {
   model::ChainQ q = model::ChainQ::Zero();
   for (const model::AxisSpec& a : m.axes) {
     const auto j = static_cast<Eigen::Index>(kAxisLetters.find(a.letter));
@@ -45,6 +47,12 @@ model::ChainQ table_line(const model::MachineModel& m, const ExportArgs& args) {
     const model::AxisSpec* spec = axis_spec(m, letter);
     if (spec == nullptr)
       throw Error(ErrorKind::usage, fmt::format("--at {}: the machine '{}' has no {} axis", at, m.name, letter));
+    if (letter == axis) {
+      if (!own_table) continue;
+      throw Error(ErrorKind::usage, fmt::format("--at {}: {} is the table's own axis, which runs over its travel "
+                                                "(--from, --to)",
+                                                at, letter));
+    }
     try {
       std::size_t used = 0;
       v = std::stod(at.substr(2), &used);
@@ -52,6 +60,9 @@ model::ChainQ table_line(const model::MachineModel& m, const ExportArgs& args) {
     } catch (const std::exception&) {
       throw Error(ErrorKind::usage, "--at " + at + ": '" + at.substr(2) + "' is not a number");
     }
+    if (v < spec->min || v > spec->max)
+      throw Error(ErrorKind::usage,
+                  fmt::format("--at {}: {} travels from {:g} to {:g}", at, letter, spec->min, spec->max));
     q[static_cast<Eigen::Index>(kAxisLetters.find(letter))] =
         spec->type == model::AxisType::rotary ? v * M_PI / 180.0 : v;
   }
@@ -60,7 +71,7 @@ model::ChainQ table_line(const model::MachineModel& m, const ExportArgs& args) {
 }
 
 controller::TableOptions table_options(const model::MachineModel& m, const ExportArgs& args, char axis,
-                                       controller::Control control) {
+                                       controller::Control control, bool own_table = true) {
   const model::AxisSpec* spec = axis_spec(m, axis);
   if (spec == nullptr)
     throw Error(ErrorKind::usage, fmt::format("--axis {}: the machine '{}' has no such axis", axis, m.name));
@@ -82,7 +93,7 @@ controller::TableOptions table_options(const model::MachineModel& m, const Expor
   o.axis = axis;
   o.from = grid.from, o.to = grid.to, o.step = grid.step;
   o.reference = std::clamp(0.0, o.from, o.to);
-  o.line = table_line(m, args);
+  o.line = table_line(m, args, axis, own_table);
   o.conditions = model::conditions_for(m, model::parse_sensor_readings(args.sensors), args.time);
   return o;
 }
@@ -100,32 +111,45 @@ controller::WriteOptions write_options(const ExportArgs& args, const model::Mach
 }
 
 /// What the model holds that no table of this control carries, by term.
+/// What the model holds that no table of the control carries, by term (each term once, in
+/// the first of these that holds it).
 struct Uncarried {
-  std::vector<std::string> thermal, rotary, off_line;
+  std::vector<std::string> thermal, rotary, straightness, off_line;
 };
-Uncarried uncarried_terms(const model::MachineModel& m) {
+
+const model::LinkSpec* link_of(const model::MachineModel& m, const std::string& name) {
+  for (const std::vector<model::LinkSpec>* chain : {&m.workpiece_chain, &m.tool_chain})
+    for (const model::LinkSpec& l : *chain)
+      if (l.name == name) return &l;
+  return nullptr;
+}
+
+Uncarried uncarried_terms(const model::MachineModel& m, controller::Control control) {
   Uncarried u;
+  const bool cross = controller::control_limits(control).cross;
+  std::vector<std::string> seen;
   for (const model::ErrorTermSpec& t : m.terms) {
-    const auto link = std::find_if(m.workpiece_chain.begin(), m.workpiece_chain.end(),
-                                   [&](const model::LinkSpec& l) { return l.name == t.link; });
-    const auto tool_link = std::find_if(m.tool_chain.begin(), m.tool_chain.end(),
-                                        [&](const model::LinkSpec& l) { return l.name == t.link; });
-    const model::LinkSpec* l = link != m.workpiece_chain.end()   ? &*link
-                               : tool_link != m.tool_chain.end() ? &*tool_link
-                                                                 : nullptr;
+    if (std::find(seen.begin(), seen.end(), t.name) != seen.end()) continue;
+    const model::LinkSpec* l = link_of(m, t.link);
+    const model::AxisSpec* spec = l != nullptr && l->axis ? axis_spec(m, *l->axis) : nullptr;
     const bool thermal =
         t.primary.kind == model::VariableKind::temperature || t.primary.kind == model::VariableKind::time ||
         t.secondary.kind == model::VariableKind::temperature || t.secondary.kind == model::VariableKind::time;
-    const model::AxisSpec* spec = l != nullptr && l->axis ? axis_spec(m, *l->axis) : nullptr;
-    auto add = [&](std::vector<std::string>& names) {
-      if (std::find(names.begin(), names.end(), t.name) == names.end()) names.push_back(t.name);
-    };
+    const bool linear = spec != nullptr && spec->type == model::AxisType::linear;
+    const auto own = linear ? static_cast<int>(kAxisLetters.find(spec->letter)) : -1;
+    const bool location = t.placement == model::ErrorPlacement::location;
+    std::vector<std::string>* list = nullptr;
     if (thermal)
-      add(u.thermal);
-    else if (spec != nullptr && spec->type == model::AxisType::rotary)
-      add(u.rotary);
-    else if (t.component >= 3)
-      add(u.off_line);
+      list = &u.thermal;
+    else if (spec != nullptr && !linear)
+      list = &u.rotary;
+    else if (linear && !cross && ((t.component < 3 && t.component != own) || (location && t.component >= 3)))
+      list = &u.straightness;  // straightness and squareness: other axes' corrections
+    else if (linear && !location && t.component >= 3)
+      list = &u.off_line;
+    if (list == nullptr) continue;
+    list->push_back(t.name);
+    seen.push_back(t.name);
   }
   return u;
 }
@@ -212,14 +236,14 @@ int run_export(const ExportArgs& args) {
       all.push_back(applied);
       continue;
     }
-    const controller::TableOptions other = table_options(m, others, a.letter, control);
+    const controller::TableOptions other = table_options(m, others, a.letter, control, false);
     all.push_back(controller::as_control_applies(control, controller::sample_axis_table(forward, other), w));
   }
   const controller::Residual workspace =
       controller::table_residual(forward, all, controller::workspace_points(m, o.line, 5), reference, o.conditions);
   const controller::Residual linear_workspace = controller::table_residual(
       forward, all, controller::workspace_points(m, o.line, 5, false), reference, o.conditions);
-  const Uncarried u = uncarried_terms(m);
+  const Uncarried u = uncarried_terms(m, control);
   write_output(args.output, text);
   if (args.json) {
     util::JsonWriter j;
@@ -234,6 +258,7 @@ int run_export(const ExportArgs& args) {
     json_residual(j, "workspace_linear_axes", linear_workspace);
     json_names(j, "thermal_terms", u.thermal);
     json_names(j, "rotary_terms", u.rotary);
+    json_names(j, "cross_terms", u.straightness);
     json_names(j, "angular_terms", u.off_line);
     j.end_object();
     fmt::print("{}", j.text());
@@ -250,6 +275,7 @@ int run_export(const ExportArgs& args) {
              "mm tool\n",
              args.output == "-" ? "stdout" : args.output, args.control, axis, m.name, table.positions.size(), o.from,
              o.to, o.step, table.bidirectional() ? ", by direction of travel" : "", on_line, args.tool_length);
+  fmt::print(stderr, "  {}\n", w.header.front());
   fmt::print(stderr,
              "  errors relative to the reference point ({} at {:g}, where every table is 0; the machine is {:.3f} um "
              "off there, which a work offset probed there takes)\n",
@@ -259,16 +285,19 @@ int run_export(const ExportArgs& args) {
   fmt::print(stderr, "  along the line, the whole error: max {:.3f} um -> {:.3f} um\n", along.max_before_um,
              along.max_after_um);
   fmt::print(stderr,
-             "  with every linear axis' table made so, over the workspace ({} points, both directions of travel; "
-             "without -> with tables):\n    the linear axes alone (rotary axes as on the line): max {:.2f} -> {:.2f} "
-             "um, rms {:.2f} -> {:.2f} um\n    every axis: max {:.2f} -> {:.2f} um, rms {:.2f} -> {:.2f} um\n  "
-             "the tables hold their own lines; the rest only ccomp's rewriting corrects:\n",
-             workspace.points, linear_workspace.max_before_um, linear_workspace.max_after_um,
-             linear_workspace.rms_before_um, linear_workspace.rms_after_um, workspace.max_before_um,
+             "  with every linear axis' table made so, over the workspace (both directions of travel; without -> "
+             "with tables):\n    the linear axes alone ({} points, rotary axes as on the line): max {:.2f} -> {:.2f} "
+             "um, rms {:.2f} -> {:.2f} um\n    every axis ({} points): max {:.2f} -> {:.2f} um, rms {:.2f} -> {:.2f} "
+             "um\n  the tables hold their own lines; the rest only ccomp's rewriting corrects:\n",
+             linear_workspace.points, linear_workspace.max_before_um, linear_workspace.max_after_um,
+             linear_workspace.rms_before_um, linear_workspace.rms_after_um, workspace.points, workspace.max_before_um,
              workspace.max_after_um, workspace.rms_before_um, workspace.rms_after_um);
   if (!u.thermal.empty())
     fmt::print(stderr, "    not carried (they change with temperature or time): {}\n", joined(u.thermal));
   if (!u.rotary.empty()) fmt::print(stderr, "    not carried (rotary axes): {}\n", joined(u.rotary));
+  if (!u.straightness.empty())
+    fmt::print(stderr, "    not carried ({} has no cross tables: straightness, squareness): {}\n", args.control,
+               joined(u.straightness));
   if (!u.off_line.empty())
     fmt::print(stderr, "    carried on this line only (angular errors act through offsets that change elsewhere): {}\n",
                joined(u.off_line));

@@ -247,20 +247,6 @@ int run_fit(const IdentifyArgs& args) {
   return 0;
 }
 
-/// A string as JSON.
-std::string json_string(const std::string& text) {
-  std::string out = "\"";
-  for (char c : text) {
-    if (c == '"' || c == '\\')
-      out += '\\', out += c;
-    else if (static_cast<unsigned char>(c) < 0x20)
-      out += fmt::format("\\u{:04x}", c);
-    else
-      out += c;
-  }
-  return out + "\"";
-}
-
 int run_check(const IdentifyArgs& args) {
   check_outputs(args);
   const model::MachineModel m = model::load_machine_model(args.model);
@@ -279,41 +265,7 @@ int run_check(const IdentifyArgs& args) {
     if (!args.json) fmt::print("wrote {}\n", args.report);
   }
   if (args.json) {
-    std::string sources, regions, suggestions;
-    for (const identify::SourceResidual& s : r.sources)
-      sources +=
-          fmt::format("{}{{\"source\": {}, \"observations\": {}, \"rms_um\": {:.6f}, \"max_um\": {:.6f}}}",
-                      sources.empty() ? "" : ", ", json_string(s.source), s.observations, s.rms * 1e3, s.max * 1e3);
-    for (const identify::Region& g : d.regions)
-      regions +=
-          fmt::format("{}{{\"variable\": {}, \"from\": {:.6g}, \"to\": {:.6g}, \"rms_um\": {:.6f}, \"ratio\": {:.3f}}}",
-                      regions.empty() ? "" : ", ", json_string(g.variable), g.from, g.to, g.rms * 1e3, g.ratio);
-    for (const identify::Suggestion& s : d.suggestions)
-      suggestions += fmt::format(
-          "{}{{\"rank\": {}, \"effect\": {}, \"error\": {}, \"term\": {}, \"variable\": {}, \"form\": {}, \"period\": "
-          "{}, "
-          "\"period_uncertainty\": {}, \"spec\": {}, \"rms_before_um\": {:.6f}, \"rms_after_um\": {:.6f}, "
-          "\"bic_delta\": {:.3f}, "
-          "\"significance\": {:.3f}, \"held_out\": {:.4f}, \"held_out_by\": {}, \"refitted\": {}}}",
-          suggestions.empty() ? "" : ", ", s.rank, json_string(s.effect), json_string(s.error), json_string(s.term),
-          json_string(s.variable), json_string(s.form), s.period > 0 ? fmt::format("{:.8g}", s.period) : "null",
-          s.period > 0 ? fmt::format("{:.3g}", s.period_uncertainty) : "null", json_string(s.spec), s.rms_before * 1e3,
-          s.rms_after * 1e3, s.bic_delta, s.significance, s.held_out, json_string(s.held_out_by), s.refitted);
-    std::string ties;
-    for (const identify::Tie& t : d.ties)
-      ties +=
-          fmt::format("{}{{\"first\": {}, \"second\": {}, \"correlation\": {:.4f}, \"measurement\": {}}}",
-                      ties.empty() ? "" : ", ", t.first + 1, t.second + 1, t.correlation, json_string(t.measurement));
-    fmt::print(
-        "{{\"command\": \"check\", \"observations\": {}, \"rms_um\": {:.6f}, \"max_um\": {:.6f}, \"noise_floor_um\": "
-        "{:.6f}, "
-        "\"noise_method\": {}, \"rms_refit_um\": {:.6f}, \"sources\": [{}], \"regions\": [{}], "
-        "\"candidates_tried\": {}, \"unproven\": {}, \"implausible\": {}, \"suggestions\": [{}], \"ties\": [{}], "
-        "\"unexplained\": {}, \"skipped\": {}}}\n",
-        r.observations, r.rms * 1e3, r.max * 1e3, r.noise_floor * 1e3, json_string(r.noise_method), d.rms_refit * 1e3,
-        sources, regions, d.candidates_tried, d.unproven, d.implausible, suggestions, ties,
-        d.unexplained.empty() ? std::string("null") : json_string(d.unexplained),
-        d.skipped.empty() ? std::string("null") : json_string(d.skipped));
+    fmt::print("{}", check_json(m, r, d));
     return 0;
   }
   print_summary(data);

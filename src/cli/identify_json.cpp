@@ -1,5 +1,7 @@
 #include "identify_json.hpp"
 
+#include <cmath>
+
 #include "ccomp/util/json.hpp"
 
 namespace ccomp::cli {
@@ -108,6 +110,52 @@ std::string simulate_json(const model::MachineModel& m, const identify::Measurem
   j.begin_object().field("command", "simulate").field("model", m.name).field("output", output);
   j.field("observations", set.observations.size());
   strings(j, "sources", set.sources);
+  return j.end_object().text();
+}
+
+std::string check_json(const model::MachineModel& m, const identify::CheckReport& r, const identify::Diagnosis& d) {
+  util::JsonWriter j;
+  j.begin_object().field("command", "check").field("model", m.name).field("model_sha256", m.sha256);
+  j.field("observations", r.observations).field("rms_um", r.rms * 1e3).field("max_um", r.max * 1e3);
+  // Nothing measured, nothing estimated: null, not 0.
+  const auto measured = [&](double v) { return r.observations > 0 ? v * 1e3 : std::nan(""); };
+  j.field("noise_floor_um", measured(r.noise_floor)).field("noise_method", r.noise_method);
+  j.field("rms_refit_um", d.skipped.empty() ? measured(d.rms_refit) : std::nan(""));
+  j.key("sources").begin_array();
+  for (const identify::SourceResidual& s : r.sources) {
+    j.begin_object().field("source", s.source).field("observations", s.observations).field("rms_um", s.rms * 1e3);
+    j.field("max_um", s.max * 1e3).end_object();
+  }
+  j.end_array().key("regions").begin_array();
+  for (const identify::Region& g : d.regions) {
+    j.begin_object().field("variable", g.variable).field("from", g.from).field("to", g.to);
+    j.field("rms_um", g.rms * 1e3).field("ratio", g.ratio).end_object();
+  }
+  j.end_array();
+  j.field("candidates_tried", d.candidates_tried).field("unproven", d.unproven).field("implausible", d.implausible);
+  j.key("suggestions").begin_array();
+  for (const identify::Suggestion& s : d.suggestions) {
+    j.begin_object().field("rank", s.rank).field("effect", s.effect).field("error", s.error).field("term", s.term);
+    j.field("variable", s.variable).field("form", s.form);
+    j.field("period", s.period > 0 ? s.period : std::nan(""));
+    j.field("period_uncertainty", s.period > 0 ? s.period_uncertainty : std::nan(""));
+    j.field("spec", s.spec).field("rms_before_um", s.rms_before * 1e3).field("rms_after_um", s.rms_after * 1e3);
+    j.field("bic_delta", s.bic_delta).field("significance", s.significance).field("held_out", s.held_out);
+    j.field("held_out_by", s.held_out_by).field("refitted", s.refitted).end_object();
+  }
+  j.end_array().key("ties").begin_array();
+  for (const identify::Tie& t : d.ties) {
+    j.begin_object().field("first", t.first + 1).field("second", t.second + 1).field("correlation", t.correlation);
+    j.field("measurement", t.measurement).end_object();
+  }
+  j.end_array();
+  for (const auto& [key, text] :
+       {std::pair<const char*, const std::string&>{"unexplained", d.unexplained}, {"skipped", d.skipped}}) {
+    if (text.empty())
+      j.key(key).null();
+    else
+      j.field(key, text);
+  }
   return j.end_object().text();
 }
 

@@ -3,6 +3,8 @@
 // in the units their text output uses: um, urad, the model file's units for parameters.
 #include <string>
 
+#include "ccomp/identify/check.hpp"
+#include "ccomp/identify/diagnose.hpp"
 #include "ccomp/identify/fit.hpp"
 #include "ccomp/identify/measurements.hpp"
 #include "ccomp/identify/nine_line.hpp"
@@ -17,6 +19,8 @@ namespace ccomp::cli {
                                          const identify::NineLineReport& r, const std::string& output);
 [[nodiscard]] std::string simulate_json(const model::MachineModel& m, const identify::MeasurementSet& set,
                                         const std::string& output);
+[[nodiscard]] std::string check_json(const model::MachineModel& m, const identify::CheckReport& r,
+                                     const identify::Diagnosis& d);
 [[nodiscard]] std::string positioning_json(const std::string& axis, const identify::PositioningReport& r);
 
 }  // namespace ccomp::cli

@@ -56,12 +56,23 @@ void ProgressBar::draw(double fraction) {
 }
 
 void ProgressBar::clear() {
-  if (!enabled_) return;
   const std::lock_guard lock(mutex_);
-  if (!drawn_) return;
+  clear_locked();
+}
+
+void ProgressBar::clear_locked() {
+  if (!enabled_ || !drawn_) return;
   fmt::print(stderr, "\r\033[K");
   std::fflush(stderr);
   drawn_ = false;
+}
+
+void ProgressBar::print_above(const std::string& text) {
+  const std::lock_guard lock(mutex_);
+  clear_locked();
+  fmt::print(stderr, "{}", text);
+  std::fflush(stderr);
+  shown_ = -1.0;  // drawn again at the next update, whatever it says
 }
 
 void FilterProgress::update(double fraction) {

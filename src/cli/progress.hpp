@@ -24,11 +24,16 @@ class ProgressBar {
 
   /// The work done, 0 to 1 (a smaller value than the last shown is ignored).
   void update(double fraction);
-  /// Clears the bar's line (before other output, and at the end).
+  /// Clears the bar's line (at the end).
   void clear();
+  /// Writes `text` (a message ending in a newline) on stderr above the bar: the bar's line
+  /// is cleared first and drawn again at the next update. One lock with the drawing, so a
+  /// redraw from another thread cannot land inside the message.
+  void print_above(const std::string& text);
 
  private:
   void draw(double fraction);
+  void clear_locked();
   std::string label_;
   bool enabled_;
   std::mutex mutex_;

@@ -20,10 +20,13 @@ class TipMiss {
   TipMiss(const model::ForwardModel& model, const model::Conditions& conditions)
       : model_(model), data_(model), conditions_(conditions) {}
 
-  Eigen::Vector3d operator()(const model::ChainQ& commanded, const model::ChainQ& target, int direction) {
+  /// `directions`: each axis' approach state (+1 up, -1 down, 0 the middle of its play):
+  /// an axis not moving is in the middle, so its backlash is no one else's.
+  Eigen::Vector3d operator()(const model::ChainQ& commanded, const model::ChainQ& target,
+                             const std::array<double, 9>& directions) {
     model::forward(model_, data_, target, conditions_, false, model::Evaluate::nominal);
     const Eigen::Vector3d wanted = data_.nominal;
-    for (double& d : conditions_.directions) d = direction;
+    conditions_.directions = directions;
     model::forward(model_, data_, commanded, conditions_, false, model::Evaluate::both);
     return data_.nominal_chain.oMp.R * (data_.actual - wanted);
   }
@@ -45,6 +48,13 @@ class TipMiss {
   model::ForwardData data_;
   model::Conditions conditions_;
 };
+
+/// Only `axis` travelling, `direction` (+1, -1); the others in the middle of their play.
+std::array<double, 9> travelling(std::size_t axis, int direction) {
+  std::array<double, 9> d{};
+  d[axis] = direction;
+  return d;
+}
 
 std::size_t linear_axis_index(const model::MachineModel& machine, char letter) {
   const auto spec = std::find_if(machine.axes.begin(), machine.axes.end(),
@@ -127,7 +137,7 @@ AxisTable sample_axis_table(const model::ForwardModel& model, const TableOptions
       for (int iteration = 0; iteration < 8; ++iteration) {
         model::ChainQ commanded = target;
         commanded[a] = p + t;
-        m = miss(commanded, target, direction);
+        m = miss(commanded, target, travelling(table.axis_index, direction));
         const double step = m[a] / own_sense;
         t -= step;
         if (std::abs(step) < 1e-10) break;
@@ -140,6 +150,7 @@ AxisTable sample_axis_table(const model::ForwardModel& model, const TableOptions
       table.cross[k].correction.push_back(-miss_mean[static_cast<Eigen::Index>(table.cross[k].axis_index)] / sense[k]);
   }
   // Nothing at the reference position: there the work offset takes the machine's error.
+  table.reference = options.reference;
   const double own = correction_at(table, options.reference, +1);
   for (std::size_t i = 0; i < n; ++i) table.forward[i] -= own, table.reverse[i] -= own;
   for (std::size_t k = 0; k < table.cross.size(); ++k) {
@@ -162,7 +173,13 @@ Residual table_residual(const model::ForwardModel& model, const std::vector<Axis
                         const model::Conditions& conditions, int component) {
   Residual r;
   TipMiss miss(model, conditions);
-  const Eigen::Vector3d offset = miss(reference, reference, +1);
+  // The axes with tables travel together, up or down; the rest stand in the middle of their play.
+  auto moving = [&tables](int direction) {
+    std::array<double, 9> d{};
+    for (const AxisTable& t : tables) d[t.axis_index] = direction;
+    return d;
+  };
+  const Eigen::Vector3d offset = miss(reference, reference, moving(+1));
   auto size = [component, &offset](const Eigen::Vector3d& m) {
     const Eigen::Vector3d relative = m - offset;
     return (component < 0 ? relative.norm() : std::abs(relative[component])) * 1e3;
@@ -178,8 +195,8 @@ Residual table_residual(const model::ForwardModel& model, const std::vector<Axis
         for (std::size_t k = 0; k < t.cross.size(); ++k)
           commanded[static_cast<Eigen::Index>(t.cross[k].axis_index)] += cross_correction_at(t, k, p);
       }
-      const double before = size(miss(q, q, direction));
-      const double after = size(miss(commanded, q, direction));
+      const double before = size(miss(q, q, moving(direction)));
+      const double after = size(miss(commanded, q, moving(direction)));
       r.max_before_um = std::max(r.max_before_um, before);
       r.max_after_um = std::max(r.max_after_um, after);
       sum_before += before * before, sum_after += after * after;

@@ -24,12 +24,6 @@ int axis_number(const AxisTable& t, const WriteOptions& o) {
   return o.axis_number > 0 ? o.axis_number : static_cast<int>(t.axis_index) + 1;
 }
 
-std::vector<double> mean_of(const AxisTable& t) {
-  std::vector<double> m(t.forward.size());
-  for (std::size_t k = 0; k < m.size(); ++k) m[k] = 0.5 * (t.forward[k] + t.reverse[k]);
-  return m;
-}
-
 void check_fits(Control control, const AxisTable& t) {
   const ControlLimits limits = control_limits(control);
   if (points_of(t) > limits.max_points)
@@ -65,32 +59,45 @@ struct FanucData {
   std::vector<long> increments;  ///< per point, from `first`
 };
 
+/// Fanuc numbers compensation points across all axes (0 to 1023); by default each axis
+/// takes its own 128: X 0-127, Y 128-255, Z 256-383.
+constexpr int kFanucPoints = 1024, kFanucPointsPerAxis = 128;
+
 FanucData fanuc_data(const AxisTable& t, const WriteOptions& o) {
   FanucData f;
   const double step = step_of(t);
-  f.interval = static_cast<int>(std::lround(step / o.fanuc_unit));
-  const long below = std::lround(-t.positions.front() / step);  // points below the reference position
-  f.reference = o.fanuc_reference_point > 0 ? o.fanuc_reference_point : static_cast<int>(below);
-  f.first = f.reference - static_cast<int>(below);
+  const double units = step / o.fanuc_unit;
+  if (std::abs(units - std::round(units)) > 1e-6)
+    throw Error(ErrorKind::usage, fmt::format("the step {} mm is not a whole number of detection units of {} mm "
+                                              "(parameter 3624): choose --step as a multiple of --fanuc-unit",
+                                              step, o.fanuc_unit));
+  f.interval = static_cast<int>(std::lround(units));
+  const auto at_reference = static_cast<int>(std::lround((t.reference - t.positions.front()) / step));
+  f.reference = o.fanuc_reference_point > 0 ? o.fanuc_reference_point
+                                            : (axis_number(t, o) - 1) * kFanucPointsPerAxis + at_reference;
+  f.first = f.reference - at_reference;
   f.last = f.first + static_cast<int>(points_of(t)) - 1;
-  if (f.first < 0)
+  if (f.first < 0 || f.last >= kFanucPoints)
     throw Error(ErrorKind::usage,
-                fmt::format("--fanuc-reference-point {}: the table's first point would be {}", f.reference, f.first));
-  // Absolute corrections in whole units, relative to the reference position (where the
-  // control's correction is 0 by construction).
-  const double at_reference = correction_at(t, 0.0, +1);
+                fmt::format("--fanuc-reference-point {}: the table's points would run from {} to {}, outside Fanuc's "
+                            "0 to {}",
+                            f.reference, f.first, f.last, kFanucPoints - 1));
+  // The corrections in whole units (the table is 0 at the reference point already), then
+  // the increments between points, at the magnification that keeps them within 127.
   std::vector<long> absolute(points_of(t));
-  for (std::size_t k = 0; k < absolute.size(); ++k)
-    absolute[k] = std::lround((t.forward[k] - at_reference) / o.fanuc_unit);
+  for (std::size_t k = 0; k < absolute.size(); ++k) absolute[k] = std::lround(t.forward[k] / o.fanuc_unit);
   long largest = 0;
-  f.increments.assign(absolute.size(), 0);
-  for (std::size_t k = 1; k < absolute.size(); ++k) {
-    f.increments[k] = absolute[k] - absolute[k - 1];
-    largest = std::max(largest, std::abs(f.increments[k]));
-  }
+  for (std::size_t k = 1; k < absolute.size(); ++k)
+    largest = std::max(largest, std::abs(absolute[k] - absolute[k - 1]));
   f.magnification = static_cast<int>(std::max(1L, (largest + 126) / 127));
-  if (f.magnification > 1)
-    for (long& v : f.increments) v = std::lround(static_cast<double>(v) / f.magnification);
+  f.increments.assign(absolute.size(), 0);
+  long previous = 0;
+  for (std::size_t k = 0; k < absolute.size(); ++k) {
+    // Rounded whole at the magnification, so rounding does not add up along the table.
+    const long scaled = std::lround(static_cast<double>(absolute[k]) / f.magnification);
+    if (k > 0) f.increments[k] = scaled - previous;
+    previous = scaled;
+  }
   double reversal = 0.0;
   for (std::size_t k = 0; k < points_of(t); ++k) reversal += t.forward[k] - t.reverse[k];
   f.backlash = static_cast<int>(std::lround(reversal / static_cast<double>(points_of(t)) / o.fanuc_unit));
@@ -112,7 +119,7 @@ std::string write_fanuc(const AxisTable& t, const WriteOptions& o) {
 // --- Siemens 840D sl (K3, interpolatory compensation): the leadscrew table
 // $AA_ENC_COMP holds the measuring system's error (a positive value moves the axis the
 // negative way); sag/cross tables $AN_CEC hold the correction added to the output axis,
-// a pair with $AN_CEC_DIRECTION +1/-1 carrying what differs with the direction of travel.
+// one with $AN_CEC_DIRECTION -1 carrying what differs travelling down.
 std::string siemens_cec(int index, const std::string& input, const std::string& output, const AxisTable& t,
                         const std::vector<double>& values, int direction) {
   std::string text;
@@ -133,9 +140,11 @@ std::string write_siemens(const AxisTable& t, const WriteOptions& o) {
       "; machine data: MD32700 $MA_ENC_COMP_ENABLE[0,{0}]=1, MD38000 $MA_MM_ENC_COMP_MAX_POINTS[0,{0}]>={1}", ax,
       points_of(t));
   text += ", MD32710 $MA_CEC_ENABLE[AXn]=1 on each output axis, MD18342 $MN_MM_CEC_MAX_POINTS[table]>=" +
-          std::to_string(points_of(t)) + "\nCHANDATA(1)\n";
-  const std::vector<double> mean = mean_of(t);
-  for (std::size_t k = 0; k < mean.size(); ++k) text += fmt::format("$AA_ENC_COMP[0,{},{}]={:.6f}\n", k, ax, -mean[k]);
+          std::to_string(points_of(t)) + "\n; the other axes are AX1 AX2 AX3 for X Y Z\nCHANDATA(1)\n";
+  // The leadscrew table: the error travelling up (0 at the reference point); a table that
+  // acts travelling down only adds what differs then (position-dependent backlash).
+  for (std::size_t k = 0; k < points_of(t); ++k)
+    text += fmt::format("$AA_ENC_COMP[0,{},{}]={:.6f}\n", k, ax, -t.forward[k]);
   text += fmt::format(
       "$AA_ENC_COMP_STEP[0,{0}]={1:.4f}\n$AA_ENC_COMP_MIN[0,{0}]={2:.4f}\n$AA_ENC_COMP_MAX[0,{0}]={3:.4f}\n$AA_ENC_"
       "COMP_"
@@ -143,9 +152,8 @@ std::string write_siemens(const AxisTable& t, const WriteOptions& o) {
       ax, step_of(t), t.positions.front(), t.positions.back());
   int index = o.siemens_first_cec_table;
   if (t.bidirectional()) {
-    std::vector<double> up(mean.size()), down(mean.size());
-    for (std::size_t k = 0; k < mean.size(); ++k) up[k] = t.forward[k] - mean[k], down[k] = t.reverse[k] - mean[k];
-    text += siemens_cec(index++, ax, ax, t, up, +1);
+    std::vector<double> down(points_of(t));
+    for (std::size_t k = 0; k < down.size(); ++k) down[k] = t.reverse[k] - t.forward[k];
     text += siemens_cec(index++, ax, ax, t, down, -1);
   }
   for (const AxisTable::Cross& c : t.cross)
@@ -244,11 +252,9 @@ AxisTable as_control_applies(Control control, const AxisTable& table, const Writ
       break;
     }
     case Control::siemens: {
-      const std::vector<double> mean = rounded(mean_of(table), 6);
-      for (std::size_t k = 0; k < mean.size(); ++k) {
-        applied.forward[k] = mean[k] + std::round((table.forward[k] - mean_of(table)[k]) * 1e6) / 1e6;
-        applied.reverse[k] = mean[k] + std::round((table.reverse[k] - mean_of(table)[k]) * 1e6) / 1e6;
-      }
+      applied.forward = rounded(table.forward, 6);
+      for (std::size_t k = 0; k < table.forward.size(); ++k)
+        applied.reverse[k] = applied.forward[k] + std::round((table.reverse[k] - table.forward[k]) * 1e6) / 1e6;
       for (AxisTable::Cross& c : applied.cross) c.correction = rounded(c.correction, 6);
       break;
     }

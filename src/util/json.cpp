@@ -6,9 +6,37 @@
 
 namespace ccomp::util {
 
+namespace {
+
+/// The length of the well-formed UTF-8 sequence at text[at], or 0 if it is not one.
+std::size_t utf8_sequence(std::string_view text, std::size_t at) {
+  const auto byte = [&](std::size_t k) { return static_cast<unsigned char>(text[k]); };
+  const unsigned char lead = byte(at);
+  const std::size_t length = lead < 0x80           ? 1
+                             : (lead >> 5) == 0x6  ? 2
+                             : (lead >> 4) == 0xE  ? 3
+                             : (lead >> 3) == 0x1E ? 4
+                                                   : 0;
+  if (length == 0 || at + length > text.size() || (length == 2 && lead < 0xC2)) return 0;
+  for (std::size_t k = 1; k < length; ++k)
+    if ((byte(at + k) >> 6) != 0x2) return 0;
+  return length;
+}
+
+}  // namespace
+
 std::string json_quoted(std::string_view text) {
   std::string out = "\"";
-  for (char c : text) {
+  for (std::size_t at = 0; at < text.size();) {
+    const char c = text[at];
+    const std::size_t length = utf8_sequence(text, at);
+    if (length == 0) {
+      // Not UTF-8 (a Latin-1 comment, an old control's file name): the byte as the Latin-1
+      // character it most likely is, so the document stays valid JSON.
+      out += fmt::format("\\u{:04x}", static_cast<unsigned char>(c));
+      ++at;
+      continue;
+    }
     if (c == '"' || c == '\\')
       out += '\\', out += c;
     else if (c == '\n')
@@ -16,7 +44,8 @@ std::string json_quoted(std::string_view text) {
     else if (static_cast<unsigned char>(c) < 0x20)
       out += fmt::format("\\u{:04x}", static_cast<int>(c));
     else
-      out += c;
+      out.append(text.substr(at, length));
+    at += length;
   }
   return out + "\"";
 }
@@ -45,10 +74,18 @@ JsonWriter& JsonWriter::close(char bracket) {
   return *this;
 }
 
-JsonWriter& JsonWriter::begin_object() { return open('{'); }
-JsonWriter& JsonWriter::end_object() { return close('}'); }
-JsonWriter& JsonWriter::begin_array() { return open('['); }
-JsonWriter& JsonWriter::end_array() { return close(']'); }
+JsonWriter& JsonWriter::begin_object() {
+  return open('{');
+}
+JsonWriter& JsonWriter::end_object() {
+  return close('}');
+}
+JsonWriter& JsonWriter::begin_array() {
+  return open('[');
+}
+JsonWriter& JsonWriter::end_array() {
+  return close(']');
+}
 
 JsonWriter& JsonWriter::key(std::string_view name) {
   before_value();

@@ -123,3 +123,18 @@ TEST(Progress, APipeGetsNoBar) {
 
 }  // namespace
 }  // namespace ccomp::test
+
+namespace ccomp::test {
+namespace {
+
+TEST(Progress, AJsonRunDrawsNoBarEvenAtATerminal) {
+  const std::string dir = temp_dir("progress_json");
+  const std::string program = long_program(dir, 5000, false);
+  const std::string terminal = on_terminal(ccomp() + " " + shell_quote(program) + " -m " + model() + " -o " +
+                                           shell_quote(dir + "/out.ngc") + " --json");
+  EXPECT_EQ(terminal.find('\r'), std::string::npos) << terminal;
+  EXPECT_EQ(terminal.find('%'), std::string::npos) << terminal;
+}
+
+}  // namespace
+}  // namespace ccomp::test

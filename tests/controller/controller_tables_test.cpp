@@ -189,12 +189,12 @@ Corrections load_heidenhain(const std::string& text, std::size_t axis) {
 /// The tool tip's miss in machine-axis directions (mm) with the axes commanded to q plus
 /// the corrections, against the perfect machine at q.
 Eigen::Vector3d miss(const model::ForwardModel& f, model::ForwardData& d, const model::ChainQ& q,
-                     const Eigen::Vector3d& c, int direction) {
+                     const Eigen::Vector3d& c, std::size_t axis, int direction) {
   model::Conditions conditions;
   conditions.temperatures.assign(f.machine().sensors.size(), 20.0);
   model::forward(f, d, q, conditions, false, model::Evaluate::nominal);
   const Eigen::Vector3d wanted = d.nominal;
-  for (double& v : conditions.directions) v = direction;
+  conditions.directions[axis] = direction;  // the others stand in the middle of their play
   model::ChainQ commanded = q;
   commanded.head<3>() += c;
   model::forward(f, d, commanded, conditions);
@@ -248,14 +248,14 @@ TEST_P(ControllerTables, ReadBackAsTheControlDoesReproducesTheModelAlongTheAxis)
   // Every table is 0 at the reference position: the offset there is the work offset's.
   model::ChainQ reference = model::ChainQ::Zero();
   reference[9] = 100;
-  const Eigen::Vector3d offset = miss(f, d, reference, corrections(reference, +1), +1);
+  const Eigen::Vector3d offset = miss(f, d, reference, corrections(reference, +1), axis, +1);
   EXPECT_LT(corrections(reference, +1).norm(), 1e-6);
   for (double p = from; p <= to; p += 0.37)
     for (int direction : {+1, -1}) {
       model::ChainQ q = model::ChainQ::Zero();
       q[static_cast<Eigen::Index>(axis)] = p, q[9] = 100;
-      const Eigen::Vector3d uncorrected = miss(f, d, q, Eigen::Vector3d::Zero(), direction) - offset;
-      const Eigen::Vector3d corrected = miss(f, d, q, corrections(q, direction), direction) - offset;
+      const Eigen::Vector3d uncorrected = miss(f, d, q, Eigen::Vector3d::Zero(), axis, direction) - offset;
+      const Eigen::Vector3d corrected = miss(f, d, q, corrections(q, direction), axis, direction) - offset;
       before = std::max(before, std::abs(uncorrected[a]));
       after = std::max(after, std::abs(corrected[a]));
       whole_before = std::max(whole_before, uncorrected.norm()), whole_after = std::max(whole_after, corrected.norm());
@@ -327,6 +327,10 @@ TEST_P(ControllerTablesRefuse, WithTheReason) {
 INSTANTIATE_TEST_SUITE_P(
     Controls, ControllerTablesRefuse,
     ::testing::Values(RefusedExport{"--control linuxcnc --axis Q", 2, "has no such axis"},
+                      RefusedExport{"--control linuxcnc --axis X --at X=3", 2, "the table's own axis"},
+                      RefusedExport{"--control linuxcnc --axis X --at Y=1000", 2, "Y travels from -450 to 450"},
+                      RefusedExport{"--control fanuc --axis X --fanuc-unit 0.3", 2, "whole number of detection units"},
+                      RefusedExport{"--control fanuc --axis X --fanuc-reference-point 1000", 2, "outside Fanuc's"},
                       RefusedExport{"--control linuxcnc --axis B", 4, "rotary axes are not exported"},
                       RefusedExport{"--control fanuc --axis X --step 1", 2, "more than the 128 points"},
                       RefusedExport{"--control siemens --axis X --at Y=abc", 2, "is not a number"},
@@ -340,6 +344,64 @@ TEST(ControllerTablesCli, JsonNeedsTheTableInAFile) {
                                       " --control linuxcnc --axis X --json");
   EXPECT_EQ(r.exit_code, 2);
   EXPECT_NE(r.err.find("-o FILE"), std::string::npos) << r.err;
+}
+
+}  // namespace
+}  // namespace ccomp::test
+
+namespace ccomp::test {
+namespace {
+
+CommandResult export_table(const std::string& model, const std::string& options, const std::string& path) {
+  return run_command(shell_quote(ccomp_binary()) + " export -m " +
+                     shell_quote(source_dir() + "/samples/machines/" + model + ".yaml") + " " + options + " -o " +
+                     shell_quote(path) + " --json");
+}
+
+/// Fanuc's parameter `number` of the file's text.
+long fanuc_parameter(const std::string& text, int number) {
+  std::smatch m;
+  const std::string pattern = "N0" + std::to_string(number) + "A\\d+P(-?\\d+)";
+  EXPECT_TRUE(std::regex_search(text, m, std::regex(pattern))) << number;
+  return std::stol(m[1]);
+}
+
+// A span without 0 has its reference at the end nearest 0, and the table holds there too.
+TEST(ControllerTablesFanuc, ASpanWithoutZeroIsReferencedAtItsEndNearestZero) {
+  const std::string dir = temp_dir("controller_tables_fanuc_span");
+  for (const std::string span : {"--from 100 --to 500", "--from -500 --to -100"}) {
+    const CommandResult r = export_table("vmc-xyz", "--control fanuc --axis X " + span, dir + "/x.prm");
+    ASSERT_EQ(r.exit_code, 0) << span << r.err;
+    const std::string text = read_file(dir + "/x.prm");
+    const long reference = fanuc_parameter(text, 3620), first = fanuc_parameter(text, 3621),
+               last = fanuc_parameter(text, 3622);
+    EXPECT_TRUE(reference == first || reference == last) << span;
+    const bool above_zero = span.find("-500") == std::string::npos;
+    EXPECT_EQ(json_number(r.out, "", "reference_mm"), json_number(r.out, "", above_zero ? "from_mm" : "to_mm")) << span;
+    EXPECT_LT(json_number(r.out, "line_own_axis", "max_after_um"), 1.0) << span;
+  }
+}
+
+// Compensation points are numbered across the axes: each axis' table has its own.
+TEST(ControllerTablesFanuc, AxesTakeDistinctPointNumbers) {
+  const std::string dir = temp_dir("controller_tables_fanuc_axes");
+  std::vector<std::pair<long, long>> ranges;
+  for (const char* axis : {"X", "Y", "Z"}) {
+    ASSERT_EQ(export_table("vmc-xyz", std::string("--control fanuc --axis ") + axis, dir + "/t.prm").exit_code, 0);
+    const std::string text = read_file(dir + "/t.prm");
+    ranges.emplace_back(fanuc_parameter(text, 3621), fanuc_parameter(text, 3622));
+  }
+  for (std::size_t a = 0; a < ranges.size(); ++a)
+    for (std::size_t b = a + 1; b < ranges.size(); ++b)
+      EXPECT_TRUE(ranges[a].second < ranges[b].first || ranges[b].second < ranges[a].first) << a << " " << b;
+}
+
+// X's backlash is X's: the B table's play (it depends on how B last moved) stays out.
+TEST(ControllerTablesFanuc, AnAxisBacklashIsItsOwn) {
+  const std::string dir = temp_dir("controller_tables_fanuc_backlash");
+  ASSERT_EQ(export_table("hmc-xyzb", "--control fanuc --axis X" + kReadings, dir + "/x.prm").exit_code, 0);
+  // hmc-xyzb.yaml: EXX reversal -4 um; B's is -10 urad, ~3 um at the tool.
+  EXPECT_EQ(std::abs(fanuc_parameter(read_file(dir + "/x.prm"), 1851)), 4);
 }
 
 }  // namespace

@@ -38,6 +38,7 @@ struct AxisTable {
   char axis = 'X';
   std::size_t axis_index = 0;     ///< into the chain variables (X Y Z A B C U V W)
   std::vector<double> positions;  ///< mm, the commanded positions of the points, ascending
+  double reference = 0.0;         ///< mm: the position where every correction is 0 (a point of the grid)
   std::vector<double> forward;    ///< correction of the axis itself while it travels up
   std::vector<double> reverse;    ///< the same while it travels down
   /// Corrections of another linear axis as this axis moves (mean of both directions).

@@ -1,0 +1,37 @@
+// The JSON writer: valid documents whatever the text and numbers handed to it.
+#include "ccomp/util/json.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <limits>
+
+namespace ccomp::util {
+namespace {
+
+TEST(JsonWriter, SeparatesMembersAndNestsObjectsAndArrays) {
+  JsonWriter j;
+  j.begin_object().field("a", 1).key("b").begin_array().value(1.5).value("x").null().end_array();
+  j.key("c").begin_object().field("d", true).end_object().end_object();
+  EXPECT_EQ(j.text(), "{\"a\": 1, \"b\": [1.5, \"x\", null], \"c\": {\"d\": true}}\n");
+}
+
+TEST(JsonWriter, NumbersThatAreNotFiniteAreNull) {
+  JsonWriter j;
+  j.begin_array().value(std::nan("")).value(std::numeric_limits<double>::infinity()).value(-0.25).end_array();
+  EXPECT_EQ(j.text(), "[null, null, -0.25]\n");
+}
+
+TEST(JsonQuoted, EscapesQuotesBackslashesAndControlCharacters) {
+  EXPECT_EQ(json_quoted("a\"b\\c\nd\te"), "\"a\\\"b\\\\c\\nd\\u0009e\"");
+}
+
+TEST(JsonQuoted, KeepsUtf8AndTurnsOtherBytesIntoTheirLatin1Characters) {
+  EXPECT_EQ(json_quoted("caf\xc3\xa9 \xe2\x82\xac"), "\"caf\xc3\xa9 \xe2\x82\xac\"");  // UTF-8 as it is
+  EXPECT_EQ(json_quoted("caf\xe9"), "\"caf\\u00e9\"");                                 // a Latin-1 e-acute
+  EXPECT_EQ(json_quoted("\xc3"), "\"\\u00c3\"");                                       // a sequence cut short
+  EXPECT_EQ(json_quoted("\xc0\xaf"), "\"\\u00c0\\u00af\"");                            // an overlong form
+}
+
+}  // namespace
+}  // namespace ccomp::util
