@@ -75,19 +75,18 @@ controller::TableOptions table_options(const model::MachineModel& m, const Expor
   const model::AxisSpec* spec = axis_spec(m, axis);
   if (spec == nullptr)
     throw Error(ErrorKind::usage, fmt::format("--axis {}: the machine '{}' has no such axis", axis, m.name));
-  if (spec->type == model::AxisType::rotary)
-    throw Error(
-        ErrorKind::unsupported,
-        fmt::format("--axis {}: tables of rotary axes are not exported yet (ccomp's rewriting corrects them)", axis));
-  const double lo = std::isnan(args.from) ? spec->min : args.from;
-  const double hi = std::isnan(args.to) ? spec->max : args.to;
+  // A rotary axis without limits, or turning more than once, gets a table over one turn.
+  const bool turn = spec->type == model::AxisType::rotary &&
+                    (!std::isfinite(spec->min) || !std::isfinite(spec->max) || spec->max - spec->min > 360.0);
+  const double lo = !std::isnan(args.from) ? args.from : turn ? 0.0 : spec->min;
+  const double hi = !std::isnan(args.to) ? args.to : turn ? 360.0 : spec->max;
   const controller::ControlLimits limits = controller::control_limits(control);
   // Finest step the control's points allow over the travel, unless told.
   const double wanted = args.step > 0 ? args.step : limits.granularity;
   const controller::Grid grid = controller::grid_for(lo, hi, wanted, limits.max_points, limits.granularity);
   if (args.step > 0 && std::abs(grid.step - args.step) > 1e-9)
     throw Error(ErrorKind::usage,
-                fmt::format("--step {}: {} needs more than the {} points {} holds; {} mm fits", args.step, axis,
+                fmt::format("--step {}: {} needs more than the {} points {} holds; {} fits", args.step, axis,
                             limits.max_points, controller::control_name(control), grid.step));
   controller::TableOptions o;
   o.axis = axis;
@@ -230,6 +229,7 @@ int run_export(const ExportArgs& args) {
   std::vector<controller::AxisTable> all;
   ExportArgs others = args;  // the other axes over their travel, at the finest step
   others.from = others.to = std::nan(""), others.step = 0;
+  if (table.rotary) all.push_back(applied);
   for (const model::AxisSpec& a : m.axes) {
     if (a.type != model::AxisType::linear || !std::isfinite(a.min) || !std::isfinite(a.max)) continue;
     if (a.letter == axis) {
@@ -249,9 +249,12 @@ int run_export(const ExportArgs& args) {
     util::JsonWriter j;
     j.begin_object().field("command", "export").field("control", args.control).field("axis", std::string(1, axis));
     j.field("model", m.name).field("model_sha256", m.sha256).field("output", args.output);
-    j.field("points", table.positions.size()).field("from_mm", o.from).field("to_mm", o.to).field("step_mm", o.step);
+    // Positions in the axis' unit (mm, or deg for a rotary axis); its own error in um, or
+    // arcsec for the turn of a rotary axis.
+    j.field("unit", table.rotary ? "deg" : "mm").field("own_axis_unit", table.rotary ? "arcsec" : "um");
+    j.field("points", table.positions.size()).field("from", o.from).field("to", o.to).field("step", o.step);
     j.field("bidirectional", table.bidirectional()).field("tool_length_mm", args.tool_length);
-    j.field("reference_mm", o.reference);
+    j.field("reference", o.reference);
     json_residual(j, "line_own_axis", own);
     json_residual(j, "line", along);
     json_residual(j, "workspace", workspace);
@@ -264,6 +267,8 @@ int run_export(const ExportArgs& args) {
     fmt::print("{}", j.text());
     return 0;
   }
+  const char* unit = table.rotary ? "deg" : "mm";
+  const char* own_unit = table.rotary ? "arcsec" : "um";
   std::string on_line;
   for (const model::AxisSpec& a : m.axes)
     if (a.letter != axis) {
@@ -271,17 +276,19 @@ int run_export(const ExportArgs& args) {
       on_line += fmt::format(" {}={:g}", a.letter, a.type == model::AxisType::rotary ? v * 180.0 / M_PI : v);
     }
   fmt::print(stderr,
-             "{}: {} table of {} for '{}': {} points from {:g} to {:g} mm every {:g} mm{}, on the line{} with a {:g} "
+             "{}: {} table of {} for '{}': {} points from {:g} to {:g} {} every {:g} {}{}, on the line{} with a {:g} "
              "mm tool\n",
              args.output == "-" ? "stdout" : args.output, args.control, axis, m.name, table.positions.size(), o.from,
-             o.to, o.step, table.bidirectional() ? ", by direction of travel" : "", on_line, args.tool_length);
+             o.to, unit, o.step, unit, table.bidirectional() ? ", by direction of travel" : "", on_line,
+             args.tool_length);
   fmt::print(stderr, "  {}\n", w.header.front());
   fmt::print(stderr,
-             "  errors relative to the reference point ({} at {:g}, where every table is 0; the machine is {:.3f} um "
+             "  errors relative to the reference point ({} at {:g}, where every table is 0; the tool is {:.3f} um "
              "off there, which a work offset probed there takes)\n",
              axis, o.reference, along.reference_um);
-  fmt::print(stderr, "  along the line, {}'s own error: max {:.3f} um -> {:.3f} um as the control applies the table\n",
-             axis, own.max_before_um, own.max_after_um);
+  fmt::print(stderr,
+             "  along the line, {}'s own error{}: max {:.3f} {} -> {:.3f} {} as the control applies the table\n", axis,
+             table.rotary ? " (its turn)" : "", own.max_before_um, own_unit, own.max_after_um, own_unit);
   fmt::print(stderr, "  along the line, the whole error: max {:.3f} um -> {:.3f} um\n", along.max_before_um,
              along.max_after_um);
   fmt::print(stderr,

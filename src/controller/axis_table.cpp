@@ -7,6 +7,7 @@
 #include <string_view>
 
 #include "ccomp/error.hpp"
+#include "ccomp/kinematics/pose.hpp"
 
 namespace ccomp::controller {
 namespace {
@@ -29,6 +30,28 @@ class TipMiss {
     conditions_.directions = directions;
     model::forward(model_, data_, commanded, conditions_, false, model::Evaluate::both);
     return data_.nominal_chain.oMp.R * (data_.actual - wanted);
+  }
+
+  /// How far the tool turns relative to the table about `u` (rad): commanded against the
+  /// perfect machine at target.
+  double turn(const model::ChainQ& commanded, const model::ChainQ& target, const std::array<double, 9>& directions,
+              const Eigen::Vector3d& u) {
+    model::forward(model_, data_, target, conditions_, false, model::Evaluate::nominal);
+    const Eigen::Matrix3d wanted = data_.R_nominal;
+    conditions_.directions = directions;
+    model::forward(model_, data_, commanded, conditions_, false, model::Evaluate::both);
+    return u.dot(kinematics::so3_log(wanted.transpose() * data_.R_actual));
+  }
+
+  /// The direction the tool turns (in its own frame) as rotary axis j turns up at q.
+  Eigen::Vector3d turn_axis(const model::ChainQ& q, std::size_t j) {
+    constexpr double kStep = 1e-4;  // rad
+    model::ChainQ moved = q;
+    moved[static_cast<Eigen::Index>(j)] += kStep;
+    model::forward(model_, data_, q, conditions_, false, model::Evaluate::nominal);
+    const Eigen::Matrix3d at = data_.R_nominal;
+    model::forward(model_, data_, moved, conditions_, false, model::Evaluate::nominal);
+    return kinematics::so3_log(at.transpose() * data_.R_nominal).normalized();
   }
 
   /// How far the tip moves along machine axis j when axis j is commanded 1 mm further:
@@ -56,16 +79,12 @@ std::array<double, 9> travelling(std::size_t axis, int direction) {
   return d;
 }
 
-std::size_t linear_axis_index(const model::MachineModel& machine, char letter) {
+const model::AxisSpec& axis_spec(const model::MachineModel& machine, char letter) {
   const auto spec = std::find_if(machine.axes.begin(), machine.axes.end(),
                                  [&](const model::AxisSpec& a) { return a.letter == letter; });
   if (spec == machine.axes.end())
     throw Error(ErrorKind::usage, fmt::format("--axis {}: the machine '{}' has no such axis", letter, machine.name));
-  if (spec->type != model::AxisType::linear)
-    throw Error(
-        ErrorKind::unsupported,
-        fmt::format("--axis {}: tables of rotary axes are not exported yet (ccomp's rewriting corrects them)", letter));
-  return kAxisLetters.find(letter);
+  return *spec;
 }
 
 /// Linear interpolation in `values` over the table's points, constant beyond its ends.
@@ -79,6 +98,10 @@ double interpolate(const std::vector<double>& positions, const std::vector<doubl
 }
 
 }  // namespace
+
+double AxisTable::scale() const {
+  return rotary ? M_PI / 180.0 : 1.0;
+}
 
 bool AxisTable::bidirectional() const {
   for (std::size_t k = 0; k < forward.size(); ++k)
@@ -107,17 +130,23 @@ AxisTable sample_axis_table(const model::ForwardModel& model, const TableOptions
   const model::MachineModel& machine = model.machine();
   AxisTable table;
   table.axis = options.axis;
-  table.axis_index = linear_axis_index(machine, options.axis);
+  table.rotary = axis_spec(machine, options.axis).type == model::AxisType::rotary;
+  table.axis_index = kAxisLetters.find(options.axis);
   if (!(options.step > 0) || !std::isfinite(options.from) || !std::isfinite(options.to) || !(options.to > options.from))
     throw Error(ErrorKind::usage, fmt::format("--axis {}: no grid from {} to {} step {}", options.axis, options.from,
                                               options.to, options.step));
   const auto a = static_cast<Eigen::Index>(table.axis_index);
   const std::size_t n = static_cast<std::size_t>(std::llround((options.to - options.from) / options.step)) + 1;
   TipMiss miss(model, options.conditions);
-  const double own_sense = miss.sense(options.line, table.axis_index);
+  const double scale = table.scale();
+  // The axis' own miss, in chain units, that the correction cancels: along its line, or
+  // the turn about its axis.
+  const double own_sense = table.rotary ? 1.0 : miss.sense(options.line, table.axis_index);
+  const Eigen::Vector3d turn_axis =
+      table.rotary ? miss.turn_axis(options.line, table.axis_index) : Eigen::Vector3d::Zero();
   for (const model::AxisSpec& other : machine.axes) {
     const std::size_t j = kAxisLetters.find(other.letter);
-    if (other.type == model::AxisType::linear && j < 3 && j != table.axis_index)
+    if (!table.rotary && other.type == model::AxisType::linear && j < 3 && j != table.axis_index)
       table.cross.push_back({other.letter, j, {}});
   }
   std::vector<double> sense(table.cross.size());
@@ -126,8 +155,7 @@ AxisTable sample_axis_table(const model::ForwardModel& model, const TableOptions
     const double p = options.from + static_cast<double>(i) * options.step;
     table.positions.push_back(p);
     model::ChainQ target = options.line;
-    target[a] = p;
-    double mean = 0.0;
+    target[a] = p * scale;
     Eigen::Vector3d miss_mean = Eigen::Vector3d::Zero();
     for (int direction : {+1, -1}) {
       // Newton with the nominal slope: the error's own slope is ~1e-4, so each step
@@ -136,14 +164,14 @@ AxisTable sample_axis_table(const model::ForwardModel& model, const TableOptions
       Eigen::Vector3d m = Eigen::Vector3d::Zero();
       for (int iteration = 0; iteration < 8; ++iteration) {
         model::ChainQ commanded = target;
-        commanded[a] = p + t;
-        m = miss(commanded, target, travelling(table.axis_index, direction));
-        const double step = m[a] / own_sense;
+        commanded[a] += t;
+        const std::array<double, 9> travel = travelling(table.axis_index, direction);
+        m = miss(commanded, target, travel);
+        const double step = table.rotary ? miss.turn(commanded, target, travel, turn_axis) : m[a] / own_sense;
         t -= step;
-        if (std::abs(step) < 1e-10) break;
+        if (std::abs(step) < 1e-12) break;
       }
-      (direction > 0 ? table.forward : table.reverse).push_back(t);
-      mean += 0.5 * t;
+      (direction > 0 ? table.forward : table.reverse).push_back(t / scale);
       miss_mean += 0.5 * m;
     }
     for (std::size_t k = 0; k < table.cross.size(); ++k)
@@ -179,24 +207,34 @@ Residual table_residual(const model::ForwardModel& model, const std::vector<Axis
     for (const AxisTable& t : tables) d[t.axis_index] = direction;
     return d;
   };
-  const Eigen::Vector3d offset = miss(reference, reference, moving(+1));
-  auto size = [component, &offset](const Eigen::Vector3d& m) {
-    const Eigen::Vector3d relative = m - offset;
-    return (component < 0 ? relative.norm() : std::abs(relative[component])) * 1e3;
+  // What is measured at each point: the tip's miss (um), one component of it, or the turn
+  // about rotary axis `component` (arcsec), each less its value at the reference point.
+  constexpr double kArcsec = 180.0 / M_PI * 3600.0;
+  const bool turn = component >= 3;
+  auto measure = [&](const model::ChainQ& commanded, const model::ChainQ& target, int direction) {
+    if (turn) {
+      const Eigen::Vector3d u = miss.turn_axis(target, static_cast<std::size_t>(component));
+      return Eigen::Vector3d(miss.turn(commanded, target, moving(direction), u) * kArcsec, 0.0, 0.0);
+    }
+    return Eigen::Vector3d(miss(commanded, target, moving(direction)) * 1e3);
   };
-  r.reference_um = (component < 0 ? offset.norm() : std::abs(offset[component])) * 1e3;
+  auto size = [component, turn](const Eigen::Vector3d& v) {
+    return component < 0 ? v.norm() : std::abs(v[turn ? 0 : component]);
+  };
+  const Eigen::Vector3d offset = measure(reference, reference, +1);
+  r.reference_um = size(offset);
   double sum_before = 0.0, sum_after = 0.0;
   for (const model::ChainQ& q : points) {
     for (int direction : {+1, -1}) {
       model::ChainQ commanded = q;
       for (const AxisTable& t : tables) {
-        const double p = q[static_cast<Eigen::Index>(t.axis_index)];
-        commanded[static_cast<Eigen::Index>(t.axis_index)] += correction_at(t, p, direction);
+        const double p = q[static_cast<Eigen::Index>(t.axis_index)] / t.scale();
+        commanded[static_cast<Eigen::Index>(t.axis_index)] += correction_at(t, p, direction) * t.scale();
         for (std::size_t k = 0; k < t.cross.size(); ++k)
           commanded[static_cast<Eigen::Index>(t.cross[k].axis_index)] += cross_correction_at(t, k, p);
       }
-      const double before = size(miss(q, q, moving(direction)));
-      const double after = size(miss(commanded, q, moving(direction)));
+      const double before = size(measure(q, q, direction) - offset);
+      const double after = size(measure(commanded, q, direction) - offset);
       r.max_before_um = std::max(r.max_before_um, before);
       r.max_after_um = std::max(r.max_after_um, after);
       sum_before += before * before, sum_after += after * after;
@@ -212,7 +250,7 @@ Residual table_residual(const model::ForwardModel& model, const std::vector<Axis
 
 model::ChainQ reference_point(const AxisTable& table, const TableOptions& options) {
   model::ChainQ q = options.line;
-  q[static_cast<Eigen::Index>(table.axis_index)] = options.reference;
+  q[static_cast<Eigen::Index>(table.axis_index)] = options.reference * table.scale();
   return q;
 }
 
@@ -221,7 +259,7 @@ std::vector<model::ChainQ> line_points(const AxisTable& table, const TableOption
   const double spacing = options.step / 8;
   for (double p = table.positions.front(); p <= table.positions.back() + 1e-9; p += spacing) {
     model::ChainQ q = options.line;
-    q[static_cast<Eigen::Index>(table.axis_index)] = p;
+    q[static_cast<Eigen::Index>(table.axis_index)] = p * table.scale();
     points.push_back(q);
   }
   return points;

@@ -56,6 +56,7 @@ std::string write_linuxcnc(const AxisTable& t, const WriteOptions& o) {
 // compensation applied after a reversal.
 struct FanucData {
   int reference = 0, first = 0, last = 0, magnification = 1, interval = 0, backlash = 0;
+  long per_turn = 0;             ///< 3625: a rotary axis' travel of one turn, in detection units (0: linear)
   std::vector<long> increments;  ///< per point, from `first`
 };
 
@@ -75,6 +76,14 @@ FanucData fanuc_data(const AxisTable& t, const WriteOptions& o) {
   const auto at_reference = static_cast<int>(std::lround((t.reference - t.positions.front()) / step));
   f.reference = o.fanuc_reference_point > 0 ? o.fanuc_reference_point
                                             : (axis_number(t, o) - 1) * kFanucPointsPerAxis + at_reference;
+  // A rotary axis' table runs over one turn from its reference point (parameter 3625 the
+  // travel of a turn), the reference point taking the last point's value.
+  const bool turn = t.rotary && std::abs(t.positions.back() - t.positions.front() - 360.0) < 1e-9;
+  if (turn) f.per_turn = static_cast<long>(std::lround(360.0 / o.fanuc_unit));
+  if (t.rotary && (!turn || at_reference != 0))
+    throw Error(ErrorKind::usage,
+                "a Fanuc table of a rotary axis runs over one turn from its reference position: "
+                "--from 0 --to 360");
   f.first = f.reference - at_reference;
   f.last = f.first + static_cast<int>(points_of(t)) - 1;
   if (f.first < 0 || f.last >= kFanucPoints)
@@ -98,6 +107,7 @@ FanucData fanuc_data(const AxisTable& t, const WriteOptions& o) {
     if (k > 0) f.increments[k] = scaled - previous;
     previous = scaled;
   }
+  if (turn) f.increments.front() = f.increments.back();
   double reversal = 0.0;
   for (std::size_t k = 0; k < points_of(t); ++k) reversal += t.forward[k] - t.reverse[k];
   f.backlash = static_cast<int>(std::lround(reversal / static_cast<double>(points_of(t)) / o.fanuc_unit));
@@ -111,6 +121,7 @@ std::string write_fanuc(const AxisTable& t, const WriteOptions& o) {
   text += fmt::format("N01851A{}P{}\n", a, f.backlash);
   text += fmt::format("N03620A{}P{}\nN03621A{}P{}\nN03622A{}P{}\nN03623A{}P{}\nN03624A{}P{}\n", a, f.reference, a,
                       f.first, a, f.last, a, f.magnification, a, f.interval);
+  if (f.per_turn > 0) text += fmt::format("N03625A{}P{}\n", a, f.per_turn);
   for (std::size_t k = 0; k < f.increments.size(); ++k)
     text += fmt::format("N{}P{}\n", 10000 + f.first + static_cast<int>(k), f.increments[k]);
   return text + "%\n";
@@ -127,8 +138,8 @@ std::string siemens_cec(int index, const std::string& input, const std::string& 
   text += fmt::format(
       "$AN_CEC_INPUT_AXIS[{0}]={1}\n$AN_CEC_OUTPUT_AXIS[{0}]={2}\n$AN_CEC_STEP[{0}]={3:.4f}\n$AN_CEC_MIN[{0}]={4:."
       "4f}\n$AN_CEC_MAX[{0}]={5:.4f}\n$AN_CEC_DIRECTION[{0}]={6}\n$AN_CEC_MULT_BY_TABLE[{0}]=0\n$AN_CEC_IS_MODULO[{0}]="
-      "0\n",
-      index, input, output, step_of(t), t.positions.front(), t.positions.back(), direction);
+      "{7}\n",
+      index, input, output, step_of(t), t.positions.front(), t.positions.back(), direction, t.rotary ? 1 : 0);
   return text;
 }
 
@@ -148,8 +159,8 @@ std::string write_siemens(const AxisTable& t, const WriteOptions& o) {
   text += fmt::format(
       "$AA_ENC_COMP_STEP[0,{0}]={1:.4f}\n$AA_ENC_COMP_MIN[0,{0}]={2:.4f}\n$AA_ENC_COMP_MAX[0,{0}]={3:.4f}\n$AA_ENC_"
       "COMP_"
-      "IS_MODULO[0,{0}]=0\n",
-      ax, step_of(t), t.positions.front(), t.positions.back());
+      "IS_MODULO[0,{0}]={4}\n",
+      ax, step_of(t), t.positions.front(), t.positions.back(), t.rotary ? 1 : 0);
   int index = o.siemens_first_cec_table;
   if (t.bidirectional()) {
     std::vector<double> down(points_of(t));

@@ -14,6 +14,7 @@
 #include <regex>
 #include <sstream>
 
+#include "ccomp/kinematics/pose.hpp"
 #include "ccomp/model/forward.hpp"
 #include "job_runner.hpp"
 #include "trace_capture.hpp"
@@ -21,9 +22,10 @@
 namespace ccomp::test {
 namespace {
 
-/// What a loaded table adds to the X Y Z commands at commanded axes q, travelling up
-/// (+1) or down (-1).
-using Corrections = std::function<Eigen::Vector3d(const model::ChainQ& q, int direction)>;
+/// What a loaded table adds to the axes' commands (X Y Z A B C U V W, in the table's
+/// units: mm, deg) at commanded positions p (the same units), travelling up (+1) or down (-1).
+using Axes = Eigen::Matrix<double, 9, 1>;
+using Corrections = std::function<Axes(const Axes& p, int direction)>;
 
 /// Linear interpolation over equidistant points from `min` every `step`, constant beyond.
 double equidistant(const std::vector<double>& v, double min, double step, double p) {
@@ -52,8 +54,8 @@ Corrections load_linuxcnc(const std::string& text, int type, std::size_t axis) {
     entries.push_back(type == 0 ? Entry{n, n - f, n - r} : Entry{n, f, r});
   }
   EXPECT_GT(entries.size(), 10U);
-  return [entries, axis](const model::ChainQ& q, int direction) {
-    const double p = q[static_cast<Eigen::Index>(axis)];
+  return [entries, axis](const Axes& at, int direction) {
+    const double p = at[static_cast<Eigen::Index>(axis)];
     double trim = 0;
     auto pick = [direction](const Entry& e) { return direction > 0 ? e.fwd : e.rev; };
     if (p < entries.front().nominal) {
@@ -66,7 +68,7 @@ Corrections load_linuxcnc(const std::string& text, int type, std::size_t axis) {
       const double slope = (pick(entries[k + 1]) - pick(entries[k])) / (entries[k + 1].nominal - entries[k].nominal);
       trim = pick(entries[k]) + slope * (p - entries[k].nominal);
     }
-    Eigen::Vector3d c = Eigen::Vector3d::Zero();
+    Axes c = Axes::Zero();
     c[static_cast<Eigen::Index>(axis)] = trim;
     return c;
   };
@@ -99,10 +101,10 @@ Corrections load_fanuc(const std::string& text, std::size_t axis, double unit) {
     absolute[static_cast<std::size_t>(n - first)] =
         absolute[static_cast<std::size_t>(n + 1 - first)] - static_cast<double>(data.at(n + 1)) * magnification * unit;
   const double min = (first - reference) * interval;
-  return [absolute, min, interval, backlash, axis](const model::ChainQ& q, int direction) {
-    Eigen::Vector3d c = Eigen::Vector3d::Zero();
+  return [absolute, min, interval, backlash, axis](const Axes& p, int direction) {
+    Axes c = Axes::Zero();
     c[static_cast<Eigen::Index>(axis)] =
-        equidistant(absolute, min, interval, q[static_cast<Eigen::Index>(axis)]) - (direction < 0 ? backlash : 0.0);
+        equidistant(absolute, min, interval, p[static_cast<Eigen::Index>(axis)]) - (direction < 0 ? backlash : 0.0);
     return c;
   };
 }
@@ -136,8 +138,8 @@ Corrections load_siemens(const std::string& text) {
       cec[std::stoi(m[2])][m[1]] = m[3];
     }
   }
-  return [=](const model::ChainQ& q, int direction) {
-    Eigen::Vector3d c = Eigen::Vector3d::Zero();
+  return [=](const Axes& q, int direction) {
+    Axes c = Axes::Zero();
     const auto la = static_cast<Eigen::Index>(lec_axis - 1);
     c[la] -= equidistant(lec, lec_min, lec_step, q[la]);
     for (const auto& [t, p] : cec) {
@@ -171,12 +173,12 @@ Corrections load_heidenhain(const std::string& text, std::size_t axis) {
       values[c].push_back(v);
     }
   }
-  return [values, axis](const model::ChainQ& q, int direction) {
+  return [values, axis](const Axes& q, int direction) {
     const std::vector<double>& at = values.at("AXISPOS");
     const double step = at[1] - at[0], p = q[static_cast<Eigen::Index>(axis)];
-    Eigen::Vector3d c = Eigen::Vector3d::Zero();
-    for (std::size_t j = 0; j < 3; ++j) {
-      const std::string name(1, "XYZ"[j]);
+    Axes c = Axes::Zero();
+    for (std::size_t j = 0; j < 9; ++j) {
+      const std::string name(1, "XYZABCUVW"[j]);
       if (!values.contains(name)) continue;
       const bool own = j == axis;
       c[static_cast<Eigen::Index>(j)] =
@@ -186,19 +188,35 @@ Corrections load_heidenhain(const std::string& text, std::size_t axis) {
   };
 }
 
-/// The tool tip's miss in machine-axis directions (mm) with the axes commanded to q plus
-/// the corrections, against the perfect machine at q.
-Eigen::Vector3d miss(const model::ForwardModel& f, model::ForwardData& d, const model::ChainQ& q,
-                     const Eigen::Vector3d& c, std::size_t axis, int direction) {
+/// The tool's miss with the axes commanded to q (chain units) plus the corrections (table
+/// units), against the perfect machine at q: the tip in machine-axis directions (mm) and the
+/// turn about rotary axis `axis` (rad; 0 for a linear one).
+struct Miss {
+  Eigen::Vector3d tip;
+  double turn = 0.0;
+};
+
+Miss miss(const model::ForwardModel& f, model::ForwardData& d, const model::ChainQ& q, const Axes& c, std::size_t axis,
+          int direction) {
   model::Conditions conditions;
   conditions.temperatures.assign(f.machine().sensors.size(), 20.0);
+  model::ChainQ moved = q;
+  moved[static_cast<Eigen::Index>(axis)] += 1e-4;
+  model::forward(f, d, moved, conditions, false, model::Evaluate::nominal);
+  const Eigen::Matrix3d turned = d.R_nominal;
   model::forward(f, d, q, conditions, false, model::Evaluate::nominal);
   const Eigen::Vector3d wanted = d.nominal;
+  const Eigen::Matrix3d wanted_turn = d.R_nominal;
   conditions.directions[axis] = direction;  // the others stand in the middle of their play
   model::ChainQ commanded = q;
-  commanded.head<3>() += c;
+  for (Eigen::Index j = 0; j < 9; ++j) commanded[j] += j >= 3 ? c[j] * M_PI / 180.0 : c[j];
   model::forward(f, d, commanded, conditions);
-  return d.nominal_chain.oMp.R * (d.actual - wanted);
+  Miss m{d.nominal_chain.oMp.R * (d.actual - wanted), 0.0};
+  if (axis >= 3) {
+    const Eigen::Vector3d u = kinematics::so3_log(wanted_turn.transpose() * turned).normalized();
+    m.turn = u.dot(kinematics::so3_log(wanted_turn.transpose() * d.R_actual));
+  }
+  return m;
 }
 
 double json_number(const std::string& json, const std::string& object, const std::string& key) {
@@ -231,7 +249,8 @@ TEST_P(ControllerTables, ReadBackAsTheControlDoesReproducesTheModelAlongTheAxis)
                   " --axis " + std::string(1, c.axis) + " -o " + shell_quote(table) + " --json " + c.extra);
   ASSERT_EQ(r.exit_code, 0) << r.err;
   const std::string text = read_file(table);
-  const std::size_t axis = std::string("XYZ").find(c.axis);
+  const std::size_t axis = std::string("XYZABCUVW").find(c.axis);
+  const bool rotary = axis >= 3;
   Corrections corrections;
   if (c.control == "linuxcnc")
     corrections = load_linuxcnc(text, c.extra.find("--comp-file-type 1") != std::string::npos ? 1 : 0, axis);
@@ -241,26 +260,36 @@ TEST_P(ControllerTables, ReadBackAsTheControlDoesReproducesTheModelAlongTheAxis)
   const model::MachineModel machine = sample_machine(c.model);
   const model::ForwardModel f(machine);
   model::ForwardData d(f);
+  // The axes in the table's units (mm, deg), and back.
+  const double unit = rotary ? M_PI / 180.0 : 1.0;
+  auto table_units = [](const model::ChainQ& q) {
+    Axes p = q.head<9>();
+    p.tail<6>() *= 180.0 / M_PI;
+    return p;
+  };
+  // Its own error: along the axis (um), or its turn (arcsec).
+  const double own_scale = rotary ? 180.0 / M_PI * 3600.0 : 1e3;
+  auto own = [&](const Miss& m) { return rotary ? m.turn : m.tip[static_cast<Eigen::Index>(axis)]; };
   // Along the line the export took (the other axes at 0, a 100 mm tool), both directions.
-  const auto a = static_cast<Eigen::Index>(axis);
   double before = 0, after = 0, whole_before = 0, whole_after = 0;
-  const double from = json_number(r.out, "", "from_mm"), to = json_number(r.out, "", "to_mm");
+  const double from = json_number(r.out, "", "from"), to = json_number(r.out, "", "to");
   // Every table is 0 at the reference position: the offset there is the work offset's.
   model::ChainQ reference = model::ChainQ::Zero();
   reference[9] = 100;
-  const Eigen::Vector3d offset = miss(f, d, reference, corrections(reference, +1), axis, +1);
-  EXPECT_LT(corrections(reference, +1).norm(), 1e-6);
+  const Miss offset = miss(f, d, reference, corrections(table_units(reference), +1), axis, +1);
+  EXPECT_LT(corrections(table_units(reference), +1).norm(), 1e-6);
   for (double p = from; p <= to; p += 0.37)
     for (int direction : {+1, -1}) {
       model::ChainQ q = model::ChainQ::Zero();
-      q[static_cast<Eigen::Index>(axis)] = p, q[9] = 100;
-      const Eigen::Vector3d uncorrected = miss(f, d, q, Eigen::Vector3d::Zero(), axis, direction) - offset;
-      const Eigen::Vector3d corrected = miss(f, d, q, corrections(q, direction), axis, direction) - offset;
-      before = std::max(before, std::abs(uncorrected[a]));
-      after = std::max(after, std::abs(corrected[a]));
-      whole_before = std::max(whole_before, uncorrected.norm()), whole_after = std::max(whole_after, corrected.norm());
+      q[static_cast<Eigen::Index>(axis)] = p * unit, q[9] = 100;
+      const Miss uncorrected = miss(f, d, q, Axes::Zero(), axis, direction);
+      const Miss corrected = miss(f, d, q, corrections(table_units(q), direction), axis, direction);
+      before = std::max(before, std::abs(own(uncorrected) - own(offset)));
+      after = std::max(after, std::abs(own(corrected) - own(offset)));
+      whole_before = std::max(whole_before, (uncorrected.tip - offset.tip).norm());
+      whole_after = std::max(whole_after, (corrected.tip - offset.tip).norm());
     }
-  before *= 1e3, after *= 1e3, whole_before *= 1e3, whole_after *= 1e3;
+  before *= own_scale, after *= own_scale, whole_before *= 1e3, whole_after *= 1e3;
   EXPECT_GT(before, 5.0);
   EXPECT_LT(after, c.bound_um) << "before " << before;
   // The export's own figure (sampled every step / 8) is what the control does.
@@ -269,7 +298,7 @@ TEST_P(ControllerTables, ReadBackAsTheControlDoesReproducesTheModelAlongTheAxis)
   // Siemens' and Heidenhain's cross tables carry the other axes' straightness on the line
   // too (on the geometric model: the full one has the other axes' backlash, which depends
   // on how they last moved, not on this axis).
-  if ((c.control == "siemens" || c.control == "heidenhain") && c.model == "hmc-xyzb-geometric") {
+  if ((c.control == "siemens" || c.control == "heidenhain") && c.model == "hmc-xyzb-geometric" && !rotary) {
     EXPECT_GT(whole_before, before);
     EXPECT_LT(whole_after, c.bound_um + 0.1) << "before " << whole_before;
   }
@@ -290,7 +319,13 @@ INSTANTIATE_TEST_SUITE_P(Controls, ControllerTables,
                                            ExportCase{"heidenhain", "hmc-xyzb", 'X', 1.5, kReadings},
                                            ExportCase{"heidenhain", "hmc-xyzb-geometric", 'Z', 0.05, ""},
                                            ExportCase{"fanuc", "hmc-xyzb", 'Y', 4.0, kReadings},
-                                           ExportCase{"fanuc", "hmc-xyzb-geometric", 'Z', 0.6, ""}),
+                                           ExportCase{"fanuc", "hmc-xyzb-geometric", 'Z', 0.6, ""},
+                                           // B's angular positioning (arcsec; EBB, 18 urad harmonics): the table
+                                           // holds the turn at each point, between them the interpolation
+                                           ExportCase{"linuxcnc", "hmc-xyzb-geometric", 'B', 0.05, ""},
+                                           ExportCase{"fanuc", "hmc-xyzb-geometric", 'B', 2.0, ""},
+                                           ExportCase{"siemens", "hmc-xyzb", 'B', 0.5, kReadings},
+                                           ExportCase{"heidenhain", "hmc-xyzb-geometric", 'B', 0.05, ""}),
                          [](const ::testing::TestParamInfo<ExportCase>& param) {
                            std::string name =
                                param.param.control + "_" + std::string(1, param.param.axis) + "_" + param.param.model;
@@ -331,7 +366,7 @@ INSTANTIATE_TEST_SUITE_P(
                       RefusedExport{"--control linuxcnc --axis X --at Y=1000", 2, "Y travels from -450 to 450"},
                       RefusedExport{"--control fanuc --axis X --fanuc-unit 0.3", 2, "whole number of detection units"},
                       RefusedExport{"--control fanuc --axis X --fanuc-reference-point 1000", 2, "outside Fanuc's"},
-                      RefusedExport{"--control linuxcnc --axis B", 4, "rotary axes are not exported"},
+                      RefusedExport{"--control fanuc --axis B --from 0 --to 180", 2, "runs over one turn"},
                       RefusedExport{"--control fanuc --axis X --step 1", 2, "more than the 128 points"},
                       RefusedExport{"--control siemens --axis X --at Y=abc", 2, "is not a number"},
                       RefusedExport{"--control siemens --axis X --at Q=1", 2, "has no Q axis"},
@@ -377,7 +412,7 @@ TEST(ControllerTablesFanuc, ASpanWithoutZeroIsReferencedAtItsEndNearestZero) {
                last = fanuc_parameter(text, 3622);
     EXPECT_TRUE(reference == first || reference == last) << span;
     const bool above_zero = span.find("-500") == std::string::npos;
-    EXPECT_EQ(json_number(r.out, "", "reference_mm"), json_number(r.out, "", above_zero ? "from_mm" : "to_mm")) << span;
+    EXPECT_EQ(json_number(r.out, "", "reference"), json_number(r.out, "", above_zero ? "from" : "to")) << span;
     EXPECT_LT(json_number(r.out, "line_own_axis", "max_after_um"), 1.0) << span;
   }
 }

@@ -37,6 +37,7 @@ struct TableOptions {
 struct AxisTable {
   char axis = 'X';
   std::size_t axis_index = 0;     ///< into the chain variables (X Y Z A B C U V W)
+  bool rotary = false;            ///< positions and corrections in degrees (else mm)
   std::vector<double> positions;  ///< mm, the commanded positions of the points, ascending
   double reference = 0.0;         ///< mm: the position where every correction is 0 (a point of the grid)
   std::vector<double> forward;    ///< correction of the axis itself while it travels up
@@ -50,13 +51,18 @@ struct AxisTable {
   std::vector<Cross> cross;
   /// Whether the axis' own corrections differ by direction (a reversal term in the model).
   [[nodiscard]] bool bidirectional() const;
+  /// Chain units (mm, rad) per table unit (mm, deg).
+  [[nodiscard]] double scale() const;
 };
 
 /// Samples the model along the line: at each point p the correction t with which the
 /// commanded p + t puts the tool at p along the axis (solved to 1e-9 mm), for each
 /// direction of travel, and the other linear axes' errors there; all less their values at
-/// the reference position (travelling up). Throws ccomp::Error
-/// (usage) for an axis the model lacks, a rotary axis, or a grid that is empty or not finite.
+/// the reference position (travelling up). For a rotary axis (positions in degrees), t
+/// turns the tool's orientation relative to the table back to the commanded angle about
+/// the axis (its angular positioning error); the rest of its errors move the part, which
+/// no table of the axis' own position carries (no cross tables). Throws ccomp::Error
+/// (usage) for an axis the model lacks, or a grid that is empty or not finite.
 [[nodiscard]] AxisTable sample_axis_table(const model::ForwardModel& model, const TableOptions& options);
 
 /// The grid of `options` for an axis spanning [lo, hi]: points at multiples of `step`
@@ -83,10 +89,12 @@ struct Grid {
 struct Residual {
   double max_before_um = 0.0, rms_before_um = 0.0;
   double max_after_um = 0.0, rms_after_um = 0.0;
-  double reference_um = 0.0;  ///< the deviation at the reference point (its length or component)
+  double reference_um = 0.0;  ///< the deviation at the reference point (its length, component or turn)
   std::size_t points = 0;
 };
-/// `component` 0 1 2 measures only the deviation along that machine axis; -1 its length.
+/// `component` 0 1 2 measures only the deviation along that machine axis; -1 its length;
+/// a rotary axis' index (3 to 8) the turn about that axis, in arcseconds (the fields named
+/// _um then hold arcseconds).
 [[nodiscard]] Residual table_residual(const model::ForwardModel& model, const std::vector<AxisTable>& tables,
                                       const std::vector<model::ChainQ>& points, const model::ChainQ& reference,
                                       const model::Conditions& conditions, int component = -1);
