@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <array>
 #include <charconv>
 #include <cmath>
 #include <fstream>
@@ -49,6 +50,15 @@ void split(std::string_view line, std::vector<std::string>& fields, std::vector<
   }
   for (std::string& f : fields) f.erase(f.find_last_not_of(" \t") + 1);
 }
+
+/// The approach-direction column of each axis.
+constexpr std::array<std::string_view, 9> kDirectionNames{"vx", "vy", "vz", "va", "vb", "vc", "vu", "vv", "vw"};
+
+/// Where each column a row is read from sits in it (-1: absent).
+struct RowColumns {
+  std::array<int, 9> axis{}, direction{};
+  int L = -1, t = -1, source = -1, d = -1, nx = -1, ny = -1, nz = -1, dx = -1, dy = -1, dz = -1;
+};
 
 struct Columns {
   std::map<std::string, std::size_t> index;
@@ -157,6 +167,15 @@ void parse_measurements(const std::string& text, const std::string& name, const 
            fmt::format("column '{}' is an axis machine '{}' does not have", h, model.name));
   }
 
+  // The columns a row is read from, found once (-1: the file has none).
+  RowColumns at;
+  for (std::size_t i = 0; i < 9; ++i)
+    at.axis[i] = cols.at(std::string(1, kAxes[i])), at.direction[i] = cols.at(std::string(kDirectionNames[i]));
+  at.L = cols.at("L"), at.t = cols.at("t"), at.source = cols.at("source");
+  at.d = cols.at("d"), at.nx = cols.at("nx"), at.ny = cols.at("ny"), at.nz = cols.at("nz");
+  at.dx = cols.at("dx"), at.dy = cols.at("dy"), at.dz = cols.at("dz");
+  std::vector<std::string> sensor_names;
+  for (const std::string& sensor : into.sensors) sensor_names.push_back("T_" + sensor);
   std::map<std::string, std::uint32_t> source_index;
   for (std::size_t s = 0; s < into.sources.size(); ++s) source_index[into.sources[s]] = static_cast<std::uint32_t>(s);
   std::vector<std::string> fields;  // reused row after row
@@ -172,16 +191,17 @@ void parse_measurements(const std::string& text, const std::string& name, const 
     // said (the first few), so that a doubled file does not count double unnoticed.
     std::string key = line;
     while (!key.empty() && (key.back() == '\r' || key.back() == ' ' || key.back() == '\t')) key.pop_back();
-    if (const auto [at, fresh] = rows_seen.try_emplace(key, number); !fresh && ++repeated_rows <= 3)
+    if (const auto [seen, fresh] = rows_seen.try_emplace(key, number); !fresh && ++repeated_rows <= 3)
       into.notices.push_back(
           fmt::format("{}:{}: the row repeats row {} to the last digit (a repeated approach, or a "
                       "file pasted in twice?)",
-                      name, number, at->second));
+                      name, number, seen->second));
     split(line, fields, at_column);
     if (fields.size() != header.size())
       fail(number, 1, fmt::format("this row has {} fields, the header {}", fields.size(), header.size()));
-    auto value = [&](const std::string& column, double fallback) {
-      const int c = cols.at(column);
+    // A number from column c (its name for messages); `fallback` when the file has no such
+    // column or leaves it empty.
+    auto value = [&](int c, std::string_view column, double fallback) {
       if (c < 0) return fallback;
       const std::string& f = fields[static_cast<std::size_t>(c)];
       if (f.empty()) return fallback;
@@ -195,63 +215,62 @@ void parse_measurements(const std::string& text, const std::string& name, const 
              fmt::format("column '{}' is {}: every value must be finite", column, f));
       // Beyond any machine (10 km, 10 million degrees or seconds, degC):
       // a corrupt value, which would otherwise swamp the fit's arithmetic.
-      if (std::abs(v) > (column == "t" ? kLatestTime : kLargestReading))
+      const double largest = c == at.t ? kLatestTime : kLargestReading;
+      if (std::abs(v) > largest)
         fail(number, at_column[static_cast<std::size_t>(c)],
-             fmt::format("column '{}' is {}: beyond any machine's range (at most {:g})", column, f,
-                         column == "t" ? kLatestTime : kLargestReading));
+             fmt::format("column '{}' is {}: beyond any machine's range (at most {:g})", column, f, largest));
       return v;
     };
-    auto required = [&](const std::string& column) {
-      const int c = cols.at(column);
+    auto required = [&](int c, std::string_view column) {
       if (fields[static_cast<std::size_t>(c)].empty())
         fail(number, at_column[static_cast<std::size_t>(c)], fmt::format("column '{}' is empty", column));
-      return value(column, 0.0);
+      return value(c, column, 0.0);
     };
     Observation o;
     o.row = number;
     o.file = file_index;
-    const double tool = value("L", options.tool_length);
+    const double tool = value(at.L, "L", options.tool_length);
     for (std::size_t i = 0; i < 9; ++i) {
-      const std::string axis(1, kAxes[i]);
+      const std::string_view axis = kAxes.substr(i, 1);
       const bool rotary = i >= 3 && i <= 5;
-      const double v = i < 3 ? required(axis) : value(axis, 0.0);
+      const double v = i < 3 ? required(at.axis[i], axis) : value(at.axis[i], axis, 0.0);
       o.q[static_cast<Eigen::Index>(i)] = rotary ? v * kRadPerDeg : v;
-      const double sign = value("v" + axis, 0.0);
+      const double sign = value(at.direction[i], kDirectionNames[i], 0.0);
       if (sign != 0.0 && sign != 1.0 && sign != -1.0)
-        fail(number, at_column[static_cast<std::size_t>(cols.at("v" + axis))],
+        fail(number, at_column[static_cast<std::size_t>(at.direction[i])],
              fmt::format("column 'v{}' is {}: an approach direction is +1, -1 or 0 (unknown)", axis, sign));
       o.directions[i] = sign;
     }
     // Program coordinates carry the tool length: the Z axis sits L above the tool tip.
     o.q[2] += tool;
     o.q[static_cast<Eigen::Index>(model::kToolLengthIndex)] = tool;
-    o.time = value("t", 0.0);
+    o.time = value(at.t, "t", 0.0);
     o.temperatures.assign(into.sensors.size(), std::nan(""));  // a sensor this file does not read
     for (std::size_t s = 0; s < model.sensors.size(); ++s) o.temperatures[s] = 20.0;  // the model's: unused then
     for (std::size_t s = 0; s < sensor_column.size(); ++s) {
       if (sensor_column[s] < 0) continue;
       const bool models = s < model.sensors.size();  // the model's own must be read on every row
       if (models || !fields[static_cast<std::size_t>(sensor_column[s])].empty())
-        o.temperatures[s] = required("T_" + into.sensors[s]);
+        o.temperatures[s] = required(sensor_column[s], sensor_names[s]);
     }
     std::string label = name;
-    if (const int c = cols.at("source"); c >= 0 && !fields[static_cast<std::size_t>(c)].empty())
-      label = fields[static_cast<std::size_t>(c)];
+    if (at.source >= 0 && !fields[static_cast<std::size_t>(at.source)].empty())
+      label = fields[static_cast<std::size_t>(at.source)];
     const auto [it, added] = source_index.try_emplace(label, static_cast<std::uint32_t>(into.sources.size()));
     if (added) into.sources.push_back(label);
     o.source = it->second;
-    if (scalar && !fields[static_cast<std::size_t>(cols.at("d"))].empty()) {
-      const Eigen::Vector3d n(required("nx"), required("ny"), required("nz"));
+    if (scalar && !fields[static_cast<std::size_t>(at.d)].empty()) {
+      const Eigen::Vector3d n(required(at.nx, "nx"), required(at.ny, "ny"), required(at.nz, "nz"));
       if (std::abs(n.norm() - 1.0) > 1e-3)
-        fail(number, at_column[static_cast<std::size_t>(cols.at("nx"))],
+        fail(number, at_column[static_cast<std::size_t>(at.nx)],
              fmt::format("the direction ({}, {}, {}) is not a unit vector (length {:.6f})", n.x(), n.y(), n.z(),
                          n.norm()));
       o.direction = n.normalized();
-      o.value = required("d");
+      o.value = required(at.d, "d");
       into.observations.push_back(o);
     }
-    if (full && !fields[static_cast<std::size_t>(cols.at("dx"))].empty()) {
-      const double d[3] = {required("dx"), required("dy"), required("dz")};
+    if (full && !fields[static_cast<std::size_t>(at.dx)].empty()) {
+      const double d[3] = {required(at.dx, "dx"), required(at.dy, "dy"), required(at.dz, "dz")};
       for (int k = 0; k < 3; ++k) {
         Observation along = o;
         along.direction = Eigen::Vector3d::Unit(k);
