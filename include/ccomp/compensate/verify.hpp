@@ -3,9 +3,9 @@
 // it is (the error the machine would make), verify() runs a compensated program through it
 // and measures how far the executed tool tip strays from the path the original meant.
 // Both sample every feed move and arc; rapids are the control's path, not cuts.
-#include <functional>
 #include <Eigen/Core>
 #include <cstdint>
+#include <functional>
 #include <string>
 
 #include "ccomp/gcode/interpreter.hpp"

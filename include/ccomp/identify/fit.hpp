@@ -5,8 +5,8 @@
 // the singular values of the column-scaled design matrix and left at its prior value
 // (truncated SVD), never fitted to noise; the report says which parameters, or which
 // combinations of them, those are.
-#include <functional>
 #include <Eigen/Core>
+#include <functional>
 #include <string>
 #include <utility>
 #include <vector>
