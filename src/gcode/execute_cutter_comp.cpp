@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 
 #include <cmath>
+#include <limits>
 
 #include "interpreter_impl.hpp"
 
@@ -39,6 +40,7 @@ void Interpreter::Impl::cutter_compensation(const Block& b, int code) {
       if (std::abs(d - std::round(d)) >= 0.0001)
         fail(b, d_word, fmt::format("G{} needs D to be a whole number (a tool number), not {}", code / 10, d));
       if (d < 0) fail(b, d_word, fmt::format("negative D word: tool {}", d));
+      if (d > std::numeric_limits<int>::max()) fail(b, d_word, fmt::format("bad tool number D{}", d));
       if (std::round(d) != 0) tool = static_cast<int>(std::round(d));
       if (tool != modal.tool && tools.find(tool) == nullptr)
         fail(b, d_word, fmt::format("tool {} is not in the tool table (D{})", tool, tool));

@@ -95,6 +95,9 @@ TEST(CutterCompensation, WhatRs274RefusesIsRefusedAtTheBlock) {
   EXPECT_NE(refusal("G21 F100\nG41.1 D2\nG42.1 D2\nM2\n").find("already on"), std::string::npos);
   EXPECT_NE(refusal("G21 F100\nG41 D7\nM2\n").find("not in the tool table"), std::string::npos);
   EXPECT_NE(refusal("G21 F100\nG41 D1.5\nM2\n").find("whole number"), std::string::npos);
+  // Fuzzing (tools/fuzz.sh gcode): a D beyond any int was converted to int, which is
+  // undefined; it is a bad tool number.
+  EXPECT_NE(refusal("G21 F100\nG41 D88888888888888888888\nM2\n").find("bad tool number"), std::string::npos);
   const std::string on = "G21 F100\nG0 X0 Y0\nG41.1 D2\nG1 X10\n";
   EXPECT_NE(refusal(on + "G53 G1 X20\nM2\n").find("G53"), std::string::npos);
   EXPECT_NE(refusal(on + "G18\nM2\n").find("change planes"), std::string::npos);
