@@ -235,6 +235,9 @@ struct Box {
 class NominalPath {
  public:
   static constexpr std::size_t kGroup = 32;
+  /// Groups of groups, each with a box too: most of a point's window is far from it, and
+  /// one box skips sixteen groups.
+  static constexpr std::size_t kSuper = 16 * kGroup;
 
   NominalPath(gcode::LineSource& original, const model::ForwardModel& model, const CheckOptions& options) {
     reader_.run([this, &original, &model, &options] { produce(original, model, options); });
@@ -266,8 +269,12 @@ class NominalPath {
       lock.unlock();
       changed_.notify_all();
       for (Piece& p : batch) {
-        if (boxes_.empty() || (first_ + pieces_.size()) % kGroup == 0) boxes_.emplace_back();
+        const std::size_t index = first_ + pieces_.size();
+        if (boxes_.empty() || index % kGroup == 0) boxes_.emplace_back();
         boxes_.back().add(p);
+        if (super_boxes_.empty()) first_super_ = index / kSuper;
+        while (first_super_ + super_boxes_.size() <= index / kSuper) super_boxes_.emplace_back();
+        super_boxes_.back().add(p);
         pieces_.push_back(std::move(p));
       }
     }
@@ -288,6 +295,7 @@ class NominalPath {
       const std::size_t next = first_ + pieces_.size();
       pieces_.clear();  // no longer searched: only counted
       boxes_.clear();
+      super_boxes_.clear();
       first_ = next;
       available(next + 1);
       for (std::size_t k = 0; k < pieces_.size(); ++k) count(first_ + k, pieces_[k]);
@@ -301,10 +309,14 @@ class NominalPath {
       boxes_.pop_front();
       first_ += kGroup;
     }
+    while (!super_boxes_.empty() && (first_super_ + 1) * kSuper <= first_) super_boxes_.pop_front(), ++first_super_;
   }
   [[nodiscard]] std::size_t first() const { return first_; }
   [[nodiscard]] const Piece& operator[](std::size_t i) const { return pieces_[i - first_]; }
   [[nodiscard]] const Box& group_box(std::size_t i) const { return boxes_[(i - first_) / kGroup]; }
+  /// The box of piece i's group of groups: around every piece of it still kept, and maybe
+  /// around some already dropped (it only ever grows), so nothing kept lies outside it.
+  [[nodiscard]] const Box& super_box(std::size_t i) const { return super_boxes_[i / kSuper - first_super_]; }
 
  private:
   struct Cancelled {};
@@ -343,6 +355,8 @@ class NominalPath {
   // the consumer's
   std::deque<Piece> pieces_;
   std::deque<Box> boxes_;
+  std::deque<Box> super_boxes_;
+  std::size_t first_super_ = 0;  ///< the group of groups super_boxes_.front() is
   std::size_t first_ = 0;
   bool exhausted_ = false;
   // shared
@@ -445,7 +459,14 @@ class PathSearch {
       best = std::min(best, nominal_[i].distance(p));
     near_.clear();
     for (std::size_t g = from - from % NominalPath::kGroup; g < to; g += NominalPath::kGroup) {
-      if (nominal_.group_box(std::max(g, from)).distance(p) > slack(best)) continue;
+      const std::size_t start = std::max(g, from);
+      // A group of groups farther than the slack holds no piece nearer: all skipped (the
+      // same pieces as their own boxes would skip, the nearest found as before).
+      if ((start == from || g % NominalPath::kSuper == 0) && nominal_.super_box(start).distance(p) > slack(best)) {
+        g = (start / NominalPath::kSuper + 1) * NominalPath::kSuper - NominalPath::kGroup;
+        continue;
+      }
+      if (nominal_.group_box(start).distance(p) > slack(best)) continue;
       for (std::size_t i = std::max(g, from); i < std::min(g + NominalPath::kGroup, to); ++i) {
         const double d = nominal_[i].distance(p);
         if (d > slack(best)) continue;
