@@ -1,5 +1,5 @@
 // ccomp fit, check and simulate: the machine model against measurements (the CSV contract
-// of docs/physics.md, sect. 6).
+// of docs/error-model.md, sect. 6).
 #include <fmt/format.h>
 
 #include <algorithm>
@@ -339,7 +339,7 @@ int run_positioning(const IdentifyArgs& args) {
   fmt::print("  mean bidirectional  M  {:8.3f} um\n", r.M * um);
   fmt::print("  repeatability       R  {:8.3f} um  (up {:.3f}, down {:.3f})\n", r.R * um, r.R_up * um, r.R_down * um);
   fmt::print(
-      "parts of the mean deviation (docs/physics.md [Ref 3]): cumulative cubic [{:.4g}, {:.4g}, {:.4g}, {:.4g}] "
+      "parts of the mean deviation (docs/error-model.md [Ref 3]): cumulative cubic [{:.4g}, {:.4g}, {:.4g}, {:.4g}] "
       "um/mm^k",
       r.cumulative[0] * um, r.cumulative[1] * um, r.cumulative[2] * um, r.cumulative[3] * um);
   if (r.period > 0) fmt::print("; periodic {:.4g} mm, {:.3f} um", r.period, r.periodic_amplitude * um);
@@ -350,7 +350,7 @@ int run_positioning(const IdentifyArgs& args) {
 CLI::App* add_nine_line(CLI::App& app, IdentifyArgs& args) {
   CLI::App* cmd =
       app.add_subcommand("nine-line",
-                         "a 3-axis machine's geometric errors from nine laser lines (docs/physics.md [Ref 4]), "
+                         "a 3-axis machine's geometric errors from nine laser lines (docs/error-model.md [Ref 4]), "
                          "their sensitivity to line placement, and a better placement");
   cmd->add_option("measurements", args.measurements, "the nine lines (CSV; sources x-line1 .. z-line3)")->required();
   add_common(*cmd, args);

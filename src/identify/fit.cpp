@@ -100,7 +100,7 @@ std::vector<std::size_t> free_parameters(const model::ForwardModel& model) {
       // A period is a property of the mechanism (a screw's pitch, 360 deg of a table):
       // fitted only when the file says so (discovery scans it instead).
       if (term.shape.form == TermForm::periodic && k == 0 && !term.free_period) continue;
-      // A straightness is the deviation from its axis' line (docs/physics.md Ref 4: against its
+      // A straightness is the deviation from its axis' line (docs/error-model.md Ref 4: against its
       // least-squares line); the line's slope is where the line lies: the squareness, or
       // nothing where the reference frame defines it.
       if (slope_is_location && k == 1) continue;

@@ -86,7 +86,7 @@ double overall(const Sensitivity& s) {
   return std::sqrt(sum);
 }
 
-/// The squareness of the nine-line method (docs/physics.md Ref 4): the angle between the axes' lines as the model with
+/// The squareness of the nine-line method (docs/error-model.md Ref 4): the angle between the axes' lines as the model with
 /// `p` draws them through the middle of the measured workspace (each line's least-squares slope over the measured
 /// travel, in the two directions across it). With X's line along (1, a_xy, a_xz), Y's along (a_yx, 1, a_yz) and Z's
 /// along (a_zx, a_zy, 1), the angles' cosines give EC0X = a_xy + a_yx, EB0X = -(a_xz + a_zx), EA0Y = a_yz + a_zy:

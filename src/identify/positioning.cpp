@@ -84,7 +84,7 @@ PositioningReport analyse_positioning(const MeasurementSet& data, std::size_t ax
   report.M = bidirectional.width();
   report.A_up = a_up.width(), report.A_down = a_down.width(), report.A = a_both.width();
 
-  // docs/physics.md Ref 3: the mean deviation is cumulative (a smooth curve: a cubic here) plus periodic
+  // docs/error-model.md Ref 3: the mean deviation is cumulative (a smooth curve: a cubic here) plus periodic
   // (the pitch); the reversal is B_mean. The period is the best of a scan from 2.5 target
   // spacings to half the travel, kept when it takes a third of what the cubic leaves.
   const auto n = static_cast<Eigen::Index>(report.targets.size());

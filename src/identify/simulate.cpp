@@ -115,7 +115,7 @@ MeasurementSet simulate(const model::ForwardModel& truth, const SimulateOptions&
     switch (plan) {
       case Plan::nine_lines: {
         // Per axis: line 1 with two straightnesses, line 2 with one, line 3 positioning
-        // only; lines 1 and 3 spread across the workspace (the advice of docs/physics.md Ref 4).
+        // only; lines 1 and 3 spread across the workspace (the advice of docs/error-model.md Ref 4).
         for (int a = 0; a < 3; ++a) {
           const int u = (a + 1) % 3, w = (a + 2) % 3;
           const double edge = options.line_inset;
@@ -169,7 +169,7 @@ MeasurementSet simulate(const model::ForwardModel& truth, const SimulateOptions&
       }
       case Plan::test_piece: {
         if (!has_b) break;
-        // The test piece of docs/physics.md Ref 2: a cube on the table centre; at B = 0, 90, 180, 270 deg the face
+        // The test piece of docs/error-model.md Ref 2: a cube on the table centre; at B = 0, 90, 180, 270 deg the face
         // toward the spindle (+Z) and a side face (+X) are cut, then probed on a CMM at 3 x 3 points along their
         // normals (the error-sensitive directions of the cut), against the part's own faces cut at B0.
         const std::size_t first = set.observations.size();

@@ -56,7 +56,7 @@ TEST(Readme, ExitCodeTableListsEveryCodeTheCliReturns) {
 }
 
 TEST(Readme, DocsAndSamplesPointOnlyInsideTheRepository) {
-  // The source papers are cited by docs/physics.md's references, never by a path or a name
+  // The source papers are cited by docs/error-model.md's references, never by a path or a name
   // (../shared/physics.md, "seed 003") a user who clones the project does not have.
   namespace fs = std::filesystem;
   static const std::regex outside(R"(\.\./shared/|shared/physics|[Ss]eeds? 00\d|the seed's)");

@@ -1,4 +1,4 @@
-// Reading the measurement CSV contract (physics.md sect. 5): what it accepts, and errors
+// Reading the measurement CSV contract (error-model.md sect. 5): what it accepts, and errors
 // that name the file, the row and the column.
 #include "ccomp/identify/measurements.hpp"
 

@@ -1,4 +1,4 @@
-// The nine-line method (docs/physics.md Ref 4): the geometric errors of a 3-axis machine from nine laser
+// The nine-line method (docs/error-model.md Ref 4): the geometric errors of a 3-axis machine from nine laser
 // lines, their sensitivity to where the lines were placed, and the placement study.
 #include "ccomp/identify/nine_line.hpp"
 

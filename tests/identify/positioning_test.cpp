@@ -1,4 +1,4 @@
-// ISO 230-2 positioning figures: a small data set worked by hand, and the split of docs/physics.md Ref 3
+// ISO 230-2 positioning figures: a small data set worked by hand, and the split of docs/error-model.md Ref 3
 // of a simulated axis into cumulative, periodic and reversal parts.
 #include "ccomp/identify/positioning.hpp"
 

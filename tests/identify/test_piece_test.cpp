@@ -1,4 +1,4 @@
-// docs/physics.md Ref 2: a test piece cut at four table angles and measured on a CMM along its faces'
+// docs/error-model.md Ref 2: a test piece cut at four table angles and measured on a CMM along its faces'
 // normals, against its own faces cut at B0 (not against the B axis), determines the rotary
 // axis' location and tilt; the shipped data give the shipped truth.
 #include <gtest/gtest.h>

@@ -68,7 +68,7 @@ TEST(LocationTerms, SquarenessIsAShearOfItsSizeAndSignThatTurnsNothing) {
 }
 
 TEST(LocationTerms, TheSeedsSquarenessIsPositiveWhenTheAxesOpenBeyondARightAngle) {
-  // docs/physics.md Ref 1: S_xy > 0 when the angle between +X and +Y exceeds 90 deg.
+  // docs/error-model.md Ref 1: S_xy > 0 when the angle between +X and +Y exceeds 90 deg.
   const ForwardModel m = hmc_with("{name: S_xy, value: 50, unit: urad}");
   const Eigen::Vector3d origin = at(m, 0, 0, 0, 0).deviation;
   const Eigen::Vector3d x_line = Eigen::Vector3d(100, 0, 0) + at(m, 100, 0, 0, 0).deviation - origin;

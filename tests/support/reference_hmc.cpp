@@ -101,7 +101,7 @@ std::vector<ReferenceReading> measure_reference(const ReferenceHmc& machine, con
   };
   const double half[3] = {400, 300, 300};  // the workspace: +-400 X, +-300 Y, +-300 Z
   if (plans.nine_lines) {
-    // docs/physics.md Ref 4: three lines per axis, lines 1 and 3 near opposite edges, line 2 between.
+    // docs/error-model.md Ref 4: three lines per axis, lines 1 and 3 near opposite edges, line 2 between.
     const double offsets[3][2] = {{-0.8, -0.8}, {0.0, 0.8}, {0.8, 0.0}};
     for (int axis = 0; axis < 3; ++axis) {
       const int u = (axis + 1) % 3, w = (axis + 2) % 3;

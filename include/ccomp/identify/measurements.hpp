@@ -1,5 +1,5 @@
 #pragma once
-// Measurements: the CSV contract of section 6 of docs/physics.md, read into observations
+// Measurements: the CSV contract of section 6 of docs/error-model.md, read into observations
 // the forward model can predict. One row is one scalar observation d along a unit
 // direction n (a laser or ballbar reading), or three (a full dx dy dz deviation).
 #include <Eigen/Core>

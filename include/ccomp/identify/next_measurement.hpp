@@ -2,7 +2,7 @@
 // Which measurement next: when the data explain a missing effect as well by one candidate
 // as by another (the spindle's temperature or the time since the start; a cross-axis term
 // or a higher order), adding either is a guess. This names the pair and the measurement
-// that would separate them (the nine-line method's placement sensitivity, docs/physics.md Ref 4, carried to the loop).
+// that would separate them (the nine-line method's placement sensitivity, docs/error-model.md Ref 4, carried to the loop).
 #include <vector>
 
 #include "ccomp/identify/diagnose.hpp"

@@ -1,5 +1,5 @@
 #pragma once
-// The nine-line method (docs/physics.md Ref 4) as a workflow: from nine laser lines alone (three per axis,
+// The nine-line method (docs/error-model.md Ref 4) as a workflow: from nine laser lines alone (three per axis,
 // positioning on all, straightness on lines 1 and 2) the geometric errors of a 3-axis
 // machine are fitted; then how far each identified error moves per millimetre that a
 // line was placed off its assumed position, and which placement of lines 1 and 3 would
@@ -25,7 +25,7 @@ struct PlacementSensitivity {
 /// the whole machine (a carriage's constant yaw, the lasers' alignment) do not change it.
 struct LineSquareness {
   std::string iso;     ///< EC0X, EB0X, EA0Y: the term that carries it in the reference frame
-  std::string seed;    ///< S_xy, S_xz, S_yz: the symbol of docs/physics.md Ref 1
+  std::string seed;    ///< S_xy, S_xz, S_yz: the symbol of docs/error-model.md Ref 1
   double value = 0.0;  ///< rad, in the ISO term's sign (that symbol's value: `seed_sign` times it)
   double seed_sign = 1.0;
 };

@@ -1,5 +1,5 @@
 #pragma once
-// Positioning of a linear axis by ISO 230-2 from bidirectional runs (docs/physics.md Ref 3): per target
+// Positioning of a linear axis by ISO 230-2 from bidirectional runs (docs/error-model.md Ref 3): per target
 // the mean deviations in each approach direction, their spread and the reversal; for the
 // axis the accuracy A, reversal B, systematic deviation E, mean deviation M and
 // repeatability R; and Ref 3's split of the mean deviation into a cumulative part (a

@@ -11,11 +11,11 @@
 namespace ccomp::identify {
 
 enum class Plan : std::uint8_t {
-  nine_lines,  ///< Ref 4 (docs/physics.md): three laser lines per linear axis, bidirectional passes
+  nine_lines,  ///< Ref 4 (docs/error-model.md): three laser lines per linear axis, bidirectional passes
   grid,        ///< a volumetric grid of full deviations at several tool lengths
   sphere,      ///< a sphere on the table probed at rotary angles
   thermal,     ///< a drift test: fixed points over hours, sensors warming up
-  test_piece,  ///< Ref 2 (docs/physics.md): faces cut at B 0/90/180/270 deg, probed on a CMM along their normals
+  test_piece,  ///< Ref 2 (docs/error-model.md): faces cut at B 0/90/180/270 deg, probed on a CMM along their normals
 };
 
 /// "nine_lines" -> Plan; throws ccomp::Error (usage) naming the known plans.

@@ -1,6 +1,6 @@
 #pragma once
 // The machine's two kinematic chains, from the base frame W to the workpiece point p and to
-// the tool tip, and the error matrix of docs/physics.md (Ref 1, eq. 25):
+// the tool tip, and the error matrix of docs/error-model.md (Ref 1, eq. 25):
 //   E = (W M p)^-1 * (W M tool)
 // Each link has two kinds of error (ISO 230-1), which act in different places:
 //  - its LOCATION error (a constant: squareness, where a rotary axis' line is): where the

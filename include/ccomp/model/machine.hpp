@@ -48,7 +48,7 @@ struct LinkSpec {
 /// about its displaced and tilted line (kinematics/chain.hpp).
 enum class ErrorPlacement : std::uint8_t { motion, location };
 
-/// Whether the model files' reference frame (docs/physics.md: Ref 1, its sect. 2.3) fixes the turn of linear
+/// Whether the model files' reference frame (docs/error-model.md: Ref 1, its sect. 2.3) fixes the turn of linear
 /// axis `axis`'s line about `rotation` (3 4 5: about x y z): Z's line is the frame's primary
 /// axis (its turns about x and y are zero by definition), Y's lies in the frame's Z-Y plane
 /// (its turn about z is). The squareness between the lines is carried by X's and Y's.
@@ -58,7 +58,7 @@ enum class ErrorPlacement : std::uint8_t { motion, location };
 
 /// An error term: one component of one link's error motion or location, a form of a variable.
 struct ErrorTermSpec {
-  std::string name;  ///< ISO 230-1 ("EXX", "EC0X", "EBB") as the file names it, or its alias from docs/physics.md Ref 1
+  std::string name;  ///< ISO 230-1 ("EXX", "EC0X", "EBB") as the file names it, or its alias from docs/error-model.md Ref 1
   std::string iso;   ///< the ISO 230-1 name
   std::string link;  ///< the link whose error it is
   int component = 0;  ///< 0 1 2: translation x y z (mm); 3 4 5: rotation about x y z (rad)

@@ -23,7 +23,7 @@ struct IsoName {
   double sign = 1.0;
 };
 
-/// The symbols of docs/physics.md Ref 1, accepted as aliases of ISO 230-1 names. Its squareness S and
+/// The symbols of docs/error-model.md Ref 1, accepted as aliases of ISO 230-1 names. Its squareness S and
 /// parallelism P are positive when the angle between the positive directions (of the two
 /// lines, or of the reference plane's normal and the axis) exceeds 90 deg: with X's line
 /// along (1, EC0X, -EB0X), Y's along (0, 1, EA0Y) and B's along (-EC0B, 1, EA0B),
