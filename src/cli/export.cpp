@@ -21,12 +21,6 @@ namespace {
 
 constexpr std::string_view kAxisLetters = "XYZABCUVW";
 
-const model::AxisSpec* axis_spec(const model::MachineModel& m, char letter) {
-  const auto a =
-      std::find_if(m.axes.begin(), m.axes.end(), [&](const model::AxisSpec& s) { return s.letter == letter; });
-  return a == m.axes.end() ? nullptr : &*a;
-}
-
 /// The line the tables are taken along: each other axis at --at's value, else at 0 when
 /// its travel holds 0, else mid-travel; rotary axes at 0.
 /// `axis` is the table's: an --at for it is refused when `own_table`, else (another axis'
@@ -44,7 +38,7 @@ model::ChainQ table_line(const model::MachineModel& m, const ExportArgs& args, c
     double v = 0;
     if (eq != 1) throw Error(ErrorKind::usage, "--at takes AXIS=VALUE (Y=0, B=90), not '" + at + "'");
     const char letter = static_cast<char>(std::toupper(static_cast<unsigned char>(at[0])));
-    const model::AxisSpec* spec = axis_spec(m, letter);
+    const model::AxisSpec* spec = m.axis(letter);
     if (spec == nullptr)
       throw Error(ErrorKind::usage, fmt::format("--at {}: the machine '{}' has no {} axis", at, m.name, letter));
     if (letter == axis) {
@@ -72,7 +66,7 @@ model::ChainQ table_line(const model::MachineModel& m, const ExportArgs& args, c
 
 controller::TableOptions table_options(const model::MachineModel& m, const ExportArgs& args, char axis,
                                        controller::Control control, bool own_table = true) {
-  const model::AxisSpec* spec = axis_spec(m, axis);
+  const model::AxisSpec* spec = m.axis(axis);
   if (spec == nullptr)
     throw Error(ErrorKind::usage, fmt::format("--axis {}: the machine '{}' has no such axis", axis, m.name));
   // A rotary axis without limits, or turning more than once, gets a table over one turn.
@@ -130,7 +124,7 @@ Uncarried uncarried_terms(const model::MachineModel& m, controller::Control cont
   for (const model::ErrorTermSpec& t : m.terms) {
     if (std::find(seen.begin(), seen.end(), t.name) != seen.end()) continue;
     const model::LinkSpec* l = link_of(m, t.link);
-    const model::AxisSpec* spec = l != nullptr && l->axis ? axis_spec(m, *l->axis) : nullptr;
+    const model::AxisSpec* spec = l != nullptr && l->axis ? m.axis(*l->axis) : nullptr;
     const bool thermal =
         t.primary.kind == model::VariableKind::temperature || t.primary.kind == model::VariableKind::time ||
         t.secondary.kind == model::VariableKind::temperature || t.secondary.kind == model::VariableKind::time;

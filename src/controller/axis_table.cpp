@@ -79,14 +79,6 @@ std::array<double, 9> travelling(std::size_t axis, int direction) {
   return d;
 }
 
-const model::AxisSpec& axis_spec(const model::MachineModel& machine, char letter) {
-  const auto spec = std::find_if(machine.axes.begin(), machine.axes.end(),
-                                 [&](const model::AxisSpec& a) { return a.letter == letter; });
-  if (spec == machine.axes.end())
-    throw Error(ErrorKind::usage, fmt::format("--axis {}: the machine '{}' has no such axis", letter, machine.name));
-  return *spec;
-}
-
 /// Linear interpolation in `values` over the table's points, constant beyond its ends.
 double interpolate(const std::vector<double>& positions, const std::vector<double>& values, double p) {
   if (p <= positions.front()) return values.front();
@@ -130,7 +122,11 @@ AxisTable sample_axis_table(const model::ForwardModel& model, const TableOptions
   const model::MachineModel& machine = model.machine();
   AxisTable table;
   table.axis = options.axis;
-  table.rotary = axis_spec(machine, options.axis).type == model::AxisType::rotary;
+  const model::AxisSpec* spec = machine.axis(options.axis);
+  if (spec == nullptr)
+    throw Error(ErrorKind::usage,
+                fmt::format("--axis {}: the machine '{}' has no such axis", options.axis, machine.name));
+  table.rotary = spec->type == model::AxisType::rotary;
   table.axis_index = kAxisLetters.find(options.axis);
   if (!(options.step > 0) || !std::isfinite(options.from) || !std::isfinite(options.to) || !(options.to > options.from))
     throw Error(ErrorKind::usage, fmt::format("--axis {}: no grid from {} to {} step {}", options.axis, options.from,
