@@ -8,69 +8,12 @@
 
 #include "ccomp/error.hpp"
 #include "ccomp/kinematics/pose.hpp"
+#include "tip_miss.hpp"
 
 namespace ccomp::controller {
 namespace {
 
 constexpr std::string_view kAxisLetters = "XYZABCUVW";
-
-/// The tool tip's miss, in machine-axis directions: where it is with the axes commanded
-/// to `commanded`, against where a perfect machine puts it at `target`.
-class TipMiss {
- public:
-  TipMiss(const model::ForwardModel& model, const model::Conditions& conditions)
-      : model_(model), data_(model), conditions_(conditions) {}
-
-  /// `directions`: each axis' approach state (+1 up, -1 down, 0 the middle of its play):
-  /// an axis not moving is in the middle, so its backlash is no one else's.
-  Eigen::Vector3d operator()(const model::ChainQ& commanded, const model::ChainQ& target,
-                             const std::array<double, 9>& directions) {
-    model::forward(model_, data_, target, conditions_, false, model::Evaluate::nominal);
-    const Eigen::Vector3d wanted = data_.nominal;
-    conditions_.directions = directions;
-    model::forward(model_, data_, commanded, conditions_, false, model::Evaluate::both);
-    return data_.nominal_chain.oMp.R * (data_.actual - wanted);
-  }
-
-  /// How far the tool turns relative to the table about `u` (rad): commanded against the
-  /// perfect machine at target.
-  double turn(const model::ChainQ& commanded, const model::ChainQ& target, const std::array<double, 9>& directions,
-              const Eigen::Vector3d& u) {
-    model::forward(model_, data_, target, conditions_, false, model::Evaluate::nominal);
-    const Eigen::Matrix3d wanted = data_.R_nominal;
-    conditions_.directions = directions;
-    model::forward(model_, data_, commanded, conditions_, false, model::Evaluate::both);
-    return u.dot(kinematics::so3_log(wanted.transpose() * data_.R_actual));
-  }
-
-  /// The direction the tool turns (in its own frame) as rotary axis j turns up at q.
-  Eigen::Vector3d turn_axis(const model::ChainQ& q, std::size_t j) {
-    constexpr double kStep = 1e-4;  // rad
-    model::ChainQ moved = q;
-    moved[static_cast<Eigen::Index>(j)] += kStep;
-    model::forward(model_, data_, q, conditions_, false, model::Evaluate::nominal);
-    const Eigen::Matrix3d at = data_.R_nominal;
-    model::forward(model_, data_, moved, conditions_, false, model::Evaluate::nominal);
-    return kinematics::so3_log(at.transpose() * data_.R_nominal).normalized();
-  }
-
-  /// How far the tip moves along machine axis j when axis j is commanded 1 mm further:
-  /// +1 or -1, as the chain carries the tool or the workpiece.
-  double sense(const model::ChainQ& q, std::size_t j) {
-    model::ChainQ moved = q;
-    moved[static_cast<Eigen::Index>(j)] += 1.0;
-    model::forward(model_, data_, q, conditions_, false, model::Evaluate::nominal);
-    const Eigen::Vector3d at = data_.nominal_chain.oMp.R * data_.nominal;
-    model::forward(model_, data_, moved, conditions_, false, model::Evaluate::nominal);
-    const Eigen::Vector3d there = data_.nominal_chain.oMp.R * data_.nominal;
-    return there[static_cast<Eigen::Index>(j)] - at[static_cast<Eigen::Index>(j)];
-  }
-
- private:
-  const model::ForwardModel& model_;
-  model::ForwardData data_;
-  model::Conditions conditions_;
-};
 
 /// Only `axis` travelling, `direction` (+1, -1); the others in the middle of their play.
 std::array<double, 9> travelling(std::size_t axis, int direction) {
@@ -195,12 +138,30 @@ double cross_correction_at(const AxisTable& table, std::size_t k, double p) {
 Residual table_residual(const model::ForwardModel& model, const std::vector<AxisTable>& tables,
                         const std::vector<model::ChainQ>& points, const model::ChainQ& reference,
                         const model::Conditions& conditions, int component) {
+  std::vector<std::size_t> moving;
+  for (const AxisTable& t : tables) moving.push_back(t.axis_index);
+  const Corrector corrector = [&tables](const model::ChainQ& q, int direction) {
+    model::ChainQ c = model::ChainQ::Zero();
+    for (const AxisTable& t : tables) {
+      const double p = q[static_cast<Eigen::Index>(t.axis_index)] / t.scale();
+      c[static_cast<Eigen::Index>(t.axis_index)] += correction_at(t, p, direction) * t.scale();
+      for (std::size_t k = 0; k < t.cross.size(); ++k)
+        c[static_cast<Eigen::Index>(t.cross[k].axis_index)] += cross_correction_at(t, k, p);
+    }
+    return c;
+  };
+  return corrected_residual(model, corrector, moving, points, reference, conditions, component);
+}
+
+Residual corrected_residual(const model::ForwardModel& model, const Corrector& corrector,
+                            const std::vector<std::size_t>& moving_axes, const std::vector<model::ChainQ>& points,
+                            const model::ChainQ& reference, const model::Conditions& conditions, int component) {
   Residual r;
   TipMiss miss(model, conditions);
-  // The axes with tables travel together, up or down; the rest stand in the middle of their play.
-  auto moving = [&tables](int direction) {
+  // The corrected axes travel together, up or down; the rest stand in the middle of their play.
+  auto moving = [&moving_axes](int direction) {
     std::array<double, 9> d{};
-    for (const AxisTable& t : tables) d[t.axis_index] = direction;
+    for (const std::size_t axis : moving_axes) d[axis] = direction;
     return d;
   };
   // What is measured at each point: the tip's miss (um), one component of it, or the turn
@@ -222,13 +183,7 @@ Residual table_residual(const model::ForwardModel& model, const std::vector<Axis
   double sum_before = 0.0, sum_after = 0.0;
   for (const model::ChainQ& q : points) {
     for (int direction : {+1, -1}) {
-      model::ChainQ commanded = q;
-      for (const AxisTable& t : tables) {
-        const double p = q[static_cast<Eigen::Index>(t.axis_index)] / t.scale();
-        commanded[static_cast<Eigen::Index>(t.axis_index)] += correction_at(t, p, direction) * t.scale();
-        for (std::size_t k = 0; k < t.cross.size(); ++k)
-          commanded[static_cast<Eigen::Index>(t.cross[k].axis_index)] += cross_correction_at(t, k, p);
-      }
+      const model::ChainQ commanded = q + corrector(q, direction);
       const double before = size(measure(q, q, direction) - offset);
       const double after = size(measure(commanded, q, direction) - offset);
       r.max_before_um = std::max(r.max_before_um, before);

@@ -14,6 +14,7 @@
 // takes, and tables made so add up across axes instead of counting it once per axis.
 #include <array>
 #include <cstddef>
+#include <functional>
 #include <vector>
 
 #include "ccomp/model/forward.hpp"
@@ -98,6 +99,14 @@ struct Residual {
 [[nodiscard]] Residual table_residual(const model::ForwardModel& model, const std::vector<AxisTable>& tables,
                                       const std::vector<model::ChainQ>& points, const model::ChainQ& reference,
                                       const model::Conditions& conditions, int component = -1);
+/// What a control adds to the commanded axes (chain units: mm, rad) at commanded q,
+/// travelling up (+1) or down (-1).
+using Corrector = std::function<model::ChainQ(const model::ChainQ& q, int direction)>;
+/// table_residual() for any corrector, `moving_axes` travelling together.
+[[nodiscard]] Residual corrected_residual(const model::ForwardModel& model, const Corrector& corrector,
+                                          const std::vector<std::size_t>& moving_axes,
+                                          const std::vector<model::ChainQ>& points, const model::ChainQ& reference,
+                                          const model::Conditions& conditions, int component = -1);
 /// The line's reference point: the line with the table's axis at its reference position.
 [[nodiscard]] model::ChainQ reference_point(const AxisTable& table, const TableOptions& options);
 
