@@ -14,17 +14,15 @@
 #include "ccomp/util/json.hpp"
 #include "ccomp/version.hpp"
 #include "commands.hpp"
+#include "export_parts.hpp"
 #include "output_file.hpp"
 
 namespace ccomp::cli {
+
 namespace {
-
 constexpr std::string_view kAxisLetters = "XYZABCUVW";
+}  // namespace
 
-/// The line the tables are taken along: each other axis at --at's value, else at 0 when
-/// its travel holds 0, else mid-travel; rotary axes at 0.
-/// `axis` is the table's: an --at for it is refused when `own_table`, else (another axis'
-/// table, for the workspace figures) left out.
 model::ChainQ table_line(const model::MachineModel& m, const ExportArgs& args, char axis, bool own_table) {
   model::ChainQ q = model::ChainQ::Zero();
   for (const model::AxisSpec& a : m.axes) {
@@ -63,6 +61,8 @@ model::ChainQ table_line(const model::MachineModel& m, const ExportArgs& args, c
   q[static_cast<Eigen::Index>(model::kToolLengthIndex)] = args.tool_length;
   return q;
 }
+
+namespace {
 
 controller::TableOptions table_options(const model::MachineModel& m, const ExportArgs& args, char axis,
                                        controller::Control control, bool own_table = true) {
@@ -103,13 +103,9 @@ controller::WriteOptions write_options(const ExportArgs& args, const model::Mach
   return w;
 }
 
-/// What the model holds that no table of this control carries, by term.
-/// What the model holds that no table of the control carries, by term (each term once, in
-/// the first of these that holds it).
-struct Uncarried {
-  std::vector<std::string> thermal, rotary, straightness, off_line;
-};
+}  // namespace
 
+namespace {
 const model::LinkSpec* link_of(const model::MachineModel& m, const std::string& name) {
   for (const std::vector<model::LinkSpec>* chain : {&m.workpiece_chain, &m.tool_chain})
     for (const model::LinkSpec& l : *chain)
@@ -117,9 +113,10 @@ const model::LinkSpec* link_of(const model::MachineModel& m, const std::string& 
   return nullptr;
 }
 
-Uncarried uncarried_terms(const model::MachineModel& m, controller::Control control) {
+}  // namespace
+
+Uncarried uncarried_terms(const model::MachineModel& m, bool cross) {
   Uncarried u;
-  const bool cross = controller::control_limits(control).cross;
   std::vector<std::string> seen;
   for (const model::ErrorTermSpec& t : m.terms) {
     if (std::find(seen.begin(), seen.end(), t.name) != seen.end()) continue;
@@ -166,18 +163,19 @@ void json_residual(util::JsonWriter& j, std::string_view key, const controller::
   j.field("reference_um", r.reference_um).end_object();
 }
 
-}  // namespace
-
 CLI::App* add_export(CLI::App& app, ExportArgs& args) {
   CLI::App* cmd = app.add_subcommand(
       "export", "a fitted model as a control's compensation tables (LinuxCNC, Fanuc, Siemens 840D sl, Heidenhain)");
   cmd->add_option("-m,--model", args.model, "machine model (YAML)")->required();
-  cmd->add_option("--control", args.control, "linuxcnc, fanuc, siemens or heidenhain")
+  cmd->add_option("--control", args.control,
+                  "linuxcnc, fanuc, siemens or heidenhain (a table along --axis), isg (Beckhoff TwinCAT CNC: a "
+                  "volumetric table over X Y Z)")
       ->required()
-      ->check(CLI::IsMember({"linuxcnc", "fanuc", "siemens", "heidenhain"}));
-  cmd->add_option("--axis", args.axis, "the linear axis the table is for (X, Y, Z ...)")->required();
+      ->check(CLI::IsMember({"linuxcnc", "fanuc", "siemens", "heidenhain", "isg"}));
+  cmd->add_option("--axis", args.axis, "the axis the table is for (X, Y, Z, B ...; not for isg)");
   cmd->add_option("-o,--output", args.output, "the table file (- for stdout, the default)");
-  cmd->add_option("--step", args.step, "mm between the table's points (default: the finest the control holds)")
+  cmd->add_option("--step", args.step,
+                  "mm between the table's points (default: the finest the control holds; isg: 25 mm on each axis)")
       ->check(CLI::PositiveNumber);
   cmd->add_option("--from", args.from, "mm: the table's first point (default: the axis' travel)");
   cmd->add_option("--to", args.to, "mm: the table's last point (default: the axis' travel)");
@@ -202,6 +200,10 @@ CLI::App* add_export(CLI::App& app, ExportArgs& args) {
 int run_export(const ExportArgs& args) {
   if (args.json && args.output == "-")
     throw Error(ErrorKind::usage, "--json writes the summary on stdout: give the table -o FILE");
+  if (args.control == "isg") return run_volume_export(args);
+  if (args.axis.empty())
+    throw Error(ErrorKind::usage,
+                "--axis: a " + args.control + " table is for one axis: give --axis X (or Y, Z, B ...)");
   if (args.axis.size() != 1) throw Error(ErrorKind::usage, "--axis takes one axis letter, not '" + args.axis + "'");
   if (args.output != "-") check_output(args.output, {{"the machine model", args.model}}, "-o");
   const char axis = static_cast<char>(std::toupper(args.axis[0]));
@@ -237,7 +239,7 @@ int run_export(const ExportArgs& args) {
       controller::table_residual(forward, all, controller::workspace_points(m, o.line, 5), reference, o.conditions);
   const controller::Residual linear_workspace = controller::table_residual(
       forward, all, controller::workspace_points(m, o.line, 5, false), reference, o.conditions);
-  const Uncarried u = uncarried_terms(m, control);
+  const Uncarried u = uncarried_terms(m, controller::control_limits(control).cross);
   write_output(args.output, text);
   if (args.json) {
     util::JsonWriter j;

@@ -60,7 +60,8 @@ INSTANTIATE_TEST_SUITE_P(
         JsonCase{"simulate", "simulate -m {s}/samples/machines/vmc-xyz.yaml -o {out}/nl.csv --json"},
         JsonCase{"positioning", "positioning" + kData + kGeometric + " --axis x --json"},
         JsonCase{"nine-line", "nine-line {s}/samples/measurements/hmc-laser-grid-sphere.csv " + kGeometric + " --json"},
-        JsonCase{"export", "export " + kGeometric + " --control siemens --axis X -o {out}/x.spf --json"}),
+        JsonCase{"export", "export " + kGeometric + " --control siemens --axis X -o {out}/x.spf --json"},
+        JsonCase{"export-volume", "export " + kGeometric + " --control isg --step 100 -o {out}/v.csv --json"}),
     [](const ::testing::TestParamInfo<JsonCase>& param) {
       std::string name = param.param.schema;
       std::replace(name.begin(), name.end(), '-', '_');

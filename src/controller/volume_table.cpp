@@ -1,0 +1,144 @@
+#include "ccomp/controller/volume_table.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+
+#include "ccomp/error.hpp"
+#include "tip_miss.hpp"
+
+namespace ccomp::controller {
+namespace {
+
+/// X, Y and Z all travelling `direction`; the other axes in the middle of their play.
+std::array<double, 9> all_travelling(int direction) {
+  std::array<double, 9> d{};
+  d[0] = d[1] = d[2] = direction;
+  return d;
+}
+
+/// The node at or below p along one axis and p's fraction of the way to the next, held
+/// at the ends.
+struct CellCoordinate {
+  std::size_t lower = 0;
+  double fraction = 0.0;
+};
+CellCoordinate cell_coordinate(const std::vector<double>& positions, double p) {
+  if (positions.size() == 1 || p <= positions.front()) return {0, 0.0};
+  if (p >= positions.back()) return {positions.size() - 2, 1.0};
+  const auto upper = std::upper_bound(positions.begin(), positions.end(), p);
+  const auto k = static_cast<std::size_t>(upper - positions.begin()) - 1;
+  return {k, (p - positions[k]) / (positions[k + 1] - positions[k])};
+}
+
+std::vector<double> node_positions(const Grid& g) {
+  std::vector<double> p(g.points());
+  for (std::size_t i = 0; i < p.size(); ++i) p[i] = g.from + static_cast<double>(i) * g.step;
+  return p;
+}
+
+/// The radical inverse of n in `base`: the n-th Halton coordinate, in [0, 1).
+double radical_inverse(std::size_t n, std::size_t base) {
+  double inverse = 0.0, digit = 1.0 / static_cast<double>(base);
+  for (; n > 0; n /= base, digit /= static_cast<double>(base)) inverse += static_cast<double>(n % base) * digit;
+  return inverse;
+}
+
+}  // namespace
+
+Eigen::Vector3d VolumeTable::correction_at(const Eigen::Vector3d& p) const {
+  std::array<CellCoordinate, 3> c;
+  for (std::size_t a = 0; a < 3; ++a) c[a] = cell_coordinate(positions[a], p[static_cast<Eigen::Index>(a)]);
+  Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+  for (std::size_t corner = 0; corner < 8; ++corner) {
+    std::array<std::size_t, 3> node{};
+    double weight = 1.0;
+    for (std::size_t a = 0; a < 3; ++a) {
+      const bool upper = (corner >> a & 1U) != 0;
+      node[a] = std::min(c[a].lower + (upper ? 1 : 0), positions[a].size() - 1);
+      weight *= upper ? c[a].fraction : 1.0 - c[a].fraction;
+    }
+    if (weight != 0.0) sum += weight * correction[index(node[0], node[1], node[2])];
+  }
+  return sum;
+}
+
+VolumeTable sample_volume_table(const model::ForwardModel& model, const VolumeOptions& options) {
+  const model::MachineModel& machine = model.machine();
+  for (const char letter : {'X', 'Y', 'Z'}) {
+    const model::AxisSpec* spec = machine.axis(letter);
+    if (spec == nullptr || spec->type != model::AxisType::linear)
+      throw Error(ErrorKind::usage, fmt::format("a volumetric table needs the linear axes X, Y and Z; the machine "
+                                                "'{}' has no linear {}",
+                                                machine.name, letter));
+  }
+  VolumeTable table;
+  table.reference = options.reference;
+  for (std::size_t a = 0; a < 3; ++a) {
+    table.positions[a] = node_positions(options.grids[a]);
+    const std::vector<double>& p = table.positions[a];
+    const double r = options.reference[static_cast<Eigen::Index>(a)];
+    if (std::none_of(p.begin(), p.end(), [r](double v) { return std::abs(v - r) < 1e-9; }))
+      throw Error(ErrorKind::usage,
+                  fmt::format("the volumetric table's reference {} = {:g} mm is not one of its nodes", "XYZ"[a], r));
+  }
+  TipMiss miss(model, options.conditions);
+  for (const std::size_t t : options.left_out) {
+    const model::ErrorTermSpec& term = machine.terms.at(t);
+    if (term.shape.form != model::TermForm::periodic)
+      throw Error(ErrorKind::usage,
+                  fmt::format("term {}: only a periodic term can be left out of a volumetric table", term.name));
+    // A periodic term's parameters: its period, then the harmonics.
+    miss.zero_parameters(model.parameter_offset(t) + 1, term.parameters.size() - 1);
+  }
+  Eigen::Vector3d sense;
+  for (std::size_t a = 0; a < 3; ++a) sense[static_cast<Eigen::Index>(a)] = miss.sense(options.line, a);
+  table.correction.resize(table.nodes());
+  Eigen::Vector3d t = Eigen::Vector3d::Zero();  // each node starts from the last one's solution
+  for (std::size_t k = 0; k < table.positions[2].size(); ++k)
+    for (std::size_t j = 0; j < table.positions[1].size(); ++j)
+      for (std::size_t i = 0; i < table.positions[0].size(); ++i) {
+        model::ChainQ target = options.line;
+        target.head<3>() << table.positions[0][i], table.positions[1][j], table.positions[2][k];
+        // Newton with the nominal slope (the error's own is ~1e-4: four digits a step).
+        for (int iteration = 0; iteration < 12; ++iteration) {
+          model::ChainQ commanded = target;
+          commanded.head<3>() += t;
+          const Eigen::Vector3d m =
+              0.5 * (miss(commanded, target, all_travelling(+1)) + miss(commanded, target, all_travelling(-1)));
+          const Eigen::Vector3d step = m.cwiseQuotient(sense);
+          t -= step;
+          if (step.cwiseAbs().maxCoeff() < 1e-12) break;
+        }
+        table.correction[table.index(i, j, k)] = t;
+      }
+  const Eigen::Vector3d at_reference = table.correction_at(options.reference);
+  for (Eigen::Vector3d& c : table.correction) c -= at_reference;
+  return table;
+}
+
+std::vector<model::ChainQ> volume_points(const VolumeTable& table, const model::ChainQ& line, std::size_t count) {
+  std::vector<model::ChainQ> points;
+  points.reserve(count);
+  for (std::size_t n = 1; n <= count; ++n) {
+    model::ChainQ q = line;
+    const std::array<std::size_t, 3> bases{2, 3, 5};
+    for (std::size_t a = 0; a < 3; ++a) {
+      const std::vector<double>& p = table.positions[a];
+      q[static_cast<Eigen::Index>(a)] = p.front() + radical_inverse(n, bases[a]) * (p.back() - p.front());
+    }
+    points.push_back(q);
+  }
+  return points;
+}
+
+Corrector volume_corrector(const VolumeTable& table) {
+  return [&table](const model::ChainQ& q, int) {
+    model::ChainQ c = model::ChainQ::Zero();
+    c.head<3>() = table.correction_at(q.head<3>());
+    return c;
+  };
+}
+
+}  // namespace ccomp::controller
