@@ -85,6 +85,10 @@ std::vector<std::string> reversal_terms(const model::MachineModel& m) {
 /// The configuration list beside the compensation file: its name with .lis.
 std::string list_path(const std::string& output) {
   std::filesystem::path p(output);
+  if (p.filename().string().find_first_of(" \t") != std::string::npos)
+    throw Error(ErrorKind::usage, "-o " + output +
+                                      ": the list names the CSV in a field without spaces: give a name "
+                                      "without them");
   if (p.extension() == ".lis")
     throw Error(ErrorKind::usage, "-o " + output + ": that is the configuration list's name; give the CSV's (v.csv)");
   return p.replace_extension(".lis").string();

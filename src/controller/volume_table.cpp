@@ -102,15 +102,20 @@ VolumeTable sample_volume_table(const model::ForwardModel& model, const VolumeOp
         model::ChainQ target = options.line;
         target.head<3>() << table.positions[0][i], table.positions[1][j], table.positions[2][k];
         // Newton with the nominal slope (the error's own is ~1e-4: four digits a step).
-        for (int iteration = 0; iteration < 12; ++iteration) {
+        bool converged = false;
+        for (int iteration = 0; iteration < 12 && !converged; ++iteration) {
           model::ChainQ commanded = target;
           commanded.head<3>() += t;
           const Eigen::Vector3d m =
               0.5 * (miss(commanded, target, all_travelling(+1)) + miss(commanded, target, all_travelling(-1)));
           const Eigen::Vector3d step = m.cwiseQuotient(sense);
           t -= step;
-          if (step.cwiseAbs().maxCoeff() < 1e-12) break;
+          converged = step.cwiseAbs().maxCoeff() < 1e-12;
         }
+        if (!converged || !t.allFinite())
+          throw Error(ErrorKind::model, fmt::format("the correction at X {:g} Y {:g} Z {:g} does not converge: the "
+                                                    "model's error changes as fast as the axes move there",
+                                                    target[0], target[1], target[2]));
         table.correction[table.index(i, j, k)] = t;
       }
   const Eigen::Vector3d at_reference = table.correction_at(options.reference);

@@ -243,7 +243,7 @@ TEST(IsgVolume, WhatTheGridCannotHoldIsNamedAndMeasured) {
 }
 
 TEST(IsgVolume, OptionsThatDoNotApplyAreRefused) {
-  for (const std::string options : {" --axis X", " -o -", " --at X=10", " --from 0", " -o v.lis"}) {
+  for (const std::string options : {" --axis X", " -o -", " --at X=10", " --from 0", " -o v.lis", " -o 'a b.csv'"}) {
     const CommandResult r = run_command(
         shell_quote(ccomp_binary()) + " export -m " +
         shell_quote(source_dir() + "/samples/machines/hmc-xyzb-geometric.yaml") + " --control isg" +

@@ -50,7 +50,7 @@ struct VolumeTable {
 /// the tool tip where a perfect machine puts it at p (solved to 1e-9 mm), the mean of
 /// travelling up and down, less its value at the reference node. Throws ccomp::Error
 /// (usage) when the machine lacks linear X, Y or Z, the reference is not a node, or a
-/// term left out is not periodic.
+/// term left out is not periodic; ccomp::Error (model) where the solve does not converge.
 [[nodiscard]] VolumeTable sample_volume_table(const model::ForwardModel& model, const VolumeOptions& options);
 
 /// Points spread evenly through the grid's box (a Halton sequence: cell centres and
