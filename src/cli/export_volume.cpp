@@ -4,8 +4,12 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <filesystem>
+#include <fstream>
+#include <optional>
+#include <sstream>
 
 #include "ccomp/controller/isg_volume.hpp"
 #include "ccomp/controller/volume_table.hpp"
@@ -19,42 +23,49 @@
 namespace ccomp::cli {
 namespace {
 
-constexpr double kDefaultStep = 25.0;          // mm
-constexpr std::size_t kMostNodes = 1'000'000;  // 60 MB of text: beyond it a coarser step serves better
+constexpr double kDefaultStep = 25.0;  // mm
+constexpr double kMostNodes = 1e6;     // 60 MB of text: beyond it a coarser step serves better
 constexpr std::size_t kResidualPoints = 2000;
 
 /// The grid over each of X, Y, Z's travel, at multiples of the step (0 a node where the
-/// travel holds it).
+/// travel holds it): its ends lie beyond the travel by less than a step.
 std::array<controller::Grid, 3> volume_grids(const model::MachineModel& m, double step) {
   std::array<controller::Grid, 3> grids;
-  std::size_t nodes = 1;
+  double nodes = 1;  // in floating point: a tiny step must not wrap the count
   for (std::size_t a = 0; a < 3; ++a) {
     const char letter = "XYZ"[a];
     const model::AxisSpec* spec = m.axis(letter);
-    if (spec == nullptr || spec->type != model::AxisType::linear)
-      throw Error(ErrorKind::usage, fmt::format("--control isg: a volumetric table needs the linear axes X, Y and Z; "
-                                                "the machine '{}' has no linear {}",
-                                                m.name, letter));
-    if (!std::isfinite(spec->min) || !std::isfinite(spec->max))
+    if (spec != nullptr && (!std::isfinite(spec->min) || !std::isfinite(spec->max)))
       throw Error(ErrorKind::usage, fmt::format("--control isg: the grid spans each axis' travel, and the model gives "
                                                 "{} none (min and max under axes: {})",
                                                 letter, letter));
-    grids[a] = controller::grid_for(spec->min, spec->max, step, static_cast<std::size_t>(-1), step);
-    nodes *= grids[a].points();
+    // (a machine without linear X, Y or Z is refused by the sampling, with the reason)
+    grids[a] = spec == nullptr ? controller::Grid{0, 0, step}
+                               : controller::grid_for(spec->min, spec->max, step, static_cast<std::size_t>(-1), step);
+    nodes *= (grids[a].to - grids[a].from) / step + 1;
   }
   if (nodes > kMostNodes)
-    throw Error(ErrorKind::usage, fmt::format("--step {:g}: {} nodes; a volumetric table of more than {} is refused: "
-                                              "give a larger --step",
+    throw Error(ErrorKind::usage, fmt::format("--step {:g}: {:.3g} nodes; a volumetric table of more than {:g} is "
+                                              "refused: give a larger --step",
                                               step, nodes, kMostNodes));
   return grids;
 }
 
-/// A periodic term on X, Y or Z whose highest harmonic is shorter than four steps of the
-/// grid: sampled, it would alias; the grid leaves it out (VolumeOptions::left_out).
-bool periodic_too_short(const model::ErrorTermSpec& t, const std::array<controller::Grid, 3>& grids) {
-  return t.primary.kind == model::VariableKind::axis && t.primary.index <= 2 &&
-         t.shape.form == model::TermForm::periodic &&
-         std::abs(t.parameters[0]) / std::max(1, t.shape.order) < 4 * grids[t.primary.index].step;
+void add_once(std::vector<std::string>& names, const std::string& name) {
+  if (std::find(names.begin(), names.end(), name) == names.end()) names.push_back(name);
+}
+
+/// A periodic term on X, Y or Z with harmonics shorter than four steps of the grid: the
+/// first of them (sampled, they would alias), or none.
+std::optional<controller::VolumeOptions::LeftOut> short_harmonics(const model::MachineModel& m, std::size_t term,
+                                                                  const std::array<controller::Grid, 3>& grids) {
+  const model::ErrorTermSpec& t = m.terms[term];
+  if (t.primary.kind != model::VariableKind::axis || t.primary.index > 2 || t.shape.form != model::TermForm::periodic)
+    return std::nullopt;
+  const double period = std::abs(t.parameters[0]), step = grids[t.primary.index].step;
+  const int first = static_cast<int>(std::floor(period / (4 * step))) + 1;  // period / k < 4 step
+  if (first > t.shape.order) return std::nullopt;
+  return controller::VolumeOptions::LeftOut{term, first};
 }
 
 /// Other terms whose shape changes within a few of the grid's steps along their axis, which
@@ -69,34 +80,26 @@ bool cut_by_grid(const model::ErrorTermSpec& t, const std::array<controller::Gri
   return t.shape.form == model::TermForm::bump && std::abs(t.parameters[2]) < 2 * step;
 }
 
-void add_once(std::vector<std::string>& names, const std::string& name) {
-  if (std::find(names.begin(), names.end(), name) == names.end()) names.push_back(name);
-}
-
-/// The reversal terms: the table holds the mean of both directions of travel.
-std::vector<std::string> reversal_terms(const model::MachineModel& m) {
-  std::vector<std::string> names;
-  for (const model::ErrorTermSpec& t : m.terms)
-    if (t.shape.form == model::TermForm::reversal && std::find(names.begin(), names.end(), t.name) == names.end())
-      names.push_back(t.name);
-  return names;
-}
+/// What the grid holds only in part, by term name.
+struct Partial {
+  std::vector<std::string> left_out, cut, reversals;
+};
 
 /// The configuration list beside the compensation file: its name with .lis.
 std::string list_path(const std::string& output) {
   std::filesystem::path p(output);
   if (p.filename().string().find_first_of(" \t") != std::string::npos)
-    throw Error(ErrorKind::usage, "-o " + output +
-                                      ": the list names the CSV in a field without spaces: give a name "
-                                      "without them");
-  if (p.extension() == ".lis")
+    throw Error(ErrorKind::usage,
+                "-o " + output + ": the list names the CSV in a field without spaces: give a name without them");
+  std::string extension = p.extension().string();
+  std::transform(extension.begin(), extension.end(), extension.begin(),
+                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  if (extension == ".lis")
     throw Error(ErrorKind::usage, "-o " + output + ": that is the configuration list's name; give the CSV's (v.csv)");
   return p.replace_extension(".lis").string();
 }
 
-}  // namespace
-
-int run_volume_export(const ExportArgs& args) {
+void check_arguments(const ExportArgs& args) {
   if (!args.axis.empty())
     throw Error(ErrorKind::usage,
                 "--axis " + args.axis + ": the isg table is over X, Y and Z together; leave --axis out");
@@ -105,93 +108,157 @@ int run_volume_export(const ExportArgs& args) {
   if (args.output == "-")
     throw Error(ErrorKind::usage,
                 "--control isg writes two files, the compensation CSV and its list: give -o FILE.csv");
-  const std::string list = list_path(args.output);
-  check_output(args.output, {{"the machine model", args.model}}, "-o");
-  check_output(list, {{"the machine model", args.model}}, "the configuration list");
-  const model::MachineModel m = model::load_machine_model(args.model);
   for (const std::string& at : args.at)
     if (!at.empty() && std::string_view("XYZxyz").find(at[0]) != std::string_view::npos)
       throw Error(ErrorKind::usage, "--at " + at + ": X, Y and Z span the volumetric table's grid");
-  const model::ForwardModel forward(m);
+}
+
+controller::VolumeOptions volume_options(const model::MachineModel& m, const ExportArgs& args, Partial& partial) {
   controller::VolumeOptions o;
   o.grids = volume_grids(m, args.step > 0 ? args.step : kDefaultStep);
   for (std::size_t a = 0; a < 3; ++a)
     o.reference[static_cast<Eigen::Index>(a)] = std::clamp(0.0, o.grids[a].from, o.grids[a].to);
-  std::vector<std::string> left_out, cut;
   for (std::size_t t = 0; t < m.terms.size(); ++t) {
-    if (periodic_too_short(m.terms[t], o.grids)) o.left_out.push_back(t), add_once(left_out, m.terms[t].name);
-    if (cut_by_grid(m.terms[t], o.grids)) add_once(cut, m.terms[t].name);
+    if (const auto l = short_harmonics(m, t, o.grids)) {
+      o.left_out.push_back(*l);
+      add_once(partial.left_out, m.terms[t].name);
+    }
+    if (cut_by_grid(m.terms[t], o.grids)) add_once(partial.cut, m.terms[t].name);
+    if (m.terms[t].shape.form == model::TermForm::reversal) add_once(partial.reversals, m.terms[t].name);
   }
   o.line = table_line(m, args, '\0', true);
   o.conditions = model::conditions_for(m, model::parse_sensor_readings(args.sensors), args.time);
-  const controller::VolumeTable table = controller::sample_volume_table(forward, o);
-  const std::vector<std::string> header{
-      fmt::format("ccomp {} volumetric export of '{}' (model SHA-256 {})", kVersion, m.name, m.sha256)};
-  const controller::IsgVolumeFiles files =
-      controller::write_isg_volume(table, std::filesystem::path(args.output).filename().string(), header);
-  const controller::VolumeTable applied = controller::isg_as_applied(table);
-  const std::vector<model::ChainQ> points = controller::volume_points(applied, o.line, kResidualPoints);
-  model::ChainQ reference = o.line;
-  reference.head<3>() = o.reference;
-  const controller::Residual workspace = controller::corrected_residual(forward, controller::volume_corrector(applied),
-                                                                        {0, 1, 2}, points, reference, o.conditions);
-  const Uncarried u = uncarried_terms(m, true);
-  const std::vector<std::string> reversals = reversal_terms(m);
-  write_output(args.output, files.csv);
-  write_output(list, files.list);
-  if (args.json) {
-    util::JsonWriter j;
-    j.begin_object().field("command", "export").field("control", "isg");
-    j.field("model", m.name).field("model_sha256", m.sha256).field("output", args.output).field("list", list);
-    j.key("grid").begin_array();
-    for (std::size_t a = 0; a < 3; ++a) {
-      j.begin_object().field("axis", std::string(1, "XYZ"[a])).field("from", o.grids[a].from);
-      j.field("to", o.grids[a].to).field("step", o.grids[a].step).field("points", o.grids[a].points()).end_object();
-    }
-    j.end_array();
-    j.field("nodes", table.nodes()).field("tool_length_mm", args.tool_length);
-    j.key("reference").begin_array().value(o.reference[0]).value(o.reference[1]).value(o.reference[2]).end_array();
-    json_residual(j, "workspace", workspace);
-    json_names(j, "thermal_terms", u.thermal);
-    json_names(j, "rotary_terms", u.rotary);
-    json_names(j, "reversal_terms", reversals);
-    json_names(j, "left_out_terms", left_out);
-    json_names(j, "cut_terms", cut);
-    j.end_object();
-    fmt::print("{}", j.text());
-    return 0;
+  return o;
+}
+
+std::string read_text(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::ostringstream text;
+  text << in.rdbuf();
+  return text.str();
+}
+
+/// Both files through temporaries, committed together once both are written; a list that
+/// exists with other content (edited for the machine's axis numbers or path) is kept.
+/// Whether the list was written.
+bool write_files(const std::string& csv_path, const std::string& list_path, const controller::IsgVolumeFiles& files) {
+  const bool keep_list = std::filesystem::exists(list_path) && read_text(list_path) != files.list;
+  OutputFile csv(csv_path);
+  std::fwrite(files.csv.data(), 1, files.csv.size(), csv.file());
+  std::optional<OutputFile> list;
+  if (!keep_list) {
+    list.emplace(list_path);
+    std::fwrite(files.list.data(), 1, files.list.size(), list->file());
   }
+  csv.commit();
+  if (list) list->commit();
+  return !keep_list;
+}
+
+struct Summary {
+  const model::MachineModel& m;
+  const ExportArgs& args;
+  const controller::VolumeOptions& o;
+  const controller::VolumeTable& table;
+  const controller::Residual& workspace;
+  const Partial& partial;
+  const Uncarried& uncarried;
+  std::string list, header;
+  bool list_written = true;
+};
+
+void print_json(const Summary& s) {
+  util::JsonWriter j;
+  j.begin_object().field("command", "export").field("control", "isg");
+  j.field("model", s.m.name).field("model_sha256", s.m.sha256).field("output", s.args.output).field("list", s.list);
+  j.key("grid").begin_array();
+  for (std::size_t a = 0; a < 3; ++a) {
+    const controller::Grid& g = s.o.grids[a];
+    j.begin_object().field("axis", std::string(1, "XYZ"[a])).field("from", g.from).field("to", g.to);
+    j.field("step", g.step).field("points", g.points()).end_object();
+  }
+  j.end_array();
+  j.field("nodes", s.table.nodes()).field("tool_length_mm", s.args.tool_length);
+  j.key("reference").begin_array().value(s.o.reference[0]).value(s.o.reference[1]).value(s.o.reference[2]).end_array();
+  json_residual(j, "workspace", s.workspace);
+  json_names(j, "thermal_terms", s.uncarried.thermal);
+  json_names(j, "rotary_terms", s.uncarried.rotary);
+  json_names(j, "reversal_terms", s.partial.reversals);
+  json_names(j, "left_out_terms", s.partial.left_out);
+  json_names(j, "cut_terms", s.partial.cut);
+  j.end_object();
+  fmt::print("{}", j.text());
+}
+
+void print_text(const Summary& s) {
   std::string at;
-  for (const model::AxisSpec& a : m.axes)
+  for (const model::AxisSpec& a : s.m.axes)
     if (a.type == model::AxisType::rotary)
       at += fmt::format(" {}={:g}", a.letter,
-                        o.line[static_cast<Eigen::Index>(std::string_view("XYZABCUVW").find(a.letter))] * 180.0 / M_PI);
+                        s.o.line[static_cast<Eigen::Index>(kChainAxisLetters.find(a.letter))] * 180.0 / M_PI);
   fmt::print(stderr, "{} and {}: volumetric table of '{}' for Beckhoff TwinCAT CNC (#VOLCOMP), {} nodes:\n",
-             args.output, list, m.name, table.nodes());
+             s.args.output, s.list, s.m.name, s.table.nodes());
   for (std::size_t a = 0; a < 3; ++a)
-    fmt::print(stderr, "  {} from {:g} to {:g} mm every {:g} mm ({} points)\n", "XYZ"[a], o.grids[a].from,
-               o.grids[a].to, o.grids[a].step, o.grids[a].points());
+    fmt::print(stderr, "  {} from {:g} to {:g} mm every {:g} mm ({} points)\n", "XYZ"[a], s.o.grids[a].from,
+               s.o.grids[a].to, s.o.grids[a].step, s.o.grids[a].points());
   fmt::print(stderr, "  for a {:g} mm tool{}{}; 0 at X {:g} Y {:g} Z {:g}, where a work offset takes the error\n",
-             args.tool_length, at.empty() ? "" : ", rotary axes at", at, o.reference[0], o.reference[1],
-             o.reference[2]);
-  fmt::print(stderr, "  {}\n", header.front());
+             s.args.tool_length, at.empty() ? "" : ", rotary axes at", at, s.o.reference[0], s.o.reference[1],
+             s.o.reference[2]);
+  fmt::print(stderr, "  {}\n", s.header);
+  if (!s.list_written)
+    fmt::print(stderr,
+               "  kept {}, which differs from what this export writes (edited for the machine?): check that "
+               "it names {}\n",
+               s.list, std::filesystem::path(s.args.output).filename().string());
+  const controller::Residual& w = s.workspace;
   fmt::print(stderr,
              "  over the workspace ({} points between the nodes, both directions of travel): max {:.2f} -> {:.2f} um, "
              "rms {:.2f} -> {:.2f} um\n",
-             workspace.points, workspace.max_before_um, workspace.max_after_um, workspace.rms_before_um,
-             workspace.rms_after_um);
-  if (!left_out.empty())
-    fmt::print(stderr, "  left out (periodic, shorter than four steps: the axis' own pitch table carries them): {}\n",
-               joined(left_out));
-  if (!cut.empty())
-    fmt::print(stderr, "  cut by the grid (features shorter than two steps: a finer --step): {}\n", joined(cut));
-  if (!reversals.empty())
-    fmt::print(stderr, "  not carried (the table holds the mean of both directions of travel): {}\n",
-               joined(reversals));
-  if (!u.thermal.empty())
-    fmt::print(stderr, "  held at this export's temperatures and time only: {}\n", joined(u.thermal));
-  if (!u.rotary.empty()) fmt::print(stderr, "  held at these rotary positions only: {}\n", joined(u.rotary));
-  fmt::print(stderr, "  set vol_comp[0].max_records to at least {} in the start-up list\n", table.nodes());
+             w.points, w.max_before_um, w.max_after_um, w.rms_before_um, w.rms_after_um);
+  auto names = [](const char* what, const std::vector<std::string>& list) {
+    if (!list.empty()) fmt::print(stderr, "  {}: {}\n", what, joined(list));
+  };
+  names(
+      "left out (periodic harmonics shorter than four steps, which would alias: a finer --step, or the axis' "
+      "own pitch compensation)",
+      s.partial.left_out);
+  names("cut by the grid (features shorter than two steps: a finer --step)", s.partial.cut);
+  names("not carried (reversals: the table holds one value a node, the mean of both directions)", s.partial.reversals);
+  names("held at this export's temperatures and time only", s.uncarried.thermal);
+  names("held at these rotary positions only", s.uncarried.rotary);
+  fmt::print(stderr, "  set vol_comp[0].max_records to at least {} in the start-up list\n", s.table.nodes());
+}
+
+}  // namespace
+
+int run_volume_export(const ExportArgs& args) {
+  check_arguments(args);
+  const std::string list = list_path(args.output);
+  check_output(args.output, {{"the machine model", args.model}}, "-o");
+  check_output(list, {{"the machine model", args.model}}, "the configuration list");
+  const model::MachineModel m = model::load_machine_model(args.model);
+  const model::ForwardModel forward(m);
+  Partial partial;
+  const controller::VolumeOptions o = volume_options(m, args, partial);
+  const controller::VolumeTable table = controller::sample_volume_table(forward, o);
+  const std::string header =
+      fmt::format("ccomp {} volumetric export of '{}' (model SHA-256 {})", kVersion, m.name, m.sha256);
+  const controller::IsgVolumeFiles files =
+      controller::write_isg_volume(table, std::filesystem::path(args.output).filename().string(), {header});
+  // What the control applies: the written digits, measured against the whole model.
+  const controller::VolumeTable applied = controller::isg_as_applied(table);
+  model::ChainQ reference = o.line;
+  reference.head<3>() = o.reference;
+  const controller::Residual workspace = controller::corrected_residual(
+      forward, controller::volume_corrector(applied), {0, 1, 2},
+      controller::volume_points(applied, o.line, kResidualPoints), reference, o.conditions);
+  const Uncarried uncarried = uncarried_terms(m, true);
+  Summary summary{m, args, o, table, workspace, partial, uncarried, list, header};
+  summary.list_written = write_files(args.output, list, files);
+  if (args.json)
+    print_json(summary);
+  else
+    print_text(summary);
   return 0;
 }
 

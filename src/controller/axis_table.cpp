@@ -55,8 +55,8 @@ Grid grid_for(double lo, double hi, double step, std::size_t max_points, double 
   if (!(step > 0) || !std::isfinite(step)) throw Error(ErrorKind::usage, fmt::format("--step {}: not > 0", step));
   Grid g;
   for (g.step = step;; g.step = (std::floor(g.step / granularity + 1e-9) + 1) * granularity) {
-    g.from = std::floor(lo / g.step + 1e-9) * g.step;
-    g.to = std::ceil(hi / g.step - 1e-9) * g.step;
+    g.from = std::floor(lo / g.step + 1e-9) * g.step + 0.0;  // + 0.0: no -0
+    g.to = std::ceil(hi / g.step - 1e-9) * g.step + 0.0;
     if (g.points() <= max_points) return g;
   }
 }

@@ -16,6 +16,14 @@ double to_written(double v) {
   return r == 0.0 ? 0.0 : r;  // no "-0.000000"
 }
 
+/// A node's position to the nanometre, without trailing zeros: "-500", "0.3", "12.25".
+std::string position(double p) {
+  std::string text = fmt::format("{:.6f}", p);
+  text.erase(text.find_last_not_of('0') + 1);
+  if (text.back() == '.') text.pop_back();
+  return text == "-0" ? "0" : text;
+}
+
 }  // namespace
 
 IsgVolumeFiles write_isg_volume(const VolumeTable& table, const std::string& csv_name,
@@ -35,18 +43,20 @@ IsgVolumeFiles write_isg_volume(const VolumeTable& table, const std::string& csv
   std::string& csv = files.csv;
   for (const std::string& line : header) csv += "// " + line + "\n";
   csv += fmt::format(
-      "// {} x {} x {} nodes, X fastest; X Y Z in mm; EXX EYY EZZ: the tool tip's error relative to the\n"
-      "// workpiece (mm, actual less nominal), 0 at X {:g} Y {:g} Z {:g}\n",
-      table.positions[0].size(), table.positions[1].size(), table.positions[2].size(), table.reference[0],
-      table.reference[1], table.reference[2]);
+      "// {} x {} x {} nodes, X fastest; X Y Z in mm; EXX EYY EZZ (mm): what the control subtracts from\n"
+      "// the commanded X, Y, Z, the negative of the correction: where an axis moves the tool along its\n"
+      "// own + direction (ISO 841), the tool tip's error along it (ISO 230-1: actual less nominal).\n"
+      "// 0 at X {} Y {} Z {}\n",
+      table.positions[0].size(), table.positions[1].size(), table.positions[2].size(), position(table.reference[0]),
+      position(table.reference[1]), position(table.reference[2]));
   csv += "X Y Z EXX EYY EZZ\n";
   for (std::size_t k = 0; k < table.positions[2].size(); ++k)
     for (std::size_t j = 0; j < table.positions[1].size(); ++j)
       for (std::size_t i = 0; i < table.positions[0].size(); ++i) {
         const Eigen::Vector3d& c = table.correction[table.index(i, j, k)];
-        csv += fmt::format("{} {} {} {:.{}f} {:.{}f} {:.{}f}\n", table.positions[0][i], table.positions[1][j],
-                           table.positions[2][k], to_written(-c[0]), kDecimals, to_written(-c[1]), kDecimals,
-                           to_written(-c[2]), kDecimals);
+        csv += fmt::format("{} {} {} {:.{}f} {:.{}f} {:.{}f}\n", position(table.positions[0][i]),
+                           position(table.positions[1][j]), position(table.positions[2][k]), to_written(-c[0]),
+                           kDecimals, to_written(-c[1]), kDecimals, to_written(-c[2]), kDecimals);
       }
   return files;
 }

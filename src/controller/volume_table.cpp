@@ -25,17 +25,65 @@ struct CellCoordinate {
   double fraction = 0.0;
 };
 CellCoordinate cell_coordinate(const std::vector<double>& positions, double p) {
-  if (positions.size() == 1 || p <= positions.front()) return {0, 0.0};
+  if (positions.size() == 1 || !(p > positions.front())) return {0, 0.0};  // NaN too
   if (p >= positions.back()) return {positions.size() - 2, 1.0};
   const auto upper = std::upper_bound(positions.begin(), positions.end(), p);
   const auto k = static_cast<std::size_t>(upper - positions.begin()) - 1;
   return {k, (p - positions[k]) / (positions[k + 1] - positions[k])};
 }
 
+/// The nodes along one axis, rounded to the nanometre (so 0.3 is 0.3, not 0.30000000000000004).
 std::vector<double> node_positions(const Grid& g) {
   std::vector<double> p(g.points());
-  for (std::size_t i = 0; i < p.size(); ++i) p[i] = g.from + static_cast<double>(i) * g.step;
+  for (std::size_t i = 0; i < p.size(); ++i) p[i] = std::round((g.from + static_cast<double>(i) * g.step) * 1e9) / 1e9;
   return p;
+}
+
+/// The sampling model: each left-out harmonic's parameters at 0 (a periodic term's
+/// parameters: its period, then a_k, b_k for k = 1, 2, ...).
+void leave_out(const model::ForwardModel& model, const std::vector<VolumeOptions::LeftOut>& left_out, TipMiss& miss) {
+  for (const VolumeOptions::LeftOut& l : left_out) {
+    const model::ErrorTermSpec& term = model.machine().terms.at(l.term);
+    if (term.shape.form != model::TermForm::periodic || l.first_harmonic < 1)
+      throw Error(
+          ErrorKind::usage,
+          fmt::format("term {}: only a periodic term's harmonics can be left out of a volumetric table", term.name));
+    const auto first = static_cast<std::size_t>(2 * l.first_harmonic - 1);
+    const auto count = static_cast<std::size_t>(term.parameters.size());
+    if (first < count) miss.zero_parameters(model.parameter_offset(l.term) + first, count - first);
+  }
+}
+
+/// How far the tip moves along X, Y, Z as each is commanded 1 mm further (+1 or -1 on a
+/// machine whose axes move along themselves): Newton's slope.
+Eigen::Vector3d senses(const model::MachineModel& machine, const model::ChainQ& line, TipMiss& miss) {
+  Eigen::Vector3d sense;
+  for (std::size_t a = 0; a < 3; ++a) {
+    sense[static_cast<Eigen::Index>(a)] = miss.sense(line, a);
+    if (!(std::abs(sense[static_cast<Eigen::Index>(a)]) > 0.5))
+      throw Error(ErrorKind::model, fmt::format("the machine '{}' moves the tool {:g} mm along {} for 1 mm of {}: a "
+                                                "volumetric table corrects X, Y, Z along themselves",
+                                                machine.name, sense[static_cast<Eigen::Index>(a)], "XYZ"[a], "XYZ"[a]));
+  }
+  return sense;
+}
+
+/// The correction at `target`, Newton from `t` (the last node's: neighbours correct alike)
+/// with the nominal slope (the error's own is ~1e-4: four digits a step).
+Eigen::Vector3d solve_node(TipMiss& miss, const model::ChainQ& target, const Eigen::Vector3d& sense,
+                           Eigen::Vector3d t) {
+  for (int iteration = 0; iteration < 12; ++iteration) {
+    model::ChainQ commanded = target;
+    commanded.head<3>() += t;
+    const Eigen::Vector3d m =
+        0.5 * (miss(commanded, target, all_travelling(+1)) + miss(commanded, target, all_travelling(-1)));
+    const Eigen::Vector3d step = m.cwiseQuotient(sense);
+    t -= step;
+    if (step.cwiseAbs().maxCoeff() < 1e-12 && t.allFinite()) return t;
+  }
+  throw Error(ErrorKind::model, fmt::format("the correction at X {:g} Y {:g} Z {:g} does not converge: the model's "
+                                            "error there changes as fast as the axes move",
+                                            target[0], target[1], target[2]));
 }
 
 /// The radical inverse of n in `base`: the n-th Halton coordinate, in [0, 1).
@@ -84,38 +132,16 @@ VolumeTable sample_volume_table(const model::ForwardModel& model, const VolumeOp
                   fmt::format("the volumetric table's reference {} = {:g} mm is not one of its nodes", "XYZ"[a], r));
   }
   TipMiss miss(model, options.conditions);
-  for (const std::size_t t : options.left_out) {
-    const model::ErrorTermSpec& term = machine.terms.at(t);
-    if (term.shape.form != model::TermForm::periodic)
-      throw Error(ErrorKind::usage,
-                  fmt::format("term {}: only a periodic term can be left out of a volumetric table", term.name));
-    // A periodic term's parameters: its period, then the harmonics.
-    miss.zero_parameters(model.parameter_offset(t) + 1, term.parameters.size() - 1);
-  }
-  Eigen::Vector3d sense;
-  for (std::size_t a = 0; a < 3; ++a) sense[static_cast<Eigen::Index>(a)] = miss.sense(options.line, a);
+  leave_out(model, options.left_out, miss);
+  const Eigen::Vector3d sense = senses(machine, options.line, miss);
   table.correction.resize(table.nodes());
-  Eigen::Vector3d t = Eigen::Vector3d::Zero();  // each node starts from the last one's solution
+  Eigen::Vector3d t = Eigen::Vector3d::Zero();
   for (std::size_t k = 0; k < table.positions[2].size(); ++k)
     for (std::size_t j = 0; j < table.positions[1].size(); ++j)
       for (std::size_t i = 0; i < table.positions[0].size(); ++i) {
         model::ChainQ target = options.line;
         target.head<3>() << table.positions[0][i], table.positions[1][j], table.positions[2][k];
-        // Newton with the nominal slope (the error's own is ~1e-4: four digits a step).
-        bool converged = false;
-        for (int iteration = 0; iteration < 12 && !converged; ++iteration) {
-          model::ChainQ commanded = target;
-          commanded.head<3>() += t;
-          const Eigen::Vector3d m =
-              0.5 * (miss(commanded, target, all_travelling(+1)) + miss(commanded, target, all_travelling(-1)));
-          const Eigen::Vector3d step = m.cwiseQuotient(sense);
-          t -= step;
-          converged = step.cwiseAbs().maxCoeff() < 1e-12;
-        }
-        if (!converged || !t.allFinite())
-          throw Error(ErrorKind::model, fmt::format("the correction at X {:g} Y {:g} Z {:g} does not converge: the "
-                                                    "model's error changes as fast as the axes move there",
-                                                    target[0], target[1], target[2]));
+        t = solve_node(miss, target, sense, t);
         table.correction[table.index(i, j, k)] = t;
       }
   const Eigen::Vector3d at_reference = table.correction_at(options.reference);

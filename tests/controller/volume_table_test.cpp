@@ -3,17 +3,22 @@
 // here from ISG's documentation (a header naming the columns, // comments, # a new block;
 // GRID interpolation: linear on a complete grid), the error it gives subtracted from the
 // commanded X, Y and Z, and the model's tool tip measured over the workspace.
+#include "ccomp/controller/volume_table.hpp"
+
 #include <gtest/gtest.h>
 
 #include <algorithm>
 #include <cmath>
+#include <filesystem>
 #include <map>
 #include <random>
 #include <regex>
 #include <set>
 #include <sstream>
 
+#include "ccomp/error.hpp"
 #include "ccomp/model/forward.hpp"
+#include "ccomp/model/model_file.hpp"
 #include "job_runner.hpp"
 #include "trace_capture.hpp"
 
@@ -55,9 +60,11 @@ class IsgGrid {
       std::map<std::string, double> row;
       for (const std::string& name : header) {
         double v = std::nan("");
-        words >> v;
+        EXPECT_TRUE(words >> v) << "a short row: " << line;
         row[name] = v;
       }
+      std::string rest;
+      EXPECT_FALSE(words >> rest) << "a long row: " << line;
       const std::array<double, 3> at{row.at("X"), row.at("Y"), row.at("Z")};
       EXPECT_FALSE(rows.contains(at)) << "a node twice";
       rows[at] = Eigen::Vector3d(row.at("EXX"), row.at("EYY"), row.at("EZZ"));
@@ -242,15 +249,121 @@ TEST(IsgVolume, WhatTheGridCannotHoldIsNamedAndMeasured) {
   EXPECT_NE(fine.result.err.find("--step"), std::string::npos) << fine.result.err;
 }
 
-TEST(IsgVolume, OptionsThatDoNotApplyAreRefused) {
-  for (const std::string options : {" --axis X", " -o -", " --at X=10", " --from 0", " -o v.lis", " -o 'a b.csv'"}) {
-    const CommandResult r = run_command(
-        shell_quote(ccomp_binary()) + " export -m " +
-        shell_quote(source_dir() + "/samples/machines/hmc-xyzb-geometric.yaml") + " --control isg" +
-        (options.find("-o") == std::string::npos ? " -o " + temp_dir("isg_refused") + "/v.csv" : "") + options);
+TEST(IsgVolume, OptionsThatDoNotApplyAreRefusedAndWriteNothing) {
+  const std::string dir = temp_dir("isg_refused");
+  for (const std::string options : {" --axis X", " -o -", " --at X=10", " --from 0", " -o {d}/v.lis", " -o {d}/v.LIS",
+                                    " -o '{d}/a b.csv'", " --step 0.5"}) {
+    std::string expanded = options;
+    if (const auto at = expanded.find("{d}"); at != std::string::npos) expanded.replace(at, 3, dir);
+    const CommandResult r =
+        run_command(shell_quote(ccomp_binary()) + " export -m " +
+                    shell_quote(source_dir() + "/samples/machines/hmc-xyzb-geometric.yaml") + " --control isg" +
+                    (options.find("-o") == std::string::npos ? " -o " + dir + "/v.csv" : "") + expanded);
     EXPECT_EQ(r.exit_code, 2) << options << ": " << r.err;
     EXPECT_FALSE(r.err.empty()) << options;
+    EXPECT_TRUE(std::filesystem::is_empty(dir)) << options << " wrote something";
   }
+}
+
+// The list is the user's once edited (axis numbers, the CSV's path on the control): a
+// second export keeps it, and says so.
+TEST(IsgVolume, AListEditedForTheMachineIsKept) {
+  const std::string dir = temp_dir("isg_kept");
+  const std::string run = shell_quote(ccomp_binary()) + " export -m " +
+                          shell_quote(source_dir() + "/samples/machines/hmc-xyzb-geometric.yaml") +
+                          " --control isg --step 100 -o " + shell_quote(dir + "/v.csv");
+  const CommandResult first = run_command(run);
+  ASSERT_EQ(first.exit_code, 0) << first.err;
+  EXPECT_EQ(first.err.find("\n  kept "), std::string::npos) << first.err;
+  const std::string edited = read_file(dir + "/v.lis") + "x 5\n";
+  write_file(dir + "/v.lis", edited);
+  const CommandResult again = run_command(run);
+  ASSERT_EQ(again.exit_code, 0) << again.err;
+  EXPECT_EQ(read_file(dir + "/v.lis"), edited);
+  EXPECT_NE(again.err.find("\n  kept "), std::string::npos) << again.err;
+}
+
+// The sign the docs state: at a node along X, EXX is the tool tip's error along X (actual
+// less nominal, against the reference's), as a laser along X reads it, to first order.
+TEST(IsgVolume, EachValueIsTheTipsErrorAlongItsAxis) {
+  const Exported e = export_isg("hmc-xyzb-geometric", " --step 50");
+  ASSERT_EQ(e.result.exit_code, 0) << e.result.err;
+  const IsgGrid grid(e.csv);
+  const model::MachineModel machine = sample_machine("hmc-xyzb-geometric");
+  const model::ForwardModel f(machine);
+  model::ForwardData d(f);
+  model::ChainQ reference = model::ChainQ::Zero();
+  reference[9] = 100;
+  const Eigen::Vector3d offset = tip_miss_um(f, d, reference, reference, 0);
+  for (const double x : {-500.0, -250.0, 250.0, 500.0}) {
+    model::ChainQ q = reference;
+    q[0] = x;
+    const double laser_um = (tip_miss_um(f, d, q, q, 0) - offset)[0];
+    const double written_um = grid.error_at(Eigen::Vector3d(x, 0, 0))[0] * 1e3;
+    EXPECT_GT(std::abs(laser_um), 1.0) << x;
+    EXPECT_NEAR(written_um, laser_um, 0.01 * std::abs(laser_um) + 0.002) << x;
+  }
+}
+
+// The library alone, on small models made here.
+model::MachineModel xyz_model(const std::string& terms) {
+  return model::parse_machine_model(
+      "name: small\ndialect: linuxcnc\naxes:\n  X: {type: linear, min: -100, max: 100}\n"
+      "  Y: {type: linear, min: -100, max: 100}\n  Z: {type: linear, min: -100, max: 100}\nchain:\n"
+      "  workpiece:\n    - {link: X, axis: X, direction: [-1, 0, 0]}\n  tool:\n"
+      "    - {link: Y, axis: Y, direction: [0, 1, 0]}\n    - {link: Z, axis: Z, direction: [0, 0, 1]}\n"
+      "terms:\n" +
+          terms,
+      "small.yaml");
+}
+
+controller::VolumeOptions options_every(double step) {
+  controller::VolumeOptions o;
+  for (auto& g : o.grids) g = controller::Grid{-100, 100, step};
+  return o;
+}
+
+TEST(VolumeTable, LeftOutHarmonicsAreSampledAsZeroAndTheRestKept) {
+  const model::MachineModel m = xyz_model(
+      "  - {name: EXX, form: periodic, period: 10 mm, unit: um, harmonics: [[2, 1]]}\n"
+      "  - {name: EYY, form: periodic, period: 400 mm, unit: um, harmonics: [[3, 0], [0, 0], [0, 0], [0, 0], [0, 0], "
+      "[0, 0], [0, 0], [0, 0], [0, 0], [1, 0]]}\n");
+  const model::ForwardModel f(m);
+  controller::VolumeOptions o = options_every(25);
+  o.left_out = {{0, 1}, {1, 5}};  // all of EXX; EYY's harmonics from the 5th (80 mm) on
+  const controller::VolumeTable table = controller::sample_volume_table(f, o);
+  double most_x = 0, most_y = 0;
+  for (const Eigen::Vector3d& c : table.correction) {
+    most_x = std::max(most_x, std::abs(c[0]));
+    most_y = std::max(most_y, std::abs(c[1]));
+  }
+  EXPECT_LT(most_x, 1e-9) << "EXX left out whole";
+  EXPECT_GT(most_y, 2e-3) << "EYY's first harmonic kept";
+  // At Y = 50 the correction is the first harmonic's alone, against its value at 0.
+  const double y50 = table.correction_at(Eigen::Vector3d(0, 50, 0))[1];
+  EXPECT_NEAR(y50, -(3e-3 * std::cos(2 * M_PI * 50 / 400) - 3e-3), 1e-7);
+}
+
+TEST(VolumeTable, OnlyPeriodicTermsCanBeLeftOut) {
+  const model::MachineModel m = xyz_model("  - {name: EXX, form: polynomial, unit: um, coefficients: [0, 0.01]}\n");
+  const model::ForwardModel f(m);
+  controller::VolumeOptions o = options_every(50);
+  o.left_out = {{0, 1}};
+  EXPECT_THROW((void)controller::sample_volume_table(f, o), Error);
+}
+
+TEST(VolumeTable, InterpolatesInsideHoldsBeyondAndTakesOneNodeAxes) {
+  controller::VolumeTable t;
+  t.positions = {std::vector<double>{0, 10}, std::vector<double>{0, 10}, std::vector<double>{5}};
+  // c = (x, 2 y, 0) at the nodes (X fastest): trilinear reproduces it inside, holds it
+  // beyond the ends.
+  for (std::size_t j = 0; j < 2; ++j)
+    for (std::size_t i = 0; i < 2; ++i)
+      t.correction.emplace_back(10.0 * static_cast<double>(i), 20.0 * static_cast<double>(j), 0);
+  EXPECT_TRUE(t.correction_at(Eigen::Vector3d(2.5, 7.5, 5)).isApprox(Eigen::Vector3d(2.5, 15, 0)));
+  EXPECT_TRUE(t.correction_at(Eigen::Vector3d(10, 10, 5)).isApprox(Eigen::Vector3d(10, 20, 0)));
+  EXPECT_TRUE(t.correction_at(Eigen::Vector3d(25, -3, 99)).isApprox(Eigen::Vector3d(10, 0, 0)));
+  EXPECT_TRUE(t.correction_at(Eigen::Vector3d(std::nan(""), 5, 5)).allFinite());
 }
 
 }  // namespace

@@ -1,10 +1,11 @@
 #pragma once
 // A VolumeTable written for the Beckhoff TwinCAT CNC (ISG kernel) "Volumetric
 // Compensation" (TF5280, #VOLCOMP): a configuration list naming the axes and the
-// compensation file, and that file in ISG_CSV format, a complete grid of X, Y, Z with the
-// tool tip's error at each node as the position parameters EXX, EYY, EZZ (mm, ISO 230-1
-// sign: actual less nominal, which the control subtracts), interpolated linearly on the
-// grid (interpolation GRID). docs/controller-tables.md gives the manual references.
+// compensation file, and that file in ISG_CSV format: a complete grid of X, Y, Z with, at
+// each node, what the control subtracts from the commanded X, Y, Z as the position
+// parameters EXX, EYY, EZZ (mm; where an axis moves the tool along its own + direction,
+// the tool tip's error along it, ISO 230-1's actual less nominal), interpolated linearly
+// on the grid (interpolation GRID). docs/controller-tables.md gives the manual references.
 #include <string>
 #include <vector>
 

@@ -26,10 +26,14 @@ struct VolumeOptions {
   /// and Z are ignored.
   model::ChainQ line = model::ChainQ::Zero();
   model::Conditions conditions;  ///< time and temperatures; the axes travel both ways (the mean)
-  /// Periodic terms (indices into the model's) sampled without their harmonics: a period
-  /// shorter than a few steps would alias into the nodes and, interpolated, err by up to
-  /// twice its amplitude; left out, by its amplitude, for the axis' own table to carry.
-  std::vector<std::size_t> left_out;
+  /// Harmonics of periodic terms sampled as 0: a period shorter than a few steps would
+  /// alias into the nodes and, interpolated, err by up to twice its amplitude; left out,
+  /// by its amplitude.
+  struct LeftOut {
+    std::size_t term = 0;    ///< into the model's terms; a periodic one
+    int first_harmonic = 1;  ///< this harmonic and the higher ones
+  };
+  std::vector<LeftOut> left_out;
 };
 
 struct VolumeTable {
@@ -50,7 +54,8 @@ struct VolumeTable {
 /// the tool tip where a perfect machine puts it at p (solved to 1e-9 mm), the mean of
 /// travelling up and down, less its value at the reference node. Throws ccomp::Error
 /// (usage) when the machine lacks linear X, Y or Z, the reference is not a node, or a
-/// term left out is not periodic; ccomp::Error (model) where the solve does not converge.
+/// term left out is not periodic; ccomp::Error (model) when X, Y or Z does not move the
+/// tip along itself, or where the solve does not converge.
 [[nodiscard]] VolumeTable sample_volume_table(const model::ForwardModel& model, const VolumeOptions& options);
 
 /// Points spread evenly through the grid's box (a Halton sequence: cell centres and
