@@ -99,9 +99,6 @@ controller::WriteOptions write_options(const ExportArgs& args, const model::Mach
   return w;
 }
 
-}  // namespace
-
-namespace {
 const model::LinkSpec* link_of(const model::MachineModel& m, const std::string& name) {
   for (const std::vector<model::LinkSpec>* chain : {&m.workpiece_chain, &m.tool_chain})
     for (const model::LinkSpec& l : *chain)
