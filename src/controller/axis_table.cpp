@@ -15,13 +15,6 @@ namespace {
 
 constexpr std::string_view kAxisLetters = "XYZABCUVW";
 
-/// Only `axis` travelling, `direction` (+1, -1); the others in the middle of their play.
-std::array<double, 9> travelling(std::size_t axis, int direction) {
-  std::array<double, 9> d{};
-  d[axis] = direction;
-  return d;
-}
-
 /// Linear interpolation in `values` over the table's points, constant beyond its ends.
 double interpolate(const std::vector<double>& positions, const std::vector<double>& values, double p) {
   if (p <= positions.front()) return values.front();
@@ -104,7 +97,7 @@ AxisTable sample_axis_table(const model::ForwardModel& model, const TableOptions
       for (int iteration = 0; iteration < 8; ++iteration) {
         model::ChainQ commanded = target;
         commanded[a] += t;
-        const std::array<double, 9> travel = travelling(table.axis_index, direction);
+        const std::array<double, 9> travel = travelling({table.axis_index}, direction);
         m = miss(commanded, target, travel);
         const double step = table.rotary ? miss.turn(commanded, target, travel, turn_axis) : m[a] / own_sense;
         t -= step;
@@ -159,11 +152,7 @@ Residual corrected_residual(const model::ForwardModel& model, const Corrector& c
   Residual r;
   TipMiss miss(model, conditions);
   // The corrected axes travel together, up or down; the rest stand in the middle of their play.
-  auto moving = [&moving_axes](int direction) {
-    std::array<double, 9> d{};
-    for (const std::size_t axis : moving_axes) d[axis] = direction;
-    return d;
-  };
+  auto moving = [&moving_axes](int direction) { return travelling(moving_axes, direction); };
   // What is measured at each point: the tip's miss (um), one component of it, or the turn
   // about rotary axis `component` (arcsec), each less its value at the reference point.
   constexpr double kArcsec = 180.0 / M_PI * 3600.0;

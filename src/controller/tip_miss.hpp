@@ -2,11 +2,24 @@
 // What the controller tables are measured by: where the tool tip lands for commanded axis
 // values against where a perfect machine puts it, shared by the axis and volume tables.
 #include <array>
+#include <initializer_list>
+#include <span>
 
 #include "ccomp/kinematics/pose.hpp"
 #include "ccomp/model/forward.hpp"
 
 namespace ccomp::controller {
+
+/// Approach states with `axes` travelling `direction` (+1 up, -1 down) and every other
+/// axis in the middle of its play (0), as TipMiss takes them.
+inline std::array<double, 9> travelling(std::span<const std::size_t> axes, int direction) {
+  std::array<double, 9> d{};
+  for (const std::size_t axis : axes) d[axis] = direction;
+  return d;
+}
+inline std::array<double, 9> travelling(std::initializer_list<std::size_t> axes, int direction) {
+  return travelling(std::span<const std::size_t>(axes.begin(), axes.size()), direction);
+}
 
 /// The tool tip's miss, in machine-axis directions: where it is with the axes commanded
 /// to `commanded`, against where a perfect machine puts it at `target`.

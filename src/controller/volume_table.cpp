@@ -11,13 +11,6 @@
 namespace ccomp::controller {
 namespace {
 
-/// X, Y and Z all travelling `direction`; the other axes in the middle of their play.
-std::array<double, 9> all_travelling(int direction) {
-  std::array<double, 9> d{};
-  d[0] = d[1] = d[2] = direction;
-  return d;
-}
-
 /// The node at or below p along one axis and p's fraction of the way to the next, held
 /// at the ends.
 struct CellCoordinate {
@@ -76,7 +69,7 @@ Eigen::Vector3d solve_node(TipMiss& miss, const model::ChainQ& target, const Eig
     model::ChainQ commanded = target;
     commanded.head<3>() += t;
     const Eigen::Vector3d m =
-        0.5 * (miss(commanded, target, all_travelling(+1)) + miss(commanded, target, all_travelling(-1)));
+        0.5 * (miss(commanded, target, travelling({0, 1, 2}, +1)) + miss(commanded, target, travelling({0, 1, 2}, -1)));
     const Eigen::Vector3d step = m.cwiseQuotient(sense);
     t -= step;
     if (step.cwiseAbs().maxCoeff() < 1e-12 && t.allFinite()) return t;

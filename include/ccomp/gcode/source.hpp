@@ -55,7 +55,6 @@ class LineSource {
   std::string name_;
   std::shared_ptr<const int> fd_;              // shared by the readers of one file; closed with the last
   std::shared_ptr<const std::string> memory_;  // when reading from memory
-  bool from_memory_ = false;
   std::vector<char> buffer_;
   std::size_t begin_ = 0;            // first unread byte in buffer_
   std::size_t end_ = 0;              // one past the last valid byte in buffer_
