@@ -3,6 +3,7 @@
 #include <Eigen/QR>
 #include <array>
 #include <limits>
+#include <optional>
 
 #include "ccomp/kinematics/pose.hpp"
 
@@ -240,8 +241,9 @@ InverseResult solve_inverse(const model::ForwardModel& model, const InverseProbl
                             const ChainQ* guess, InverseWorkspace* workspace, const NominalPose* nominal) {
   InverseResult r;
   if (!nominal) model::forward(model, d, q_nominal, conditions, false, model::Evaluate::nominal);
-  InverseWorkspace scratch;
-  InverseWorkspace& ws = workspace ? *workspace : scratch;
+  // Built only when the caller keeps none: a workspace is 1.5 kB to fill, at every point.
+  std::optional<InverseWorkspace> scratch;
+  InverseWorkspace& ws = workspace ? *workspace : scratch.emplace();
   SolveStart s = start_of(problem, ws, q_nominal, conditions, guess, nominal ? nominal->tip : d.nominal,
                           nominal ? nominal->orientation : d.R_nominal);
   iterate(model, problem, d, conditions, options, ws, s, r);

@@ -501,14 +501,15 @@ void forward(const ForwardModel& model, ForwardData& d, const ChainQ& q, const C
     return;
   }
   // Term values, summed per link component (delta x y z in mm, epsilon a b c in rad).
-  std::fill(d.errors.begin(), d.errors.end(), 0.0);
   // Location terms are constants: their poses change only with the parameters and the
   // conditions (or after an evaluation with Jacobians, which keeps no key).
   bool locations_stale = true;
-  if (jacobians)
+  if (jacobians) {
+    std::fill(d.errors.begin(), d.errors.end(), 0.0);
     evaluate_terms_with_derivatives(model, d, q, c, parameter_jacobian);
-  else
-    locations_stale = sum_term_values(model, d, q, c);
+  } else {
+    locations_stale = sum_term_values(model, d, q, c);  // starts from the sums off the axes
+  }
   split_link_errors(d, locations_stale);
   pose_links(d, jacobians, locations_stale);
   using kinematics::ChainJacobians;
