@@ -37,6 +37,7 @@ std::string zigzag(bool offset_by_control) {
 /// LinuxCNC's interpreter runs `output` with tool 1 (10 mm; rs274 alone reads its table in
 /// inches) to its end.
 void expect_rs274_accepts(const std::string& output) {
+  CCOMP_REQUIRE_RS274();
   const std::string dir = temp_dir("radius_compensation");
   write_file(dir + "/tools.tbl", "T1 P1 Z3.937008 D0.393701 ;\n");
   write_file(dir + "/out.ngc", output);
@@ -102,7 +103,7 @@ TEST(RadiusCompensation, ArcsStayArcsInPiecesWithTheirCentreWords) {
     EXPECT_EQ(line.rfind("G1", 0) == 0 && line.find(" I") != std::string::npos, false);
   // What the arcs do between their compensated ends is measured, not assumed.
   EXPECT_GT(report.max_error_after, 0.0);
-  if (!have_rs274()) GTEST_SKIP() << "rs274 not found at " << rs274() << ": run tools/rs274/fetch.sh build/rs274";
+  CCOMP_REQUIRE_RS274();
   expect_rs274_accepts(output);
 }
 
@@ -116,7 +117,7 @@ TEST(RadiusCompensation, StraightMovesAreSplitAndNothingIsTakenUp) {
   ASSERT_FALSE(warnings.empty());
   EXPECT_NE(warnings.front().find("cutter radius compensation (G41/G42) is on"), std::string::npos) << warnings.front();
   EXPECT_GT(offset.max_error_after, 0.001) << "the turns' backlash is left, and said";
-  if (!have_rs274()) GTEST_SKIP() << "rs274 not found at " << rs274() << ": run tools/rs274/fetch.sh build/rs274";
+  CCOMP_REQUIRE_RS274();
   expect_rs274_accepts(output);
 }
 
@@ -182,7 +183,7 @@ TEST(RadiusCompensation, TheSampleProfilePassesVerifyOnTheToolCentresPath) {
     EXPECT_LE(e.max, 0.001) << machine << (resolve ? " resolved" : "") << " line " << e.worst_line << "\n" << output;
     EXPECT_EQ(e.uncut_length, 0.0) << machine;
     EXPECT_EQ(output.find("G41"), resolve ? std::string::npos : output.find("G41 D1")) << output;
-    if (have_rs274()) expect_rs274_accepts(output);
+    expect_rs274_accepts(output);
   }
   // Kept for the control on the full HMC, its turns' backlash stays: said, and measured.
   const model::MachineModel mm = sample_machine("hmc-xyzb");
@@ -222,7 +223,7 @@ TEST(RadiusCompensation, OutsideCornersAndRadiusArcsBothWays) {
       EXPECT_LE(e.max, 0.001) << "line " << e.worst_line << "\n" << output;
       EXPECT_EQ(e.uncut_length, 0.0);
     }
-    if (have_rs274()) expect_rs274_accepts(output);
+    expect_rs274_accepts(output);
   }
 }
 

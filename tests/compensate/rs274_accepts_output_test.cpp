@@ -29,7 +29,7 @@ namespace fs = std::filesystem;
 class Rs274AcceptsOutput : public ::testing::TestWithParam<SuiteProgram> {};
 
 TEST_P(Rs274AcceptsOutput, OnTheSampleMachinesAndWithCyclesExpanded) {
-  if (!have_rs274()) GTEST_SKIP() << "rs274 not found at " << rs274() << ": run tools/rs274/fetch.sh build/rs274";
+  CCOMP_REQUIRE_RS274();
   const fs::path path = fs::path(corpus_dir()) / "linuxcnc" / GetParam().path;
   // What LinuxCNC's own tests expect ccomp to refuse, or what is out of ccomp's scope, may
   // be refused even by the machine that takes every program (the suite test holds ccomp to

@@ -54,7 +54,7 @@ struct CorpusCase {
 };
 
 TEST(Rs274Differential, CorpusProgramsInTheLinuxcncDialect) {
-  if (!have_rs274()) GTEST_SKIP() << "rs274 not found at " << rs274() << ": run tools/rs274/fetch.sh build/rs274";
+  CCOMP_REQUIRE_RS274();
   const std::string tools = tool_table_file();
   const CorpusCase cases[] = {
       {"linuxcnc_sample.ngc", {}},
@@ -77,7 +77,7 @@ TEST(Rs274Differential, CorpusProgramsInTheLinuxcncDialect) {
 // fuzzer), kept as they are.
 
 TEST(Rs274Differential, ProgramsThatOnceDiffered) {
-  if (!have_rs274()) GTEST_SKIP() << "rs274 not found at " << rs274() << ": run tools/rs274/fetch.sh build/rs274";
+  CCOMP_REQUIRE_RS274();
   const std::string tools = tool_table_file();
   const std::string dir = temp_dir("rs274_once");
   const std::pair<const char*, const char*> cases[] = {
@@ -124,7 +124,7 @@ TEST(Rs274Differential, ProgramsThatOnceDiffered) {
 // (tests/support/rs274_differential.cpp; tools/rs274-diff.sh runs thousands).
 
 TEST(Rs274Differential, GeneratedPrograms) {
-  if (!have_rs274()) GTEST_SKIP() << "rs274 not found at " << rs274() << ": run tools/rs274/fetch.sh build/rs274";
+  CCOMP_REQUIRE_RS274();
   const std::string tools = tool_table_file();
   const std::string dir = temp_dir("rs274_generated");
   // Some profiles under cutter compensation gouge: then both must refuse, after the same
@@ -147,7 +147,7 @@ TEST(Rs274Differential, GeneratedPrograms) {
 // The fuzzer's minimiser (tools/rs274-diff.sh), on a difference ccomp keeps: what is left of
 // a program around it must still differ, and be little more than the lines that make it.
 TEST(Rs274Differential, ADivergentProgramIsCutDownToWhatMakesItDiverge) {
-  if (!have_rs274()) GTEST_SKIP() << "rs274 not found at " << rs274() << ": run tools/rs274/fetch.sh build/rs274";
+  CCOMP_REQUIRE_RS274();
   const std::string tools = tool_table_file();
   const std::string dir = temp_dir("rs274_smallest");
   std::string program = generated_program(7, 40);

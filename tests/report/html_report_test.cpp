@@ -132,7 +132,8 @@ TEST(HtmlReport, IsSelfContainedAndRendersInChromium) {
 
   const std::string chromium = "/usr/bin/chromium";
   if (!std::filesystem::exists(chromium))
-    GTEST_SKIP() << "Debian's chromium is not installed (tools/install-deps.sh installs it)";
+    // The page's rendering is what this checks: without the browser it fails, not passes.
+    GTEST_FAIL() << "Debian's chromium is not installed at " << chromium << " (tools/install-deps.sh installs it)";
   const auto started = std::chrono::steady_clock::now();
   r = run_command("timeout 120 " + chromium + chromium_flags(temp_dir("html_report_profile")) +
                   "--enable-logging=stderr --v=0 --window-size=1280,2400 --dump-dom " + shell_quote("file://" + html));
