@@ -16,6 +16,7 @@
 #include "ccomp/constants.hpp"
 #include "ccomp/model/chain_values.hpp"
 #include "ccomp/util/parallel.hpp"
+#include "executed_tip.hpp"
 
 namespace ccomp::compensate {
 
@@ -105,7 +106,7 @@ struct Evaluator {
     return conditions;
   }
   Eigen::Vector3d nominal(const model::ChainQ& q) {
-    model::forward(model, data, q, conditions);
+    model::forward(model, data, q, conditions, false, model::Evaluate::nominal);
     return data.nominal;
   }
 };
@@ -448,32 +449,72 @@ class PathSearch {
 
  private:
   static constexpr std::size_t kBehind = 64, kAhead = 4096;
+  /// mm: pieces this near a gathering's point are kept for the points after it. A point
+  /// moves a few micrometres from the last: one gathering serves tens of them.
+  static constexpr double kCandidateRadius = 0.05;
   [[nodiscard]] std::size_t behind() const { return cursor_ > kBehind ? cursor_ - kBehind : 0; }
   static double slack(double d) { return d + std::max(d, 0.5e-3); }
 
   /// The pieces (in program order) nearly as near p as the nearest (within the distance
-  /// again, or 0.5 um), into near_; the nearest one's distance.
+  /// again, or 0.5 um), into near_; the nearest one's distance. Taken from the candidates
+  /// of the last gathering while they hold all that can be that near, else gathered anew.
   double gather_near(const Eigen::Vector3d& p, std::size_t from, std::size_t to) {
+    if (const std::optional<double> best = near_from_candidates(p, from, to)) return *best;
+    return gather(p, from, to);
+  }
+
+  /// The window searched through its boxes for the pieces within the slack of the nearest,
+  /// and within kCandidateRadius of p, which become the candidates of the points after it:
+  /// every other piece in the window is farther from p than that radius.
+  double gather(const Eigen::Vector3d& p, std::size_t from, std::size_t to) {
+    const auto reach = [](double best) { return std::max(slack(best), kCandidateRadius); };
     double best = kInfinity;  // to start with, the pieces just ahead of the cursor
     for (std::size_t i = std::min(cursor_, to - 1); i < std::min(cursor_ + 4, to); ++i)
       best = std::min(best, nominal_[i].distance(p));
     near_.clear();
     for (std::size_t g = from - from % NominalPath::kGroup; g < to; g += NominalPath::kGroup) {
       const std::size_t start = std::max(g, from);
-      // A group of groups farther than the slack holds no piece nearer: all skipped (the
+      // A group of groups farther than the reach holds no piece nearer: all skipped (the
       // same pieces as their own boxes would skip, the nearest found as before).
-      if ((start == from || g % NominalPath::kSuper == 0) && nominal_.super_box(start).distance(p) > slack(best)) {
+      if ((start == from || g % NominalPath::kSuper == 0) && nominal_.super_box(start).distance(p) > reach(best)) {
         g = (start / NominalPath::kSuper + 1) * NominalPath::kSuper - NominalPath::kGroup;
         continue;
       }
-      if (nominal_.group_box(start).distance(p) > slack(best)) continue;
+      if (nominal_.group_box(start).distance(p) > reach(best)) continue;
       for (std::size_t i = std::max(g, from); i < std::min(g + NominalPath::kGroup, to); ++i) {
         const double d = nominal_[i].distance(p);
-        if (d > slack(best)) continue;
+        if (d > reach(best)) continue;
         best = std::min(best, d);
         near_.emplace_back(i, d);
       }
     }
+    candidates_.clear();
+    for (const auto& [i, d] : near_)
+      if (d <= kCandidateRadius) candidates_.push_back(i);
+    gathered_at_ = p, certified_from_ = from, certified_to_ = to;
+    std::erase_if(near_, [&](const auto& candidate) { return candidate.second > slack(best); });
+    return best;
+  }
+
+  /// near_ and the nearest distance from the candidates alone, where they settle it: p is
+  /// s from where they were gathered, so any other piece is farther than the radius less
+  /// s (the triangle inequality); when that is beyond the slack of the nearest candidate,
+  /// near_ is what a gathering at p would find, piece for piece. Pieces come into the window
+  /// ahead one by one as the cursor moves, each tried against the gathering point.
+  std::optional<double> near_from_candidates(const Eigen::Vector3d& p, std::size_t from, std::size_t to) {
+    if (from < certified_from_ || certified_to_ == 0) return std::nullopt;
+    for (; certified_to_ < to; ++certified_to_)
+      if (nominal_[certified_to_].distance(gathered_at_) <= kCandidateRadius) candidates_.push_back(certified_to_);
+    const double margin = kCandidateRadius - (p - gathered_at_).norm() - 1e-9;  // 1e-9: the distances' rounding
+    double best = kInfinity;
+    near_.clear();
+    for (const std::size_t i : candidates_) {
+      if (i < from || i >= to) continue;
+      const double d = nominal_[i].distance(p);
+      best = std::min(best, d);
+      near_.emplace_back(i, d);
+    }
+    if (!(slack(best) <= margin)) return std::nullopt;
     std::erase_if(near_, [&](const auto& candidate) { return candidate.second > slack(best); });
     return best;
   }
@@ -515,6 +556,11 @@ class PathSearch {
   std::size_t cursor_ = 0;
   std::size_t uncut_from_ = 0;                        ///< the first piece after the furthest the search has been
   std::vector<std::pair<std::size_t, double>> near_;  ///< pieces near the point, and their distances
+  // The last gathering: where, the window it searched (certified_to_ grows with the window;
+  // 0: none yet), and the pieces within kCandidateRadius of its point, in program order.
+  Eigen::Vector3d gathered_at_ = Eigen::Vector3d::Zero();
+  std::size_t certified_from_ = 0, certified_to_ = 0;
+  std::vector<std::size_t> candidates_;
   std::size_t next_piece_ = 0;                        ///< the piece after the last point's
   Eigen::Vector3d last_point_ = Eigen::Vector3d::Zero();
   bool after_rapid_ = true;
@@ -529,6 +575,7 @@ PathError verify(gcode::LineSource& original, gcode::LineSource& compensated, co
   NominalPath nominal(original, model, options);
   PathSearch search(nominal);
   Evaluator ev{model, model::ForwardData(model), options.conditions};
+  ExecutedTip tip(model, options.conditions);
   PathError e;
   double sum2 = 0.0;
   each_motion(compensated, options, [&](const gcode::Motion& m) {
@@ -539,10 +586,20 @@ PathError verify(gcode::LineSource& original, gcode::LineSource& compensated, co
     if (m.kind != gcode::MotionKind::feed && m.kind != gcode::MotionKind::arc) return search.rapid();
     ++e.moves;
     const int steps = path.steps(model, options.samples);  // finer than the job checks
+    if (m.kind == gcode::MotionKind::feed)
+      tip.start_move(path.start(), path.end(), ev.conditions);
+    else
+      tip.other_move();
     for (int k = 0; k <= steps; ++k) {
-      const model::ChainQ q = path.at(static_cast<double>(k) / steps);
-      model::forward(model, ev.data, q, ev.advance(q), false, model::Evaluate::actual);
-      const Eigen::Vector3d p = ev.data.actual;
+      const double t = static_cast<double>(k) / steps;
+      Eigen::Vector3d p;
+      if (tip.on_chord()) {
+        p = tip.on_chord(t);  // the play stands still: ev's conditions stay as they are
+      } else {
+        const model::ChainQ q = path.at(t);
+        model::forward(model, ev.data, q, ev.advance(q), false, model::Evaluate::actual);
+        p = ev.data.actual;
+      }
       const std::optional<double> off = search.distance(p);
       if (!off) continue;
       sum2 += *off * *off;

@@ -6,7 +6,9 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <limits>
 #include <optional>
 #include <string>
 
@@ -17,6 +19,7 @@
 #include "ccomp/model/forward.hpp"
 #include "ccomp/model/machine.hpp"
 #include "ccomp/model/model_file.hpp"
+#include "ccomp/model/variation_bound.hpp"
 #include "job_runner.hpp"
 #include "sample_models.hpp"
 #include "trace_capture.hpp"
@@ -250,6 +253,76 @@ terms:
   EXPECT_GT(report.max_error_after, 0.4 * 0.001);
   EXPECT_LE(report.max_error_after, 0.001);
   EXPECT_LE(left.max, report.max_error_after + 0.5e-4 * std::sqrt(3.0));
+}
+
+
+/// The distance from p to the segment [a, b].
+double segment_distance(const Eigen::Vector3d& p, const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
+  const Eigen::Vector3d ab = b - a;
+  const double t = std::clamp((p - a).dot(ab) / ab.squaredNorm(), 0.0, 1.0);
+  return (a + t * ab - p).norm();
+}
+
+TEST(Verify, ShortMovesMeasuredOnTheirChordsAgreeWithEveryPointEvaluated) {
+  // Y's straightness along X (a slope and a slight bow), Z's, and X's lead screw: a 0.05 mm
+  // move bends far less than a nanometre, so verify takes its points on the chord between
+  // its ends; a 40 mm move it evaluates point by point. Measured here at every point the
+  // model gives (its own samples: twice its check points), against the nominal polyline,
+  // the figures agree within the nanometre a chord may cost. Each short move tilts its
+  // distance by 10 nm from end to end: points taken at the wrong fraction would show.
+  const model::MachineModel mm = model::parse_machine_model(with_limits(kVmcChain, 500) + R"(
+terms:
+  - {name: EYX, form: polynomial, coefficients: [0, 0.2, 1e-4]}
+  - {name: EZX, form: polynomial, coefficients: [1, -0.05]}
+  - {name: EXX, form: periodic, period: 20 mm, harmonics: [[0.5, 0.2]]}
+)",
+                                                            "vmc.yaml");
+  const model::ForwardModel m(mm);
+  std::vector<Eigen::Vector3d> points{{0, 0, 0}};
+  for (int k = 1; k <= 400; ++k) points.emplace_back(0.05 * k, 0.0, 0.01 * std::sin(0.3 * k));
+  points.emplace_back(60, 0, 0);
+  points.emplace_back(100, 0.5, 0);
+  std::string program = "G21 G90 G17 F500\nG0 X0 Y0 Z0\n";
+  for (std::size_t k = 1; k < points.size(); ++k)
+    program += "G1 X" + std::to_string(points[k].x()) + " Y" + std::to_string(points[k].y()) + " Z" +
+               std::to_string(points[k].z()) + "\n";
+  program += "M2\n";
+  // The program's points as the interpreter reads them (six decimals).
+  for (Eigen::Vector3d& p : points)
+    for (Eigen::Index i = 0; i < 3; ++i) p[i] = std::stod(std::to_string(p[i]));
+  auto chain = [](const Eigen::Vector3d& p) {
+    model::ChainQ q = model::ChainQ::Zero();
+    q.head<3>() = p;
+    return q;
+  };
+  const model::VariationBound bound(m, {});
+  ASSERT_LE(bound.chord_deviation(chain(points[1]), chain(points[2])), 1e-6) << "the short moves are on chords";
+  ASSERT_GT(bound.chord_deviation(chain(points[400]), chain(points[401])), 1e-6) << "the long one is not";
+
+  model::ForwardData d(m);
+  std::vector<Eigen::Vector3d> nominal;
+  for (const Eigen::Vector3d& p : points) {
+    model::forward(m, d, chain(p), {}, false, model::Evaluate::nominal);
+    nominal.push_back(d.nominal);
+  }
+  double max = 0.0, sum2 = 0.0;
+  std::uint64_t count = 0;
+  for (std::size_t k = 1; k < points.size(); ++k) {
+    const model::ChainQ a = chain(points[k - 1]), b = chain(points[k]);
+    const int steps = 2 * m.check_points(a, b, 8);
+    for (int j = 0; j <= steps; ++j) {
+      model::forward(m, d, a + (b - a) * (static_cast<double>(j) / steps), {}, false, model::Evaluate::actual);
+      double off = std::numeric_limits<double>::infinity();
+      for (std::size_t i = 1; i < nominal.size(); ++i)
+        off = std::min(off, segment_distance(d.actual, nominal[i - 1], nominal[i]));
+      max = std::max(max, off), sum2 += off * off, ++count;
+    }
+  }
+  const compensate::PathError e = verify_text(program, program, m);
+  EXPECT_EQ(e.points, count);
+  EXPECT_GT(max, 5e-3) << "the errors are large enough to tell";
+  EXPECT_NEAR(e.max, max, 1e-6);
+  EXPECT_NEAR(e.rms, std::sqrt(sum2 / static_cast<double>(count)), 1e-6);
 }
 
 }  // namespace

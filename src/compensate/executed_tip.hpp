@@ -1,0 +1,55 @@
+#pragma once
+// Where the machine's tool tip is along a straight move, for verify: on a move whose play
+// stays as it is and whose error field the model bounds to bend by less than a nanometre
+// (a finishing program's short moves), the tip at a fraction of the move is taken on the
+// chord between its two ends, each evaluated exactly (the start is the last move's end):
+// it is within that bound of the model's tip there (model/variation_bound.hpp), and so is
+// every distance measured from it. Other moves are evaluated point by point by the caller.
+#include <Eigen/Core>
+#include <array>
+#include <cmath>
+
+#include "ccomp/model/forward.hpp"
+#include "ccomp/model/variation_bound.hpp"
+
+namespace ccomp::compensate {
+
+class ExecutedTip {
+ public:
+  /// mm: a thousandth of the default tolerance and a tenth of the last digit verify prints
+  /// (0.01 um); a 0.05 mm move of the full sample HMC is bounded by 0.25 nm.
+  static constexpr double kChordBound = 1e-6;
+
+  /// `conditions`: the temperatures and time the bound holds for.
+  ExecutedTip(const model::ForwardModel& model, const model::Conditions& conditions);
+
+  /// A straight move from a to b, the play at a as `conditions` has it: whether its points
+  /// lie on its chord (then on_chord() gives them).
+  bool start_move(const model::ChainQ& a, const model::ChainQ& b, const model::Conditions& conditions);
+  /// A move that is not straight: its points are evaluated.
+  void other_move() { on_chord_ = false; }
+  [[nodiscard]] bool on_chord() const { return on_chord_; }
+  /// The tip at fraction t of the move on its chord (the ends exactly as evaluated).
+  [[nodiscard]] Eigen::Vector3d on_chord(double t) const {
+    if (t == 1.0) return end_;
+    return t == 0.0 ? start_ : Eigen::Vector3d(start_ + t * (end_ - start_));
+  }
+
+ private:
+  Eigen::Vector3d tip_at(const model::ChainQ& q, const model::Conditions& conditions);
+  /// Whether a and b are alike in every approach a term reads (the others change nothing).
+  [[nodiscard]] bool same_approach(const std::array<double, 9>& a, const std::array<double, 9>& b) const;
+
+  const model::ForwardModel& model_;
+  model::VariationBound bound_;
+  model::ForwardData data_;
+  std::array<bool, 9> approach_read_{};  ///< axis i's approach is some term's variable
+  bool on_chord_ = false;
+  Eigen::Vector3d start_ = Eigen::Vector3d::Zero(), end_ = Eigen::Vector3d::Zero();
+  // The last end evaluated: the next move's start.
+  model::ChainQ last_q_ = model::ChainQ::Constant(std::nan(""));
+  std::array<double, 9> last_directions_{};
+  Eigen::Vector3d last_tip_ = Eigen::Vector3d::Zero();
+};
+
+}  // namespace ccomp::compensate
