@@ -2,12 +2,10 @@
 
 #include <algorithm>
 #include <cmath>
-#include <condition_variable>
 #include <deque>
 #include <exception>
 #include <functional>
 #include <limits>
-#include <mutex>
 #include <numbers>
 #include <optional>
 #include <tuple>
@@ -15,6 +13,7 @@
 
 #include "ccomp/constants.hpp"
 #include "ccomp/model/chain_values.hpp"
+#include "ccomp/util/handoff.hpp"
 #include "ccomp/util/parallel.hpp"
 #include "executed_tip.hpp"
 
@@ -241,35 +240,24 @@ class NominalPath {
   static constexpr std::size_t kSuper = 16 * kGroup;
 
   NominalPath(gcode::LineSource& original, const model::ForwardModel& model, const CheckOptions& options) {
-    reader_.run([this, &original, &model, &options] { produce(original, model, options); });
+    reader_.run([this, &original, &model, &options] {
+      handoff_.produce([&](util::Handoff<Piece>& out) { produce(original, model, options, out); });
+    });
   }
   NominalPath(const NominalPath&) = delete;
   NominalPath& operator=(const NominalPath&) = delete;
   /// Stops the reading where it is; reader_, destroyed first, then waits for it.
-  ~NominalPath() {
-    {
-      const std::lock_guard lock(mutex_);
-      cancelled_ = true;
-    }
-    changed_.notify_all();
-  }
+  ~NominalPath() { handoff_.cancel(); }
 
   /// Makes pieces up to `end` (exclusive) available, as far as the program has them; the
   /// number of pieces available from first() on.
   std::size_t available(std::size_t end) {
     while (first_ + pieces_.size() < end && !exhausted_) {
-      std::unique_lock lock(mutex_);
-      changed_.wait(lock, [this] { return !ready_.empty() || done_; });
-      if (ready_.empty()) {
+      if (!handoff_.pop(batch_)) {
         exhausted_ = true;
-        if (error_) std::rethrow_exception(error_);
         break;
       }
-      std::vector<Piece> batch = std::move(ready_.front());
-      ready_.pop_front();
-      lock.unlock();
-      changed_.notify_all();
-      for (Piece& p : batch) {
+      for (Piece& p : batch_) {
         const std::size_t index = first_ + pieces_.size();
         if (boxes_.empty() || index % kGroup == 0) boxes_.emplace_back();
         boxes_.back().add(p);
@@ -320,36 +308,15 @@ class NominalPath {
   [[nodiscard]] const Box& super_box(std::size_t i) const { return super_boxes_[i / kSuper - first_super_]; }
 
  private:
-  struct Cancelled {};
-
-  void produce(gcode::LineSource& original, const model::ForwardModel& model, const CheckOptions& options) {
-    try {
-      Evaluator ev{model, model::ForwardData(model), options.conditions};
-      std::vector<Piece> batch;
-      auto pass = [&] {
-        std::unique_lock lock(mutex_);
-        changed_.wait(lock, [this] { return ready_.size() < kQueued || cancelled_; });
-        if (cancelled_) throw Cancelled{};
-        ready_.push_back(std::move(batch));
-        batch.clear();
-        lock.unlock();
-        changed_.notify_all();
-      };
-      each_motion(original, options, [&](const gcode::Motion& m) {
-        if (m.kind == gcode::MotionKind::feed || m.kind == gcode::MotionKind::arc) nominal_pieces(m, ev, batch);
-        if (batch.size() >= kBatch) pass();
-      });
-      if (!batch.empty()) pass();
-    } catch (const Cancelled&) {
-    } catch (...) {
-      const std::lock_guard lock(mutex_);
-      error_ = std::current_exception();
-    }
-    {
-      const std::lock_guard lock(mutex_);
-      done_ = true;
-    }
-    changed_.notify_all();
+  static void produce(gcode::LineSource& original, const model::ForwardModel& model, const CheckOptions& options,
+                      util::Handoff<Piece>& out) {
+    Evaluator ev{model, model::ForwardData(model), options.conditions};
+    std::vector<Piece> batch;
+    each_motion(original, options, [&](const gcode::Motion& m) {
+      if (m.kind == gcode::MotionKind::feed || m.kind == gcode::MotionKind::arc) nominal_pieces(m, ev, batch);
+      if (batch.size() >= kBatch) out.push(batch);
+    });
+    if (!batch.empty()) out.push(batch);
   }
 
   static constexpr std::size_t kBatch = 256, kQueued = 16;
@@ -360,12 +327,8 @@ class NominalPath {
   std::size_t first_super_ = 0;  ///< the group of groups super_boxes_.front() is
   std::size_t first_ = 0;
   bool exhausted_ = false;
-  // shared
-  std::mutex mutex_;
-  std::condition_variable changed_;
-  std::deque<std::vector<Piece>> ready_;
-  bool done_ = false, cancelled_ = false;
-  std::exception_ptr error_;
+  std::vector<Piece> batch_;  ///< the last batch handed over
+  util::Handoff<Piece> handoff_{kQueued};
   util::BackgroundThread reader_;  // last: destroyed (joined) first, while what it uses exists
 };
 
@@ -373,10 +336,15 @@ class NominalPath {
 
 namespace {
 
+/// The share of `program` read so far, for the caller's progress report (-1: it takes none).
+double progress_of(const CheckOptions& options, const gcode::LineSource& program) {
+  if (!options.progress || program.size() == 0) return -1.0;
+  return static_cast<double>(program.tell().offset) / static_cast<double>(program.size());
+}
+
 /// The share of `program` read so far, to the caller's progress report.
 void report_progress(const CheckOptions& options, const gcode::LineSource& program) {
-  if (!options.progress || program.size() == 0) return;
-  options.progress(static_cast<double>(program.tell().offset) / static_cast<double>(program.size()));
+  if (const double share = progress_of(options, program); share >= 0) options.progress(share);
 }
 
 }  // namespace
@@ -568,45 +536,106 @@ class PathSearch {
   std::uint32_t skipped_line_ = 0;
 };
 
-}  // namespace
+/// What the compensated program makes the machine do, as verify measures it, in order: a
+/// rapid (the search is told), the start of a cut, and the tool tip at each point checked.
+struct ExecutedEvent {
+  enum class Kind : std::uint8_t { rapid, cut, tip };
+  Kind kind = Kind::tip;
+  std::uint32_t line = 0;  ///< a cut's block
+  double progress = -1;    ///< a rapid's or a cut's share of the program read (-1: none to report)
+  Eigen::Vector3d tip = Eigen::Vector3d::Zero();
+};
 
-PathError verify(gcode::LineSource& original, gcode::LineSource& compensated, const model::ForwardModel& model,
-                 const CheckOptions& options) {
-  NominalPath nominal(original, model, options);
-  PathSearch search(nominal);
-  Evaluator ev{model, model::ForwardData(model), options.conditions};
-  ExecutedTip tip(model, options.conditions);
-  PathError e;
-  double sum2 = 0.0;
-  each_motion(compensated, options, [&](const gcode::Motion& m) {
-    report_progress(options, compensated);
-    const MotionPath path(m);
-    ev.advance(path.start());
-    const FollowPlay follow{ev, path.end()};
-    if (m.kind != gcode::MotionKind::feed && m.kind != gcode::MotionKind::arc) return search.rapid();
-    ++e.moves;
-    const int steps = path.steps(model, options.samples);  // finer than the job checks
+/// The executed path of the compensated program, read and evaluated on a thread of its own
+/// while the caller measures it against the nominal path (the points are the same whichever
+/// thread makes them: only the work is shared).
+class ExecutedPath {
+ public:
+  ExecutedPath(gcode::LineSource& compensated, const model::ForwardModel& model, const CheckOptions& options) {
+    reader_.run([this, &compensated, &model, &options] {
+      handoff_.produce(
+          [&](util::Handoff<ExecutedEvent>& out) { produce(compensated, model, options, out); });
+    });
+  }
+  ExecutedPath(const ExecutedPath&) = delete;
+  ExecutedPath& operator=(const ExecutedPath&) = delete;
+  /// Stops the reading where it is; reader_, destroyed first, then waits for it.
+  ~ExecutedPath() { handoff_.cancel(); }
+
+  /// The next events; false at the end (where a failure of the reading is rethrown).
+  bool next(std::vector<ExecutedEvent>& events) { return handoff_.pop(events); }
+
+ private:
+  static void produce(gcode::LineSource& compensated, const model::ForwardModel& model, const CheckOptions& options,
+                      util::Handoff<ExecutedEvent>& out) {
+    Evaluator ev{model, model::ForwardData(model), options.conditions};
+    ExecutedTip tip(model, options.conditions);
+    std::vector<ExecutedEvent> batch;
+    each_motion(compensated, options, [&](const gcode::Motion& m) {
+      const double progress = progress_of(options, compensated);
+      const MotionPath path(m);
+      ev.advance(path.start());
+      const FollowPlay follow{ev, path.end()};
+      const bool cut = m.kind == gcode::MotionKind::feed || m.kind == gcode::MotionKind::arc;
+      batch.push_back({cut ? ExecutedEvent::Kind::cut : ExecutedEvent::Kind::rapid, m.line, progress});
+      if (cut) tips(m, path, model, options, ev, tip, batch);
+      if (batch.size() >= kBatch) out.push(batch);
+    });
+    if (!batch.empty()) out.push(batch);
+  }
+
+  /// The tool tip at each point a cut is checked at, finer than the job checks.
+  static void tips(const gcode::Motion& m, const MotionPath& path, const model::ForwardModel& model,
+                   const CheckOptions& options, Evaluator& ev, ExecutedTip& tip, std::vector<ExecutedEvent>& out) {
+    const int steps = path.steps(model, options.samples);
     if (m.kind == gcode::MotionKind::feed)
       tip.start_move(path.start(), path.end(), ev.conditions);
     else
       tip.other_move();
     for (int k = 0; k <= steps; ++k) {
       const double t = static_cast<double>(k) / steps;
-      Eigen::Vector3d p;
+      ExecutedEvent& e = out.emplace_back();
       if (tip.on_chord()) {
-        p = tip.on_chord(t);  // the play stands still: ev's conditions stay as they are
+        e.tip = tip.on_chord(t);  // the play stands still: ev's conditions stay as they are
       } else {
         const model::ChainQ q = path.at(t);
         model::forward(model, ev.data, q, ev.advance(q), false, model::Evaluate::actual);
-        p = ev.data.actual;
+        e.tip = ev.data.actual;
       }
-      const std::optional<double> off = search.distance(p);
+    }
+  }
+
+  static constexpr std::size_t kBatch = 4096, kQueued = 8;
+  util::Handoff<ExecutedEvent> handoff_{kQueued};
+  util::BackgroundThread reader_;  // last: destroyed (joined) first, while what it uses exists
+};
+
+}  // namespace
+
+PathError verify(gcode::LineSource& original, gcode::LineSource& compensated, const model::ForwardModel& model,
+                 const CheckOptions& options) {
+  NominalPath nominal(original, model, options);
+  PathSearch search(nominal);
+  ExecutedPath executed(compensated, model, options);
+  PathError e;
+  double sum2 = 0.0;
+  std::uint32_t line = 0;
+  std::vector<ExecutedEvent> events;
+  while (executed.next(events)) {
+    for (const ExecutedEvent& x : events) {
+      if (x.kind != ExecutedEvent::Kind::tip) {
+        if (x.progress >= 0) options.progress(x.progress);
+        if (x.kind == ExecutedEvent::Kind::rapid) search.rapid();
+        if (x.kind == ExecutedEvent::Kind::cut) ++e.moves, line = x.line;
+        continue;
+      }
+      const std::optional<double> off = search.distance(x.tip);
       if (!off) continue;
       sum2 += *off * *off;
       ++e.points;
-      if (*off > e.max) e.max = *off, e.worst_line = m.line, e.worst_point = p;
+      if (*off > e.max) e.max = *off, e.worst_line = line, e.worst_point = x.tip;
     }
-  });
+  }
   e.rms = e.points ? std::sqrt(sum2 / static_cast<double>(e.points)) : 0.0;
   std::tie(e.uncut_length, e.uncut_line) = search.uncut();
   if (options.progress) options.progress(1.0);
