@@ -19,24 +19,34 @@ bool ExecutedTip::same_approach(const std::array<double, 9>& a, const std::array
   return true;
 }
 
-bool ExecutedTip::start_move(const model::ChainQ& a, const model::ChainQ& b, const model::Conditions& conditions) {
+bool ExecutedTip::start_move(const model::ChainQ& a, const model::ChainQ& b, const model::Conditions& conditions,
+                             bool with_nominal) {
   // The play is followed point by point along the move: where it ends as it started, it
   // stood still all along (it moves one way only, towards the travel). An axis whose
   // approach no term reads may turn round: nothing changes with it.
   model::Conditions after = conditions;
   model::take_up_play(model_, after, a, b);
   on_chord_ = same_approach(after.directions, conditions.directions) && bound_.chord_deviation(a, b) <= kChordBound;
+  // The nominal chain with its rotary axes and tool length still is a translation in the
+  // linear axes: its tip is affine along the move.
+  const auto tool = static_cast<Eigen::Index>(model::kToolLengthIndex);
+  if (with_nominal && (a.segment<3>(3) != b.segment<3>(3) || a[tool] != b[tool])) on_chord_ = false;
   if (on_chord_) {
-    start_ = tip_at(a, conditions);
-    end_ = tip_at(b, conditions);
+    start_ = tip_at(a, conditions, with_nominal ? &nominal_start_ : nullptr);
+    end_ = tip_at(b, conditions, with_nominal ? &nominal_end_ : nullptr);
   }
   return on_chord_;
 }
 
-Eigen::Vector3d ExecutedTip::tip_at(const model::ChainQ& q, const model::Conditions& conditions) {
-  if (q == last_q_ && same_approach(conditions.directions, last_directions_)) return last_tip_;
-  model::forward(model_, data_, q, conditions, false, model::Evaluate::actual);
-  last_q_ = q, last_directions_ = conditions.directions, last_tip_ = data_.actual;
+Eigen::Vector3d ExecutedTip::tip_at(const model::ChainQ& q, const model::Conditions& conditions,
+                                    Eigen::Vector3d* nominal) {
+  if (q != last_q_ || !same_approach(conditions.directions, last_directions_) || (nominal && !last_has_nominal_)) {
+    model::forward(model_, data_, q, conditions, false, nominal ? model::Evaluate::both : model::Evaluate::actual);
+    last_q_ = q, last_directions_ = conditions.directions, last_tip_ = data_.actual;
+    last_has_nominal_ = nominal != nullptr;
+    if (nominal) last_nominal_ = data_.nominal;
+  }
+  if (nominal) *nominal = last_nominal_;
   return last_tip_;
 }
 

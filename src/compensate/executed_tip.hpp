@@ -1,5 +1,5 @@
 #pragma once
-// Where the machine's tool tip is along a straight move, for verify: on a move whose play
+// Where the machine's tool tip is along a straight move, for verify and predict: on a move whose play
 // stays as it is and whose error field the model bounds to bend by less than a nanometre
 // (a finishing program's short moves), the tip at a fraction of the move is taken on the
 // chord between its two ends, each evaluated exactly (the start is the last move's end):
@@ -24,19 +24,26 @@ class ExecutedTip {
   ExecutedTip(const model::ForwardModel& model, const model::Conditions& conditions);
 
   /// A straight move from a to b, the play at a as `conditions` has it: whether its points
-  /// lie on its chord (then on_chord() gives them).
-  bool start_move(const model::ChainQ& a, const model::ChainQ& b, const model::Conditions& conditions);
+  /// lie on its chord (then on_chord() gives them). `with_nominal` (predict's): the nominal
+  /// tip too, on a move where it is affine (no rotary axis and no tool length moves), else
+  /// the move is evaluated point by point.
+  bool start_move(const model::ChainQ& a, const model::ChainQ& b, const model::Conditions& conditions,
+                  bool with_nominal = false);
   /// A move that is not straight: its points are evaluated.
   void other_move() { on_chord_ = false; }
   [[nodiscard]] bool on_chord() const { return on_chord_; }
   /// The tip at fraction t of the move on its chord (the ends exactly as evaluated).
-  [[nodiscard]] Eigen::Vector3d on_chord(double t) const {
-    if (t == 1.0) return end_;
-    return t == 0.0 ? start_ : Eigen::Vector3d(start_ + t * (end_ - start_));
-  }
+  [[nodiscard]] Eigen::Vector3d on_chord(double t) const { return between(start_, end_, t); }
+  /// The nominal tip at fraction t, after start_move(..., true).
+  [[nodiscard]] Eigen::Vector3d nominal_on_chord(double t) const { return between(nominal_start_, nominal_end_, t); }
 
  private:
-  Eigen::Vector3d tip_at(const model::ChainQ& q, const model::Conditions& conditions);
+  static Eigen::Vector3d between(const Eigen::Vector3d& a, const Eigen::Vector3d& b, double t) {
+    if (t == 1.0) return b;
+    return t == 0.0 ? a : Eigen::Vector3d(a + t * (b - a));
+  }
+  /// The actual tip at q (and the nominal one into `nominal`, when given).
+  Eigen::Vector3d tip_at(const model::ChainQ& q, const model::Conditions& conditions, Eigen::Vector3d* nominal);
   /// Whether a and b are alike in every approach a term reads (the others change nothing).
   [[nodiscard]] bool same_approach(const std::array<double, 9>& a, const std::array<double, 9>& b) const;
 
@@ -46,10 +53,12 @@ class ExecutedTip {
   std::array<bool, 9> approach_read_{};  ///< axis i's approach is some term's variable
   bool on_chord_ = false;
   Eigen::Vector3d start_ = Eigen::Vector3d::Zero(), end_ = Eigen::Vector3d::Zero();
+  Eigen::Vector3d nominal_start_ = Eigen::Vector3d::Zero(), nominal_end_ = Eigen::Vector3d::Zero();
   // The last end evaluated: the next move's start.
   model::ChainQ last_q_ = model::ChainQ::Constant(std::nan(""));
   std::array<double, 9> last_directions_{};
-  Eigen::Vector3d last_tip_ = Eigen::Vector3d::Zero();
+  Eigen::Vector3d last_tip_ = Eigen::Vector3d::Zero(), last_nominal_ = Eigen::Vector3d::Zero();
+  bool last_has_nominal_ = false;
 };
 
 }  // namespace ccomp::compensate

@@ -352,6 +352,7 @@ void report_progress(const CheckOptions& options, const gcode::LineSource& progr
 PathError predict(gcode::LineSource& program, const model::ForwardModel& model, const CheckOptions& options) {
   PathError e;
   Evaluator ev{model, model::ForwardData(model), options.conditions};
+  ExecutedTip tip(model, options.conditions);
   double sum2 = 0.0;
   each_motion(program, options, [&](const gcode::Motion& m) {
     report_progress(options, program);
@@ -361,13 +362,24 @@ PathError predict(gcode::LineSource& program, const model::ForwardModel& model, 
     if (m.kind == gcode::MotionKind::traverse || m.kind == gcode::MotionKind::probe) return;
     ++e.moves;
     const int steps = path.steps(model, options.samples);
+    if (m.kind == gcode::MotionKind::feed)
+      tip.start_move(path.start(), path.end(), ev.conditions, true);
+    else
+      tip.other_move();
     for (int k = 0; k <= steps; ++k) {
-      const model::ChainQ q = path.at(static_cast<double>(k) / steps);
-      model::forward(model, ev.data, q, ev.advance(q));
-      const double d = (ev.data.actual - ev.data.nominal).norm();
+      const double t = static_cast<double>(k) / steps;
+      Eigen::Vector3d actual, nominal;
+      if (tip.on_chord()) {  // within a nanometre (executed_tip.hpp)
+        actual = tip.on_chord(t), nominal = tip.nominal_on_chord(t);
+      } else {
+        const model::ChainQ q = path.at(t);
+        model::forward(model, ev.data, q, ev.advance(q));
+        actual = ev.data.actual, nominal = ev.data.nominal;
+      }
+      const double d = (actual - nominal).norm();
       sum2 += d * d;
       ++e.points;
-      if (d > e.max) e.max = d, e.worst_line = m.line, e.worst_point = ev.data.nominal;
+      if (d > e.max) e.max = d, e.worst_line = m.line, e.worst_point = nominal;
     }
   });
   e.rms = e.points ? std::sqrt(sum2 / static_cast<double>(e.points)) : 0.0;

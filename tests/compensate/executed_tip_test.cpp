@@ -41,6 +41,12 @@ Eigen::Vector3d model_tip(const model::ForwardModel& m, const ChainQ& q, const m
   return d.actual;
 }
 
+Eigen::Vector3d nominal_tip(const model::ForwardModel& m, const ChainQ& q) {
+  model::ForwardData d(m);
+  model::forward(m, d, q, {}, false, model::Evaluate::nominal);
+  return d.nominal;
+}
+
 TEST(ExecutedTip, OnAShortMovesChordItIsWithinANanometreOfTheModelAtEveryFraction) {
   const model::MachineModel mm = vmc();
   const model::ForwardModel m(mm);
@@ -51,13 +57,17 @@ TEST(ExecutedTip, OnAShortMovesChordItIsWithinANanometreOfTheModelAtEveryFractio
   for (int k = 0; k < 40; ++k) {
     const ChainQ a = at(0.05 * k, 0.1, 0.01 * std::sin(0.3 * k));
     const ChainQ b = at(0.05 * (k + 1), 0.1, 0.01 * std::sin(0.3 * (k + 1)));
-    ASSERT_TRUE(tip.start_move(a, b, c)) << "move " << k;
+    ASSERT_TRUE(tip.start_move(a, b, c, k % 2 == 0)) << "move " << k;
     EXPECT_EQ(tip.on_chord(0.0), model_tip(m, a, c)) << "its ends are the model's own";
     EXPECT_EQ(tip.on_chord(1.0), model_tip(m, b, c));
     for (int j = 1; j < 16; ++j) {
       const double t = j / 16.0;
       EXPECT_LE((tip.on_chord(t) - model_tip(m, a + t * (b - a), c)).norm(), ExecutedTip::kChordBound)
           << "move " << k << " at " << t;
+      // predict's nominal tip: exactly affine along a move of the linear axes alone
+      if (k % 2 == 0) {
+        EXPECT_LE((tip.nominal_on_chord(t) - nominal_tip(m, a + t * (b - a))).norm(), 1e-12);
+      }
     }
   }
 }
@@ -78,6 +88,12 @@ TEST(ExecutedTip, ALongMoveOrOneThatTakesUpPlayIsEvaluatedPointByPoint) {
   EXPECT_TRUE(tip.start_move(at(1, 0.1, 0), at(1.05, 0.09, 0), c));
   tip.other_move();
   EXPECT_FALSE(tip.on_chord());
+  // A tool length that changes along the move turns nothing, but the nominal tip is not
+  // affine in it for predict: its points are evaluated there, not for verify.
+  ChainQ longer = at(1.05, 0.09, 0);
+  longer[static_cast<Eigen::Index>(model::kToolLengthIndex)] = 0.01;
+  EXPECT_TRUE(tip.start_move(at(1, 0.1, 0), longer, c));
+  EXPECT_FALSE(tip.start_move(at(1, 0.1, 0), longer, c, true));
 }
 
 }  // namespace
