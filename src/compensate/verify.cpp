@@ -541,7 +541,7 @@ class PathSearch {
   Eigen::Vector3d gathered_at_ = Eigen::Vector3d::Zero();
   std::size_t certified_from_ = 0, certified_to_ = 0;
   std::vector<std::size_t> candidates_;
-  std::size_t next_piece_ = 0;                        ///< the piece after the last point's
+  std::size_t next_piece_ = 0;  ///< the piece after the last point's
   Eigen::Vector3d last_point_ = Eigen::Vector3d::Zero();
   bool after_rapid_ = true;
   double skipped_length_ = 0.0;
@@ -565,8 +565,7 @@ class ExecutedPath {
  public:
   ExecutedPath(gcode::LineSource& compensated, const model::ForwardModel& model, const CheckOptions& options) {
     reader_.run([this, &compensated, &model, &options] {
-      handoff_.produce(
-          [&](util::Handoff<ExecutedEvent>& out) { produce(compensated, model, options, out); });
+      handoff_.produce([&](util::Handoff<ExecutedEvent>& out) { produce(compensated, model, options, out); });
     });
   }
   ExecutedPath(const ExecutedPath&) = delete;

@@ -255,7 +255,6 @@ terms:
   EXPECT_LE(left.max, report.max_error_after + 0.5e-4 * std::sqrt(3.0));
 }
 
-
 /// The distance from p to the segment [a, b].
 double segment_distance(const Eigen::Vector3d& p, const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
   const Eigen::Vector3d ab = b - a;
