@@ -35,7 +35,9 @@ struct MoveRewriter::PointLine {
 
 MoveRewriter::MoveRewriter(gcode::ProgramWriter& writer, const model::MachineModel& model, DecimalsOption decimals,
                            JobReport& report, std::string_view file)
-    : writer_(writer), model_(model), decimals_(decimals), report_(report), file_(file) {}
+    : writer_(writer), model_(model), decimals_(decimals), report_(report), file_(file) {
+  for (std::size_t i = 0; i < gcode::kAxisCount; ++i) machine_axis_[i] = model.axis(gcode::kAxisLetters[i]) != nullptr;
+}
 
 std::optional<std::string> MoveRewriter::axis_word(std::size_t i, double p, double last, bool incremental, bool named,
                                                    std::string_view styled, bool inch) {
@@ -62,8 +64,8 @@ void MoveRewriter::point_words(const gcode::Motion& m, const gcode::Block& b, co
   const gcode::Axes p = program_of(point.q, *m.offsets, unit);
   const gcode::Axes last = program_of(model::chain_of(position_.commanded, *m.offsets), *m.offsets, unit);
   for (std::size_t i = 0; i < gcode::kAxisCount; ++i) {
+    if (!machine_axis_[i]) continue;
     const char letter = gcode::kAxisLetters[i];
-    if (!model_.axis(letter)) continue;
     const gcode::Word* own = b.find(letter);
     const gcode::Word* word = line.own ? own : nullptr;
     const std::optional<std::string> text = axis_word(i, p[i], last[i], m.incremental, word != nullptr,

@@ -3,6 +3,7 @@
 // (its axis words replaced, words it lacks inserted) and lines after it (the pieces of a
 // split move, take-ups, an arc's chords), in the program's number style. It follows where
 // the written digits put the machine, so incremental words count from there.
+#include <array>
 #include <cstdint>
 #include <optional>
 #include <span>
@@ -69,6 +70,7 @@ class MoveRewriter {
   std::string_view file_;
   WrittenPosition position_;
   std::vector<gcode::Edit> edits_;  ///< the move's line's edits, storage kept from move to move
+  std::array<bool, gcode::kAxisCount> machine_axis_{};  ///< the machine has axis i
 };
 
 /// An arc block becomes the first of its lines: G2/G3 turns into G1 (written in front when

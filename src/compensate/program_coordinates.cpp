@@ -7,6 +7,7 @@ namespace ccomp::compensate {
 
 gcode::Axes program_of(const model::ChainQ& q, const gcode::Offsets& offsets, double unit) {
   gcode::Axes p = offsets.program_of(model::controlled_of_chain(q, offsets));
+  if (unit == 1.0) return p;  // (a division by 1 changes nothing, and costs as much as any)
   for (std::size_t i = 0; i < gcode::kAxisCount; ++i)
     if (!gcode::is_rotary(i)) p[i] /= unit;
   return p;
