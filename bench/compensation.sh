@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # The main job's speed with a real model: the 1M-line finishing program compensated with
-# the full 46-term HMC at 1 um on two threads and one, the zero model's main job, and
-# verify, against LinuxCNC's rs274 -g reading the same file (median of ROUNDS interleaved
+# the full 46-term HMC at 1 um on two threads and one, the zero model's main job, verify
+# and predict, against LinuxCNC's rs274 -g reading the same file (median of ROUNDS interleaved
 # runs, 5 by default), with the speed targets met or not; the inverse's points/s; and how
 # many lines compensation adds per move as the tolerance tightens (docs/compensation.md).
 #   bench/compensation.sh    (after tools/build.sh and tools/rs274/fetch.sh build/rs274)
@@ -40,12 +40,13 @@ for ((round = 0; round < rounds; ++round)); do
   run zero "$ccomp" "$program" -m samples/machines/zero.yaml -o "$work/out-zero.ngc" \
     --tool-table "$work/tools-mm.tbl" --force -q --threads 2
   run verify "$ccomp" verify "$program" "$work/out.ngc" -m "$model" --tool-table "$work/tools-mm.tbl" "${sensors[@]}"
+  run predict "$ccomp" predict "$program" -m "$model" --tool-table "$work/tools-mm.tbl" "${sensors[@]}"
   if [ -x "$rs274" ]; then run rs274 "$rs274" -t "$work/tools-inch.tbl" -g "$program"; fi
 done
 cmp -s "$work/out.ngc" "$work/out-1.ngc" || { echo "  the outputs of 1 and 2 threads differ" >&2; exit 1; }
-for name in two one zero verify; do
+for name in two one zero verify predict; do
   label=$(case $name in two) echo "ccomp, 2 threads";; one) echo "ccomp, 1 thread";; zero) echo "ccomp, zero model";;
-          verify) echo "ccomp verify";; esac)
+          verify) echo "ccomp verify";; predict) echo "ccomp predict";; esac)
   m=$(median $name)
   printf '  %-18s %7.2f s  %9.0f lines/s  peak RSS %.1f MB\n' "$label" "$m" "$(echo "$lines/$m" | bc -l)" \
     "$(echo "$(peak $name)/1024" | bc -l)"
@@ -61,6 +62,7 @@ if [ -x "$rs274" ]; then
   check "ccomp 2 threads against rs274" "$(echo "$theirs/$(median two)" | bc -l)" 10
   check "ccomp 1 thread against rs274" "$(echo "$theirs/$(median one)" | bc -l)" 5
   check "verify against rs274" "$(echo "$theirs/$(median verify)" | bc -l)" 10
+  printf '  %-44s %6.1fx  (no target of its own)\n' "predict against rs274" "$(echo "$theirs/$(median predict)" | bc -l)"
   printf '  %-44s %6.1fx  (target at most 3x: %s)\n' "ccomp 2 threads against the zero model" \
     "$(echo "$(median two)/$(median zero)" | bc -l)" \
     "$(echo "$(median two) <= 3 * $(median zero)" | bc -l | sed 's/1/met/;s/0/not met/')"
