@@ -11,6 +11,8 @@
 #include <limits>
 #include <optional>
 #include <string>
+#include <thread>
+#include <vector>
 
 #include "ccomp/compensate/program_job.hpp"
 #include "ccomp/error.hpp"
@@ -122,6 +124,35 @@ TEST(Verify, AnErrorInEitherProgramIsReportedWithItsPlace) {
   const Error in_output = error_of(long_program, "G21 G90\nG1 X1 Y1 Z1 F100\nG1 X2 Q?\n");
   EXPECT_EQ(in_output.where().file, "out.ngc") << in_output.what();
   EXPECT_EQ(in_output.where().line, 3U) << in_output.what();
+  // The compensated program is read on a thread of its own too, many batches ahead of the
+  // search: its error comes after every point before it was measured, at its own line.
+  const Error late_in_output = error_of(long_program, long_program + "G1 X2 Q?\n");
+  EXPECT_EQ(late_in_output.where().file, "out.ngc") << late_in_output.what();
+  EXPECT_EQ(late_in_output.where().line, 20003U) << late_in_output.what();
+}
+
+TEST(Verify, ProgressRisesToTheEndOnTheCallersThread) {
+  // The compensated program is read on another thread; the caller's callback is still
+  // called on the caller's thread, with the share read rising to 1.
+  std::string program = "G21 G90 G17 F500\nG0 X0 Y0 Z0\n";
+  for (int k = 0; k < 20000; ++k) program += "G1 X" + std::to_string(k % 2) + " Y" + std::to_string(k) + "\n";
+  gcode::LineSource a = gcode::LineSource::from_string(program, "in.ngc");
+  gcode::LineSource b = gcode::LineSource::from_string(program, "out.ngc");
+  compensate::CheckOptions options;
+  std::vector<double> shares;
+  const auto caller = std::this_thread::get_id();
+  bool elsewhere = false;
+  options.progress = [&](double share) {
+    shares.push_back(share);
+    elsewhere = elsewhere || std::this_thread::get_id() != caller;
+  };
+  const compensate::PathError e = compensate::verify(a, b, model::ForwardModel(exact_machine()), options);
+  EXPECT_EQ(e.moves, 20000U);
+  EXPECT_FALSE(elsewhere);
+  ASSERT_GT(shares.size(), 20000U);
+  EXPECT_TRUE(std::is_sorted(shares.begin(), shares.end()));
+  EXPECT_EQ(shares.back(), 1.0);
+  EXPECT_LT(shares.front(), 0.01);
 }
 
 TEST(Verify, AnOutputThatStopsShortLeavesTheRestUncut) {
