@@ -471,7 +471,7 @@ class PathSearch {
     candidates_.clear();
     for (const auto& [i, d] : near_)
       if (d <= kCandidateRadius) candidates_.push_back(i);
-    gathered_at_ = p, certified_from_ = from, certified_to_ = to;
+    gathered_ = true, gathered_at_ = p, certified_from_ = from, certified_to_ = to;
     std::erase_if(near_, [&](const auto& candidate) { return candidate.second > slack(best); });
     return best;
   }
@@ -482,7 +482,9 @@ class PathSearch {
   /// near_ is what a gathering at p would find, piece for piece. Pieces come into the window
   /// ahead one by one as the cursor moves, each tried against the gathering point.
   std::optional<double> near_from_candidates(const Eigen::Vector3d& p, std::size_t from, std::size_t to) {
-    if (from < certified_from_ || certified_to_ == 0) return std::nullopt;
+    // (Pieces dropped since, behind the window, can no longer be tried: none are, as the
+    // window ahead is 4,096 pieces long, but that is not this function's to assume.)
+    if (!gathered_ || from < certified_from_ || certified_to_ < nominal_.first()) return std::nullopt;
     for (; certified_to_ < to; ++certified_to_)
       if (nominal_[certified_to_].distance(gathered_at_) <= kCandidateRadius) candidates_.push_back(certified_to_);
     const double margin = kCandidateRadius - (p - gathered_at_).norm() - 1e-9;  // 1e-9: the distances' rounding
@@ -536,8 +538,9 @@ class PathSearch {
   std::size_t cursor_ = 0;
   std::size_t uncut_from_ = 0;                        ///< the first piece after the furthest the search has been
   std::vector<std::pair<std::size_t, double>> near_;  ///< pieces near the point, and their distances
-  // The last gathering: where, the window it searched (certified_to_ grows with the window;
-  // 0: none yet), and the pieces within kCandidateRadius of its point, in program order.
+  // The last gathering: where, the window it searched (certified_to_ grows with the window),
+  // and the pieces within kCandidateRadius of its point, in program order.
+  bool gathered_ = false;
   Eigen::Vector3d gathered_at_ = Eigen::Vector3d::Zero();
   std::size_t certified_from_ = 0, certified_to_ = 0;
   std::vector<std::size_t> candidates_;
