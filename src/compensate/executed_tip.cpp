@@ -27,10 +27,9 @@ bool ExecutedTip::start_move(const model::ChainQ& a, const model::ChainQ& b, con
   model::Conditions after = conditions;
   model::take_up_play(model_, after, a, b);
   on_chord_ = same_approach(after.directions, conditions.directions) && bound_.chord_deviation(a, b) <= kChordBound;
-  // The nominal chain with its rotary axes and tool length still is a translation in the
-  // linear axes: its tip is affine along the move.
-  const auto tool = static_cast<Eigen::Index>(model::kToolLengthIndex);
-  if (with_nominal && (a.segment<3>(3) != b.segment<3>(3) || a[tool] != b[tool])) on_chord_ = false;
+  // The nominal chain with its rotary axes still is a translation in the linear axes and
+  // the tool length: its tip is affine along the move.
+  if (with_nominal && a.segment<3>(3) != b.segment<3>(3)) on_chord_ = false;
   if (on_chord_) {
     start_ = tip_at(a, conditions, with_nominal ? &nominal_start_ : nullptr);
     end_ = tip_at(b, conditions, with_nominal ? &nominal_end_ : nullptr);

@@ -25,8 +25,9 @@ class ExecutedTip {
 
   /// A straight move from a to b, the play at a as `conditions` has it: whether its points
   /// lie on its chord (then on_chord() gives them). `with_nominal` (predict's): the nominal
-  /// tip too, on a move where it is affine (no rotary axis and no tool length moves), else
-  /// the move is evaluated point by point.
+  /// tip too, on a move where it is affine (no rotary axis turns), else the move is
+  /// evaluated point by point. The temperatures and the time must be those the tip was
+  /// made for (they are not part of what a kept end is looked up by).
   bool start_move(const model::ChainQ& a, const model::ChainQ& b, const model::Conditions& conditions,
                   bool with_nominal = false);
   /// A move that is not straight: its points are evaluated.

@@ -8,6 +8,7 @@
 #include <cmath>
 
 #include "ccomp/model/model_file.hpp"
+#include "ccomp/model/variation_bound.hpp"
 #include "sample_models.hpp"
 
 namespace ccomp::test {
@@ -88,12 +89,49 @@ TEST(ExecutedTip, ALongMoveOrOneThatTakesUpPlayIsEvaluatedPointByPoint) {
   EXPECT_TRUE(tip.start_move(at(1, 0.1, 0), at(1.05, 0.09, 0), c));
   tip.other_move();
   EXPECT_FALSE(tip.on_chord());
-  // A tool length that changes along the move turns nothing, but the nominal tip is not
-  // affine in it for predict: its points are evaluated there, not for verify.
-  ChainQ longer = at(1.05, 0.09, 0);
+  // 2 mm through X's lead screw bends by more than the nanometre: point by point too.
+  const model::VariationBound bound(m, {});
+  EXPECT_GT(bound.chord_deviation(at(1, 0.1, 0), at(3, 0.1, 0)), ExecutedTip::kChordBound);
+  EXPECT_FALSE(tip.start_move(at(1, 0.1, 0), at(3, 0.1, 0), c));
+}
+
+TEST(ExecutedTip, AKeptEndIsTheModelsForTheApproachItIsAskedFor) {
+  // The same move twice, Y's play one way, then the other: Y's backlash term reads it, so
+  // the end kept from the first is not the second's.
+  const model::MachineModel mm = vmc();
+  const model::ForwardModel m(mm);
+  ExecutedTip tip(m, {});
+  model::Conditions up, down;
+  up.directions[1] = 1.0, down.directions[1] = -1.0;
+  const ChainQ a = at(5, 0.1, 0), b = at(5.05, 0.1, 0);
+  ASSERT_TRUE(tip.start_move(a, b, up));
+  ASSERT_TRUE(tip.start_move(b, a, down));
+  EXPECT_EQ(tip.on_chord(0.0), model_tip(m, b, down));
+  EXPECT_EQ(tip.on_chord(1.0), model_tip(m, a, down));
+  EXPECT_GT((model_tip(m, b, down) - model_tip(m, b, up)).norm(), 1e-3) << "the backlash shows";
+  // X's approach no term reads: it may change, and the kept end serves.
+  model::Conditions down_x = down;
+  down_x.directions[0] = -1.0;
+  ASSERT_TRUE(tip.start_move(a, b, down_x));
+  EXPECT_EQ(tip.on_chord(0.0), model_tip(m, a, down_x));
+}
+
+TEST(ExecutedTip, PredictsNominalTipIsOnTheChordOnlyWhereNoRotaryAxisTurns) {
+  // The HMC's table turning by a nanoradian: the actual tip is still within the bound of
+  // its chord, but the nominal one is not affine in the turn; a tool length that changes
+  // is a translation, affine.
+  const model::MachineModel mm = model::parse_machine_model(with_limits(kHmcChain, 500) + "terms: []\n", "hmc.yaml");
+  const model::ForwardModel m(mm);
+  ExecutedTip tip(m, {});
+  const model::Conditions c;
+  ChainQ a = at(1, 2, 3), turned = at(1.05, 2, 3), longer = at(1.05, 2, 3);
+  turned[4] = 1e-9;
   longer[static_cast<Eigen::Index>(model::kToolLengthIndex)] = 0.01;
-  EXPECT_TRUE(tip.start_move(at(1, 0.1, 0), longer, c));
-  EXPECT_FALSE(tip.start_move(at(1, 0.1, 0), longer, c, true));
+  EXPECT_TRUE(tip.start_move(a, turned, c));
+  EXPECT_FALSE(tip.start_move(a, turned, c, true));
+  ASSERT_TRUE(tip.start_move(a, longer, c, true));
+  for (int j = 1; j < 16; ++j)
+    EXPECT_LE((tip.nominal_on_chord(j / 16.0) - nominal_tip(m, a + (j / 16.0) * (longer - a))).norm(), 1e-12);
 }
 
 }  // namespace

@@ -1,0 +1,161 @@
+// verify's search keeps the pieces near a point for the points after it: that must find
+// what searching the whole window for every point finds, piece for piece, on the paths
+// where a careless argument goes wrong: a steep helix crossing a line (an arc's distance
+// moves faster than the point), a spiral, a path traced back over pieces finer than the
+// point's step, a spring pass of as many pieces as the window ahead holds.
+#include "compensate/path_search.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <numbers>
+#include <optional>
+#include <utility>
+#include <vector>
+
+namespace ccomp::compensate {
+namespace {
+
+/// A path from a list of pieces, made available as the search asks (as verify's original
+/// is read).
+class ListPath {
+ public:
+  explicit ListPath(std::vector<Piece> pieces) : pieces_(std::move(pieces)) {}
+  PieceWindow& window() { return window_; }
+  std::size_t available(std::size_t end) {
+    while (window_.end() < end && next_ < pieces_.size()) window_.append(pieces_[next_++]);
+    return std::min(end, window_.end());
+  }
+  std::pair<double, std::uint32_t> rest_from(std::size_t i) {
+    double length = 0.0;
+    std::uint32_t line = 0;
+    for (std::size_t k = std::max(i, window_.first()); k < pieces_.size(); ++k) {
+      if (line == 0) line = pieces_[k].line;
+      length += pieces_[k].length();
+    }
+    return {length, line};
+  }
+
+ private:
+  std::vector<Piece> pieces_;
+  std::size_t next_ = 0;
+  PieceWindow window_;
+};
+
+Piece segment(const Eigen::Vector3d& a, const Eigen::Vector3d& b, std::uint32_t line) {
+  Piece p;
+  p.a = a, p.b = b, p.line = line;
+  return p;
+}
+
+/// An arc about the Z axis through `centre`, counter-clockwise from angle a0 by `sweep`,
+/// its radius going from r0 to r1 and rising by dw.
+Piece arc(const Eigen::Vector3d& centre, double r0, double r1, double a0, double sweep, double dw, std::uint32_t line) {
+  Piece p;
+  p.arc = true, p.centre = centre, p.e1 = Eigen::Vector3d::UnitX(), p.e2 = Eigen::Vector3d::UnitY();
+  p.n = Eigen::Vector3d::UnitZ();
+  p.r0 = r0, p.r1 = r1, p.a0 = a0, p.sweep = sweep, p.dw = dw, p.line = line;
+  p.a = centre + Eigen::Vector3d(r0 * std::cos(a0), r0 * std::sin(a0), 0.0);
+  p.b = centre + Eigen::Vector3d(r1 * std::cos(a0 + sweep), r1 * std::sin(a0 + sweep), dw);
+  return p;
+}
+
+Eigen::Vector3d on(const Piece& p, double f) {
+  if (!p.arc) return p.a + f * (p.b - p.a);
+  const double angle = p.a0 + f * p.sweep, r = p.r0 + f * (p.r1 - p.r0);
+  return p.centre + Eigen::Vector3d(r * std::cos(angle), r * std::sin(angle), f * p.dw);
+}
+
+/// What the executed path does: points, and rapids between them (nullopt).
+using Steps = std::vector<std::optional<Eigen::Vector3d>>;
+
+/// A move from a to b as verify samples a short one: 17 points, both ends included.
+void cut(Steps& steps, const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
+  for (int k = 0; k <= 16; ++k) steps.emplace_back(a + (b - a) * (k / 16.0));
+}
+
+/// Every distance, and what is left uncut, the same bit for bit from both searches.
+void expect_as_full_search(const std::vector<Piece>& pieces, const Steps& steps) {
+  ListPath kept_path(pieces), full_path(pieces);
+  PathSearch<ListPath> kept(kept_path, Candidates::kept), full(full_path, Candidates::none);
+  for (std::size_t k = 0; k < steps.size(); ++k) {
+    if (!steps[k]) {
+      kept.rapid(), full.rapid();
+      continue;
+    }
+    const std::optional<double> a = kept.distance(*steps[k]), b = full.distance(*steps[k]);
+    ASSERT_EQ(a.has_value(), b.has_value()) << "step " << k;
+    if (a) {
+      ASSERT_EQ(*a, *b) << "step " << k;
+    }
+  }
+  const auto [kept_length, kept_line] = kept.uncut();
+  const auto [full_length, full_line] = full.uncut();
+  EXPECT_EQ(kept_length, full_length);
+  EXPECT_EQ(kept_line, full_line);
+}
+
+TEST(PathSearch, KeptCandidatesFindWhatTheFullSearchFindsWhereASteepHelixCrossesALine) {
+  // The helix rises 2 mm over half a turn of 0.2 mm radius and crosses the line at (0, 0.2, 1):
+  // its distance at the point's angle changes three times faster than the point moves. The
+  // executed path comes along the line to the crossing and steps onto the helix there.
+  const std::vector<Piece> pieces{segment({0.3, 0.2, 1}, {-0.3, 0.2, 1}, 3),
+                                  arc({0, 0, 0}, 0.2, 0.2, 0.0, std::numbers::pi, 2.0, 5)};
+  const Eigen::Vector3d on_helix = on(pieces[1], 0.5 + 0.005 / std::numbers::pi);
+  Steps steps;
+  cut(steps, {0.3, 0.2, 1}, {0, 0.2, 1});
+  cut(steps, {0, 0.2, 1}, on_helix);
+  steps.emplace_back();
+  cut(steps, {0.3, 0.2, 1}, {-0.3, 0.2, 1});
+  steps.emplace_back();
+  for (int k = 0; k < 64; ++k) cut(steps, on(pieces[1], k / 64.0), on(pieces[1], (k + 1) / 64.0));
+  expect_as_full_search(pieces, steps);
+}
+
+TEST(PathSearch, KeptCandidatesFindWhatTheFullSearchFindsOnASpiral) {
+  // A spiral from 0.05 to 1 mm radius over three turns, flat, then climbing: the distance at
+  // the point's angle jumps between turns.
+  const std::vector<Piece> pieces{arc({0, 0, 0}, 0.05, 1.0, 0.0, 6 * std::numbers::pi, 0.0, 1),
+                                  arc({0, 0, 1}, 1.0, 0.3, 0.5, 4 * std::numbers::pi, 0.4, 2)};
+  Steps steps;
+  for (const Piece& p : pieces)
+    for (int k = 0; k <= 3000; ++k) steps.emplace_back(on(p, k / 3000.0) + Eigen::Vector3d(1e-4, -2e-4, 3e-4));
+  expect_as_full_search(pieces, steps);
+}
+
+TEST(PathSearch, KeptCandidatesFindWhatTheFullSearchFindsWhereThePathIsTracedBack) {
+  // The original: 2,000 pieces of 0.5 um along X. The executed path goes out along it in
+  // moves of 10 um and comes back over it 0.1 um aside: the window moves back behind where
+  // the candidates were gathered.
+  std::vector<Piece> pieces;
+  for (int k = 0; k < 2000; ++k) pieces.push_back(segment({0.0005 * k, 0, 0}, {0.0005 * (k + 1), 0, 0}, 3 + k));
+  Steps steps;
+  for (int k = 0; k < 100; ++k) cut(steps, {0.01 * k, 0, 0}, {0.01 * (k + 1), 0, 0});
+  for (int k = 100; k > 10; --k) cut(steps, {0.01 * k, 1e-4, 0}, {0.01 * (k - 1), 1e-4, 0});
+  expect_as_full_search(pieces, steps);
+}
+
+TEST(PathSearch, KeptCandidatesFindWhatTheFullSearchFindsOnASpringPassAsLongAsTheWindow) {
+  // A circle of 10 mm radius in about 4,096 chords (the window ahead), cut twice, the second
+  // time 0.2 um further in; the executed path runs 0.3 um in, nearer the second pass all
+  // through the first. The second pass's pieces come into the window ahead one by one while
+  // the point is still on the first pass, right beside them.
+  for (const int chords : {4094, 4095, 4096}) {
+    std::vector<Piece> pieces;
+    Steps steps;
+    auto at = [&](int k, double radius) {
+      const double angle = 2 * std::numbers::pi * k / chords;
+      return Eigen::Vector3d(radius * std::cos(angle), radius * std::sin(angle), 0);
+    };
+    for (int pass = 0; pass < 2; ++pass)
+      for (int k = 0; k < chords; ++k) {
+        const double radius = pass == 0 ? 10.0 : 10.0 - 2e-4;
+        pieces.push_back(segment(at(k, radius), at(k + 1, radius), static_cast<std::uint32_t>(3 + pass * chords + k)));
+        cut(steps, at(k, 10.0 - 3e-4), at(k + 1, 10.0 - 3e-4));
+      }
+    expect_as_full_search(pieces, steps);
+  }
+}
+
+}  // namespace
+}  // namespace ccomp::compensate
