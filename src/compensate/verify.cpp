@@ -163,15 +163,9 @@ void nominal_pieces(const gcode::Motion& m, Evaluator& ev, std::vector<Piece>& o
 /// groups of kGroup with a box around each, so a search skips the groups far from a point.
 class NominalPath {
  public:
-  NominalPath(gcode::LineSource& original, const model::ForwardModel& model, const CheckOptions& options) {
-    reader_.run([this, &original, &model, &options] {
-      handoff_.produce([&](util::Handoff<Piece>& out) { produce(original, model, options, out); });
-    });
-  }
-  NominalPath(const NominalPath&) = delete;
-  NominalPath& operator=(const NominalPath&) = delete;
-  /// Stops the reading where it is; reader_, destroyed first, then waits for it.
-  ~NominalPath() { handoff_.cancel(); }
+  NominalPath(gcode::LineSource& original, const model::ForwardModel& model, const CheckOptions& options)
+      : reader_(kQueued,
+                [&original, &model, &options](util::Handoff<Piece>& out) { produce(original, model, options, out); }) {}
 
   [[nodiscard]] PieceWindow& window() { return window_; }
 
@@ -179,7 +173,7 @@ class NominalPath {
   /// number of pieces available from window().first() on.
   std::size_t available(std::size_t end) {
     while (window_.end() < end && !exhausted_) {
-      if (!handoff_.pop(batch_)) {
+      if (!reader_.pop(batch_)) {
         exhausted_ = true;
         break;
       }
@@ -224,9 +218,8 @@ class NominalPath {
   static constexpr std::size_t kBatch = 256, kQueued = 16;
   PieceWindow window_;
   bool exhausted_ = false;
-  std::vector<Piece> batch_;  ///< the last batch handed over
-  util::Handoff<Piece> handoff_{kQueued};
-  util::BackgroundThread reader_;  // last: destroyed (joined) first, while what it uses exists
+  std::vector<Piece> batch_;                ///< the last batch handed over
+  util::BackgroundProducer<Piece> reader_;  // last: stopped and joined first, while what it uses exists
 };
 
 }  // namespace
@@ -296,68 +289,48 @@ struct ExecutedEvent {
   Eigen::Vector3d tip = Eigen::Vector3d::Zero();
 };
 
-/// The executed path of the compensated program, read and evaluated on a thread of its own
-/// while the caller measures it against the nominal path (the points are the same whichever
-/// thread makes them: only the work is shared).
-class ExecutedPath {
- public:
-  ExecutedPath(gcode::LineSource& compensated, const model::ForwardModel& model, const CheckOptions& options) {
-    reader_.run([this, &compensated, &model, &options] {
-      handoff_.produce([&](util::Handoff<ExecutedEvent>& out) { produce(compensated, model, options, out); });
-    });
-  }
-  ExecutedPath(const ExecutedPath&) = delete;
-  ExecutedPath& operator=(const ExecutedPath&) = delete;
-  /// Stops the reading where it is; reader_, destroyed first, then waits for it.
-  ~ExecutedPath() { handoff_.cancel(); }
-
-  /// The next events; false at the end (where a failure of the reading is rethrown).
-  bool next(std::vector<ExecutedEvent>& events) { return handoff_.pop(events); }
-
- private:
-  static void produce(gcode::LineSource& compensated, const model::ForwardModel& model, const CheckOptions& options,
-                      util::Handoff<ExecutedEvent>& out) {
-    Evaluator ev{model, model::ForwardData(model), options.conditions};
-    ExecutedTip tip(model, options.conditions);
-    std::vector<ExecutedEvent> batch;
-    each_motion(compensated, options, [&](const gcode::Motion& m) {
-      const double progress = progress_of(options, compensated);
-      const MotionPath path(m);
-      ev.advance(path.start());
-      const FollowPlay follow{ev, path.end()};
-      const bool cut = m.kind == gcode::MotionKind::feed || m.kind == gcode::MotionKind::arc;
-      batch.push_back({cut ? ExecutedEvent::Kind::cut : ExecutedEvent::Kind::rapid, m.line, progress});
-      if (cut) tips(m, path, model, options, ev, tip, batch);
-      if (batch.size() >= kBatch) out.push(batch);
-    });
-    if (!batch.empty()) out.push(batch);
-  }
-
-  /// The tool tip at each point a cut is checked at, finer than the job checks.
-  static void tips(const gcode::Motion& m, const MotionPath& path, const model::ForwardModel& model,
+/// The tool tip at each point a cut is checked at, finer than the job checks.
+void executed_tips(const gcode::Motion& m, const MotionPath& path, const model::ForwardModel& model,
                    const CheckOptions& options, Evaluator& ev, ExecutedTip& tip, std::vector<ExecutedEvent>& out) {
-    const int steps = path.steps(model, options.samples);
-    if (m.kind == gcode::MotionKind::feed)
-      tip.start_move(path.start(), path.end(), ev.conditions);
-    else
-      tip.other_move();
-    for (int k = 0; k <= steps; ++k) {
-      const double t = static_cast<double>(k) / steps;
-      ExecutedEvent& e = out.emplace_back();
-      if (tip.on_chord()) {
-        e.tip = tip.on_chord(t);  // the play stands still: ev's conditions stay as they are
-      } else {
-        const model::ChainQ q = path.at(t);
-        model::forward(model, ev.data, q, ev.advance(q), false, model::Evaluate::actual);
-        e.tip = ev.data.actual;
-      }
+  const int steps = path.steps(model, options.samples);
+  if (m.kind == gcode::MotionKind::feed)
+    tip.start_move(path.start(), path.end(), ev.conditions);
+  else
+    tip.other_move();
+  for (int k = 0; k <= steps; ++k) {
+    const double t = static_cast<double>(k) / steps;
+    ExecutedEvent& e = out.emplace_back();
+    if (tip.on_chord()) {
+      e.tip = tip.on_chord(t);  // the play stands still: ev's conditions stay as they are
+    } else {
+      const model::ChainQ q = path.at(t);
+      model::forward(model, ev.data, q, ev.advance(q), false, model::Evaluate::actual);
+      e.tip = ev.data.actual;
     }
   }
+}
 
-  static constexpr std::size_t kBatch = 4096, kQueued = 8;
-  util::Handoff<ExecutedEvent> handoff_{kQueued};
-  util::BackgroundThread reader_;  // last: destroyed (joined) first, while what it uses exists
-};
+/// The executed path of the compensated program as events, made on a thread of its own
+/// while the caller measures it against the nominal path (the points are the same whichever
+/// thread makes them: only the work is shared).
+void produce_executed(gcode::LineSource& compensated, const model::ForwardModel& model, const CheckOptions& options,
+                      util::Handoff<ExecutedEvent>& out) {
+  constexpr std::size_t kBatch = 4096;
+  Evaluator ev{model, model::ForwardData(model), options.conditions};
+  ExecutedTip tip(model, options.conditions);
+  std::vector<ExecutedEvent> batch;
+  each_motion(compensated, options, [&](const gcode::Motion& m) {
+    const double progress = progress_of(options, compensated);
+    const MotionPath path(m);
+    ev.advance(path.start());
+    const FollowPlay follow{ev, path.end()};
+    const bool cut = m.kind == gcode::MotionKind::feed || m.kind == gcode::MotionKind::arc;
+    batch.push_back({cut ? ExecutedEvent::Kind::cut : ExecutedEvent::Kind::rapid, m.line, progress});
+    if (cut) executed_tips(m, path, model, options, ev, tip, batch);
+    if (batch.size() >= kBatch) out.push(batch);
+  });
+  if (!batch.empty()) out.push(batch);
+}
 
 }  // namespace
 
@@ -365,12 +338,15 @@ PathError verify(gcode::LineSource& original, gcode::LineSource& compensated, co
                  const CheckOptions& options) {
   NominalPath nominal(original, model, options);
   PathSearch<NominalPath> search(nominal);
-  ExecutedPath executed(compensated, model, options);
+  util::BackgroundProducer<ExecutedEvent> executed(
+      8, [&compensated, &model, &options](util::Handoff<ExecutedEvent>& out) {  // 8 batches waiting at most
+        produce_executed(compensated, model, options, out);
+      });
   PathError e;
   double sum2 = 0.0;
   std::uint32_t line = 0;
   std::vector<ExecutedEvent> events;
-  while (executed.next(events)) {
+  while (executed.pop(events)) {
     for (const ExecutedEvent& x : events) {
       if (x.kind != ExecutedEvent::Kind::tip) {
         if (x.progress >= 0) options.progress(x.progress);

@@ -11,6 +11,8 @@
 #include <utility>
 #include <vector>
 
+#include "ccomp/util/parallel.hpp"
+
 namespace ccomp::util {
 
 template <class T>
@@ -85,6 +87,27 @@ class Handoff {
   std::deque<std::vector<T>> ready_;
   bool done_ = false, cancelled_ = false;
   std::exception_ptr error_;
+};
+
+/// A producer on a thread of its own handing batches to its owner: the thread starts with
+/// make(handoff) at construction; destruction stops it at its next hand-over and waits for it.
+template <class T>
+class BackgroundProducer {
+ public:
+  template <class Make>
+  BackgroundProducer(std::size_t capacity, Make make) : handoff_(capacity) {
+    thread_.run([this, make = std::move(make)]() mutable { handoff_.produce(make); });
+  }
+  BackgroundProducer(const BackgroundProducer&) = delete;
+  BackgroundProducer& operator=(const BackgroundProducer&) = delete;
+  ~BackgroundProducer() { handoff_.cancel(); }  // then thread_, declared last, is joined first
+
+  /// The next batch; false at the end, where the producer's failure is rethrown.
+  bool pop(std::vector<T>& batch) { return handoff_.pop(batch); }
+
+ private:
+  Handoff<T> handoff_;
+  BackgroundThread thread_;
 };
 
 }  // namespace ccomp::util
