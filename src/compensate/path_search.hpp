@@ -71,6 +71,18 @@ struct Piece {
     }
     return best;
   }
+
+  /// No more than distance(p) from the helix' points, and no faster-moving than p: the
+  /// distance to the solid ring that holds the arc (radii r0 to r1, heights 0 to dw about its
+  /// axis), a true distance to a set. (Its ends, which a table turning with the arc can move
+  /// off the ring, distance() takes as they are.)
+  [[nodiscard]] double ring_distance(const Eigen::Vector3d& p) const {
+    const Eigen::Vector3d v = p - centre;
+    const double radial = std::hypot(v.dot(e1), v.dot(e2)), h = v.dot(n);
+    const double across = std::max({0.0, std::min(r0, r1) - radial, radial - std::max(r0, r1)});
+    const double along = std::max({0.0, std::min(0.0, dw) - h, h - std::max(0.0, dw)});
+    return std::hypot(across, along);
+  }
 };
 
 /// A box around a piece (an arc's: around its whole circle, and the circle moved by its
@@ -83,10 +95,12 @@ struct Box {
       low = low.cwiseMin(p.a).cwiseMin(p.b), high = high.cwiseMax(p.a).cwiseMax(p.b);
       return;
     }
-    // The circle reaches r sqrt(e1_i^2 + e2_i^2) along axis i from its centre.
+    // The circle reaches r sqrt(e1_i^2 + e2_i^2) along axis i from its centre; the ends too,
+    // which a table turning with the arc can take off the circle.
     const Eigen::Vector3d r = std::max(p.r0, p.r1) * (p.e1.cwiseAbs2() + p.e2.cwiseAbs2()).cwiseSqrt();
     const Eigen::Vector3d top = p.centre + p.dw * p.n;
-    low = low.cwiseMin(p.centre - r).cwiseMin(top - r), high = high.cwiseMax(p.centre + r).cwiseMax(top + r);
+    low = low.cwiseMin(p.centre - r).cwiseMin(top - r).cwiseMin(p.a).cwiseMin(p.b);
+    high = high.cwiseMax(p.centre + r).cwiseMax(top + r).cwiseMax(p.a).cwiseMax(p.b);
   }
   /// The distance from p to the box: at most the distance to anything inside it.
   [[nodiscard]] double distance(const Eigen::Vector3d& p) const {
@@ -244,14 +258,11 @@ class PathSearch {
 
   /// Whether a piece at distance d from point p (Piece::distance) is kept as a candidate:
   /// within kCandidateRadius of it. For an arc, Piece::distance is to the helix' point at
-  /// p's angle, which moves faster than p where the arc rises or spirals, so its box is
-  /// asked instead: a true distance, no more than the piece's, which moves no faster than p.
+  /// p's angle, which moves faster than p where the arc rises or spirals, so the distance
+  /// to its solid ring is asked too: a true distance, no more than the piece's helix points',
+  /// which moves no faster than p (its ends are in d, which does not either).
   static bool candidate(const Piece& piece, const Eigen::Vector3d& p, double d) {
-    if (d <= kCandidateRadius) return true;
-    if (!piece.arc) return false;
-    Box box;
-    box.add(piece);
-    return box.distance(p) <= kCandidateRadius;
+    return d <= kCandidateRadius || (piece.arc && piece.ring_distance(p) <= kCandidateRadius);
   }
 
   /// near_ and the nearest distance from the candidates alone, where they settle it: p is

@@ -113,13 +113,18 @@ TEST(PathSearch, KeptCandidatesFindWhatTheFullSearchFindsWhereASteepHelixCrosses
 }
 
 TEST(PathSearch, KeptCandidatesFindWhatTheFullSearchFindsOnASpiral) {
-  // A spiral from 0.05 to 1 mm radius over three turns, flat, then climbing: the distance at
-  // the point's angle jumps between turns.
-  const std::vector<Piece> pieces{arc({0, 0, 0}, 0.05, 1.0, 0.0, 6 * std::numbers::pi, 0.0, 1),
-                                  arc({0, 0, 1}, 1.0, 0.3, 0.5, 4 * std::numbers::pi, 0.4, 2)};
+  // A flat spiral whose radius grows from 0.1 to 0.38 mm in 0.49 rad: its distance at the
+  // point's angle changes many times faster than the point moves. A line passes its start;
+  // the executed path comes along the line and steps onto the spiral there, then runs along
+  // the spiral.
+  const Piece spiral = arc({0, 0, 0}, 0.0977, 0.3821, 0.0, 0.4875, 0.0, 5);
+  const std::vector<Piece> pieces{segment({0.5, 0.0008, 0}, {-0.5, 0.0008, 0}, 3), spiral};
+  const Eigen::Vector3d onto = on(spiral, 0.1985);
   Steps steps;
-  for (const Piece& p : pieces)
-    for (int k = 0; k <= 3000; ++k) steps.emplace_back(on(p, k / 3000.0) + Eigen::Vector3d(1e-4, -2e-4, 3e-4));
+  cut(steps, {0.5, 0.0008, 0}, {onto.x(), 0.0008, 0});
+  cut(steps, {onto.x(), 0.0008, 0}, onto);
+  steps.emplace_back();
+  for (int k = 0; k < 64; ++k) cut(steps, on(spiral, k / 64.0), on(spiral, (k + 1) / 64.0));
   expect_as_full_search(pieces, steps);
 }
 

@@ -65,5 +65,42 @@ TEST(Handoff, ACancelStopsTheProducerAtItsNextHandOver) {
   }  // what was handed over before, then the end, without a failure
 }
 
+TEST(BackgroundProducer, HandsOverWhatItsThreadMakesAndStopsItWhenDestroyedEarly) {
+  {
+    BackgroundProducer<int> numbers(2, [](Handoff<int>& out) {
+      std::vector<int> batch;
+      for (int k = 0; k < 50; ++k) {
+        batch = {k};
+        out.push(batch);
+      }
+      throw std::runtime_error("out of numbers");
+    });
+    std::vector<int> batch, seen;
+    EXPECT_THROW(
+        {
+          while (numbers.pop(batch)) seen.insert(seen.end(), batch.begin(), batch.end());
+        },
+        std::runtime_error);
+    ASSERT_EQ(seen.size(), 50U);
+    for (int k = 0; k < 50; ++k) EXPECT_EQ(seen[static_cast<std::size_t>(k)], k);
+  }
+  // A producer that would run for ever, its owner gone after one batch: the destructor
+  // stops it at its next hand-over and returns.
+  std::atomic<int> pushes{0};
+  {
+    BackgroundProducer<int> endless(1, [&pushes](Handoff<int>& out) {
+      std::vector<int> batch;
+      for (;;) {
+        batch = {1};
+        out.push(batch);
+        ++pushes;
+      }
+    });
+    std::vector<int> batch;
+    ASSERT_TRUE(endless.pop(batch));
+  }
+  EXPECT_LE(pushes.load(), 3);
+}
+
 }  // namespace
 }  // namespace ccomp::util
