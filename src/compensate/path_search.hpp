@@ -72,16 +72,39 @@ struct Piece {
     return best;
   }
 
-  /// No more than distance(p) from the helix' points, and no faster-moving than p: the
-  /// distance to the solid ring that holds the arc (radii r0 to r1, heights 0 to dw about its
-  /// axis), a true distance to a set. (Its ends, which a table turning with the arc can move
-  /// off the ring, distance() takes as they are.)
-  [[nodiscard]] double ring_distance(const Eigen::Vector3d& p) const {
+  /// An arc's chord of the helix (from its frame, not a and b) and how far the helix strays
+  /// from it, for arc_lower_distance(); set by prepare_bounds() (strays < 0: none).
+  Eigen::Vector3d chord_from = Eigen::Vector3d::Zero(), chord_to = Eigen::Vector3d::Zero();
+  double strays = -1.0;
+
+  /// For an arc of at most half a turn: its chord, and how far the helix strays from it at
+  /// the same fraction, r (1 - cos(sweep/2)) across (the sagitta, at most) plus |r1 - r0|
+  /// sin(sweep/2) / 2 for a spiral, the rise the same on both.
+  void prepare_bounds() {
+    if (!arc || sweep > std::numbers::pi) return;
+    const double end_angle = a0 + (ccw ? sweep : -sweep);
+    chord_from = centre + r0 * (std::cos(a0) * e1 + std::sin(a0) * e2);
+    chord_to = centre + r1 * (std::cos(end_angle) * e1 + std::sin(end_angle) * e2) + dw * n;
+    strays = 1.001 * std::max(r0, r1) * (1.0 - std::cos(0.5 * sweep)) +
+             0.5 * std::abs(r1 - r0) * std::sin(0.5 * sweep) + 1e-12;
+  }
+
+  /// No more than distance(p) to the helix' points, and changing no faster than p moves:
+  /// the larger of two distances to sets that hold the arc, each a true distance: the solid
+  /// ring of its radii and rise, all round its axis, and (prepare_bounds()) its chord
+  /// widened by how far it strays. (Its ends, which a table turning with the arc can move
+  /// off it, distance() takes as they are.)
+  [[nodiscard]] double arc_lower_distance(const Eigen::Vector3d& p) const {
     const Eigen::Vector3d v = p - centre;
-    const double radial = std::hypot(v.dot(e1), v.dot(e2)), h = v.dot(n);
+    // (sqrt, not hypot: millimetres neither overflow nor underflow, and hypot is slow)
+    const double u = v.dot(e1), w = v.dot(e2), h = v.dot(n), radial = std::sqrt(u * u + w * w);
     const double across = std::max({0.0, std::min(r0, r1) - radial, radial - std::max(r0, r1)});
     const double along = std::max({0.0, std::min(0.0, dw) - h, h - std::max(0.0, dw)});
-    return std::hypot(across, along);
+    const double ring = std::sqrt(across * across + along * along);
+    if (strays < 0.0) return ring;
+    const Eigen::Vector3d chord = chord_to - chord_from;
+    const double t = std::clamp((p - chord_from).dot(chord) / std::max(chord.squaredNorm(), 1e-300), 0.0, 1.0);
+    return std::max(ring, (chord_from + t * chord - p).norm() - strays);
   }
 };
 
@@ -120,6 +143,7 @@ class PieceWindow {
   static constexpr std::size_t kSuper = 16 * kGroup;
 
   void append(Piece piece) {
+    piece.prepare_bounds();
     const std::size_t index = end();
     if (boxes_.empty() || index % kGroup == 0) boxes_.emplace_back();
     boxes_.back().add(piece);
@@ -258,11 +282,11 @@ class PathSearch {
 
   /// Whether a piece at distance d from point p (Piece::distance) is kept as a candidate:
   /// within kCandidateRadius of it. For an arc, Piece::distance is to the helix' point at
-  /// p's angle, which moves faster than p where the arc rises or spirals, so the distance
-  /// to its solid ring is asked too: a true distance, no more than the piece's helix points',
-  /// which moves no faster than p (its ends are in d, which does not either).
+  /// p's angle, which moves faster than p where the arc rises or spirals, so a lower bound
+  /// that moves no faster than p is asked too (Piece::arc_lower_distance; its ends are in d,
+  /// which does not either).
   static bool candidate(const Piece& piece, const Eigen::Vector3d& p, double d) {
-    return d <= kCandidateRadius || (piece.arc && piece.ring_distance(p) <= kCandidateRadius);
+    return d <= kCandidateRadius || (piece.arc && piece.arc_lower_distance(p) <= kCandidateRadius);
   }
 
   /// near_ and the nearest distance from the candidates alone, where they settle it: p is
