@@ -10,9 +10,9 @@
 #include <Eigen/Geometry>
 #include <cmath>
 #include <limits>
-#include <random>
 #include <numbers>
 #include <optional>
+#include <random>
 #include <utility>
 #include <vector>
 
