@@ -232,46 +232,66 @@ double progress_of(const CheckOptions& options, const gcode::LineSource& program
   return static_cast<double>(program.tell().offset) / static_cast<double>(program.size());
 }
 
-/// The share of `program` read so far, to the caller's progress report.
-void report_progress(const CheckOptions& options, const gcode::LineSource& program) {
-  if (const double share = progress_of(options, program); share >= 0) options.progress(share);
-}
-
 }  // namespace
+
+/// A motion of the program as its reader hands it over, with the offsets it points to.
+struct ReadMotion {
+  gcode::Motion motion;
+  gcode::Offsets offsets;
+  double progress = -1;  ///< the share of the program read (-1: none to report)
+};
+
+/// The program's motions, read on a thread of their own while the caller evaluates them.
+void produce_motions(gcode::LineSource& program, const CheckOptions& options, util::Handoff<ReadMotion>& out) {
+  constexpr std::size_t kBatch = 256;
+  std::vector<ReadMotion> batch;
+  each_motion(program, options, [&](const gcode::Motion& m) {
+    batch.push_back({m, *m.offsets, progress_of(options, program)});
+    if (batch.size() >= kBatch) out.push(batch);
+  });
+  if (!batch.empty()) out.push(batch);
+}
 
 PathError predict(gcode::LineSource& program, const model::ForwardModel& model, const CheckOptions& options) {
   PathError e;
   Evaluator ev{model, model::ForwardData(model), options.conditions};
   ExecutedTip tip(model, options.conditions);
   double sum2 = 0.0;
-  each_motion(program, options, [&](const gcode::Motion& m) {
-    report_progress(options, program);
-    const MotionPath path(m);
-    ev.advance(path.start());
-    const FollowPlay follow{ev, path.end()};
-    if (m.kind == gcode::MotionKind::traverse || m.kind == gcode::MotionKind::probe) return;
-    ++e.moves;
-    const int steps = path.steps(model, options.samples);
-    if (m.kind == gcode::MotionKind::feed)
-      tip.start_move(path.start(), path.end(), ev.conditions, true);
-    else
-      tip.other_move();
-    for (int k = 0; k <= steps; ++k) {
-      const double t = static_cast<double>(k) / steps;
-      Eigen::Vector3d actual, nominal;
-      if (tip.on_chord()) {  // within a nanometre (executed_tip.hpp)
-        actual = tip.on_chord(t), nominal = tip.nominal_on_chord(t);
-      } else {
-        const model::ChainQ q = path.at(t);
-        model::forward(model, ev.data, q, ev.advance(q));
-        actual = ev.data.actual, nominal = ev.data.nominal;
+  util::BackgroundProducer<ReadMotion> reader(
+      4, [&program, &options](util::Handoff<ReadMotion>& out) { produce_motions(program, options, out); });
+  std::vector<ReadMotion> motions;
+  while (reader.pop(motions)) {
+    for (ReadMotion& read : motions) {
+      if (read.progress >= 0) options.progress(read.progress);
+      gcode::Motion& m = read.motion;
+      m.offsets = &read.offsets;
+      const MotionPath path(m);
+      ev.advance(path.start());
+      const FollowPlay follow{ev, path.end()};
+      if (m.kind == gcode::MotionKind::traverse || m.kind == gcode::MotionKind::probe) continue;
+      ++e.moves;
+      const int steps = path.steps(model, options.samples);
+      if (m.kind == gcode::MotionKind::feed)
+        tip.start_move(path.start(), path.end(), ev.conditions, true);
+      else
+        tip.other_move();
+      for (int k = 0; k <= steps; ++k) {
+        const double t = static_cast<double>(k) / steps;
+        Eigen::Vector3d actual, nominal;
+        if (tip.on_chord()) {  // within a nanometre (executed_tip.hpp)
+          actual = tip.on_chord(t), nominal = tip.nominal_on_chord(t);
+        } else {
+          const model::ChainQ q = path.at(t);
+          model::forward(model, ev.data, q, ev.advance(q));
+          actual = ev.data.actual, nominal = ev.data.nominal;
+        }
+        const double d = (actual - nominal).norm();
+        sum2 += d * d;
+        ++e.points;
+        if (d > e.max) e.max = d, e.worst_line = m.line, e.worst_point = nominal;
       }
-      const double d = (actual - nominal).norm();
-      sum2 += d * d;
-      ++e.points;
-      if (d > e.max) e.max = d, e.worst_line = m.line, e.worst_point = nominal;
     }
-  });
+  }
   e.rms = e.points ? std::sqrt(sum2 / static_cast<double>(e.points)) : 0.0;
   if (options.progress) options.progress(1.0);
   return e;

@@ -131,6 +131,35 @@ TEST(Verify, AnErrorInEitherProgramIsReportedWithItsPlace) {
   EXPECT_EQ(late_in_output.where().line, 20003U) << late_in_output.what();
 }
 
+TEST(Predict, ReadsOnAThreadOfItsOwnAndStillSaysWhereTheProgramIsWrong) {
+  // The program is read on another thread while its moves are evaluated: an error many
+  // batches in comes at its own line, after the moves before it; progress is reported on
+  // the caller's thread.
+  std::string program = "G21 G90 G17 F500\nG0 X0 Y0 Z0\n";
+  for (int k = 0; k < 20000; ++k) program += "G1 X" + std::to_string(k % 2) + " Y" + std::to_string(k) + "\n";
+  const model::ForwardModel m(exact_machine());
+  compensate::CheckOptions options;
+  const auto caller = std::this_thread::get_id();
+  bool elsewhere = false;
+  double last_share = -1.0;
+  options.progress = [&](double share) {
+    elsewhere = elsewhere || std::this_thread::get_id() != caller;
+    last_share = share;
+  };
+  gcode::LineSource good = gcode::LineSource::from_string(program, "in.ngc");
+  EXPECT_EQ(compensate::predict(good, m, options).moves, 20000U);
+  EXPECT_FALSE(elsewhere);
+  EXPECT_EQ(last_share, 1.0);
+  gcode::LineSource bad = gcode::LineSource::from_string(program + "G1 X2 Q?\n", "bad.ngc");
+  try {
+    (void)compensate::predict(bad, m, {});
+    ADD_FAILURE() << "no error";
+  } catch (const Error& e) {
+    EXPECT_EQ(e.where().file, "bad.ngc") << e.what();
+    EXPECT_EQ(e.where().line, 20003U) << e.what();
+  }
+}
+
 TEST(Verify, ProgressRisesToTheEndOnTheCallersThread) {
   // The compensated program is read on another thread; the caller's callback is still
   // called on the caller's thread, with the share read rising to 1.
