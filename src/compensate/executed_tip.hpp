@@ -1,10 +1,11 @@
 #pragma once
-// Where the machine's tool tip is along a straight move, for verify and predict: on a move whose play
-// stays as it is and whose error field the model bounds to bend by less than a nanometre
-// (a finishing program's short moves), the tip at a fraction of the move is taken on the
-// chord between its two ends, each evaluated exactly (the start is the last move's end):
-// it is within that bound of the model's tip there (model/variation_bound.hpp), and so is
-// every distance measured from it. Other moves are evaluated point by point by the caller.
+// Where the machine's tool tip is along a straight move, for verify and predict: on a
+// move whose play stays as it is and whose error field the model bounds to bend by less
+// than a nanometre (a finishing program's short moves), the tip at a fraction of the move
+// is taken on the chord between its two ends, each evaluated exactly (the start is the
+// last move's end): it is within that bound of the model's tip there
+// (model/variation_bound.hpp), and so is every distance measured from it. Other moves are
+// evaluated point by point by the caller.
 #include <Eigen/Core>
 #include <array>
 #include <cmath>
