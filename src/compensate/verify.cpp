@@ -232,8 +232,6 @@ double progress_of(const CheckOptions& options, const gcode::LineSource& program
   return static_cast<double>(program.tell().offset) / static_cast<double>(program.size());
 }
 
-}  // namespace
-
 /// A motion of the program as its reader hands it over, with the offsets it points to.
 struct ReadMotion {
   gcode::Motion motion;
@@ -251,6 +249,8 @@ void produce_motions(gcode::LineSource& program, const CheckOptions& options, ut
   });
   if (!batch.empty()) out.push(batch);
 }
+
+}  // namespace
 
 PathError predict(gcode::LineSource& program, const model::ForwardModel& model, const CheckOptions& options) {
   PathError e;
