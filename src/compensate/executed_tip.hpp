@@ -38,12 +38,18 @@ class ExecutedTip {
   [[nodiscard]] Eigen::Vector3d on_chord(double t) const { return between(start_, end_, t); }
   /// The nominal tip at fraction t, after start_move(..., true).
   [[nodiscard]] Eigen::Vector3d nominal_on_chord(double t) const { return between(nominal_start_, nominal_end_, t); }
+  /// The chord's ends (the move's tips there), for a caller that makes the points itself.
+  [[nodiscard]] const Eigen::Vector3d& chord_start() const { return start_; }
+  [[nodiscard]] const Eigen::Vector3d& chord_end() const { return end_; }
 
- private:
+  /// The point at fraction t of the chord from a to b, its ends exactly a and b: what
+  /// on_chord() gives, for whoever holds the ends.
   static Eigen::Vector3d between(const Eigen::Vector3d& a, const Eigen::Vector3d& b, double t) {
     if (t == 1.0) return b;
     return t == 0.0 ? a : Eigen::Vector3d(a + t * (b - a));
   }
+
+ private:
   /// The actual tip at q (and the nominal one into `nominal`, when given).
   Eigen::Vector3d tip_at(const model::ChainQ& q, const model::Conditions& conditions, Eigen::Vector3d* nominal);
   /// Whether a and b are alike in every approach a term reads (the others change nothing).

@@ -302,31 +302,31 @@ namespace {
 /// What the compensated program makes the machine do, as verify measures it, in order: a
 /// rapid (the search is told), the start of a cut, and the tool tip at each point checked.
 struct ExecutedEvent {
-  enum class Kind : std::uint8_t { rapid, cut, tip };
+  /// A chord: a cut's points on the chord from `tip` to `end`, steps + 1 of them, made by
+  /// the caller (ExecutedTip::between: the same points, handed over as one event).
+  enum class Kind : std::uint8_t { rapid, cut, tip, chord };
   Kind kind = Kind::tip;
   std::uint32_t line = 0;  ///< a cut's block
   double progress = -1;    ///< a rapid's or a cut's share of the program read (-1: none to report)
   Eigen::Vector3d tip = Eigen::Vector3d::Zero();
+  Eigen::Vector3d end = Eigen::Vector3d::Zero();  ///< a chord's
+  int steps = 0;                                  ///< a chord's
 };
 
 /// The tool tip at each point a cut is checked at, finer than the job checks.
 void executed_tips(const gcode::Motion& m, const MotionPath& path, const model::ForwardModel& model,
                    const CheckOptions& options, Evaluator& ev, ExecutedTip& tip, std::vector<ExecutedEvent>& out) {
   const int steps = path.steps(model, options.samples);
-  if (m.kind == gcode::MotionKind::feed)
-    tip.start_move(path.start(), path.end(), ev.conditions);
-  else
-    tip.other_move();
-  for (int k = 0; k <= steps; ++k) {
-    const double t = static_cast<double>(k) / steps;
+  if (m.kind == gcode::MotionKind::feed && tip.start_move(path.start(), path.end(), ev.conditions)) {
+    // the play stands still: ev's conditions stay as they are
     ExecutedEvent& e = out.emplace_back();
-    if (tip.on_chord()) {
-      e.tip = tip.on_chord(t);  // the play stands still: ev's conditions stay as they are
-    } else {
-      const model::ChainQ q = path.at(t);
-      model::forward(model, ev.data, q, ev.advance(q), false, model::Evaluate::actual);
-      e.tip = ev.data.actual;
-    }
+    e.kind = ExecutedEvent::Kind::chord, e.tip = tip.chord_start(), e.end = tip.chord_end(), e.steps = steps;
+    return;
+  }
+  for (int k = 0; k <= steps; ++k) {
+    const model::ChainQ q = path.at(static_cast<double>(k) / steps);
+    model::forward(model, ev.data, q, ev.advance(q), false, model::Evaluate::actual);
+    out.emplace_back().tip = ev.data.actual;
   }
 }
 
@@ -365,20 +365,31 @@ PathError verify(gcode::LineSource& original, gcode::LineSource& compensated, co
   PathError e;
   double sum2 = 0.0;
   std::uint32_t line = 0;
+  auto measure = [&](const Eigen::Vector3d& p) {
+    const std::optional<double> off = search.distance(p);
+    if (!off) return;
+    sum2 += *off * *off;
+    ++e.points;
+    if (*off > e.max) e.max = *off, e.worst_line = line, e.worst_point = p;
+  };
   std::vector<ExecutedEvent> events;
   while (executed.pop(events)) {
     for (const ExecutedEvent& x : events) {
-      if (x.kind != ExecutedEvent::Kind::tip) {
-        if (x.progress >= 0) options.progress(x.progress);
-        if (x.kind == ExecutedEvent::Kind::rapid) search.rapid();
-        if (x.kind == ExecutedEvent::Kind::cut) ++e.moves, line = x.line;
-        continue;
+      switch (x.kind) {
+        case ExecutedEvent::Kind::rapid:
+        case ExecutedEvent::Kind::cut:
+          if (x.progress >= 0) options.progress(x.progress);
+          if (x.kind == ExecutedEvent::Kind::rapid) search.rapid();
+          if (x.kind == ExecutedEvent::Kind::cut) ++e.moves, line = x.line;
+          break;
+        case ExecutedEvent::Kind::tip:
+          measure(x.tip);
+          break;
+        case ExecutedEvent::Kind::chord:
+          for (int k = 0; k <= x.steps; ++k)
+            measure(ExecutedTip::between(x.tip, x.end, static_cast<double>(k) / x.steps));
+          break;
       }
-      const std::optional<double> off = search.distance(x.tip);
-      if (!off) continue;
-      sum2 += *off * *off;
-      ++e.points;
-      if (*off > e.max) e.max = *off, e.worst_line = line, e.worst_point = x.tip;
     }
   }
   e.rms = e.points ? std::sqrt(sum2 / static_cast<double>(e.points)) : 0.0;
