@@ -1,21 +1,13 @@
 #include "executed_tip.hpp"
 
-#include <cstdint>
-
 namespace ccomp::compensate {
 
 ExecutedTip::ExecutedTip(const model::ForwardModel& model, const model::Conditions& conditions)
-    : model_(model), bound_(model, conditions), data_(model) {
-  for (const model::ForwardModel::TermSlot& s : model.slots())
-    for (const std::int16_t v : {s.primary, s.secondary}) {
-      const auto axis = static_cast<std::size_t>(v) - model::ForwardModel::kFirstDirectionVariable;
-      if (v >= 0 && axis < approach_read_.size()) approach_read_[axis] = true;
-    }
-}
+    : model_(model), bound_(model, conditions), data_(model) {}
 
 bool ExecutedTip::same_approach(const std::array<double, 9>& a, const std::array<double, 9>& b) const {
   for (std::size_t i = 0; i < a.size(); ++i)
-    if (approach_read_[i] && a[i] != b[i]) return false;
+    if (model_.reads_approach(i) && a[i] != b[i]) return false;
   return true;
 }
 

@@ -52,13 +52,13 @@ class ExecutedTip {
  private:
   /// The actual tip at q (and the nominal one into `nominal`, when given).
   Eigen::Vector3d tip_at(const model::ChainQ& q, const model::Conditions& conditions, Eigen::Vector3d* nominal);
-  /// Whether a and b are alike in every approach a term reads (the others change nothing).
+  /// Whether a and b are alike in every approach a term reads (ForwardModel::reads_approach;
+  /// the others change nothing).
   [[nodiscard]] bool same_approach(const std::array<double, 9>& a, const std::array<double, 9>& b) const;
 
   const model::ForwardModel& model_;
   model::VariationBound bound_;
   model::ForwardData data_;
-  std::array<bool, 9> approach_read_{};  ///< axis i's approach is some term's variable
   bool on_chord_ = false;
   Eigen::Vector3d start_ = Eigen::Vector3d::Zero(), end_ = Eigen::Vector3d::Zero();
   Eigen::Vector3d nominal_start_ = Eigen::Vector3d::Zero(), nominal_end_ = Eigen::Vector3d::Zero();

@@ -269,7 +269,7 @@ class PathSearch {
       if (window().group_box(start).distance(p) > reach(best)) continue;
       for (std::size_t i = std::max(g, from); i < std::min(g + PieceWindow::kGroup, to); ++i) {
         const double d = window()[i].distance(p);
-        if (candidate(window()[i], p, d)) candidates_.push_back(i);
+        if (reuse_ == Candidates::kept && candidate(window()[i], p, d)) candidates_.push_back(i);
         if (d > reach(best)) continue;
         best = std::min(best, d);
         near_.emplace_back(i, d);

@@ -174,6 +174,9 @@ ForwardModel::ForwardModel(const MachineModel& model) : machine_(model) {
     TermSlot slot = slot_of(chain_, s, t, parameter_count_);
     slot.phase_source = phase_source(slots_, on_axes_terms_, machine_.terms, slot, t);
     if (slot.on_axes) on_axes_terms_.push_back(slots_.size());
+    for (const std::int16_t v : {slot.primary, slot.secondary})
+      if (v >= static_cast<int>(kFirstDirectionVariable) && v < static_cast<int>(kFirstDirectionVariable + 9))
+        approach_axes_ |= 1U << (static_cast<unsigned>(v) - kFirstDirectionVariable);
     slots_.push_back(slot);
     offsets_.push_back(parameter_count_);
     parameter_count_ += static_cast<std::size_t>(t.parameters.size());

@@ -60,6 +60,9 @@ class ForwardModel {
   [[nodiscard]] const std::array<double, 9>& reversal_size() const { return reversal_size_; }
   /// Whether any reversal term depends on the approach state of axis i.
   [[nodiscard]] bool has_reversal(std::size_t axis) const { return reversal_axes_ >> axis & 1U; }
+  /// Whether any term reads axis i's approach state (a reversal's, or any form given it as
+  /// a variable): where none does, the axis may turn round without changing the error.
+  [[nodiscard]] bool reads_approach(std::size_t axis) const { return approach_axes_ >> axis & 1U; }
 
   /// A term as forward()'s loop without Jacobians reads it: its inputs as indices into one
   /// vector of variables (see variables_of()), where its value goes, and whether it depends on
@@ -100,6 +103,7 @@ class ForwardModel {
   ChainQ feature_;  ///< shortest error feature along each chain variable (mm, rad), or +inf
   std::array<double, 9> lost_motion_{}, reversal_size_{};
   unsigned reversal_axes_ = 0;  ///< bit i: axis i has reversal terms
+  unsigned approach_axes_ = 0;  ///< bit i: some term reads axis i's approach state
 };
 
 struct ForwardData {
