@@ -57,7 +57,7 @@ double still(std::size_t axis) {
 void Compensator::approach(const ChainQ& start, const ChainQ& end) {
   auto& need = options_.conditions.directions;
   for (std::size_t i = 0; i < need.size(); ++i) {
-    if (!model_.has_reversal(i)) continue;
+    if (!model_.reads_approach(i)) continue;
     const double delta = end[static_cast<Eigen::Index>(i)] - start[static_cast<Eigen::Index>(i)];
     need[i] = std::abs(delta) > still(i) ? (delta > 0 ? 1.0 : -1.0) : play_[i];
   }
@@ -70,7 +70,7 @@ bool Compensator::approach_by_travel(const ChainQ& from, const ChainQ& to) {
   bool changed = false;
   for (std::size_t i = 0; i < need.size(); ++i) {
     const auto k = static_cast<Eigen::Index>(i);
-    if (!model_.has_reversal(i) || std::abs(to[k] - from[k]) <= 10 * still(i)) continue;
+    if (!model_.reads_approach(i) || std::abs(to[k] - from[k]) <= 10 * still(i)) continue;
     const double travel = to[k] > from[k] ? 1.0 : -1.0;
     if (travel != need[i]) need[i] = travel, changed = true;
   }
@@ -101,7 +101,7 @@ void Compensator::rapid(const ChainQ& end, std::vector<CompensatedPoint>& out, M
   const std::array<double, 9> target = need;
   for (std::size_t i = 0; i < need.size(); ++i) {
     const auto k = static_cast<Eigen::Index>(i);
-    if (!model_.has_reversal(i) || model_.lost_motion()[i] <= 0 || std::abs(play_[i] - target[i]) <= 0.02) continue;
+    if (!model_.reads_approach(i) || model_.lost_motion()[i] <= 0 || std::abs(play_[i] - target[i]) <= 0.02) continue;
     if (offset_by_control_) {
       report.jogs_withheld = true;
       continue;
@@ -270,7 +270,7 @@ unsigned Compensator::unsettled_axes() const {
   const auto& need = options_.conditions.directions;
   unsigned axes = 0;
   for (std::size_t i = 0; i < need.size(); ++i)
-    if (model_.has_reversal(i) && std::abs(play_[i] - need[i]) > 0.02) axes |= 1U << i;
+    if (model_.reads_approach(i) && std::abs(play_[i] - need[i]) > 0.02) axes |= 1U << i;
   return axes;
 }
 
@@ -321,14 +321,16 @@ void Compensator::take_up(const ChainQ& start, const ChainQ& a, std::vector<Comp
                           MoveReport& report) {
   auto& need = options_.conditions.directions;
   const std::array<double, 9> target = need;
+  double stray = 0.0;  // how far the tool leaves the corner on the way
   auto go = [&](const ChainQ& q) {
     if ((q - commanded_).cwiseAbs().maxCoeff() <= 1e-9) return;  // a zero move takes nothing up
+    stray = std::max(stray, take_up_stray(start, q));
     out.push_back({0.0, q, true});
     command(q);
   };
   std::vector<std::size_t> turning, re_approach;
   for (std::size_t i = 0; i < need.size(); ++i) {
-    if (!model_.has_reversal(i)) continue;
+    if (!model_.reads_approach(i)) continue;
     const auto k = static_cast<Eigen::Index>(i);
     if (std::abs(play_[i] - target[i]) > 0.02)
       turning.push_back(i), need[i] = play_[i];
@@ -343,11 +345,44 @@ void Compensator::take_up(const ChainQ& start, const ChainQ& a, std::vector<Comp
   for (std::size_t i : turning) switch_to(i, target[i]);
   for (std::size_t i : re_approach) switch_to(i, target[i]);
   go(a);
+  if (stray > 0.25 * options_.tolerance) {
+    // The error switched faster than the take-up could follow: part of the turn shows.
+    for (const std::size_t i : turning) report.unhidden_reversals |= 1U << i;
+    report.max_deviation_after = std::max(report.max_deviation_after, stray);
+  }
   if (const unsigned short_of = unhidden(target); short_of != 0) {
     report.unhidden_reversals |= short_of;
     // What is left shows where the move starts, the play still short of its target.
     report.max_deviation_after = std::max(report.max_deviation_after, deviation_at_play(start, a));
   }
+}
+
+double Compensator::take_up_stray(const ChainQ& start, const ChainQ& q) {
+  // Terms linear in the approach (a reversal) switch linearly while an axis travels its
+  // play: the stray is largest where an axis leaves its play, its carriage moving on from
+  // there (or, without lost motion, the instant it starts back).
+  const ChainQ delta = q - commanded_;
+  double stray = 0.0;
+  for (std::size_t i = 0; i < play_.size(); ++i) {
+    const auto k = static_cast<Eigen::Index>(i);
+    if (!model_.reads_approach(i) || std::abs(delta[k]) <= still(i)) continue;
+    const double travel = delta[k] > 0 ? 1.0 : -1.0, w = model_.lost_motion()[i];
+    if (play_[i] == travel) continue;  // settled: its terms do not switch here
+    model::Conditions at = options_.conditions;
+    at.directions = play_;
+    ChainQ where = commanded_;
+    if (w > 0) {
+      const double t = (travel - play_[i]) * w / (2.0 * delta[k]);  // where the play runs out
+      if (t >= 1.0 - 1e-9) continue;  // the take-up ends inside the play: the solve's own point
+      where += t * delta;
+      model::take_up_play(model_, at, commanded_, where);
+    } else {
+      at.directions[i] = travel;  // switched as it starts
+    }
+    model::forward(model_, check_, where, at, false, model::Evaluate::actual);
+    stray = std::max(stray, (check_.actual - nominal_tip(start)).norm());
+  }
+  return stray;
 }
 
 double Compensator::start_error(const ChainQ& start, const ChainQ& a) {

@@ -130,12 +130,20 @@ ChainQ shortest_features(const std::vector<ErrorTermSpec>& terms) {
   return shortest;
 }
 
-/// The reversal terms of each axis: which axes have any, their summed sizes, and the axis'
-/// lost motion.
+/// What the terms switched by each axis' approach add up to, and the axis' lost motion.
 struct Reversals {
-  unsigned axes = 0;
   std::array<double, 9> size{}, lost_motion{};
 };
+
+/// How much term t (its variable an approach) changes between the two approaches: a
+/// reversal's size, or any other form's value at +1 less its value at -1.
+double switch_size(const ErrorTermSpec& t) {
+  if (t.shape.form == TermForm::reversal) return std::abs(t.parameters[0]);
+  TermValue up, down;
+  evaluate(t.shape, t.parameters, TermInputs{1.0, 0.0}, false, up);
+  evaluate(t.shape, t.parameters, TermInputs{-1.0, 0.0}, false, down);
+  return std::abs(up.value - down.value);
+}
 
 /// An axis' lost motion is its own positioning reversal: a term on the axis' link, along
 /// (or about) the axis' direction, switched by that axis' approach.
@@ -145,9 +153,9 @@ Reversals reversals_of(const std::vector<ErrorTermSpec>& terms, const std::vecto
   std::array<double, 9> own_reversal{};
   for (std::size_t i = 0; i < terms.size(); ++i) {
     const ErrorTermSpec& t = terms[i];
-    if (t.shape.form != TermForm::reversal || t.primary.kind != VariableKind::direction) continue;
-    r.axes |= 1U << t.primary.index;
-    r.size[t.primary.index] += std::abs(t.parameters[0]);
+    if (t.primary.kind != VariableKind::direction) continue;
+    r.size[t.primary.index] += switch_size(t);
+    if (t.shape.form != TermForm::reversal) continue;  // a lost motion is a reversal's
     const auto& joints = sites[i].side == 0 ? chain.workpiece.joints : chain.tool.joints;
     const Joint& j = joints[sites[i].joint];
     if (j.type == JointType::fixed || j.axis != t.primary.index) continue;
@@ -183,7 +191,6 @@ ForwardModel::ForwardModel(const MachineModel& model) : machine_(model) {
   }
   feature_ = shortest_features(machine_.terms);
   const Reversals reversals = reversals_of(machine_.terms, sites_, chain_);
-  reversal_axes_ = reversals.axes;
   reversal_size_ = reversals.size;
   lost_motion_ = reversals.lost_motion;
 }

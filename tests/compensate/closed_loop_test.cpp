@@ -2,6 +2,7 @@
 // forward model (the machine with its errors), and measure how far the executed tool tip
 // strays from the path the original program meant. It must stay within the tolerance
 // plus 0.1 um.
+#include <fmt/format.h>
 #include <gtest/gtest.h>
 
 #include <array>
@@ -295,7 +296,7 @@ namespace {
 struct Backlash {
   compensate::JobReport report;
   std::vector<std::string> warnings;
-  double before = 0.0, after = 0.0;
+  double before = 0.0, after = 0.0, before_rms = 0.0, after_rms = 0.0;
 };
 Backlash run_backlash(const std::string& terms, const std::string& program) {
   const model::MachineModel mm = model::parse_machine_model(std::string(kRandomChain) + terms, "backlash.yaml");
@@ -310,6 +311,8 @@ Backlash run_backlash(const std::string& terms, const std::string& program) {
   const BeforeAfter e = measure(program, output, m, conditions);
   r.before = e.before.max;
   r.after = e.after.max;
+  r.before_rms = e.before.rms;
+  r.after_rms = e.after.rms;
   return r;
 }
 
@@ -328,6 +331,44 @@ TEST(ClosedLoop, BacklashIsTakenUpWhereAnAxisTurnsRound) {
   EXPECT_LE(r.after, 0.001 + 1e-4);
   EXPECT_GE(r.report.take_up_moves, 5U) << "X turns round five times on feed moves";
   EXPECT_TRUE(r.warnings.empty()) << r.warnings.front();
+}
+
+TEST(ClosedLoop, AnErrorOfAnyFormThatReadsAnApproachIsFollowedThere) {
+  // Not reversal terms: X's straightness in Z and its pitch switch with X's approach (a
+  // carriage that rides up on one flank of its guide). The job follows X's approach for
+  // them as for a reversal: each move is solved for the way X travels on it.
+  const std::string terms =
+      "  - {name: EZX, variable: vx, form: polynomial, unit: um, coefficients: [0, 3]}\n"
+      "  - {name: EBX, variable: vx, form: table, unit: urad, at: [-1, 1], values: [-4, 6]}\n";
+  // X travels one way after its first turn (the take-up there is the next test's): 40 cuts.
+  std::string one_way = "G21 G90 G94 G54\nT1 M6\nG43 H1\nF1200\nG0 X-100 Y0 Z-100 B0\n";
+  for (int k = 1; k <= 40; ++k) one_way += fmt::format("G1 X{} Y{}\n", -100 + 5 * k, k % 2);
+  one_way += "M30\n";
+  const Backlash r = run_backlash(terms, one_way);
+  EXPECT_GT(r.before_rms, 0.0025) << "uncompensated, the tool rides 3 um up or down with X's approach";
+  EXPECT_LT(r.after_rms, 0.25 * r.before_rms) << "the cuts are compensated for X's approach";
+  // Without a lost motion they switch the instant X turns, before the other axes can
+  // follow: what is left at each turn is the switch, and the job says so.
+  const Backlash zig = run_backlash(terms, kZigZag);
+  ASSERT_EQ(zig.warnings.size(), 1U);
+  EXPECT_NE(zig.warnings.front().find("axis X's reversal cannot be fully taken up"), std::string::npos)
+      << zig.warnings.front();
+  EXPECT_GT(zig.report.max_error_after, 0.5 * zig.after) << "verify finds " << zig.after;
+}
+
+TEST(ClosedLoop, ATakeUpThatCannotHoldTheToolStillIsReported) {
+  // X's backlash holds the tool while X takes up its play, but the pitch that switches with
+  // it moves the tool 4 um along X through the table's 400 mm: X must travel on past its
+  // play, and the table's tilt shows on the way (reversal terms or any other form alike).
+  for (const std::string pitch : {"  - {name: EBX, variable: vx, form: reversal, unit: urad, reversal: 10}\n",
+                                  "  - {name: EBX, variable: vx, form: polynomial, unit: urad, coefficients: [0, 5]}\n"}) {
+    const Backlash r = run_backlash(pitch + "  - {name: EXX, variable: vx, form: reversal, reversal: -8 um}\n", kZigZag);
+    EXPECT_GT(r.after, 0.002) << pitch;
+    ASSERT_EQ(r.warnings.size(), 1U) << pitch;
+    EXPECT_NE(r.warnings.front().find("axis X's reversal cannot be fully taken up"), std::string::npos)
+        << r.warnings.front();
+    EXPECT_GT(r.report.max_error_after, 0.5 * r.after) << pitch << "verify finds " << r.after;
+  }
 }
 
 TEST(ClosedLoop, AReversalThatLeadsIsReportedNotHidden) {

@@ -85,9 +85,9 @@ TEST(Forward, LostMotionIsTheAxisOwnPositioningReversal) {
   EXPECT_NEAR(m.lost_motion()[0], 0.006, 1e-15);
   EXPECT_EQ(m.lost_motion()[1], 0.0) << "EZY is a straightness of Y, not its positioning";
   EXPECT_NEAR(m.lost_motion()[4], 20e-6, 1e-18);
-  EXPECT_TRUE(m.has_reversal(0));
-  EXPECT_TRUE(m.has_reversal(1));
-  EXPECT_FALSE(m.has_reversal(2));
+  EXPECT_TRUE(m.reads_approach(0));
+  EXPECT_TRUE(m.reads_approach(1));
+  EXPECT_FALSE(m.reads_approach(2));
   // Negative reversal: approaching upward the tool falls 3 um short (ISO 230-2's B is the
   // upward mean minus the downward one).
   Conditions up, down;

@@ -4,12 +4,13 @@
 // compensated points) stays within the tolerance of the nominal path. Adaptive: a move is
 // split only where the error field bends it away, at the midpoint of the piece that fails.
 //
-// Reversal: the compensator follows the play of every axis through what it commands (the
-// same take_up_play the machine model applies). When a move needs an axis to travel the
-// other way, it first commands a take-up move: at the move's start, from the correction for
-// the old approach to the correction for the new one. With backlash (the axis lags its
-// command) the tool does not move while the play is taken up, and the move then starts
-// with the error of the new direction already corrected.
+// Reversal (any term whose variable is an axis' approach): the compensator follows the
+// play of every axis through what it commands (the same take_up_play the machine model
+// applies). When a move needs an axis to travel the other way, it first commands a take-up
+// move: at the move's start, from the correction for the old approach to the correction
+// for the new one. With backlash (the axis lags its command) the tool does not move while
+// the play is taken up, and the move then starts with the error of the new direction
+// already corrected.
 #include <array>
 #include <cmath>
 #include <vector>
@@ -47,8 +48,9 @@ struct MoveReport {
   double max_deviation_after = 0.0;    ///< mm: the compensated path's, at the checked points
   double max_correction = 0.0;         ///< mm: largest change of a linear axis
   double max_orientation_error = 0.0;  ///< rad: what the machine cannot correct
-  /// Bit i: axis i's reversal could not be taken up (it leads the command, or the axis has
-  /// no lost motion of its own and its other reversal terms switch at once).
+  /// Bit i: axis i's reversal could not be taken up (it leads the command, the axis has no
+  /// lost motion of its own and its terms switch at once, or they act along it: the tool
+  /// strays from the corner during the take-up).
   unsigned unhidden_reversals = 0;
   /// mm: how far the tool was from the move's start where a move the compensator did not
   /// plan (machine coordinates, a canned cycle) left it; 0 after a planned one.
@@ -115,10 +117,10 @@ class Compensator {
   model::Conditions& conditions() { return options_.conditions; }
   /// Where the machine was sent last (chain values; NaN before the first command).
   [[nodiscard]] const model::ChainQ& commanded() const { return commanded_; }
-  /// Sets the approach the next points are solved for: each axis with reversal terms
+  /// Sets the approach the next points are solved for: each axis whose approach a term reads
   /// travels the way `end - start` goes (or keeps its state when it does not move).
   void approach(const model::ChainQ& start, const model::ChainQ& end);
-  /// Sets each reversal axis' approach from its compensated travel `from` -> `to` where it
+  /// Sets each such axis' approach from its compensated travel `from` -> `to` where it
   /// moves at all; true when that changed an approach (the points must be solved again).
   /// Within an axis' play the tool does not follow a small travel against its approach: a
   /// correction that asks for one is only reached by travelling through the play.
@@ -143,6 +145,12 @@ class Compensator {
   [[nodiscard]] double deviation_at_play(const model::ChainQ& start, const model::ChainQ& a);
   /// Axes whose play is short of `target` by more than the tolerance can bear.
   [[nodiscard]] unsigned unhidden(const std::array<double, 9>& target) const;
+  /// How far the tool leaves the corner (nominal `start`) while a take-up travels from where
+  /// the machine is to `q`: nothing while each turning axis stays in its play and the axes
+  /// follow terms that switch linearly with it; where an axis' carriage moves on after its
+  /// play (terms that switch with it act along it by more than its lost motion), or an axis
+  /// without lost motion switches its terms the instant it starts back, the switch shows.
+  [[nodiscard]] double take_up_stray(const model::ChainQ& start, const model::ChainQ& q);
   /// How far the tool, where a move the compensator did not plan left the machine, is from
   /// the start of a move (nominal `start`, compensated `a`); 0 after a planned one.
   [[nodiscard]] double start_error(const model::ChainQ& start, const model::ChainQ& a);

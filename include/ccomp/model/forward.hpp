@@ -55,11 +55,10 @@ class ForwardModel {
   /// for X, EBB's for B). After turning round, the axis travels this far before its
   /// reversal terms have switched over; 0 means they switch as soon as it moves.
   [[nodiscard]] const std::array<double, 9>& lost_motion() const { return lost_motion_; }
-  /// The sum of the sizes of the reversal terms that depend on axis i's approach (mm or
-  /// rad, as the terms are; an upper bound of what a turn of the axis can change).
+  /// The sum of the sizes of the terms switched by axis i's approach (mm or rad, as the
+  /// terms are: a reversal's size, another form's value at +1 less its value at -1): an
+  /// upper bound of what a turn of the axis can change.
   [[nodiscard]] const std::array<double, 9>& reversal_size() const { return reversal_size_; }
-  /// Whether any reversal term depends on the approach state of axis i.
-  [[nodiscard]] bool has_reversal(std::size_t axis) const { return reversal_axes_ >> axis & 1U; }
   /// Whether any term reads axis i's approach state (a reversal's, or any form given it as
   /// a variable): where none does, the axis may turn round without changing the error.
   [[nodiscard]] bool reads_approach(std::size_t axis) const { return approach_axes_ >> axis & 1U; }
@@ -102,7 +101,6 @@ class ForwardModel {
   std::size_t parameter_count_ = 0;
   ChainQ feature_;  ///< shortest error feature along each chain variable (mm, rad), or +inf
   std::array<double, 9> lost_motion_{}, reversal_size_{};
-  unsigned reversal_axes_ = 0;  ///< bit i: axis i has reversal terms
   unsigned approach_axes_ = 0;  ///< bit i: some term reads axis i's approach state
 };
 

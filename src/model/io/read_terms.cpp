@@ -330,6 +330,7 @@ Parameters read_bump(const TermReading& r, ErrorTermSpec& t) {
 Parameters read_cross_axis(const TermReading& r, ErrorTermSpec& t) {
   need_variable(r, t);
   t.shape.form = TermForm::cross_axis;
+  if (t.primary.kind != VariableKind::axis) bad(r.file, r.node, r.what + ": a cross-axis term's variable is an axis");
   const YAML::Node other = require(r, "other");
   t.secondary = read_variable(r.file, other, text(r.file, other, r.what + " other"), r.model, r.what);
   if (t.secondary.kind != VariableKind::axis) bad(r.file, other, r.what + ": 'other' is another axis");
