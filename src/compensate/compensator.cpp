@@ -119,12 +119,11 @@ void Compensator::rapid(const ChainQ& end, std::vector<CompensatedPoint>& out, M
 }
 
 unsigned Compensator::unhidden(const std::array<double, 9>& target) const {
-  // What a play left short of its target costs: the axis' reversal terms times the
-  // shortfall (a rotary axis' seen 500 mm out). Worth a warning at a quarter of the tolerance.
+  // What a play left short of its target costs: the switch of the axis' terms (mm at the
+  // tool) times the shortfall. Worth a warning at a quarter of the tolerance.
   unsigned axes = 0;
   for (std::size_t i = 0; i < target.size(); ++i) {
-    const double arm = i >= 3 && i <= 5 ? 500.0 : 1.0;
-    if (0.5 * arm * model_.reversal_size()[i] * std::abs(play_[i] - target[i]) > 0.25 * options_.tolerance)
+    if (0.5 * model_.reversal_size()[i] * std::abs(play_[i] - target[i]) > 0.25 * options_.tolerance)
       axes |= 1U << i;
   }
   return axes;
@@ -321,10 +320,14 @@ void Compensator::take_up(const ChainQ& start, const ChainQ& a, std::vector<Comp
                           MoveReport& report) {
   auto& need = options_.conditions.directions;
   const std::array<double, 9> target = need;
-  double stray = 0.0;  // how far the tool leaves the corner on the way
+  // How far the tool leaves the corner on the way, and whose switch it shows. After a move
+  // not planned here the machine starts off the corner anyway: no measure of the take-up.
+  const bool planned = !uncompensated_;
+  double stray = 0.0;
+  unsigned strayed = 0;
   auto go = [&](const ChainQ& q) {
     if ((q - commanded_).cwiseAbs().maxCoeff() <= 1e-9) return;  // a zero move takes nothing up
-    stray = std::max(stray, take_up_stray(start, q));
+    if (planned) stray = std::max(stray, take_up_stray(start, q, strayed));
     out.push_back({0.0, q, true});
     command(q);
   };
@@ -345,9 +348,9 @@ void Compensator::take_up(const ChainQ& start, const ChainQ& a, std::vector<Comp
   for (std::size_t i : turning) switch_to(i, target[i]);
   for (std::size_t i : re_approach) switch_to(i, target[i]);
   go(a);
-  if (stray > 0.25 * options_.tolerance) {
+  if (strayed != 0) {
     // The error switched faster than the take-up could follow: part of the turn shows.
-    for (const std::size_t i : turning) report.unhidden_reversals |= 1U << i;
+    report.unhidden_reversals |= strayed;
     report.max_deviation_after = std::max(report.max_deviation_after, stray);
   }
   if (const unsigned short_of = unhidden(target); short_of != 0) {
@@ -357,30 +360,47 @@ void Compensator::take_up(const ChainQ& start, const ChainQ& a, std::vector<Comp
   }
 }
 
-double Compensator::take_up_stray(const ChainQ& start, const ChainQ& q) {
-  // Terms linear in the approach (a reversal) switch linearly while an axis travels its
-  // play: the stray is largest where an axis leaves its play, its carriage moving on from
-  // there (or, without lost motion, the instant it starts back).
+double Compensator::take_up_stray(const ChainQ& start, const ChainQ& q, unsigned& axes) {
+  // Terms linear in the approach switch linearly while an axis travels its play, so the
+  // tool's course bends only where a play runs out, where an axis without lost motion
+  // switches (as it starts), and at the step's end: the tool is checked there.
+  struct Bend {
+    double t;
+    unsigned axes;  ///< whose switch it shows
+  };
+  std::array<Bend, 11> bends{};
+  std::size_t n = 0;
+  unsigned at_once = 0, switching = 0;
   const ChainQ delta = q - commanded_;
-  double stray = 0.0;
   for (std::size_t i = 0; i < play_.size(); ++i) {
     const auto k = static_cast<Eigen::Index>(i);
-    if (!model_.reads_approach(i) || std::abs(delta[k]) <= still(i)) continue;
+    // An unknown approach (the axis' first travel in the program) is no turn.
+    if (!model_.reads_approach(i) || std::abs(delta[k]) <= still(i) || play_[i] == 0.0) continue;
     const double travel = delta[k] > 0 ? 1.0 : -1.0, w = model_.lost_motion()[i];
     if (play_[i] == travel) continue;  // settled: its terms do not switch here
+    switching |= 1U << i;
+    if (w <= 0) {
+      at_once |= 1U << i;
+    } else if (const double t = (travel - play_[i]) * w / (2.0 * delta[k]); t < 1.0) {
+      bends[n++] = {t, 1U << i};  // where its play runs out
+    }
+  }
+  if (switching == 0) return 0.0;
+  if (at_once != 0) bends[n++] = {0.0, at_once};
+  bends[n++] = {1.0, switching};
+  double stray = 0.0;
+  const Eigen::Vector3d corner = nominal_tip(start);
+  for (std::size_t b = 0; b < n; ++b) {
     model::Conditions at = options_.conditions;
     at.directions = play_;
-    ChainQ where = commanded_;
-    if (w > 0) {
-      const double t = (travel - play_[i]) * w / (2.0 * delta[k]);  // where the play runs out
-      if (t >= 1.0 - 1e-9) continue;  // the take-up ends inside the play: the solve's own point
-      where += t * delta;
-      model::take_up_play(model_, at, commanded_, where);
-    } else {
-      at.directions[i] = travel;  // switched as it starts
-    }
+    const ChainQ where = commanded_ + bends[b].t * delta;
+    model::take_up_play(model_, at, commanded_, where);
+    for (std::size_t i = 0; i < play_.size(); ++i)  // switched the instant they start
+      if (at_once >> i & 1U) at.directions[i] = delta[static_cast<Eigen::Index>(i)] > 0 ? 1.0 : -1.0;
     model::forward(model_, check_, where, at, false, model::Evaluate::actual);
-    stray = std::max(stray, (check_.actual - nominal_tip(start)).norm());
+    const double d = (check_.actual - corner).norm();
+    stray = std::max(stray, d);
+    if (d > 0.25 * options_.tolerance) axes |= bends[b].axes;
   }
   return stray;
 }

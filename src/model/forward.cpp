@@ -135,15 +135,18 @@ struct Reversals {
   std::array<double, 9> size{}, lost_motion{};
 };
 
-/// How much term t (its variable an approach) changes between the two approaches: a
-/// reversal's size, or any other form's value at +1 less its value at -1.
-double switch_size(const ErrorTermSpec& t) {
-  if (t.shape.form == TermForm::reversal) return std::abs(t.parameters[0]);
+/// How much term t (its variable an approach, in which it is linear: the model file refuses
+/// others) changes from the approach -1 to +1: a reversal's value.
+double switch_of(const ErrorTermSpec& t) {
+  if (t.shape.form == TermForm::reversal) return t.parameters[0];
   TermValue up, down;
   evaluate(t.shape, t.parameters, TermInputs{1.0, 0.0}, false, up);
   evaluate(t.shape, t.parameters, TermInputs{-1.0, 0.0}, false, down);
-  return std::abs(up.value - down.value);
+  return up.value - down.value;
 }
+
+/// The lever an angular switch is seen through in reversal_size().
+constexpr double kSwitchLever = 500.0;  // mm
 
 /// An axis' lost motion is its own positioning reversal: a term on the axis' link, along
 /// (or about) the axis' direction, switched by that axis' approach.
@@ -154,15 +157,15 @@ Reversals reversals_of(const std::vector<ErrorTermSpec>& terms, const std::vecto
   for (std::size_t i = 0; i < terms.size(); ++i) {
     const ErrorTermSpec& t = terms[i];
     if (t.primary.kind != VariableKind::direction) continue;
-    r.size[t.primary.index] += switch_size(t);
-    if (t.shape.form != TermForm::reversal) continue;  // a lost motion is a reversal's
+    const double switched = switch_of(t);
+    r.size[t.primary.index] += std::abs(switched) * (t.component >= 3 ? kSwitchLever : 1.0);
     const auto& joints = sites[i].side == 0 ? chain.workpiece.joints : chain.tool.joints;
     const Joint& j = joints[sites[i].joint];
     if (j.type == JointType::fixed || j.axis != t.primary.index) continue;
     Eigen::Index along = 0;
     j.direction.cwiseAbs().maxCoeff(&along);
     if (t.component == static_cast<int>(along) + (j.type == JointType::rotary ? 3 : 0))
-      own_reversal[t.primary.index] += t.parameters[0];
+      own_reversal[t.primary.index] += switched;
   }
   for (std::size_t i = 0; i < r.lost_motion.size(); ++i) r.lost_motion[i] = std::abs(own_reversal[i]);
   return r;

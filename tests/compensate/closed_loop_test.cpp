@@ -340,13 +340,14 @@ TEST(ClosedLoop, AnErrorOfAnyFormThatReadsAnApproachIsFollowedThere) {
   const std::string terms =
       "  - {name: EZX, variable: vx, form: polynomial, unit: um, coefficients: [0, 3]}\n"
       "  - {name: EBX, variable: vx, form: table, unit: urad, at: [-1, 1], values: [-4, 6]}\n";
-  // X travels one way after its first turn (the take-up there is the next test's): 40 cuts.
-  std::string one_way = "G21 G90 G94 G54\nT1 M6\nG43 H1\nF1200\nG0 X-100 Y0 Z-100 B0\n";
+  // X travels one way, from the rapid that brings it to the start on: 40 cuts.
+  std::string one_way = "G21 G90 G94 G54\nT1 M6\nG43 H1\nF1200\nG0 X-110 Y0 Z-100 B0\nG0 X-100\n";
   for (int k = 1; k <= 40; ++k) one_way += fmt::format("G1 X{} Y{}\n", -100 + 5 * k, k % 2);
   one_way += "M30\n";
   const Backlash r = run_backlash(terms, one_way);
   EXPECT_GT(r.before_rms, 0.0025) << "uncompensated, the tool rides 3 um up or down with X's approach";
   EXPECT_LT(r.after_rms, 0.25 * r.before_rms) << "the cuts are compensated for X's approach";
+  EXPECT_TRUE(r.warnings.empty()) << "X never turns: " << r.warnings.front();
   // Without a lost motion they switch the instant X turns, before the other axes can
   // follow: what is left at each turn is the switch, and the job says so.
   const Backlash zig = run_backlash(terms, kZigZag);
@@ -369,6 +370,14 @@ TEST(ClosedLoop, ATakeUpThatCannotHoldTheToolStillIsReported) {
         << r.warnings.front();
     EXPECT_GT(r.report.max_error_after, 0.5 * r.after) << pitch << "verify finds " << r.after;
   }
+  // Y turning round at the same corners, its backlash taken up cleanly, is not blamed.
+  const Backlash both = run_backlash(
+      "  - {name: EBX, variable: vx, form: reversal, unit: urad, reversal: 10}\n"
+      "  - {name: EXX, variable: vx, form: reversal, reversal: -8 um}\n"
+      "  - {name: EYY, variable: vy, form: reversal, reversal: -5 um}\n",
+      "G21 G90 G94 G54\nT1 M6\nG43 H1\nF1200\nG0 X-100 Y0 Z-100 B0\nG1 X100 Y5\nG1 X-100 Y-5\nG1 X100 Y5\nM30\n");
+  ASSERT_EQ(both.warnings.size(), 1U);
+  EXPECT_NE(both.warnings.front().find("axis X's"), std::string::npos) << both.warnings.front();
 }
 
 TEST(ClosedLoop, AReversalThatLeadsIsReportedNotHidden) {

@@ -97,6 +97,27 @@ TEST(Forward, LostMotionIsTheAxisOwnPositioningReversal) {
   EXPECT_NEAR(deviation(at(m, 10, 0, 0, 0, 100, false, down)).x(), 0.003, 1e-12);
 }
 
+TEST(Forward, AnyFormInAnApproachSwitchesAsAReversalDoes) {
+  // EXX as a polynomial in vx is a constant and a reversal: its switch is X's lost motion.
+  // An angular switch counts in reversal_size() as seen 500 mm out.
+  const MachineModel mm = parse_machine_model(std::string(kChain) + R"(terms:
+  - {name: EXX, variable: vx, form: polynomial, unit: um, coefficients: [1, -3]}
+  - {name: EAY, variable: vy, form: table, unit: urad, at: [-1, 1], values: [-4, 6]}
+)",
+                                              "m.yaml");
+  const ForwardModel m(mm);
+  EXPECT_NEAR(m.lost_motion()[0], 0.006, 1e-15);
+  EXPECT_NEAR(m.reversal_size()[0], 0.006, 1e-15);
+  EXPECT_EQ(m.lost_motion()[1], 0.0) << "EAY is a pitch of Y, not its positioning";
+  EXPECT_NEAR(m.reversal_size()[1], 10e-6 * 500, 1e-15);
+  EXPECT_TRUE(m.reads_approach(0) && m.reads_approach(1));
+  Conditions up, down;
+  up.directions[0] = 1;
+  down.directions[0] = -1;
+  EXPECT_NEAR(deviation(at(m, 10, 0, 0, 0, 100, false, up)).x(), -0.002, 1e-12);
+  EXPECT_NEAR(deviation(at(m, 10, 0, 0, 0, 100, false, down)).x(), 0.004, 1e-12);
+}
+
 TEST(Forward, PlayIsTakenUpOverTheLostMotion) {
   const MachineModel mm = parse_machine_model(std::string(kChain) + R"(terms:
   - {name: EXX, variable: vx, form: reversal, reversal: -6 um}

@@ -126,7 +126,19 @@ INSTANTIATE_TEST_SUITE_P(Files, BadTerms,
                                            BadModel{"{name: EXX, value: .nan}", "not a number"},
                                            BadModel{"{name: EXX, value: 1e999}", "not a number"},
                                            BadModel{"{name: EXQ, value: 1}", "no chain has"},
-                                           BadModel{"EXX", "mapping"}),
+                                           BadModel{"EXX", "mapping"},
+                                           // An approach runs from -1 to +1 as the play is taken up.
+                                           BadModel{"{name: EZX, variable: vx, form: polynomial, coefficients: [0, 0, 3]}",
+                                                    "linear in it"},
+                                           BadModel{"{name: EZX, variable: vx, form: table, at: [-1, 0, 1], "
+                                                    "values: [0, 2, 0]}",
+                                                    "linear in it"},
+                                           BadModel{"{name: EZX, variable: vx, form: bump, at: 0, width: 0.5, "
+                                                    "amplitude: 3}",
+                                                    "linear in it"},
+                                           BadModel{"{name: EZX, variable: vx, form: cross_axis, other: y, "
+                                                    "coefficients: [[1]]}",
+                                                    "variable is an axis"}),
                          [](const auto& test) { return "case" + std::to_string(test.index); });
 
 TEST(MachineModel, EveryShippedModelPassesTheSchema) {

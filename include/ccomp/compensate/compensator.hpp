@@ -147,10 +147,12 @@ class Compensator {
   [[nodiscard]] unsigned unhidden(const std::array<double, 9>& target) const;
   /// How far the tool leaves the corner (nominal `start`) while a take-up travels from where
   /// the machine is to `q`: nothing while each turning axis stays in its play and the axes
-  /// follow terms that switch linearly with it; where an axis' carriage moves on after its
-  /// play (terms that switch with it act along it by more than its lost motion), or an axis
-  /// without lost motion switches its terms the instant it starts back, the switch shows.
-  [[nodiscard]] double take_up_stray(const model::ChainQ& start, const model::ChainQ& q);
+  /// follow the terms switching with it; where an axis' carriage moves on after its play
+  /// (terms that switch with it act along it), where an axis without lost motion switches
+  /// its terms the instant it starts back, or where the step ends off the play its point
+  /// was solved for, the switch shows. `axes` gets the axes whose switch shows by more than
+  /// a quarter of the tolerance.
+  [[nodiscard]] double take_up_stray(const model::ChainQ& start, const model::ChainQ& q, unsigned& axes);
   /// How far the tool, where a move the compensator did not plan left the machine, is from
   /// the start of a move (nominal `start`, compensated `a`); 0 after a planned one.
   [[nodiscard]] double start_error(const model::ChainQ& start, const model::ChainQ& a);

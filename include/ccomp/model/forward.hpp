@@ -52,12 +52,13 @@ class ForwardModel {
   /// over 8, a table's knot spacing over 4) sets the spacing. At least `minimum`.
   [[nodiscard]] int check_points(const ChainQ& a, const ChainQ& b, int minimum, int maximum = 1024) const;
   /// Lost motion of each axis (mm, rad): the size of its own positioning reversal (EXX's
-  /// for X, EBB's for B). After turning round, the axis travels this far before its
-  /// reversal terms have switched over; 0 means they switch as soon as it moves.
+  /// for X, EBB's for B, of whatever form in the axis' approach). After turning round, the
+  /// axis travels this far before the terms of its approach have switched over; 0 means
+  /// they switch as soon as it moves.
   [[nodiscard]] const std::array<double, 9>& lost_motion() const { return lost_motion_; }
-  /// The sum of the sizes of the terms switched by axis i's approach (mm or rad, as the
-  /// terms are: a reversal's size, another form's value at +1 less its value at -1): an
-  /// upper bound of what a turn of the axis can change.
+  /// The sum of the sizes of the terms switched by axis i's approach (a reversal's size,
+  /// another form's value at +1 less its value at -1; all are linear in the approach), in
+  /// mm at the tool: an angular one seen 500 mm out. About what a turn of the axis changes.
   [[nodiscard]] const std::array<double, 9>& reversal_size() const { return reversal_size_; }
   /// Whether any term reads axis i's approach state (a reversal's, or any form given it as
   /// a variable): where none does, the axis may turn round without changing the error.

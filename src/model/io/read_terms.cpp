@@ -463,6 +463,23 @@ void read_primary_variable(TermReading& r, bool location, ErrorTermSpec& t) {
   r.var = unit->scale;
 }
 
+/// An approach state runs from -1 to +1 as an axis takes up its play: a term of it is
+/// linear in it (the take-ups follow it in a straight line; what a turn switches is its
+/// value at +1 less its value at -1).
+void check_linear_in_approach(const TermReading& r, const ErrorTermSpec& t) {
+  if (t.primary.kind != VariableKind::direction) return;
+  const auto& knots = t.shape.knots;
+  const bool linear =
+      t.shape.form == TermForm::reversal || (t.shape.form == TermForm::polynomial && t.shape.order <= 1) ||
+      (t.shape.form == TermForm::table && t.shape.interpolation == Interpolation::linear && knots.size() == 2 &&
+       knots[0] == -1.0 && knots[1] == 1.0);
+  if (!linear)
+    bad(r.file, r.node,
+        fmt::format("{}: a term of an approach ({}) is linear in it: a reversal, a polynomial of order 1, or a "
+                    "linear table at -1 and 1",
+                    r.what, t.primary.text));
+}
+
 ErrorTermSpec read_term(const std::string& file, const YAML::Node& n, const MachineModel& m) {
   ErrorTermSpec t;
   if (!n.IsMap()) bad(file, n, "a term is a mapping {name: ..., form: ..., ...}");
@@ -476,6 +493,7 @@ ErrorTermSpec read_term(const std::string& file, const YAML::Node& n, const Mach
   r.form = n["form"] ? text(file, n["form"], r.what + " form") : "constant";
   read_primary_variable(r, location, t);
   Parameters p = read_form(r, t);
+  check_linear_in_approach(r, t);
   apply_sign(t, iso.sign, p);
   t.parameters = Eigen::Map<Eigen::VectorXd>(p.values.data(), static_cast<Eigen::Index>(p.values.size()));
   t.parameter_unit = p.scale;
