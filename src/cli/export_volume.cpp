@@ -124,7 +124,8 @@ controller::VolumeOptions volume_options(const model::MachineModel& m, const Exp
       add_once(partial.left_out, m.terms[t].name);
     }
     if (cut_by_grid(m.terms[t], o.grids)) add_once(partial.cut, m.terms[t].name);
-    if (m.terms[t].shape.form == model::TermForm::reversal) add_once(partial.reversals, m.terms[t].name);
+    // Any form in an approach is linear in it: at the node, its value at 0 is the mean of both.
+    if (m.terms[t].primary.kind == model::VariableKind::direction) add_once(partial.reversals, m.terms[t].name);
   }
   o.line = table_line(m, args, '\0', true);
   o.conditions = model::conditions_for(m, model::parse_sensor_readings(args.sensors), args.time);

@@ -232,6 +232,19 @@ TEST(IsgVolume, ASmoothModelIsReproducedOverTheWorkspace) {
 // the reference point's (the work offset, probed travelling up): at most twice each screw's
 // amplitude (2.0, 1.4, 1.6 um) plus the whole reversal (4, 3, 5 um) on each axis, and at
 // least the reversals, which no table of one value a node can take. The export says so.
+// A straightness that switches with X's approach is held as the mean of both, as a
+// reversal is, and named with them.
+TEST(IsgVolume, AnyTermOfAnApproachIsNamedWithTheReversals) {
+  const std::string dir = temp_dir("isg_volume_approach");
+  write_file(dir + "/m.yaml", read_file(source_dir() + "/samples/machines/hmc-xyzb.yaml") +
+                                  "  - {name: EZX, variable: vx, form: polynomial, unit: um, coefficients: [0, 2]}\n");
+  const CommandResult r = run_command(shell_quote(ccomp_binary()) + " export -m " + shell_quote(dir + "/m.yaml") +
+                                      " --control isg -o " + shell_quote(dir + "/m.csv") + " --json" + kReadings);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find("\"reversal_terms\": [\"EXX\", \"EYY\", \"EZZ\", \"EBB\", \"EZX\"]"), std::string::npos)
+      << r.out;
+}
+
 TEST(IsgVolume, WhatTheGridCannotHoldIsNamedAndMeasured) {
   const Exported e = export_isg("hmc-xyzb", kReadings);
   ASSERT_EQ(e.result.exit_code, 0) << e.result.err;
