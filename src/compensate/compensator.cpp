@@ -327,7 +327,7 @@ void Compensator::take_up(const ChainQ& start, const ChainQ& a, std::vector<Comp
   unsigned strayed = 0;
   auto go = [&](const ChainQ& q) {
     if ((q - commanded_).cwiseAbs().maxCoeff() <= 1e-9) return;  // a zero move takes nothing up
-    if (planned) stray = std::max(stray, take_up_stray(start, q, strayed));
+    if (planned) stray = std::max(stray, take_up_stray(start, q, need, strayed));
     out.push_back({0.0, q, true});
     command(q);
   };
@@ -360,10 +360,31 @@ void Compensator::take_up(const ChainQ& start, const ChainQ& a, std::vector<Comp
   }
 }
 
-double Compensator::take_up_stray(const ChainQ& start, const ChainQ& q, unsigned& axes) {
+namespace {
+/// About how far the axes' travel from fraction t of a step to its end moves the tool (a
+/// rotary axis' seen 500 mm out, as ForwardModel::reversal_size() sees an angular switch).
+double reach_after(const ChainQ& delta, double t) {
+  double reach = 0.0;
+  for (std::size_t i = 0; i < model::kToolLengthIndex; ++i)
+    reach += std::abs(delta[static_cast<Eigen::Index>(i)]) * (i >= 3 && i <= 5 ? 500.0 : 1.0);
+  return (1.0 - t) * reach;
+}
+}  // namespace
+
+double Compensator::switch_reach(const std::array<double, 9>& from, const std::array<double, 9>& to) const {
+  double reach = 0.0;
+  for (std::size_t i = 0; i < from.size(); ++i)
+    if (model_.reads_approach(i)) reach += 0.5 * model_.reversal_size()[i] * std::abs(to[i] - from[i]);
+  return reach;
+}
+
+double Compensator::take_up_stray(const ChainQ& start, const ChainQ& q, const std::array<double, 9>& solved_for,
+                                  unsigned& axes) {
   // Terms linear in the approach switch linearly while an axis travels its play, so the
   // tool's course bends only where a play runs out, where an axis without lost motion
-  // switches (as it starts), and at the step's end: the tool is checked there.
+  // switches (as it starts), and at the step's end: the tool is checked there, where what
+  // can show there is worth it (half the warning's share of the tolerance).
+  const double worth = 0.125 * options_.tolerance;
   struct Bend {
     double t;
     unsigned axes;  ///< whose switch it shows
@@ -371,6 +392,7 @@ double Compensator::take_up_stray(const ChainQ& start, const ChainQ& q, unsigned
   std::array<Bend, 11> bends{};
   std::size_t n = 0;
   unsigned at_once = 0, switching = 0;
+  std::array<double, 9> started = play_;  // an instant after the step starts
   const ChainQ delta = q - commanded_;
   for (std::size_t i = 0; i < play_.size(); ++i) {
     const auto k = static_cast<Eigen::Index>(i);
@@ -380,14 +402,19 @@ double Compensator::take_up_stray(const ChainQ& start, const ChainQ& q, unsigned
     if (play_[i] == travel) continue;  // settled: its terms do not switch here
     switching |= 1U << i;
     if (w <= 0) {
-      at_once |= 1U << i;
-    } else if (const double t = (travel - play_[i]) * w / (2.0 * delta[k]); t < 1.0) {
-      bends[n++] = {t, 1U << i};  // where its play runs out
+      at_once |= 1U << i, started[i] = travel;
+    } else if (const double t = (travel - play_[i]) * w / (2.0 * delta[k]); reach_after(delta, t) > worth) {
+      bends[n++] = {t, 1U << i};  // where its play runs out, the carriage moving on from there
     }
   }
   if (switching == 0) return 0.0;
-  if (at_once != 0) bends[n++] = {0.0, at_once};
-  bends[n++] = {1.0, switching};
+  if (at_once != 0 && switch_reach(play_, started) > worth) bends[n++] = {0.0, at_once};
+  // At the end the tool is at q's solution, unless the play ends off what it was solved for.
+  model::Conditions end = options_.conditions;
+  end.directions = play_;
+  model::take_up_play(model_, end, commanded_, q);
+  if (switch_reach(end.directions, solved_for) > worth) bends[n++] = {1.0, switching};
+  if (n == 0) return 0.0;
   double stray = 0.0;
   const Eigen::Vector3d corner = nominal_tip(start);
   for (std::size_t b = 0; b < n; ++b) {
@@ -396,7 +423,7 @@ double Compensator::take_up_stray(const ChainQ& start, const ChainQ& q, unsigned
     const ChainQ where = commanded_ + bends[b].t * delta;
     model::take_up_play(model_, at, commanded_, where);
     for (std::size_t i = 0; i < play_.size(); ++i)  // switched the instant they start
-      if (at_once >> i & 1U) at.directions[i] = delta[static_cast<Eigen::Index>(i)] > 0 ? 1.0 : -1.0;
+      if (at_once >> i & 1U) at.directions[i] = started[i];
     model::forward(model_, check_, where, at, false, model::Evaluate::actual);
     const double d = (check_.actual - corner).norm();
     stray = std::max(stray, d);

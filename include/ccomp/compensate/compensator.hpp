@@ -151,8 +151,12 @@ class Compensator {
   /// (terms that switch with it act along it), where an axis without lost motion switches
   /// its terms the instant it starts back, or where the step ends off the play its point
   /// was solved for, the switch shows. `axes` gets the axes whose switch shows by more than
-  /// a quarter of the tolerance.
-  [[nodiscard]] double take_up_stray(const model::ChainQ& start, const model::ChainQ& q, unsigned& axes);
+  /// a quarter of the tolerance. `solved_for`: the approach q was solved for.
+  [[nodiscard]] double take_up_stray(const model::ChainQ& start, const model::ChainQ& q,
+                                     const std::array<double, 9>& solved_for, unsigned& axes);
+  /// About how far the tool moves as the approaches go from `from` to `to`: each axis'
+  /// switch (reversal_size()) times the share of it.
+  [[nodiscard]] double switch_reach(const std::array<double, 9>& from, const std::array<double, 9>& to) const;
   /// How far the tool, where a move the compensator did not plan left the machine, is from
   /// the start of a move (nominal `start`, compensated `a`); 0 after a planned one.
   [[nodiscard]] double start_error(const model::ChainQ& start, const model::ChainQ& a);
