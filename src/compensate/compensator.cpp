@@ -321,13 +321,14 @@ void Compensator::take_up(const ChainQ& start, const ChainQ& a, std::vector<Comp
   auto& need = options_.conditions.directions;
   const std::array<double, 9> target = need;
   // How far the tool leaves the corner on the way, and whose switch it shows. After a move
-  // not planned here the machine starts off the corner anyway: no measure of the take-up.
+  // not planned here the machine starts off the corner anyway: what shows is counted, but
+  // not as a reversal's.
   const bool planned = !uncompensated_;
   double stray = 0.0;
   unsigned strayed = 0;
   auto go = [&](const ChainQ& q) {
     if ((q - commanded_).cwiseAbs().maxCoeff() <= 1e-9) return;  // a zero move takes nothing up
-    if (planned) stray = std::max(stray, take_up_stray(start, q, need, strayed));
+    stray = std::max(stray, take_up_stray(start, q, need, strayed));
     out.push_back({0.0, q, true});
     command(q);
   };
@@ -350,7 +351,7 @@ void Compensator::take_up(const ChainQ& start, const ChainQ& a, std::vector<Comp
   go(a);
   if (strayed != 0) {
     // The error switched faster than the take-up could follow: part of the turn shows.
-    report.unhidden_reversals |= strayed;
+    if (planned) report.unhidden_reversals |= strayed;
     report.max_deviation_after = std::max(report.max_deviation_after, stray);
   }
   if (const unsigned short_of = unhidden(target); short_of != 0) {
