@@ -56,7 +56,7 @@ Eigen::Vector3d ReferenceHmc::deviation(double x, double y, double z, double b_d
   Vec3 shift = Vec3::Zero();
   for (int i = 0; i < 3; ++i)
     shift[i] = 0.5 * reversal[static_cast<std::size_t>(i)] * state.approach[static_cast<std::size_t>(i)];
-  shift.z() += spindle_growth * (state.spindle_T - 20.0);
+  shift.z() += spindle_growth * (state.spindle_T - 20.0) + 0.5 * x_rides * state.approach[0];
   return nominal_turn * (actual - nominal) + shift;
 }
 
@@ -64,10 +64,11 @@ Eigen::Vector3d ReferenceHmc::nominal_table_point(double x, double y, double z, 
   return nominal_table_turn(b_deg * std::numbers::pi / 180.0).transpose() * Vec3(x, y, z + b_centre - L);
 }
 
-Eigen::Vector3d ReferenceHmc::actual_table_point(double x, double y, double z, double b_deg, double L) const {
+Eigen::Vector3d ReferenceHmc::actual_table_point(double x, double y, double z, double b_deg, double L,
+                                                 const State& state) const {
   // deviation() is the actual point less the nominal one, turned into machine directions.
   return nominal_table_point(x, y, z, b_deg, L) +
-         nominal_table_turn(b_deg * std::numbers::pi / 180.0).transpose() * deviation(x, y, z, b_deg, L);
+         nominal_table_turn(b_deg * std::numbers::pi / 180.0).transpose() * deviation(x, y, z, b_deg, L, state);
 }
 
 Eigen::Vector3d ReferenceHmc::axes_for_table_point(const Eigen::Vector3d& s, double b_deg, double L) const {

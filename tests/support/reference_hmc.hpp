@@ -47,6 +47,9 @@ struct ReferenceHmc {
   /// Reversal of X, Y, Z's positioning (mm), as ISO 230-2 gives it: the upward error less
   /// the downward one. The tool is off along the axis by half of it times the approach.
   std::array<double, 3> reversal{};
+  /// X's carriage rides on one flank of its guide or the other: the tool is off along Z by
+  /// half of this (mm) times X's approach.
+  double x_rides = 0.0;
   /// The spindle grows along Z with the temperature its sensor reads: mm per degC above 20.
   double spindle_growth = 0.0;
   double b_centre = 400.0;  ///< mm from the spindle nose to the B centre along Z
@@ -59,7 +62,8 @@ struct ReferenceHmc {
                                           const State& state = ReferenceState{}) const;
   /// Where the tool tip really is on the table (table frame, mm), and where the perfect
   /// machine would put it.
-  [[nodiscard]] Eigen::Vector3d actual_table_point(double x, double y, double z, double b_deg, double L) const;
+  [[nodiscard]] Eigen::Vector3d actual_table_point(double x, double y, double z, double b_deg, double L,
+                                                   const State& state = ReferenceState{}) const;
   [[nodiscard]] Eigen::Vector3d nominal_table_point(double x, double y, double z, double b_deg, double L) const;
   /// The chain values x, y, z that put the perfect machine's tool tip at the table point
   /// `s` (table frame, mm) at angle b with tool length L.
