@@ -363,11 +363,11 @@ void Compensator::take_up(const ChainQ& start, const ChainQ& a, std::vector<Comp
 
 namespace {
 /// About how far the axes' travel from fraction t of a step to its end moves the tool (a
-/// rotary axis' seen 500 mm out, as ForwardModel::reversal_size() sees an angular switch).
+/// rotary axis' seen model::kSwitchLever out, as reversal_size() sees an angular switch).
 double reach_after(const ChainQ& delta, double t) {
   double reach = 0.0;
   for (std::size_t i = 0; i < model::kToolLengthIndex; ++i)
-    reach += std::abs(delta[static_cast<Eigen::Index>(i)]) * (i >= 3 && i <= 5 ? 500.0 : 1.0);
+    reach += std::abs(delta[static_cast<Eigen::Index>(i)]) * (i >= 3 && i <= 5 ? model::kSwitchLever : 1.0);
   return (1.0 - t) * reach;
 }
 }  // namespace

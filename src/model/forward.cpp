@@ -145,9 +145,6 @@ double switch_of(const ErrorTermSpec& t) {
   return up.value - down.value;
 }
 
-/// The lever an angular switch is seen through in reversal_size().
-constexpr double kSwitchLever = 500.0;  // mm
-
 /// An axis' lost motion is its own positioning reversal: a term on the axis' link, along
 /// (or about) the axis' direction, switched by that axis' approach.
 Reversals reversals_of(const std::vector<ErrorTermSpec>& terms, const std::vector<ForwardModel::Site>& sites,

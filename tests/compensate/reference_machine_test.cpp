@@ -74,26 +74,60 @@ Chain chain(const RecordedMotion& m) {
   return {q[0], q[1], q[2], q[4] * 180.0 / std::numbers::pi, q[model::kToolLengthIndex]};
 }
 
+/// A program compensated at 1 um, and both run through the interpreter with tool 1.
+struct Runs {
+  std::string output;
+  RunResult original, compensated;
+};
+Runs compensate_and_run(const std::string& program, const model::MachineModel& mm) {
+  Runs r;
+  r.output = compensate(program, mm, 0.001);
+  gcode::InterpreterOptions with_tool;
+  with_tool.tools.tools[1] = kTool1;
+  r.original = run_program(program, with_tool);
+  r.compensated = run_program(r.output, with_tool);
+  return r;
+}
+
+/// Its chain values where it starts.
+Chain chain_at_start(const RecordedMotion& m) {
+  RecordedMotion start = m;
+  start.motion.end = m.motion.start;
+  return chain(start);
+}
+
+/// The path the program's feed moves mean, on the table.
+std::vector<Segment> nominal_path(const ReferenceHmc& machine, const std::vector<RecordedMotion>& motions) {
+  std::vector<Segment> path;
+  for (const RecordedMotion& m : motions) {
+    if (m.motion.kind != gcode::MotionKind::feed) continue;
+    const Chain a = chain_at_start(m), b = chain(m);
+    path.push_back(
+        {machine.nominal_table_point(a.x, a.y, a.z, a.b, a.L), machine.nominal_table_point(b.x, b.y, b.z, b.b, b.L)});
+  }
+  return path;
+}
+
+double distance_to(const Eigen::Vector3d& p, const std::vector<Segment>& path) {
+  double nearest = std::numeric_limits<double>::infinity();
+  for (const Segment& s : path) nearest = std::min(nearest, distance(p, s));
+  return nearest;
+}
+
 TEST(ReferenceMachine, ACompensatedContourLandsOnThePathAtEveryTableAngle) {
   const ReferenceHmc machine = reference();
   const model::MachineModel mm = model::parse_machine_model(std::string(kHmcChain) + kModelTerms, "m.yaml");
   const std::string program = contour_program();
-  const std::string output = compensate(program, mm, 0.001);
-  gcode::InterpreterOptions with_tool;
-  with_tool.tools.tools[1] = kTool1;
-  const RunResult original = run_program(program, with_tool), compensated = run_program(output, with_tool);
+  const Runs runs = compensate_and_run(program, mm);
+  const RunResult &original = runs.original, &compensated = runs.compensated;
   ASSERT_FALSE(original.error.has_value()) << original.error->message();
-  ASSERT_FALSE(compensated.error.has_value()) << output;
+  ASSERT_FALSE(compensated.error.has_value()) << runs.output;
   // The path the program means, on the table, and what the machine as it is cuts.
-  std::vector<Segment> path;
+  const std::vector<Segment> path = nominal_path(machine, original.motions);
   double before = 0.0;
   for (const RecordedMotion& m : original.motions) {
     if (m.motion.kind != gcode::MotionKind::feed) continue;
-    RecordedMotion start = m;
-    start.motion.end = m.motion.start;
-    const Chain a = chain(start), b = chain(m);
-    path.push_back(
-        {machine.nominal_table_point(a.x, a.y, a.z, a.b, a.L), machine.nominal_table_point(b.x, b.y, b.z, b.b, b.L)});
+    const Chain b = chain(m);
     before = std::max(before, machine.deviation(b.x, b.y, b.z, b.b, b.L).norm());
   }
   ASSERT_EQ(path.size(), 16U);
@@ -104,10 +138,7 @@ TEST(ReferenceMachine, ACompensatedContourLandsOnThePathAtEveryTableAngle) {
   for (const RecordedMotion& m : compensated.motions) {
     if (m.motion.kind != gcode::MotionKind::feed) continue;
     const Chain c = chain(m);
-    const Eigen::Vector3d cut = machine.actual_table_point(c.x, c.y, c.z, c.b, c.L);
-    double nearest = std::numeric_limits<double>::infinity();
-    for (const Segment& s : path) nearest = std::min(nearest, distance(cut, s));
-    after = std::max(after, nearest);
+    after = std::max(after, distance_to(machine.actual_table_point(c.x, c.y, c.z, c.b, c.L), path));
     ++points;
   }
   EXPECT_GE(points, 16);
@@ -135,34 +166,25 @@ TEST(ReferenceMachine, ACutIsCompensatedForTheWayItsAxisTravels) {
     program += "G0 Z-350\n";
   }
   program += "M30\n";
-  const std::string output = compensate(program, mm, 0.001);
-  gcode::InterpreterOptions with_tool;
-  with_tool.tools.tools[1] = kTool1;
-  const RunResult original = run_program(program, with_tool), compensated = run_program(output, with_tool);
+  const Runs runs = compensate_and_run(program, mm);
+  const RunResult &original = runs.original, &compensated = runs.compensated;
   ASSERT_FALSE(original.error.has_value()) << original.error->message();
-  ASSERT_FALSE(compensated.error.has_value()) << output;
+  ASSERT_FALSE(compensated.error.has_value()) << runs.output;
   // Where the reference puts the tool at the end of a cut along X, approaching as it travels.
   auto cut_end = [&machine](const RecordedMotion& m, Eigen::Vector3d& nominal) {
-    RecordedMotion start = m;
-    start.motion.end = m.motion.start;
-    const Chain a = chain(start), c = chain(m);
+    const Chain a = chain_at_start(m), c = chain(m);
     ReferenceHmc::State state;
     state.approach[0] = c.x > a.x ? 1.0 : -1.0;
     nominal = machine.nominal_table_point(c.x, c.y, c.z, c.b, c.L);
     const Eigen::Vector3d seen = machine.actual_table_point(c.x, c.y, c.z, c.b, c.L, state);
     return std::abs(c.x - a.x) > 1.0 ? std::optional(seen) : std::nullopt;
   };
-  std::vector<Segment> path;
+  const std::vector<Segment> path = nominal_path(machine, original.motions);
   double before = 0.0;
   for (const RecordedMotion& m : original.motions) {
-    if (m.motion.kind != gcode::MotionKind::feed) continue;
-    RecordedMotion start = m;
-    start.motion.end = m.motion.start;
-    const Chain a = chain(start), b = chain(m);
-    path.push_back(
-        {machine.nominal_table_point(a.x, a.y, a.z, a.b, a.L), machine.nominal_table_point(b.x, b.y, b.z, b.b, b.L)});
     Eigen::Vector3d nominal;
-    if (const auto seen = cut_end(m, nominal)) before = std::max(before, (*seen - nominal).norm());
+    const auto seen = m.motion.kind == gcode::MotionKind::feed ? cut_end(m, nominal) : std::nullopt;
+    if (seen) before = std::max(before, (*seen - nominal).norm());
   }
   EXPECT_GT(before, 0.003) << "the machine as it is misses the path by the ride and more";
   double after = 0.0;
@@ -171,9 +193,7 @@ TEST(ReferenceMachine, ACutIsCompensatedForTheWayItsAxisTravels) {
     Eigen::Vector3d nominal;
     const auto seen = m.motion.kind == gcode::MotionKind::feed ? cut_end(m, nominal) : std::nullopt;
     if (!seen) continue;
-    double nearest = std::numeric_limits<double>::infinity();
-    for (const Segment& s : path) nearest = std::min(nearest, distance(*seen, s));
-    after = std::max(after, nearest);
+    after = std::max(after, distance_to(*seen, path));
     ++cuts;
   }
   EXPECT_EQ(cuts, 8);

@@ -30,6 +30,10 @@ struct Conditions {
   std::array<double, 9> directions{};
 };
 
+/// mm: the lever through which the compensation's estimates see an angle (an angular
+/// switch in reversal_size(), a rotary axis' travel): a tool point that far from the axis.
+inline constexpr double kSwitchLever = 500.0;
+
 class ForwardModel {
  public:
   explicit ForwardModel(const MachineModel& model);
@@ -58,7 +62,7 @@ class ForwardModel {
   [[nodiscard]] const std::array<double, 9>& lost_motion() const { return lost_motion_; }
   /// The sum of the sizes of the terms switched by axis i's approach (a reversal's size,
   /// another form's value at +1 less its value at -1; all are linear in the approach), in
-  /// mm at the tool: an angular one seen 500 mm out. About what a turn of the axis changes.
+  /// mm at the tool: an angular one seen kSwitchLever out. About what a turn of the axis changes.
   [[nodiscard]] const std::array<double, 9>& reversal_size() const { return reversal_size_; }
   /// Whether any term reads axis i's approach state (a reversal's, or any form given it as
   /// a variable): where none does, the axis may turn round without changing the error.
