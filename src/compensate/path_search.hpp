@@ -210,7 +210,7 @@ class PathSearch {
     const std::size_t to = path_.available(cursor_ + kAhead);
     if (from >= to) return std::nullopt;
     const double best = gather_near(p, from, to);
-    move_cursor();
+    move_cursor(p);
     // A piece is cut once a point near it is past its start (a point where one piece ends
     // and the next begins has cut only the first), and the search has come to it (a closed
     // contour's last piece ends where its first begins).
@@ -320,18 +320,38 @@ class PathSearch {
     return best;
   }
 
-  /// The cursor goes to the near piece closest to it, and on along those that follow it: a
-  /// path that runs twice over the same place (a spring pass) must not pull it ahead, and
-  /// one that turns back over itself must not hold it.
-  void move_cursor() {
-    std::size_t at = 0;  // in near_, which is in program order
-    auto gap = static_cast<std::size_t>(-1);
-    for (std::size_t c = 0; c < near_.size(); ++c) {
-      const std::size_t i = near_[c].first, apart = i > cursor_ ? i - cursor_ : cursor_ - i;
-      if (apart < gap) gap = apart, at = c;
+  /// The cursor goes to the first near piece ahead of it that the point can have come to
+  /// without passing over a cut (the programs run in the same order: a path that turns back
+  /// over itself, as a table turning back with the tool moving on does, leaves the point near
+  /// the pieces out and the pieces back); where none is, to the near piece closest to it (a
+  /// path that runs twice over the same place, a spring pass, must not pull it ahead). Then
+  /// on along the near pieces that follow.
+  void move_cursor(const Eigen::Vector3d& p) {
+    std::size_t at = near_.size();  // in near_, which is in program order
+    const double reach = passable(p);
+    double passed = 0.0;
+    std::size_t k = cursor_ + 1;
+    for (std::size_t c = 0; c < near_.size() && at == near_.size(); ++c) {
+      const std::size_t i = near_[c].first;
+      if (i < cursor_) continue;
+      for (; k < i && passed <= reach; ++k) passed += window()[k].cycle ? 0.0 : window()[k].length();
+      if (passed > reach) break;
+      at = c;
+    }
+    if (at == near_.size()) {
+      auto gap = static_cast<std::size_t>(-1);
+      for (std::size_t c = 0; c < near_.size(); ++c) {
+        const std::size_t i = near_[c].first, apart = i > cursor_ ? i - cursor_ : cursor_ - i;
+        if (apart < gap) gap = apart, at = c;
+      }
     }
     while (at + 1 < near_.size() && near_[at + 1].first == near_[at].first + 1) ++at;
     cursor_ = near_[at].first;
+  }
+
+  /// mm: the length of cuts a point may pass over from the last (a rapid passes over none).
+  [[nodiscard]] double passable(const Eigen::Vector3d& p) const {
+    return (after_rapid_ ? 0.0 : 1.01 * (p - last_point_).norm()) + kUncutMm;
   }
 
   /// Pieces passed over between one point and the next must be no longer than the path
@@ -341,8 +361,7 @@ class PathSearch {
     if (reached > next_piece_) {
       double passed = 0.0;
       for (std::size_t i = next_piece_; i < reached; ++i) passed += window()[i].cycle ? 0.0 : window()[i].length();
-      const double path_length = after_rapid_ ? 0.0 : 1.01 * (p - last_point_).norm();
-      if (passed > path_length + kUncutMm) {
+      if (passed > passable(p)) {
         skipped_length_ += passed;
         for (std::size_t i = next_piece_; i < reached && skipped_line_ == 0; ++i)
           if (!window()[i].cycle) skipped_line_ = window()[i].line;

@@ -224,6 +224,22 @@ TEST(Verify, ACutMissingBetweenRapidsIsFound) {
   EXPECT_LT(e.max, 1e-9) << "what is cut is right";
 }
 
+TEST(Verify, ATableTurningBackWhileTheToolMovesOnIsCutToItsEnd) {
+  // B turns to 10 degrees, then back while X moves 10 mm: in the table frame the way back
+  // starts on the way out, 300 mm from B's axis. The output takes the way back in steps
+  // (as take-ups and splits write it), its first points as near the way out as the way back;
+  // the search follows the program's order, and nothing is uncut.
+  const std::string program = "G21 G90 G17 F500\nG0 X0 Y0 Z-100 B0\nG1 B10\nG1 X10 B0\nM2\n";
+  const std::string stepped =
+      "G21 G90 G17 F500\nG0 X0 Y0 Z-100 B0\nG1 B10\nG1 X0.01 B9.99\nG1 X0.05 B9.95\nG1 X10 B0\nM2\n";
+  const model::ForwardModel m(sample_machine("hmc-xyzb-geometric"));
+  for (const std::string& output : {program, stepped}) {
+    const compensate::PathError e = verify_text(program, output, m);
+    EXPECT_EQ(e.uncut_length, 0.0) << "from line " << e.uncut_line;
+    EXPECT_GT(e.points, 30U);
+  }
+}
+
 TEST(Verify, ACannedCyclesPecksNeedNotMeetTheOriginalsPieceForPiece) {
   // The corpus' Haas sample (github.com/dillonhuff/gpr), its first two tools: a G83 whose
   // compensated R and Z move its pecks, so its first, 0.05 mm peck is not the output's.
