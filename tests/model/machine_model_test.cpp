@@ -138,7 +138,13 @@ INSTANTIATE_TEST_SUITE_P(Files, BadTerms,
                                                     "linear in it"},
                                            BadModel{"{name: EZX, variable: vx, form: cross_axis, other: y, "
                                                     "coefficients: [[1]]}",
-                                                    "variable is an axis"}),
+                                                    "variable is an axis"},
+                                           // An axis the machine has not, read or approached.
+                                           BadModel{"{name: EXX, variable: y, form: polynomial, "
+                                                    "coefficients: [0, 1]}",
+                                                    "no axis Y"},
+                                           BadModel{"{name: EXX, variable: vc, form: reversal, reversal: 1}",
+                                                    "no axis C"}),
                          [](const auto& test) { return "case" + std::to_string(test.index); });
 
 TEST(MachineModel, EveryShippedModelPassesTheSchema) {

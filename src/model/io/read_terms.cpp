@@ -129,6 +129,8 @@ Variable read_variable(const std::string& file, const YAML::Node& node, const st
              kAxisLetters.find(static_cast<char>(std::toupper(text[1]))) != std::string_view::npos) {
     v.kind = VariableKind::direction;
     v.index = kAxisLetters.find(static_cast<char>(std::toupper(text[1])));
+    if (!m.axis(kAxisLetters[v.index]))
+      bad(file, node, fmt::format("{}: the machine has no axis {} to approach", what, kAxisLetters[v.index]));
   } else if (text.size() == 1 &&
              kAxisLetters.find(static_cast<char>(std::toupper(text[0]))) != std::string_view::npos) {
     v.kind = VariableKind::axis;
