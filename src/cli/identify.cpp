@@ -177,7 +177,13 @@ int run_fit(const IdentifyArgs& args) {
   check_outputs(args);
   // Terms to add go into the model's text, so the fitted file carries them.
   std::string text = read_text(args.model);
-  if (!args.add.empty()) text = model::add_terms(text, args.add, args.model);
+  if (!args.add.empty()) {
+    // Each term is read on its own first, so a wrong one is shown at its place in its
+    // argument, not at a line of the joined text that no file has.
+    const model::MachineModel base = model::parse_machine_model(text, args.model);
+    for (const std::string& spec : args.add) (void)model::with_terms(base, {spec}, fmt::format("--add '{}'", spec));
+    text = model::add_terms(text, args.add, args.model);
+  }
   const model::MachineModel m = model::parse_machine_model(text, args.model);
   const model::ForwardModel forward(m);
   const identify::MeasurementSet data = read_all(args, m);

@@ -2,7 +2,9 @@
 // them, fit it, check again; and the exit code of a bad measurement file.
 #include <gtest/gtest.h>
 
+#include <filesystem>
 #include <regex>
+#include <utility>
 
 #include "trace_capture.hpp"
 
@@ -87,6 +89,21 @@ TEST(IdentifyCli, AFitBeyondWhatAMachineCanHaveIsNotWritten) {
   EXPECT_NE(r.err.find("is not written"), std::string::npos) << r.err;
   EXPECT_NE(r.err.find("EXX.a0"), std::string::npos) << r.err;
   EXPECT_EQ(read_file(dir + "/out.yaml"), "kept\n");
+}
+
+TEST(IdentifyCli, AWrongTermToAddIsShownAtItsPlaceInItsArgument) {
+  // Not at a line of the model file with the term joined to it, which no file has.
+  const std::string dir = temp_dir("identify_cli_add");
+  const std::string fitted = dir + "/fitted.yaml";
+  const std::string meas = shell_quote(source_dir() + "/samples/measurements/hmc-laser-grid-sphere.csv");
+  for (const auto& [spec, place] : {std::pair{"{name: EXX, vlaue: 1}", ":1:13: "},
+                                    std::pair{"{name: EXX, variable: vc, form: reversal, reversal: 1}", ":1:23: "}}) {
+    const CommandResult r = run_command(ccomp() + " fit " + meas + " -m " + sample("hmc-xyzb-geometric.yaml") +
+                                        " --add '" + spec + "' -o " + shell_quote(fitted));
+    EXPECT_EQ(r.exit_code, 5) << r.err;
+    EXPECT_EQ(r.err.rfind(std::string("--add '") + spec + "'" + place, 0), 0U) << r.err;
+    EXPECT_FALSE(std::filesystem::exists(fitted));
+  }
 }
 
 TEST(IdentifyCli, AHeaderWithoutRowsOrTooFewRowsExitWithTheirCode) {
