@@ -260,7 +260,8 @@ std::string CannedCycles::expanded_line(const gcode::Motion& m, const PendingCyc
   const std::size_t bare = text.size();
   for (std::size_t i = 0; i < gcode::kAxisCount; ++i)
     if (model_.axis(gcode::kAxisLetters[i]))
-      if (const auto word = stages_.rewriter.axis_word(i, p[i], last[i], false, false, {}, inch))
+      if (const auto word =
+              stages_.rewriter.axis_word(i, p[i], last[i], false, false, {}, inch, turn_word(point, c.offsets, i, unit)))
         text += std::string(" ") + gcode::kAxisLetters[i] + *word;
   return text.size() > bare ? text : std::string();
 }

@@ -2,6 +2,8 @@
 
 #include <fmt/format.h>
 
+#include <utility>
+
 #include "ccomp/error.hpp"
 
 namespace ccomp::compensate {
@@ -110,8 +112,10 @@ void Compensator::rapid(const ChainQ& end, std::vector<CompensatedPoint>& out, M
     ChainQ back = commanded_;
     back[k] = point(end, report)[k];
     need[i] = target[i];
-    for (const ChainQ& step : {back, q}) {
-      out.push_back({1.0, step, true});
+    for (const auto& [step, way] : {std::pair{back, -target[i]}, std::pair{q, target[i]}}) {
+      CompensatedPoint& point = out.emplace_back(CompensatedPoint{1.0, step, true});
+      point.turns[i] = static_cast<std::int8_t>(way);
+      set_travel_slack(i, point);
       command(step);
     }
   }
@@ -326,10 +330,14 @@ void Compensator::take_up(const ChainQ& start, const ChainQ& a, std::vector<Comp
   const bool planned = !uncompensated_;
   double stray = 0.0;
   unsigned strayed = 0;
-  auto go = [&](const ChainQ& q) {
+  auto go = [&](const ChainQ& q, std::size_t turning, double way) {
     if ((q - commanded_).cwiseAbs().maxCoeff() <= 1e-9) return;  // a zero move takes nothing up
     stray = std::max(stray, take_up_stray(start, q, need, strayed));
-    out.push_back({0.0, q, true});
+    CompensatedPoint& step = out.emplace_back(CompensatedPoint{0.0, q, true});
+    if (turning < step.turns.size()) {
+      step.turns[turning] = static_cast<std::int8_t>(way);
+      set_travel_slack(turning, step);
+    }
     command(q);
   };
   std::vector<std::size_t> turning, re_approach;
@@ -343,12 +351,12 @@ void Compensator::take_up(const ChainQ& start, const ChainQ& a, std::vector<Comp
   }
   auto switch_to = [&](std::size_t i, double direction) {
     need[i] = direction;
-    go(point(start, report));
+    go(point(start, report), i, direction);
   };
   for (std::size_t i : re_approach) switch_to(i, -target[i]);
   for (std::size_t i : turning) switch_to(i, target[i]);
   for (std::size_t i : re_approach) switch_to(i, target[i]);
-  go(a);
+  go(a, need.size(), 0.0);
   if (strayed != 0) {
     // The error switched faster than the take-up could follow: part of the turn shows.
     if (planned) report.unhidden_reversals |= strayed;
@@ -359,6 +367,15 @@ void Compensator::take_up(const ChainQ& start, const ChainQ& a, std::vector<Comp
     // What is left shows where the move starts, the play still short of its target.
     report.max_deviation_after = std::max(report.max_deviation_after, deviation_at_play(start, a));
   }
+}
+
+void Compensator::set_travel_slack(std::size_t axis, CompensatedPoint& point) const {
+  // Its terms switch at reversal_size() over lost_motion() of travel: a travel off by the
+  // slack moves the tool by an eighth of the tolerance, half what a warning takes.
+  const double lost = model_.lost_motion()[axis], size = model_.reversal_size()[axis];
+  if (lost <= 0.0 || size <= 0.0) return;
+  point.slack_stray = 0.125 * options_.tolerance;
+  point.travel_slack = point.slack_stray * lost / size;
 }
 
 namespace {

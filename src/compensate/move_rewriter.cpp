@@ -3,8 +3,10 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <cmath>
 #include <span>
 
+#include "ccomp/constants.hpp"
 #include "ccomp/error.hpp"
 #include "ccomp/model/chain_values.hpp"
 #include "number_style.hpp"
@@ -22,7 +24,18 @@ std::uint32_t insertion_point(const gcode::Block& b) {
   return after_axes > 0 ? after_axes : insert_at;
 }
 
+/// The unit of the last digit written.
+double quantum(const NumberStyle& style) {
+  return std::pow(10.0, -style.decimals);
+}
+
 }  // namespace
+
+TurnWord turn_word(const CompensatedPoint& point, const gcode::Offsets& offsets, std::size_t i, double unit) {
+  // A program axis is the machine's own where no rotation about Z mixes X with Y.
+  if (i >= point.turns.size() || point.turns[i] == 0 || (offsets.rotation != 0.0 && i < 2)) return {};
+  return {point.turns[i], point.travel_slack / (gcode::is_rotary(i) ? kRadPerDeg : unit), point.slack_stray};
+}
 
 /// One point of a move as it is written: on the block's own line (its words edited) or on a
 /// line added after it.
@@ -40,12 +53,18 @@ MoveRewriter::MoveRewriter(gcode::ProgramWriter& writer, const model::MachineMod
 }
 
 std::optional<std::string> MoveRewriter::axis_word(std::size_t i, double p, double last, bool incremental, bool named,
-                                                   std::string_view styled, bool inch) {
+                                                   std::string_view styled, bool inch, const TurnWord& turn) {
   gcode::Axes& rounding = position_.rounding;
   const bool rotary = gcode::is_rotary(i);
   const double value = incremental ? p - last - rounding[i] : p;
-  const NumberStyle style = style_of(styled, inch && !rotary, rotary, decimals_.for_axis(rotary));
-  if (!named) {
+  NumberStyle style = style_of(styled, inch && !rotary, rotary, decimals_.for_axis(rotary));
+  // (A take-up that sends the axis against its turn, as one of a reversal that leads the
+  // command can, is written as any move.)
+  const bool turning = turn.way != 0 && turn.way * (p - last) > -1e-9;
+  if (turning && decimals_.for_axis(rotary) < 0)
+    for (const int most = style.decimals + 2; style.decimals < most && 1.5 * quantum(style) > turn.slack;)
+      ++style.decimals;
+  if (!named && !turning) {
     const double unmoved = incremental ? 0.0 : last + rounding[i];
     if (written_alike(value, unmoved, style)) {
       rounding[i] += last - p;
@@ -53,6 +72,23 @@ std::optional<std::string> MoveRewriter::axis_word(std::size_t i, double p, doub
     }
   }
   WrittenValue written = format_value(value, style);
+  if (turning) {
+    // The travel as written, from where the written digits left the machine, one unit of the
+    // last digit further at a time until it is no shorter than planned (the digits before
+    // may have left it up to one and a half units behind), and at least one unit its way.
+    const double unit = quantum(style), way = turn.way > 0 ? 1.0 : -1.0;
+    const double planned = way * std::max(way * (p - last), 0.0), from = incremental ? 0.0 : last + rounding[i];
+    auto travel = [&] { return written.value - from; };
+    written = format_value(from + planned, style);
+    for (int k = 0; k < 3 && way * (travel() - planned) < -1e-6 * unit; ++k)
+      written = format_value(written.value + way * unit, style);
+    if (way * travel() < 0.5 * unit) written = format_value(written.value + way * unit, style);
+    // What the travel past the plan leaves, the terms switching over less of it than the
+    // axis goes: counted in what the job says is left.
+    if (std::isfinite(turn.slack))
+      report_.max_error_after =
+          std::max(report_.max_error_after, turn.slack_stray * std::abs(travel() - planned) / turn.slack);
+  }
   rounding[i] = incremental ? rounding[i] + written.value - (p - last) : written.value - p;
   return std::move(written.text);
 }
@@ -68,8 +104,9 @@ void MoveRewriter::point_words(const gcode::Motion& m, const gcode::Block& b, co
     const char letter = gcode::kAxisLetters[i];
     const gcode::Word* own = b.find(letter);
     const gcode::Word* word = line.own ? own : nullptr;
-    const std::optional<std::string> text = axis_word(i, p[i], last[i], m.incremental, word != nullptr,
-                                                      own ? b.slice(own->value_span) : std::string_view(), inch);
+    const std::optional<std::string> text =
+        axis_word(i, p[i], last[i], m.incremental, word != nullptr, own ? b.slice(own->value_span) : std::string_view(),
+                  inch, turn_word(point, *m.offsets, i, unit));
     if (!text) continue;
     if (word)
       edits_.push_back(gcode::Edit{word->value_span, *text});

@@ -5,6 +5,7 @@
 // the written digits put the machine, so incremental words count from there.
 #include <array>
 #include <cstdint>
+#include <limits>
 #include <optional>
 #include <span>
 #include <string>
@@ -28,6 +29,13 @@ struct DecimalsOption {
   [[nodiscard]] int for_axis(bool is_rotary) const { return is_rotary ? rotary : linear; }
 };
 
+/// How a take-up's turning axis is written (CompensatedPoint::turns, travel_slack).
+struct TurnWord {
+  int way = 0;  ///< +1, -1; 0: the axis does not turn
+  double slack = std::numeric_limits<double>::infinity();  ///< program units, degrees
+  double slack_stray = 0.0;                                 ///< mm
+};
+
 class MoveRewriter {
  public:
   /// `report` counts the lines and take-up moves written; `file` names the program in errors.
@@ -48,8 +56,11 @@ class MoveRewriter {
   /// block's own value for the axis, for its line and the lines a split adds). Counted from
   /// where the written digits put the machine (`last` plus the rounding): incremental
   /// distances carry their rounding instead of summing it over a split move's pieces.
+  /// In a take-up the axis turns in (`turn`), the written travel is no shorter than
+  /// p - last its way (rounded out), so the play is taken up whole, and written with up to
+  /// two more digits where the plan's slack needs them.
   [[nodiscard]] std::optional<std::string> axis_word(std::size_t i, double p, double last, bool incremental, bool named,
-                                                     std::string_view styled, bool inch);
+                                                     std::string_view styled, bool inch, const TurnWord& turn = {});
 
   [[nodiscard]] WrittenPosition& position() { return position_; }
   [[nodiscard]] const DecimalsOption& decimals() const { return decimals_; }
@@ -72,6 +83,12 @@ class MoveRewriter {
   std::vector<gcode::Edit> edits_;  ///< the move's line's edits, storage kept from move to move
   std::array<bool, gcode::kAxisCount> machine_axis_{};  ///< the machine has axis i
 };
+
+/// How axis i of a take-up point turns, in program units (`unit`: mm per program unit): no
+/// way where it does not turn, or where a rotation of the frame mixes the program's X and Y
+/// into the machine's (the word's rounding then says nothing of one machine axis).
+[[nodiscard]] TurnWord turn_word(const CompensatedPoint& point, const gcode::Offsets& offsets, std::size_t i,
+                                 double unit);
 
 /// An arc block becomes the first of its lines: G2/G3 turns into G1 (written in front when
 /// the arc was modal), the centre, radius and turns words go.

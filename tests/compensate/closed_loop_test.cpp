@@ -298,11 +298,12 @@ struct Backlash {
   std::vector<std::string> warnings;
   double before = 0.0, after = 0.0, before_rms = 0.0, after_rms = 0.0;
 };
-Backlash run_backlash(const std::string& terms, const std::string& program) {
+Backlash run_backlash(const std::string& terms, const std::string& program, int decimals = -1) {
   const model::MachineModel mm = model::parse_machine_model(std::string(kRandomChain) + terms, "backlash.yaml");
   const model::ForwardModel m(mm);
   Backlash r;
   compensate::JobOptions o;
+  o.decimals = decimals;
   o.sensors = {{"bed", 20.0}, {"spindle", 20.0}};
   o.warning = [&](const std::string& message, std::uint32_t) { r.warnings.push_back(message); };
   const std::string output = compensate(program, mm, o, &r.report);
@@ -386,6 +387,24 @@ TEST(ClosedLoop, ATakeUpThatCannotHoldTheToolStillIsReported) {
       "G21 G90 G94 G54\nT1 M6\nG43 H1\nF1200\nG0 X-100 Y0 Z-100 B0\nG1 X100 Y5\nG1 X-100 Y-5\nG1 X100 Y5\nM30\n");
   ASSERT_EQ(both.warnings.size(), 1U);
   EXPECT_NE(both.warnings.front().find("axis X's"), std::string::npos) << both.warnings.front();
+}
+
+TEST(ClosedLoop, APlayFinerThanTheDigitsIsTakenUpWhole) {
+  // X's play is 0.31 um, finer than the program's fourth decimal, and Y's straightness
+  // switches by 10 um over it: a take-up of X written 0.05 um short or long moves the tool
+  // 1.6 um off the corner. The take-up's X is written rounded out, with the digits its plan
+  // needs.
+  const std::string terms =
+      "  - {name: EXX, variable: vx, form: reversal, reversal: -0.31 um}\n"
+      "  - {name: EYX, variable: vx, form: reversal, reversal: 10 um}\n";
+  const Backlash r = run_backlash(terms, kZigZag);
+  EXPECT_GT(r.before, 0.004);
+  EXPECT_LE(r.after, 0.001 + 1e-4);
+  EXPECT_TRUE(r.warnings.empty()) << r.warnings.front();
+  // Held to four decimals the take-ups miss their plan: the job counts what that leaves.
+  const Backlash held = run_backlash(terms, kZigZag, 4);
+  EXPECT_GT(held.after, 0.0015);
+  EXPECT_GE(held.report.max_error_after, held.after) << "verify finds " << held.after;
 }
 
 TEST(ClosedLoop, AReversalThatLeadsIsReportedNotHidden) {

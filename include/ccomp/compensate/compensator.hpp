@@ -12,6 +12,8 @@
 // the play is taken up, and the move then starts with the error of the new direction
 // already corrected.
 #include <array>
+#include <cstdint>
+#include <limits>
 #include <cmath>
 #include <vector>
 
@@ -33,6 +35,15 @@ struct CompensatedPoint {
   double s = 1.0;
   model::ChainQ q;
   bool take_up = false;  ///< a take-up move at a reversal (takes no share of the move)
+  /// A take-up's: per axis, the way the axis turns to in it (+1, -1; 0: it does not turn).
+  /// The machine must travel at least what was planned, rounded as written, or the play is
+  /// left part-taken and the error terms of its approach with it.
+  std::array<std::int8_t, 9> turns{};
+  /// A take-up's, for the axis that turns in it: how far (mm, rad) its travel may miss the
+  /// plan before its terms, switching over the play as it travels, move the tool by
+  /// `slack_stray` (mm) from the corner; infinite where they switch at once.
+  double travel_slack = std::numeric_limits<double>::infinity();
+  double slack_stray = 0.0;
 };
 
 /// A point where the uncompensated machine's error is to be taken, with the approach it
@@ -145,6 +156,8 @@ class Compensator {
   [[nodiscard]] double deviation_at_play(const model::ChainQ& start, const model::ChainQ& a);
   /// Axes whose play is short of `target` by more than the tolerance can bear.
   [[nodiscard]] unsigned unhidden(const std::array<double, 9>& target) const;
+  /// The travel slack of a take-up step in which `axis` turns (CompensatedPoint).
+  void set_travel_slack(std::size_t axis, CompensatedPoint& point) const;
   /// How far the tool leaves the corner (nominal `start`) while a take-up travels from where
   /// the machine is to `q`: nothing while each turning axis stays in its play and the axes
   /// follow the terms switching with it; where an axis' carriage moves on after its play
