@@ -144,6 +144,7 @@ HoleWords solve_hole(Compensator& compensator, const PendingCycle& c, const gcod
         !compensator.approach_by_travel(from, chain_of(controlled_of_program(h.hole, c.offsets, unit), c.offsets))) {
       if (pass < 2) {  // settled: the points already solved are the ones written
         move.max_correction = std::max(move.max_correction, scratch.max_correction);
+        move.max_rotary_correction = std::max(move.max_rotary_correction, scratch.max_rotary_correction);
         move.max_orientation_error = std::max(move.max_orientation_error, scratch.max_orientation_error);
       }
       break;

@@ -29,6 +29,8 @@ ChainQ Compensator::point(const ChainQ& nominal, MoveReport& report) {
                                                r.iterations, r.position_residual.norm()));
   remember_tip(nominal, r.target);
   report.max_correction = std::max(report.max_correction, (r.q - nominal).head<3>().cwiseAbs().maxCoeff());
+  report.max_rotary_correction =
+      std::max(report.max_rotary_correction, (r.q - nominal).segment<3>(3).cwiseAbs().maxCoeff());
   report.max_orientation_error = std::max(report.max_orientation_error, r.orientation_error.norm());
   return r.q;
 }

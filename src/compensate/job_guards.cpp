@@ -73,6 +73,13 @@ void JobGuards::account(const MoveReport& move, gcode::Units units, std::uint32_
                             "the model right for this machine?",
                             move.max_correction, model_.max_correction),
                 SourceLocation{std::string(file_), line, 0}, text);
+  if (const double bound = model_.max_correction * model::kRotaryBoundPerMm; move.max_rotary_correction > bound)
+    throw Error(ErrorKind::safety,
+                fmt::format("a rotary axis' correction is {:.4g} deg, beyond the model's bound of {:.4g} deg "
+                            "(max_correction, {:g} mrad per mm): is the model right for this machine?",
+                            move.max_rotary_correction / kRadPerDeg, bound / kRadPerDeg,
+                            model::kRotaryBoundPerMm * 1e3),
+                SourceLocation{std::string(file_), line, 0}, text);
   report_.max_error_before = std::max(report_.max_error_before, move.max_deviation_before);
   report_.max_error_after = std::max(report_.max_error_after, move.max_deviation_after);
   report_.max_correction = std::max(report_.max_correction, move.max_correction);

@@ -39,7 +39,7 @@ Range axis_range(const MachineModel& machine, std::size_t index) {
   if (!axis) return {-kInf, kInf};
   const bool rotary = axis->type == AxisType::rotary;
   const double scale = rotary ? kTwoPi / 360.0 : 1.0;                                     // limits in deg, chain in rad
-  const double margin = rotary ? machine.max_correction * 1e-2 : machine.max_correction;  // rad: 10 mrad per mm
+  const double margin = rotary ? machine.max_correction * kRotaryBoundPerMm : machine.max_correction;
   return {axis->min * scale - margin, axis->max * scale + margin};
 }
 

@@ -103,6 +103,20 @@ TEST(ClosedLoop, Refusals) {
       "accepted a 0.8 mm correction");
   EXPECT_EQ(e.kind(), ErrorKind::safety);
   EXPECT_NE(e.message().find("beyond the model's bound"), std::string::npos) << e.message();
+  // A rotary axis' correction too: 10 mrad for each mm of the bound, 5 mrad here. B's own
+  // 6 mrad error is refused at the first move; 4 mrad is compensated.
+  for (const double rad : {6e-3, 4e-3}) {
+    const model::MachineModel tilted = model::with_terms(mm, {fmt::format("{{name: EBB, value: {}, unit: rad}}", rad)}, "t");
+    const std::string program = "G21 G90 F100\nG0 X0 Y0 Z-100 B0\nG1 X10 B20\nM30\n";
+    if (rad > 5e-3) {
+      const Error turned = test::error_of([&] { (void)compensate(program, tilted, 0.001); }, "accepted 6 mrad");
+      EXPECT_EQ(turned.kind(), ErrorKind::safety);
+      EXPECT_NE(turned.message().find("a rotary axis' correction is"), std::string::npos) << turned.message();
+      EXPECT_EQ(turned.where().line, 2U);
+    } else {
+      EXPECT_NO_THROW((void)compensate(program, tilted, 0.001));
+    }
+  }
 }
 
 TEST(ClosedLoop, AModalArcLineThatStartsWithItsCentreWords) {

@@ -58,6 +58,7 @@ struct MoveReport {
   double max_deviation_before = 0.0;   ///< mm: the uncompensated path's largest error
   double max_deviation_after = 0.0;    ///< mm: the compensated path's, at the checked points
   double max_correction = 0.0;         ///< mm: largest change of a linear axis
+  double max_rotary_correction = 0.0;  ///< rad: largest change of a rotary axis
   double max_orientation_error = 0.0;  ///< rad: what the machine cannot correct
   /// Bit i: axis i's reversal could not be taken up (it leads the command, the axis has no
   /// lost motion of its own and its terms switch at once, or they act along it: the tool

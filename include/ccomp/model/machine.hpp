@@ -74,6 +74,10 @@ struct ErrorTermSpec {
   std::string note;
 };
 
+/// rad per mm: a rotary axis' correction and limit margin as max_correction bounds them
+/// (10 mrad for each mm, a tool about 100 mm from the axis).
+inline constexpr double kRotaryBoundPerMm = 1e-2;
+
 struct MachineModel {
   std::string name;
   std::string description;
@@ -82,7 +86,7 @@ struct MachineModel {
   std::vector<LinkSpec> tool_chain;       ///< base W -> tool tip
   std::vector<std::string> sensors;       ///< temperature sensors, for T_<name> variables
   std::vector<ErrorTermSpec> terms;
-  double max_correction = 0.5;  ///< mm: larger corrections are refused
+  double max_correction = 0.5;  ///< mm: larger corrections are refused (a rotary axis': kRotaryBoundPerMm of it)
   std::string dialect = "linuxcnc";
   std::string path;    ///< where it was read from
   std::string sha256;  ///< of the file's bytes: names the model in compensated programs
