@@ -141,11 +141,16 @@ int run_verify(const CheckArgs& args) {
                 fmt::format("{} leaves {:.3f} mm of the original's cuts uncut, the first at this line of the original",
                             compensated.name(), e.uncut_length),
                 SourceLocation{original.name(), e.uncut_line, 0});
-  if (e.max > tolerance)
+  if (e.max > tolerance) {
+    // As many digits as show the difference ("1.0004 um is more than 1.00 um", not 1.00).
+    int digits = 2;
+    while (digits < 6 && fmt::format("{:.{}f}", e.max * 1000.0, digits) == fmt::format("{:.{}f}", tolerance * 1000.0, digits))
+      ++digits;
     throw Error(ErrorKind::safety,
-                fmt::format("the contour error left, {:.2f} um, is more than the tolerance of {:.2f} um (--tolerance)",
-                            e.max * 1000.0, tolerance * 1000.0),
+                fmt::format("the contour error left, {:.{}f} um, is more than the tolerance of {:.2f} um (--tolerance)",
+                            e.max * 1000.0, digits, tolerance * 1000.0),
                 SourceLocation{compensated.name(), e.worst_line, 0});
+  }
   return 0;
 }
 

@@ -24,9 +24,15 @@ ChainQ Compensator::point(const ChainQ& nominal, MoveReport& report) {
     return workspace_.last_solution;
   const InverseResult r = solve_inverse(model_, problem_, data_, nominal, options_.conditions, {}, nullptr, &workspace_,
                                         nominal == expected_ ? &expected_pose_ : nullptr);
-  if (!r.converged)
+  if (!r.converged) {
+    // An error beyond any machine's (a term in the wrong unit, say) is said as such.
+    if (const double error = error_at(nominal); !(error <= model_.machine().max_correction))
+      throw Error(ErrorKind::safety, fmt::format("the model's error here is {:.4g} mm, beyond its bound of {} mm "
+                                                 "(max_correction): is the model right for this machine?",
+                                                 error, model_.machine().max_correction));
     throw Error(ErrorKind::safety, fmt::format("the inverse did not converge in {} iterations (residual {:.3g} mm)",
                                                r.iterations, r.position_residual.norm()));
+  }
   remember_tip(nominal, r.target);
   report.max_correction = std::max(report.max_correction, (r.q - nominal).head<3>().cwiseAbs().maxCoeff());
   report.max_rotary_correction =

@@ -3,6 +3,8 @@
 #include <fmt/format.h>
 #include <gtest/gtest.h>
 
+#include <regex>
+
 #include <filesystem>
 
 #include "sample_models.hpp"
@@ -242,6 +244,23 @@ TEST(Cli, PredictAndVerifyProveTheSample) {
                                            "/out.ngc --tolerance 0.0001 -m " + model + tools);
   EXPECT_EQ(strict.exit_code, 7) << strict.err;
   EXPECT_NE(strict.err.find("more than the tolerance of 0.10 um"), std::string::npos) << strict.err;
+  // A tolerance just under what is left: the message shows the digits that differ.
+  const CommandResult exact = run_command(shell_quote(ccomp_binary()) + " verify " + program + " " + dir +
+                                          "/out.ngc --json -m " + model + tools);
+  const double left_um = std::stod(exact.out.substr(exact.out.find("\"max_um\": ") + 10));
+  const double tolerance_um = left_um - 0.0005;  // the same to two decimals
+  const CommandResult barely =
+      run_command(shell_quote(ccomp_binary()) + " verify " + program + " " + dir + "/out.ngc --tolerance " +
+                  fmt::format("{:.9f}", tolerance_um * 1e-3) + " -m " + model + tools);
+  ASSERT_EQ(barely.exit_code, 7) << barely.err;
+  std::smatch said;
+  ASSERT_TRUE(std::regex_search(barely.err, said,
+                                std::regex("the contour error left, ([0-9.]+) um, is more than the tolerance of "
+                                           "([0-9.]+) um")))
+      << barely.err;
+  EXPECT_EQ(fmt::format("{:.2f}", left_um), fmt::format("{:.2f}", tolerance_um)) << "the case is one of rounding";
+  EXPECT_NE(said[1].str(), said[2].str()) << barely.err;
+  EXPECT_NEAR(std::stod(said[1]), left_um, 1e-4) << barely.err;
   // ... and so is an output that stops short (a post-processor that wrote half a file).
   const std::string whole = read_file(dir + "/out.ngc");
   write_file(dir + "/half.ngc", whole.substr(0, whole.size() / 2));

@@ -103,6 +103,11 @@ TEST(ClosedLoop, Refusals) {
       "accepted a 0.8 mm correction");
   EXPECT_EQ(e.kind(), ErrorKind::safety);
   EXPECT_NE(e.message().find("beyond the model's bound"), std::string::npos) << e.message();
+  // An error no inverse can undo (a value in the wrong unit, far beyond any machine's) is
+  // said as such, not as a solve that did not converge.
+  const model::MachineModel absurd = model::with_terms(mm, {"{name: EXX, value: -1e300}"}, "t");
+  const Error huge = test::error_of([&] { (void)compensate("G21 G0 X10\nM30\n", absurd, 0.001); }, "accepted");
+  EXPECT_NE(huge.message().find("the model's error here is"), std::string::npos) << huge.message();
   // A rotary axis' correction too: 10 mrad for each mm of the bound, 5 mrad here. B's own
   // 6 mrad error is refused at the first move; 4 mrad is compensated.
   for (const double rad : {6e-3, 4e-3}) {

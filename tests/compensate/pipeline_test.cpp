@@ -3,6 +3,8 @@
 // error in program order whichever thread met it first.
 #include <gtest/gtest.h>
 
+#include <utility>
+
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -130,18 +132,23 @@ TEST(Pipeline, AnEarlierMovesRefusalComesBeforeALaterLinesError) {
 TEST(Pipeline, AnInverseThatCannotConvergeNamesItsBlock) {
   // X's positioning error cancels its travel beyond X = 0 (EXX = -x): no command reaches
   // X = 20, and the error names the block that asked for it, not where the reading was.
-  const model::MachineModel mm = model::parse_machine_model(
-      std::string(kHmcChain) + "terms:\n  - {name: EXX, form: polynomial, unit: um, coefficients: [0, -1000]}\n",
-      "cancelling.yaml");
+  // Where the error there is within max_correction, the solve is what failed; beyond it
+  // (20 mm here, against the default 0.5 mm), the model is.
+  const std::string terms = "terms:\n  - {name: EXX, form: polynomial, unit: um, coefficients: [0, -1000]}\n";
   std::string program = "G21 G90 G54\nT1 M6 G43 H1\nG0 X0 Y0 Z-100\nG1 X20 F500\n";
   for (int k = 0; k < 50; ++k) program += "G1 Y" + std::to_string(k) + "\n";
   program += "M30\n";
-  for (int threads : {1, 2}) {
-    const Error e = job_error(program, mm, threads);
-    EXPECT_EQ(e.kind(), ErrorKind::safety) << threads << " threads: " << e.message();
-    EXPECT_NE(e.message().find("did not converge"), std::string::npos) << e.message();
-    EXPECT_EQ(e.where().line, 4U) << threads << " threads: " << e.message();
-    EXPECT_EQ(e.source_line(), "G1 X20 F500");
+  for (const auto& [bound, says] : {std::pair{"max_correction: 100 mm\n", "did not converge"},
+                                    std::pair{"", "the model's error here is 20 mm, beyond its bound"}}) {
+    const model::MachineModel mm =
+        model::parse_machine_model(std::string(kHmcChain) + bound + terms, "cancelling.yaml");
+    for (int threads : {1, 2}) {
+      const Error e = job_error(program, mm, threads);
+      EXPECT_EQ(e.kind(), ErrorKind::safety) << threads << " threads: " << e.message();
+      EXPECT_NE(e.message().find(says), std::string::npos) << e.message();
+      EXPECT_EQ(e.where().line, 4U) << threads << " threads: " << e.message();
+      EXPECT_EQ(e.source_line(), "G1 X20 F500");
+    }
   }
 }
 
