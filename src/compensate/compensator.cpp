@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 
+#include <optional>
 #include <utility>
 
 #include "ccomp/error.hpp"
@@ -257,22 +258,129 @@ void Compensator::straight(const ChainQ& start, const ChainQ& end, std::vector<C
   // Uncompensated, each axis' play is what the nominal travel leaves: the error before is
   // taken with it once the points are solved (their nominal tips serve both).
   const std::array<double, 9> uncompensated = play_;
-  options_.conditions.directions = play_;
-  approach(start, end);
-  ChainQ a = point(start, report);
-  ChainQ b = point(end, report);
-  if (approach_by_travel(a, b)) {
-    a = point(start, report);
-    b = point(end, report);
-  }
-  lead_in(start, a, tolerance, out, report);
-  const std::size_t first = out.size();
-  // Where the control offsets the path, the move given is the tool centre's as the control
-  // settles it between its corners: pieces of it stay within them, so the control offsets
-  // each the same way, and no piece is one it refuses.
-  split(start, end, a, b, 0.0, 1.0, 0, tolerance, out, report);
+  stretch({start, end, tolerance}, 0.0, 1.0, kMostTurns, out, report);
   error_before(start, end, uncompensated, report);
-  for (std::size_t k = first; k < out.size(); ++k) command(out[k].q);
+}
+
+namespace {
+ChainQ along(const ChainQ& start, const ChainQ& end, double s) {
+  return s == 0.0 ? start : s == 1.0 ? end : ChainQ(start + s * (end - start));
+}
+/// The larger of two reports' figures of the solution (what point() and split() set).
+void take_solution(MoveReport& into, const MoveReport& from) {
+  into.max_deviation_after = std::max(into.max_deviation_after, from.max_deviation_after);
+  into.max_correction = std::max(into.max_correction, from.max_correction);
+  into.max_rotary_correction = std::max(into.max_rotary_correction, from.max_rotary_correction);
+  into.max_orientation_error = std::max(into.max_orientation_error, from.max_orientation_error);
+}
+}  // namespace
+
+void Compensator::stretch(const StraightMove& move, double s0, double s1, int turns_left,
+                          std::vector<CompensatedPoint>& out, MoveReport& report) {
+  const ChainQ from = along(move.start, move.end, s0), to = along(move.start, move.end, s1);
+  options_.conditions.directions = play_;
+  approach(from, to);
+  ChainQ a = point(from, report);
+  ChainQ b = point(to, report);
+  if (approach_by_travel(a, b)) {
+    a = point(from, report);
+    b = point(to, report);
+  }
+  if (offset_by_control_) {
+    // Where the control offsets the path, the move given is the tool centre's as the control
+    // settles it between its corners: pieces of it stay within them, so the control offsets
+    // each the same way, and no piece is one it refuses. No take-up can be written in it.
+    lead_in(from, a, move.tolerance, out, report);
+    const std::size_t first = out.size();
+    split(from, to, a, b, s0, s1, 0, move.tolerance, out, report);
+    for (std::size_t k = first; k < out.size(); ++k) command(out[k].q);
+    return;
+  }
+  MoveReport solved;
+  pieces_.clear();
+  split(from, to, a, b, s0, s1, 0, move.tolerance, pieces_, solved);
+  if (const std::optional<Turn> turn = correction_turn(s0, a)) {
+    if (turns_left > 0) {
+      // An axis whose correction turns round inside the move (a bow of straightness along
+      // it, B's harmonics) turns there: each side is a move of its own, the second starting
+      // with its take-up.
+      const double at = extremum(move, *turn, solved);
+      stretch(move, s0, at, turns_left - 1, out, report);
+      stretch(move, at, s1, turns_left - 1, out, report);
+      return;
+    }
+    // Past the turns a move is cut at, what the play leaves is said.
+    report.unhidden_reversals |= 1U << turn->axis;
+    solved.max_deviation_after = std::max(solved.max_deviation_after, turn->left);
+  }
+  take_solution(report, solved);
+  const std::size_t lead = out.size();
+  lead_in(from, a, move.tolerance, out, report);
+  for (std::size_t k = lead; k < out.size(); ++k) out[k].s = s0;  // (its take-ups take no share of the move)
+  for (const CompensatedPoint& piece : pieces_) {
+    out.push_back(piece);
+    command(piece.q);
+  }
+}
+
+std::optional<Compensator::Turn> Compensator::correction_turn(double s0, const ChainQ& a) const {
+  const auto& need = options_.conditions.directions;
+  for (std::size_t i = 0; i < need.size(); ++i) {
+    if (!model_.reads_approach(i)) continue;
+    const auto k = static_cast<Eigen::Index>(i);
+    // The pieces' travel of axis i, significant where the approach would read it (10 nm):
+    // how far it runs back against the way it went first, from the piece before it did.
+    double way = 0.0, back = 0.0, from = s0, before = s0, turn_from = s0;
+    ChainQ last = a;
+    for (const CompensatedPoint& piece : pieces_) {
+      const double travel = piece.q[k] - last[k];
+      last = piece.q;
+      if (std::abs(travel) > 10 * still(i)) {
+        const double sign = travel > 0 ? 1.0 : -1.0;
+        if (way == 0.0) {
+          way = sign;
+        } else if (sign == way) {
+          back = 0.0;
+        } else {
+          if (back == 0.0) turn_from = from;
+          back += std::abs(travel);
+          if (const double left = turn_left(i, back); left > 0.125 * options_.tolerance)
+            return Turn{i, way, turn_from, piece.s, left};
+        }
+      }
+      from = before, before = piece.s;
+    }
+  }
+  return std::nullopt;
+}
+
+double Compensator::turn_left(std::size_t axis, double back) const {
+  // Travelling `back` against its approach, the axis' play eats the travel (the carriage
+  // stays where it was) and its terms switch by their share of it.
+  const double lost = model_.lost_motion()[axis], size = model_.reversal_size()[axis];
+  const double lever = axis >= 3 && axis <= 5 ? model::kSwitchLever : 1.0;
+  return lost > 0 ? std::min(back, lost) * (lever + size / lost) : size;
+}
+
+double Compensator::extremum(const StraightMove& move, const Turn& turn, MoveReport& report) {
+  // Golden-section search for where the axis' correction is furthest its first way, the
+  // pieces showing it between turn.from and turn.to.
+  const auto k = static_cast<Eigen::Index>(turn.axis);
+  auto value = [&](double s) { return turn.way * point(along(move.start, move.end, s), report)[k]; };
+  double lo = turn.from, hi = turn.to;
+  constexpr double kGolden = 0.6180339887498949;
+  double x1 = hi - kGolden * (hi - lo), x2 = lo + kGolden * (hi - lo);
+  double f1 = value(x1), f2 = value(x2);
+  for (int n = 0; n < 16; ++n) {
+    if (f1 > f2) {
+      hi = x2, x2 = x1, f2 = f1;
+      x1 = hi - kGolden * (hi - lo), f1 = value(x1);
+    } else {
+      lo = x1, x1 = x2, f1 = f2;
+      x2 = lo + kGolden * (hi - lo), f2 = value(x2);
+    }
+  }
+  return 0.5 * (lo + hi);
 }
 
 unsigned Compensator::unsettled_axes() const {

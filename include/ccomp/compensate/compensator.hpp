@@ -14,6 +14,7 @@
 #include <array>
 #include <cstdint>
 #include <limits>
+#include <optional>
 #include <cmath>
 #include <vector>
 
@@ -141,6 +142,31 @@ class Compensator {
   [[nodiscard]] const std::array<double, 9>& play() const { return play_; }
 
  private:
+  /// A straight move as straight() was given it.
+  struct StraightMove {
+    const model::ChainQ& start;
+    const model::ChainQ& end;
+    double tolerance;
+  };
+  /// Turns of corrections one move is cut at, at most.
+  static constexpr int kMostTurns = 8;
+  /// The part of `move` from fraction s0 to s1 into `out`, its take-ups first, cut where an
+  /// axis' correction turns round (at most `turns_left` more times).
+  void stretch(const StraightMove& move, double s0, double s1, int turns_left, std::vector<CompensatedPoint>& out,
+               MoveReport& report);
+  /// An axis' correction turning round inside a stretch: the axis, the way it went first,
+  /// the fractions of the move the turn lies between, and what ignoring it leaves (mm).
+  struct Turn {
+    std::size_t axis = 0;
+    double way = 0.0, from = 0.0, to = 0.0, left = 0.0;
+  };
+  /// The first turn, in the pieces just split (pieces_, from compensated `a` at s0), that
+  /// leaves more than an eighth of the tolerance; nothing where none does.
+  [[nodiscard]] std::optional<Turn> correction_turn(double s0, const model::ChainQ& a) const;
+  /// What an axis travelling `back` (mm, rad) against its approach leaves at the tool (mm).
+  [[nodiscard]] double turn_left(std::size_t axis, double back) const;
+  /// The fraction of the move where the turn's axis' correction is furthest its first way.
+  [[nodiscard]] double extremum(const StraightMove& move, const Turn& turn, MoveReport& report);
   void split(const model::ChainQ& a_nominal, const model::ChainQ& b_nominal, const model::ChainQ& a_comp,
              const model::ChainQ& b_comp, double s0, double s1, int depth, double tolerance,
              std::vector<CompensatedPoint>& out, MoveReport& report);
@@ -211,6 +237,7 @@ class Compensator {
   InverseProblem problem_;
   InverseWorkspace workspace_;  ///< the last point solved, its solution and the solve matrix
   model::ForwardData data_, check_;
+  std::vector<CompensatedPoint> pieces_;  ///< a stretch's pieces, before its take-ups go in front
   model::VariationBound bound_;  ///< for options_.conditions
   /// The probe error_at(probe, at_least) took last, and the bound of its error.
   ErrorProbe last_probe_;
