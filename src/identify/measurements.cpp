@@ -97,17 +97,27 @@ void parse_measurements(const std::string& text, const std::string& name, const 
                         const ReadOptions& options, MeasurementSet& into) {
   const auto file_index = static_cast<std::uint32_t>(into.files.size());
   into.files.push_back(name);
-  std::istringstream in(text);
+  // A UTF-8 byte-order mark (a spreadsheet's "CSV UTF-8") is not text of the header.
+  constexpr std::string_view kByteOrderMark = "\xEF\xBB\xBF";
+  std::istringstream in(text.starts_with(kByteOrderMark) ? text.substr(kByteOrderMark.size()) : text);
   std::string line;
   std::uint32_t number = 0;
   auto fail = [&](std::uint32_t row, std::uint32_t column, const std::string& message) {
-    throw Error(ErrorKind::data, message, SourceLocation{name, row, column}, line);
+    throw Error(ErrorKind::data, message, SourceLocation{name, row, column}, line.substr(0, 200));
+  };
+  // Line ends of CR alone read as one line: said as such, not as what that line seems.
+  auto check_line_end = [&] {
+    if (const auto cr = line.find('\r'); cr != std::string::npos && cr + 1 < line.size())
+      fail(number, static_cast<std::uint32_t>(cr + 1),
+           "a carriage return inside the line: line ends of CR alone (classic Mac files) are not read; "
+           "convert them to LF or CRLF");
   };
   // The header: the first line that is not blank or a # comment.
   std::vector<std::string> header;
   std::vector<std::uint32_t> column_of_field;  // 1-based text column of each header field
   while (std::getline(in, line)) {
     ++number;
+    check_line_end();
     if (line.find_first_not_of(" \t\r") == std::string::npos || line.front() == '#') continue;
     split(line, header, column_of_field);
     break;
@@ -185,6 +195,7 @@ void parse_measurements(const std::string& text, const std::string& name, const 
   const std::size_t first_observation = into.observations.size();
   while (std::getline(in, line)) {
     ++number;
+    check_line_end();
     if (line.find_first_not_of(" \t\r") == std::string::npos || line.front() == '#') continue;
     // The same row twice, to the last digit: ISO 230-2's repeated approaches read at the
     // instrument's resolution do that, and so does a file pasted together twice. Kept, and

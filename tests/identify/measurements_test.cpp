@@ -79,6 +79,9 @@ TEST(Measurements, ErrorsNameRowColumnAndCause) {
       // um where mm is due: 2.5 and 4.1 "mm" of deviation, beyond the model's 0.5 mm bound.
       {"x,y,z,T_spindle,nx,ny,nz,d\n1,2,3,20,1,0,0,2.5\n4,5,6,20,1,0,0,-4.1\n7,8,9,20,1,0,0,0.3\n", 2, 26,
        "written in um?"},
+      // Line ends of CR alone (a classic Mac file) read as one line: said so, at the first.
+      {"x,y,z,T_spindle,nx,ny,nz,d\r1,2,3,20,1,0,0,0.001\r", 1, 27, "line ends of CR alone"},
+      {"x,y,z,T_spindle,nx,ny,nz,d\r\n1,2,3,20,1,0,0,0.001\r4,5,6,20,1,0,0,0.001\r\n", 2, 21, "line ends of CR alone"},
   };
   for (const Case& c : cases) {
     const Error e = parse_error(c.text);
@@ -88,6 +91,14 @@ TEST(Measurements, ErrorsNameRowColumnAndCause) {
     EXPECT_EQ(e.where().column, c.column) << c.text << e.message();
     EXPECT_NE(e.message().find(c.says), std::string::npos) << e.message();
   }
+}
+
+TEST(Measurements, AByteOrderMarkIsNotPartOfTheHeader) {
+  // A spreadsheet's "CSV UTF-8" starts with one; CRLF line ends are read as LF ones.
+  const MeasurementSet s = parse("\xEF\xBB\xBFx,y,z,T_spindle,nx,ny,nz,d\r\n1,2,3,20,1,0,0,0.001\r\n");
+  ASSERT_EQ(s.observations.size(), 1U);
+  EXPECT_DOUBLE_EQ(s.observations[0].q[0], 1.0);
+  EXPECT_DOUBLE_EQ(s.observations[0].value, 0.001);
 }
 
 TEST(Measurements, ARepeatedRowIsKeptAndSaid) {
