@@ -15,13 +15,21 @@ std::string headline(ErrorKind kind, const std::string& message, const SourceLoc
   return fmt::format("{}{}: {}", prefix, label, message);
 }
 
+/// An error about a whole line (a block, a row) points at where its text starts.
+SourceLocation at_start(SourceLocation where, const std::string& source_line) {
+  if (where.line > 0 && where.column == 0)
+    if (const auto first = source_line.find_first_not_of(" \t"); first != std::string::npos)
+      where.column = static_cast<std::uint32_t>(first + 1);
+  return where;
+}
+
 }  // namespace
 
 Error::Error(ErrorKind kind, std::string message, SourceLocation where, std::string source_line)
-    : std::runtime_error(headline(kind, message, where)),
+    : std::runtime_error(headline(kind, message, at_start(where, source_line))),
       kind_(kind),
       message_(std::move(message)),
-      where_(std::move(where)),
+      where_(at_start(std::move(where), source_line)),
       source_line_(std::move(source_line)) {}
 
 std::string format_error(const Error& error) {

@@ -158,7 +158,7 @@ void JobSink::motion(const gcode::Motion& m) {
   live_offsets_ = m.offsets;
   nominal_end_ = m.end;
   last_units_ = m.units;
-  if (has_limits_) check_limits(m, model_, input_.name());
+  if (has_limits_) check_limits(m, model_, input_.name(), block_ ? block_->text : std::string_view());
   if (stages_) compensate(m);
 }
 

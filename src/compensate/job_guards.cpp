@@ -38,7 +38,8 @@ void widen_by_arc_extremes(const gcode::Motion& m, gcode::Axes& low, gcode::Axes
 
 }  // namespace
 
-void check_limits(const gcode::Motion& m, const model::MachineModel& model, std::string_view file) {
+void check_limits(const gcode::Motion& m, const model::MachineModel& model, std::string_view file,
+                  std::string_view text) {
   gcode::Axes low = m.end, high = m.end;
   if (m.kind == gcode::MotionKind::arc) widen_by_arc_extremes(m, low, high);
   for (const model::AxisSpec& a : model.axes) {
@@ -50,7 +51,7 @@ void check_limits(const gcode::Motion& m, const model::MachineModel& model, std:
     throw Error(ErrorKind::safety,
                 fmt::format("axis {} would go to {:.4f}, outside its limits [{}, {}] of machine '{}'", a.letter, bad,
                             a.min, a.max, model.name),
-                SourceLocation{std::string(file), m.line, 0});
+                SourceLocation{std::string(file), m.line, 0}, std::string(text));
   }
 }
 

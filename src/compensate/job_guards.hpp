@@ -17,7 +17,8 @@ namespace ccomp::compensate {
 /// Throws Error(safety) at the motion's line when the machine axes (controlled point plus
 /// tool offset) leave the model's limits: at the move's end, and for arcs at the extremes
 /// they pass through.
-void check_limits(const gcode::Motion& m, const model::MachineModel& model, std::string_view file);
+void check_limits(const gcode::Motion& m, const model::MachineModel& model, std::string_view file,
+                  std::string_view text = {});
 
 class JobGuards {
  public:

@@ -167,7 +167,7 @@ TEST(Cli, RefusesMovesBeyondTheAxisLimits) {
   EXPECT_EQ(run_command(base + dir + "/ok.nc -o " + dir + "/ok.out").exit_code, 0);
   const CommandResult arc = run_command(base + dir + "/arc.nc -o " + dir + "/arc.out");
   EXPECT_EQ(arc.exit_code, 7);
-  EXPECT_NE(arc.err.find("arc.nc:3: refused: axis X would go to 110.0000"), std::string::npos) << arc.err;
+  EXPECT_NE(arc.err.find("arc.nc:3:1: refused: axis X would go to 110.0000"), std::string::npos) << arc.err;
   EXPECT_FALSE(std::filesystem::exists(dir + "/arc.out"));
   const CommandResult tool = run_command(base + dir + "/tool.nc -o " + dir + "/tool.out");
   EXPECT_EQ(tool.exit_code, 7);

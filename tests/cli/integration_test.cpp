@@ -159,7 +159,7 @@ TEST(Integration, BatchScriptCountsWhatCcompCompensated) {
   EXPECT_EQ(failing.out.find("a.ngc not compensated"), std::string::npos) << failing.out;
   const std::string log = read_file(dir + "/out/ccomp-batch.log");
   EXPECT_NE(log.find("b.NC:2"), std::string::npos) << log;
-  EXPECT_NE(log.find("c.tap:2: refused: axis X would go to 150"), std::string::npos) << log;
+  EXPECT_NE(log.find("c.tap:2:1: refused: axis X would go to 150"), std::string::npos) << log;
 
   // Only the program error: its code, 3.
   write_file(dir + "/in/c.tap", kProgram);

@@ -45,6 +45,12 @@ TEST(JobGuards, AnArcIsCheckedAtTheExtremesItPassesNotOnlyAtItsEnds) {
   EXPECT_EQ(e.kind(), ErrorKind::safety);
   EXPECT_EQ(e.where().line, 7U);
   EXPECT_NE(e.message().find("axis X would go to 104.72"), std::string::npos) << e.message();
+  // With the block's text, the refusal points at where the block starts, as every error
+  // about a whole block does (no word of it is the one at fault).
+  const Error shown = test::error_of([&] { check_limits(beyond, m, "p.ngc", "  G2 X80 Y0 I30 J0"); }, "beyond");
+  EXPECT_EQ(shown.where().column, 3U);
+  EXPECT_NE(format_error(shown).find("p.ngc:7:3: refused: axis X"), std::string::npos) << format_error(shown);
+  EXPECT_NE(format_error(shown).find("\n    ^"), std::string::npos) << format_error(shown);
 }
 
 TEST(JobGuards, TheToolOffsetCountsAgainstTheLimits) {
