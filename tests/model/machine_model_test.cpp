@@ -100,7 +100,15 @@ INSTANTIATE_TEST_SUITE_P(
         BadModel{"name: m\naxes: {X: {}}\nchain:\n  workpiece: [{link: X, axis: X}]\n"
                  "  tool: [{link: t, tool_length: [0, 0, -1]}, {link: u, tool_length: [0, 0, -1]}]\n",
                  "more than one tool link"},
-        BadModel{"name: m\naxes: {X: {}}\nchain:\n  workpiece: [{link: X, axis: X}]\n", "needs 'tool'"}),
+        BadModel{"name: m\naxes: {X: {}}\nchain:\n  workpiece: [{link: X, axis: X}]\n", "needs 'tool'"},
+        // Linear axes the tool cannot reach every point with: the solve would have no answer.
+        BadModel{"name: m\naxes: {X: {}, Y: {}}\nchain:\n  workpiece: [{link: X, axis: X}]\n  tool: [{link: Y, axis: Y, "
+                 "direction: [-1, 0, 0]}, {link: tool, tool_length: [0, 0, -1]}]\n",
+                 "axis Y moves the tool along the same line as axis X"},
+        BadModel{"name: m\naxes: {X: {}, Y: {}, Z: {}}\nchain:\n  workpiece: [{link: X, axis: X}]\n  tool: [{link: Y, "
+                 "axis: Y, direction: [0, 1, 0]}, {link: Z, axis: Z, direction: [1, 1, 0]}, {link: tool, "
+                 "tool_length: [0, 0, -1]}]\n",
+                 "move the tool in one plane"}),
     [](const auto& test) { return "case" + std::to_string(test.index); });
 
 class BadTerms : public ::testing::TestWithParam<BadModel> {};

@@ -1,10 +1,13 @@
 // Reading the kinematic chains of a machine model file.
 #include "read_chain.hpp"
 
+#include <Eigen/Geometry>
 #include <fmt/format.h>
 
 #include <cctype>
 #include <string_view>
+#include <utility>
+#include <vector>
 
 #include "model_schema.hpp"
 #include "yaml_node.hpp"
@@ -54,6 +57,8 @@ std::vector<LinkSpec> read_chain(const std::string& file, const YAML::Node& list
   return links;
 }
 
+void check_linear_lines(const std::string& file, const YAML::Node& chain, const MachineModel& m);
+
 /// What validate() checks, here where the file's lines are known: every moving link names
 /// an axis of the machine, once; every axis moves a link; at most one tool link.
 void check_chains(const std::string& file, const YAML::Node& chain, const MachineModel& m) {
@@ -76,6 +81,38 @@ void check_chains(const std::string& file, const YAML::Node& chain, const Machin
   for (const AxisSpec& a : m.axes)
     if (seen.find(a.letter) == std::string::npos)
       bad(file, chain, fmt::format("axis {} moves no link of the chains", a.letter));
+  check_linear_lines(file, chain, m);
+}
+
+/// X, Y and Z must move the tool along three independent lines, or some points are out of
+/// reach and the compensation's solve has no answer (U V W may run parallel to them: a
+/// quill). At the chain's zero the links are placed by translations alone, so each axis
+/// moves the tool along its direction (the workpiece side's against it).
+void check_linear_lines(const std::string& file, const YAML::Node& chain, const MachineModel& m) {
+  std::vector<std::pair<char, Eigen::Vector3d>> lines;
+  std::vector<YAML::Node> nodes;
+  for (const char* side : {"workpiece", "tool"}) {
+    const auto& links = std::string_view(side) == "tool" ? m.tool_chain : m.workpiece_chain;
+    for (std::size_t i = 0; i < links.size(); ++i) {
+      const LinkSpec& l = links[i];
+      if (!l.axis || std::string_view("XYZ").find(*l.axis) == std::string_view::npos) continue;
+      const AxisSpec* a = m.axis(*l.axis);
+      if (!a || a->type != AxisType::linear) continue;
+      lines.emplace_back(*l.axis, std::string_view(side) == "tool" ? l.direction : Eigen::Vector3d(-l.direction));
+      nodes.push_back(chain[side][i]);
+    }
+  }
+  for (std::size_t j = 1; j < lines.size(); ++j)
+    for (std::size_t i = 0; i < j; ++i)
+      if (lines[i].second.cross(lines[j].second).norm() < 1e-6)
+        bad(file, nodes[j], fmt::format("axis {} moves the tool along the same line as axis {}: the chain's linear "
+                                        "axes must move it along independent directions",
+                                        lines[j].first, lines[i].first));
+  if (lines.size() == 3 &&
+      std::abs(lines[0].second.dot(lines[1].second.cross(lines[2].second))) < 1e-6)
+    bad(file, nodes[2], fmt::format("axes {}, {} and {} move the tool in one plane: the chain's linear axes must move "
+                                    "it along independent directions",
+                                    lines[0].first, lines[1].first, lines[2].first));
 }
 
 }  // namespace
