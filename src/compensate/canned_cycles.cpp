@@ -151,6 +151,19 @@ HoleWords solve_hole(Compensator& compensator, const PendingCycle& c, const gcod
     }
   }
   move.max_deviation_after = h.left;
+  // Between them the drill goes straight down the hole's one X Y while the error bends with
+  // the depth: how far the hole strays across its line is checked along the stroke, as a
+  // move's pieces are (its depth there is the control's, from R: not checked).
+  gcode::Axes r_written = h.hole, bottom_written = h.hole;
+  r_written[h.normal] = h.r_prog[h.normal];
+  bottom_written[h.normal] = h.bottom_prog[h.normal];
+  const model::ChainQ r_comp = chain_of(controlled_of_program(r_written, c.offsets, unit), c.offsets);
+  const model::ChainQ bottom_comp = chain_of(controlled_of_program(bottom_written, c.offsets, unit), c.offsets);
+  const int n = compensator.model().check_points(r_nominal, h.bottom_nominal, 4, 64);
+  for (int k = 1; k < n; ++k)
+    move.max_deviation_after =
+        std::max(move.max_deviation_after, compensator.deviation_across(r_nominal, h.bottom_nominal, r_comp,
+                                                                        bottom_comp, static_cast<double>(k) / n));
   return h;
 }
 

@@ -213,6 +213,16 @@ double Compensator::executed_deviation(const ChainQ& a_nominal, const ChainQ& b_
   return (check_.actual - target).norm();
 }
 
+double Compensator::deviation_across(const ChainQ& a_nominal, const ChainQ& b_nominal, const ChainQ& a_comp,
+                                     const ChainQ& b_comp, double t) {
+  const ChainQ executed = a_comp + t * (b_comp - a_comp);
+  const Eigen::Vector3d a_tip = nominal_tip(a_nominal), b_tip = nominal_tip(b_nominal);
+  const Eigen::Vector3d target = a_tip + t * (b_tip - a_tip);
+  model::forward(model_, check_, executed, options_.conditions, false, model::Evaluate::actual);
+  const Eigen::Vector3d off = check_.actual - target, along = (b_tip - a_tip).normalized();
+  return (off - off.dot(along) * along).norm();
+}
+
 void Compensator::split(const ChainQ& a_nominal, const ChainQ& b_nominal, const ChainQ& a_comp, const ChainQ& b_comp,
                         double s0, double s1, int depth, double tolerance, std::vector<CompensatedPoint>& out,
                         MoveReport& report) {

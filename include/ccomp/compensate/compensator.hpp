@@ -127,6 +127,13 @@ class Compensator {
   /// the report, or deferred.
   void error_before_at(const model::ChainQ& nominal, MoveReport& report);
 
+  /// How far the machine, commanded along the straight line a_comp -> b_comp, is at fraction
+  /// t from the straight nominal line a_nominal -> b_nominal (the rotary axes and the tool
+  /// length still), across it: a drilled hole's straightness and place, not its depth (mm).
+  [[nodiscard]] double deviation_across(const model::ChainQ& a_nominal, const model::ChainQ& b_nominal,
+                                        const model::ChainQ& a_comp, const model::ChainQ& b_comp, double t);
+  [[nodiscard]] const model::ForwardModel& model() const { return model_; }
+
   model::Conditions& conditions() { return options_.conditions; }
   /// Where the machine was sent last (chain values; NaN before the first command).
   [[nodiscard]] const model::ChainQ& commanded() const { return commanded_; }
