@@ -50,10 +50,10 @@ void add_compensate(CLI::App& app, CompensateArgs& args) {
       ->check(tolerance_in_mm());
   app.add_option("--decimals", args.decimals,
                  "decimals of the compensated linear coordinates, in the program's units (default: the program's "
-                 "own, at least 4 in mm and 5 in inch)")
+                 "own, at least 4 in mm and 5 in inch; up to 2 more on a take-up whose play needs them)")
       ->check(CLI::Range(0, 9));
   app.add_option("--rotary-decimals", args.rotary_decimals,
-                 "decimals of the compensated rotary coordinates, in degrees (default: the program's own, at least 5)")
+                 "decimals of the compensated rotary coordinates, in degrees (default: the program's own, at least 5; up to 2 more on a take-up whose play needs them)")
       ->check(CLI::Range(0, 9));
   app.add_option("--sensor", args.sensors, "a temperature reading for the model's thermal terms: NAME=DEGC");
   app.add_option("--time", args.time, "s since the machine's warm-up started, for warm-up terms");

@@ -124,7 +124,7 @@ void Compensator::rapid(const ChainQ& end, std::vector<CompensatedPoint>& out, M
     for (const auto& [step, way] : {std::pair{back, -target[i]}, std::pair{q, target[i]}}) {
       CompensatedPoint& point = out.emplace_back(CompensatedPoint{1.0, step, true});
       point.turns[i] = static_cast<std::int8_t>(way);
-      set_travel_slack(i, point);
+      if (way == target[i]) set_travel_slack(i, point);  // (going back, nothing is cut: no slack to keep)
       command(step);
     }
   }

@@ -50,47 +50,64 @@ MoveRewriter::MoveRewriter(gcode::ProgramWriter& writer, const model::MachineMod
                            JobReport& report, std::string_view file)
     : writer_(writer), model_(model), decimals_(decimals), report_(report), file_(file) {
   for (std::size_t i = 0; i < gcode::kAxisCount; ++i) machine_axis_[i] = model.axis(gcode::kAxisLetters[i]) != nullptr;
+  for (const model::ErrorTermSpec& t : model.terms)
+    if (t.primary.kind == model::VariableKind::direction) approach_axes_ |= 1U << t.primary.index;
 }
 
 std::optional<std::string> MoveRewriter::axis_word(std::size_t i, double p, double last, bool incremental, bool named,
                                                    std::string_view styled, bool inch, const TurnWord& turn) {
   gcode::Axes& rounding = position_.rounding;
-  const bool rotary = gcode::is_rotary(i);
-  const double value = incremental ? p - last - rounding[i] : p;
+  const bool rotary = gcode::is_rotary(i), own_digits = decimals_.for_axis(rotary) < 0;
   NumberStyle style = style_of(styled, inch && !rotary, rotary, decimals_.for_axis(rotary));
+  // Where the written digits left the machine, what the word's value counts from (an
+  // incremental word's is its travel from there), and the travel planned.
+  const double at = last + rounding[i], from = incremental ? 0.0 : at, planned = p - last;
+  auto travel_of = [&](const WrittenValue& w) { return w.value - from; };
   // (A take-up that sends the axis against its turn, as one of a reversal that leads the
   // command can, is written as any move.)
-  const bool turning = turn.way != 0 && turn.way * (p - last) > -1e-9;
-  if (turning && decimals_.for_axis(rotary) < 0)
+  const bool turning = turn.way != 0 && turn.way * planned > -1e-9;
+  const int style_decimals = style.decimals;
+  if (turning && own_digits)
     for (const int most = style.decimals + 2; style.decimals < most && 1.5 * quantum(style) > turn.slack;)
       ++style.decimals;
-  if (!named && !turning) {
-    const double unmoved = incremental ? 0.0 : last + rounding[i];
-    if (written_alike(value, unmoved, style)) {
-      rounding[i] += last - p;
-      return std::nullopt;
-    }
-  }
-  WrittenValue written = format_value(value, style);
+  WrittenValue written = format_value(incremental ? p - last - rounding[i] : p, style);
   if (turning) {
-    // The travel as written, from where the written digits left the machine, one unit of the
-    // last digit further at a time until it is no shorter than planned (the digits before
-    // may have left it up to one and a half units behind), and at least one unit its way.
-    const double unit = quantum(style), way = turn.way > 0 ? 1.0 : -1.0;
-    const double planned = way * std::max(way * (p - last), 0.0), from = incremental ? 0.0 : last + rounding[i];
-    auto travel = [&] { return written.value - from; };
-    written = format_value(from + planned, style);
-    for (int k = 0; k < 3 && way * (travel() - planned) < -1e-6 * unit; ++k)
-      written = format_value(written.value + way * unit, style);
-    if (way * travel() < 0.5 * unit) written = format_value(written.value + way * unit, style);
-    // What the travel past the plan leaves, the terms switching over less of it than the
-    // axis goes: counted in what the job says is left.
-    if (std::isfinite(turn.slack))
-      report_.max_error_after =
-          std::max(report_.max_error_after, turn.slack_stray * std::abs(travel() - planned) / turn.slack);
+    written = take_up_word(planned, from, turn, style);
+  } else if (approach_axes_ >> i & 1U && (planned >= 0.0 ? travel_of(written) < 0.0 : travel_of(written) > 0.0)) {
+    // The digits would send the axis back against its travel (a take-up rounded out before
+    // it), and so open its play again: it stays where it is, to as many digits as that takes.
+    written = format_value(from, style);
+    while (own_digits && written.value != from && style.decimals < kMostDecimals)
+      ++style.decimals, written = format_value(from, style);
   }
-  rounding[i] = incremental ? rounding[i] + written.value - (p - last) : written.value - p;
+  // Digits added and not needed ("X-30.02060") go again.
+  while (style.decimals > style_decimals && written.text.ends_with('0'))
+    --style.decimals, written = format_value(written.value, style);
+  if (!named && !turning && written_alike(written.value, from, style)) {
+    rounding[i] += last - p;
+    return std::nullopt;
+  }
+  rounding[i] = incremental ? rounding[i] + written.value - planned : written.value - p;
   return std::move(written.text);
+}
+
+WrittenValue MoveRewriter::take_up_word(double planned, double from, const TurnWord& turn, const NumberStyle& style) {
+  // The travel as written, one unit of the last digit further at a time until it falls
+  // short of the plan by no more than its slack (the digits before may have left it up to
+  // one and a half units behind), and at least one unit its way: the play is taken up whole.
+  const double unit = quantum(style), way = turn.way > 0 ? 1.0 : -1.0;
+  const double wanted = way * std::max(way * planned, 0.0), slack = std::min(turn.slack, 0.5 * unit);
+  WrittenValue written = format_value(from + wanted, style);
+  auto travel = [&] { return written.value - from; };
+  for (int k = 0; k < 3 && way * (travel() - wanted) < -slack; ++k)
+    written = format_value(written.value + way * unit, style);
+  if (way * travel() < 0.5 * unit) written = format_value(written.value + way * unit, style);
+  // What the travel off the plan leaves, the terms switching over more or less of it than
+  // the axis goes: counted in what the job says is left.
+  if (std::isfinite(turn.slack))
+    report_.max_error_after =
+        std::max(report_.max_error_after, turn.slack_stray * std::abs(travel() - wanted) / turn.slack);
+  return written;
 }
 
 void MoveRewriter::point_words(const gcode::Motion& m, const gcode::Block& b, const CompensatedPoint& point,

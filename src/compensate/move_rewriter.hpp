@@ -18,6 +18,7 @@
 #include "ccomp/gcode/writer.hpp"
 #include "ccomp/model/machine.hpp"
 #include "move_task.hpp"
+#include "number_style.hpp"
 #include "program_coordinates.hpp"
 
 namespace ccomp::compensate {
@@ -74,6 +75,13 @@ class MoveRewriter {
   void finish_lines(const gcode::Motion& m, const gcode::Block& b, std::uint64_t offset, const ChordRange& part,
                     std::string& appended, bool adds_lines_only);
 
+  /// A take-up's word for its turning axis: its travel from `from` (program units), rounded
+  /// out from the plan.
+  [[nodiscard]] WrittenValue take_up_word(double planned, double from, const TurnWord& turn, const NumberStyle& style);
+
+  /// The most decimals a word gets to stay where a take-up left its axis.
+  static constexpr int kMostDecimals = 8;
+
   gcode::ProgramWriter& writer_;
   const model::MachineModel& model_;
   DecimalsOption decimals_;
@@ -82,6 +90,7 @@ class MoveRewriter {
   WrittenPosition position_;
   std::vector<gcode::Edit> edits_;  ///< the move's line's edits, storage kept from move to move
   std::array<bool, gcode::kAxisCount> machine_axis_{};  ///< the machine has axis i
+  unsigned approach_axes_ = 0;                         ///< bit i: a term reads axis i's approach
 };
 
 /// How axis i of a take-up point turns, in program units (`unit`: mm per program unit): no

@@ -424,6 +424,21 @@ TEST(ClosedLoop, APlayFinerThanTheDigitsIsTakenUpWhole) {
   const Backlash held = run_backlash(terms, kZigZag, 4);
   EXPECT_GT(held.after, 0.0015);
   EXPECT_GE(held.report.max_error_after, held.after) << "verify finds " << held.after;
+  // X turned by its correction alone (Y's squareness-like term) while Y feeds: the word after
+  // each take-up travels about nothing, and must not send X back into its play (in absolute
+  // or incremental words, with the program's digits or four).
+  const std::string turned_by_correction =
+      "  - {name: EXX, variable: vx, form: reversal, reversal: -0.46 um}\n"
+      "  - {name: EYX, variable: vx, form: reversal, reversal: 10 um}\n"
+      "  - {name: EXY, variable: y, form: polynomial, unit: um, coefficients: [0, 1.5e-4]}\n";
+  const std::string head = "G21 G90 G94 G54\nT1 M6\nG43 H1\nF1200\nG0 X0 Y0 Z-100 B0\n";
+  for (const std::string& moves : {std::string("G1 X10\nG1 Y100\nG1 Y0\nG1 Y100\nG1 Y0\n"),
+                                   std::string("G91\nG1 X10\nG1 Y100\nG1 Y-100\nG1 Y100\nG1 Y-100\nG90\n")}) {
+    const Backlash own = run_backlash(turned_by_correction, head + moves + "M30\n");
+    EXPECT_LE(own.after, 0.0002) << moves;
+    const Backlash four = run_backlash(turned_by_correction, head + moves + "M30\n", 4);
+    EXPECT_GE(four.report.max_error_after, four.after) << moves << "verify finds " << four.after;
+  }
 }
 
 TEST(ClosedLoop, AReversalThatLeadsIsReportedNotHidden) {
