@@ -216,7 +216,7 @@ class PathSearch {
     // contour's last piece ends where its first begins).
     for (const auto& [i, d] : near_)
       if (i <= cursor_ && (p - window()[i].a).norm() > slack(best)) uncut_from_ = std::max(uncut_from_, i + 1);
-    note_passed_over(p);
+    note_passed_over(p, best);
     window().drop_before(behind());
     return best;
   }
@@ -320,24 +320,23 @@ class PathSearch {
     return best;
   }
 
-  /// The cursor goes to the first near piece ahead of it that the point can have come to
-  /// without passing over a cut (the programs run in the same order: a path that turns back
-  /// over itself, as a table turning back with the tool moving on does, leaves the point near
-  /// the pieces out and the pieces back); where none is, to the near piece closest to it (a
-  /// path that runs twice over the same place, a spring pass, must not pull it ahead). Then
-  /// on along the near pieces that follow.
+  /// Where the cursor goes, the programs running in the same order:
+  ///  - it stays on its piece while a cut goes on near it (a pass over the same line again,
+  ///    a spring pass, must not pull it ahead);
+  ///  - else, to the first near piece ahead that the point can have come to without passing
+  ///    over a cut: ahead of the cursor, or after a rapid, of the pieces already cut (a path
+  ///    that turns back over itself, as a table turning back with the tool moving on does,
+  ///    leaves the point near the pieces out and the pieces back; a rapid back to the start
+  ///    of a second pass is on it);
+  ///  - where none is, to the near piece closest to it.
+  /// Then on along the near pieces that follow, across junctions the point is at.
   void move_cursor(const Eigen::Vector3d& p) {
     std::size_t at = near_.size();  // in near_, which is in program order
-    const double reach = passable(p);
-    double passed = 0.0;
-    std::size_t k = cursor_ + 1;
-    for (std::size_t c = 0; c < near_.size() && at == near_.size(); ++c) {
-      const std::size_t i = near_[c].first;
-      if (i < cursor_) continue;
-      for (; k < i && passed <= reach; ++k) passed += window()[k].cycle ? 0.0 : window()[k].length();
-      if (passed > reach) break;
-      at = c;
-    }
+    if (!after_rapid_)
+      for (std::size_t c = 0; c < near_.size(); ++c)
+        if (near_[c].first == cursor_) at = c;
+    if (at == near_.size())
+      at = after_rapid_ ? first_reachable(p, next_piece_, next_piece_) : first_reachable(p, cursor_, cursor_ + 1);
     if (at == near_.size()) {
       auto gap = static_cast<std::size_t>(-1);
       for (std::size_t c = 0; c < near_.size(); ++c) {
@@ -345,8 +344,30 @@ class PathSearch {
         if (apart < gap) gap = apart, at = c;
       }
     }
-    while (at + 1 < near_.size() && near_[at + 1].first == near_[at].first + 1) ++at;
+    // On along the run only across junctions the point is at (a pass over the same line
+    // again is the next piece but not joined to this one where the point is).
+    const double at_most = slack(near_[at].second);
+    while (at + 1 < near_.size() && near_[at + 1].first == near_[at].first + 1 &&
+           (p - window()[near_[at].first].b).norm() <= at_most && (p - window()[near_[at + 1].first].a).norm() <= at_most)
+      ++at;
     cursor_ = near_[at].first;
+  }
+
+  /// The first near piece (its place in near_) from piece `first` on with no more of the
+  /// cuts from piece `from` on before it than the point can have passed over; near_.size()
+  /// where there is none.
+  [[nodiscard]] std::size_t first_reachable(const Eigen::Vector3d& p, std::size_t first, std::size_t from) {
+    const double reach = passable(p);
+    double passed = 0.0;
+    std::size_t k = from;
+    for (std::size_t c = 0; c < near_.size(); ++c) {
+      const std::size_t i = near_[c].first;
+      if (i < first) continue;
+      for (; k < i && passed <= reach; ++k) passed += window()[k].cycle ? 0.0 : window()[k].length();
+      if (passed > reach) break;
+      return c;
+    }
+    return near_.size();
   }
 
   /// mm: the length of cuts a point may pass over from the last (a rapid passes over none).
@@ -356,8 +377,8 @@ class PathSearch {
 
   /// Pieces passed over between one point and the next must be no longer than the path
   /// between them (straight on, within 1%); after a rapid, none may be (a cut missing).
-  void note_passed_over(const Eigen::Vector3d& p) {
-    const std::size_t reached = near_.front().first;  // the first piece the point is on
+  void note_passed_over(const Eigen::Vector3d& p, double best) {
+    const std::size_t reached = first_reached(p, best);
     if (reached > next_piece_) {
       double passed = 0.0;
       for (std::size_t i = next_piece_; i < reached; ++i) passed += window()[i].cycle ? 0.0 : window()[i].length();
@@ -367,9 +388,19 @@ class PathSearch {
           if (!window()[i].cycle) skipped_line_ = window()[i].line;
       }
     }
-    next_piece_ = std::max(next_piece_, cursor_ + 1);
+    // The cursor's piece is cut once the point is past its start.
+    next_piece_ = std::max(next_piece_, cursor_ + ((p - window()[cursor_].a).norm() <= slack(best) ? 0 : 1));
     last_point_ = p;
     after_rapid_ = false;
+  }
+
+  /// The first piece the point is on; after a rapid, not one it is at the end of (a rapid
+  /// that lands where a piece ends has not cut it), unless that is all it is on.
+  [[nodiscard]] std::size_t first_reached(const Eigen::Vector3d& p, double best) {
+    if (after_rapid_)
+      for (const auto& [i, d] : near_)
+        if (i >= next_piece_ && (p - window()[i].b).norm() > slack(best)) return i;
+    return near_.front().first;
   }
 
   PieceWindow& window() { return path_.window(); }

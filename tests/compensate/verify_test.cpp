@@ -240,6 +240,31 @@ TEST(Verify, ATableTurningBackWhileTheToolMovesOnIsCutToItsEnd) {
   }
 }
 
+TEST(Verify, ACutLeftOutIsFoundWhereThePathMeetsItselfAgain) {
+  // Outputs that leave a whole cut out, where what is cut touches it only at an end or runs
+  // over the same line: a cut written as a rapid (the rapid lands where it ends), a spring
+  // pass left out, a path's way back left out. Each is the length of the cut left out, from
+  // its line; the original against itself leaves nothing.
+  const std::string head = "G21 G90 G94 F1000\nG0 X0 Y0 Z0\nG1 X100\n";
+  struct Case {
+    std::string original, output;
+    double uncut;
+    std::uint32_t line;
+  };
+  const Case cases[] = {
+      {head + "G1 Y50\nG1 X0\nM2\n", head + "G0 Y50\nG1 X0\nM2\n", 50.0, 4},
+      {head + "G0 X0\nG1 X100\nG0 Y50\nG1 X0\nM2\n", head + "G0 X0\nG0 X100 Y50\nG1 X0\nM2\n", 100.0, 5},
+      {head + "G1 X0\nG1 Y50\nM2\n", head + "G0 X0\nG1 Y50\nM2\n", 100.0, 4},
+  };
+  const model::ForwardModel m(exact_machine());
+  for (const Case& c : cases) {
+    EXPECT_LT(verify_text(c.original, c.original, m).uncut_length, 1e-9) << c.original;
+    const compensate::PathError e = verify_text(c.original, c.output, m);
+    EXPECT_NEAR(e.uncut_length, c.uncut, 1e-9) << c.output;
+    EXPECT_EQ(e.uncut_line, c.line) << c.output;
+  }
+}
+
 TEST(Verify, ACannedCyclesPecksNeedNotMeetTheOriginalsPieceForPiece) {
   // The corpus' Haas sample (github.com/dillonhuff/gpr), its first two tools: a G83 whose
   // compensated R and Z move its pecks, so its first, 0.05 mm peck is not the output's.
