@@ -87,8 +87,25 @@ CLI::App* add_verify(CLI::App& app, CheckArgs& args) {
   return cmd;
 }
 
+namespace {
+
+/// predict and verify follow the tool through the machine's chain: a model without one (the
+/// zero model) would put every point at the origin and measure nothing.
+model::MachineModel model_with_chain(const CheckArgs& args, const char* command) {
+  model::MachineModel m = model::load_machine_model(args.model);
+  if (m.workpiece_chain.empty() && m.tool_chain.empty())
+    throw Error(ErrorKind::model,
+                fmt::format("machine '{}' has no kinematic chain ('chain:'): {} follows the tool's path through it, "
+                            "and without one would measure nothing; give the model its machine's chain",
+                            m.name, command),
+                SourceLocation{args.model, 0, 0});
+  return m;
+}
+
+}  // namespace
+
 int run_predict(const CheckArgs& args) {
-  const model::MachineModel m = model::load_machine_model(args.model);
+  const model::MachineModel m = model_with_chain(args, "predict");
   const model::ForwardModel forward(m);
   gcode::LineSource program = gcode::LineSource::open(args.input);
   ProgressBar bar(program.name(), !args.json && stderr_is_terminal());
@@ -104,7 +121,7 @@ int run_predict(const CheckArgs& args) {
 }
 
 int run_verify(const CheckArgs& args) {
-  const model::MachineModel m = model::load_machine_model(args.model);
+  const model::MachineModel m = model_with_chain(args, "verify");
   const model::ForwardModel forward(m);
   gcode::LineSource original = gcode::LineSource::open(args.input);
   gcode::LineSource compensated = gcode::LineSource::open(args.compensated);

@@ -263,6 +263,14 @@ TEST(Cli, PredictAndVerifyProveTheSample) {
   EXPECT_EQ(fmt::format("{:.2f}", left_um), fmt::format("{:.2f}", tolerance_um)) << "the case is one of rounding";
   EXPECT_NE(said[1].str(), said[2].str()) << barely.err;
   EXPECT_NEAR(std::stod(said[1]), left_um, 1e-4) << barely.err;
+  // A model without a chain (the zero model) would put every point at the origin: refused.
+  for (const char* command : {" predict ", " verify "}) {
+    const std::string second = std::string(command) == " verify " ? program + " " : "";
+    const CommandResult chainless = run_command(shell_quote(ccomp_binary()) + command + program + " " + second +
+                                                "-m " + source_dir() + "/samples/machines/zero.yaml" + tools);
+    EXPECT_EQ(chainless.exit_code, 5) << chainless.err;
+    EXPECT_NE(chainless.err.find("has no kinematic chain"), std::string::npos) << chainless.err;
+  }
   // ... and so is an output that stops short (a post-processor that wrote half a file).
   const std::string whole = read_file(dir + "/out.ngc");
   write_file(dir + "/half.ngc", whole.substr(0, whole.size() / 2));
@@ -359,9 +367,9 @@ TEST(Cli, ToleranceThatIsNotMillimetresSaysSo) {
   const std::string dir = temp_dir("cli_tolerance");
   write_file(dir + "/p.ngc", "G21 G90\nG0 X1 Y2\nG1 X3 F100\nM2\n");
   const std::string ccomp = shell_quote(ccomp_binary());
-  const std::string model = " -m " + source_dir() + "/samples/machines/zero.yaml ";
+  const std::string model = " -m " + source_dir() + "/samples/machines/vmc-xyz.yaml ";
   const std::string compensate = ccomp + " " + dir + "/p.ngc" + model + "-o " + dir + "/out.ngc --tolerance ";
-  const std::string verify = ccomp + " verify " + dir + "/p.ngc " + dir + "/p.ngc" + model + "--tolerance ";
+  const std::string verify = ccomp + " verify " + dir + "/p.ngc " + dir + "/out.ngc" + model + "--tolerance ";
   for (const std::string& command : {compensate, verify}) {
     for (const std::string value : {"1um", "0", "-0.001", "inf", "0.001x"}) {
       const CommandResult r = run_command(command + "'" + value + "'");
