@@ -300,9 +300,12 @@ void Compensator::stretch(const StraightMove& move, double s0, double s1, int tu
     // Where the control offsets the path, the move given is the tool centre's as the control
     // settles it between its corners: pieces of it stay within them, so the control offsets
     // each the same way, and no piece is one it refuses. No take-up can be written in it.
+    const bool withheld = unsettled_axes() != 0;
     lead_in(from, a, move.tolerance, out, report);
     const std::size_t first = out.size();
     split(from, to, a, b, s0, s1, 0, move.tolerance, out, report);
+    if (withheld)
+      report.max_deviation_after = std::max(report.max_deviation_after, play_stray(move, s0, a, out, first));
     for (std::size_t k = first; k < out.size(); ++k) command(out[k].q);
     return;
   }
@@ -331,6 +334,49 @@ void Compensator::stretch(const StraightMove& move, double s0, double s1, int tu
     out.push_back(piece);
     command(piece.q);
   }
+}
+
+double Compensator::play_stray(const StraightMove& move, double s0, const ChainQ& a,
+                               const std::vector<CompensatedPoint>& out, std::size_t first) {
+  // Each play runs out somewhere along the pieces, the terms of its approach switching
+  // linearly until then: the tool's course bends there, and at the pieces' ends.
+  const auto& need = options_.conditions.directions;
+  model::Conditions at = options_.conditions;
+  std::array<double, 9> state = play_;
+  ChainQ from_q = a;
+  double from_s = s0, stray = 0.0;
+  for (std::size_t k = first; k < out.size(); ++k) {
+    const ChainQ delta = out[k].q - from_q;
+    std::array<double, 10> bends{};
+    std::size_t n = 0;
+    for (std::size_t i = 0; i < state.size(); ++i) {
+      const auto j = static_cast<Eigen::Index>(i);
+      const double w = model_.lost_motion()[i];
+      if (!model_.reads_approach(i) || w <= 0 || std::abs(delta[j]) <= still(i)) continue;
+      const double t = ((delta[j] > 0 ? 1.0 : -1.0) - state[i]) * w / (2.0 * delta[j]);
+      if (t > 0 && t < 1) bends[n++] = t;
+    }
+    bends[n++] = 1.0;
+    for (std::size_t b = 0; b < n; ++b) {
+      at.directions = state;
+      const ChainQ q = from_q + bends[b] * delta;
+      model::take_up_play(model_, at, from_q, q);
+      model::forward(model_, check_, q, at, false, model::Evaluate::actual);
+      const Eigen::Vector3d seen = check_.actual;
+      model::forward(model_, check_, along(move.start, move.end, from_s + bends[b] * (out[k].s - from_s)),
+                     options_.conditions, false, model::Evaluate::nominal);
+      stray = std::max(stray, (seen - check_.nominal).norm());
+    }
+    at.directions = state;
+    model::take_up_play(model_, at, from_q, out[k].q);
+    state = at.directions;
+    from_q = out[k].q, from_s = out[k].s;
+    bool settled = true;
+    for (std::size_t i = 0; i < state.size(); ++i)
+      settled = settled && (!model_.reads_approach(i) || std::abs(state[i] - need[i]) <= 0.02);
+    if (settled) break;
+  }
+  return stray;
 }
 
 std::optional<Compensator::Turn> Compensator::correction_turn(double s0, const ChainQ& a) const {

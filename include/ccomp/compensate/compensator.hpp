@@ -167,6 +167,11 @@ class Compensator {
     std::size_t axis = 0;
     double way = 0.0, from = 0.0, to = 0.0, left = 0.0;
   };
+  /// How far the tool strays from the path along pieces out[first..] of `move` (from
+  /// commanded `a` at s0) while the plays the control's offset kept take-ups from taking up
+  /// run out (mm): checked where each runs out and at the pieces' ends, until all have.
+  [[nodiscard]] double play_stray(const StraightMove& move, double s0, const model::ChainQ& a,
+                                  const std::vector<CompensatedPoint>& out, std::size_t first);
   /// The first turn, in the pieces just split (pieces_, from compensated `a` at s0), that
   /// leaves more than an eighth of the tolerance; nothing where none does.
   [[nodiscard]] std::optional<Turn> correction_turn(double s0, const model::ChainQ& a) const;
