@@ -300,12 +300,11 @@ void Compensator::stretch(const StraightMove& move, double s0, double s1, int tu
     // Where the control offsets the path, the move given is the tool centre's as the control
     // settles it between its corners: pieces of it stay within them, so the control offsets
     // each the same way, and no piece is one it refuses. No take-up can be written in it.
-    const bool withheld = unsettled_axes() != 0;
     lead_in(from, a, move.tolerance, out, report);
     const std::size_t first = out.size();
     split(from, to, a, b, s0, s1, 0, move.tolerance, out, report);
-    if (withheld)
-      report.max_deviation_after = std::max(report.max_deviation_after, play_stray(move, s0, a, out, first));
+    // No take-up either where a play runs out along the cut: what it leaves is counted.
+    report.max_deviation_after = std::max(report.max_deviation_after, play_stray(move, s0, a, out, first));
     for (std::size_t k = first; k < out.size(); ++k) command(out[k].q);
     return;
   }
@@ -339,13 +338,26 @@ void Compensator::stretch(const StraightMove& move, double s0, double s1, int tu
 double Compensator::play_stray(const StraightMove& move, double s0, const ChainQ& a,
                                const std::vector<CompensatedPoint>& out, std::size_t first) {
   // Each play runs out somewhere along the pieces, the terms of its approach switching
-  // linearly until then: the tool's course bends there, and at the pieces' ends.
-  const auto& need = options_.conditions.directions;
+  // linearly until then: the tool's course bends there, and at the pieces' ends. Only the
+  // pieces up to the last whose travel moves a play are looked at (mostly none).
+  std::size_t last = first;
+  {
+    model::Conditions c = options_.conditions;
+    c.directions = play_;
+    ChainQ from_q = a;
+    for (std::size_t k = first; k < out.size(); ++k) {
+      const std::array<double, 9> before = c.directions;
+      model::take_up_play(model_, c, from_q, out[k].q);
+      for (std::size_t i = 0; i < before.size(); ++i)
+        if (model_.reads_approach(i) && std::abs(c.directions[i] - before[i]) > 0.02) last = k + 1;
+      from_q = out[k].q;
+    }
+  }
   model::Conditions at = options_.conditions;
   std::array<double, 9> state = play_;
   ChainQ from_q = a;
   double from_s = s0, stray = 0.0;
-  for (std::size_t k = first; k < out.size(); ++k) {
+  for (std::size_t k = first; k < last; ++k) {
     const ChainQ delta = out[k].q - from_q;
     std::array<double, 10> bends{};
     std::size_t n = 0;
@@ -371,10 +383,6 @@ double Compensator::play_stray(const StraightMove& move, double s0, const ChainQ
     model::take_up_play(model_, at, from_q, out[k].q);
     state = at.directions;
     from_q = out[k].q, from_s = out[k].s;
-    bool settled = true;
-    for (std::size_t i = 0; i < state.size(); ++i)
-      settled = settled && (!model_.reads_approach(i) || std::abs(state[i] - need[i]) <= 0.02);
-    if (settled) break;
   }
   return stray;
 }
