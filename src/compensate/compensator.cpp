@@ -219,7 +219,9 @@ double Compensator::deviation_across(const ChainQ& a_nominal, const ChainQ& b_no
   const Eigen::Vector3d a_tip = nominal_tip(a_nominal), b_tip = nominal_tip(b_nominal);
   const Eigen::Vector3d target = a_tip + t * (b_tip - a_tip);
   model::forward(model_, check_, executed, options_.conditions, false, model::Evaluate::actual);
-  const Eigen::Vector3d off = check_.actual - target, along = (b_tip - a_tip).normalized();
+  const Eigen::Vector3d off = check_.actual - target, line = b_tip - a_tip;
+  if (line.norm() < 1e-12) return off.norm();  // (a hole of no depth: no line to be across)
+  const Eigen::Vector3d along = line.normalized();
   return (off - off.dot(along) * along).norm();
 }
 
@@ -311,7 +313,7 @@ void Compensator::stretch(const StraightMove& move, double s0, double s1, int tu
   MoveReport solved;
   pieces_.clear();
   split(from, to, a, b, s0, s1, 0, move.tolerance, pieces_, solved);
-  if (const std::optional<Turn> turn = correction_turn(s0, a)) {
+  if (const std::optional<Turn> turn = correction_turn(s0, a, turns_left == 0)) {
     if (turns_left > 0) {
       // An axis whose correction turns round inside the move (a bow of straightness along
       // it, B's harmonics) turns there: each side is a move of its own, the second starting
@@ -387,8 +389,9 @@ double Compensator::play_stray(const StraightMove& move, double s0, const ChainQ
   return stray;
 }
 
-std::optional<Compensator::Turn> Compensator::correction_turn(double s0, const ChainQ& a) const {
+std::optional<Compensator::Turn> Compensator::correction_turn(double s0, const ChainQ& a, bool whole) const {
   const auto& need = options_.conditions.directions;
+  std::optional<Turn> worst;
   for (std::size_t i = 0; i < need.size(); ++i) {
     if (!model_.reads_approach(i)) continue;
     const auto k = static_cast<Eigen::Index>(i);
@@ -408,22 +411,25 @@ std::optional<Compensator::Turn> Compensator::correction_turn(double s0, const C
         } else {
           if (back == 0.0) turn_from = from;
           back += std::abs(travel);
-          if (const double left = turn_left(i, back); left > 0.125 * options_.tolerance)
-            return Turn{i, way, turn_from, piece.s, left};
+          if (const double left = turn_left(i, back); left > 0.125 * options_.tolerance) {
+            // The first is where the stretch is cut; `whole`: the largest of all, for the count.
+            if (!whole) return Turn{i, way, turn_from, piece.s, left};
+            if (!worst || left > worst->left) worst = Turn{i, way, turn_from, piece.s, left};
+          }
         }
       }
       from = before, before = piece.s;
     }
   }
-  return std::nullopt;
+  return worst;
 }
 
 double Compensator::turn_left(std::size_t axis, double back) const {
-  // Travelling `back` against its approach, the axis' play eats the travel (the carriage
-  // stays where it was) and its terms switch by their share of it.
+  // Travelling `back` against its approach, the axis' terms switch by their share of it:
+  // its own reversal keeps the carriage where it was while the command goes back (that is
+  // its share of reversal_size()), the others move the tool besides.
   const double lost = model_.lost_motion()[axis], size = model_.reversal_size()[axis];
-  const double lever = axis >= 3 && axis <= 5 ? model::kSwitchLever : 1.0;
-  return lost > 0 ? std::min(back, lost) * (lever + size / lost) : size;
+  return lost > 0 ? std::min(back, lost) * size / lost : size;
 }
 
 double Compensator::extremum(const StraightMove& move, const Turn& turn, MoveReport& report) {

@@ -8,6 +8,7 @@
 
 #include "ccomp/constants.hpp"
 #include "ccomp/error.hpp"
+#include "ccomp/gcode/number.hpp"
 #include "ccomp/model/chain_values.hpp"
 #include "number_style.hpp"
 
@@ -27,6 +28,15 @@ std::uint32_t insertion_point(const gcode::Block& b) {
 /// The unit of the last digit written.
 double quantum(const NumberStyle& style) {
   return std::pow(10.0, -style.decimals);
+}
+
+/// The number v is written as, without making its text.
+double rounded(double v, const NumberStyle& style) {
+  static constexpr double kPower[] = {1e0, 1e1, 1e2, 1e3, 1e4, 1e5, 1e6, 1e7, 1e8, 1e9};
+  std::int64_t units = 0;
+  if (style.decimals >= 0 && style.decimals <= 9 && gcode::fixed_units(v, style.decimals, units))
+    return static_cast<double>(units) / kPower[style.decimals];
+  return format_value(v, style).value;
 }
 
 }  // namespace
@@ -62,7 +72,6 @@ std::optional<std::string> MoveRewriter::axis_word(std::size_t i, double p, doub
   // Where the written digits left the machine, what the word's value counts from (an
   // incremental word's is its travel from there), and the travel planned.
   const double at = last + rounding[i], from = incremental ? 0.0 : at, planned = p - last;
-  auto travel_of = [&](const WrittenValue& w) { return w.value - from; };
   // (A take-up that sends the axis against its turn, as one of a reversal that leads the
   // command can, is written as any move.)
   const bool turning = turn.way != 0 && turn.way * planned > -1e-9;
@@ -70,23 +79,26 @@ std::optional<std::string> MoveRewriter::axis_word(std::size_t i, double p, doub
   if (turning && own_digits)
     for (const int most = style.decimals + 2; style.decimals < most && 1.5 * quantum(style) > turn.slack;)
       ++style.decimals;
-  WrittenValue written = format_value(incremental ? p - last - rounding[i] : p, style);
-  if (turning) {
-    written = take_up_word(planned, from, turn, style);
-  } else if (approach_axes_ >> i & 1U && (planned >= 0.0 ? travel_of(written) < 0.0 : travel_of(written) > 0.0)) {
-    // The digits would send the axis back against its travel (a take-up rounded out before
-    // it), and so open its play again: it stays where it is, to as many digits as that takes.
-    written = format_value(from, style);
+  const double value = incremental ? p - last - rounding[i] : p;
+  // The digits would send an axis whose approach a term reads back against its travel (a
+  // take-up rounded out before it), and so open its play again: it stays where it is.
+  const bool approach = approach_axes_ >> i & 1U;
+  auto against = [&](double written_value) {
+    return approach && (planned >= 0.0 ? written_value < from : written_value > from);
+  };
+  if (!named && !turning && (written_alike(value, from, style) || against(rounded(value, style)))) {
+    rounding[i] += last - p;  // (checked before the text is made: most unnamed axes stay)
+    return std::nullopt;
+  }
+  WrittenValue written = turning ? take_up_word(planned, from, turn, style) : format_value(value, style);
+  if (!turning && against(written.value)) {
+    written = format_value(from, style);  // to as many digits as that takes
     while (own_digits && written.value != from && style.decimals < kMostDecimals)
       ++style.decimals, written = format_value(from, style);
   }
   // Digits added and not needed ("X-30.02060") go again.
   while (style.decimals > style_decimals && written.text.ends_with('0'))
     --style.decimals, written = format_value(written.value, style);
-  if (!named && !turning && written_alike(written.value, from, style)) {
-    rounding[i] += last - p;
-    return std::nullopt;
-  }
   rounding[i] = incremental ? rounding[i] + written.value - planned : written.value - p;
   return std::move(written.text);
 }

@@ -346,7 +346,9 @@ class PathSearch {
     }
     // On along the run only across junctions the point is at (a pass over the same line
     // again is the next piece but not joined to this one where the point is).
-    const double at_most = slack(near_[at].second);
+    // (Within where points fall of the junction, kUncutMm: a corner written short of the
+    // nominal one along a path that runs back over its line is still at it.)
+    const double at_most = std::max(slack(near_[at].second), kUncutMm);
     while (at + 1 < near_.size() && near_[at + 1].first == near_[at].first + 1 &&
            (p - window()[near_[at].first].b).norm() <= at_most && (p - window()[near_[at + 1].first].a).norm() <= at_most)
       ++at;

@@ -107,10 +107,12 @@ void parse_measurements(const std::string& text, const std::string& name, const 
   };
   // Line ends of CR alone read as one line: said as such, not as what that line seems.
   auto check_line_end = [&] {
-    if (const auto cr = line.find('\r'); cr != std::string::npos && cr + 1 < line.size())
+    if (const auto cr = line.find('\r'); cr != std::string::npos && cr + 1 < line.size()) {
+      line.resize(cr);  // shown up to it: a terminal would write the rest over it
       fail(number, static_cast<std::uint32_t>(cr + 1),
            "a carriage return inside the line: line ends of CR alone (classic Mac files) are not read; "
            "convert them to LF or CRLF");
+    }
   };
   // The header: the first line that is not blank or a # comment.
   std::vector<std::string> header;

@@ -441,6 +441,22 @@ TEST(ClosedLoop, APlayFinerThanTheDigitsIsTakenUpWhole) {
   }
 }
 
+TEST(ClosedLoop, PastTheTurnsAMoveIsCutAtWhatTheRestLeavesIsCounted) {
+  // Y's straightness waves 3 um every 20 mm along X and Y has 5 um of backlash: a 300 mm cut
+  // in X turns Y about 30 times. The move is cut at the first 8; past them the job warns and
+  // its "after" counts the whole of what a turn leaves, not the share seen where it first
+  // mattered.
+  const Backlash r = run_backlash(
+      "  - {name: EYX, form: periodic, period: 20 mm, harmonics: [[3, 0]], unit: um}\n"
+      "  - {name: EYY, variable: vy, form: reversal, reversal: -5 um}\n",
+      "G21 G90 G94 G54\nT1 M6\nG43 H1\nF1000\nG0 X-150 Y0 Z-100 B0\nG1 Y1\nG1 X150\nG1 Y2\nM30\n");
+  EXPECT_GT(r.after, 0.003) << "the turns past the eighth keep Y's play";
+  EXPECT_GE(r.report.max_error_after, 0.8 * r.after) << "verify finds " << r.after;
+  ASSERT_FALSE(r.warnings.empty());
+  EXPECT_NE(r.warnings.front().find("axis Y's reversal cannot be fully taken up"), std::string::npos)
+      << r.warnings.front();
+}
+
 TEST(ClosedLoop, AReversalThatLeadsIsReportedNotHidden) {
   // Positive: the axis runs ahead of its command when approaching upward. No take-up move
   // can hide that; the job says so, and verify shows what is left.

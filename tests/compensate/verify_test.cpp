@@ -263,6 +263,14 @@ TEST(Verify, ACutLeftOutIsFoundWhereThePathMeetsItselfAgain) {
     EXPECT_NEAR(e.uncut_length, c.uncut, 1e-9) << c.output;
     EXPECT_EQ(e.uncut_line, c.line) << c.output;
   }
+  // Out and back along one line, the corner written 0.5 um short of the nominal one along
+  // it: the way back is cut, not left out.
+  const std::string out_and_back = "G21 G90 G94 F1000\nG0 X0 Y0 Z0\nG1 X10 Y10 Z-10\nG1 X0 Y0 Z0\nG1 Y5\nM2\n";
+  std::string short_corner = out_and_back;
+  short_corner.replace(short_corner.find("X10 Y10 Z-10"), 12, "X9.9997 Y9.9997 Z-9.9997");
+  const compensate::PathError back = verify_text(out_and_back, short_corner, m);
+  EXPECT_EQ(back.uncut_length, 0.0) << "from line " << back.uncut_line;
+  EXPECT_LT(back.max, 1e-9);
 }
 
 TEST(Verify, ACannedCyclesPecksNeedNotMeetTheOriginalsPieceForPiece) {

@@ -173,8 +173,9 @@ class Compensator {
   [[nodiscard]] double play_stray(const StraightMove& move, double s0, const model::ChainQ& a,
                                   const std::vector<CompensatedPoint>& out, std::size_t first);
   /// The first turn, in the pieces just split (pieces_, from compensated `a` at s0), that
-  /// leaves more than an eighth of the tolerance; nothing where none does.
-  [[nodiscard]] std::optional<Turn> correction_turn(double s0, const model::ChainQ& a) const;
+  /// leaves more than an eighth of the tolerance (`whole`: the one that leaves most, all of
+  /// its travel back counted); nothing where none does.
+  [[nodiscard]] std::optional<Turn> correction_turn(double s0, const model::ChainQ& a, bool whole) const;
   /// What an axis travelling `back` (mm, rad) against its approach leaves at the tool (mm).
   [[nodiscard]] double turn_left(std::size_t axis, double back) const;
   /// The fraction of the move where the turn's axis' correction is furthest its first way.
