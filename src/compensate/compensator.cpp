@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 
 #include <optional>
+#include <span>
 #include <utility>
 
 #include "ccomp/error.hpp"
@@ -311,13 +312,15 @@ void Compensator::stretch(const StraightMove& move, double s0, double s1, int tu
     return;
   }
   MoveReport solved;
-  pieces_.clear();
-  split(from, to, a, b, s0, s1, 0, move.tolerance, pieces_, solved);
-  if (const std::optional<Turn> turn = correction_turn(s0, a, turns_left == 0)) {
+  const std::size_t first = out.size();
+  split(from, to, a, b, s0, s1, 0, move.tolerance, out, solved);
+  const std::span<const CompensatedPoint> pieces(out.begin() + static_cast<std::ptrdiff_t>(first), out.end());
+  if (const std::optional<Turn> turn = correction_turn(s0, a, pieces, turns_left == 0)) {
     if (turns_left > 0) {
       // An axis whose correction turns round inside the move (a bow of straightness along
       // it, B's harmonics) turns there: each side is a move of its own, the second starting
       // with its take-up.
+      out.resize(first);
       const double at = extremum(move, *turn, solved);
       stretch(move, s0, at, turns_left - 1, out, report);
       stretch(move, at, s1, turns_left - 1, out, report);
@@ -328,13 +331,12 @@ void Compensator::stretch(const StraightMove& move, double s0, double s1, int tu
     solved.max_deviation_after = std::max(solved.max_deviation_after, turn->left);
   }
   take_solution(report, solved);
-  const std::size_t lead = out.size();
-  lead_in(from, a, move.tolerance, out, report);
-  for (std::size_t k = lead; k < out.size(); ++k) out[k].s = s0;  // (its take-ups take no share of the move)
-  for (const CompensatedPoint& piece : pieces_) {
-    out.push_back(piece);
-    command(piece.q);
-  }
+  // The take-ups go in front of the pieces (at s0: they take no share of the move).
+  lead_.clear();
+  lead_in(from, a, move.tolerance, lead_, report);
+  for (CompensatedPoint& step : lead_) step.s = s0;
+  out.insert(out.begin() + static_cast<std::ptrdiff_t>(first), lead_.begin(), lead_.end());
+  for (std::size_t k = first + lead_.size(); k < out.size(); ++k) command(out[k].q);
 }
 
 double Compensator::play_stray(const StraightMove& move, double s0, const ChainQ& a,
@@ -389,9 +391,12 @@ double Compensator::play_stray(const StraightMove& move, double s0, const ChainQ
   return stray;
 }
 
-std::optional<Compensator::Turn> Compensator::correction_turn(double s0, const ChainQ& a, bool whole) const {
+std::optional<Compensator::Turn> Compensator::correction_turn(double s0, const ChainQ& a,
+                                                               std::span<const CompensatedPoint> pieces,
+                                                               bool whole) const {
   const auto& need = options_.conditions.directions;
   std::optional<Turn> worst;
+  if (pieces.size() < 2) return worst;  // one piece travels one way
   for (std::size_t i = 0; i < need.size(); ++i) {
     if (!model_.reads_approach(i)) continue;
     const auto k = static_cast<Eigen::Index>(i);
@@ -399,7 +404,7 @@ std::optional<Compensator::Turn> Compensator::correction_turn(double s0, const C
     // how far it runs back against the way it went first, from the piece before it did.
     double way = 0.0, back = 0.0, from = s0, before = s0, turn_from = s0;
     ChainQ last = a;
-    for (const CompensatedPoint& piece : pieces_) {
+    for (const CompensatedPoint& piece : pieces) {
       const double travel = piece.q[k] - last[k];
       last = piece.q;
       if (std::abs(travel) > 10 * still(i)) {

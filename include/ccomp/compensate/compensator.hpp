@@ -15,6 +15,7 @@
 #include <cstdint>
 #include <limits>
 #include <optional>
+#include <span>
 #include <cmath>
 #include <vector>
 
@@ -172,10 +173,11 @@ class Compensator {
   /// run out (mm): checked where each runs out and at the pieces' ends, until all have.
   [[nodiscard]] double play_stray(const StraightMove& move, double s0, const model::ChainQ& a,
                                   const std::vector<CompensatedPoint>& out, std::size_t first);
-  /// The first turn, in the pieces just split (pieces_, from compensated `a` at s0), that
-  /// leaves more than an eighth of the tolerance (`whole`: the one that leaves most, all of
-  /// its travel back counted); nothing where none does.
-  [[nodiscard]] std::optional<Turn> correction_turn(double s0, const model::ChainQ& a, bool whole) const;
+  /// The first turn, in the pieces just split (from compensated `a` at s0), that leaves
+  /// more than an eighth of the tolerance (`whole`: the one that leaves most, all of its
+  /// travel back counted); nothing where none does.
+  [[nodiscard]] std::optional<Turn> correction_turn(double s0, const model::ChainQ& a,
+                                                    std::span<const CompensatedPoint> pieces, bool whole) const;
   /// What an axis travelling `back` (mm, rad) against its approach leaves at the tool (mm).
   [[nodiscard]] double turn_left(std::size_t axis, double back) const;
   /// The fraction of the move where the turn's axis' correction is furthest its first way.
@@ -250,7 +252,7 @@ class Compensator {
   InverseProblem problem_;
   InverseWorkspace workspace_;  ///< the last point solved, its solution and the solve matrix
   model::ForwardData data_, check_;
-  std::vector<CompensatedPoint> pieces_;  ///< a stretch's pieces, before its take-ups go in front
+  std::vector<CompensatedPoint> lead_;  ///< a stretch's take-ups, before they go in front of its pieces
   model::VariationBound bound_;  ///< for options_.conditions
   /// The probe error_at(probe, at_least) took last, and the bound of its error.
   ErrorProbe last_probe_;
