@@ -228,11 +228,20 @@ std::vector<Region> residual_bins(const MeasurementSet& data, const std::vector<
       sum[static_cast<std::size_t>(bin)] += r[i] * r[i];
       count[static_cast<std::size_t>(bin)] += 1;
     }
+    // Against the rms everywhere, or the bins' median if higher: where only some readings
+    // vary along the variable (a laser line along Y among readings at one y), their bins all
+    // stand above the rest alike, which says which readings, not where.
+    std::vector<double> rms(kBins, -1.0), seen;
+    for (std::size_t b = 0; b < rms.size(); ++b)
+      if (count[b] >= 10) rms[b] = std::sqrt(sum[b] / count[b]), seen.push_back(rms[b]);
+    if (seen.empty() || !(overall > 0)) return;
+    std::nth_element(seen.begin(), seen.begin() + static_cast<std::ptrdiff_t>(seen.size() / 2), seen.end());
+    const double reference = std::max(overall, seen[seen.size() / 2]);
     for (int b = 0; b < kBins; ++b) {
       const auto bi = static_cast<std::size_t>(b);
-      if (count[bi] < 10 || !(overall > 0)) continue;
-      const double rms = std::sqrt(sum[bi] / count[bi]);
-      bins.push_back({variable, lo + (hi - lo) * b / kBins, lo + (hi - lo) * (b + 1) / kBins, rms, rms / overall});
+      if (rms[bi] < 0) continue;
+      bins.push_back({variable, lo + (hi - lo) * b / kBins, lo + (hi - lo) * (b + 1) / kBins, rms[bi],
+                      rms[bi] / reference});
     }
   };
   for (const AxisInfo& a : axes) add_bins(axis_name(a.index), [&a](const Observation& o) { return axis_value(o, a); });

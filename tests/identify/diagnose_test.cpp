@@ -5,7 +5,12 @@
 // nothing is suggested.
 #include "ccomp/identify/diagnose.hpp"
 
+#include <fmt/format.h>
 #include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <random>
 
 #include "ccomp/identify/check.hpp"
 #include "ccomp/identify/fit.hpp"
@@ -238,6 +243,60 @@ TEST(HiddenEffect, NoHiddenEffectNoSuggestion) {
                                        << d.suggestions.front().bic_delta << ")";
     EXPECT_GT(d.candidates_tried, 50U);
   }
+}
+
+}  // namespace
+}  // namespace ccomp::identify
+
+namespace ccomp::identify {
+namespace {
+
+/// A 3-axis machine whose model has only X's positioning, free.
+const model::MachineModel& two_line_machine() {
+  static const model::MachineModel m = model::parse_machine_model(
+      "name: two\naxes:\n  X: {min: -400, max: 400}\n  Y: {min: -250, max: 250}\n  Z: {min: -400, max: 400}\n"
+      "chain:\n  workpiece: [{link: Y, axis: Y, direction: [0, -1, 0]}, {link: X, axis: X, direction: [-1, 0, 0]}]\n"
+      "  tool: [{link: Z, axis: Z, offset: [0, 0, 600], direction: [0, 0, 1]}, {link: tool, tool_length: [0, 0, -1]}]\n"
+      "terms:\n  - {name: EXX, form: polynomial, unit: um, coefficients: [0, 0], fit: true}\n",
+      "two.yaml");
+  return m;
+}
+
+/// X's positioning along X, and Y's along Y, read at one y and one x: the model fits X's
+/// line exactly; Y's readings carry what it lacks, `y_error(y, approach)` (mm).
+MeasurementSet two_lines(double (*y_error)(double, double)) {
+  std::mt19937 random(11);
+  std::normal_distribution<double> noise(0.0, 1e-4);
+  std::string csv = "x,y,z,vx,vy,nx,ny,nz,d,source\n";
+  for (const double way : {1.0, -1.0}) {
+    for (int k = -80; k <= 80; ++k)
+      csv += fmt::format("{},0,0,{},0,1,0,0,{:.8e},x-pos\n", 5.0 * k * way, way, 1e-5 * 5.0 * k * way + noise(random));
+    for (int k = -50; k <= 50; ++k) {
+      const double y = 5.0 * k * way;
+      csv += fmt::format("0,{},0,0,{},0,1,0,{:.8e},y-pos\n", y, way, y_error(y, way) + noise(random));
+    }
+  }
+  const model::MachineModel& m = two_line_machine();
+  MeasurementSet data;
+  parse_measurements(csv, "two.csv", m, {}, data);
+  return data;
+}
+
+// Only Y's line varies along y, and all of it carries Y's reversal the model lacks: every bin
+// along y stands above the rest alike, which says which readings, not where. A bump at one
+// place along Y's line is where, and is said.
+TEST(Diagnose, WhereTheResidualConcentratesIsAPlaceNotAReadingsSet) {
+  const model::MachineModel& m = two_line_machine();
+  auto along_y = [](const Diagnosis& d) {
+    return std::count_if(d.regions.begin(), d.regions.end(), [](const Region& r) { return r.variable == "y"; });
+  };
+  const Diagnosis reversal =
+      diagnose(model::ForwardModel(m), two_lines([](double, double way) { return 0.002 * way; }));
+  EXPECT_EQ(along_y(reversal), 0);
+  const Diagnosis bump = diagnose(model::ForwardModel(m), two_lines([](double y, double) {
+                                    return std::abs(y - 150.0) < 25.0 ? 0.004 : 0.0;
+                                  }));
+  EXPECT_GE(along_y(bump), 1);
 }
 
 }  // namespace

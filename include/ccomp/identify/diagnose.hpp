@@ -49,7 +49,7 @@ struct Region {
   std::string variable;  ///< where the residual concentrates: "x", "b", "T_bed"...
   double from = 0.0, to = 0.0;
   double rms = 0.0;    ///< mm, of the residual there
-  double ratio = 0.0;  ///< against the rms everywhere
+  double ratio = 0.0;  ///< against the rms everywhere, or the median of the variable's bins where higher
 };
 
 /// Two suggestions the data cannot tell apart, and the measurement that would.
