@@ -8,7 +8,6 @@
 
 #include "ccomp/constants.hpp"
 #include "ccomp/error.hpp"
-#include "ccomp/gcode/number.hpp"
 #include "ccomp/model/chain_values.hpp"
 #include "number_style.hpp"
 
@@ -28,15 +27,6 @@ std::uint32_t insertion_point(const gcode::Block& b) {
 /// The unit of the last digit written.
 double quantum(const NumberStyle& style) {
   return std::pow(10.0, -style.decimals);
-}
-
-/// The number v is written as, without making its text.
-double rounded(double v, const NumberStyle& style) {
-  static constexpr double kPower[] = {1e0, 1e1, 1e2, 1e3, 1e4, 1e5, 1e6, 1e7, 1e8, 1e9};
-  std::int64_t units = 0;
-  if (style.decimals >= 0 && style.decimals <= 9 && gcode::fixed_units(v, style.decimals, units))
-    return static_cast<double>(units) / kPower[style.decimals];
-  return format_value(v, style).value;
 }
 
 }  // namespace
@@ -86,7 +76,7 @@ std::optional<std::string> MoveRewriter::axis_word(std::size_t i, double p, doub
   auto against = [&](double written_value) {
     return approach && (planned >= 0.0 ? written_value < from : written_value > from);
   };
-  if (!named && !turning && (written_alike(value, from, style) || (approach && against(rounded(value, style))))) {
+  if (!named && !turning && (written_alike(value, from, style) || (approach && against(written_number(value, style))))) {
     rounding[i] += last - p;  // (checked before the text is made: most unnamed axes stay)
     return std::nullopt;
   }

@@ -53,12 +53,22 @@ WrittenValue format_value(double v, const NumberStyle& style) {
     else if (text.starts_with("-0."))
       text.erase(1, 1);
   }
-  // The text's digits are units / 10^decimals: the division read_decimal does reading it.
-  std::int64_t units = 0;
-  static constexpr double kPower[] = {1e0, 1e1, 1e2, 1e3, 1e4, 1e5, 1e6, 1e7, 1e8, 1e9};
-  written.value = gcode::fixed_units(v, style.decimals, units) ? static_cast<double>(units) / kPower[style.decimals]
-                                                               : number_of(text);
+  const std::optional<double> number = fixed_number(v, style);
+  written.value = number ? *number : number_of(text);
   return written;
+}
+
+std::optional<double> fixed_number(double v, const NumberStyle& style) {
+  // The text's digits are units / 10^decimals: the division read_decimal does reading it.
+  static constexpr double kPower[] = {1e0, 1e1, 1e2, 1e3, 1e4, 1e5, 1e6, 1e7, 1e8, 1e9};
+  std::int64_t units = 0;
+  if (!gcode::fixed_units(v, style.decimals, units)) return std::nullopt;
+  return static_cast<double>(units) / kPower[style.decimals];
+}
+
+double written_number(double v, const NumberStyle& style) {
+  if (const std::optional<double> number = fixed_number(v, style)) return *number;
+  return format_value(v, style).value;
 }
 
 WrittenValue format_value(double v, std::string_view original, bool inch, bool rotary, int decimals) {

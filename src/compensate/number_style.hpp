@@ -2,6 +2,7 @@
 // Rewriting, its smallest part: how a compensated coordinate is written. In the style of the
 // word it replaces (as many decimals as the program wrote, ".5" stays ".5"), with enough
 // digits for the tolerance, or exactly as many as the user asked for.
+#include <optional>
 #include <string>
 #include <string_view>
 
@@ -29,6 +30,12 @@ struct WrittenValue {
 
 [[nodiscard]] WrittenValue format_value(double v, const NumberStyle& style);
 [[nodiscard]] WrittenValue format_value(double v, std::string_view original, bool inch, bool rotary, int decimals);
+
+/// The number v is written as in `style`, without making its text; nothing where only the
+/// text can say (fixed_units cannot).
+[[nodiscard]] std::optional<double> fixed_number(double v, const NumberStyle& style);
+/// The number v is written as in `style` (its text made only where fixed_number cannot say).
+[[nodiscard]] double written_number(double v, const NumberStyle& style);
 
 /// Whether a and b are written alike in `style` ("-0.0000" is written "0.0000").
 [[nodiscard]] bool written_alike(double a, double b, const NumberStyle& style);
