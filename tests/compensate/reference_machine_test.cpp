@@ -237,7 +237,7 @@ TEST(ReferenceMachine, ACorrectionThatTurnsRoundInsideAMoveTakesUpThePlayThere) 
   // The largest distance from the path of the cuts' points, the reference running each
   // motion in 200 steps through its dead band.
   auto worst = [&](const std::vector<RecordedMotion>& motions) {
-    DeadBand y{0.005};
+    DeadBand y{0.005, std::nullopt};
     double off = 0.0;
     for (const RecordedMotion& m : motions) {
       const Chain a = chain_at_start(m), c = chain(m);
