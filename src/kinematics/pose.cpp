@@ -69,6 +69,10 @@ Mat3 so3_right_jacobian_inverse(const Vec3& w) {
 
 Mat3 so3_exp(const Vec3& w, Mat3* J) {
   const double th2 = w.squaredNorm();
+  // An error motion's rotation (tens of microradians) at every evaluation of the model:
+  // below 1e-4 rad the series' next terms (th^4 / 120 and th^4 / 720) are below 1e-18, a
+  // hundredth of the coefficients' last bit.
+  if (!J && th2 < 1e-8) return identity_plus(w, th2, 1.0 - th2 * (1.0 / 6), 0.5 - th2 * (1.0 / 24));
   const So3Coefficients k = so3_coefficients(th2);
   if (J) *J = identity_plus(w, th2, -k.b, k.c);
   return identity_plus(w, th2, k.a, k.b);
@@ -77,11 +81,12 @@ Mat3 so3_exp(const Vec3& w, Mat3* J) {
 Vec3 so3_log(const Mat3& R, Mat3* J) {
   const double c = std::clamp((R.trace() - 1.0) * 0.5, -1.0, 1.0);
   const Vec3 v(R(2, 1) - R(1, 2), R(0, 2) - R(2, 0), R(1, 0) - R(0, 1));  // 2 sin(th) axis
-  // Small angles (the inverse compares orientations that differ by microradians at every
-  // iteration): th^2 = sin^2 th to far below the last bit of 1 + th^2 / 6, without acos,
-  // which near 1 is slow and loses half the digits.
-  if (const double sin2 = 0.25 * v.squaredNorm(); c > 0.0 && sin2 < 1e-10) {
-    const Vec3 w = 0.5 * (1.0 + sin2 / 6.0) * v;
+  // Small angles (the inverse compares orientations that differ by tens of microradians at
+  // every iteration): th / sin th = asin(s) / s in s^2 = sin^2 th, whose series taken to s^6
+  // is exact to double precision below s = 1e-2 (the next term, 35/1152 s^8, is below
+  // 1e-17). It spares an acos and a sine, a few percent of the whole main job.
+  if (const double s2 = 0.25 * v.squaredNorm(); c > 0.0 && s2 < 1e-4) {
+    const Vec3 w = 0.5 * (1.0 + s2 * (1.0 / 6 + s2 * (3.0 / 40 + s2 * (5.0 / 112)))) * v;
     if (J) *J = so3_right_jacobian_inverse(w);
     return w;
   }

@@ -33,6 +33,21 @@ TEST(Pose, ExpLogRoundTrip) {
   }
 }
 
+TEST(Pose, SmallRotationsRoundTripToTheLastDigits) {
+  // Error motions and the inverse's orientation residuals are micro- to milliradians: Log
+  // takes them by a series, which must hold to double precision up to its limit (1e-2 rad)
+  // and meet the closed form there.
+  for (const double angle : {1e-9, 1e-7, 1e-5, 3e-5, 1e-4, 1e-3, 5e-3, 9.99e-3, 1.001e-2, 3e-2}) {
+    for (int i = 0; i < 20; ++i) {
+      const Vec3 w = angle * random_vec(1.0).normalized();
+      const Vec3 back = so3_log(so3_exp(w));
+      // The closed form past the series loses digits as 1 - cos th does: 1e-16 / th^2.
+      const double allowed = angle < 1e-2 ? 4e-16 : 1e-16 / (angle * angle);
+      EXPECT_LT((back - w).norm(), allowed * angle) << "angle " << angle;
+    }
+  }
+}
+
 TEST(Chain, ErrorMatrixIsIdentityWithoutErrorsAndSeesEachError) {
   ChainModel m = sample_chain();
   ChainData d(m);
