@@ -141,24 +141,28 @@ Mat6 link_location_jacobian(const Joint& j, double q, const Pose& location, cons
 
 /// Composes one side, base to end. With `J_end`, fills for each link the Jacobian of the
 /// end pose w.r.t. a right perturbation of the link's error pose (Ad of the suffix
-/// inverse), and adds the link's axis motion into J_q_side.
+/// inverse), and adds the link's axis motion into J_q_side. `errors_set` (bit i: link i)
+/// and `locations_set` say which poses the caller may have changed (PoseChanges); the
+/// others are taken as composed last.
 const Pose& compose_side(const Chain& chain, const std::vector<Pose>& errors, const std::vector<Pose>& locations,
                          const Eigen::Ref<const VecQ>& q, std::vector<Pose>& oMi, ChainData::SideCache& cache,
                          ChainJacobians which, std::vector<Mat6>& J_error, std::vector<Mat6>& J_location,
-                         Eigen::Matrix<double, 6, Eigen::Dynamic>& J_q) {
+                         Eigen::Matrix<double, 6, Eigen::Dynamic>& J_q, const std::uint64_t* errors_set,
+                         bool locations_set) {
   const std::size_t n = chain.joints.size();
   std::vector<Pose>& links = cache.links;
   bool changed = false;  // a link before this one changed: the poses from here on must follow
   for (std::size_t i = 0; i < n; ++i) {
     const Joint& j = chain.joints[i];
     const double qi = j.type == JointType::fixed ? 0.0 : q[static_cast<Eigen::Index>(j.axis)];
-    const bool moved_line = !same(locations[i], cache.locations[i]);
+    const bool moved_line = locations_set && !same(locations[i], cache.locations[i]);
     if (moved_line) {
       cache.locations[i] = locations[i];
       cache.located[i] = is_identity(locations[i]) ? 0 : 1;
       cache.lines[i] = locations[i].R * j.direction;
     }
-    if (qi != cache.q[i] || moved_line || !same(errors[i], cache.errors[i])) {
+    const bool error_set = errors_set ? (*errors_set >> i & 1U) != 0 : true;
+    if (qi != cache.q[i] || moved_line || (error_set && !same(errors[i], cache.errors[i]))) {
       set_link_pose(j, cache.offset_only[i] != 0, qi, cache.located[i] != 0, cache.lines[i], locations[i], errors[i],
                     links[i]);
       cache.q[i] = qi;
@@ -249,13 +253,19 @@ void nominal_poses(const ChainModel& model, NominalData& data, const Eigen::Ref<
   data.E = compose(inverse(data.oMp), data.oMtool);
 }
 
-void error_matrix(const ChainModel& model, ChainData& data, const Eigen::Ref<const VecQ>& q, ChainJacobians which) {
+void error_matrix(const ChainModel& model, ChainData& data, const Eigen::Ref<const VecQ>& q, ChainJacobians which,
+                  const PoseChanges* changes) {
   auto& Jq_work = data.J_q_work_;
   auto& Jq_tool = data.J_q_tool_;
-  const Pose& oMp = compose_side(model.workpiece, data.work_error, data.work_location, q, data.work_oMi,
-                                 data.work_cache_, which, data.J_work_error, data.J_work_location, Jq_work);
-  const Pose& oMtool = compose_side(model.tool, data.tool_error, data.tool_location, q, data.tool_oMi, data.tool_cache_,
-                                    which, data.J_tool_error, data.J_tool_location, Jq_tool);
+  const bool locations_set = changes == nullptr || changes->locations;
+  const Pose& oMp =
+      compose_side(model.workpiece, data.work_error, data.work_location, q, data.work_oMi, data.work_cache_, which,
+                   data.J_work_error, data.J_work_location, Jq_work, changes ? &changes->work_error : nullptr,
+                   locations_set);
+  const Pose& oMtool =
+      compose_side(model.tool, data.tool_error, data.tool_location, q, data.tool_oMi, data.tool_cache_, which,
+                   data.J_tool_error, data.J_tool_location, Jq_tool, changes ? &changes->tool_error : nullptr,
+                   locations_set);
   const bool jacobians = which != ChainJacobians::none;
   Mat6 J_inv, J_a, J_b;
   const Pose pMo = inverse(oMp, jacobians ? &J_inv : nullptr);

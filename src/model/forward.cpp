@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstring>
 #include <limits>
@@ -80,6 +81,26 @@ std::int16_t variable_slot(const Variable& v) {
   return -1;
 }
 
+/// The six components of a link's error motion (delta x y z, epsilon a b c).
+constexpr std::size_t kMotionComponents = 6;
+
+/// Adds term `index` (its slot, on the axes) to its link's terms: a polynomial in one
+/// chain variable to the group of that variable, any other to the rest. (Location terms
+/// are constants: only error motions are on the axes.)
+void add_link_term(ForwardModel::LinkTerms& link, const ForwardModel::TermSlot& slot, std::size_t index) {
+  for (const std::int16_t v : {slot.primary, slot.secondary})
+    if (v >= 0 && v < static_cast<int>(kChainVariables)) link.variables |= 1U << static_cast<unsigned>(v);
+  if (slot.form != TermForm::polynomial || slot.secondary >= 0) {
+    link.terms.push_back(index);
+    return;
+  }
+  auto group = std::find_if(link.polynomials.begin(), link.polynomials.end(),
+                            [&](const ForwardModel::PolynomialGroup& g) { return g.variable == slot.primary; });
+  if (group == link.polynomials.end()) group = link.polynomials.insert(group, {slot.primary, 0, 0, {}});
+  group->degree = std::max(group->degree, slot.order);
+  group->terms.push_back(index);
+}
+
 /// Term t's slot, at site s, its parameters from `offset` on (phase_source left at none).
 ForwardModel::TermSlot slot_of(const kinematics::ChainModel& chain, const ForwardModel::Site& s, const ErrorTermSpec& t,
                                std::size_t offset) {
@@ -89,6 +110,11 @@ ForwardModel::TermSlot slot_of(const kinematics::ChainModel& chain, const Forwar
   slot.secondary = variable_slot(t.secondary);
   slot.on_axes = (slot.primary >= 0 && slot.primary < static_cast<int>(kChainVariables)) ||
                  (slot.secondary >= 0 && slot.secondary < static_cast<int>(kChainVariables));
+  auto approach = [](std::int16_t v) {
+    return v >= static_cast<int>(ForwardModel::kFirstDirectionVariable) &&
+           v < static_cast<int>(ForwardModel::kFirstTemperatureVariable);
+  };
+  slot.on_approach = approach(slot.primary) || approach(slot.secondary);
   slot.offset = offset;
   const std::size_t link = s.side == 0 ? s.joint : chain.workpiece.joints.size() + s.joint;
   const bool location = t.placement == ErrorPlacement::location;
@@ -176,12 +202,21 @@ ForwardModel::ForwardModel(const MachineModel& model) : machine_(model) {
   add_joints(machine_, machine_.tool_chain, chain_.tool);
   // The workpiece point: the table frame itself (program coordinates are table coordinates).
   chain_.workpiece.joints.push_back(Joint{"p", JointType::fixed, 0, Eigen::Vector3d::UnitX(), Pose{}});
+  link_terms_.resize(chain_.workpiece.joints.size() + chain_.tool.joints.size());
   for (const ErrorTermSpec& t : machine_.terms) {
     const Site s = site_of(chain_, t);
     sites_.push_back(s);
     TermSlot slot = slot_of(chain_, s, t, parameter_count_);
     slot.phase_source = phase_source(slots_, on_axes_terms_, machine_.terms, slot, t);
-    if (slot.on_axes) on_axes_terms_.push_back(slots_.size());
+    if (slot.on_axes) {
+      add_link_term(link_terms_[slot.error_index / kLinkErrorSize], slot, slots_.size());
+      on_axes_terms_.push_back(slots_.size());
+    } else if (slot.on_approach) {
+      if (slot.error_index % kLinkErrorSize < kMotionComponents)
+        link_terms_[slot.error_index / kLinkErrorSize].off_axes_approach = true;
+      else
+        location_reads_approach_ = true;
+    }
     for (const std::int16_t v : {slot.primary, slot.secondary})
       if (v >= static_cast<int>(kFirstDirectionVariable) && v < static_cast<int>(kFirstDirectionVariable + 9))
         approach_axes_ |= 1U << (static_cast<unsigned>(v) - kFirstDirectionVariable);
@@ -189,6 +224,11 @@ ForwardModel::ForwardModel(const MachineModel& model) : machine_(model) {
     offsets_.push_back(parameter_count_);
     parameter_count_ += static_cast<std::size_t>(t.parameters.size());
   }
+  for (LinkTerms& link : link_terms_)
+    for (PolynomialGroup& group : link.polynomials) {
+      group.coefficients = group_coefficient_count_;
+      group_coefficient_count_ += kMotionComponents * static_cast<std::size_t>(group.degree + 1);
+    }
   feature_ = shortest_features(machine_.terms);
   const Reversals reversals = reversals_of(machine_.terms, sites_, chain_);
   reversal_size_ = reversals.size;
@@ -222,7 +262,10 @@ ForwardData::ForwardData(const ForwardModel& model)
       variables(ForwardModel::kFirstTemperatureVariable + model.machine().sensors.size(), 0.0),
       key(variables.size() - ForwardModel::kTimeVariable + model.parameter_count()),
       off_axes_errors(kLinkErrorSize * (model.chain().workpiece.joints.size() + model.chain().tool.joints.size())),
+      off_axes_fixed(off_axes_errors.size()),
+      off_axes_approach(off_axes_errors.size()),
       errors(off_axes_errors.size()),
+      group_coefficients(model.group_coefficient_count()),
       J_work_pose(model.chain().workpiece.joints.size()),
       J_tool_pose(model.chain().tool.joints.size()),
       J_work_location_pose(model.chain().workpiece.joints.size()),
@@ -309,9 +352,10 @@ double term_value(const ErrorTermSpec& t, std::size_t offset, ForwardData& d, st
   return d.values[i].value;
 }
 
-/// Whether the conditions and the parameters are those of the last evaluation's key.
+/// Whether the approach states, the rest of the conditions (time, temperatures) and the
+/// parameters are those of the last evaluation's key.
 struct KeyMatch {
-  bool conditions = false, parameters = false;
+  bool directions = false, rest = false, parameters = false;
 };
 
 /// Fills d.variables for q and c and compares the key (bitwise: a key that compares equal
@@ -325,15 +369,22 @@ KeyMatch update_variables(const ForwardModel& model, ForwardData& d, const Chain
     const std::size_t sensor = i - ForwardModel::kFirstTemperatureVariable;
     v[i] = sensor < c.temperatures.size() ? c.temperatures[sensor] : 20.0;
   }
+  // The key: the time, the directions, the temperatures (the variables from the time on),
+  // then the parameters.
+  constexpr std::size_t kDirections = ForwardModel::kFirstTemperatureVariable - ForwardModel::kFirstDirectionVariable;
   const std::size_t n = d.variables.size() - ForwardModel::kTimeVariable;
+  const std::size_t temperatures = d.variables.size() - ForwardModel::kFirstTemperatureVariable;
   const std::size_t p = model.parameter_count();
   double* key = d.key.data();
+  const double* conditions = v + ForwardModel::kTimeVariable;
   KeyMatch match;
-  match.conditions = d.key_valid && std::memcmp(key, v + ForwardModel::kTimeVariable, n * sizeof(double)) == 0;
+  match.directions = d.key_valid && std::memcmp(key + 1, conditions + 1, kDirections * sizeof(double)) == 0;
+  match.rest = d.key_valid && std::memcmp(key, conditions, sizeof(double)) == 0 &&
+               std::memcmp(key + 1 + kDirections, conditions + 1 + kDirections, temperatures * sizeof(double)) == 0;
   // A model without terms has no parameters: data() is null, which memcmp and memcpy may
   // not be given even for no bytes.
   match.parameters = d.key_valid && (p == 0 || std::memcmp(key + n, d.parameters.data(), p * sizeof(double)) == 0);
-  if (!match.conditions) std::memcpy(key, v + ForwardModel::kTimeVariable, n * sizeof(double));
+  if (!match.directions || !match.rest) std::memcpy(key, conditions, n * sizeof(double));
   if (!match.parameters && p > 0) std::memcpy(key + n, d.parameters.data(), p * sizeof(double));
   d.key_valid = true;
   return match;
@@ -399,38 +450,110 @@ double on_axes_value(const ForwardModel& model, ForwardData& d, std::size_t i, b
 /// forward model runs this at every point the compensation checks: the terms off the axes
 /// are summed once for the conditions and parameters, the others at each point. True when
 /// the location terms (constants) must be posed again.
-bool sum_term_values(const ForwardModel& model, ForwardData& d, const ChainQ& q, const Conditions& c) {
+/// Sums the values of the terms off the axes that read an approach state (`approach`) or
+/// those that do not, per link component, into `sums`.
+void sum_off_axes(const ForwardModel& model, ForwardData& d, bool approach, bool same_parameters,
+                  std::vector<double>& sums) {
   const auto& terms = model.machine().terms;
   const auto& slots = model.slots();
+  std::fill(sums.begin(), sums.end(), 0.0);
+  for (std::size_t i = 0; i < terms.size(); ++i)
+    if (!slots[i].on_axes && slots[i].on_approach == approach)
+      sums[slots[i].error_index] +=
+          slots[i].sign * term_value(terms[i], slots[i].offset, d, i, slot_inputs(d, slots[i]), same_parameters);
+}
+
+/// Each polynomial group's coefficients from the parameters: its terms', signed, summed
+/// per link component and power.
+void group_polynomials(const ForwardModel& model, ForwardData& d) {
+  std::fill(d.group_coefficients.begin(), d.group_coefficients.end(), 0.0);
+  for (const ForwardModel::LinkTerms& link : model.link_terms())
+    for (const ForwardModel::PolynomialGroup& g : link.polynomials)
+      for (const std::size_t i : g.terms) {
+        const ForwardModel::TermSlot& s = model.slots()[i];
+        const double* p = d.parameters.data() + s.offset;
+        const std::size_t component = s.error_index % kLinkErrorSize;
+        for (int k = 0; k <= s.order; ++k)
+          d.group_coefficients[g.coefficients + kMotionComponents * static_cast<std::size_t>(k) + component] +=
+              s.sign * p[k];
+      }
+}
+
+/// Adds group g's six components at d's variables to a link's error motion `errors`: one
+/// Horner's scheme for all (a carriage's six error motions along its axis).
+void add_polynomial_group(const ForwardModel::PolynomialGroup& g, const ForwardData& d, double* errors) {
+  const double v = d.variables[static_cast<std::size_t>(g.variable)];
+  const double* c = d.group_coefficients.data() + g.coefficients;
+  std::array<double, kMotionComponents> sum;
+  std::copy_n(c + kMotionComponents * static_cast<std::size_t>(g.degree), kMotionComponents, sum.begin());
+  for (int k = g.degree - 1; k >= 0; --k)
+    for (std::size_t j = 0; j < kMotionComponents; ++j)
+      sum[j] = sum[j] * v + c[kMotionComponents * static_cast<std::size_t>(k) + j];
+  for (std::size_t j = 0; j < kMotionComponents; ++j) errors[j] += sum[j];
+}
+
+/// How many links an evaluation tracks one by one (the bits of PoseChanges).
+constexpr std::size_t kTrackedLinks = 64;
+
+/// Sums the terms' values per link component into d.errors, without derivatives, for the
+/// links `summed` sets (bit k: link k of ForwardModel::link_terms(); the others keep their
+/// sums). The forward model runs this at every point the compensation checks: the terms off
+/// the axes are summed once for the conditions and parameters, the others at each point, a
+/// link's only where an axis it reads moved (or an approach its terms read changed). True
+/// when the location poses must be posed again.
+bool sum_term_values(const ForwardModel& model, ForwardData& d, const ChainQ& q, const Conditions& c,
+                     std::uint64_t& summed) {
+  const auto& slots = model.slots();
   const KeyMatch same = update_variables(model, d, q, c);
-  if (!same.conditions || !same.parameters) {
-    std::fill(d.off_axes_errors.begin(), d.off_axes_errors.end(), 0.0);
-    for (std::size_t i = 0; i < terms.size(); ++i)
-      if (!slots[i].on_axes)
-        d.off_axes_errors[slots[i].error_index] +=
-            slots[i].sign * term_value(terms[i], slots[i].offset, d, i, slot_inputs(d, slots[i]), same.parameters);
+  // Every sum off the axes is stale when the parameters, the time or a temperature changed;
+  // where only an approach state did (a play being taken up), those of the terms reading one.
+  const bool stale = !same.rest || !same.parameters;
+  const bool turned = stale || !same.directions;
+  if (stale) sum_off_axes(model, d, false, same.parameters, d.off_axes_fixed);
+  if (turned) {
+    sum_off_axes(model, d, true, same.parameters, d.off_axes_approach);
+    for (std::size_t i = 0; i < d.off_axes_errors.size(); ++i)
+      d.off_axes_errors[i] = d.off_axes_fixed[i] + d.off_axes_approach[i];
   }
-  d.errors = d.off_axes_errors;
-  for (const std::size_t i : model.on_axes_terms()) {
-    const ForwardModel::TermSlot& s = slots[i];
-    const double value = on_axes_value(model, d, i, same.parameters);
-    d.errors[s.error_index] += s.sign * value;
+  if (!same.parameters) group_polynomials(model, d);
+  std::uint32_t moved = 0;  // (NaN, before the first evaluation, moves every axis)
+  for (Eigen::Index i = 0; i < q.size(); ++i)
+    if (!(q[i] == d.evaluated_q[i])) moved |= 1U << static_cast<unsigned>(i);
+  d.evaluated_q = q;
+  const auto& links = model.link_terms();
+  summed = 0;
+  for (std::size_t k = 0; k < links.size(); ++k) {
+    // (A chain longer than the mask is summed whole: each link at every evaluation.)
+    const bool redo = stale || (turned && links[k].off_axes_approach) || (links[k].variables & moved) != 0;
+    if (!redo && k < kTrackedLinks) continue;
+    if (k < kTrackedLinks) summed |= std::uint64_t{1} << k;
+    // Each component from its sum off the axes, then the terms on them in file order: the
+    // sums of an evaluation of every link at once.
+    std::copy_n(d.off_axes_errors.begin() + static_cast<std::ptrdiff_t>(kLinkErrorSize * k), kLinkErrorSize,
+                d.errors.begin() + static_cast<std::ptrdiff_t>(kLinkErrorSize * k));
+    for (const ForwardModel::PolynomialGroup& g : links[k].polynomials)
+      add_polynomial_group(g, d, d.errors.data() + kLinkErrorSize * k);
+    for (const std::size_t i : links[k].terms) {
+      const ForwardModel::TermSlot& s = slots[i];
+      const double value = on_axes_value(model, d, i, same.parameters);
+      d.errors[s.error_index] += s.sign * value;
+    }
   }
-  return !same.conditions || !same.parameters;
+  return stale || (turned && model.location_reads_approach());
 }
 
 using Vec6 = Eigen::Matrix<double, 6, 1>;
 
-/// d.errors as each link's error motion and (when `locations` is set) location.
-void split_link_errors(ForwardData& d, bool locations) {
+/// d.errors as each link's error motion and location.
+void split_link_errors(ForwardData& d) {
   const std::size_t work_links = d.work_error.size();
   for (std::size_t j = 0; j < work_links; ++j) {
     d.work_error[j] = Eigen::Map<const Vec6>(d.errors.data() + kLinkErrorSize * j);
-    if (locations) d.work_location[j] = Eigen::Map<const Vec6>(d.errors.data() + kLinkErrorSize * j + 6);
+    d.work_location[j] = Eigen::Map<const Vec6>(d.errors.data() + kLinkErrorSize * j + 6);
   }
   for (std::size_t j = 0; j < d.tool_error.size(); ++j) {
     d.tool_error[j] = Eigen::Map<const Vec6>(d.errors.data() + kLinkErrorSize * (work_links + j));
-    if (locations) d.tool_location[j] = Eigen::Map<const Vec6>(d.errors.data() + kLinkErrorSize * (work_links + j) + 6);
+    d.tool_location[j] = Eigen::Map<const Vec6>(d.errors.data() + kLinkErrorSize * (work_links + j) + 6);
   }
 }
 
@@ -451,15 +574,44 @@ void set_poses(const std::vector<Vec6>& errors, std::vector<Pose>& poses, std::v
   }
 }
 
-void pose_links(ForwardData& d, bool jacobians, bool locations) {
-  set_poses(d.work_error, d.actual_chain.work_error, d.posed_work_error, jacobians ? &d.J_work_pose : nullptr);
-  set_poses(d.tool_error, d.actual_chain.tool_error, d.posed_tool_error, jacobians ? &d.J_tool_pose : nullptr);
+/// Without Jacobians: the error poses of the links `summed` sets (bit k: ForwardModel::
+/// link_terms()'s link k) whose errors changed, and (with `locations`) the location poses;
+/// what error_matrix() need compare. Without a mask (a chain too long for one), all.
+kinematics::PoseChanges pose_summed_links(ForwardData& d, std::uint64_t summed, bool locations, bool tracked) {
+  kinematics::PoseChanges changes;
+  changes.locations = locations;
+  const std::size_t work_links = d.work_error.size();
+  auto pose = [&](std::size_t k, Vec6& error, Vec6& posed, Pose& out) {
+    if (tracked && (summed >> k & 1U) == 0) return false;
+    error = Eigen::Map<const Vec6>(d.errors.data() + kLinkErrorSize * k);
+    if (error == posed) return false;
+    posed = error;
+    out = kinematics::error_pose(error.head<3>(), error.tail<3>());
+    return true;
+  };
+  for (std::size_t j = 0; j < work_links; ++j)
+    if (pose(j, d.work_error[j], d.posed_work_error[j], d.actual_chain.work_error[j]))
+      changes.work_error |= std::uint64_t{1} << j;
+  for (std::size_t j = 0; j < d.tool_error.size(); ++j)
+    if (pose(work_links + j, d.tool_error[j], d.posed_tool_error[j], d.actual_chain.tool_error[j]))
+      changes.tool_error |= std::uint64_t{1} << j;
   if (locations) {
-    set_poses(d.work_location, d.actual_chain.work_location, d.posed_work_location,
-              jacobians ? &d.J_work_location_pose : nullptr);
-    set_poses(d.tool_location, d.actual_chain.tool_location, d.posed_tool_location,
-              jacobians ? &d.J_tool_location_pose : nullptr);
+    for (std::size_t j = 0; j < work_links; ++j)
+      d.work_location[j] = Eigen::Map<const Vec6>(d.errors.data() + kLinkErrorSize * j + 6);
+    for (std::size_t j = 0; j < d.tool_error.size(); ++j)
+      d.tool_location[j] = Eigen::Map<const Vec6>(d.errors.data() + kLinkErrorSize * (work_links + j) + 6);
+    set_poses(d.work_location, d.actual_chain.work_location, d.posed_work_location, nullptr);
+    set_poses(d.tool_location, d.actual_chain.tool_location, d.posed_tool_location, nullptr);
   }
+  return changes;
+}
+
+/// Every link's error and location poses, with their Jacobians.
+void pose_links_with_jacobians(ForwardData& d) {
+  set_poses(d.work_error, d.actual_chain.work_error, d.posed_work_error, &d.J_work_pose);
+  set_poses(d.tool_error, d.actual_chain.tool_error, d.posed_tool_error, &d.J_tool_pose);
+  set_poses(d.work_location, d.actual_chain.work_location, d.posed_work_location, &d.J_work_location_pose);
+  set_poses(d.tool_location, d.actual_chain.tool_location, d.posed_tool_location, &d.J_tool_location_pose);
 }
 
 /// d.J_q and (with `parameter_jacobian`) d.J_parameters, from the chain's Jacobians and the
@@ -513,20 +665,22 @@ void forward(const ForwardModel& model, ForwardData& d, const ChainQ& q, const C
   // Term values, summed per link component (delta x y z in mm, epsilon a b c in rad).
   // Location terms are constants: their poses change only with the parameters and the
   // conditions (or after an evaluation with Jacobians, which keeps no key).
-  bool locations_stale = true;
+  using kinematics::ChainJacobians;
   if (jacobians) {
     std::fill(d.errors.begin(), d.errors.end(), 0.0);
     evaluate_terms_with_derivatives(model, d, q, c, parameter_jacobian);
+    split_link_errors(d);
+    pose_links_with_jacobians(d);
+    kinematics::error_matrix(model.chain(), d.actual_chain, q,
+                             parameter_jacobian ? ChainJacobians::all : ChainJacobians::axes);
   } else {
-    locations_stale = sum_term_values(model, d, q, c);  // starts from the sums off the axes
+    std::uint64_t summed = 0;
+    const bool locations_stale = sum_term_values(model, d, q, c, summed);  // starts from the sums off the axes
+    // Each side's joints are bits of its own mask: a longer chain is compared whole.
+    const bool tracked = model.link_terms().size() <= kTrackedLinks;
+    const kinematics::PoseChanges changes = pose_summed_links(d, summed, locations_stale, tracked);
+    kinematics::error_matrix(model.chain(), d.actual_chain, q, ChainJacobians::none, tracked ? &changes : nullptr);
   }
-  split_link_errors(d, locations_stale);
-  pose_links(d, jacobians, locations_stale);
-  using kinematics::ChainJacobians;
-  kinematics::error_matrix(model.chain(), d.actual_chain, q,
-                           !jacobians           ? ChainJacobians::none
-                           : parameter_jacobian ? ChainJacobians::all
-                                                : ChainJacobians::axes);
   d.actual = d.actual_chain.E.t;
   d.R_actual = d.actual_chain.E.R;
   if (which == Evaluate::both) set_nominal(model, d, q);

@@ -104,10 +104,19 @@ void nominal_poses(const ChainModel& model, NominalData& data, const Eigen::Ref<
 /// link's location pose) too (what a fit needs).
 enum class ChainJacobians : std::uint8_t { none, axes, all };
 
+/// What a caller that sets the poses knows of them since its last error_matrix() on the
+/// same data: which links' error poses it set (bit j: joint j of the side) and whether it
+/// set any location pose. error_matrix() then compares only those with what it composed
+/// last; without it, every pose (24 doubles a link, at every evaluation of the model).
+struct PoseChanges {
+  std::uint64_t work_error = 0, tool_error = 0;
+  bool locations = false;
+};
+
 /// Computes E for axis values q with the error poses in data.work_error / data.tool_error
 /// and the location poses in data.work_location / data.tool_location, and the Jacobians
 /// `which` asks for.
 void error_matrix(const ChainModel& model, ChainData& data, const Eigen::Ref<const VecQ>& q,
-                  ChainJacobians which = ChainJacobians::all);
+                  ChainJacobians which = ChainJacobians::all, const PoseChanges* changes = nullptr);
 
 }  // namespace ccomp::kinematics

@@ -7,6 +7,7 @@
 #include <array>
 #include <cstddef>
 #include <cstdint>
+#include <limits>
 #include <vector>
 
 #include "ccomp/kinematics/chain.hpp"
@@ -75,6 +76,7 @@ class ForwardModel {
   struct TermSlot {
     TermForm form = TermForm::constant;
     bool on_axes = true;                        ///< depends on a chain variable (an axis or the tool length)
+    bool on_approach = false;                   ///< depends on an axis' approach state (a reversal)
     std::int16_t primary = -1, secondary = -1;  ///< into the variables; -1: none (0)
     std::size_t offset = 0;                     ///< its first parameter
     /// Its link's error component, in one array of 12 per link (the error motion's six,
@@ -90,6 +92,32 @@ class ForwardModel {
   [[nodiscard]] const std::vector<TermSlot>& slots() const { return slots_; }
   /// The terms that depend on the axes, in file order.
   [[nodiscard]] const std::vector<std::size_t>& on_axes_terms() const { return on_axes_terms_; }
+  /// A link's polynomials in one chain variable (the commonest terms: six error motions of
+  /// a carriage along its axis), evaluated together as one polynomial with six components.
+  struct PolynomialGroup {
+    std::int16_t variable = 0;  ///< into the variables (a chain variable)
+    int degree = 0;
+    /// Where its (degree + 1) x 6 coefficients (the terms' own, signed and summed per link
+    /// component, power by power) start in ForwardData::group_coefficients.
+    std::size_t coefficients = 0;
+    std::vector<std::size_t> terms;
+  };
+  /// Per link (the workpiece side's joints, then the tool side's): the terms on the axes
+  /// that its error motion sums, the polynomials in one variable grouped, the others in
+  /// file order; and the chain variables they read (bit i: q[i]). A link none of whose
+  /// variables moved keeps its error pose.
+  struct LinkTerms {
+    std::vector<PolynomialGroup> polynomials;
+    std::vector<std::size_t> terms;
+    std::uint32_t variables = 0;
+    bool off_axes_approach = false;  ///< a term off the axes on its error motion reads an approach state
+  };
+  /// Whether a term reading an approach state acts on a link's location (none of the forms
+  /// a location takes does: it is then posed again whenever an approach changes).
+  [[nodiscard]] bool location_reads_approach() const { return location_reads_approach_; }
+  /// How many coefficients the polynomial groups have together.
+  [[nodiscard]] std::size_t group_coefficient_count() const { return group_coefficient_count_; }
+  [[nodiscard]] const std::vector<LinkTerms>& link_terms() const { return link_terms_; }
   /// Where TermSlot's variable indices point: q (10), the time, the 9 directions, then one
   /// temperature per sensor.
   static constexpr std::size_t kTimeVariable = kChainVariables;
@@ -102,6 +130,9 @@ class ForwardModel {
   std::vector<Site> sites_;
   std::vector<TermSlot> slots_;
   std::vector<std::size_t> on_axes_terms_;
+  std::vector<LinkTerms> link_terms_;
+  std::size_t group_coefficient_count_ = 0;
+  bool location_reads_approach_ = false;
   std::vector<std::size_t> offsets_;
   std::size_t parameter_count_ = 0;
   ChainQ feature_;  ///< shortest error feature along each chain variable (mm, rad), or +inf
@@ -124,6 +155,9 @@ struct ForwardData {
   kinematics::NominalData nominal_chain;  ///< the perfect machine
   /// Per joint: delta, epsilon of its error motion and of its location.
   std::vector<Eigen::Matrix<double, 6, 1>> work_error, tool_error, work_location, tool_location;
+  /// The axis values of the last evaluation without Jacobians (NaN before it): a link
+  /// whose terms read none that moved since keeps its errors and its pose.
+  ChainQ evaluated_q = ChainQ::Constant(std::numeric_limits<double>::quiet_NaN());
   /// What the poses in actual_chain were built from: a link whose errors did not change
   /// since (an axis standing still, a thermal drift) keeps its pose.
   std::vector<Eigen::Matrix<double, 6, 1>> posed_work_error, posed_tool_error, posed_work_location, posed_tool_location;
@@ -140,9 +174,12 @@ struct ForwardData {
   /// The variables the terms read (ForwardModel::TermSlot), and the key of what was last
   /// evaluated: the conditions (time, directions, temperatures), then the parameters.
   std::vector<double> variables, key;
-  /// The off-axes terms' errors summed per link component (TermSlot::error_index), and
-  /// the sum with the others added.
-  std::vector<double> off_axes_errors, errors;
+  /// The off-axes terms' errors summed per link component (TermSlot::error_index): all,
+  /// those not reading an approach state, those reading one; and the sum with the others.
+  std::vector<double> off_axes_errors, off_axes_fixed, off_axes_approach, errors;
+  /// The polynomial groups' coefficients (ForwardModel::PolynomialGroup), from the
+  /// parameters under the key.
+  std::vector<double> group_coefficients;
   bool key_valid = false;  ///< false after an evaluation with Jacobians (it keeps no key)
   std::vector<Eigen::Matrix<double, 6, 6>> J_work_pose, J_tool_pose, J_work_location_pose, J_tool_location_pose;
 };
