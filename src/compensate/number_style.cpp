@@ -4,7 +4,6 @@
 
 #include <algorithm>
 #include <array>
-#include <cctype>
 #include <charconv>
 #include <cstdint>
 
@@ -22,17 +21,29 @@ double number_of(std::string_view text) {
   return value;
 }
 
+/// The number units of the last of `decimals` (0..9) digits are: the division read_decimal
+/// does reading the text.
+double units_value(std::int64_t units, int decimals) {
+  static constexpr std::array<double, 10> kPower = {1e0, 1e1, 1e2, 1e3, 1e4, 1e5, 1e6, 1e7, 1e8, 1e9};
+  return static_cast<double>(units) / kPower[static_cast<std::size_t>(decimals)];
+}
+
 }  // namespace
 
 NumberStyle style_of(std::string_view original, bool inch, bool rotary, int decimals) {
   NumberStyle style{rotary ? kDefaultRotaryDecimals : inch ? kDefaultInchDecimals : kDefaultDecimals, true};
-  if (const auto dot = original.find('.'); dot != std::string_view::npos) {
+  // One pass (every axis word of every line comes here): whether a digit or the point comes
+  // first, and how many digits follow the first point.
+  auto digit = [](char c) { return c >= '0' && c <= '9'; };
+  std::size_t i = 0;
+  while (i < original.size() && !digit(original[i]) && original[i] != '.') ++i;
+  const bool point_first = i < original.size() && original[i] == '.';
+  while (i < original.size() && original[i] != '.') ++i;
+  if (i < original.size()) {
     int written = 0;
-    for (std::size_t i = dot + 1; i < original.size() && std::isdigit(static_cast<unsigned char>(original[i])); ++i)
-      ++written;
+    for (++i; i < original.size() && digit(original[i]); ++i) ++written;
     style.decimals = std::max(style.decimals, written);
-    const auto first_digit = original.find_first_of("0123456789.");
-    style.leading_zero = !(first_digit != std::string_view::npos && original[first_digit] == '.');
+    style.leading_zero = !point_first;
   }
   if (decimals >= 0) style.decimals = decimals;
   return style;
@@ -40,7 +51,21 @@ NumberStyle style_of(std::string_view original, bool inch, bool rotary, int deci
 
 WrittenValue format_value(double v, const NumberStyle& style) {
   // Rounds the exact binary value as fmt does, without parsing a format string: this runs
-  // for every number the job writes.
+  // for every number the job writes. Where the rounding is cheap to decide, from the units
+  // of the last digit: their digits are the text, their quotient its value.
+  if (std::int64_t units = 0; gcode::fixed_units(v, style.decimals, units)) {
+    std::array<char, 32> buffer{};
+    char* text = buffer.data();
+    std::size_t length = gcode::format_units(units, style.decimals, units < 0, text);  // no "-0.0000"
+    if (!style.leading_zero && style.decimals > 0) {
+      const std::size_t zero = units < 0 ? 1 : 0;  // "0.5" -> ".5", "-0.5" -> "-.5"
+      if (text[zero] == '0' && text[zero + 1] == '.') {
+        std::copy(text + zero + 1, text + length, text + zero);
+        --length;
+      }
+    }
+    return {std::string(text, length), units_value(units, style.decimals)};
+  }
   std::array<char, 40> buffer{};
   const std::size_t length = gcode::format_fixed(v, style.decimals, buffer.data());
   WrittenValue written{length > 0 ? std::string(buffer.data(), length) : fmt::format("{:.{}f}", v, style.decimals),
@@ -59,11 +84,9 @@ WrittenValue format_value(double v, const NumberStyle& style) {
 }
 
 std::optional<double> fixed_number(double v, const NumberStyle& style) {
-  // The text's digits are units / 10^decimals: the division read_decimal does reading it.
-  static constexpr double kPower[] = {1e0, 1e1, 1e2, 1e3, 1e4, 1e5, 1e6, 1e7, 1e8, 1e9};
   std::int64_t units = 0;
   if (!gcode::fixed_units(v, style.decimals, units)) return std::nullopt;
-  return static_cast<double>(units) / kPower[style.decimals];
+  return units_value(units, style.decimals);
 }
 
 double written_number(double v, const NumberStyle& style) {

@@ -38,24 +38,26 @@ bool fixed_units(double v, int decimals, std::int64_t& units) {
   return true;
 }
 
-std::size_t format_fixed(double v, int decimals, char* out) {
-  if (std::int64_t units = 0; fixed_units(v, decimals, units)) {
-    const auto d = static_cast<std::size_t>(decimals);
-    char* at = out;
-    if (std::signbit(v)) *at++ = '-';
-    const auto magnitude = static_cast<std::uint64_t>(units < 0 ? -units : units);
-    at = std::to_chars(at, at + 24, magnitude / kIntegerPower[d]).ptr;
-    if (d > 0) {
-      *at++ = '.';
-      std::uint64_t fraction = magnitude % kIntegerPower[d];
-      for (std::size_t k = d; k-- > 0;) {
-        at[k] = static_cast<char>('0' + fraction % 10);
-        fraction /= 10;
-      }
-      at += d;
+std::size_t format_units(std::int64_t units, int decimals, bool negative, char* out) {
+  const auto d = static_cast<std::size_t>(decimals);
+  char* at = out;
+  if (negative) *at++ = '-';
+  const auto magnitude = static_cast<std::uint64_t>(units < 0 ? -units : units);
+  at = std::to_chars(at, at + 24, magnitude / kIntegerPower[d]).ptr;
+  if (d > 0) {
+    *at++ = '.';
+    std::uint64_t fraction = magnitude % kIntegerPower[d];
+    for (std::size_t k = d; k-- > 0;) {
+      at[k] = static_cast<char>('0' + fraction % 10);
+      fraction /= 10;
     }
-    return static_cast<std::size_t>(at - out);
+    at += d;
   }
+  return static_cast<std::size_t>(at - out);
+}
+
+std::size_t format_fixed(double v, int decimals, char* out) {
+  if (std::int64_t units = 0; fixed_units(v, decimals, units)) return format_units(units, decimals, std::signbit(v), out);
   const auto [end, error] = std::to_chars(out, out + 40, v, std::chars_format::fixed, decimals);
   return error == std::errc{} ? static_cast<std::size_t>(end - out) : 0;
 }

@@ -50,6 +50,10 @@ inline bool read_decimal(std::string_view t, std::size_t& i, double& value) {
 /// units are written alike (but for the sign of a zero); the text means units / 10^decimals.
 bool fixed_units(double v, int decimals, std::int64_t& units);
 
+/// Writes units / 10^decimals (0 <= decimals <= 9), a minus sign first when `negative`,
+/// into `out` (room for 24 characters) and returns the length.
+std::size_t format_units(std::int64_t units, int decimals, bool negative, char* out);
+
 /// Writes v with `decimals` digits after the point into `out` (room for 40 characters) and
 /// returns the length: exactly what std::to_chars(fixed, decimals) writes; 0 when the text
 /// would not fit.
