@@ -199,57 +199,66 @@ const Pose& compose_side(const Chain& chain, const std::vector<Pose>& errors, co
 }  // namespace
 
 NominalData::NominalData(const ChainModel& model) {
-  auto links = [](const Chain& chain) {
-    std::vector<Link> out;
+  auto side = [](const Chain& chain) {
+    Side out;
     for (const Joint& j : chain.joints) {
-      Link l;
-      l.offset_only = j.placement.R.isIdentity(0.0);
-      l.q = 0.0;
-      l.R_motion = j.type == JointType::rotary ? so3_exp(0.0 * j.direction) : Mat3::Identity();
-      out.push_back(l);
+      if (j.type == JointType::rotary) out.rotary_q.push_back(0.0);
+      if (j.type == JointType::linear) out.linear_axes.push_back(j.axis);
     }
+    out.columns.assign(out.linear_axes.size(), Vec3::Zero());
     return out;
   };
-  work_links_ = links(model.workpiece);
-  tool_links_ = links(model.tool);
+  work_side_ = side(model.workpiece);
+  tool_side_ = side(model.tool);
 }
 
 namespace {
 
-/// One side of the perfect machine, base to end: the products error_matrix() makes with
-/// identity error poses, without those factors (multiplying by them is exact).
-Pose nominal_side(const Chain& chain, std::vector<NominalData::Link>& links, const Eigen::Ref<const VecQ>& q) {
-  Pose oM;
-  for (std::size_t i = 0; i < chain.joints.size(); ++i) {
-    const Joint& j = chain.joints[i];
-    NominalData::Link& l = links[i];
-    const double qi = j.type == JointType::fixed ? 0.0 : q[static_cast<Eigen::Index>(j.axis)];
-    Pose link = j.placement;  // placement * motion
-    if (j.type == JointType::linear) {
-      link.t = l.offset_only ? Vec3(j.placement.t + qi * j.direction)
-                             : Vec3(j.placement.t + j.placement.R * (qi * j.direction));
-    } else if (j.type == JointType::rotary) {
-      if (qi != l.q) l.q = qi, l.R_motion = so3_exp(qi * j.direction);
-      if (l.offset_only)
-        link.R = l.R_motion;
-      else
-        link.R = j.placement.R * l.R_motion;
-    }
-    if (i == 0) {
-      oM = link;
-    } else {
-      oM.t += oM.R * link.t;
-      if (j.type == JointType::rotary || !l.offset_only) oM.R = Mat3(oM.R * link.R);
+/// One side of the perfect machine for its rotary joints' values in q: the products
+/// error_matrix() makes with identity error poses, with every linear joint at 0, and each
+/// linear joint's column (its direction carried by the rotations before it).
+void compose_nominal_side(const Chain& chain, NominalData::Side& side, const Eigen::Ref<const VecQ>& q) {
+  Mat3 R = Mat3::Identity();
+  Vec3 t = Vec3::Zero();
+  std::size_t rotary = 0, linear = 0;
+  for (const Joint& j : chain.joints) {
+    const bool offset_only = j.placement.R.isIdentity(0.0);
+    t += R * j.placement.t;
+    if (j.type == JointType::linear)
+      side.columns[linear++] = offset_only ? Vec3(R * j.direction) : Vec3(R * (j.placement.R * j.direction));
+    if (!offset_only) R = Mat3(R * j.placement.R);
+    if (j.type == JointType::rotary) {
+      const double qi = q[static_cast<Eigen::Index>(j.axis)];
+      side.rotary_q[rotary++] = qi;
+      R = Mat3(R * so3_exp(qi * j.direction));
     }
   }
+  side.R = R;
+  side.t0 = t;
+  side.composed = true;
+}
+
+/// One side's end pose at q: composed again where a rotary joint moved, else its affine form.
+Pose nominal_side(const Chain& chain, NominalData::Side& side, const Eigen::Ref<const VecQ>& q) {
+  std::size_t rotary = 0;
+  bool turned = !side.composed;
+  for (const Joint& j : chain.joints)
+    if (j.type == JointType::rotary && !(q[static_cast<Eigen::Index>(j.axis)] == side.rotary_q[rotary++]))
+      turned = true;
+  if (turned) compose_nominal_side(chain, side, q);
+  Pose oM;
+  oM.R = side.R;
+  oM.t = side.t0;
+  for (std::size_t k = 0; k < side.linear_axes.size(); ++k)
+    oM.t += q[static_cast<Eigen::Index>(side.linear_axes[k])] * side.columns[k];
   return oM;
 }
 
 }  // namespace
 
 void nominal_poses(const ChainModel& model, NominalData& data, const Eigen::Ref<const VecQ>& q) {
-  data.oMp = nominal_side(model.workpiece, data.work_links_, q);
-  data.oMtool = nominal_side(model.tool, data.tool_links_, q);
+  data.oMp = nominal_side(model.workpiece, data.work_side_, q);
+  data.oMtool = nominal_side(model.tool, data.tool_side_, q);
   data.E = compose(inverse(data.oMp), data.oMtool);
 }
 

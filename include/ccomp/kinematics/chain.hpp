@@ -85,18 +85,23 @@ struct NominalData {
   Pose oMp, oMtool;  ///< W -> p, W -> tool tip
   Pose E;            ///< p -> tool tip
 
-  // internal: per joint, whether its placement is a translation, and a rotary joint's
-  // motion as last computed (an indexing table turns seldom).
-  struct Link {
-    bool offset_only = false;
-    double q = 0.0;
-    Mat3 R_motion = Mat3::Identity();
+  // internal: each side's end pose is affine in its linear joints' values while its rotary
+  // joints stand still (an indexing table turns seldom): its rotation, its translation with
+  // every linear joint at 0, and each linear joint's column, for the rotary values held.
+  struct Side {
+    bool composed = false;
+    std::vector<double> rotary_q;  ///< the rotary joints' values, in chain order
+    Mat3 R = Mat3::Identity();
+    Vec3 t0 = Vec3::Zero();
+    std::vector<std::size_t> linear_axes;  ///< each linear joint's variable
+    std::vector<Vec3> columns;             ///< and the end's translation per unit of it
   };
-  std::vector<Link> work_links_, tool_links_;
+  Side work_side_, tool_side_;
 };
 
-/// The perfect machine at q: what error_matrix() gives with every error pose the identity,
-/// composed without them.
+/// The perfect machine at q: what error_matrix() gives with every error pose the identity
+/// (to the last bits of its sums: a side's translation is summed as its affine form in the
+/// linear joints, the same at every q).
 void nominal_poses(const ChainModel& model, NominalData& data, const Eigen::Ref<const VecQ>& q);
 
 /// Which Jacobians error_matrix() computes: none; dE/dq and dE/d(each link's error pose)
