@@ -416,6 +416,22 @@ TermInputs slot_inputs(const ForwardData& d, const ForwardModel::TermSlot& s) {
                     s.secondary >= 0 ? d.variables[static_cast<std::size_t>(s.secondary)] : 0.0};
 }
 
+/// A cross-axis term's value alone: the sum evaluate() makes, in its order (an Abbe term
+/// of two axes changes at nearly every point, and evaluate() works out its derivatives too).
+double cross_axis_value(const TermShape& shape, const double* p, const TermInputs& in) {
+  double value = 0.0, ui = 1.0;  // v^i
+  std::size_t index = 0;
+  for (int i = 0; i <= shape.order_primary; ++i) {
+    double wj = 1.0;  // w^j
+    for (int j = 1; j <= shape.order; ++j, ++index) {
+      wj *= in.secondary;
+      value += p[index] * ui * wj;
+    }
+    ui *= in.primary;
+  }
+  return value;
+}
+
 /// The value of term i, one that depends on the axes, at d's variables.
 double on_axes_value(const ForwardModel& model, ForwardData& d, std::size_t i, bool same_parameters) {
   const ForwardModel::TermSlot& s = model.slots()[i];
@@ -443,6 +459,8 @@ double on_axes_value(const ForwardModel& model, ForwardData& d, std::size_t i, b
     }
     return d.values[i].value;
   }
+  if (s.form == TermForm::cross_axis) return cross_axis_value(model.machine().terms[i].shape, parameters + s.offset,
+                                                               slot_inputs(d, s));
   return term_value(model.machine().terms[i], s.offset, d, i, slot_inputs(d, s), same_parameters);
 }
 

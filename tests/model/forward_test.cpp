@@ -217,6 +217,67 @@ TEST(Forward, TermsOffTheAxesFollowTheConditionsAndParameters) {
   (void)same_as_fresh("again, unchanged");
 }
 
+TEST(Forward, AnEvaluationRedoesOnlyTheLinksWhoseInputsMoved) {
+  // Along a program's points most links keep their errors: an evaluation sums and poses a
+  // link again only where an axis its terms read moved or an approach they read changed,
+  // a carriage's polynomials as one. At every step of a sequence moving one thing at a time
+  // it must give what evaluating every term alone gives (the Jacobians' path: another order
+  // of the same sums, so to 1e-12 mm), and each step must move the tip.
+  const MachineModel mm = parse_machine_model(std::string(kChain) + R"(terms:
+  - {name: EXX, form: polynomial, unit: um, coefficients: [1, 0.02, -1.5e-5]}
+  - {name: EYX, form: polynomial, unit: um, coefficients: [0, 0, 2.0e-5]}
+  - {name: EBX, form: polynomial, unit: urad, coefficients: [3, 0.015]}
+  - {name: EXX, form: periodic, period: 10 mm, unit: um, harmonics: [[1.8, -0.9]]}
+  - {name: EXX, variable: vx, form: reversal, reversal: -4 um}
+  - {name: EAY, form: polynomial, unit: urad, coefficients: [4, 0.018]}
+  - {name: EZY, form: polynomial, unit: um, coefficients: [0, 0, 1.1e-5]}
+  - {name: EYY, variable: vy, form: reversal, reversal: -3 um}
+  - {name: ECZ, form: cross_axis, other: x, unit: urad, coefficients: [[0.01, 0], [0, 1.0e-7]]}
+  - {name: EZZ, form: table, interpolation: cubic, unit: um, at: [-200, 0, 150, 300], values: [1, -2, 0.5, 3]}
+  - {name: EBB, form: periodic, period: 360 deg, unit: urad, harmonics: [[15, -10]]}
+  - {name: EX0S, variable: T_spindle, form: thermal, unit: um, coefficient: 3}
+  - {name: EC0X, value: 25, unit: urad}
+)",
+                                              "m.yaml");
+  const ForwardModel m(mm);
+  ForwardData kept(m);
+  ChainQ q = ChainQ::Zero();
+  q << 120, -40, 30, 0, 0.3, 0, 0, 0, 0, 100;
+  Conditions c;
+  c.temperatures = {22, 25};
+  Eigen::Vector3d last = Eigen::Vector3d::Constant(std::nan(""));
+  auto step = [&](const std::string& what) {
+    forward(m, kept, q, c);
+    ForwardData alone(m);
+    alone.parameters = kept.parameters;
+    forward(m, alone, q, c, true);
+    EXPECT_LT((kept.actual - alone.actual).norm(), 1e-12) << what;
+    EXPECT_LT((kept.R_actual - alone.R_actual).norm(), 1e-15) << what;
+    EXPECT_NE(kept.actual, last) << what << " must move the tip";
+    last = kept.actual;
+  };
+  step("first");
+  q[0] += 0.05;
+  step("X (its carriage's polynomials, lead screw, Z's cross-axis term)");
+  q[1] += 1e-5;
+  step("Y by a correction's size");
+  q[2] -= 0.3;
+  step("Z (its table)");
+  q[4] += 1e-6;
+  step("B");
+  c.directions[1] = -0.4;
+  step("Y's approach (a play being taken up) alone");
+  c.directions[0] = 1;
+  q[0] += 0.05;
+  step("X's approach and X");
+  c.temperatures[1] = 27;
+  step("the spindle's temperature");
+  kept.parameters[m.parameter_offset(1) + 2] *= 2;  // EYX's square term
+  step("a polynomial's coefficient");
+  q[9] += 10;
+  step("the tool length");
+}
+
 TEST(Forward, PeriodicTermsOfOneVariableAndPeriodShareAPhaseWhileThePeriodsMatch) {
   // The table's once-per-turn error motions (EXB, EZB) share one phase with EBB; the worm
   // wheel's 4-degree EBB, and X's lead screw, have their own. Along a sweep of B every
