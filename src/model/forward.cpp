@@ -607,12 +607,13 @@ kinematics::PoseChanges pose_summed_links(ForwardData& d, std::uint64_t summed, 
     out = kinematics::error_pose(error.head<3>(), error.tail<3>());
     return true;
   };
+  // (Untracked, the changes are not passed on: no bits past the mask's are set.)
+  auto bit = [&](std::size_t j) { return tracked ? std::uint64_t{1} << j : 0U; };
   for (std::size_t j = 0; j < work_links; ++j)
-    if (pose(j, d.work_error[j], d.posed_work_error[j], d.actual_chain.work_error[j]))
-      changes.work_error |= std::uint64_t{1} << j;
+    if (pose(j, d.work_error[j], d.posed_work_error[j], d.actual_chain.work_error[j])) changes.work_error |= bit(j);
   for (std::size_t j = 0; j < d.tool_error.size(); ++j)
     if (pose(work_links + j, d.tool_error[j], d.posed_tool_error[j], d.actual_chain.tool_error[j]))
-      changes.tool_error |= std::uint64_t{1} << j;
+      changes.tool_error |= bit(j);
   if (locations) {
     for (std::size_t j = 0; j < work_links; ++j)
       d.work_location[j] = Eigen::Map<const Vec6>(d.errors.data() + kLinkErrorSize * j + 6);
