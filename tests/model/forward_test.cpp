@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <string>
 
 #include "ccomp/model/model_file.hpp"
 #include "sample_models.hpp"
@@ -158,11 +159,25 @@ TEST(Forward, PlayIsTakenUpOverTheLostMotion) {
   EXPECT_NEAR(tip_after, tip_before, 1e-12);
 }
 
+/// One scratch kept over a sequence of evaluations of the HMC chain with `terms`, and the
+/// point and conditions the sequence starts from.
+struct KeptScratch {
+  explicit KeptScratch(const std::string& terms)
+      : model(parse_machine_model(std::string(kChain) + "terms:" + terms, "m.yaml")), kept(model) {
+    q << 120, -40, 30, 0, 0.3, 0, 0, 0, 0, 100;
+    c.temperatures = {22, 25};
+  }
+  ForwardModel model;
+  ForwardData kept;
+  ChainQ q = ChainQ::Zero();
+  Conditions c;
+};
+
 TEST(Forward, TermsOffTheAxesFollowTheConditionsAndParameters) {
   // Terms that depend on no axis (thermal drifts, reversals, constants) keep their values
   // between evaluations while the conditions and parameters stand still. One scratch
   // evaluated over a sequence of changes must give what a fresh one gives at each step.
-  const MachineModel mm = parse_machine_model(std::string(kChain) + R"(terms:
+  KeptScratch scratch(R"(
   - {name: EXX, form: polynomial, unit: um, coefficients: [1, 0.02]}
   - {name: EX0X, variable: T_bed, form: thermal, unit: um, coefficient: 3}
   - {name: EZ0Z, variable: t, form: warmup, amplitude: 12 um, time_constant: 1800 s}
@@ -170,14 +185,8 @@ TEST(Forward, TermsOffTheAxesFollowTheConditionsAndParameters) {
   - {name: EYY, variable: y, form: scale_expansion, temperature: T_spindle, coefficient: 11e-6, reference: 20}
   - {name: EZY, variable: y, form: periodic, period: 5 mm, unit: um, harmonics: [[1.5, 0.5]]}
   - {name: EYX, form: table, interpolation: cubic, unit: um, at: [-200, 0, 150, 300], values: [1, -2, 0.5, 3]}
-)",
-                                              "m.yaml");
-  const ForwardModel m(mm);
-  ForwardData kept(m);
-  ChainQ q = ChainQ::Zero();
-  q << 120, -40, 30, 0, 0.3, 0, 0, 0, 0, 100;
-  Conditions c;
-  c.temperatures = {22, 25};
+)");
+  auto& [m, kept, q, c] = scratch;
   c.time = 600;
   auto same_as_fresh = [&](const std::string& step) {
     forward(m, kept, q, c);
@@ -223,7 +232,7 @@ TEST(Forward, AnEvaluationRedoesOnlyTheLinksWhoseInputsMoved) {
   // a carriage's polynomials as one. At every step of a sequence moving one thing at a time
   // it must give what evaluating every term alone gives (the Jacobians' path: another order
   // of the same sums, so to 1e-12 mm), and each step must move the tip.
-  const MachineModel mm = parse_machine_model(std::string(kChain) + R"(terms:
+  KeptScratch scratch(R"(
   - {name: EXX, form: polynomial, unit: um, coefficients: [1, 0.02, -1.5e-5]}
   - {name: EYX, form: polynomial, unit: um, coefficients: [0, 0, 2.0e-5]}
   - {name: EBX, form: polynomial, unit: urad, coefficients: [3, 0.015]}
@@ -237,14 +246,8 @@ TEST(Forward, AnEvaluationRedoesOnlyTheLinksWhoseInputsMoved) {
   - {name: EBB, form: periodic, period: 360 deg, unit: urad, harmonics: [[15, -10]]}
   - {name: EX0S, variable: T_spindle, form: thermal, unit: um, coefficient: 3}
   - {name: EC0X, value: 25, unit: urad}
-)",
-                                              "m.yaml");
-  const ForwardModel m(mm);
-  ForwardData kept(m);
-  ChainQ q = ChainQ::Zero();
-  q << 120, -40, 30, 0, 0.3, 0, 0, 0, 0, 100;
-  Conditions c;
-  c.temperatures = {22, 25};
+)");
+  auto& [m, kept, q, c] = scratch;
   Eigen::Vector3d last = Eigen::Vector3d::Constant(std::nan(""));
   auto step = [&](const std::string& what) {
     forward(m, kept, q, c);
