@@ -94,9 +94,10 @@ void add_link_term(ForwardModel::LinkTerms& link, const ForwardModel::TermSlot& 
     link.terms.push_back(index);
     return;
   }
-  auto group = std::find_if(link.polynomials.begin(), link.polynomials.end(),
-                            [&](const ForwardModel::PolynomialGroup& g) { return g.variable == slot.primary; });
-  if (group == link.polynomials.end()) group = link.polynomials.insert(group, {slot.primary, 0, 0, {}});
+  ForwardModel::PolynomialGroup* group = nullptr;
+  for (ForwardModel::PolynomialGroup& g : link.polynomials)
+    if (g.variable == slot.primary) group = &g;
+  if (!group) group = &link.polynomials.emplace_back(ForwardModel::PolynomialGroup{slot.primary, 0, 0, {}});
   group->degree = std::max(group->degree, slot.order);
   group->terms.push_back(index);
 }
@@ -130,9 +131,11 @@ std::int32_t phase_source(const std::vector<ForwardModel::TermSlot>& slots, cons
                           const std::vector<ErrorTermSpec>& terms, const ForwardModel::TermSlot& slot,
                           const ErrorTermSpec& t) {
   if (!slot.on_axes || slot.form != TermForm::periodic) return -1;
+  // Its source must be evaluated before it: links are summed in chain order.
+  const std::size_t link = slot.error_index / kLinkErrorSize;
   for (const std::size_t j : on_axes)
     if (slots[j].form == TermForm::periodic && slots[j].primary == slot.primary &&
-        terms[j].parameters[0] == t.parameters[0])
+        terms[j].parameters[0] == t.parameters[0] && slots[j].error_index / kLinkErrorSize <= link)
       return static_cast<std::int32_t>(j);
   return -1;
 }
@@ -209,6 +212,10 @@ ForwardModel::ForwardModel(const MachineModel& model) : machine_(model) {
     TermSlot slot = slot_of(chain_, s, t, parameter_count_);
     slot.phase_source = phase_source(slots_, on_axes_terms_, machine_.terms, slot, t);
     if (slot.on_axes) {
+      // (The model file makes only constants locations; one built otherwise is refused.)
+      if (slot.error_index % kLinkErrorSize >= kMotionComponents)
+        throw Error(ErrorKind::model, fmt::format("term {}: a location error is a constant, not a function of an axis",
+                                                  t.name));
       add_link_term(link_terms_[slot.error_index / kLinkErrorSize], slot, slots_.size());
       on_axes_terms_.push_back(slots_.size());
     } else if (slot.on_approach) {
@@ -464,10 +471,6 @@ double on_axes_value(const ForwardModel& model, ForwardData& d, std::size_t i, b
   return term_value(model.machine().terms[i], s.offset, d, i, slot_inputs(d, s), same_parameters);
 }
 
-/// Sums the terms' values per link component into d.errors, without derivatives. The
-/// forward model runs this at every point the compensation checks: the terms off the axes
-/// are summed once for the conditions and parameters, the others at each point. True when
-/// the location terms (constants) must be posed again.
 /// Sums the values of the terms off the axes that read an approach state (`approach`) or
 /// those that do not, per link component, into `sums`.
 void sum_off_axes(const ForwardModel& model, ForwardData& d, bool approach, bool same_parameters,
@@ -510,6 +513,8 @@ void add_polynomial_group(const ForwardModel::PolynomialGroup& g, const ForwardD
   for (std::size_t j = 0; j < kMotionComponents; ++j) errors[j] += sum[j];
 }
 
+static_assert(kChainVariables <= 32, "LinkTerms::variables holds a bit per chain variable");
+
 /// How many links an evaluation tracks one by one (the bits of PoseChanges).
 constexpr std::size_t kTrackedLinks = 64;
 
@@ -519,7 +524,7 @@ constexpr std::size_t kTrackedLinks = 64;
 /// the axes are summed once for the conditions and parameters, the others at each point, a
 /// link's only where an axis it reads moved (or an approach its terms read changed). True
 /// when the location poses must be posed again.
-bool sum_term_values(const ForwardModel& model, ForwardData& d, const ChainQ& q, const Conditions& c,
+bool sum_term_values(const ForwardModel& model, ForwardData& d, const ChainQ& q, const Conditions& c, bool tracked,
                      std::uint64_t& summed) {
   const auto& slots = model.slots();
   const KeyMatch same = update_variables(model, d, q, c);
@@ -542,11 +547,13 @@ bool sum_term_values(const ForwardModel& model, ForwardData& d, const ChainQ& q,
   summed = 0;
   for (std::size_t k = 0; k < links.size(); ++k) {
     // (A chain longer than the mask is summed whole: each link at every evaluation.)
-    const bool redo = stale || (turned && links[k].off_axes_approach) || (links[k].variables & moved) != 0;
-    if (!redo && k < kTrackedLinks) continue;
-    if (k < kTrackedLinks) summed |= std::uint64_t{1} << k;
-    // Each component from its sum off the axes, then the terms on them in file order: the
-    // sums of an evaluation of every link at once.
+    const bool redo =
+        !tracked || stale || (turned && links[k].off_axes_approach) || (links[k].variables & moved) != 0;
+    if (!redo) continue;
+    if (tracked) summed |= std::uint64_t{1} << k;
+    // Each component from its sum off the axes, then the polynomial groups, then the other
+    // terms on the axes in file order (the same sums as evaluating each term alone, to
+    // their rounding).
     std::copy_n(d.off_axes_errors.begin() + static_cast<std::ptrdiff_t>(kLinkErrorSize * k), kLinkErrorSize,
                 d.errors.begin() + static_cast<std::ptrdiff_t>(kLinkErrorSize * k));
     for (const ForwardModel::PolynomialGroup& g : links[k].polynomials)
@@ -600,7 +607,7 @@ kinematics::PoseChanges pose_summed_links(ForwardData& d, std::uint64_t summed, 
   changes.locations = locations;
   const std::size_t work_links = d.work_error.size();
   auto pose = [&](std::size_t k, Vec6& error, Vec6& posed, Pose& out) {
-    if (tracked && (summed >> k & 1U) == 0) return false;
+    if (tracked && (summed >> k & 1U) == 0) return false;  // (untracked: every link)
     error = Eigen::Map<const Vec6>(d.errors.data() + kLinkErrorSize * k);
     if (error == posed) return false;
     posed = error;
@@ -693,10 +700,11 @@ void forward(const ForwardModel& model, ForwardData& d, const ChainQ& q, const C
     kinematics::error_matrix(model.chain(), d.actual_chain, q,
                              parameter_jacobian ? ChainJacobians::all : ChainJacobians::axes);
   } else {
-    std::uint64_t summed = 0;
-    const bool locations_stale = sum_term_values(model, d, q, c, summed);  // starts from the sums off the axes
-    // Each side's joints are bits of its own mask: a longer chain is compared whole.
+    // Each link a bit of one mask (each side's joints of a side's): a longer chain is
+    // summed and compared whole.
     const bool tracked = model.link_terms().size() <= kTrackedLinks;
+    std::uint64_t summed = 0;
+    const bool locations_stale = sum_term_values(model, d, q, c, tracked, summed);  // from the sums off the axes
     const kinematics::PoseChanges changes = pose_summed_links(d, summed, locations_stale, tracked);
     kinematics::error_matrix(model.chain(), d.actual_chain, q, ChainJacobians::none, tracked ? &changes : nullptr);
   }

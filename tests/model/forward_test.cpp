@@ -7,6 +7,7 @@
 #include <cmath>
 #include <string>
 
+#include "ccomp/error.hpp"
 #include "ccomp/model/model_file.hpp"
 #include "sample_models.hpp"
 
@@ -226,7 +227,7 @@ TEST(Forward, TermsOffTheAxesFollowTheConditionsAndParameters) {
   (void)same_as_fresh("again, unchanged");
 }
 
-TEST(Forward, AnEvaluationRedoesOnlyTheLinksWhoseInputsMoved) {
+TEST(Forward, AnEvaluationKeepsTheLinksWhoseInputsStoodStill) {
   // Along a program's points most links keep their errors: an evaluation sums and poses a
   // link again only where an axis its terms read moved or an approach they read changed,
   // a carriage's polynomials as one. At every step of a sequence moving one thing at a time
@@ -246,20 +247,23 @@ TEST(Forward, AnEvaluationRedoesOnlyTheLinksWhoseInputsMoved) {
   - {name: EBB, form: periodic, period: 360 deg, unit: urad, harmonics: [[15, -10]]}
   - {name: EX0S, variable: T_spindle, form: thermal, unit: um, coefficient: 3}
   - {name: EC0X, value: 25, unit: urad}
+  - {name: EXS, variable: L, form: polynomial, unit: um, coefficients: [0, 0.01]}
 )");
   auto& [m, kept, q, c] = scratch;
-  Eigen::Vector3d last = Eigen::Vector3d::Constant(std::nan(""));
-  auto step = [&](const std::string& what) {
+  Eigen::Vector3d last;
+  auto step = [&](const std::string& what, bool moves = true) {
     forward(m, kept, q, c);
     ForwardData alone(m);
     alone.parameters = kept.parameters;
     forward(m, alone, q, c, true);
     EXPECT_LT((kept.actual - alone.actual).norm(), 1e-12) << what;
     EXPECT_LT((kept.R_actual - alone.R_actual).norm(), 1e-15) << what;
-    EXPECT_NE(kept.actual, last) << what << " must move the tip";
+    if (moves) {
+      EXPECT_NE(kept.actual, last) << what << " must move the tip";
+    }
     last = kept.actual;
   };
-  step("first");
+  step("first", false);
   q[0] += 0.05;
   step("X (its carriage's polynomials, lead screw, Z's cross-axis term)");
   q[1] += 1e-5;
@@ -278,7 +282,23 @@ TEST(Forward, AnEvaluationRedoesOnlyTheLinksWhoseInputsMoved) {
   kept.parameters[m.parameter_offset(1) + 2] *= 2;  // EYX's square term
   step("a polynomial's coefficient");
   q[9] += 10;
-  step("the tool length");
+  step("the tool length (the spindle's term in it)");
+}
+
+TEST(Forward, ALocationErrorOnAnAxisIsRefused) {
+  // A location is a constant (its pose is set once for the conditions); the model file
+  // makes only constants locations, and a model built otherwise is refused by name.
+  MachineModel mm = parse_machine_model(std::string(kChain) + R"(terms:
+  - {name: EXX, form: polynomial, unit: um, coefficients: [1, 0.02]}
+)",
+                                        "m.yaml");
+  mm.terms[0].placement = ErrorPlacement::location;
+  try {
+    const ForwardModel m(mm);
+    FAIL() << "a location on an axis was taken";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("EXX"), std::string::npos) << e.what();
+  }
 }
 
 TEST(Forward, PeriodicTermsOfOneVariableAndPeriodShareAPhaseWhileThePeriodsMatch) {
@@ -292,6 +312,7 @@ TEST(Forward, PeriodicTermsOfOneVariableAndPeriodShareAPhaseWhileThePeriodsMatch
   - {name: EXB, form: periodic, period: 360 deg, unit: um, harmonics: [[4, 2]]}
   - {name: EBB, form: periodic, period: 4 deg, unit: urad, harmonics: [[3, -2]]}
   - {name: EZB, form: periodic, period: 360 deg, unit: um, harmonics: [[-3, 5]]}
+  - {name: EYX, variable: b, form: periodic, period: 360 deg, unit: um, harmonics: [[0.5, 0.2]]}
 )",
                                               "m.yaml");
   const ForwardModel m(mm);
@@ -301,6 +322,7 @@ TEST(Forward, PeriodicTermsOfOneVariableAndPeriodShareAPhaseWhileThePeriodsMatch
   EXPECT_EQ(slots[2].phase_source, 0);
   EXPECT_EQ(slots[3].phase_source, -1) << "another period";
   EXPECT_EQ(slots[4].phase_source, 0);
+  EXPECT_EQ(slots[5].phase_source, -1) << "on a link before the source's: evaluated before it";
   ForwardData swept(m);
   auto sweep = [&](const std::string& what) {
     for (int k = 0; k < 200; ++k) {
