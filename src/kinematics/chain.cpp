@@ -161,7 +161,7 @@ const Pose& compose_side(const Chain& chain, const std::vector<Pose>& errors, co
       cache.located[i] = is_identity(locations[i]) ? 0 : 1;
       cache.lines[i] = locations[i].R * j.direction;
     }
-    const bool error_set = errors_set ? (*errors_set >> i & 1U) != 0 : true;
+    const bool error_set = !errors_set || i >= 64 || (*errors_set >> i & 1U) != 0;
     if (qi != cache.q[i] || moved_line || (error_set && !same(errors[i], cache.errors[i]))) {
       set_link_pose(j, cache.offset_only[i] != 0, qi, cache.located[i] != 0, cache.lines[i], locations[i], errors[i],
                     links[i]);

@@ -92,7 +92,7 @@ Vec3 so3_log(const Mat3& R, Mat3* J) {
   }
   const double th = std::acos(c);
   Vec3 w;
-  if (th < 1e-5) {
+  if (th < 1e-5) {  // (only a matrix not quite a rotation comes here: its skew part large)
     w = 0.5 * (1.0 + th * th / 6.0) * v;
   } else if (th > std::numbers::pi - 1e-6) {
     // Near pi: from the symmetric part, R ~ 2 a a^T - I.

@@ -40,7 +40,13 @@ TEST(Pose, SmallRotationsRoundTripToTheLastDigits) {
   for (const double angle : {1e-9, 1e-7, 1e-5, 3e-5, 1e-4, 1e-3, 5e-3, 9.99e-3, 1.001e-2, 3e-2}) {
     for (int i = 0; i < 20; ++i) {
       const Vec3 w = angle * random_vec(1.0).normalized();
-      const Vec3 back = so3_log(so3_exp(w));
+      // Exp without its Jacobian (a shorter series below 1e-4 rad) is Exp with it, to the
+      // last bits, and a rotation.
+      Mat3 J;
+      const Mat3 R = so3_exp(w);
+      EXPECT_LT((R - so3_exp(w, &J)).cwiseAbs().maxCoeff(), 2.3e-16) << "angle " << angle;
+      EXPECT_LT((R.transpose() * R - Mat3::Identity()).cwiseAbs().maxCoeff(), 5e-16) << "angle " << angle;
+      const Vec3 back = so3_log(R);
       // The closed form past the series loses digits as 1 - cos th does: 1e-16 / th^2.
       const double allowed = angle < 1e-2 ? 4e-16 : 1e-16 / (angle * angle);
       EXPECT_LT((back - w).norm(), allowed * angle) << "angle " << angle;
@@ -73,20 +79,31 @@ TEST(Chain, NominalPosesAreTheErrorMatrixWithoutErrors) {
   // placement on a rotary axis too), as the rotary axes turn, stand still and come back.
   ChainModel m = sample_chain();
   m.workpiece.joints[2].placement.R = so3_exp(random_vec(1e-3));
+  // A head turning about X (a rotary joint before a linear one: the tool's travel W along
+  // its turned line) on the tool side.
+  m.tool.joints.insert(m.tool.joints.begin() + 2, Joint{"A", JointType::rotary, 3, Vec3::UnitX(), Pose{}});
+  m.tool.joints.insert(m.tool.joints.begin() + 3, Joint{"W", JointType::linear, 8, Vec3(0, 0, -1), Pose{}});
   ChainData d(m);
   NominalData nominal(m);
   VecQ q;
   randomise(d, q);
   without_errors(d);
+  auto differ = [](const Pose& a, const Pose& b) {  // rotations, translations (mm)
+    return std::pair{(a.R - b.R).cwiseAbs().maxCoeff(), (a.t - b.t).cwiseAbs().maxCoeff()};
+  };
   for (int k = 0; k < 200; ++k) {
     if (k % 3 == 0) q[4] = uniform(-3, 3);  // else B stands still
-    q[0] = uniform(-400, 400), q[1] = uniform(-300, 300), q[2] = uniform(-200, 200);
+    if (k % 5 == 0) q[3] = uniform(-1, 1);  // and A
+    q[0] = uniform(-400, 400), q[1] = uniform(-300, 300), q[2] = uniform(-200, 200), q[8] = uniform(-50, 50);
     error_matrix(m, d, q, ChainJacobians::none);
     nominal_poses(m, nominal, q);
-    constexpr double kLastBits = 1e-15 * 1000;  // (the chain's offsets and travels reach 1000 mm)
-    ASSERT_LT((nominal.E.matrix() - d.E.matrix()).cwiseAbs().maxCoeff(), kLastBits) << "at q = " << q.transpose();
-    ASSERT_LT((nominal.oMp.matrix() - d.work_oMi.back().matrix()).cwiseAbs().maxCoeff(), kLastBits);
-    ASSERT_LT((nominal.oMtool.matrix() - d.oMtool.matrix()).cwiseAbs().maxCoeff(), kLastBits);
+    // (Rotations to their last bits; translations to those of the chain's 1000 mm.)
+    for (const auto& [what, pair] : {std::pair{"E", differ(nominal.E, d.E)},
+                                     std::pair{"oMp", differ(nominal.oMp, d.work_oMi.back())},
+                                     std::pair{"oMtool", differ(nominal.oMtool, d.oMtool)}}) {
+      ASSERT_LT(pair.first, 1e-15) << what << " at q = " << q.transpose();
+      ASSERT_LT(pair.second, 1e-15 * 1000) << what << " at q = " << q.transpose();
+    }
   }
 }
 

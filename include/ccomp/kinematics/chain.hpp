@@ -113,6 +113,7 @@ enum class ChainJacobians : std::uint8_t { none, axes, all };
 /// same data: which links' error poses it set (bit j: joint j of the side) and whether it
 /// set any location pose. error_matrix() then compares only those with what it composed
 /// last; without it, every pose (24 doubles a link, at every evaluation of the model).
+/// Joints past the 64th of a side are always compared.
 struct PoseChanges {
   std::uint64_t work_error = 0, tool_error = 0;
   bool locations = false;
