@@ -21,13 +21,6 @@ double number_of(std::string_view text) {
   return value;
 }
 
-/// The number units of the last of `decimals` (0..9) digits are: the division read_decimal
-/// does reading the text.
-double units_value(std::int64_t units, int decimals) {
-  static constexpr std::array<double, 10> kPower = {1e0, 1e1, 1e2, 1e3, 1e4, 1e5, 1e6, 1e7, 1e8, 1e9};
-  return static_cast<double>(units) / kPower[static_cast<std::size_t>(decimals)];
-}
-
 }  // namespace
 
 NumberStyle style_of(std::string_view original, bool inch, bool rotary, int decimals) {
@@ -64,7 +57,7 @@ WrittenValue format_value(double v, const NumberStyle& style) {
         --length;
       }
     }
-    return {std::string(text, length), units_value(units, style.decimals)};
+    return {std::string(text, length), gcode::units_value(units, style.decimals)};
   }
   std::array<char, 40> buffer{};
   const std::size_t length = gcode::format_fixed(v, style.decimals, buffer.data());
@@ -86,7 +79,7 @@ WrittenValue format_value(double v, const NumberStyle& style) {
 std::optional<double> fixed_number(double v, const NumberStyle& style) {
   std::int64_t units = 0;
   if (!gcode::fixed_units(v, style.decimals, units)) return std::nullopt;
-  return units_value(units, style.decimals);
+  return gcode::units_value(units, style.decimals);
 }
 
 double written_number(double v, const NumberStyle& style) {

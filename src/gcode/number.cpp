@@ -42,8 +42,10 @@ std::size_t format_units(std::int64_t units, int decimals, bool negative, char* 
   const auto d = static_cast<std::size_t>(decimals);
   char* at = out;
   if (negative) *at++ = '-';
-  const auto magnitude = static_cast<std::uint64_t>(units < 0 ? -units : units);
-  at = std::to_chars(at, at + 24, magnitude / kIntegerPower[d]).ptr;
+  // (The magnitude in unsigned arithmetic: -units overflows at the most negative.)
+  const std::uint64_t magnitude =
+      units < 0 ? 0 - static_cast<std::uint64_t>(units) : static_cast<std::uint64_t>(units);
+  at = std::to_chars(at, out + 21, magnitude / kIntegerPower[d]).ptr;  // (20 digits at most)
   if (d > 0) {
     *at++ = '.';
     std::uint64_t fraction = magnitude % kIntegerPower[d];
@@ -54,6 +56,10 @@ std::size_t format_units(std::int64_t units, int decimals, bool negative, char* 
     at += d;
   }
   return static_cast<std::size_t>(at - out);
+}
+
+double units_value(std::int64_t units, int decimals) {
+  return static_cast<double>(units) / kPower[static_cast<std::size_t>(decimals)];
 }
 
 std::size_t format_fixed(double v, int decimals, char* out) {

@@ -51,8 +51,12 @@ inline bool read_decimal(std::string_view t, std::size_t& i, double& value) {
 bool fixed_units(double v, int decimals, std::int64_t& units);
 
 /// Writes units / 10^decimals (0 <= decimals <= 9), a minus sign first when `negative`,
-/// into `out` (room for 24 characters) and returns the length.
+/// into `out` (room for 32 characters) and returns the length.
 std::size_t format_units(std::int64_t units, int decimals, bool negative, char* out);
+
+/// The number units / 10^decimals (0 <= decimals <= 9) is: the division read_decimal does
+/// reading the text format_units writes.
+double units_value(std::int64_t units, int decimals);
 
 /// Writes v with `decimals` digits after the point into `out` (room for 40 characters) and
 /// returns the length: exactly what std::to_chars(fixed, decimals) writes; 0 when the text
