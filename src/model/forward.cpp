@@ -81,6 +81,12 @@ std::int16_t variable_slot(const Variable& v) {
   return -1;
 }
 
+/// The axis whose approach state variable slot v is, or -1 (another variable, none).
+int direction_axis(std::int16_t v) {
+  const int axis = v - static_cast<int>(ForwardModel::kFirstDirectionVariable);
+  return axis >= 0 && v < static_cast<int>(ForwardModel::kFirstTemperatureVariable) ? axis : -1;
+}
+
 /// The six components of a link's error motion (delta x y z, epsilon a b c).
 constexpr std::size_t kMotionComponents = 6;
 
@@ -111,11 +117,7 @@ ForwardModel::TermSlot slot_of(const kinematics::ChainModel& chain, const Forwar
   slot.secondary = variable_slot(t.secondary);
   slot.on_axes = (slot.primary >= 0 && slot.primary < static_cast<int>(kChainVariables)) ||
                  (slot.secondary >= 0 && slot.secondary < static_cast<int>(kChainVariables));
-  auto approach = [](std::int16_t v) {
-    return v >= static_cast<int>(ForwardModel::kFirstDirectionVariable) &&
-           v < static_cast<int>(ForwardModel::kFirstTemperatureVariable);
-  };
-  slot.on_approach = approach(slot.primary) || approach(slot.secondary);
+  slot.on_approach = direction_axis(slot.primary) >= 0 || direction_axis(slot.secondary) >= 0;
   slot.offset = offset;
   const std::size_t link = s.side == 0 ? s.joint : chain.workpiece.joints.size() + s.joint;
   const bool location = t.placement == ErrorPlacement::location;
@@ -127,14 +129,13 @@ ForwardModel::TermSlot slot_of(const kinematics::ChainModel& chain, const Forwar
 
 /// An earlier periodic term on the axes of the same variable and period as `slot` (term
 /// t): the one whose phase it can take; -1 for none.
-std::int32_t phase_source(const std::vector<ForwardModel::TermSlot>& slots, const std::vector<std::size_t>& on_axes,
-                          const std::vector<ErrorTermSpec>& terms, const ForwardModel::TermSlot& slot,
-                          const ErrorTermSpec& t) {
+std::int32_t phase_source(const std::vector<ForwardModel::TermSlot>& slots, const std::vector<ErrorTermSpec>& terms,
+                          const ForwardModel::TermSlot& slot, const ErrorTermSpec& t) {
   if (!slot.on_axes || slot.form != TermForm::periodic) return -1;
   // Its source must be evaluated before it: links are summed in chain order.
   const std::size_t link = slot.error_index / kLinkErrorSize;
-  for (const std::size_t j : on_axes)
-    if (slots[j].form == TermForm::periodic && slots[j].primary == slot.primary &&
+  for (std::size_t j = 0; j < slots.size(); ++j)
+    if (slots[j].on_axes && slots[j].form == TermForm::periodic && slots[j].primary == slot.primary &&
         terms[j].parameters[0] == t.parameters[0] && slots[j].error_index / kLinkErrorSize <= link)
       return static_cast<std::int32_t>(j);
   return -1;
@@ -210,14 +211,13 @@ ForwardModel::ForwardModel(const MachineModel& model) : machine_(model) {
     const Site s = site_of(chain_, t);
     sites_.push_back(s);
     TermSlot slot = slot_of(chain_, s, t, parameter_count_);
-    slot.phase_source = phase_source(slots_, on_axes_terms_, machine_.terms, slot, t);
+    slot.phase_source = phase_source(slots_, machine_.terms, slot, t);
     if (slot.on_axes) {
       // (The model file makes only constants locations; one built otherwise is refused.)
       if (slot.error_index % kLinkErrorSize >= kMotionComponents)
         throw Error(ErrorKind::model, fmt::format("term {}: a location error is a constant, not a function of an axis",
                                                   t.name));
       add_link_term(link_terms_[slot.error_index / kLinkErrorSize], slot, slots_.size());
-      on_axes_terms_.push_back(slots_.size());
     } else if (slot.on_approach) {
       if (slot.error_index % kLinkErrorSize < kMotionComponents)
         link_terms_[slot.error_index / kLinkErrorSize].off_axes_approach = true;
@@ -225,8 +225,7 @@ ForwardModel::ForwardModel(const MachineModel& model) : machine_(model) {
         location_reads_approach_ = true;
     }
     for (const std::int16_t v : {slot.primary, slot.secondary})
-      if (v >= static_cast<int>(kFirstDirectionVariable) && v < static_cast<int>(kFirstDirectionVariable + 9))
-        approach_axes_ |= 1U << (static_cast<unsigned>(v) - kFirstDirectionVariable);
+      if (const int axis = direction_axis(v); axis >= 0) approach_axes_ |= 1U << static_cast<unsigned>(axis);
     slots_.push_back(slot);
     offsets_.push_back(parameter_count_);
     parameter_count_ += static_cast<std::size_t>(t.parameters.size());
@@ -569,17 +568,24 @@ bool sum_term_values(const ForwardModel& model, ForwardData& d, const ChainQ& q,
 
 using Vec6 = Eigen::Matrix<double, 6, 1>;
 
+/// Link k's error motion (`part` 0) or location (6) in d.errors.
+Eigen::Map<const Vec6> link_part(const ForwardData& d, std::size_t k, std::size_t part) {
+  return Eigen::Map<const Vec6>(d.errors.data() + kLinkErrorSize * k + part);
+}
+
+/// d.errors as each link's location.
+void split_link_locations(ForwardData& d) {
+  const std::size_t work_links = d.work_error.size();
+  for (std::size_t j = 0; j < work_links; ++j) d.work_location[j] = link_part(d, j, kMotionComponents);
+  for (std::size_t j = 0; j < d.tool_error.size(); ++j) d.tool_location[j] = link_part(d, work_links + j, kMotionComponents);
+}
+
 /// d.errors as each link's error motion and location.
 void split_link_errors(ForwardData& d) {
   const std::size_t work_links = d.work_error.size();
-  for (std::size_t j = 0; j < work_links; ++j) {
-    d.work_error[j] = Eigen::Map<const Vec6>(d.errors.data() + kLinkErrorSize * j);
-    d.work_location[j] = Eigen::Map<const Vec6>(d.errors.data() + kLinkErrorSize * j + 6);
-  }
-  for (std::size_t j = 0; j < d.tool_error.size(); ++j) {
-    d.tool_error[j] = Eigen::Map<const Vec6>(d.errors.data() + kLinkErrorSize * (work_links + j));
-    d.tool_location[j] = Eigen::Map<const Vec6>(d.errors.data() + kLinkErrorSize * (work_links + j) + 6);
-  }
+  for (std::size_t j = 0; j < work_links; ++j) d.work_error[j] = link_part(d, j, 0);
+  for (std::size_t j = 0; j < d.tool_error.size(); ++j) d.tool_error[j] = link_part(d, work_links + j, 0);
+  split_link_locations(d);
 }
 
 /// Error (or location) poses of the links, with their Jacobians w.r.t. (delta, epsilon)
@@ -608,7 +614,7 @@ kinematics::PoseChanges pose_summed_links(ForwardData& d, std::uint64_t summed, 
   const std::size_t work_links = d.work_error.size();
   auto pose = [&](std::size_t k, Vec6& error, Vec6& posed, Pose& out) {
     if (tracked && (summed >> k & 1U) == 0) return false;  // (untracked: every link)
-    error = Eigen::Map<const Vec6>(d.errors.data() + kLinkErrorSize * k);
+    error = link_part(d, k, 0);
     if (error == posed) return false;
     posed = error;
     out = kinematics::error_pose(error.head<3>(), error.tail<3>());
@@ -622,10 +628,7 @@ kinematics::PoseChanges pose_summed_links(ForwardData& d, std::uint64_t summed, 
     if (pose(work_links + j, d.tool_error[j], d.posed_tool_error[j], d.actual_chain.tool_error[j]))
       changes.tool_error |= bit(j);
   if (locations) {
-    for (std::size_t j = 0; j < work_links; ++j)
-      d.work_location[j] = Eigen::Map<const Vec6>(d.errors.data() + kLinkErrorSize * j + 6);
-    for (std::size_t j = 0; j < d.tool_error.size(); ++j)
-      d.tool_location[j] = Eigen::Map<const Vec6>(d.errors.data() + kLinkErrorSize * (work_links + j) + 6);
+    split_link_locations(d);
     set_poses(d.work_location, d.actual_chain.work_location, d.posed_work_location, nullptr);
     set_poses(d.tool_location, d.actual_chain.tool_location, d.posed_tool_location, nullptr);
   }

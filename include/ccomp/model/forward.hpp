@@ -90,8 +90,6 @@ class ForwardModel {
     std::int32_t phase_source = -1;
   };
   [[nodiscard]] const std::vector<TermSlot>& slots() const { return slots_; }
-  /// The terms that depend on the axes, in file order.
-  [[nodiscard]] const std::vector<std::size_t>& on_axes_terms() const { return on_axes_terms_; }
   /// A link's polynomials in one chain variable (the commonest terms: six error motions of
   /// a carriage along its axis), evaluated together as one polynomial with six components.
   struct PolynomialGroup {
@@ -129,7 +127,6 @@ class ForwardModel {
   kinematics::ChainModel chain_;
   std::vector<Site> sites_;
   std::vector<TermSlot> slots_;
-  std::vector<std::size_t> on_axes_terms_;
   std::vector<LinkTerms> link_terms_;
   std::size_t group_coefficient_count_ = 0;
   bool location_reads_approach_ = false;
