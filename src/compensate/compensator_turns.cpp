@@ -20,7 +20,7 @@ double Compensator::play_stray(const StraightMove& move, double s0, const ChainQ
   // pieces up to the last whose travel moves a play are looked at (mostly none).
   std::size_t last = first;
   {
-    model::Conditions c = options_.conditions;
+    model::Conditions c;  // (the plays alone: take_up_play reads nothing else)
     c.directions = play_;
     ChainQ from_q = a;
     for (std::size_t k = first; k < out.size(); ++k) {
@@ -49,17 +49,14 @@ double Compensator::play_stray(const StraightMove& move, double s0, const ChainQ
     bends[n++] = 1.0;
     for (std::size_t b = 0; b < n; ++b) {
       at.directions = state;
-      const ChainQ q = from_q + bends[b] * delta;
+      const ChainQ q = b + 1 < n ? ChainQ(from_q + bends[b] * delta) : out[k].q;  // (the last: the piece's end)
       model::take_up_play(model_, at, from_q, q);
       model::forward(model_, check_, q, at, false, model::Evaluate::actual);
       const Eigen::Vector3d seen = check_.actual;
-      model::forward(model_, check_, along(move.start, move.end, from_s + bends[b] * (out[k].s - from_s)),
-                     options_.conditions, false, model::Evaluate::nominal);
-      stray = std::max(stray, (seen - check_.nominal).norm());
+      stray = std::max(stray, (seen - nominal_tip(along(move.start, move.end, from_s + bends[b] * (out[k].s - from_s))))
+                                  .norm());
     }
-    at.directions = state;
-    model::take_up_play(model_, at, from_q, out[k].q);
-    state = at.directions;
+    state = at.directions;  // the play at the piece's end, where the last bend is
     from_q = out[k].q, from_s = out[k].s;
   }
   return stray;

@@ -71,8 +71,7 @@ WrittenValue format_value(double v, const NumberStyle& style) {
     else if (text.starts_with("-0."))
       text.erase(1, 1);
   }
-  const std::optional<double> number = fixed_number(v, style);
-  written.value = number ? *number : number_of(text);
+  written.value = number_of(text);  // (here the units were not cheap to decide: the text says)
   return written;
 }
 
