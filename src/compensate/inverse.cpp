@@ -3,7 +3,6 @@
 #include <Eigen/QR>
 #include <array>
 #include <limits>
-#include <optional>
 
 #include "ccomp/kinematics/pose.hpp"
 
@@ -27,10 +26,35 @@ InverseProblem::InverseProblem(const model::ForwardModel& model) {
 namespace {
 using Step = Eigen::Matrix<double, Eigen::Dynamic, 1, 0, 9, 1>;
 
+using SolveMatrix = decltype(InverseWorkspace::solve_matrix);
+
 /// q += sign * step, the step given over the problem's unknowns.
 void move_unknowns(const InverseProblem& problem, ChainQ& q, const Step& step, double sign) {
   for (std::size_t c = 0; c < problem.unknowns.size(); ++c)
     q[problem.unknowns[c]] += sign * step[static_cast<Eigen::Index>(c)];
+}
+
+// The solve's small products (n <= 9 unknowns, m <= 6 equations), written out: Eigen's
+// loops for sizes known only at run time cost more than the products themselves, at
+// every point of a program.
+
+/// The solve matrix's first three columns (the position equations) times v.
+Step position_columns_times(const SolveMatrix& S, const Eigen::Vector3d& v) {
+  Step out(S.rows());
+  for (Eigen::Index c = 0; c < S.rows(); ++c) out[c] = S(c, 0) * v.x() + S(c, 1) * v.y() + S(c, 2) * v.z();
+  return out;
+}
+
+/// S r, r over the equations.
+template <typename Residual>
+Step solve_matrix_times(const SolveMatrix& S, const Residual& r) {
+  Step out(S.rows());
+  for (Eigen::Index c = 0; c < S.rows(); ++c) {
+    double sum = 0.0;
+    for (Eigen::Index e = 0; e < S.cols(); ++e) sum += S(c, e) * r[e];
+    out[c] = sum;
+  }
+  return out;
 }
 }  // namespace
 
@@ -99,7 +123,7 @@ SolveStart start_of(const InverseProblem& problem, InverseWorkspace& ws, const C
   if (s.predicted) {
     s.q = q_nominal;
     for (const int k : problem.unknowns) s.q[k] = ws.last_solution[k];
-    move_unknowns(problem, s.q, ws.solve_matrix.leftCols<3>() * s.shift, 1.0);
+    move_unknowns(problem, s.q, position_columns_times(ws.solve_matrix, s.shift), 1.0);
     if (s.approach_changes > 0) s.q += s.approach_step;
     s.first_order = s.q;
     const double last_length = ws.last_shift.norm(), length = s.shift.norm();
@@ -158,7 +182,7 @@ void iterate(const model::ForwardModel& model, const InverseProblem& problem, mo
       // One more step on the residual already known (no evaluation): what is left is the
       // Jacobian's error times it, far below the tolerance, and the next prediction
       // extrapolates from this solution.
-      if (ws.solve_matrix.size() != 0) move_unknowns(problem, q, ws.solve_matrix * residual, -1.0);
+      if (ws.solve_matrix.size() != 0) move_unknowns(problem, q, solve_matrix_times(ws.solve_matrix, residual), -1.0);
       break;
     }
     if (r.iterations == options.max_iterations) break;
@@ -184,7 +208,7 @@ void iterate(const model::ForwardModel& model, const InverseProblem& problem, mo
       ++ws.jacobian_evaluations;
       fresh = false;
     }
-    move_unknowns(problem, q, ws.solve_matrix * residual, -1.0);
+    move_unknowns(problem, q, solve_matrix_times(ws.solve_matrix, residual), -1.0);
     last_residual = residual;
     stepped = true;
   }
@@ -204,14 +228,22 @@ void learn(const InverseProblem& problem, InverseWorkspace& ws, const ChainQ& q_
       const auto k = problem.unknowns[static_cast<std::size_t>(c)];
       s_step[c] = q[k] - ws.last_solution[k] - (s.approach_changes > 0 ? s.approach_step[k] : 0.0);
     }
-    const Step gap = s_step - ws.solve_matrix.leftCols<3>() * s.shift;
+    const Step predicted = position_columns_times(ws.solve_matrix, s.shift);
     // A secant far from the matrix is not the Jacobian's drift (a jump of the solution):
     // left out.
     // (Squared lengths summed by hand: GCC 12 takes Eigen's packet loop over a vector of
     // dynamic size and capacity 9 for a read past it, and warns with -Warray-bounds.)
+    Step gap(n);
     double gap2 = 0.0, step2 = 0.0;
-    for (Eigen::Index c = 0; c < n; ++c) gap2 += gap[c] * gap[c], step2 += s_step[c] * s_step[c];
-    if (gap2 < 0.01 * step2) ws.solve_matrix.leftCols<3>() += gap * s.shift.transpose() / s.shift.squaredNorm();
+    for (Eigen::Index c = 0; c < n; ++c) {
+      gap[c] = s_step[c] - predicted[c];
+      gap2 += gap[c] * gap[c], step2 += s_step[c] * s_step[c];
+    }
+    if (gap2 < 0.01 * step2) {
+      const Eigen::Vector3d along = s.shift / s.shift.squaredNorm();
+      for (Eigen::Index c = 0; c < n; ++c)
+        for (Eigen::Index k = 0; k < 3; ++k) ws.solve_matrix(c, k) += gap[c] * along[k];
+    }
   }
   if (s.same_target && s.approach_changes == 1) {
     // The same point for one axis' changed approach: the solution's move per unit of it.
@@ -239,11 +271,13 @@ void learn(const InverseProblem& problem, InverseWorkspace& ws, const ChainQ& q_
 InverseResult solve_inverse(const model::ForwardModel& model, const InverseProblem& problem, model::ForwardData& d,
                             const ChainQ& q_nominal, const model::Conditions& conditions, const InverseOptions& options,
                             const ChainQ* guess, InverseWorkspace* workspace, const NominalPose* nominal) {
+  if (!workspace) {  // built only when the caller keeps none: a workspace is 1.5 kB to fill
+    InverseWorkspace scratch;
+    return solve_inverse(model, problem, d, q_nominal, conditions, options, guess, &scratch, nominal);
+  }
   InverseResult r;
   if (!nominal) model::forward(model, d, q_nominal, conditions, false, model::Evaluate::nominal);
-  // Built only when the caller keeps none: a workspace is 1.5 kB to fill, at every point.
-  std::optional<InverseWorkspace> scratch;
-  InverseWorkspace& ws = workspace ? *workspace : scratch.emplace();
+  InverseWorkspace& ws = *workspace;
   SolveStart s = start_of(problem, ws, q_nominal, conditions, guess, nominal ? nominal->tip : d.nominal,
                           nominal ? nominal->orientation : d.R_nominal);
   iterate(model, problem, d, conditions, options, ws, s, r);
