@@ -54,23 +54,27 @@ inline void compose_into(const Pose& a, const Pose& b, Pose& out) {
 [[gnu::always_inline]] inline void set_link_pose(const Joint& j, bool offset_only, double q, bool located,
                                                  const Vec3& line, const Pose& location, const Pose& error,
                                                  Pose& link) {
+  if (j.type == JointType::linear && offset_only) {  // (most links: no placement to copy)
+    const Vec3 travel = located ? Vec3(location.t + q * line) : Vec3(q * j.direction);
+    link.R = error.R;
+    link.t = j.placement.t + travel + error.t;
+    return;
+  }
   Pose m = j.placement;  // placement * motion
   switch (j.type) {
     case JointType::linear: {
       const Vec3 travel = located ? Vec3(location.t + q * line) : Vec3(q * j.direction);
-      if (offset_only) {
-        link.R = error.R;
-        link.t = m.t + travel + error.t;
-        return;
-      }
       m.t += j.placement.R * travel;
       break;
     }
     case JointType::rotary: {
       const Mat3 turn = so3_exp(q * j.direction);
-      if (located) {  // about the real line: location * Rot(q) * location^-1
-        const Pose about = compose(compose(location, Pose{turn, Vec3::Zero()}), inverse(location));
-        m = compose(j.placement, about);
+      if (located) {  // about the real line: location * Rot(q) * location^-1, written out
+        const Mat3 turned = location.R * turn;
+        const Mat3 about = turned * location.R.transpose();
+        const Vec3 shift = location.t - turned * (location.R.transpose() * location.t);
+        m.R = offset_only ? about : Mat3(j.placement.R * about);
+        m.t = offset_only ? Vec3(j.placement.t + shift) : Vec3(j.placement.t + j.placement.R * shift);
       } else {
         m.R = offset_only ? turn : Mat3(j.placement.R * turn);
       }
@@ -246,12 +250,12 @@ Pose nominal_side(const Chain& chain, NominalData::Side& side, const Eigen::Ref<
     if (j.type == JointType::rotary && !(q[static_cast<Eigen::Index>(j.axis)] == side.rotary_q[rotary++]))
       turned = true;
   if (turned) compose_nominal_side(chain, side, q);
-  Pose oM;
-  oM.R = side.R;
-  oM.t = side.t0;
+  // (Summed in a register: a sum kept in the returned pose would be stored and read back
+  // at each joint, waiting on the store every time.)
+  Vec3 t = side.t0;
   for (std::size_t k = 0; k < side.linear_axes.size(); ++k)
-    oM.t += q[static_cast<Eigen::Index>(side.linear_axes[k])] * side.columns[k];
-  return oM;
+    t += q[static_cast<Eigen::Index>(side.linear_axes[k])] * side.columns[k];
+  return Pose{side.R, t};
 }
 
 }  // namespace

@@ -617,7 +617,8 @@ kinematics::PoseChanges pose_summed_links(ForwardData& d, std::uint64_t summed, 
     error = link_part(d, k, 0);
     if (error == posed) return false;
     posed = error;
-    out = kinematics::error_pose(error.head<3>(), error.tail<3>());
+    out.R = kinematics::so3_exp(error.tail<3>());  // (error_pose(), built in place)
+    out.t = error.head<3>();
     return true;
   };
   // (Untracked, the changes are not passed on: no bits past the mask's are set.)
