@@ -128,7 +128,7 @@ void MoveRewriter::point_words(const gcode::Motion& m, const gcode::Block& b, co
                   inch, turn_word(point, *m.offsets, i, unit));
     if (!text) continue;
     if (word)
-      edits_.push_back(gcode::Edit{word->value_span, *text});
+      edits_.push_back(gcode::Edit{word->value_span, std::move(*text)});
     else if (line.own)
       edits_.push_back(gcode::Edit{{line.insert_at, line.insert_at}, std::string(" ") + letter + *text});
     else

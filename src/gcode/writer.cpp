@@ -70,10 +70,11 @@ ProgramWriter::ProgramWriter(LineSource reader, std::FILE* out, std::string head
 void ProgramWriter::edit(std::uint64_t line_offset, std::span<Edit> edits) {
   if (line_offset < next_offset_) throw Error(ErrorKind::internal, "an edit arrived for a line already written");
   // After the pending edits of its line and of the lines before it (nearly always at the end).
-  auto at = std::upper_bound(pending_.begin(), pending_.end(), line_offset,
-                             [](std::uint64_t offset, const PendingEdit& p) { return offset < p.offset; });
-  auto index = at - pending_.begin();
-  for (Edit& e : edits) pending_.insert(pending_.begin() + index++, PendingEdit{line_offset, std::move(e)});
+  const auto at = std::upper_bound(pending_offsets_.begin(), pending_offsets_.end(), line_offset);
+  const auto index = at - pending_offsets_.begin();
+  pending_offsets_.insert(at, edits.size(), line_offset);
+  pending_.insert(pending_.begin() + index, std::make_move_iterator(edits.begin()),
+                  std::make_move_iterator(edits.end()));
 }
 
 void ProgramWriter::write_line(const SourceLine& line, bool terminate) {
@@ -94,15 +95,14 @@ void ProgramWriter::write_line(const SourceLine& line, bool terminate) {
       header_written_ = true;
     }
   }
-  if (!pending_.empty() && pending_.front().offset < line.offset)
+  if (!pending_offsets_.empty() && pending_offsets_.front() < line.offset)
     throw Error(ErrorKind::internal, "an edit arrived for a place no line starts at");
   std::size_t n = 0;
-  while (n < pending_.size() && pending_[n].offset == line.offset) ++n;
+  while (n < pending_offsets_.size() && pending_offsets_[n] == line.offset) ++n;
   if (n > 0) {
-    line_edits_.clear();
-    for (std::size_t k = 0; k < n; ++k) line_edits_.push_back(std::move(pending_[k].edit));
+    apply_edits(line.text, std::span<Edit>(pending_.data(), n), edited_);
     pending_.erase(pending_.begin(), pending_.begin() + static_cast<std::ptrdiff_t>(n));
-    apply_edits(line.text, line_edits_, edited_);
+    pending_offsets_.erase(pending_offsets_.begin(), pending_offsets_.begin() + static_cast<std::ptrdiff_t>(n));
     std::fwrite(edited_.data() + skip, 1, edited_.size() - skip, out_);
     if (terminate) std::fwrite(line.terminator.data(), 1, line.terminator.size(), out_);
   } else if (!terminate) {

@@ -67,14 +67,11 @@ class ProgramWriter {
   std::uint64_t next_offset_ = 0;
   bool open_ = false;            ///< a line was written without its terminator
   std::string open_terminator_;  ///< its terminator
-  /// Edits not yet written, by line offset (in arrival order for one line). Lines are
-  /// edited just before they are written: a flat list, its storage kept, no allocation.
-  struct PendingEdit {
-    std::uint64_t offset = 0;
-    Edit edit;
-  };
-  std::vector<PendingEdit> pending_;
-  std::vector<Edit> line_edits_;
+  /// Edits not yet written, by line offset (in arrival order for one line), and the line
+  /// offset of each. Lines are edited just before they are written: flat lists, their
+  /// storage kept, no allocation; a line's edits are applied where they lie.
+  std::vector<Edit> pending_;
+  std::vector<std::uint64_t> pending_offsets_;
   std::string edited_;
 };
 
