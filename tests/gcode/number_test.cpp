@@ -6,9 +6,11 @@
 
 #include <charconv>
 #include <cmath>
+#include <cstdint>
 #include <random>
 #include <string>
 #include <string_view>
+#include <vector>
 
 namespace ccomp::gcode {
 namespace {
@@ -52,6 +54,34 @@ TEST(Number, FormatFixedWritesWhatToCharsWrites) {
   });
   char out[40];
   EXPECT_EQ(format_fixed(1e300, 4, out), 0U) << "does not fit: the caller formats it otherwise";
+}
+
+TEST(Number, FormatUnitsWritesEveryIntegerWithItsPoint) {
+  // Units of every length to 19 digits and the extremes, against their digits as to_chars
+  // writes the integer, the point put in (zeros before it where the digits are fewer).
+  auto expected = [](std::int64_t units, int decimals) {
+    const std::uint64_t magnitude =
+        units < 0 ? 0 - static_cast<std::uint64_t>(units) : static_cast<std::uint64_t>(units);
+    std::string digits = std::to_string(magnitude);
+    const auto d = static_cast<std::size_t>(decimals);
+    if (digits.size() < d + 1) digits = std::string(d + 1 - digits.size(), '0') + digits;
+    const std::string integer = digits.substr(0, digits.size() - d), fraction = digits.substr(digits.size() - d);
+    return std::string(units < 0 ? "-" : "") + integer + (d > 0 ? "." : "") + fraction;
+  };
+  std::vector<std::int64_t> all{0, 1, -1, 9, 10, 99, 100, 101, INT64_MAX, INT64_MIN, INT64_MIN + 1};
+  std::mt19937_64 rng(5);
+  for (int length = 1; length <= 19; ++length)
+    for (int k = 0; k < 200; ++k) {
+      std::int64_t u = 1 + static_cast<std::int64_t>(rng() % 9);
+      for (int d = 1; d < length; ++d) u = u * 10 + static_cast<std::int64_t>(rng() % 10);
+      all.push_back(k % 2 ? -u : u);
+    }
+  for (const std::int64_t units : all)
+    for (int decimals = 0; decimals <= 9; ++decimals) {
+      char out[32];
+      const std::size_t n = format_units(units, decimals, units < 0, out);
+      ASSERT_EQ(std::string_view(out, n), expected(units, decimals)) << units << " with " << decimals << " decimals";
+    }
 }
 
 TEST(Number, FixedUnitsAreTheDigitsToCharsWrites) {
