@@ -242,14 +242,16 @@ void compose_nominal_side(const Chain& chain, NominalData::Side& side, const Eig
   side.composed = true;
 }
 
-/// One side's end pose at q: composed again where a rotary joint moved, else its affine form.
-Pose nominal_side(const Chain& chain, NominalData::Side& side, const Eigen::Ref<const VecQ>& q) {
+/// One side's end pose at q: composed again where a rotary joint moved (`turned` set),
+/// else its affine form.
+Pose nominal_side(const Chain& chain, NominalData::Side& side, const Eigen::Ref<const VecQ>& q, bool& turned) {
   std::size_t rotary = 0;
-  bool turned = !side.composed;
+  bool moved = !side.composed;
   for (const Joint& j : chain.joints)
     if (j.type == JointType::rotary && !(q[static_cast<Eigen::Index>(j.axis)] == side.rotary_q[rotary++]))
-      turned = true;
-  if (turned) compose_nominal_side(chain, side, q);
+      moved = true;
+  if (moved) compose_nominal_side(chain, side, q);
+  turned = turned || moved;
   // (Summed in a register: a sum kept in the returned pose would be stored and read back
   // at each joint, waiting on the store every time.)
   Vec3 t = side.t0;
@@ -261,9 +263,13 @@ Pose nominal_side(const Chain& chain, NominalData::Side& side, const Eigen::Ref<
 }  // namespace
 
 void nominal_poses(const ChainModel& model, NominalData& data, const Eigen::Ref<const VecQ>& q) {
-  data.oMp = nominal_side(model.workpiece, data.work_side_, q);
-  data.oMtool = nominal_side(model.tool, data.tool_side_, q);
-  data.E = compose(inverse(data.oMp), data.oMtool);
+  bool turned = false;
+  data.oMp = nominal_side(model.workpiece, data.work_side_, q, turned);
+  data.oMtool = nominal_side(model.tool, data.tool_side_, q, turned);
+  // compose(inverse(oMp), oMtool), its rotation kept while no rotary joint moves.
+  const Mat3 pRo = data.oMp.R.transpose();
+  if (turned) data.E.R = pRo * data.oMtool.R;
+  data.E.t = -(pRo * data.oMp.t) + pRo * data.oMtool.t;
 }
 
 void error_matrix(const ChainModel& model, ChainData& data, const Eigen::Ref<const VecQ>& q, ChainJacobians which,
