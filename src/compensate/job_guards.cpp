@@ -174,6 +174,7 @@ void JobGuards::check_rotary_rounding(std::uint32_t line) {
 /// Once per axis: a reversal the take-up cannot hide stays in the output.
 void JobGuards::warn_unhidden_reversals(unsigned axes, std::uint32_t line) {
   axes &= ~warned_reversals_;
+  if (axes == 0) return;  // (nearly every move: nothing new to say)
   warned_reversals_ |= axes;
   for (std::size_t i = 0; i < gcode::kAxisCount && options_.warning; ++i)
     if (axes >> i & 1U)

@@ -16,10 +16,19 @@ using Axes = std::array<double, kAxisCount>;
 [[nodiscard]] constexpr bool is_rotary(std::size_t axis) {
   return axis >= 3 && axis <= 5;
 }
-[[nodiscard]] constexpr std::optional<std::size_t> axis_index(char letter) {
+/// Each byte's axis index, or -1 (a lookup: every word of every block asks).
+inline constexpr std::array<std::int8_t, 256> kAxisOfByte = [] {
+  std::array<std::int8_t, 256> of{};
+  of.fill(-1);
   for (std::size_t i = 0; i < kAxisCount; ++i)
-    if (kAxisLetters[i] == letter) return i;
-  return std::nullopt;
+    of[static_cast<unsigned char>(kAxisLetters[i])] = static_cast<std::int8_t>(i);
+  return of;
+}();
+
+[[nodiscard]] constexpr std::optional<std::size_t> axis_index(char letter) {
+  const std::int8_t i = kAxisOfByte[static_cast<unsigned char>(letter)];
+  if (i < 0) return std::nullopt;
+  return static_cast<std::size_t>(i);
 }
 
 }  // namespace ccomp::gcode
