@@ -294,12 +294,12 @@ std::pair<Matrix, Matrix> forward_parameters() {
   const model::ChainQ q = forward_point();
   model::ForwardData d(m);
   model::forward(m, d, q, forward_conditions(), true);
-  Matrix numeric(3, d.parameters.size());
+  Matrix numeric(3, d.parameters().size());
   const double step = 1e-5;
-  for (Eigen::Index k = 0; k < d.parameters.size(); ++k) {
+  for (Eigen::Index k = 0; k < d.parameters().size(); ++k) {
     model::ForwardData a(m), b(m);
-    a.parameters[k] += step;
-    b.parameters[k] -= step;
+    a.edit_parameters()[k] += step;
+    b.edit_parameters()[k] -= step;
     model::forward(m, a, q, forward_conditions());
     model::forward(m, b, q, forward_conditions());
     numeric.col(k) = (a.actual - b.actual) / (2 * step);

@@ -31,7 +31,7 @@ class TipMiss {
   /// Parameters [offset, offset + count) of the model taken as 0 from now on (a term left
   /// out of what is sampled).
   void zero_parameters(std::size_t offset, std::size_t count) {
-    data_.parameters.segment(static_cast<Eigen::Index>(offset), static_cast<Eigen::Index>(count)).setZero();
+    data_.edit_parameters().segment(static_cast<Eigen::Index>(offset), static_cast<Eigen::Index>(count)).setZero();
   }
 
   /// `directions`: each axis' approach state (+1 up, -1 down, 0 the middle of its play):

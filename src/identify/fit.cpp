@@ -163,7 +163,7 @@ void design_matrix(const model::ForwardModel& model, const Eigen::VectorXd& para
   // Rows are independent: each piece of them on a thread, with its own scratch.
   util::for_each_piece(data.observations.size(), util::hardware_threads(), [&](std::size_t begin, std::size_t end) {
     model::ForwardData d(model);
-    d.parameters = parameters;
+    d.set_parameters(parameters);
     // J's rows gathered a few at a time and stored as a block: a row written straight
     // into the column-major J touches one cache line (and page) per column.
     constexpr Eigen::Index kChunk = 64;

@@ -50,7 +50,7 @@ Sensitivity sensitivity(const model::ForwardModel& model, const Eigen::VectorXd&
     rows[data.observations[i].source].push_back(static_cast<Eigen::Index>(i));
   out.per_line = Eigen::MatrixXd::Zero(m, static_cast<Eigen::Index>(2 * data.sources.size()));
   model::ForwardData d(model);
-  d.parameters = parameters;
+  d.set_parameters(parameters);
   for (std::size_t s = 0; s < data.sources.size(); ++s) {
     const std::string& name = data.sources[s];
     const auto axis = name.empty() ? std::string::npos : std::string_view("xyz").find(name[0]);
@@ -99,7 +99,7 @@ std::vector<LineSquareness> line_squareness(const model::ForwardModel& model, co
   for (const Observation& o : data.observations) low = low.cwiseMin(o.q), high = high.cwiseMax(o.q);
   const model::ChainQ middle = 0.5 * (low + high);
   model::ForwardData d(model);
-  d.parameters = p;
+  d.set_parameters(p);
   Eigen::Matrix3d slope = Eigen::Matrix3d::Zero();  // slope(i, j): deviation j per mm along axis i
   for (Eigen::Index axis = 0; axis < 3; ++axis) {
     if (!(high[axis] > low[axis])) continue;

@@ -249,8 +249,7 @@ int ForwardModel::check_points(const ChainQ& a, const ChainQ& b, int minimum, in
 }
 
 ForwardData::ForwardData(const ForwardModel& model)
-    : parameters(static_cast<Eigen::Index>(model.parameter_count())),
-      J_parameters(3, static_cast<Eigen::Index>(model.parameter_count())),
+    : J_parameters(3, static_cast<Eigen::Index>(model.parameter_count())),
       actual_chain(model.chain()),
       nominal_chain(model.chain()),
       work_error(model.chain().workpiece.joints.size()),
@@ -266,7 +265,7 @@ ForwardData::ForwardData(const ForwardModel& model)
       evaluated_inputs(values.size(), TermInputs{std::nan(""), std::nan("")}),
       phases(values.size()),
       variables(ForwardModel::kFirstTemperatureVariable + model.machine().sensors.size(), 0.0),
-      key(variables.size() - ForwardModel::kTimeVariable + model.parameter_count()),
+      key(variables.size() - ForwardModel::kTimeVariable),
       off_axes_errors(kLinkErrorSize * (model.chain().workpiece.joints.size() + model.chain().tool.joints.size())),
       off_axes_fixed(off_axes_errors.size()),
       off_axes_approach(off_axes_errors.size()),
@@ -275,10 +274,20 @@ ForwardData::ForwardData(const ForwardModel& model)
       J_work_pose(model.chain().workpiece.joints.size()),
       J_tool_pose(model.chain().tool.joints.size()),
       J_work_location_pose(model.chain().workpiece.joints.size()),
-      J_tool_location_pose(model.chain().tool.joints.size()) {
+      J_tool_location_pose(model.chain().tool.joints.size()),
+      parameters_(static_cast<Eigen::Index>(model.parameter_count())) {
   for (std::size_t i = 0; i < model.machine().terms.size(); ++i)
-    parameters.segment(static_cast<Eigen::Index>(model.parameter_offset(i)),
-                       model.machine().terms[i].parameters.size()) = model.machine().terms[i].parameters;
+    parameters_.segment(static_cast<Eigen::Index>(model.parameter_offset(i)),
+                        model.machine().terms[i].parameters.size()) = model.machine().terms[i].parameters;
+}
+
+void ForwardData::set_parameters(const Eigen::VectorXd& p) {
+  // (Compared as bits, as a key is: a NaN set again is the same.)
+  const bool same = p.size() == parameters_.size() &&
+                    (p.size() == 0 || std::memcmp(p.data(), parameters_.data(), sizeof(double) * p.size()) == 0);
+  if (same) return;
+  parameters_ = p;
+  ++parameters_revision_;
 }
 
 namespace {
@@ -339,18 +348,18 @@ int chain_index(const Variable& v) {
 double term_value(const ErrorTermSpec& t, std::size_t offset, ForwardData& d, std::size_t i, const TermInputs& in,
                   bool same_parameters) {
   double value = 0.0;
-  if (inline_value(t, d.parameters.data() + offset, in, value)) return value;
+  if (inline_value(t, d.parameters().data() + offset, in, value)) return value;
   TermInputs& last = d.evaluated_inputs[i];
   if (!same_parameters || in.primary != last.primary || in.secondary != last.secondary) {
     if (t.shape.form == TermForm::table && t.shape.interpolation == Interpolation::cubic) {
       // Solved again whenever the parameters' key changed: every term passes here then (as
       // for the values kept above), so moments kept under the same key are this table's.
-      const double* p = d.parameters.data() + offset;
+      const double* p = d.parameters().data() + offset;
       std::vector<double>& moments = d.table_moments[i];
       if (!same_parameters || moments.empty()) spline_moments(t.shape.knots, p, moments);
       d.values[i].value = spline_value(t.shape.knots, p, moments.data(), in.primary, &d.values[i].d_primary);
     } else {
-      evaluate(t.shape, d.parameters.segment(static_cast<Eigen::Index>(offset), t.parameters.size()), in, false,
+      evaluate(t.shape, d.parameters().segment(static_cast<Eigen::Index>(offset), t.parameters.size()), in, false,
                d.values[i]);
     }
     last = in;
@@ -366,7 +375,7 @@ struct KeyMatch {
 
 /// Fills d.variables for q and c and compares the key (bitwise: a key that compares equal
 /// gives the same values), then takes this evaluation's as the key.
-KeyMatch update_variables(const ForwardModel& model, ForwardData& d, const ChainQ& q, const Conditions& c) {
+KeyMatch update_variables(ForwardData& d, const ChainQ& q, const Conditions& c) {
   double* v = d.variables.data();
   for (std::size_t i = 0; i < kChainVariables; ++i) v[i] = q[static_cast<Eigen::Index>(i)];
   v[ForwardModel::kTimeVariable] = c.time;
@@ -376,22 +385,19 @@ KeyMatch update_variables(const ForwardModel& model, ForwardData& d, const Chain
     v[i] = sensor < c.temperatures.size() ? c.temperatures[sensor] : 20.0;
   }
   // The key: the time, the directions, the temperatures (the variables from the time on),
-  // then the parameters.
+  // and the parameters' revision.
   constexpr std::size_t kDirections = ForwardModel::kFirstTemperatureVariable - ForwardModel::kFirstDirectionVariable;
   const std::size_t n = d.variables.size() - ForwardModel::kTimeVariable;
   const std::size_t temperatures = d.variables.size() - ForwardModel::kFirstTemperatureVariable;
-  const std::size_t p = model.parameter_count();
   double* key = d.key.data();
   const double* conditions = v + ForwardModel::kTimeVariable;
   KeyMatch match;
   match.directions = d.key_valid && std::memcmp(key + 1, conditions + 1, kDirections * sizeof(double)) == 0;
   match.rest = d.key_valid && std::memcmp(key, conditions, sizeof(double)) == 0 &&
                std::memcmp(key + 1 + kDirections, conditions + 1 + kDirections, temperatures * sizeof(double)) == 0;
-  // A model without terms has no parameters: data() is null, which memcmp and memcpy may
-  // not be given even for no bytes.
-  match.parameters = d.key_valid && (p == 0 || std::memcmp(key + n, d.parameters.data(), p * sizeof(double)) == 0);
+  match.parameters = d.key_valid && d.key_parameters_revision == d.parameters_revision();
   if (!match.directions || !match.rest) std::memcpy(key, conditions, n * sizeof(double));
-  if (!match.parameters && p > 0) std::memcpy(key + n, d.parameters.data(), p * sizeof(double));
+  d.key_parameters_revision = d.parameters_revision();
   d.key_valid = true;
   return match;
 }
@@ -409,7 +415,7 @@ void evaluate_terms_with_derivatives(const ForwardModel& model, ForwardData& d, 
   for (std::size_t i = 0; i < terms.size(); ++i) {
     const ErrorTermSpec& t = terms[i];
     const TermInputs in{variable_value(t.primary, q, c), variable_value(t.secondary, q, c)};
-    const auto params = d.parameters.segment(static_cast<Eigen::Index>(model.parameter_offset(i)), t.parameters.size());
+    const auto params = d.parameters().segment(static_cast<Eigen::Index>(model.parameter_offset(i)), t.parameters.size());
     evaluate(t.shape, params, in, gradient, d.values[i]);
     d.evaluated_inputs[i] = in;
     d.errors[slots[i].error_index] += slots[i].sign * d.values[i].value;
@@ -441,7 +447,7 @@ double cross_axis_value(const TermShape& shape, const double* p, const TermInput
 /// The value of term i, one that depends on the axes, at d's variables.
 double on_axes_value(const ForwardModel& model, ForwardData& d, std::size_t i, bool same_parameters) {
   const ForwardModel::TermSlot& s = model.slots()[i];
-  const double* parameters = d.parameters.data();
+  const double* parameters = d.parameters().data();
   if (s.form == TermForm::polynomial) {  // Horner, as inline_value() does
     const double v = d.variables[static_cast<std::size_t>(s.primary)];
     const double* p = parameters + s.offset;
@@ -491,7 +497,7 @@ void group_polynomials(const ForwardModel& model, ForwardData& d) {
     for (const ForwardModel::PolynomialGroup& g : link.polynomials)
       for (const std::size_t i : g.terms) {
         const ForwardModel::TermSlot& s = model.slots()[i];
-        const double* p = d.parameters.data() + s.offset;
+        const double* p = d.parameters().data() + s.offset;
         const std::size_t component = s.error_index % kLinkErrorSize;
         for (int k = 0; k <= s.order; ++k)
           d.group_coefficients[g.coefficients + kMotionComponents * static_cast<std::size_t>(k) + component] +=
@@ -526,7 +532,7 @@ constexpr std::size_t kTrackedLinks = 64;
 bool sum_term_values(const ForwardModel& model, ForwardData& d, const ChainQ& q, const Conditions& c, bool tracked,
                      std::uint64_t& summed) {
   const auto& slots = model.slots();
-  const KeyMatch same = update_variables(model, d, q, c);
+  const KeyMatch same = update_variables(d, q, c);
   // Every sum off the axes is stale when the parameters, the time or a temperature changed;
   // where only an approach state did (a play being taken up), those of the terms reading one.
   const bool stale = !same.rest || !same.parameters;

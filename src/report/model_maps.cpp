@@ -28,7 +28,7 @@ class ErrorProbe {
   /// mm, machine directions: program X Y Z (mm), a rotary axis' angle (deg), tool length L.
   Eigen::Vector3d at(const Eigen::VectorXd& parameters, const std::array<double, 3>& xyz, std::size_t rotary,
                      double angle, double tool, double approach) {
-    data_.parameters = parameters;
+    data_.set_parameters(parameters);
     model::ChainQ q = model::ChainQ::Zero();
     q[0] = xyz[0], q[1] = xyz[1], q[2] = xyz[2] + tool;  // program Z carries the tool length
     if (rotary < 9) q[static_cast<Eigen::Index>(rotary)] = angle * std::numbers::pi / 180.0;

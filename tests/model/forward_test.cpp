@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdint>
 #include <string>
 
 #include "ccomp/error.hpp"
@@ -192,7 +193,7 @@ TEST(Forward, TermsOffTheAxesFollowTheConditionsAndParameters) {
   auto same_as_fresh = [&](const std::string& step) {
     forward(m, kept, q, c);
     ForwardData fresh(m);
-    fresh.parameters = kept.parameters;
+    fresh.set_parameters(kept.parameters());
     forward(m, fresh, q, c);
     EXPECT_EQ(kept.actual, fresh.actual) << step;
     return kept.actual;
@@ -209,16 +210,23 @@ TEST(Forward, TermsOffTheAxesFollowTheConditionsAndParameters) {
   changed("time");
   c.directions[0] = 1;
   changed("X's approach");
-  kept.parameters[0] += 1e-4;  // EXX's constant
+  kept.edit_parameters()[0] += 1e-4;  // EXX's constant
   changed("a parameter of a term on an axis");
-  kept.parameters[m.parameter_offset(1)] *= 2;  // the bed drift's coefficient
+  kept.edit_parameters()[m.parameter_offset(1)] *= 2;  // the bed drift's coefficient
   changed("a parameter of a term off the axes");
-  kept.parameters[m.parameter_offset(5) + 1] += 1e-4;  // EZY's first cosine, at an unchanged Y
+  kept.edit_parameters()[m.parameter_offset(5) + 1] += 1e-4;  // EZY's first cosine, at an unchanged Y
   changed("a parameter of a periodic term (evaluated apart, its value kept while Y stands still)");
-  kept.parameters[m.parameter_offset(6) + 2] += 1e-4;  // a value of EYX's cubic table
+  kept.edit_parameters()[m.parameter_offset(6) + 2] += 1e-4;  // a value of EYX's cubic table
   changed("a value of a cubic table (its spline solved anew)");
+  Eigen::VectorXd other = kept.parameters();
+  other[m.parameter_offset(6)] += 1e-4;  // another of the table's values, set whole
+  kept.set_parameters(other);
+  changed("parameters set whole");
+  const std::uint64_t revision = kept.parameters_revision();
+  kept.set_parameters(other);
+  EXPECT_EQ(kept.parameters_revision(), revision) << "the same parameters set again are no change";
   forward(m, kept, q, c, true);  // an evaluation with Jacobians keeps no key
-  kept.parameters[m.parameter_offset(6) + 1] -= 2e-4;
+  kept.edit_parameters()[m.parameter_offset(6) + 1] -= 2e-4;
   changed("a table value after an evaluation with Jacobians");
   q[1] += 1;
   changed("Y");
@@ -254,7 +262,7 @@ TEST(Forward, AnEvaluationKeepsTheLinksWhoseInputsStoodStill) {
   auto step = [&](const std::string& what, bool moves = true) {
     forward(m, kept, q, c);
     ForwardData alone(m);
-    alone.parameters = kept.parameters;
+    alone.set_parameters(kept.parameters());
     forward(m, alone, q, c, true);
     EXPECT_LT((kept.actual - alone.actual).norm(), 1e-12) << what;
     EXPECT_LT((kept.R_actual - alone.R_actual).norm(), 1e-15) << what;
@@ -279,7 +287,7 @@ TEST(Forward, AnEvaluationKeepsTheLinksWhoseInputsStoodStill) {
   step("X's approach and X");
   c.temperatures[1] = 27;
   step("the spindle's temperature");
-  kept.parameters[m.parameter_offset(1) + 2] *= 2;  // EYX's square term
+  kept.edit_parameters()[m.parameter_offset(1) + 2] *= 2;  // EYX's square term
   step("a polynomial's coefficient");
   q[9] += 10;
   step("the tool length (the spindle's term in it)");
@@ -330,14 +338,14 @@ TEST(Forward, PeriodicTermsOfOneVariableAndPeriodShareAPhaseWhileThePeriodsMatch
       q << 120 + 0.05 * k, -40, 30, 0, 0.3 + 1e-4 * k + (k % 50 == 0 ? 0.7 : 0.0), 0, 0, 0, 0, 100;
       forward(m, swept, q, {}, false);
       ForwardData alone(m);
-      alone.parameters = swept.parameters;
+      alone.set_parameters(swept.parameters());
       forward(m, alone, q, {}, true);
       ASSERT_LT((swept.actual - alone.actual).norm(), 1e-12) << what << ", point " << k;
     }
   };
   sweep("shared");
   EXPECT_EQ(swept.phases[4].c1, swept.phases[0].c1);
-  swept.parameters[static_cast<Eigen::Index>(m.parameter_offset(4))] *= 1.001;  // EZB's period, fitted
+  swept.edit_parameters()[static_cast<Eigen::Index>(m.parameter_offset(4))] *= 1.001;  // EZB's period, fitted
   sweep("EZB's period moved");
   EXPECT_NE(swept.phases[4].period, swept.phases[0].period);
 }

@@ -140,7 +140,20 @@ class ForwardModel {
 struct ForwardData {
   explicit ForwardData(const ForwardModel& model);
 
-  Eigen::VectorXd parameters;  ///< the terms' parameters (starts as the model's)
+  /// The terms' parameters (they start as the model's). forward() keeps what it derives
+  /// from them (sums, a table's spline) until they change, which it learns from their
+  /// revision instead of comparing them all at every evaluation.
+  [[nodiscard]] const Eigen::VectorXd& parameters() const { return parameters_; }
+  /// Takes `p` (a revision only where it differs, bit for bit: a caller may set the same
+  /// parameters at every point).
+  void set_parameters(const Eigen::VectorXd& p);
+  /// For changing some in place: a new revision. Not to be kept past the next forward().
+  [[nodiscard]] Eigen::VectorXd& edit_parameters() {
+    ++parameters_revision_;
+    return parameters_;
+  }
+  [[nodiscard]] std::uint64_t parameters_revision() const { return parameters_revision_; }
+
   // results
   Eigen::Vector3d actual = Eigen::Vector3d::Zero();       ///< tool tip in the table frame, with errors
   Eigen::Vector3d nominal = Eigen::Vector3d::Zero();      ///< the same without errors
@@ -169,7 +182,8 @@ struct ForwardData {
   /// Each periodic term's last phase (the forward loop's; its source's serves it).
   std::vector<PeriodicPhase> phases;
   /// The variables the terms read (ForwardModel::TermSlot), and the key of what was last
-  /// evaluated: the conditions (time, directions, temperatures), then the parameters.
+  /// evaluated: the conditions (time, directions, temperatures); key_parameters_revision is
+  /// the parameters'.
   std::vector<double> variables, key;
   /// The off-axes terms' errors summed per link component (TermSlot::error_index): all,
   /// those not reading an approach state, those reading one; and the sum with the others.
@@ -178,7 +192,12 @@ struct ForwardData {
   /// parameters under the key.
   std::vector<double> group_coefficients;
   bool key_valid = false;  ///< false after an evaluation with Jacobians (it keeps no key)
+  std::uint64_t key_parameters_revision = 0;  ///< the parameters' revision under the key
   std::vector<Eigen::Matrix<double, 6, 6>> J_work_pose, J_tool_pose, J_work_location_pose, J_tool_location_pose;
+
+ private:
+  Eigen::VectorXd parameters_;
+  std::uint64_t parameters_revision_ = 0;
 };
 
 /// Which poses forward() computes: both, or only the one a caller needs.
