@@ -56,6 +56,13 @@ MoveRewriter::MoveRewriter(gcode::ProgramWriter& writer, const model::MachineMod
 
 std::optional<std::string> MoveRewriter::axis_word(std::size_t i, double p, double last, bool incremental, bool named,
                                                    std::string_view styled, bool inch, const TurnWord& turn) {
+  std::string text;
+  if (!write_axis_word(i, p, last, incremental, named, styled, inch, turn, text)) return std::nullopt;
+  return text;
+}
+
+bool MoveRewriter::write_axis_word(std::size_t i, double p, double last, bool incremental, bool named,
+                                   std::string_view styled, bool inch, const TurnWord& turn, std::string& text) {
   gcode::Axes& rounding = position_.rounding;
   const bool rotary = gcode::is_rotary(i), own_digits = decimals_.for_axis(rotary) < 0;
   NumberStyle style = style_of(styled, inch && !rotary, rotary, decimals_.for_axis(rotary));
@@ -78,19 +85,27 @@ std::optional<std::string> MoveRewriter::axis_word(std::size_t i, double p, doub
   };
   if (!named && !turning && (written_alike(value, from, style) || against(written_number(value, style)))) {
     rounding[i] += last - p;  // (checked before the text is made: most unnamed axes stay)
-    return std::nullopt;
+    return false;
   }
-  WrittenValue written = turning ? take_up_word(planned, from, turn, style) : format_value(value, style);
-  if (!turning && against(written.value)) {
-    written = format_value(from, style);  // to as many digits as that takes
-    while (own_digits && written.value != from && style.decimals < kMostDecimals)
-      ++style.decimals, written = format_value(from, style);
+  // (Written straight into `text`: the edit's own string.)
+  double written = 0.0;
+  if (turning) {
+    WrittenValue taken = take_up_word(planned, from, turn, style);
+    text = std::move(taken.text);
+    written = taken.value;
+  } else {
+    written = format_value(value, style, text);
+  }
+  if (!turning && against(written)) {
+    written = format_value(from, style, text);  // to as many digits as that takes
+    while (own_digits && written != from && style.decimals < kMostDecimals)
+      ++style.decimals, written = format_value(from, style, text);
   }
   // Digits added and not needed ("X-30.02060") go again.
-  while (style.decimals > style_decimals && written.text.ends_with('0'))
-    --style.decimals, written = format_value(written.value, style);
-  rounding[i] = incremental ? rounding[i] + written.value - planned : written.value - p;
-  return std::move(written.text);
+  while (style.decimals > style_decimals && text.ends_with('0'))
+    --style.decimals, written = format_value(written, style, text);
+  rounding[i] = incremental ? rounding[i] + written - planned : written - p;
+  return true;
 }
 
 WrittenValue MoveRewriter::take_up_word(double planned, double from, const TurnWord& turn, const NumberStyle& style) {
@@ -123,16 +138,18 @@ void MoveRewriter::point_words(const gcode::Motion& m, const gcode::Block& b, co
     const char letter = gcode::kAxisLetters[i];
     const gcode::Word* own = b.find(letter);
     const gcode::Word* word = line.own ? own : nullptr;
-    const std::optional<std::string> text =
-        axis_word(i, p[i], last[i], m.incremental, word != nullptr, own ? b.slice(own->value_span) : std::string_view(),
-                  inch, turn_word(point, *m.offsets, i, unit));
-    if (!text) continue;
-    if (word)
-      edits_.push_back(gcode::Edit{word->value_span, std::move(*text)});
-    else if (line.own)
-      edits_.push_back(gcode::Edit{{line.insert_at, line.insert_at}, std::string(" ") + letter + *text});
+    const std::string_view styled = own ? b.slice(own->value_span) : std::string_view();
+    const TurnWord turn = turn_word(point, *m.offsets, i, unit);
+    if (word) {  // the block's own word: its value replaced, the text made in the edit
+      gcode::Edit& edit = edits_.emplace_back(gcode::Edit{word->value_span, {}});
+      if (!write_axis_word(i, p[i], last[i], m.incremental, true, styled, inch, turn, edit.text)) edits_.pop_back();
+      continue;
+    }
+    if (!write_axis_word(i, p[i], last[i], m.incremental, false, styled, inch, turn, word_text_)) continue;
+    if (line.own)
+      edits_.push_back(gcode::Edit{{line.insert_at, line.insert_at}, std::string(" ") + letter + word_text_});
     else
-      line.segment += std::string(" ") + letter + *text;
+      line.segment += std::string(" ") + letter + word_text_;
   }
 }
 

@@ -63,6 +63,10 @@ class MoveRewriter {
   [[nodiscard]] std::optional<std::string> axis_word(std::size_t i, double p, double last, bool incremental, bool named,
                                                      std::string_view styled, bool inch, const TurnWord& turn = {});
 
+  /// The same into `text` (its storage reused): false for nothing to write.
+  bool write_axis_word(std::size_t i, double p, double last, bool incremental, bool named, std::string_view styled,
+                       bool inch, const TurnWord& turn, std::string& text);
+
   [[nodiscard]] WrittenPosition& position() { return position_; }
   [[nodiscard]] const DecimalsOption& decimals() const { return decimals_; }
 
@@ -88,9 +92,10 @@ class MoveRewriter {
   JobReport& report_;
   std::string_view file_;
   WrittenPosition position_;
-  std::vector<gcode::Edit> edits_;  ///< the move's line's edits, storage kept from move to move
+  std::vector<gcode::Edit> edits_;                      ///< the move's line's edits, storage kept from move to move
+  std::string word_text_;                               ///< an added word's value, storage kept
   std::array<bool, gcode::kAxisCount> machine_axis_{};  ///< the machine has axis i
-  unsigned approach_axes_ = 0;                         ///< bit i: a term reads axis i's approach
+  unsigned approach_axes_ = 0;                          ///< bit i: a term reads axis i's approach
 };
 
 /// How axis i of a take-up point turns, in program units (`unit`: mm per program unit): no

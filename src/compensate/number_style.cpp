@@ -21,6 +21,24 @@ double number_of(std::string_view text) {
   return value;
 }
 
+/// format_value where fixed_units cannot decide: to_chars (or fmt) writes it.
+WrittenValue format_value_slowly(double v, const NumberStyle& style) {
+  std::array<char, 40> buffer{};
+  const std::size_t length = gcode::format_fixed(v, style.decimals, buffer.data());
+  WrittenValue written{length > 0 ? std::string(buffer.data(), length) : fmt::format("{:.{}f}", v, style.decimals),
+                       0.0};
+  std::string& text = written.text;
+  if (text.starts_with('-') && text.find_first_not_of("0.", 1) == std::string::npos) text.erase(0, 1);  // no "-0.0000"
+  if (!style.leading_zero) {
+    if (text.starts_with("0."))
+      text.erase(0, 1);
+    else if (text.starts_with("-0."))
+      text.erase(1, 1);
+  }
+  written.value = number_of(text);  // (here the units were not cheap to decide: the text says)
+  return written;
+}
+
 }  // namespace
 
 NumberStyle style_of(std::string_view original, bool inch, bool rotary, int decimals) {
@@ -42,7 +60,7 @@ NumberStyle style_of(std::string_view original, bool inch, bool rotary, int deci
   return style;
 }
 
-WrittenValue format_value(double v, const NumberStyle& style) {
+double format_value(double v, const NumberStyle& style, std::string& out) {
   // Rounds the exact binary value as fmt does, without parsing a format string: this runs
   // for every number the job writes. Where the rounding is cheap to decide, from the units
   // of the last digit: their digits are the text, their quotient its value.
@@ -57,21 +75,17 @@ WrittenValue format_value(double v, const NumberStyle& style) {
         --length;
       }
     }
-    return {std::string(text, length), gcode::units_value(units, style.decimals)};
+    out.assign(text, length);
+    return gcode::units_value(units, style.decimals);
   }
-  std::array<char, 40> buffer{};
-  const std::size_t length = gcode::format_fixed(v, style.decimals, buffer.data());
-  WrittenValue written{length > 0 ? std::string(buffer.data(), length) : fmt::format("{:.{}f}", v, style.decimals),
-                       0.0};
-  std::string& text = written.text;
-  if (text.starts_with('-') && text.find_first_not_of("0.", 1) == std::string::npos) text.erase(0, 1);  // no "-0.0000"
-  if (!style.leading_zero) {
-    if (text.starts_with("0."))
-      text.erase(0, 1);
-    else if (text.starts_with("-0."))
-      text.erase(1, 1);
-  }
-  written.value = number_of(text);  // (here the units were not cheap to decide: the text says)
+  WrittenValue written = format_value_slowly(v, style);
+  out = std::move(written.text);
+  return written.value;
+}
+
+WrittenValue format_value(double v, const NumberStyle& style) {
+  WrittenValue written;
+  written.value = format_value(v, style, written.text);
   return written;
 }
 

@@ -29,6 +29,8 @@ struct WrittenValue {
 };
 
 [[nodiscard]] WrittenValue format_value(double v, const NumberStyle& style);
+/// The same into `text` (its storage reused); returns the number the text means.
+double format_value(double v, const NumberStyle& style, std::string& text);
 [[nodiscard]] WrittenValue format_value(double v, std::string_view original, bool inch, bool rotary, int decimals);
 
 /// The number v is written as in `style`, without making its text; nothing where only the
