@@ -256,7 +256,7 @@ void MoveRewriter::finish_lines(const gcode::Motion& m, const gcode::Block& b, s
   if (!part.last())
     writer_.write_open(offset, std::span<gcode::Edit>(edits_));
   else if (!edits_.empty())
-    writer_.edit(offset, std::span<gcode::Edit>(edits_));
+    writer_.take_edits(offset, edits_);
 }
 
 void arc_to_line_edits(const gcode::Block& b, std::vector<gcode::Edit>& edits) {

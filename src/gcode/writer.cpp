@@ -77,6 +77,17 @@ void ProgramWriter::edit(std::uint64_t line_offset, std::span<Edit> edits) {
                   std::make_move_iterator(edits.end()));
 }
 
+void ProgramWriter::take_edits(std::uint64_t line_offset, std::vector<Edit>& edits) {
+  if (!pending_.empty() || line_offset < next_offset_) {
+    edit(line_offset, std::span<Edit>(edits));
+    edits.clear();
+    return;
+  }
+  pending_.swap(edits);
+  pending_offsets_.assign(pending_.size(), line_offset);
+  edits.clear();
+}
+
 void ProgramWriter::write_line(const SourceLine& line, bool terminate) {
   // A UTF-8 byte-order mark stays the file's first bytes, before the header.
   std::size_t skip = 0;

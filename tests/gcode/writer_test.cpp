@@ -75,6 +75,32 @@ TEST(Writer, AnOpenLineTakesTextUntilClosedThenEndsWithItsOwnTerminator) {
   EXPECT_EQ(text, "(H)\r\nG0 X1\r\nG2 X4.9 (arc)\r\nG1 X5.1\r\nG1 X5.2\r\nM2\r\n");
 }
 
+TEST(Writer, EditsTakenWholeJoinTheOnesWaitingInOrder) {
+  // take_edits() trades storage with the writer where nothing waits; where edits wait (of
+  // its line or one before), they stay first. Either way the caller is left with none.
+  const std::string program = "G0 X1\nG1 X2 Y3\nG1 X4\nM2\n";
+  char* buffer = nullptr;
+  std::size_t size = 0;
+  std::FILE* out = open_memstream(&buffer, &size);
+  LineSource source = LineSource::from_string(program);
+  ProgramWriter writer(source.another_reader(), out, "(H)");
+  std::vector<Edit> edits{Edit{{4, 5}, "2.1"}};
+  writer.take_edits(6, edits);  // nothing waits: taken whole
+  EXPECT_TRUE(edits.empty());
+  edits = {Edit{{7, 8}, "3.1"}};
+  writer.take_edits(6, edits);  // the same line: after the first
+  EXPECT_TRUE(edits.empty());
+  edits = {Edit{{4, 5}, "4.1"}};
+  writer.take_edits(15, edits);  // a later line
+  writer.advance_to(6);
+  EXPECT_THROW(writer.take_edits(0, edits = {Edit{{4, 5}, "9"}}), Error) << "line 1 is written already";
+  writer.finish();
+  std::fclose(out);
+  const std::string text(buffer, size);
+  std::free(buffer);
+  EXPECT_EQ(text, "(H)\nG0 X1\nG1 X2.1 Y3.1\nG1 X4.1\nM2\n");
+}
+
 TEST(Writer, RefusesAnEditForALineAlreadyWritten) {
   std::FILE* out = std::tmpfile();
   LineSource source = LineSource::from_string("G0 X1\nG0 X2\n");

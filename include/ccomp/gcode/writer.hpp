@@ -41,6 +41,9 @@ class ProgramWriter {
   void edit(std::uint64_t line_offset, std::vector<Edit> edits) { edit(line_offset, std::span<Edit>(edits)); }
   /// The same, taking the texts out of `edits` (the caller keeps its storage for the next).
   void edit(std::uint64_t line_offset, std::span<Edit> edits);
+  /// The same, taking `edits` whole where nothing else waits (their storage traded for
+  /// the writer's, no text moved): `edits` is left empty, with storage for the next.
+  void take_edits(std::uint64_t line_offset, std::vector<Edit>& edits);
   /// Writes every line before `line_offset`, then that line with `edits` but not its
   /// terminator: the text append() is given follows it until close_line(). A line that
   /// gains more text than is worth holding (a move split into a great many pieces) is
