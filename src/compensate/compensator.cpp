@@ -346,13 +346,14 @@ void Compensator::lead_in(const ChainQ& start, ChainQ& a, double tolerance, std:
     commanded_ = a;
     return;
   }
-  if (unsettled_axes() != 0 && offset_by_control_) {
+  const bool unsettled = unsettled_axes() != 0;
+  if (unsettled && offset_by_control_) {
     // No take-ups where the control offsets the path: the move starts where the last one
     // left the machine, its play as it is, and what that leaves is in the report.
     a = commanded_;
     report.jogs_withheld = true;
     report.max_deviation_after = std::max(report.max_deviation_after, deviation_at_play(start, a));
-  } else if (unsettled_axes() != 0) {
+  } else if (unsettled) {
     take_up(start, a, out, report);
   } else if (const double off = start_error(start, a); off > 0.25 * tolerance && offset_by_control_) {
     report.jogs_withheld = true;  // the cut starts where the machine was left
