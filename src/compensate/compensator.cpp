@@ -51,12 +51,7 @@ void Compensator::moved(const ChainQ& q) {
 
 void Compensator::command(const ChainQ& q) {
   uncompensated_ = false;
-  if (commanded_.allFinite()) {
-    model::Conditions c;
-    c.directions = play_;
-    model::take_up_play(model_, c, commanded_, q);
-    play_ = c.directions;
-  }
+  if (commanded_.allFinite()) model::take_up_play(model_, play_, commanded_, q);
   commanded_ = q;
 }
 

@@ -725,14 +725,18 @@ void forward(const ForwardModel& model, ForwardData& d, const ChainQ& q, const C
 }
 
 void take_up_play(const ForwardModel& model, Conditions& c, const ChainQ& a, const ChainQ& b) {
-  for (std::size_t i = 0; i < c.directions.size(); ++i) {
+  take_up_play(model, c.directions, a, b);
+}
+
+void take_up_play(const ForwardModel& model, std::array<double, 9>& directions, const ChainQ& a, const ChainQ& b) {
+  for (std::size_t i = 0; i < directions.size(); ++i) {
     const double delta = b[static_cast<Eigen::Index>(i)] - a[static_cast<Eigen::Index>(i)];
     const double w = model.lost_motion()[i];
     if (w > 0) {
-      c.directions[i] = std::clamp(c.directions[i] + 2.0 * delta / w, -1.0, 1.0);
+      directions[i] = std::clamp(directions[i] + 2.0 * delta / w, -1.0, 1.0);
     } else {
       const bool rotary = i >= 3 && i <= 5;
-      if (std::abs(delta) > (rotary ? 1e-8 : 1e-6)) c.directions[i] = delta > 0 ? 1.0 : -1.0;
+      if (std::abs(delta) > (rotary ? 1e-8 : 1e-6)) directions[i] = delta > 0 ? 1.0 : -1.0;
     }
   }
 }

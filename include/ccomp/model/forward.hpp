@@ -209,6 +209,8 @@ enum class Evaluate : std::uint8_t { both, actual, nominal };
 /// travelled w the other way, and a small move back only eats into the play. An axis
 /// without lost motion switches as soon as it moves (by more than 1 nm or 1e-8 rad).
 void take_up_play(const ForwardModel& model, Conditions& conditions, const ChainQ& a, const ChainQ& b);
+/// The same of the approach states alone.
+void take_up_play(const ForwardModel& model, std::array<double, 9>& directions, const ChainQ& a, const ChainQ& b);
 
 /// Evaluates the model at q. With `jacobians`, fills J_q and J_parameters.
 /// With `jacobians`, fills J_q and (unless `parameter_jacobian` is false: the inverse
