@@ -13,19 +13,41 @@
 namespace ccomp::gcode {
 namespace {
 
+/// A writer of `program` into memory; text() finishes it and gives what it wrote.
+class WriterToMemory {
+ public:
+  WriterToMemory(const std::string& program, const std::string& header)
+      : out_(open_memstream(&buffer_, &size_)),
+        source_(LineSource::from_string(program)),
+        writer(source_.another_reader(), out_, header) {}
+  ~WriterToMemory() {
+    if (out_) std::fclose(out_);
+    std::free(buffer_);
+  }
+  WriterToMemory(const WriterToMemory&) = delete;
+  WriterToMemory& operator=(const WriterToMemory&) = delete;
+  std::string text() {
+    writer.finish();
+    std::fclose(out_);
+    out_ = nullptr;
+    return {buffer_, size_};
+  }
+
+ private:
+  char* buffer_ = nullptr;
+  std::size_t size_ = 0;
+  std::FILE* out_;
+  LineSource source_;
+
+ public:
+  ProgramWriter writer;
+};
+
 std::string write_program(const std::string& program, const std::string& header,
                           const std::vector<std::pair<std::uint64_t, std::vector<Edit>>>& edits = {}) {
-  char* buffer = nullptr;
-  std::size_t size = 0;
-  std::FILE* out = open_memstream(&buffer, &size);
-  LineSource source = LineSource::from_string(program);
-  ProgramWriter writer(source.another_reader(), out, header);
-  for (const auto& [offset, e] : edits) writer.edit(offset, e);
-  writer.finish();
-  std::fclose(out);
-  std::string text(buffer, size);
-  std::free(buffer);
-  return text;
+  WriterToMemory memory(program, header);
+  for (const auto& [offset, e] : edits) memory.writer.edit(offset, e);
+  return memory.text();
 }
 
 TEST(Writer, CopiesUneditedLinesByteForByte) {
@@ -55,12 +77,8 @@ TEST(Writer, ApplyEditsSortsAndKeepsTheRest) {
 TEST(Writer, AnOpenLineTakesTextUntilClosedThenEndsWithItsOwnTerminator) {
   // What a move in parts writes: its line, edited, then the lines of its parts as they
   // come, then the line's own terminator; the lines after it as they were.
-  const std::string program = "G0 X1\r\nG2 X5 (arc)\r\nM2\r\n";
-  char* buffer = nullptr;
-  std::size_t size = 0;
-  std::FILE* out = open_memstream(&buffer, &size);
-  LineSource source = LineSource::from_string(program);
-  ProgramWriter writer(source.another_reader(), out, "(H)");
+  WriterToMemory memory("G0 X1\r\nG2 X5 (arc)\r\nM2\r\n", "(H)");
+  ProgramWriter& writer = memory.writer;
   std::vector<Edit> edits{Edit{{4, 5}, "4.9"}};
   writer.write_open(7, edits);
   writer.append("\r\nG1 X5.1");
@@ -68,22 +86,14 @@ TEST(Writer, AnOpenLineTakesTextUntilClosedThenEndsWithItsOwnTerminator) {
   writer.append("\r\nG1 X5.2");
   writer.close_line();
   EXPECT_THROW(writer.append("x"), Error);
-  writer.finish();
-  std::fclose(out);
-  const std::string text(buffer, size);
-  std::free(buffer);
-  EXPECT_EQ(text, "(H)\r\nG0 X1\r\nG2 X4.9 (arc)\r\nG1 X5.1\r\nG1 X5.2\r\nM2\r\n");
+  EXPECT_EQ(memory.text(), "(H)\r\nG0 X1\r\nG2 X4.9 (arc)\r\nG1 X5.1\r\nG1 X5.2\r\nM2\r\n");
 }
 
 TEST(Writer, EditsTakenWholeJoinTheOnesWaitingInOrder) {
   // take_edits() trades storage with the writer where nothing waits; where edits wait (of
   // its line or one before), they stay first. Either way the caller is left with none.
-  const std::string program = "G0 X1\nG1 X2 Y3\nG1 X4\nM2\n";
-  char* buffer = nullptr;
-  std::size_t size = 0;
-  std::FILE* out = open_memstream(&buffer, &size);
-  LineSource source = LineSource::from_string(program);
-  ProgramWriter writer(source.another_reader(), out, "(H)");
+  WriterToMemory memory("G0 X1\nG1 X2 Y3\nG1 X4\nM2\n", "(H)");
+  ProgramWriter& writer = memory.writer;
   std::vector<Edit> edits{Edit{{4, 5}, "2.1"}};
   writer.take_edits(6, edits);  // nothing waits: taken whole
   EXPECT_TRUE(edits.empty());
@@ -94,11 +104,7 @@ TEST(Writer, EditsTakenWholeJoinTheOnesWaitingInOrder) {
   writer.take_edits(15, edits);  // a later line
   writer.advance_to(6);
   EXPECT_THROW(writer.take_edits(0, edits = {Edit{{4, 5}, "9"}}), Error) << "line 1 is written already";
-  writer.finish();
-  std::fclose(out);
-  const std::string text(buffer, size);
-  std::free(buffer);
-  EXPECT_EQ(text, "(H)\nG0 X1\nG1 X2.1 Y3.1\nG1 X4.1\nM2\n");
+  EXPECT_EQ(memory.text(), "(H)\nG0 X1\nG1 X2.1 Y3.1\nG1 X4.1\nM2\n");
 }
 
 TEST(Writer, RefusesAnEditForALineAlreadyWritten) {
