@@ -240,9 +240,10 @@ void learn(const InverseProblem& problem, InverseWorkspace& ws, const ChainQ& q_
       gap2 += gap[c] * gap[c], step2 += s_step[c] * s_step[c];
     }
     if (gap2 < 0.01 * step2) {
-      const Eigen::Vector3d along = s.shift / s.shift.squaredNorm();
+      // (gap shift^T) / |shift|^2, rounded as the product over the norm, as Eigen rounded it
+      const double shift2 = s.shift.squaredNorm();
       for (Eigen::Index c = 0; c < n; ++c)
-        for (Eigen::Index k = 0; k < 3; ++k) ws.solve_matrix(c, k) += gap[c] * along[k];
+        for (Eigen::Index k = 0; k < 3; ++k) ws.solve_matrix(c, k) += gap[c] * s.shift[k] / shift2;
     }
   }
   if (s.same_target && s.approach_changes == 1) {

@@ -70,6 +70,9 @@ ProgramWriter::ProgramWriter(LineSource reader, std::FILE* out, std::string head
 void ProgramWriter::edit(std::uint64_t line_offset, std::span<Edit> edits) {
   if (line_offset < next_offset_) throw Error(ErrorKind::internal, "an edit arrived for a line already written");
   // After the pending edits of its line and of the lines before it (nearly always at the end).
+  // (Room made first: the two lists cannot fall out of step on an allocation that fails.)
+  pending_.reserve(pending_.size() + edits.size());
+  pending_offsets_.reserve(pending_offsets_.size() + edits.size());
   const auto at = std::upper_bound(pending_offsets_.begin(), pending_offsets_.end(), line_offset);
   const auto index = at - pending_offsets_.begin();
   pending_offsets_.insert(at, edits.size(), line_offset);
@@ -83,6 +86,7 @@ void ProgramWriter::take_edits(std::uint64_t line_offset, std::vector<Edit>& edi
     edits.clear();
     return;
   }
+  pending_offsets_.reserve(edits.size());  // (before the swap: nothing can fail after it)
   pending_.swap(edits);
   pending_offsets_.assign(pending_.size(), line_offset);
   edits.clear();

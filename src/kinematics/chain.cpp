@@ -269,7 +269,7 @@ void nominal_poses(const ChainModel& model, NominalData& data, const Eigen::Ref<
   // compose(inverse(oMp), oMtool), its rotation kept while no rotary joint moves.
   const Mat3 pRo = data.oMp.R.transpose();
   if (turned) data.E.R = pRo * data.oMtool.R;
-  data.E.t = -(pRo * data.oMp.t) + pRo * data.oMtool.t;
+  data.E.t = -(data.oMp.R.transpose() * data.oMp.t) + pRo * data.oMtool.t;  // (inverse()'s products, to the bit)
 }
 
 void error_matrix(const ChainModel& model, ChainData& data, const Eigen::Ref<const VecQ>& q, ChainJacobians which,
