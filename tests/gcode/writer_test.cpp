@@ -90,21 +90,22 @@ TEST(Writer, AnOpenLineTakesTextUntilClosedThenEndsWithItsOwnTerminator) {
 }
 
 TEST(Writer, EditsTakenWholeJoinTheOnesWaitingInOrder) {
-  // take_edits() trades storage with the writer where nothing waits; where edits wait (of
-  // its line or one before), they stay first. Either way the caller is left with none.
+  // take_edits() trades storage with the writer where nothing waits; where edits wait, they
+  // keep their lines' order and, on one line, their order of arrival. The caller is left
+  // with none.
   WriterToMemory memory("G0 X1\nG1 X2 Y3\nG1 X4\nM2\n", "(H)");
   ProgramWriter& writer = memory.writer;
-  std::vector<Edit> edits{Edit{{4, 5}, "2.1"}};
-  writer.take_edits(6, edits);  // nothing waits: taken whole
+  std::vector<Edit> edits{Edit{{4, 5}, "4.1"}};
+  writer.take_edits(15, edits);  // nothing waits: taken whole
   EXPECT_TRUE(edits.empty());
-  edits = {Edit{{7, 8}, "3.1"}};
-  writer.take_edits(6, edits);  // the same line: after the first
+  edits = {Edit{{4, 5}, "2.1"}, Edit{{8, 8}, " A1"}};
+  writer.take_edits(6, edits);  // a line before the waiting one: before it
   EXPECT_TRUE(edits.empty());
-  edits = {Edit{{4, 5}, "4.1"}};
-  writer.take_edits(15, edits);  // a later line
+  edits = {Edit{{8, 8}, " B2"}};
+  writer.take_edits(6, edits);  // the same line, one insertion at the same place: after it
   writer.advance_to(6);
   EXPECT_THROW(writer.take_edits(0, edits = {Edit{{4, 5}, "9"}}), Error) << "line 1 is written already";
-  EXPECT_EQ(memory.text(), "(H)\nG0 X1\nG1 X2.1 Y3.1\nG1 X4.1\nM2\n");
+  EXPECT_EQ(memory.text(), "(H)\nG0 X1\nG1 X2.1 Y3 A1 B2\nG1 X4.1\nM2\n");
 }
 
 TEST(Writer, RefusesAnEditForALineAlreadyWritten) {
