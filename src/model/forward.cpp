@@ -7,6 +7,7 @@
 #include <cmath>
 #include <cstring>
 #include <limits>
+#include <tuple>
 
 #include "ccomp/error.hpp"
 #include "ccomp/model/cubic_spline.hpp"
@@ -265,7 +266,6 @@ ForwardData::ForwardData(const ForwardModel& model)
       evaluated_inputs(values.size(), TermInputs{std::nan(""), std::nan("")}),
       phases(values.size()),
       variables(ForwardModel::kFirstTemperatureVariable + model.machine().sensors.size(), 0.0),
-      key(variables.size() - ForwardModel::kTimeVariable),
       off_axes_errors(kLinkErrorSize * (model.chain().workpiece.joints.size() + model.chain().tool.joints.size())),
       off_axes_fixed(off_axes_errors.size()),
       off_axes_approach(off_axes_errors.size()),
@@ -373,30 +373,30 @@ struct KeyMatch {
   bool directions = false, rest = false, parameters = false;
 };
 
-/// Fills d.variables for q and c and compares the key (bitwise: a key that compares equal
-/// gives the same values), then takes this evaluation's as the key.
+/// Fills d.variables for q and c. The conditions are compared with the last evaluation's,
+/// which the variables still hold (as bits: conditions that compare equal give the same
+/// values), and written only where they differ.
 KeyMatch update_variables(ForwardData& d, const ChainQ& q, const Conditions& c) {
   double* v = d.variables.data();
   for (std::size_t i = 0; i < kChainVariables; ++i) v[i] = q[static_cast<Eigen::Index>(i)];
+  constexpr std::size_t kDirections = ForwardModel::kFirstTemperatureVariable - ForwardModel::kFirstDirectionVariable;
+  static_assert(kDirections == std::tuple_size_v<decltype(c.directions)>);
+  const auto differs = [](const double* a, const double* b, std::size_t n) {
+    return std::memcmp(a, b, n * sizeof(double)) != 0;
+  };
+  KeyMatch match;
+  double* directions = v + ForwardModel::kFirstDirectionVariable;
+  match.directions = d.key_valid && !differs(directions, c.directions.data(), kDirections);
+  if (!match.directions) std::memcpy(directions, c.directions.data(), kDirections * sizeof(double));
+  bool rest = !differs(v + ForwardModel::kTimeVariable, &c.time, 1);
   v[ForwardModel::kTimeVariable] = c.time;
-  for (std::size_t i = 0; i < c.directions.size(); ++i) v[ForwardModel::kFirstDirectionVariable + i] = c.directions[i];
   for (std::size_t i = ForwardModel::kFirstTemperatureVariable; i < d.variables.size(); ++i) {
     const std::size_t sensor = i - ForwardModel::kFirstTemperatureVariable;
-    v[i] = sensor < c.temperatures.size() ? c.temperatures[sensor] : 20.0;
+    const double t = sensor < c.temperatures.size() ? c.temperatures[sensor] : 20.0;
+    if (differs(v + i, &t, 1)) v[i] = t, rest = false;
   }
-  // The key: the time, the directions, the temperatures (the variables from the time on),
-  // and the parameters' revision.
-  constexpr std::size_t kDirections = ForwardModel::kFirstTemperatureVariable - ForwardModel::kFirstDirectionVariable;
-  const std::size_t n = d.variables.size() - ForwardModel::kTimeVariable;
-  const std::size_t temperatures = d.variables.size() - ForwardModel::kFirstTemperatureVariable;
-  double* key = d.key.data();
-  const double* conditions = v + ForwardModel::kTimeVariable;
-  KeyMatch match;
-  match.directions = d.key_valid && std::memcmp(key + 1, conditions + 1, kDirections * sizeof(double)) == 0;
-  match.rest = d.key_valid && std::memcmp(key, conditions, sizeof(double)) == 0 &&
-               std::memcmp(key + 1 + kDirections, conditions + 1 + kDirections, temperatures * sizeof(double)) == 0;
+  match.rest = d.key_valid && rest;
   match.parameters = d.key_valid && d.key_parameters_revision == d.parameters_revision();
-  if (!match.directions || !match.rest) std::memcpy(key, conditions, n * sizeof(double));
   d.key_parameters_revision = d.parameters_revision();
   d.key_valid = true;
   return match;

@@ -181,10 +181,10 @@ struct ForwardData {
   std::vector<TermInputs> evaluated_inputs;
   /// Each periodic term's last phase (the forward loop's; its source's serves it).
   std::vector<PeriodicPhase> phases;
-  /// The variables the terms read (ForwardModel::TermSlot), and the key of what was last
-  /// evaluated: the conditions (time, directions, temperatures); key_parameters_revision is
-  /// the parameters'.
-  std::vector<double> variables, key;
+  /// The variables the terms read (ForwardModel::TermSlot), as the last evaluation had
+  /// them: its conditions (time, directions, temperatures) are what the next compares with
+  /// (the key, with key_parameters_revision for the parameters).
+  std::vector<double> variables;
   /// The off-axes terms' errors summed per link component (TermSlot::error_index): all,
   /// those not reading an approach state, those reading one; and the sum with the others.
   std::vector<double> off_axes_errors, off_axes_fixed, off_axes_approach, errors;
