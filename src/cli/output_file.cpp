@@ -1,7 +1,6 @@
 #include "output_file.hpp"
 
 #include <fcntl.h>
-#include <pthread.h>
 #include <fmt/format.h>
 #include <sys/stat.h>
 #include <unistd.h>
@@ -136,20 +135,16 @@ OutputFile::OutputFile(std::string path) : path_(std::move(path)) {
   temporary_ = ((out.parent_path().empty() ? fs::path(".") : out.parent_path()) /
                 (temporary_prefix(out) + std::to_string(::getpid()) + "-XXXXXX"))
                    .string();
-  // The interrupt handler's signals wait while the file is made and held: one arriving
-  // between the two would leave it behind. (The job's threads start later: this one is the
-  // only one a signal can go to.)
-  sigset_t interrupts, before;
-  sigemptyset(&interrupts);
-  for (const int signal : {SIGINT, SIGTERM, SIGHUP}) sigaddset(&interrupts, signal);
-  ::pthread_sigmask(SIG_BLOCK, &interrupts, &before);
+  // Held for the interrupt handler before it exists: a signal, on whichever thread, that
+  // comes while mkstemp makes it then removes it too (a name not yet made is no file).
+  hold(temporary_.c_str());
   const int fd = ::mkstemp(temporary_.data());
-  const int made = errno;
-  if (fd >= 0) hold(temporary_.c_str());
-  ::pthread_sigmask(SIG_SETMASK, &before, nullptr);
-  if (fd < 0)
+  if (fd < 0) {
+    const int made = errno;
+    release(temporary_.c_str());
     throw Error(ErrorKind::io,
                 fmt::format("cannot create a temporary file beside '{}': {}", path_, std::strerror(made)));
+  }
   (void)::fchmod(fd, output_mode(path_));  // mkstemp makes 0600
   file_ = ::fdopen(fd, "wb");
   if (!file_) {

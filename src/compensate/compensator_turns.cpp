@@ -20,14 +20,13 @@ double Compensator::play_stray(const StraightMove& move, double s0, const ChainQ
   // pieces up to the last whose travel moves a play are looked at (mostly none).
   std::size_t last = first;
   {
-    model::Conditions c;  // (the plays alone: take_up_play reads nothing else)
-    c.directions = play_;
+    std::array<double, 9> plays = play_;
     ChainQ from_q = a;
     for (std::size_t k = first; k < out.size(); ++k) {
-      const std::array<double, 9> before = c.directions;
-      model::take_up_play(model_, c, from_q, out[k].q);
+      const std::array<double, 9> before = plays;
+      model::take_up_play(model_, plays, from_q, out[k].q);
       for (std::size_t i = 0; i < before.size(); ++i)
-        if (model_.reads_approach(i) && std::abs(c.directions[i] - before[i]) > 0.02) last = k + 1;
+        if (model_.reads_approach(i) && std::abs(plays[i] - before[i]) > 0.02) last = k + 1;
       from_q = out[k].q;
     }
   }

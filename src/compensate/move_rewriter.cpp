@@ -83,7 +83,8 @@ bool MoveRewriter::write_axis_word(std::size_t i, double p, double last, bool in
   auto against = [&](double written_value) {
     return approach && (planned >= 0.0 ? written_value < from : written_value > from);
   };
-  if (!named && !turning && (written_alike(value, from, style) || against(written_number(value, style)))) {
+  if (!named && !turning &&
+      (written_alike(value, from, style) || (approach && against(written_number(value, style))))) {
     rounding[i] += last - p;  // (checked before the text is made: most unnamed axes stay)
     return false;
   }
