@@ -13,12 +13,13 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
-#include <deque>
 #include <limits>
 #include <numbers>
 #include <optional>
 #include <utility>
 #include <vector>
+
+#include "sliding_vector.hpp"
 
 namespace ccomp::compensate {
 
@@ -155,11 +156,11 @@ class PieceWindow {
   /// Drops the groups wholly before piece `i`.
   void drop_before(std::size_t i) {
     while (first_ + kGroup <= i && pieces_.size() >= kGroup) {
-      pieces_.erase(pieces_.begin(), pieces_.begin() + kGroup);
-      boxes_.pop_front();
+      pieces_.drop_front(kGroup);
+      boxes_.drop_front(1);
       first_ += kGroup;
     }
-    while (!super_boxes_.empty() && (first_super_ + 1) * kSuper <= first_) super_boxes_.pop_front(), ++first_super_;
+    while (!super_boxes_.empty() && (first_super_ + 1) * kSuper <= first_) super_boxes_.drop_front(1), ++first_super_;
   }
   /// Drops every piece: the next one appended is piece `next` (the rest of a path counted,
   /// no longer searched).
@@ -179,9 +180,9 @@ class PieceWindow {
   [[nodiscard]] const Box& super_box(std::size_t i) const { return super_boxes_[i / kSuper - first_super_]; }
 
  private:
-  std::deque<Piece> pieces_;
-  std::deque<Box> boxes_;
-  std::deque<Box> super_boxes_;
+  SlidingVector<Piece> pieces_;
+  SlidingVector<Box> boxes_;
+  SlidingVector<Box> super_boxes_;
   std::size_t first_super_ = 0;  ///< the group of groups super_boxes_.front() is
   std::size_t first_ = 0;
 };
