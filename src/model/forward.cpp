@@ -219,10 +219,11 @@ ForwardModel::ForwardModel(const MachineModel& model) : machine_(model) {
         throw Error(ErrorKind::model, fmt::format("term {}: a location error is a constant, not a function of an axis",
                                                   t.name));
       add_link_term(link_terms_[slot.error_index / kLinkErrorSize], slot, slots_.size());
-    } else if (slot.on_approach) {
-      if (slot.error_index % kLinkErrorSize < kMotionComponents)
+    } else {
+      off_axes_terms_[slot.on_approach ? 1 : 0].push_back(slots_.size());
+      if (slot.on_approach && slot.error_index % kLinkErrorSize < kMotionComponents)
         link_terms_[slot.error_index / kLinkErrorSize].off_axes_approach = true;
-      else
+      else if (slot.on_approach)
         location_reads_approach_ = true;
     }
     for (const std::int16_t v : {slot.primary, slot.secondary})
@@ -483,10 +484,9 @@ void sum_off_axes(const ForwardModel& model, ForwardData& d, bool approach, bool
   const auto& terms = model.machine().terms;
   const auto& slots = model.slots();
   std::fill(sums.begin(), sums.end(), 0.0);
-  for (std::size_t i = 0; i < terms.size(); ++i)
-    if (!slots[i].on_axes && slots[i].on_approach == approach)
-      sums[slots[i].error_index] +=
-          slots[i].sign * term_value(terms[i], slots[i].offset, d, i, slot_inputs(d, slots[i]), same_parameters);
+  for (const std::size_t i : model.off_axes_terms(approach))
+    sums[slots[i].error_index] +=
+        slots[i].sign * term_value(terms[i], slots[i].offset, d, i, slot_inputs(d, slots[i]), same_parameters);
 }
 
 /// Each polynomial group's coefficients from the parameters: its terms', signed, summed

@@ -110,6 +110,12 @@ class ForwardModel {
     std::uint32_t variables = 0;
     bool off_axes_approach = false;  ///< a term off the axes on its error motion reads an approach state
   };
+  /// The terms off the axes that read an approach state (`approach`) or that do not, in
+  /// file order: what the forward model sums once for the conditions (the first when an
+  /// approach changes, at every point where a play is being taken up).
+  [[nodiscard]] const std::vector<std::size_t>& off_axes_terms(bool approach) const {
+    return off_axes_terms_[approach ? 1 : 0];
+  }
   /// Whether a term reading an approach state acts on a link's location (none of the forms
   /// a location takes does: it is then posed again whenever an approach changes).
   [[nodiscard]] bool location_reads_approach() const { return location_reads_approach_; }
@@ -128,6 +134,7 @@ class ForwardModel {
   std::vector<Site> sites_;
   std::vector<TermSlot> slots_;
   std::vector<LinkTerms> link_terms_;
+  std::array<std::vector<std::size_t>, 2> off_axes_terms_;
   std::size_t group_coefficient_count_ = 0;
   bool location_reads_approach_ = false;
   std::vector<std::size_t> offsets_;
