@@ -649,10 +649,10 @@ bool Parser::parse_simple(std::string_view t, Block& out) const {
     const std::size_t value_start = i;
     if (i == n || !number() || !std::isfinite(value)) return false;  // the grammar says why
     // A digit right after the number (a blank inside it, `X1 5`) is the grammar's to read.
+    // (The blanks passed here are the next token's: i stays past them.)
     const std::size_t after = i;
     skip_blanks();
     if (i < n && ((t[i] >= '0' && t[i] <= '9') || t[i] == '.')) return false;
-    i = after;
     Word w;
     w.letter = letter;
     w.span = Span{static_cast<std::uint32_t>(start), static_cast<std::uint32_t>(after)};

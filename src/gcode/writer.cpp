@@ -118,8 +118,8 @@ void ProgramWriter::write_line(const SourceLine& line, bool terminate) {
     apply_edits(line.text, std::span<Edit>(pending_.data(), n), edited_);
     pending_.erase(pending_.begin(), pending_.begin() + static_cast<std::ptrdiff_t>(n));
     pending_offsets_.erase(pending_offsets_.begin(), pending_offsets_.begin() + static_cast<std::ptrdiff_t>(n));
+    if (terminate) edited_.append(line.terminator);  // (one write a line: each takes the stream's lock)
     std::fwrite(edited_.data() + skip, 1, edited_.size() - skip, out_);
-    if (terminate) std::fwrite(line.terminator.data(), 1, line.terminator.size(), out_);
   } else if (!terminate) {
     std::fwrite(line.text.data() + skip, 1, line.text.size() - skip, out_);
   } else {

@@ -3,6 +3,7 @@
 // correctly rounded either way, as std::from_chars and std::to_chars give it, at a
 // fraction of their cost for the short fixed-point numbers a program carries (every
 // coordinate of a program goes through these).
+#include <algorithm>
 #include <cstddef>
 #include <cstdint>
 #include <string_view>
@@ -17,20 +18,24 @@ double read_long_decimal(std::string_view digits);
 /// past it; false when no digit is there (`i` may have passed a sign). Inline: the parser
 /// reads every number of a program with it.
 inline bool read_decimal(std::string_view t, std::size_t& i, double& value) {
-  const std::size_t n = t.size();
-  auto digit = [&](std::size_t at) { return at < n && static_cast<unsigned>(t[at] - '0') < 10U; };
+  // (Pointers, not indices into t: the loops then keep the end in a register.)
+  const char* const begin = t.data();
+  const char* const end = begin + t.size();
+  const char* at = begin + std::min(i, t.size());
+  auto digit = [&] { return at < end && static_cast<unsigned>(*at - '0') < 10U; };
   bool negative = false;
-  if (i < n && (t[i] == '+' || t[i] == '-')) negative = t[i++] == '-';
-  const std::size_t digits_start = i;
+  if (at < end && (*at == '+' || *at == '-')) negative = *at++ == '-';
+  const char* const digits_start = at;
   std::uint64_t mantissa = 0;
-  while (digit(i)) mantissa = mantissa * 10 + static_cast<std::uint64_t>(t[i++] - '0');
-  const std::size_t integer_digits = i - digits_start;
+  while (digit()) mantissa = mantissa * 10 + static_cast<std::uint64_t>(*at++ - '0');
+  const auto integer_digits = static_cast<std::size_t>(at - digits_start);
   std::size_t fraction = 0;
-  if (i < n && t[i] == '.') {
-    const std::size_t first = ++i;
-    while (digit(i)) mantissa = mantissa * 10 + static_cast<std::uint64_t>(t[i++] - '0');
-    fraction = i - first;
+  if (at < end && *at == '.') {
+    const char* const first = ++at;
+    while (digit()) mantissa = mantissa * 10 + static_cast<std::uint64_t>(*at++ - '0');
+    fraction = static_cast<std::size_t>(at - first);
   }
+  i = static_cast<std::size_t>(at - begin);
   if (integer_digits + fraction == 0) return false;
   constexpr double kPow10[16] = {1e0, 1e1, 1e2, 1e3, 1e4, 1e5, 1e6, 1e7, 1e8, 1e9, 1e10, 1e11, 1e12, 1e13, 1e14, 1e15};
   // Exact while the digits fit 15 decimal places (2^53 > 10^15): one correctly rounded
@@ -38,7 +43,7 @@ inline bool read_decimal(std::string_view t, std::size_t& i, double& value) {
   if (integer_digits + fraction <= 15) {
     value = static_cast<double>(mantissa) / kPow10[fraction];
   } else {
-    value = read_long_decimal(t.substr(digits_start, i - digits_start));
+    value = read_long_decimal(std::string_view(digits_start, static_cast<std::size_t>(at - digits_start)));
   }
   if (negative) value = -value;
   return true;
