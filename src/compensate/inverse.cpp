@@ -104,17 +104,19 @@ SolveStart start_of(const InverseProblem& problem, InverseWorkspace& ws, const C
   SolveStart s;
   s.target = target;
   s.R_target = R_target;
-  s.q = guess                         ? *guess
-        : ws.last_nominal.allFinite() ? ChainQ(q_nominal + ws.last_solution - ws.last_nominal)
-                                      : q_nominal;
   const bool have_solve_matrix = ws.solve_matrix.size() != 0;
-  s.first_order = s.q;
   s.turned = R_target != ws.last_target_orientation;  // also true on the first solve (zero)
   note_approach_change(conditions, ws, s);
   const bool continuing = !s.turned && have_solve_matrix && ws.last_solution.allFinite();
   s.predicted = continuing && s.approach_known;
   s.same_target = continuing && target == ws.last_target;
   s.shift = target - ws.last_target;
+  if (!s.predicted) {  // (a prediction, below, starts elsewhere: nearly every point of a path)
+    s.q = guess                         ? *guess
+          : ws.last_nominal.allFinite() ? ChainQ(q_nominal + ws.last_solution - ws.last_nominal)
+                                        : q_nominal;
+    s.first_order = s.q;
+  }
   if (s.turned && have_solve_matrix && ws.last_solution.allFinite() && ws.last_target_orientation.allFinite()) {
     // The table turned: a machine-frame step of the linear axes shows in the table frame
     // turned with it, so the solve matrix's position columns turn by the same rotation.
