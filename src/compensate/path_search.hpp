@@ -208,7 +208,7 @@ class PathSearch {
   /// is; nothing where there is no nominal path (a program without cuts).
   std::optional<double> distance(const Eigen::Vector3d& p) {
     const std::size_t from = std::max(window().first(), behind());
-    const std::size_t to = path_.available(cursor_ + kAhead);
+    const std::size_t to = available(cursor_ + kAhead);
     if (from >= to) return std::nullopt;
     const double best = gather_near(p, from, to);
     move_cursor(p);
@@ -238,6 +238,13 @@ class PathSearch {
   static constexpr double kCandidateRadius = 0.05;
   static constexpr std::size_t kMostCandidates = 1024;
   [[nodiscard]] std::size_t behind() const { return cursor_ > kBehind ? cursor_ - kBehind : 0; }
+  /// The path's available(end), asked again only when the end moved or fell short: the
+  /// window's end only grows, so an end once reached stays reached (and the cursor stands
+  /// still over most of a move's points).
+  std::size_t available(std::size_t end) {
+    if (end != asked_end_ || available_to_ < end) asked_end_ = end, available_to_ = path_.available(end);
+    return available_to_;
+  }
   static double slack(double d) { return d + std::max(d, 0.5e-3); }
 
   /// The pieces (in program order) nearly as near p as the nearest (within the distance
@@ -411,6 +418,7 @@ class PathSearch {
   Path& path_;
   Candidates reuse_;
   std::size_t cursor_ = 0;
+  std::size_t asked_end_ = 0, available_to_ = 0;  ///< available()'s last question and answer
   std::size_t uncut_from_ = 0;                        ///< the first piece after the furthest the search has been
   std::vector<std::pair<std::size_t, double>> near_;  ///< pieces near the point, and their distances
   // The last gathering: where, the window it searched (certified_to_ grows with the window),
