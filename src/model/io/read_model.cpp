@@ -163,13 +163,16 @@ class LaterDocuments : public YAML::EventHandler {
 void check_one_document(const std::string& text, const std::string& name) {
   std::size_t markers = 0;
   for (std::size_t at = text.find("---"); at != std::string::npos; at = text.find("---", at + 3)) ++markers;
+  // Without a '---' or a '...' no second document can start: the text is not parsed again
+  // (it was half of loading a model, which every run of every command does).
+  if (markers == 0 && text.find("...") == std::string::npos) return;
   std::istringstream in(text);
   YAML::Parser parser(in);
   LaterDocuments later;
   while (later.documents <= static_cast<int>(markers) + 1 && !later.content && parser.HandleNextDocument(later)) {
   }
   if (later.content)
-    throw Error(ErrorKind::model, "a machine model is one YAML document; this file holds more ('---' starts another)",
+    throw Error(ErrorKind::model, "a machine model is one YAML document; this file holds more (a '---' or a '...' starts another)",
                 io::at(name, *later.content));
 }
 
