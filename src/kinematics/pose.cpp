@@ -41,15 +41,7 @@ So3Coefficients so3_coefficients(double th2) {
   const double th = std::sqrt(th2), s = std::sin(th), co = std::cos(th);
   return {s / th, (1.0 - co) / th2, (th - s) / (th2 * th)};
 }
-/// I + a hat(w) + b hat(w)^2, with hat(w)^2 = w w^T - |w|^2 I written out.
-Mat3 identity_plus(const Vec3& w, double th2, double a, double b) {
-  const double x = w.x(), y = w.y(), z = w.z();
-  Mat3 m;
-  m << 1.0 + b * (x * x - th2), -a * z + b * x * y, a * y + b * x * z,  //
-      a * z + b * x * y, 1.0 + b * (y * y - th2), -a * x + b * y * z,   //
-      -a * y + b * x * z, a * x + b * y * z, 1.0 + b * (z * z - th2);
-  return m;
-}
+using detail::identity_plus;
 }  // namespace
 
 Mat3 so3_right_jacobian(const Vec3& w) {
@@ -67,12 +59,8 @@ Mat3 so3_right_jacobian_inverse(const Vec3& w) {
   return identity_plus(w, th2, 0.5, c);
 }
 
-Mat3 so3_exp(const Vec3& w, Mat3* J) {
+Mat3 detail::so3_exp_general(const Vec3& w, Mat3* J) {
   const double th2 = w.squaredNorm();
-  // An error motion's rotation (tens of microradians) at every evaluation of the model:
-  // below 1e-4 rad the series' next terms (th^4 / 120 and th^4 / 720) are below 1e-18, a
-  // hundredth of the coefficients' last bit.
-  if (!J && th2 < 1e-8) return identity_plus(w, th2, 1.0 - th2 * (1.0 / 6), 0.5 - th2 * (1.0 / 24));
   const So3Coefficients k = so3_coefficients(th2);
   if (J) *J = identity_plus(w, th2, -k.b, k.c);
   return identity_plus(w, th2, k.a, k.b);

@@ -9,7 +9,8 @@
 namespace ccomp::model {
 namespace {
 
-constexpr double kTwoPi = 2.0 * std::numbers::pi;
+using detail::first_harmonic;
+using detail::kTwoPi;
 
 /// A table's value: kept out of evaluate() so its dynamic vectors do not weigh on the
 /// other forms' calls (the forward model evaluates every term at every point).
@@ -40,45 +41,7 @@ constexpr double kTwoPi = 2.0 * std::numbers::pi;
   if (grad) r.d_parameters[k] = 1.0 - b, r.d_parameters[k + 1] = b;
 }
 
-/// The first harmonic's cosine and sine at `phase1`, turned from the reference phase in `r`
-/// when it is near (no sine), else computed and taken as the new reference.
-void first_harmonic(double phase1, TermValue& r, double& c1, double& s1) {
-  if (const double delta = phase1 - r.phase_reference; std::abs(delta) < 0.05) {
-    // Multiplied by the reciprocals, not divided: a division takes several times as long,
-    // and the last bit of these small terms is far below the sum's.
-    const double d2 = delta * delta;
-    const double cd =
-        1.0 - d2 * 0.5 *
-                  (1.0 - d2 * (1.0 / 12) * (1.0 - d2 * (1.0 / 30) * (1.0 - d2 * (1.0 / 56) * (1.0 - d2 * (1.0 / 90)))));
-    const double sd =
-        delta * (1.0 - d2 * (1.0 / 6) * (1.0 - d2 * (1.0 / 20) * (1.0 - d2 * (1.0 / 42) * (1.0 - d2 * (1.0 / 72)))));
-    c1 = r.cos_reference * cd - r.sin_reference * sd;
-    s1 = r.sin_reference * cd + r.cos_reference * sd;
-  } else {
-    c1 = std::cos(phase1), s1 = std::sin(phase1);
-    r.phase_reference = phase1, r.cos_reference = c1, r.sin_reference = s1;
-  }
-}
-
 }  // namespace
-
-void periodic_phase(double period, double v, TermValue& cache, PeriodicPhase& out) {
-  first_harmonic(kTwoPi * v / period, cache, out.c1, out.s1);
-  out.at = v;
-  out.period = period;
-}
-
-double periodic_sum(const double* p, int harmonics, const PeriodicPhase& phase) {
-  const double c1 = phase.c1, s1 = phase.s1;
-  double value = 0.0, c = 1.0, sn = 0.0;  // cos and sin of k phase1
-  for (int k = 1; k <= harmonics; ++k) {
-    const double c_next = c * c1 - sn * s1;
-    sn = sn * c1 + c * s1;
-    c = c_next;
-    value += p[2 * k - 1] * c + p[2 * k] * sn;
-  }
-  return value;
-}
 
 double periodic_value(const double* p, int harmonics, double v, TermValue& cache) {
   PeriodicPhase phase;

@@ -559,8 +559,9 @@ bool sum_term_values(const ForwardModel& model, ForwardData& d, const ChainQ& q,
     // Each component from its sum off the axes, then the polynomial groups, then the other
     // terms on the axes in file order (the same sums as evaluating each term alone, to
     // their rounding).
-    std::copy_n(d.off_axes_errors.begin() + static_cast<std::ptrdiff_t>(kLinkErrorSize * k), kLinkErrorSize,
-                d.errors.begin() + static_cast<std::ptrdiff_t>(kLinkErrorSize * k));
+    // (memcpy of a constant size is inlined; std::copy_n of these iterators was a call)
+    std::memcpy(d.errors.data() + kLinkErrorSize * k, d.off_axes_errors.data() + kLinkErrorSize * k,
+                kLinkErrorSize * sizeof(double));
     for (const ForwardModel::PolynomialGroup& g : links[k].polynomials)
       add_polynomial_group(g, d, d.errors.data() + kLinkErrorSize * k);
     for (const std::size_t i : links[k].terms) {

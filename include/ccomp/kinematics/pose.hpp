@@ -29,8 +29,29 @@ struct Pose {
 [[nodiscard]] Mat3 hat(const Vec3& w);
 
 // --- SO(3)
+namespace detail {
+/// I + a hat(w) + b hat(w)^2, with hat(w)^2 = w w^T - |w|^2 I written out.
+[[nodiscard]] inline Mat3 identity_plus(const Vec3& w, double th2, double a, double b) {
+  const double x = w.x(), y = w.y(), z = w.z();
+  Mat3 m;
+  m << 1.0 + b * (x * x - th2), -a * z + b * x * y, a * y + b * x * z,  //
+      a * z + b * x * y, 1.0 + b * (y * y - th2), -a * x + b * y * z,   //
+      -a * y + b * x * z, a * x + b * y * z, 1.0 + b * (z * z - th2);
+  return m;
+}
+/// so3_exp() beyond its inline case.
+[[nodiscard]] Mat3 so3_exp_general(const Vec3& w, Mat3* J);
+}  // namespace detail
+
 /// Exp of a rotation vector; J: its right Jacobian Jr(w).
-[[nodiscard]] Mat3 so3_exp(const Vec3& w, Mat3* J = nullptr);
+[[nodiscard]] inline Mat3 so3_exp(const Vec3& w, Mat3* J = nullptr) {
+  const double th2 = w.squaredNorm();
+  // An error motion's rotation (tens of microradians) at every evaluation of the model, in
+  // line: below 1e-4 rad the series' next terms (th^4 / 120 and th^4 / 720) are below 1e-18,
+  // a hundredth of the coefficients' last bit.
+  if (!J && th2 < 1e-8) return detail::identity_plus(w, th2, 1.0 - th2 * (1.0 / 6), 0.5 - th2 * (1.0 / 24));
+  return detail::so3_exp_general(w, J);
+}
 /// Log of a rotation matrix; J: the inverse right Jacobian Jr^-1(Log R).
 [[nodiscard]] Vec3 so3_log(const Mat3& R, Mat3* J = nullptr);
 [[nodiscard]] Mat3 so3_right_jacobian(const Vec3& w);
