@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstdint>
 #include <limits>
+#include <utility>
 
 namespace ccomp::gcode {
 
@@ -23,6 +24,31 @@ namespace {
 constexpr std::array<double, 10> kPower = {1e0, 1e1, 1e2, 1e3, 1e4, 1e5, 1e6, 1e7, 1e8, 1e9};
 constexpr std::array<std::uint64_t, 10> kIntegerPower = {1,      10,      100,      1000,      10000,
                                                          100000, 1000000, 10000000, 100000000, 1000000000};
+
+/// magnitude / 10^D and its remainder, 10^D a constant: the compiler multiplies.
+template <std::size_t D>
+std::pair<std::uint64_t, std::uint64_t> split_at_constant(std::uint64_t magnitude) {
+  constexpr std::uint64_t power = kIntegerPower[D];
+  return {magnitude / power, magnitude % power};
+}
+
+/// magnitude / 10^d and its remainder. The decimals a program's coordinates have are
+/// divided by constants: a divisor read from the table is a hardware divide, tens of
+/// cycles twice for every number written.
+std::pair<std::uint64_t, std::uint64_t> split_at(std::uint64_t magnitude, std::size_t d) {
+  switch (d) {
+    case 3:
+      return split_at_constant<3>(magnitude);
+    case 4:
+      return split_at_constant<4>(magnitude);
+    case 5:
+      return split_at_constant<5>(magnitude);
+    case 6:
+      return split_at_constant<6>(magnitude);
+    default:
+      return {magnitude / kIntegerPower[d], magnitude % kIntegerPower[d]};
+  }
+}
 }  // namespace
 
 bool fixed_units(double v, int decimals, std::int64_t& units) {
@@ -45,10 +71,10 @@ std::size_t format_units(std::int64_t units, int decimals, bool negative, char* 
   // (The magnitude in unsigned arithmetic: -units overflows at the most negative.)
   const std::uint64_t magnitude =
       units < 0 ? 0 - static_cast<std::uint64_t>(units) : static_cast<std::uint64_t>(units);
-  at = std::to_chars(at, out + 21, magnitude / kIntegerPower[d]).ptr;  // (20 digits at most)
+  auto [integer, fraction] = split_at(magnitude, d);
+  at = std::to_chars(at, out + 21, integer).ptr;  // (20 digits at most)
   if (d > 0) {
     *at++ = '.';
-    std::uint64_t fraction = magnitude % kIntegerPower[d];
     for (std::size_t k = d; k-- > 0;) {
       at[k] = static_cast<char>('0' + fraction % 10);
       fraction /= 10;
