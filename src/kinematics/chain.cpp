@@ -206,7 +206,7 @@ NominalData::NominalData(const ChainModel& model) {
   auto side = [](const Chain& chain) {
     Side out;
     for (const Joint& j : chain.joints) {
-      if (j.type == JointType::rotary) out.rotary_q.push_back(0.0);
+      if (j.type == JointType::rotary) out.rotary_q.push_back(0.0), out.rotary_axes.push_back(j.axis);
       if (j.type == JointType::linear) out.linear_axes.push_back(j.axis);
     }
     out.columns.assign(out.linear_axes.size(), Vec3::Zero());
@@ -245,11 +245,9 @@ void compose_nominal_side(const Chain& chain, NominalData::Side& side, const Eig
 /// One side's end pose at q: composed again where a rotary joint moved (`turned` set),
 /// else its affine form.
 Pose nominal_side(const Chain& chain, NominalData::Side& side, const Eigen::Ref<const VecQ>& q, bool& turned) {
-  std::size_t rotary = 0;
   bool moved = !side.composed;
-  for (const Joint& j : chain.joints)
-    if (j.type == JointType::rotary && !(q[static_cast<Eigen::Index>(j.axis)] == side.rotary_q[rotary++]))
-      moved = true;
+  for (std::size_t k = 0; k < side.rotary_axes.size(); ++k)
+    if (!(q[static_cast<Eigen::Index>(side.rotary_axes[k])] == side.rotary_q[k])) moved = true;
   if (moved) compose_nominal_side(chain, side, q);
   turned = turned || moved;
   // (Summed in a register: a sum kept in the returned pose would be stored and read back
