@@ -29,8 +29,9 @@ TEST(MachineModel, HashNamesTheBytes) {
 }
 
 TEST(MachineModel, DocumentMarkersAroundTheOneDocumentAreNoSecond) {
-  for (const char* yaml : {"---\nname: a\naxes: {X: {}}\n", "name: a\naxes: {X: {}}\n...\n",
-                           "name: a\naxes: {X: {}}\n---\n", "%YAML 1.2\n---\nname: a\naxes: {X: {}}\n...\n"}) {
+  for (const char* yaml :
+       {"---\nname: a\naxes: {X: {}}\n", "name: a\naxes: {X: {}}\n...\n", "name: a\naxes: {X: {}}\n---\n",
+        "%YAML 1.2\n---\nname: a\naxes: {X: {}}\n...\n", "{name: a, axes: {X: {}}}\n"}) {
     const MachineModel m = parse_machine_model(yaml, "a.yaml");
     EXPECT_EQ(m.name, "a") << yaml;
   }
@@ -83,8 +84,11 @@ INSTANTIATE_TEST_SUITE_P(
         BadModel{"name: m\naxes: {X: {mni: 3}}\n", "did you mean 'min'"}, BadModel{"axes: {X: {}}\n", "needs a 'name'"},
         BadModel{"name: m\nname: n\naxes: {X: {}}\n", "written twice"},
         BadModel{"name: m\naxes: {X: {}}\n---\nname: n\n", "one YAML document"},
-        // A document may also start after the end marker of the one before, without '---'.
+        // A document may also start after the end marker of the one before, without '---',
+        // at a directive, or after a root in flow style.
         BadModel{"name: m\naxes: {X: {}}\n...\nname: n\n", "one YAML document"},
+        BadModel{"name: m\naxes: {X: {}}\n%YAML 1.2\nname: n\n", "one YAML document"},
+        BadModel{"{name: m, axes: {X: {}}}\nname: n\n", "one YAML document"},
         // Fuzzing (tools/fuzz.sh model): yaml-cpp's LoadAll looped for ever on these.
         BadModel{",:\n", "a YAML mapping"},
         BadModel{",:\x01\xf6\xff\xff\xff\xff\xff\xff\x7f\xff\xff\xf8\xff", "a YAML mapping"},

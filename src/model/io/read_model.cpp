@@ -159,20 +159,28 @@ class LaterDocuments : public YAML::EventHandler {
   }
 };
 
+/// Whether a second document can follow the one `root` was loaded from: only after a
+/// '---', a '...' or a directive (a line starting with '%'), or after a root in flow style
+/// ('{...}' ends its document). Else the text is not parsed again: that was half of
+/// loading a model, which every run of every command does.
+bool may_hold_more_documents(const std::string& text, const YAML::Node& root) {
+  if (text.find("---") != std::string::npos || text.find("...") != std::string::npos) return true;
+  if (text.starts_with('%') || text.find("\n%") != std::string::npos) return true;
+  return root.Style() == YAML::EmitterStyle::Flow;
+}
+
 /// Refuses a text with a second document that has content.
-void check_one_document(const std::string& text, const std::string& name) {
+void check_one_document(const std::string& text, const YAML::Node& root, const std::string& name) {
+  if (!may_hold_more_documents(text, root)) return;
   std::size_t markers = 0;
   for (std::size_t at = text.find("---"); at != std::string::npos; at = text.find("---", at + 3)) ++markers;
-  // Without a '---' or a '...' no second document can start: the text is not parsed again
-  // (it was half of loading a model, which every run of every command does).
-  if (markers == 0 && text.find("...") == std::string::npos) return;
   std::istringstream in(text);
   YAML::Parser parser(in);
   LaterDocuments later;
   while (later.documents <= static_cast<int>(markers) + 1 && !later.content && parser.HandleNextDocument(later)) {
   }
   if (later.content)
-    throw Error(ErrorKind::model, "a machine model is one YAML document; this file holds more (a '---' or a '...' starts another)",
+    throw Error(ErrorKind::model, "a machine model is one YAML document; another starts here",
                 io::at(name, *later.content));
 }
 
@@ -182,7 +190,7 @@ MachineModel parse_machine_model(const std::string& text, const std::string& nam
   YAML::Node root;
   try {
     root = YAML::Load(text);
-    check_one_document(text, name);
+    check_one_document(text, root, name);
   } catch (const YAML::ParserException& e) {
     throw Error(ErrorKind::model, e.msg, io::at(name, e.mark));
   }
