@@ -6,7 +6,9 @@
 // original program on a thread of its own); a source is a class with
 //   PieceWindow& window();                  the pieces kept
 //   std::size_t available(std::size_t end); makes pieces up to `end` available, as far as
-//                                           the path has them; their count from window().first()
+//                                           the path has them; the index one past the last
+//                                           available (at most `end`). The window's end
+//                                           never moves back: an end once reached stays.
 //   std::pair<double, std::uint32_t> rest_from(std::size_t i);  the length of the path from
 //                                           piece i on, and the line of piece i (0: none)
 #include <Eigen/Core>
@@ -418,7 +420,7 @@ class PathSearch {
   Path& path_;
   Candidates reuse_;
   std::size_t cursor_ = 0;
-  std::size_t asked_end_ = 0, available_to_ = 0;  ///< available()'s last question and answer
+  std::size_t asked_end_ = 0, available_to_ = 0;     ///< available()'s last question and answer
   std::size_t uncut_from_ = 0;                        ///< the first piece after the furthest the search has been
   std::vector<std::pair<std::size_t, double>> near_;  ///< pieces near the point, and their distances
   // The last gathering: where, the window it searched (certified_to_ grows with the window),

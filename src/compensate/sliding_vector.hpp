@@ -9,8 +9,9 @@
 namespace ccomp::compensate {
 
 /// Elements in a vector behind a moving head: dropping from the front moves the head, and
-/// the dropped space is reclaimed once it is as large as what is kept (each element moved
-/// at most once on average), so memory stays within twice the elements kept.
+/// the dropped elements are erased once there are as many as are kept and at least
+/// kReclaimAt (each element is moved about once on average): at most max(kept, kReclaimAt -
+/// 1) dropped ones are held. (The vector's capacity stays at its largest.)
 template <class T>
 class SlidingVector {
  public:

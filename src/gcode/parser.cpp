@@ -649,7 +649,7 @@ bool Parser::parse_simple(std::string_view t, Block& out) const {
     const std::size_t value_start = i;
     if (i == n || !number() || !std::isfinite(value)) return false;  // the grammar says why
     // A digit right after the number (a blank inside it, `X1 5`) is the grammar's to read.
-    // (The blanks passed here are the next token's: i stays past them.)
+    // (i is left after the blanks: the next token starts there.)
     const std::size_t after = i;
     skip_blanks();
     if (i < n && ((t[i] >= '0' && t[i] <= '9') || t[i] == '.')) return false;

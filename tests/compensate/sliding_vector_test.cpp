@@ -17,7 +17,8 @@ TEST(SlidingVector, HoldsWhatADequeHoldsAcrossDropsAndReclaims) {
   std::deque<int> reference;
   int next = 0;
   for (int step = 0; step < 20000; ++step) {
-    // Appends outrun drops two to one, so the front is reclaimed many times over.
+    // Appends outrun drops (19.5 against 12 a step on average), so the front is reclaimed
+    // many times over.
     const int appends = static_cast<int>(random() % 40);
     for (int k = 0; k < appends; ++k) window.push_back(next), reference.push_back(next), ++next;
     const auto drops = std::min<std::size_t>(random() % 25, reference.size());

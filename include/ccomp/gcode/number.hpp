@@ -15,8 +15,9 @@ namespace ccomp::gcode {
 double read_long_decimal(std::string_view digits);
 
 /// Reads `[+-] digits [. digits] | [+-] . digits` at `i` in `t` into `value`, advancing `i`
-/// past it; false when no digit is there (`i` may have passed a sign). Inline: the parser
-/// reads every number of a program with it.
+/// past it; false when no digit is there (`i` may have passed a sign or a lone point; an `i`
+/// past the end comes back as the end). Inline: the parser reads every number of a program
+/// with it.
 inline bool read_decimal(std::string_view t, std::size_t& i, double& value) {
   // (Pointers, not indices into t: the loops then keep the end in a register.)
   const char* const begin = t.data();

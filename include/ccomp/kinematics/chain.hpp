@@ -90,7 +90,7 @@ struct NominalData {
   // every linear joint at 0, and each linear joint's column, for the rotary values held.
   struct Side {
     bool composed = false;
-    std::vector<double> rotary_q;         ///< the rotary joints' values, in chain order
+    std::vector<double> rotary_q;          ///< the rotary joints' values, in chain order
     std::vector<std::size_t> rotary_axes;  ///< and their variables
     Mat3 R = Mat3::Identity();
     Vec3 t0 = Vec3::Zero();
