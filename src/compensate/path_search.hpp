@@ -420,7 +420,7 @@ class PathSearch {
   Path& path_;
   Candidates reuse_;
   std::size_t cursor_ = 0;
-  std::size_t asked_end_ = 0, available_to_ = 0;     ///< available()'s last question and answer
+  std::size_t asked_end_ = 0, available_to_ = 0;      ///< available()'s last question and answer
   std::size_t uncut_from_ = 0;                        ///< the first piece after the furthest the search has been
   std::vector<std::pair<std::size_t, double>> near_;  ///< pieces near the point, and their distances
   // The last gathering: where, the window it searched (certified_to_ grows with the window),
