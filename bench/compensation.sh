@@ -32,6 +32,9 @@ run() {  # run NAME COMMAND...: appends the wall seconds to $work/times-NAME, th
 }
 median() { sort -g "$work/times-$1" | awk '{v[NR] = $1} END {print (NR % 2) ? v[(NR + 1) / 2] : (v[NR / 2] + v[NR / 2 + 1]) / 2}'; }
 peak() { sort -g "$work/rss-$1" | tail -1; }
+# The fastest and slowest runs: on these shared machines a two-thread run can fall in a spell
+# where the same work takes half as much CPU time again, and a median can land in one.
+spread() { sort -g "$work/times-$1" | awk 'NR == 1 {lo = $1} {hi = $1} END {printf "%.2f-%.2f s", lo, hi}'; }
 rm -f "$work"/times-* "$work"/rss-*
 job=(--tool-table "$work/tools-mm.tbl" "${sensors[@]}" --force -q)
 for ((round = 0; round < rounds; ++round)); do
@@ -48,8 +51,8 @@ for name in two one zero verify predict; do
   label=$(case $name in two) echo "ccomp, 2 threads";; one) echo "ccomp, 1 thread";; zero) echo "ccomp, zero model";;
           verify) echo "ccomp verify";; predict) echo "ccomp predict";; esac)
   m=$(median $name)
-  printf '  %-18s %7.2f s  %9.0f lines/s  peak RSS %.1f MB\n' "$label" "$m" "$(echo "$lines/$m" | bc -l)" \
-    "$(echo "$(peak $name)/1024" | bc -l)"
+  printf '  %-18s %7.2f s  %9.0f lines/s  peak RSS %.1f MB  (runs %s)\n' "$label" "$m" "$(echo "$lines/$m" | bc -l)" \
+    "$(echo "$(peak $name)/1024" | bc -l)" "$(spread $name)"
 done
 if [ -x "$rs274" ]; then
   theirs=$(median rs274)
