@@ -147,10 +147,10 @@ void MoveRewriter::point_words(const gcode::Motion& m, const gcode::Block& b, co
       continue;
     }
     if (!write_axis_word(i, p[i], last[i], m.incremental, false, styled, inch, turn, word_text_)) continue;
-    if (line.own)
-      edits_.push_back(gcode::Edit{{line.insert_at, line.insert_at}, std::string(" ") + letter + word_text_});
-    else
-      line.segment += std::string(" ") + letter + word_text_;
+    // (An added word: into an insertion on the block's own line, or onto an added line.)
+    std::string& into =
+        line.own ? edits_.emplace_back(gcode::Edit{{line.insert_at, line.insert_at}, {}}).text : line.segment;
+    into.append(1, ' ').append(1, letter).append(word_text_);
   }
 }
 

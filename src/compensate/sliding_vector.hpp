@@ -37,7 +37,6 @@ class SlidingVector {
   [[nodiscard]] std::size_t size() const { return items_.size() - head_; }
   [[nodiscard]] bool empty() const { return size() == 0; }
   [[nodiscard]] const T& operator[](std::size_t i) const { return items_[head_ + i]; }
-  [[nodiscard]] T& operator[](std::size_t i) { return items_[head_ + i]; }
   [[nodiscard]] const T& front() const { return items_[head_]; }
   [[nodiscard]] T& back() { return items_.back(); }
 

@@ -283,17 +283,13 @@ void error_matrix(const ChainModel& model, ChainData& data, const Eigen::Ref<con
       compose_side(model.tool, data.tool_error, data.tool_location, q, data.tool_oMi, data.tool_cache_, which,
                    data.J_tool_error, data.J_tool_location, Jq_tool, changes ? &changes->tool_error : nullptr,
                    locations_set);
-  if (which == ChainJacobians::none) {  // (the inline forms: at every point the job solves)
-    data.E = compose(inverse(oMp), oMtool);
-    data.oMp = oMp;  // copied last: just composed, they are still being stored
-    data.oMtool = oMtool;
-    return;
-  }
+  const bool jacobians = which != ChainJacobians::none;
   Mat6 J_inv, J_a, J_b;
-  const Pose pMo = inverse(oMp, &J_inv);
-  data.E = compose(pMo, oMtool, &J_a, &J_b);
-  data.oMp = oMp;
+  // (Without Jacobians, the inline forms: at every point the job solves.)
+  data.E = jacobians ? compose(inverse(oMp, &J_inv), oMtool, &J_a, &J_b) : compose(inverse(oMp), oMtool);
+  data.oMp = oMp;  // copied last: just composed, they are still being stored
   data.oMtool = oMtool;
+  if (!jacobians) return;
   const Mat6 J_E_oMp = J_a * J_inv;  // through the inverse of the workpiece side
   for (Mat6& J : data.J_work_error) J = J_E_oMp * J;
   for (Mat6& J : data.J_tool_error) J = J_b * J;

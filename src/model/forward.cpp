@@ -221,10 +221,9 @@ ForwardModel::ForwardModel(const MachineModel& model) : machine_(model) {
       add_link_term(link_terms_[slot.error_index / kLinkErrorSize], slot, slots_.size());
     } else {
       off_axes_terms_[slot.on_approach ? 1 : 0].push_back(slots_.size());
-      if (slot.on_approach && slot.error_index % kLinkErrorSize < kMotionComponents)
-        link_terms_[slot.error_index / kLinkErrorSize].off_axes_approach = true;
-      else if (slot.on_approach)
-        location_reads_approach_ = true;
+      const bool on_motion = slot.error_index % kLinkErrorSize < kMotionComponents;
+      if (slot.on_approach && on_motion) link_terms_[slot.error_index / kLinkErrorSize].off_axes_approach = true;
+      if (slot.on_approach && !on_motion) location_reads_approach_ = true;
     }
     for (const std::int16_t v : {slot.primary, slot.secondary})
       if (const int axis = direction_axis(v); axis >= 0) approach_axes_ |= 1U << static_cast<unsigned>(axis);
