@@ -25,8 +25,14 @@ ChainQ Compensator::point(const ChainQ& nominal, MoveReport& report) {
   // A move usually starts where the last one ended: that point is solved already.
   if (nominal == workspace_.last_nominal && options_.conditions.directions == workspace_.last_directions)
     return workspace_.last_solution;
-  const InverseResult r = solve_inverse(model_, problem_, data_, nominal, options_.conditions, {}, nullptr, &workspace_,
-                                        nominal == expected_ ? &expected_pose_ : nullptr);
+  // A point along a path may be accepted without evaluating the model where its residual
+  // is bounded below this share of the tolerance: the point then lands within a tenth of
+  // the tolerance of where an evaluated solve puts it.
+  InverseOptions inverse;
+  inverse.bound = &bound_;
+  inverse.bounded_tolerance = kBoundedShare * options_.tolerance;
+  const InverseResult r = solve_inverse(model_, problem_, data_, nominal, options_.conditions, inverse, nullptr,
+                                        &workspace_, nominal == expected_ ? &expected_pose_ : nullptr);
   if (!r.converged) {
     // An error beyond any machine's (a term in the wrong unit, say) is said as such.
     if (const double error = error_at(nominal); !(error <= model_.machine().max_correction))
@@ -37,6 +43,10 @@ ChainQ Compensator::point(const ChainQ& nominal, MoveReport& report) {
                                                r.iterations, r.position_residual.norm()));
   }
   remember_tip(nominal, r.target);
+  if (!r.evaluated) {
+    bounded_[next_bounded_] = {r.q, r.residual_bound};
+    next_bounded_ = (next_bounded_ + 1) % bounded_.size();
+  }
   report.max_correction = std::max(report.max_correction, (r.q - nominal).head<3>().cwiseAbs().maxCoeff());
   report.max_rotary_correction =
       std::max(report.max_rotary_correction, (r.q - nominal).segment<3>(3).cwiseAbs().maxCoeff());
@@ -184,6 +194,12 @@ bool Compensator::nominal_affine(const ChainQ& a, const ChainQ& b) {
   return a.segment<3>(3) == b.segment<3>(3) && a[model::kToolLengthIndex] == b[model::kToolLengthIndex];
 }
 
+double Compensator::residual_bound(const ChainQ& solved) const {
+  for (const auto& [q, bound] : bounded_)
+    if (q == solved) return bound;
+  return InverseOptions{}.position_tolerance;
+}
+
 double Compensator::executed_deviation(const ChainQ& a_nominal, const ChainQ& b_nominal, const ChainQ& a_comp,
                                        const ChainQ& b_comp, double t) {
   // The machine interpolates the commanded axis values linearly; the program meant the
@@ -225,7 +241,8 @@ void Compensator::split(const ChainQ& a_nominal, const ChainQ& b_nominal, const 
   // periodic error. A piece the error field cannot bend by a tenth of the tolerance (most of
   // a finishing program's short moves) needs no check at all: its bound is what it reports.
   if (nominal_affine(a_nominal, b_nominal)) {
-    const double bound = bound_.chord_deviation(a_comp, b_comp) + InverseOptions{}.position_tolerance;
+    const double bound =
+        bound_.chord_deviation(a_comp, b_comp) + std::max(residual_bound(a_comp), residual_bound(b_comp));
     if (bound <= 0.1 * tolerance) {
       report.max_deviation_after = std::max(report.max_deviation_after, bound);
       out.push_back({s1, b_comp});

@@ -5,6 +5,7 @@
 #include <limits>
 
 #include "ccomp/kinematics/pose.hpp"
+#include "path_nodes.hpp"
 
 namespace ccomp::compensate {
 
@@ -27,6 +28,7 @@ namespace {
 using Step = Eigen::Matrix<double, Eigen::Dynamic, 1, 0, 9, 1>;
 
 using SolveMatrix = decltype(InverseWorkspace::solve_matrix);
+using Residual = Eigen::Matrix<double, Eigen::Dynamic, 1, 0, 6, 1>;  ///< over the equations
 
 /// q += sign * step, the step given over the problem's unknowns.
 void move_unknowns(const InverseProblem& problem, ChainQ& q, const Step& step, double sign) {
@@ -76,6 +78,8 @@ struct SolveStart {
   bool predicted = false;    ///< q is the last solution moved along the path
   bool same_target = false;  ///< solved again where it was, for another approach
   Eigen::Vector3d shift;     ///< the target's move since the last solution
+  ChainQ evaluated;          ///< where the model was last evaluated (set once converged)
+  Eigen::Vector3d evaluated_omega;  ///< the orientation residual there
 };
 
 void note_approach_change(const model::Conditions& conditions, const InverseWorkspace& ws, SolveStart& s) {
@@ -181,6 +185,8 @@ void iterate(const model::ForwardModel& model, const InverseProblem& problem, mo
     for (Eigen::Index k = 3; k < m; ++k) angles_ok = angles_ok && std::abs(residual[k]) < options.angle_tolerance;
     if (position_ok && angles_ok) {
       r.converged = true;
+      s.evaluated = q;
+      s.evaluated_omega = omega;
       // One more step on the residual already known (no evaluation): what is left is the
       // Jacobian's error times it, far below the tolerance, and the next prediction
       // extrapolates from this solution.
@@ -216,37 +222,58 @@ void iterate(const model::ForwardModel& model, const InverseProblem& problem, mo
   }
 }
 
+/// Broyden's update: the solve matrix made exact along a step of the solution (s_step) that
+/// moved the tip by `shift`, so it follows the Jacobian along the path.
+void secant_update(InverseWorkspace& ws, const Step& s_step, const Eigen::Vector3d& shift) {
+  const Eigen::Index n = s_step.size();
+  const Step predicted = position_columns_times(ws.solve_matrix, shift);
+  // A secant far from the matrix is not the Jacobian's drift (a jump of the solution):
+  // left out.
+  // (Squared lengths summed by hand: GCC 12 takes Eigen's packet loop over a vector of
+  // dynamic size and capacity 9 for a read past it, and warns with -Warray-bounds.)
+  Step gap(n);
+  double gap2 = 0.0, step2 = 0.0;
+  for (Eigen::Index c = 0; c < n; ++c) {
+    gap[c] = s_step[c] - predicted[c];
+    gap2 += gap[c] * gap[c], step2 += s_step[c] * s_step[c];
+  }
+  if (gap2 < 0.01 * step2) {
+    // (gap shift^T) / |shift|^2, rounded as the product over the norm, as Eigen rounded it
+    const double shift2 = shift.squaredNorm();
+    for (Eigen::Index c = 0; c < n; ++c)
+      for (Eigen::Index k = 0; k < 3; ++k) ws.solve_matrix(c, k) += gap[c] * shift[k] / shift2;
+  }
+}
+
 /// What the next solve predicts from: the solve matrix made exact along the step just taken,
 /// a changed approach's effect, the path's last step and miss, the solution itself.
 void learn(const InverseProblem& problem, InverseWorkspace& ws, const ChainQ& q_nominal,
-           const model::Conditions& conditions, const SolveStart& s) {
+           const model::Conditions& conditions, const SolveStart& s, bool bounded = false) {
   const ChainQ& q = s.q;
   const auto n = static_cast<Eigen::Index>(problem.unknowns.size());
-  if (s.predicted && s.shift.norm() > 1e-6) {
-    // Broyden's update: the solve matrix made exact along the step just taken (the target
-    // shift maps to the solution's shift), so it follows the Jacobian along the path.
+  // A solution accepted on the bound is the extrapolation's, and so is the step from it to
+  // the next evaluated one: neither is a secant of the Jacobian, and the latter's miss holds
+  // the extrapolation's error, not one to repeat.
+  const bool after_bounded = ws.last_bounded && !bounded;
+  ws.last_bounded = bounded;
+  if (s.predicted && s.shift.norm() > 1e-6 && !bounded && !after_bounded) {
+    // Broyden's update along the step just taken: the target shift maps to the solution's.
     Step s_step(n);
     for (Eigen::Index c = 0; c < n; ++c) {
       const auto k = problem.unknowns[static_cast<std::size_t>(c)];
       s_step[c] = q[k] - ws.last_solution[k] - (s.approach_changes > 0 ? s.approach_step[k] : 0.0);
     }
-    const Step predicted = position_columns_times(ws.solve_matrix, s.shift);
-    // A secant far from the matrix is not the Jacobian's drift (a jump of the solution):
-    // left out.
-    // (Squared lengths summed by hand: GCC 12 takes Eigen's packet loop over a vector of
-    // dynamic size and capacity 9 for a read past it, and warns with -Warray-bounds.)
-    Step gap(n);
-    double gap2 = 0.0, step2 = 0.0;
+    secant_update(ws, s_step, s.shift);
+  } else if (after_bounded && ws.node_count == 2 && ws.nodes[1].q == s.evaluated) {
+    // After points accepted on the bound, the step between the last two points evaluated
+    // (their actual tips, not their targets) is the secant to follow.
+    Step s_step(n);
     for (Eigen::Index c = 0; c < n; ++c) {
-      gap[c] = s_step[c] - predicted[c];
-      gap2 += gap[c] * gap[c], step2 += s_step[c] * s_step[c];
+      const auto k = problem.unknowns[static_cast<std::size_t>(c)];
+      s_step[c] = ws.nodes[1].q[k] - ws.nodes[0].q[k];
     }
-    if (gap2 < 0.01 * step2) {
-      // (gap shift^T) / |shift|^2, rounded as the product over the norm, as Eigen rounded it
-      const double shift2 = s.shift.squaredNorm();
-      for (Eigen::Index c = 0; c < n; ++c)
-        for (Eigen::Index k = 0; k < 3; ++k) ws.solve_matrix(c, k) += gap[c] * s.shift[k] / shift2;
-    }
+    if (const Eigen::Vector3d moved = ws.nodes[1].tip - ws.nodes[0].tip; moved.norm() > 1e-6)
+      secant_update(ws, s_step, moved);
   }
   if (s.same_target && s.approach_changes == 1) {
     // The same point for one axis' changed approach: the solution's move per unit of it.
@@ -259,7 +286,7 @@ void learn(const InverseProblem& problem, InverseWorkspace& ws, const ChainQ& q_
   if (!s.same_target) {
     // A point solved again where it was (for a changed approach) is no step along the
     // path: the path's last step and miss stand for the next prediction.
-    ws.last_miss = s.predicted ? ChainQ(q - s.first_order) : ChainQ(ChainQ::Zero());
+    ws.last_miss = s.predicted && !after_bounded ? ChainQ(q - s.first_order) : ChainQ(ChainQ::Zero());
     ws.last_shift = s.shift;
   }
   ws.last_solution = q;
@@ -267,6 +294,32 @@ void learn(const InverseProblem& problem, InverseWorkspace& ws, const ChainQ& q_
   ws.last_directions = conditions.directions;
   ws.last_target = s.target;
   ws.last_target_orientation = s.R_target;
+}
+
+/// Accepts the prediction s.q where the nodes bound its residual below the caller's
+/// tolerance (see path_nodes.hpp); r gets the extrapolated residuals and the bound,
+/// `residual` them over the equations.
+bool accept_on_bound(const InverseProblem& problem, const model::Conditions& conditions, const InverseOptions& options, const InverseWorkspace& ws,
+                     const SolveStart& s, InverseResult& r, Residual& residual) {
+  if (!s.predicted || ws.node_count < 2 || problem.rotary_unknowns.size() > 1 ||
+      !detail::nodes_hold(ws, conditions, s.R_target, s.q[static_cast<Eigen::Index>(model::kToolLengthIndex)]))
+    return false;
+  detail::Extrapolated x;
+  if (!detail::extrapolate(*options.bound, problem, ws, s.q, s.target, x)) return false;
+  residual.resize(3 + static_cast<Eigen::Index>(problem.rotary_unknowns.size()));
+  residual.head<3>() = x.position_residual;
+  double tip = x.position_residual.norm() + x.position_bound;
+  if (!problem.rotary_unknowns.empty()) {
+    residual[3] = (s.R_target.transpose() * problem.rotary_directions[0]).dot(x.orientation_error);
+    tip += x.lever * (std::abs(residual[3]) + x.angle_bound);
+  }
+  if (!(tip <= options.bounded_tolerance)) return false;
+  r.converged = true;
+  r.evaluated = false;
+  r.residual_bound = tip;
+  r.position_residual = x.position_residual;
+  r.orientation_error = x.orientation_error;
+  return true;
 }
 
 }  // namespace
@@ -283,10 +336,27 @@ InverseResult solve_inverse(const model::ForwardModel& model, const InverseProbl
   InverseWorkspace& ws = *workspace;
   SolveStart s = start_of(problem, ws, q_nominal, conditions, guess, nominal ? nominal->tip : d.nominal,
                           nominal ? nominal->orientation : d.R_nominal);
+  const bool bounded = options.bound && options.bounded_tolerance > 0.0;
+  if (Residual residual; bounded && accept_on_bound(problem, conditions, options, ws, s, r, residual)) {
+    r.q = s.q;
+    r.target = s.target;
+    // The point stays where the bound holds; the next prediction starts from it moved by
+    // the extrapolated residual, as from an evaluated solution (learn() as after iterate()).
+    move_unknowns(problem, s.q, solve_matrix_times(ws.solve_matrix, residual), -1.0);
+    learn(problem, ws, q_nominal, conditions, s, true);
+    ++ws.bounded_points;
+    return r;
+  }
   iterate(model, problem, d, conditions, options, ws, s, r);
   r.q = s.q;
   r.target = s.target;
-  if (r.converged) learn(problem, ws, q_nominal, conditions, s);
+  if (r.converged) {
+    if (bounded && problem.rotary_unknowns.size() <= 1)
+      detail::record_node(model, *options.bound, problem, d, ws, s.evaluated, conditions, s.R_target,
+                          s.evaluated_omega, options.bounded_tolerance);
+    learn(problem, ws, q_nominal, conditions, s);
+    r.residual_bound = options.position_tolerance;
+  }
   return r;
 }
 

@@ -250,9 +250,13 @@ VariationBound::Travel VariationBound::travel(const ChainQ& a, const ChainQ& b) 
     t.by_variable[i] = std::abs(b[static_cast<Eigen::Index>(i)] - a[static_cast<Eigen::Index>(i)]);
     (rotary_[i] ? t.turning : t.linear) += t.by_variable[i];
   }
-  const auto tool = static_cast<Eigen::Index>(kToolLengthIndex);
-  t.lever = lever_ + std::max(std::abs(a[tool]), std::abs(b[tool]));
+  t.lever = lever(a, b);
   return t;
+}
+
+double VariationBound::lever(const ChainQ& a, const ChainQ& b) const {
+  const auto tool = static_cast<Eigen::Index>(kToolLengthIndex);
+  return lever_ + std::max(std::abs(a[tool]), std::abs(b[tool]));
 }
 
 double VariationBound::second_order(double lever) const {
@@ -309,6 +313,24 @@ double VariationBound::error_change(const ChainQ& a, const ChainQ& b) const {
   // Rounding: of both errors, each the difference of two computed tips.
   const double rounding = 256.0 * std::numeric_limits<double>::epsilon() * m.lever;
   return second_order(m.lever) * slope + rounding;
+}
+
+std::array<double, kChainVariables> VariationBound::error_slopes(double tool_length) const {
+  std::array<double, kChainVariables> slopes;
+  slopes.fill(kInf);
+  if (!bounded_) return slopes;
+  // error_change() is linear in each variable's travel: its terms, variable by variable.
+  const double lever = lever_ + std::abs(tool_length), factor = second_order(lever);
+  for (std::size_t i = 0; i < kChainVariables; ++i) {
+    double slope = rotary_[i] ? translation_sum_ + 2.0 * angular_sum_ * lever : angular_sum_;
+    slope += along_[i].translation_slope + lever * along_[i].angular_slope;
+    for (const TwoVariables& t : two_variables_) {
+      const double first = (t.u == i ? t.slope_u : 0.0) + (t.w == i ? t.slope_w : 0.0);
+      slope += t.angular ? lever * first : first;
+    }
+    slopes[i] = factor * slope;
+  }
+  return slopes;
 }
 
 }  // namespace ccomp::model

@@ -25,6 +25,11 @@
 
 namespace ccomp::compensate {
 
+/// The share of the tolerance a point's residual may reach where the error field's bound
+/// accepts it without evaluating the model (InverseOptions::bounded_tolerance): below a
+/// tenth, so that such a point lies within a tenth of the tolerance of the exact solution.
+inline constexpr double kBoundedShare = 0.08;
+
 struct CompensationOptions {
   double tolerance = 0.001;  ///< mm: largest distance of the executed path from the nominal one
   int max_depth = 12;        ///< a move is split into at most 2^12 pieces
@@ -227,6 +232,8 @@ class Compensator {
   /// Whether the nominal path from a to b is straight in the workpiece frame as the linear
   /// axes are (the rotary axes and the tool length stand still).
   [[nodiscard]] static bool nominal_affine(const model::ChainQ& a, const model::ChainQ& b);
+  /// mm: how far the actual tip can be from its target at a solved point.
+  [[nodiscard]] double residual_bound(const model::ChainQ& solved) const;
   double executed_deviation(const model::ChainQ& a_nominal, const model::ChainQ& b_nominal, const model::ChainQ& a_comp,
                             const model::ChainQ& b_comp, double t);
 
@@ -254,6 +261,12 @@ class Compensator {
   model::ForwardData data_, check_;
   std::vector<CompensatedPoint> lead_;  ///< a stretch's take-ups, before they go in front of its pieces
   model::VariationBound bound_;  ///< for options_.conditions
+  /// The last points solved without evaluating the model (InverseOptions::bound), with
+  /// the bound of their residual, round robin: a move's pieces are accepted on their ends'.
+  std::array<std::pair<model::ChainQ, double>, 4> bounded_ = {
+      std::pair{model::ChainQ::Constant(std::nan("")), 0.0}, std::pair{model::ChainQ::Constant(std::nan("")), 0.0},
+      std::pair{model::ChainQ::Constant(std::nan("")), 0.0}, std::pair{model::ChainQ::Constant(std::nan("")), 0.0}};
+  std::size_t next_bounded_ = 0;
   /// The probe error_at(probe, at_least) took last, and the bound of its error.
   ErrorProbe last_probe_;
   double last_probe_error_ = std::nan("");

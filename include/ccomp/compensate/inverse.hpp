@@ -9,6 +9,7 @@
 #include <cmath>
 
 #include "ccomp/model/forward.hpp"
+#include "ccomp/model/variation_bound.hpp"
 
 namespace ccomp::compensate {
 
@@ -16,6 +17,13 @@ struct InverseOptions {
   double position_tolerance = 1e-6;  ///< mm: converged below 1 nm
   double angle_tolerance = 1e-9;     ///< rad, for the rotary axes' own equations
   int max_iterations = 20;
+  /// The error field's bound, made for the solves' conditions (their time and
+  /// temperatures). With it, a point along a path is accepted as predicted, without
+  /// evaluating the model, where the last two points evaluated on the path bound its
+  /// residual (the tip's distance from the target, with what the rotary axes' residual
+  /// turns it through the bound's lever) below `bounded_tolerance`.
+  const model::VariationBound* bound = nullptr;
+  double bounded_tolerance = 0.0;  ///< mm; 0: every point is evaluated
 };
 
 struct InverseResult {
@@ -25,6 +33,12 @@ struct InverseResult {
   Eigen::Vector3d orientation_error = Eigen::Vector3d::Zero();  ///< rotation left, rad (table frame)
   int iterations = 0;
   bool converged = false;
+  /// The model was evaluated at q (false: accepted on the bound below, and the residuals
+  /// above are the extrapolation's).
+  bool evaluated = true;
+  /// mm: how far the actual tip can be from the target, the rotary residual's share
+  /// included (the position tolerance where the model was evaluated).
+  double residual_bound = 0.0;
 };
 
 /// The axes the solve may move: the chain's linear and rotary axes (not the tool length).
@@ -60,6 +74,45 @@ struct InverseWorkspace {
   std::array<model::ChainQ, 9> approach_gain{};
   std::array<bool, 9> approach_gain_known{};
   std::size_t jacobian_evaluations = 0;  ///< how often the exact Jacobian was evaluated
+  /// The last two points where a solve evaluated the model (its last iterate), under one
+  /// approach, target orientation, tool length and conditions: the actual tip there and
+  /// the log of the actual orientation against the target. Along a path the tip moves
+  /// smoothly, so the line through them extrapolates it to the next points, within what
+  /// the error field's bound allows (src/compensate/path_nodes.hpp).
+  struct Node {
+    model::ChainQ q;
+    Eigen::Vector3d tip = Eigen::Vector3d::Zero();
+    Eigen::Vector3d omega = Eigen::Vector3d::Zero();
+  };
+  std::array<Node, 2> nodes{};  ///< the older first
+  int node_count = 0;
+  std::array<double, 9> node_directions{};
+  Eigen::Matrix3d node_orientation = Eigen::Matrix3d::Zero();
+  double node_time = 0.0;
+  std::vector<double> node_temperatures;
+  /// The chord bound of the nodes' line: over the nodes (`chord`), and out to `reach`
+  /// times their distance from the older (`far`): an extrapolation goes no further.
+  double line_chord = 0.0, line_far = 0.0, line_reach = 0.0;
+  /// The bend the last line missed the newer node by, as a second derivative in the
+  /// current line's units: added to its extrapolation (the error field bends alike from
+  /// node to node), and its size to the bound.
+  Eigen::Vector3d line_bend = Eigen::Vector3d::Zero(), line_turn_bend = Eigen::Vector3d::Zero();
+  /// The perfect machine's slopes where the nodes are, for a prediction off their line:
+  /// the tip per unit of each linear unknown (exact: the tip is affine in them while the
+  /// rotary axis stands), the orientation per unit of the rotary one, the largest column,
+  /// and the error field's slopes (model::VariationBound::error_slopes), for the tool
+  /// length, target orientation and rotary axis value they were taken at.
+  struct NominalSlopes {
+    bool valid = false;
+    double tool_length = 0.0, rotary_value = 0.0, column_norm = 0.0;
+    Eigen::Matrix3d orientation = Eigen::Matrix3d::Zero();
+    Eigen::Matrix<double, 3, model::kChainVariables> tip = Eigen::Matrix<double, 3, model::kChainVariables>::Zero();
+    Eigen::Vector3d turn = Eigen::Vector3d::Zero();
+    std::array<double, model::kChainVariables> error_slopes{};
+  };
+  NominalSlopes slopes;
+  std::size_t bounded_points = 0;  ///< how many points were accepted on the bound
+  bool last_bounded = false;       ///< the last solution was accepted on the bound
 };
 
 /// The nominal tool pose at a point (table frame): what its solve aims at, when the caller

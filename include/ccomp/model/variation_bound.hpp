@@ -41,6 +41,15 @@ class VariationBound {
   /// Upper bound (mm) of |e(b) - e(a)|, e the tip's error (actual - nominal position) under
   /// the conditions the bound was made for; +inf when the model gives no bound.
   [[nodiscard]] double error_change(const ChainQ& a, const ChainQ& b) const;
+  /// mm: the longest lever an error angle acts through at a or b (the chain's offsets and
+  /// strokes, and the longer tool): an angle's bound times it bounds what it moves the tip.
+  [[nodiscard]] double lever(const ChainQ& a, const ChainQ& b) const;
+  /// What error_change() sums, per chain variable: |e(b) - e(a)| is at most the sum over
+  /// the variables of these times each one's travel, plus error_change()'s rounding, for a
+  /// tool of this length at a and b (+inf each where the model gives no bound).
+  [[nodiscard]] std::array<double, kChainVariables> error_slopes(double tool_length) const;
+  /// rad: the sum of the angular terms' bounds, the largest error angle the chain can make.
+  [[nodiscard]] double largest_error_angle() const { return angular_sum_; }
 
  private:
   /// Each chain variable's travel from a to b, their sums over the linear and the rotary

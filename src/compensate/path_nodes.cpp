@@ -1,0 +1,174 @@
+#include "path_nodes.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "ccomp/kinematics/pose.hpp"
+
+namespace ccomp::compensate::detail {
+
+using model::ChainQ;
+
+namespace {
+
+constexpr auto kTool = static_cast<Eigen::Index>(model::kToolLengthIndex);
+/// rad: how far the rotary axis may stand from where the nominal slopes were taken (they
+/// turn with it; the bound counts that, and it stays small).
+constexpr double kSlopesTurn = 1e-4;
+/// The furthest an extrapolation goes, in distances between the nodes.
+constexpr double kLongestReach = 64.0;
+
+/// Takes the perfect machine's slopes at q (see InverseWorkspace::NominalSlopes); false
+/// where its turn from the target is not about the one rotary axis.
+bool take_slopes(const model::ForwardModel& model, const model::VariationBound& bound, const InverseProblem& problem,
+                 model::ForwardData& d, InverseWorkspace::NominalSlopes& slopes, const ChainQ& q,
+                 const Eigen::Matrix3d& R_target) {
+  slopes.valid = false;
+  slopes.tool_length = q[kTool];
+  slopes.orientation = R_target;
+  slopes.tip.setZero();
+  slopes.turn.setZero();
+  model::forward(model, d, q, {}, false, model::Evaluate::nominal);
+  const Eigen::Vector3d tip = d.nominal;
+  const Eigen::Vector3d turn = kinematics::so3_log(R_target.transpose() * d.R_nominal);
+  slopes.column_norm = 0.0;
+  for (const int k : problem.unknowns) {
+    if (std::find(problem.rotary_unknowns.begin(), problem.rotary_unknowns.end(), k) != problem.rotary_unknowns.end())
+      continue;
+    ChainQ moved = q;
+    moved[k] += 1.0;  // mm: the tip is affine in it, so the difference is its slope
+    model::forward(model, d, moved, {}, false, model::Evaluate::nominal);
+    slopes.tip.col(k) = d.nominal - tip;
+    slopes.column_norm = std::max(slopes.column_norm, slopes.tip.col(k).norm());
+  }
+  if (!problem.rotary_unknowns.empty()) {
+    const int k = problem.rotary_unknowns.front();
+    slopes.rotary_value = q[k];
+    ChainQ moved = q;
+    moved[k] += kSlopesTurn;
+    model::forward(model, d, moved, {}, false, model::Evaluate::nominal);
+    slopes.turn = (kinematics::so3_log(R_target.transpose() * d.R_nominal) - turn) / kSlopesTurn;
+    const Eigen::Vector3d axis = R_target.transpose() * problem.rotary_directions.front();
+    auto about_axis = [&](const Eigen::Vector3d& v) {
+      return (v - axis.dot(v) * axis).norm() <= 1e-15 + 1e-9 * v.norm();
+    };
+    if (!about_axis(turn) || !about_axis(slopes.turn)) return false;
+  }
+  slopes.error_slopes = bound.error_slopes(q[kTool]);
+  slopes.valid = true;
+  return true;
+}
+
+bool slopes_hold(const InverseProblem& problem, const InverseWorkspace::NominalSlopes& slopes, const ChainQ& q,
+                 const Eigen::Matrix3d& R_target) {
+  return slopes.valid && slopes.tool_length == q[kTool] && slopes.orientation == R_target &&
+         (problem.rotary_unknowns.empty() ||
+          std::abs(q[problem.rotary_unknowns.front()] - slopes.rotary_value) <= kSlopesTurn);
+}
+
+}  // namespace
+
+bool nodes_hold(const InverseWorkspace& ws, const model::Conditions& conditions, const Eigen::Matrix3d& R_target,
+                double tool_length) {
+  return ws.node_count > 0 && ws.node_directions == conditions.directions && ws.node_orientation == R_target &&
+         ws.nodes[1].q[kTool] == tool_length && ws.node_time == conditions.time &&
+         ws.node_temperatures == conditions.temperatures;
+}
+
+void record_node(const model::ForwardModel& model, const model::VariationBound& bound, const InverseProblem& problem,
+                 model::ForwardData& d, InverseWorkspace& ws, const ChainQ& q, const model::Conditions& conditions,
+                 const Eigen::Matrix3d& R_target, const Eigen::Vector3d& omega, double tolerance) {
+  if (!nodes_hold(ws, conditions, R_target, q[kTool])) {
+    ws.node_count = 0;
+    ws.node_directions = conditions.directions;
+    ws.node_orientation = R_target;
+    ws.node_time = conditions.time;
+    ws.node_temperatures = conditions.temperatures;
+  }
+  // What the last line's extrapolation missed this point by, over s (s - 1): its bend,
+  // to be carried to the next line (scaled to its length).
+  Eigen::Vector3d bend = Eigen::Vector3d::Zero(), turn_bend = Eigen::Vector3d::Zero();
+  double bend_s = 0.0;
+  if (ws.node_count == 2) {
+    Extrapolated x;
+    if (extrapolate(bound, problem, ws, q, Eigen::Vector3d::Zero(), x, false, &bend_s) &&
+        std::abs(bend_s * (bend_s - 1.0)) >= 0.5) {
+      bend = (d.actual - x.position_residual) / (bend_s * (bend_s - 1.0));
+      turn_bend = (omega - x.orientation_error) / (bend_s * (bend_s - 1.0));
+    }
+  }
+  const double old_length2 = (ws.nodes[1].q - ws.nodes[0].q).squaredNorm();
+  ws.nodes[0] = ws.nodes[1];
+  ws.nodes[1] = {q, d.actual, omega};
+  ws.node_count = std::min(ws.node_count + 1, 2);
+  if (ws.node_count < 2) return;
+  const ChainQ &a = ws.nodes[0].q, line = q - a;
+  const double scale = old_length2 > 0.0 ? line.squaredNorm() / old_length2 : 0.0;
+  ws.line_bend = bend * scale;
+  ws.line_turn_bend = turn_bend * scale;
+  ws.line_chord = bound.chord_deviation(a, q);
+  // Out to where 4 (s - 1) s chord, the along-line bound at s, reaches the tolerance.
+  ws.line_reach = std::isfinite(ws.line_chord) && ws.line_chord > 0.0
+                      ? std::min(0.5 + std::sqrt(0.25 + tolerance / (4.0 * ws.line_chord)), kLongestReach)
+                      : 1.0;
+  ws.line_far = ws.line_reach > 1.0 ? bound.chord_deviation(a, a + ws.line_reach * line) : ws.line_chord;
+  if (!std::isfinite(ws.line_far)) ws.line_reach = 1.0;
+  if (!slopes_hold(problem, ws.slopes, q, R_target)) take_slopes(model, bound, problem, d, ws.slopes, q, R_target);
+}
+
+bool extrapolate(const model::VariationBound& bound, const InverseProblem& problem, const InverseWorkspace& ws,
+                 const ChainQ& q, const Eigen::Vector3d& target, Extrapolated& out, bool bent, double* at) {
+  const InverseWorkspace::Node &a = ws.nodes[0], &b = ws.nodes[1];
+  if (!slopes_hold(problem, ws.slopes, q, ws.node_orientation) || !std::isfinite(ws.line_chord)) return false;
+  const ChainQ line = b.q - a.q;
+  const double length2 = line.squaredNorm();
+  if (!(length2 > 0.0)) return false;
+  const double s = line.dot(q - a.q) / length2;
+  if (at) *at = s;
+  if (!(s >= 0.0 && s <= ws.line_reach)) return false;
+  const ChainQ off = q - a.q - s * line;  // w
+  // Along the line: 4 |s (s - 1)| / hull^2 of the hull's chord bound.
+  const double chord = s <= 1.0 ? ws.line_chord : std::min(s * s * ws.line_chord, ws.line_far);
+  const double hull = std::max(s, 1.0);
+  const double along = 4.0 * std::abs(s * (s - 1.0)) / (hull * hull) * chord;
+  // Off it: the error field's slopes, the nominal slopes' turn since they were taken, and
+  // the rotary axis' own share.
+  const InverseWorkspace::NominalSlopes& slopes = ws.slopes;
+  double errors = 0.0, linear = 0.0, turned = 0.0, turning = 0.0;
+  for (Eigen::Index i = 0; i < off.size(); ++i)
+    if (off[i] != 0.0) errors += slopes.error_slopes[static_cast<std::size_t>(i)] * std::abs(off[i]);
+  for (const int k : problem.unknowns) linear += std::abs(off[k]) * (slopes.tip.col(k).squaredNorm() > 0.0);
+  if (!problem.rotary_unknowns.empty()) {
+    const int k = problem.rotary_unknowns.front();
+    turning = std::abs(off[k]);
+    turned = std::abs(a.q[k] + s * line[k] - slopes.rotary_value);
+  }
+  out.lever = bound.lever(a.q, b.q);
+  // The nodes' tips are computed a lever long: a few units in their last place, weighed.
+  const double rounding =
+      256.0 * std::numeric_limits<double>::epsilon() * out.lever * (std::abs(1.0 - s) + std::abs(s) + 1.0);
+  // (and the nominal slopes' own rounding: differences of tips a lever long, over 1 mm)
+  const double slope_rounding = 8.0 * std::numeric_limits<double>::epsilon() * out.lever * linear;
+  // The last line's bend, carried over, is a guess: its whole size goes to the bound.
+  const double bending = bent ? s * (s - 1.0) : 0.0;
+  const Eigen::Vector3d bend = bending * ws.line_bend, turn_bend = bending * ws.line_turn_bend;
+  out.position_bound = along + errors + turned * slopes.column_norm * linear + out.lever * turning + rounding +
+                       slope_rounding + bend.norm();
+  if (!std::isfinite(out.position_bound)) return false;
+  out.position_residual = a.tip + s * (b.tip - a.tip) + slopes.tip * off + bend - target;
+  out.orientation_error = a.omega + s * (b.omega - a.omega) +
+                          slopes.turn * (problem.rotary_unknowns.empty() ? 0.0 : off[problem.rotary_unknowns.front()]) +
+                          turn_bend;
+  // What the error angles' products leave out of the rotary residual's split: the turn
+  // times the error angle squared over 12, doubled for the higher orders, at each of the
+  // three points the extrapolation weighs (the turn at most the residual's angle and the
+  // error angle's bound together).
+  const double angle = bound.largest_error_angle();
+  const double turn = std::max({a.omega.norm(), b.omega.norm(), out.orientation_error.norm()}) + angle;
+  const double products = (std::abs(1.0 - s) + std::abs(s) + 1.0) * turn * angle * angle / 6.0;
+  out.angle_bound = (along + errors + rounding) / out.lever + products + turn_bend.norm();
+  return true;
+}
+
+}  // namespace ccomp::compensate::detail
