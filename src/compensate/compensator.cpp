@@ -171,7 +171,13 @@ double Compensator::error_at(const ErrorProbe& probe) {
 
 double Compensator::error_at(const ErrorProbe& probe, double at_least) {
   if (probe.directions == last_probe_.directions && !std::isnan(last_probe_error_)) {
-    const double bound = last_probe_error_ + bound_.error_change(last_probe_.nominal, probe.nominal);
+    const auto tool = static_cast<Eigen::Index>(model::kToolLengthIndex);
+    const double tool_length = probe.nominal[tool];
+    if (probe_slopes_.tool_length != tool_length) probe_slopes_ = bound_.error_slopes(tool_length);
+    const double change = last_probe_.nominal[tool] == tool_length
+                              ? probe_slopes_.change(last_probe_.nominal, probe.nominal)
+                              : bound_.error_change(last_probe_.nominal, probe.nominal);
+    const double bound = last_probe_error_ + change;
     if (bound <= at_least) {
       last_probe_ = probe;
       last_probe_error_ = bound;

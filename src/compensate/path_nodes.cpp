@@ -127,7 +127,7 @@ bool extrapolate(const model::VariationBound& bound, const InverseProblem& probl
   const double s = line.dot(q - a.q) / length2;
   if (at) *at = s;
   if (!(s >= 0.0 && s <= ws.line_reach)) return false;
-  const ChainQ off = q - a.q - s * line;  // w
+  const ChainQ on_line = a.q + s * line, off = q - on_line;  // off: w
   // Along the line: 4 |s (s - 1)| / hull^2 of the hull's chord bound.
   const double chord = s <= 1.0 ? ws.line_chord : std::min(s * s * ws.line_chord, ws.line_far);
   const double hull = std::max(s, 1.0);
@@ -135,9 +135,8 @@ bool extrapolate(const model::VariationBound& bound, const InverseProblem& probl
   // Off it: the error field's slopes, the nominal slopes' turn since they were taken, and
   // the rotary axis' own share.
   const InverseWorkspace::NominalSlopes& slopes = ws.slopes;
-  double errors = 0.0, linear = 0.0, turned = 0.0, turning = 0.0;
-  for (Eigen::Index i = 0; i < off.size(); ++i)
-    if (off[i] != 0.0) errors += slopes.error_slopes[static_cast<std::size_t>(i)] * std::abs(off[i]);
+  const double errors = slopes.error_slopes.change(on_line, q);
+  double linear = 0.0, turned = 0.0, turning = 0.0;
   for (const int k : problem.unknowns) linear += std::abs(off[k]) * (slopes.tip.col(k).squaredNorm() > 0.0);
   if (!problem.rotary_unknowns.empty()) {
     const int k = problem.rotary_unknowns.front();

@@ -315,9 +315,11 @@ double VariationBound::error_change(const ChainQ& a, const ChainQ& b) const {
   return second_order(m.lever) * slope + rounding;
 }
 
-std::array<double, kChainVariables> VariationBound::error_slopes(double tool_length) const {
-  std::array<double, kChainVariables> slopes;
-  slopes.fill(kInf);
+VariationBound::ErrorSlopes VariationBound::error_slopes(double tool_length) const {
+  ErrorSlopes slopes;
+  slopes.tool_length = tool_length;
+  slopes.per_variable.fill(kInf);
+  slopes.rounding = kInf;
   if (!bounded_) return slopes;
   // error_change() is linear in each variable's travel: its terms, variable by variable.
   const double lever = lever_ + std::abs(tool_length), factor = second_order(lever);
@@ -328,8 +330,10 @@ std::array<double, kChainVariables> VariationBound::error_slopes(double tool_len
       const double first = (t.u == i ? t.slope_u : 0.0) + (t.w == i ? t.slope_w : 0.0);
       slope += t.angular ? lever * first : first;
     }
-    slopes[i] = factor * slope;
+    slopes.per_variable[i] = factor * slope;
   }
+  // error_change()'s rounding, and as much again for summing in another order
+  slopes.rounding = 512.0 * std::numeric_limits<double>::epsilon() * lever;
   return slopes;
 }
 

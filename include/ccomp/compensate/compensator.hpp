@@ -270,6 +270,7 @@ class Compensator {
   /// The probe error_at(probe, at_least) took last, and the bound of its error.
   ErrorProbe last_probe_;
   double last_probe_error_ = std::nan("");
+  model::VariationBound::ErrorSlopes probe_slopes_;  ///< bound_'s, for the probes' tool length
 };
 
 }  // namespace ccomp::compensate

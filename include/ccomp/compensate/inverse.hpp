@@ -108,7 +108,7 @@ struct InverseWorkspace {
     Eigen::Matrix3d orientation = Eigen::Matrix3d::Zero();
     Eigen::Matrix<double, 3, model::kChainVariables> tip = Eigen::Matrix<double, 3, model::kChainVariables>::Zero();
     Eigen::Vector3d turn = Eigen::Vector3d::Zero();
-    std::array<double, model::kChainVariables> error_slopes{};
+    model::VariationBound::ErrorSlopes error_slopes;
   };
   NominalSlopes slopes;
   std::size_t bounded_points = 0;  ///< how many points were accepted on the bound

@@ -23,6 +23,7 @@
 // by the model's max_correction. The bound is +inf where none holds: an axis without limits under a term that grows with
 // it, a move longer than a table's knot spacing, a term in a variable with no range.
 #include <array>
+#include <cmath>
 #include <limits>
 #include <vector>
 
@@ -44,10 +45,22 @@ class VariationBound {
   /// mm: the longest lever an error angle acts through at a or b (the chain's offsets and
   /// strokes, and the longer tool): an angle's bound times it bounds what it moves the tip.
   [[nodiscard]] double lever(const ChainQ& a, const ChainQ& b) const;
-  /// What error_change() sums, per chain variable: |e(b) - e(a)| is at most the sum over
-  /// the variables of these times each one's travel, plus error_change()'s rounding, for a
-  /// tool of this length at a and b (+inf each where the model gives no bound).
-  [[nodiscard]] std::array<double, kChainVariables> error_slopes(double tool_length) const;
+  /// error_change() for a tool of one length at both points, as the sum over the chain
+  /// variables of a slope times each one's travel, plus its rounding: what a caller taking
+  /// many bounds under one tool keeps (+inf slopes where the model gives no bound).
+  struct ErrorSlopes {
+    double tool_length = std::numeric_limits<double>::quiet_NaN();
+    std::array<double, kChainVariables> per_variable{};
+    double rounding = 0.0;
+    /// The bound of |e(b) - e(a)| (a and b of this tool length).
+    [[nodiscard]] double change(const ChainQ& a, const ChainQ& b) const {
+      double sum = rounding;
+      for (Eigen::Index i = 0; i < a.size(); ++i)
+        if (const double d = std::abs(b[i] - a[i]); d != 0.0) sum += per_variable[static_cast<std::size_t>(i)] * d;
+      return sum;
+    }
+  };
+  [[nodiscard]] ErrorSlopes error_slopes(double tool_length) const;
   /// rad: the sum of the angular terms' bounds, the largest error angle the chain can make.
   [[nodiscard]] double largest_error_angle() const { return angular_sum_; }
 
