@@ -43,7 +43,7 @@ ChainQ Compensator::point(const ChainQ& nominal, MoveReport& report) {
                                                r.iterations, r.position_residual.norm()));
   }
   remember_tip(nominal, r.target);
-  if (!r.evaluated) {
+  if (r.residual_bound > InverseOptions{}.position_tolerance) {
     bounded_[next_bounded_] = {r.q, r.residual_bound};
     next_bounded_ = (next_bounded_ + 1) % bounded_.size();
   }

@@ -80,6 +80,11 @@ struct SolveStart {
   Eigen::Vector3d shift;     ///< the target's move since the last solution
   ChainQ evaluated;          ///< where the model was last evaluated (set once converged)
   Eigen::Vector3d evaluated_omega;  ///< the orientation residual there
+  /// The evaluated iterate stands as the solution, its residual known (see iterate()); q
+  /// then goes on to what the next prediction starts from.
+  bool stands = false;
+  bool on_path = false;  ///< a point the nodes' line reaches, that the bound did not let through
+  double standing_residual = 0.0;  ///< mm, the rotary residual's share included
 };
 
 void note_approach_change(const model::Conditions& conditions, const InverseWorkspace& ws, SolveStart& s) {
@@ -140,6 +145,20 @@ SolveStart start_of(const InverseProblem& problem, InverseWorkspace& ws, const C
   return s;
 }
 
+/// The share of a tenth of the bounded tolerance an evaluated iterate may stand with.
+constexpr double kStandingShare = 0.1;
+
+/// mm: what an exact residual moves the tip by, the rotary residuals' share through the
+/// bound's lever included; +inf where residuals are not to be bounded.
+template <typename Residual>
+double bounded_residual(const InverseOptions& options, const ChainQ& q, const Residual& residual) {
+  if (!options.bound || !(options.bounded_tolerance > 0.0)) return std::numeric_limits<double>::infinity();
+  double tip = residual.template head<3>().norm();
+  const double lever = options.bound->lever(q, q);
+  for (Eigen::Index k = 3; k < residual.size(); ++k) tip += lever * std::abs(residual[k]);
+  return tip;
+}
+
 /// Newton's iteration from s.q, the solve matrix reused while it cuts the residual tenfold a
 /// step; r gets the outcome, s.q the solution.
 void iterate(const model::ForwardModel& model, const InverseProblem& problem, model::ForwardData& d,
@@ -183,10 +202,20 @@ void iterate(const model::ForwardModel& model, const InverseProblem& problem, mo
     const bool position_ok = r.position_residual.norm() < options.position_tolerance;
     bool angles_ok = true;
     for (Eigen::Index k = 3; k < m; ++k) angles_ok = angles_ok && std::abs(residual[k]) < options.angle_tolerance;
-    if (position_ok && angles_ok) {
+    // On a path where residuals may be bounded (InverseOptions::bound), an iterate whose
+    // exact residual is within a tenth of that tolerance stands as it is: a step would cost
+    // another evaluation for less than what the points accepted on the bound are allowed.
+    // (Not at a point off any path, a plunge or a rapid's end: there a few nanometres can
+    // decide whether an axis that barely moves has reversed, and with it its take-up.)
+    const double standing = bounded_residual(options, q, residual);
+    const bool stands =
+        s.on_path && !(position_ok && angles_ok) && standing <= kStandingShare * options.bounded_tolerance;
+    if ((position_ok && angles_ok) || stands) {
       r.converged = true;
       s.evaluated = q;
       s.evaluated_omega = omega;
+      s.stands = stands;
+      s.standing_residual = standing;
       // One more step on the residual already known (no evaluation): what is left is the
       // Jacobian's error times it, far below the tolerance, and the next prediction
       // extrapolates from this solution.
@@ -300,12 +329,13 @@ void learn(const InverseProblem& problem, InverseWorkspace& ws, const ChainQ& q_
 /// tolerance (see path_nodes.hpp); r gets the extrapolated residuals and the bound,
 /// `residual` them over the equations.
 bool accept_on_bound(const InverseProblem& problem, const model::Conditions& conditions, const InverseOptions& options, const InverseWorkspace& ws,
-                     const SolveStart& s, InverseResult& r, Residual& residual) {
+                     const SolveStart& s, InverseResult& r, Residual& residual, bool& on_path) {
   if (!s.predicted || ws.node_count < 2 || problem.rotary_unknowns.size() > 1 ||
       !detail::nodes_hold(ws, conditions, s.R_target, s.q[static_cast<Eigen::Index>(model::kToolLengthIndex)]))
     return false;
   detail::Extrapolated x;
   if (!detail::extrapolate(*options.bound, problem, ws, s.q, s.target, x)) return false;
+  on_path = true;
   residual.resize(3 + static_cast<Eigen::Index>(problem.rotary_unknowns.size()));
   residual.head<3>() = x.position_residual;
   double tip = x.position_residual.norm() + x.position_bound;
@@ -337,7 +367,7 @@ InverseResult solve_inverse(const model::ForwardModel& model, const InverseProbl
   SolveStart s = start_of(problem, ws, q_nominal, conditions, guess, nominal ? nominal->tip : d.nominal,
                           nominal ? nominal->orientation : d.R_nominal);
   const bool bounded = options.bound && options.bounded_tolerance > 0.0;
-  if (Residual residual; bounded && accept_on_bound(problem, conditions, options, ws, s, r, residual)) {
+  if (Residual residual; bounded && accept_on_bound(problem, conditions, options, ws, s, r, residual, s.on_path)) {
     r.q = s.q;
     r.target = s.target;
     // The point stays where the bound holds; the next prediction starts from it moved by
@@ -348,14 +378,14 @@ InverseResult solve_inverse(const model::ForwardModel& model, const InverseProbl
     return r;
   }
   iterate(model, problem, d, conditions, options, ws, s, r);
-  r.q = s.q;
+  r.q = s.stands ? s.evaluated : s.q;
   r.target = s.target;
   if (r.converged) {
     if (bounded && problem.rotary_unknowns.size() <= 1)
       detail::record_node(model, *options.bound, problem, d, ws, s.evaluated, conditions, s.R_target,
                           s.evaluated_omega, options.bounded_tolerance);
     learn(problem, ws, q_nominal, conditions, s);
-    r.residual_bound = options.position_tolerance;
+    r.residual_bound = s.stands ? s.standing_residual : options.position_tolerance;
   }
   return r;
 }

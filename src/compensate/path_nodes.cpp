@@ -108,12 +108,14 @@ void record_node(const model::ForwardModel& model, const model::VariationBound& 
   ws.line_bend = bend * scale;
   ws.line_turn_bend = turn_bend * scale;
   ws.line_chord = bound.chord_deviation(a, q);
-  // Out to where 4 (s - 1) s chord, the along-line bound at s, reaches the tolerance.
+  // Out to where 4 (s - 1) s chord, the along-line bound at s, reaches the tolerance, and
+  // short of the first table knot the stretched line would step over (the chord bound
+  // out there is then at most s^2 times the nodes' own).
   ws.line_reach = std::isfinite(ws.line_chord) && ws.line_chord > 0.0
-                      ? std::min(0.5 + std::sqrt(0.25 + tolerance / (4.0 * ws.line_chord)), kLongestReach)
+                      ? std::min({0.5 + std::sqrt(0.25 + tolerance / (4.0 * ws.line_chord)), kLongestReach,
+                                  std::nextafter(bound.stretch_limit(a, q), 0.0)})
                       : 1.0;
-  ws.line_far = ws.line_reach > 1.0 ? bound.chord_deviation(a, a + ws.line_reach * line) : ws.line_chord;
-  if (!std::isfinite(ws.line_far)) ws.line_reach = 1.0;
+  ws.line_reach = std::max(ws.line_reach, 1.0);
   if (!slopes_hold(problem, ws.slopes, q, R_target)) take_slopes(model, bound, problem, d, ws.slopes, q, R_target);
 }
 
@@ -129,7 +131,7 @@ bool extrapolate(const model::VariationBound& bound, const InverseProblem& probl
   if (!(s >= 0.0 && s <= ws.line_reach)) return false;
   const ChainQ on_line = a.q + s * line, off = q - on_line;  // off: w
   // Along the line: 4 |s (s - 1)| / hull^2 of the hull's chord bound.
-  const double chord = s <= 1.0 ? ws.line_chord : std::min(s * s * ws.line_chord, ws.line_far);
+  const double chord = s <= 1.0 ? ws.line_chord : s * s * ws.line_chord;
   const double hull = std::max(s, 1.0);
   const double along = 4.0 * std::abs(s * (s - 1.0)) / (hull * hull) * chord;
   // Off it: the error field's slopes, the nominal slopes' turn since they were taken, and

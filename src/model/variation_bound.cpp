@@ -254,6 +254,15 @@ VariationBound::Travel VariationBound::travel(const ChainQ& a, const ChainQ& b) 
   return t;
 }
 
+double VariationBound::stretch_limit(const ChainQ& a, const ChainQ& b) const {
+  double limit = kInf;
+  for (std::size_t i = 0; i < kChainVariables; ++i) {
+    const double d = std::abs(b[static_cast<Eigen::Index>(i)] - a[static_cast<Eigen::Index>(i)]);
+    if (d > 0.0) limit = std::min(limit, along_[i].knot_gap / d);  // chord_deviation() needs d < knot_gap
+  }
+  return limit;
+}
+
 double VariationBound::lever(const ChainQ& a, const ChainQ& b) const {
   const auto tool = static_cast<Eigen::Index>(kToolLengthIndex);
   return lever_ + std::max(std::abs(a[tool]), std::abs(b[tool]));

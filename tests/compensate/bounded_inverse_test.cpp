@@ -1,6 +1,6 @@
 // The inverse's shortcut along a path (InverseOptions::bound): a point accepted without
-// evaluating the model must land within the bound it reports, and that bound within the
-// caller's tolerance, for models of every form and for the sample machine; checked against
+// evaluating the model, or an evaluated iterate left standing, must land within the bound
+// it reports, and that bound within the caller's tolerance, for models of every form and for the sample machine; checked against
 // a fresh evaluation of the model at the accepted axis values. Where the model gives no
 // bound, every point is evaluated.
 #include <gtest/gtest.h>
@@ -36,6 +36,7 @@ model::ChainQ path_point(int k, double step, std::array<double, 9>& directions) 
 
 struct Outcome {
   int bounded = 0, points = 0;
+  int standing = 0;  ///< evaluated, and left where the residual is within a tenth of the tolerance
   double worst_share = 0.0;  ///< the largest true residual over its bound
 };
 
@@ -61,17 +62,17 @@ Outcome solve_path(const model::ForwardModel& m, const model::Conditions& condit
     }
     model::forward(m, check, r.q, c);
     const double position = (check.actual - nominal.nominal).norm();
-    if (r.evaluated) {
+    if (r.evaluated && r.residual_bound <= 1e-6) {  // converged
       EXPECT_LT(position, 1e-6) << label << ": point " << k;
       continue;
     }
-    ++out.bounded;
+    ++(r.evaluated ? out.standing : out.bounded);
     // What the rotary residual left turns the tip through, at most the bound's lever.
     const Eigen::Vector3d axis = nominal.R_nominal.transpose() * Eigen::Vector3d(0, -1, 0);
     const Eigen::Vector3d omega = kinematics::so3_log(nominal.R_nominal.transpose() * check.R_actual);
     const double turned = bound.lever(q, q) * std::abs(axis.dot(omega));
-    EXPECT_LE(position + turned, r.residual_bound) << label << ": point " << k;
-    EXPECT_LE(r.residual_bound, kTolerance) << label << ": point " << k;
+    EXPECT_LE(position + turned, r.residual_bound * (1 + 1e-9)) << label << ": point " << k;
+    EXPECT_LE(r.residual_bound, r.evaluated ? 0.1 * kTolerance : kTolerance) << label << ": point " << k;
     EXPECT_NEAR((r.position_residual - (check.actual - nominal.nominal)).norm(), 0.0, r.residual_bound)
         << label << ": the extrapolated residual, point " << k;
     EXPECT_EQ(r.q[9], q[9]) << label << ": point " << k;

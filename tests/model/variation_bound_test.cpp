@@ -110,6 +110,37 @@ TEST(VariationBound, ErrorSlopesSumToTheErrorChange) {
   }
 }
 
+TEST(VariationBound, AStretchedMovesChordBoundGrowsNoFasterThanTheSquare) {
+  std::mt19937 rng(9);
+  std::uniform_real_distribution<double> u(-1, 1);
+  const std::string chain = test::with_limits(test::kHmcChain, 600.0) + "terms:\n";
+  for (const std::string form : {"polynomial", "table", "periodic", "cross_axis", "reversal", "location"}) {
+    const MachineModel mm = parse_machine_model(chain + test::random_terms(form, rng), form + ".yaml");
+    const ForwardModel m(mm);
+    Conditions c;
+    c.temperatures = {26.0, 34.0};
+    for (double& s : c.directions) s = u(rng) > 0 ? 1.0 : -1.0;
+    const VariationBound bound(m, c);
+    for (int k = 0; k < 20; ++k) {
+      ChainQ a = ChainQ::Zero();
+      for (int i = 0; i < 3; ++i) a[i] = 300 * u(rng);
+      a[4] = 2.0 * u(rng);
+      a[kToolLengthIndex] = 100.0;
+      ChainQ b = a;
+      for (int i = 0; i < 3; ++i) b[i] += 0.05 * u(rng);
+      b[4] += 1e-7 * u(rng);
+      const double limit = bound.stretch_limit(a, b), chord = bound.chord_deviation(a, b);
+      ASSERT_GE(limit, 1.0) << form;
+      for (const double stretch : {1.5, 3.0, 10.0, 40.0}) {
+        if (stretch >= limit) continue;
+        const double stretched = bound.chord_deviation(a, a + stretch * (b - a));
+        EXPECT_TRUE(std::isfinite(stretched)) << form << ": move " << k << " stretched " << stretch;
+        EXPECT_LE(stretched, stretch * stretch * chord * (1 + 1e-12)) << form << ": move " << k;
+      }
+    }
+  }
+}
+
 TEST(VariationBound, NoneWhereTheFieldIsUnbounded) {
   ChainQ a = ChainQ::Zero(), b = a;
   a[kToolLengthIndex] = b[kToolLengthIndex] = 100.0;

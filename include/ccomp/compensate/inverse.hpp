@@ -21,7 +21,8 @@ struct InverseOptions {
   /// temperatures). With it, a point along a path is accepted as predicted, without
   /// evaluating the model, where the last two points evaluated on the path bound its
   /// residual (the tip's distance from the target, with what the rotary axes' residual
-  /// turns it through the bound's lever) below `bounded_tolerance`.
+  /// turns it through the bound's lever) below `bounded_tolerance`; and an evaluated
+  /// iterate whose residual is within a tenth of that stands without a further step.
   const model::VariationBound* bound = nullptr;
   double bounded_tolerance = 0.0;  ///< mm; 0: every point is evaluated
 };
@@ -37,7 +38,8 @@ struct InverseResult {
   /// above are the extrapolation's).
   bool evaluated = true;
   /// mm: how far the actual tip can be from the target, the rotary residual's share
-  /// included (the position tolerance where the model was evaluated).
+  /// included (the position tolerance where the solve converged; an iterate left standing,
+  /// its exact residual).
   double residual_bound = 0.0;
 };
 
@@ -90,9 +92,9 @@ struct InverseWorkspace {
   Eigen::Matrix3d node_orientation = Eigen::Matrix3d::Zero();
   double node_time = 0.0;
   std::vector<double> node_temperatures;
-  /// The chord bound of the nodes' line: over the nodes (`chord`), and out to `reach`
-  /// times their distance from the older (`far`): an extrapolation goes no further.
-  double line_chord = 0.0, line_far = 0.0, line_reach = 0.0;
+  /// The chord bound of the nodes' line over the nodes, and how far out (in their distance
+  /// from the older) an extrapolation goes.
+  double line_chord = 0.0, line_reach = 0.0;
   /// The bend the last line missed the newer node by, as a second derivative in the
   /// current line's units: added to its extrapolation (the error field bends alike from
   /// node to node), and its size to the bound.

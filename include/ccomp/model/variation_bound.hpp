@@ -42,6 +42,10 @@ class VariationBound {
   /// Upper bound (mm) of |e(b) - e(a)|, e the tip's error (actual - nominal position) under
   /// the conditions the bound was made for; +inf when the model gives no bound.
   [[nodiscard]] double error_change(const ChainQ& a, const ChainQ& b) const;
+  /// How far the move from a to b may be stretched (b' = a + k (b - a), k >= 1) before the
+  /// chord bound is lost on a table's knots: the chord bound of the stretched move is then at
+  /// most k^2 times this one's (each of its terms grows with the travel or its square).
+  [[nodiscard]] double stretch_limit(const ChainQ& a, const ChainQ& b) const;
   /// mm: the longest lever an error angle acts through at a or b (the chain's offsets and
   /// strokes, and the longer tool): an angle's bound times it bounds what it moves the tip.
   [[nodiscard]] double lever(const ChainQ& a, const ChainQ& b) const;
