@@ -42,6 +42,7 @@ struct CompensateArgs {
   bool flatten = false;
   bool progress = false;
   double tolerance = 0.001;
+  bool exact = false;
   int decimals = -1;                 ///< -1: the program's own
   int rotary_decimals = -1;          ///< -1: the program's own
   std::vector<std::string> sensors;  ///< NAME=VALUE (degC)

@@ -48,6 +48,9 @@ void add_compensate(CLI::App& app, CompensateArgs& args) {
   app.add_flag("--progress", args.progress, "print FILTER_PROGRESS=N lines on stderr (LinuxCNC filters)");
   app.add_option("--tolerance", args.tolerance, "mm: largest distance of the executed path from the nominal (0.001)")
       ->check(tolerance_in_mm());
+  app.add_flag("--exact", args.exact,
+               "solve every point on the model to below 1 nm (slower); by default a point along a path may be "
+               "placed where the model's error bound proves it within 8% of the tolerance");
   app.add_option("--decimals", args.decimals,
                  "decimals of the compensated linear coordinates, in the program's units (default: the program's "
                  "own, at least 4 in mm and 5 in inch; up to 2 more on a take-up whose play needs them)")
@@ -194,6 +197,7 @@ int run_compensate(const CompensateArgs& args) {
   options.resolve_cutter_comp = args.resolve_cutter_comp;
   options.flatten = args.flatten;
   options.tolerance = args.tolerance;
+  options.exact = args.exact;
   options.decimals = args.decimals;
   options.rotary_decimals = args.rotary_decimals;
   options.time = args.time;

@@ -29,7 +29,7 @@ ChainQ Compensator::point(const ChainQ& nominal, MoveReport& report) {
   // is bounded below this share of the tolerance: the point then lands within a tenth of
   // the tolerance of where an evaluated solve puts it.
   InverseOptions inverse;
-  inverse.bound = &bound_;
+  inverse.bound = options_.exact ? nullptr : &bound_;
   inverse.bounded_tolerance = kBoundedShare * options_.tolerance;
   const InverseResult r = solve_inverse(model_, problem_, data_, nominal, options_.conditions, inverse, nullptr,
                                         &workspace_, nominal == expected_ ? &expected_pose_ : nullptr);

@@ -26,6 +26,7 @@ namespace {
 CompensationOptions compensation_options(const model::MachineModel& model, const JobOptions& options) {
   CompensationOptions c;
   c.tolerance = options.tolerance;
+  c.exact = options.exact;
   c.conditions = model::conditions_for(model, options.sensors, options.time);
   return c;
 }

@@ -1,17 +1,20 @@
 // The inverse's shortcut along a path (InverseOptions::bound): a point accepted without
 // evaluating the model, or an evaluated iterate left standing, must land within the bound
-// it reports, and that bound within the caller's tolerance, for models of every form and for the sample machine; checked against
-// a fresh evaluation of the model at the accepted axis values. Where the model gives no
-// bound, every point is evaluated.
+// it reports, and that bound within the caller's tolerance, for models of every form and for the sample machine;
+// checked against a fresh evaluation of the model at the accepted axis values. Where the model gives no bound, every
+// point is evaluated.
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <random>
+#include <regex>
+#include <sstream>
 
 #include "ccomp/compensate/inverse.hpp"
 #include "ccomp/kinematics/pose.hpp"
 #include "ccomp/model/model_file.hpp"
 #include "ccomp/model/variation_bound.hpp"
+#include "job_runner.hpp"
 #include "random_terms.hpp"
 #include "sample_models.hpp"
 
@@ -36,7 +39,7 @@ model::ChainQ path_point(int k, double step, std::array<double, 9>& directions) 
 
 struct Outcome {
   int bounded = 0, points = 0;
-  int standing = 0;  ///< evaluated, and left where the residual is within a tenth of the tolerance
+  int standing = 0;          ///< evaluated, and left where the residual is within a tenth of the tolerance
   double worst_share = 0.0;  ///< the largest true residual over its bound
 };
 
@@ -123,6 +126,46 @@ TEST(BoundedInverse, NoBoundNoShortcut) {
   model::Conditions c;
   c.temperatures = {20.0, 20.0};
   EXPECT_EQ(solve_path(m, c, 0.05, "unlimited").bounded, 0);
+}
+
+TEST(BoundedInverse, TheJobsPointsStayWithinATenthOfTheToleranceOfExactSolves) {
+  // A finishing pass through the job with the sample HMC, with the shortcut (the default)
+  // and --exact: the shortcut changes what is written, by at most a tenth of the tolerance
+  // at every coordinate (here one unit of the fourth decimal), and adds no line.
+  const model::MachineModel mm = test::sample_machine("hmc-xyzb");
+  std::string program = "G21 G90 G94 G54\nT1 M6\nG43 H1\nF1500\nG0 X0 Y0 Z5\nG1 Z-1\n";
+  for (int row = 0; row < 3; ++row)
+    for (int k = 0; k <= 300; ++k) {
+      const double x = (row % 2 == 0 ? k : 300 - k) * 0.05, y = row * 0.4;
+      char line[80];
+      std::snprintf(line, sizeof line, "G1 X%.4f Y%.4f Z%.4f\n", x, y,
+                    -1.0 + 0.5 * std::sin(0.1 * x) * std::cos(0.07 * y));
+      program += line;
+    }
+  program += "G0 Z50\nM30\n";
+  JobOptions o;
+  o.time = 3600;
+  o.sensors = {{"bed", 24.0}, {"column", 23.0}, {"spindle", 31.0}};
+  const std::string fast = test::compensate(program, mm, o);
+  o.exact = true;
+  const std::string exact = test::compensate(program, mm, o);
+  EXPECT_NE(fast, exact) << "the shortcut took no point";
+  std::istringstream a(fast), b(exact);
+  std::string la, lb;
+  const std::regex number("([A-Z])(-?[0-9]+\\.?[0-9]*)");
+  int lines = 0, moved = 0;
+  while (std::getline(a, la)) {
+    ASSERT_TRUE(std::getline(b, lb)) << "the shortcut added line " << lines + 1 << ": " << la;
+    ++lines;
+    if (la == lb) continue;
+    ++moved;
+    ASSERT_EQ(std::regex_replace(la, number, "$1"), std::regex_replace(lb, number, "$1")) << la << " | " << lb;
+    for (std::sregex_iterator i(la.begin(), la.end(), number), j(lb.begin(), lb.end(), number);
+         i != std::sregex_iterator() && j != std::sregex_iterator(); ++i, ++j)
+      EXPECT_LE(std::abs(std::stod((*i)[2]) - std::stod((*j)[2])), 1e-4 + 1e-12) << la << " | " << lb;
+  }
+  EXPECT_FALSE(std::getline(b, lb)) << "--exact wrote more lines";
+  EXPECT_GT(moved, 0);
 }
 
 }  // namespace

@@ -33,6 +33,9 @@ inline constexpr double kBoundedShare = 0.08;
 struct CompensationOptions {
   double tolerance = 0.001;  ///< mm: largest distance of the executed path from the nominal one
   int max_depth = 12;        ///< a move is split into at most 2^12 pieces
+  /// Every point solved on the model; else a point along a path may be accepted where the
+  /// error field's bound proves it within kBoundedShare of the tolerance (InverseOptions::bound).
+  bool exact = false;
   model::Conditions conditions;
 };
 

@@ -48,6 +48,9 @@ struct JobOptions {
   /// linear axes, in the program's units; `rotary_decimals` for the rotary axes, in degrees.
   int decimals = -1;
   int rotary_decimals = -1;
+  /// Solve every point on the model (Newton to below 1 nm), none accepted on the error
+  /// field's bound within a share of the tolerance (CompensationOptions::exact).
+  bool exact = false;
   /// 2: the moves are compensated on a thread of their own while this one reads, interprets
   /// and writes the program (and takes the uncompensated machine's error for the report).
   /// The output is the same for 1 and 2: the same work is done in the same order.
