@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """Whether two written programs differ only where a point moved within its last digit.
 
-    bench/close-output.py OLD_DIR NEW_DIR
+    bench/close-output.py OLD_DIR NEW_DIR [TOLERANCE_MM]
 
 Compares each pair of files of the same name under the two directories (what
 bench/same-output.sh writes): the reports, messages and exit codes must be the same byte
@@ -41,7 +41,7 @@ def coordinates(line):
     return NUMBER.sub(take, line).split(), words
 
 
-TOLERANCE_MM = 0.001  # the job's default
+TOLERANCE_MM = 0.001  # the job's default; the third argument sets another
 LINEAR = "XYZUVWIJKR"
 
 
@@ -63,12 +63,11 @@ def close_lines(old, new, old_axes, new_axes, inch=False):
     if old_rest != new_rest:
         return "the words other than coordinates differ"
     for letter in set(old_words) | set(new_words):
-        old_axes_before, new_axes_before = dict(old_axes), dict(new_axes)
-        a = old_words.get(letter, old_axes_before.get(letter)) if letter in AXES else old_words.get(letter)
-        b = new_words.get(letter, new_axes_before.get(letter)) if letter in AXES else new_words.get(letter)
+        a = old_words.get(letter, old_axes.get(letter)) if letter in AXES else old_words.get(letter)
+        b = new_words.get(letter, new_axes.get(letter)) if letter in AXES else new_words.get(letter)
         if a is None or b is None:
             return f"{letter} only on one side"
-        before = old_axes_before.get(letter) if letter in AXES else None
+        before = old_axes.get(letter) if letter in AXES else None
         if abs(float(a) - float(b)) > allowed(letter, a, b, inch, before) * (1 + 1e-9):
             return f"{letter}{a} against {letter}{b}: further apart than allowed"
     return None
@@ -108,7 +107,10 @@ def align(old_path, new_path, old_count, new_count):
 
 
 def main():
+    global TOLERANCE_MM
     old_dir, new_dir = sys.argv[1], sys.argv[2]
+    if len(sys.argv) > 3:
+        TOLERANCE_MM = float(sys.argv[3])
     files = numbers = problems = 0
     for name in sorted(os.listdir(old_dir)):
         with open(os.path.join(old_dir, name), "rb") as f:

@@ -21,15 +21,17 @@ Compensator::Compensator(const model::ForwardModel& model, CompensationOptions o
       check_(model),
       bound_(model, options_.conditions) {}
 
-ChainQ Compensator::point(const ChainQ& nominal, MoveReport& report) {
+ChainQ Compensator::point(const ChainQ& nominal, MoveReport& report) { return solve_point(nominal, report).q; }
+
+Compensator::SolvedPoint Compensator::solve_point(const ChainQ& nominal, MoveReport& report) {
   // A move usually starts where the last one ended: that point is solved already.
   if (nominal == workspace_.last_nominal && options_.conditions.directions == workspace_.last_directions)
-    return workspace_.last_solution;
+    return {workspace_.last_answer, workspace_.last_answer_bound};
   // A point along a path may be accepted without evaluating the model where its residual
   // is bounded below this share of the tolerance: the point then lands within a tenth of
   // the tolerance of where an evaluated solve puts it.
   InverseOptions inverse;
-  inverse.bound = options_.exact ? nullptr : &bound_;
+  inverse.bound = options_.exact || exact_now_ ? nullptr : &bound_;
   inverse.bounded_tolerance = kBoundedShare * options_.tolerance;
   const InverseResult r = solve_inverse(model_, problem_, data_, nominal, options_.conditions, inverse, nullptr,
                                         &workspace_, nominal == expected_ ? &expected_pose_ : nullptr);
@@ -43,15 +45,11 @@ ChainQ Compensator::point(const ChainQ& nominal, MoveReport& report) {
                                                r.iterations, r.position_residual.norm()));
   }
   remember_tip(nominal, r.target);
-  if (r.residual_bound > InverseOptions{}.position_tolerance) {
-    bounded_[next_bounded_] = {r.q, r.residual_bound};
-    next_bounded_ = (next_bounded_ + 1) % bounded_.size();
-  }
   report.max_correction = std::max(report.max_correction, (r.q - nominal).head<3>().cwiseAbs().maxCoeff());
   report.max_rotary_correction =
       std::max(report.max_rotary_correction, (r.q - nominal).segment<3>(3).cwiseAbs().maxCoeff());
   report.max_orientation_error = std::max(report.max_orientation_error, r.orientation_error.norm());
-  return r.q;
+  return {r.q, r.residual_bound};
 }
 
 void Compensator::moved(const ChainQ& q) {
@@ -200,12 +198,6 @@ bool Compensator::nominal_affine(const ChainQ& a, const ChainQ& b) {
   return a.segment<3>(3) == b.segment<3>(3) && a[model::kToolLengthIndex] == b[model::kToolLengthIndex];
 }
 
-double Compensator::residual_bound(const ChainQ& solved) const {
-  for (const auto& [q, bound] : bounded_)
-    if (q == solved) return bound;
-  return InverseOptions{}.position_tolerance;
-}
-
 double Compensator::executed_deviation(const ChainQ& a_nominal, const ChainQ& b_nominal, const ChainQ& a_comp,
                                        const ChainQ& b_comp, double t) {
   // The machine interpolates the commanded axis values linearly; the program meant the
@@ -237,9 +229,10 @@ double Compensator::deviation_across(const ChainQ& a_nominal, const ChainQ& b_no
   return (off - off.dot(along) * along).norm();
 }
 
-void Compensator::split(const ChainQ& a_nominal, const ChainQ& b_nominal, const ChainQ& a_comp, const ChainQ& b_comp,
-                        double s0, double s1, int depth, double tolerance, std::vector<CompensatedPoint>& out,
-                        MoveReport& report) {
+void Compensator::split(const ChainQ& a_nominal, const ChainQ& b_nominal, const SolvedPoint& a,
+                        const SolvedPoint& b, double s0, double s1, int depth, double tolerance,
+                        std::vector<CompensatedPoint>& out, MoveReport& report) {
+  const ChainQ &a_comp = a.q, &b_comp = b.q;
   // A piece shorter than the error field's finest feature (the highest harmonic's period
   // / 8, a table's knot spacing / 4) bends like a parabola or, across a table's knot, like
   // a kink: the midpoint sees at least half the worst deviation, so half the tolerance
@@ -247,8 +240,7 @@ void Compensator::split(const ChainQ& a_nominal, const ChainQ& b_nominal, const 
   // periodic error. A piece the error field cannot bend by a tenth of the tolerance (most of
   // a finishing program's short moves) needs no check at all: its bound is what it reports.
   if (nominal_affine(a_nominal, b_nominal)) {
-    const double bound =
-        bound_.chord_deviation(a_comp, b_comp) + std::max(residual_bound(a_comp), residual_bound(b_comp));
+    const double bound = bound_.chord_deviation(a_comp, b_comp) + std::max(a.residual_bound, b.residual_bound);
     if (bound <= 0.1 * tolerance) {
       report.max_deviation_after = std::max(report.max_deviation_after, bound);
       out.push_back({s1, b_comp});
@@ -270,10 +262,10 @@ void Compensator::split(const ChainQ& a_nominal, const ChainQ& b_nominal, const 
     return;
   }
   const ChainQ m_nominal = 0.5 * (a_nominal + b_nominal);
-  const ChainQ m_comp = point(m_nominal, report);
+  const SolvedPoint m = solve_point(m_nominal, report);
   const double sm = 0.5 * (s0 + s1);
-  split(a_nominal, m_nominal, a_comp, m_comp, s0, sm, depth + 1, tolerance, out, report);
-  split(m_nominal, b_nominal, m_comp, b_comp, sm, s1, depth + 1, tolerance, out, report);
+  split(a_nominal, m_nominal, a, m, s0, sm, depth + 1, tolerance, out, report);
+  split(m_nominal, b_nominal, m, b, sm, s1, depth + 1, tolerance, out, report);
 }
 
 void Compensator::straight(const ChainQ& start, const ChainQ& end, std::vector<CompensatedPoint>& out,
@@ -302,19 +294,19 @@ void Compensator::stretch(const StraightMove& move, double s0, double s1, int tu
   const ChainQ from = along(move.start, move.end, s0), to = along(move.start, move.end, s1);
   options_.conditions.directions = play_;
   approach(from, to);
-  ChainQ a = point(from, report);
-  ChainQ b = point(to, report);
-  if (approach_by_travel(a, b)) {
-    a = point(from, report);
-    b = point(to, report);
+  SolvedPoint start = solve_point(from, report), end = solve_point(to, report);
+  if (approach_by_travel(start.q, end.q)) {
+    start = solve_point(from, report);
+    end = solve_point(to, report);
   }
+  ChainQ& a = start.q;
   if (offset_by_control_) {
     // Where the control offsets the path, the move given is the tool centre's as the control
     // settles it between its corners: pieces of it stay within them, so the control offsets
     // each the same way, and no piece is one it refuses. No take-up can be written in it.
     lead_in(from, a, move.tolerance, out, report);
     const std::size_t first = out.size();
-    split(from, to, a, b, s0, s1, 0, move.tolerance, out, report);
+    split(from, to, start, end, s0, s1, 0, move.tolerance, out, report);
     // No take-up either where a play runs out along the cut: what it leaves is counted.
     report.max_deviation_after = std::max(report.max_deviation_after, play_stray(move, s0, a, out, first));
     for (std::size_t k = first; k < out.size(); ++k) command(out[k].q);
@@ -322,7 +314,7 @@ void Compensator::stretch(const StraightMove& move, double s0, double s1, int tu
   }
   MoveReport solved;
   const std::size_t first = out.size();
-  split(from, to, a, b, s0, s1, 0, move.tolerance, out, solved);
+  split(from, to, start, end, s0, s1, 0, move.tolerance, out, solved);
   const std::span<const CompensatedPoint> pieces(out.begin() + static_cast<std::ptrdiff_t>(first), out.end());
   if (const std::optional<Turn> turn = correction_turn(s0, a, pieces, turns_left == 0)) {
     if (turns_left > 0) {

@@ -111,6 +111,11 @@ double Compensator::extremum(const StraightMove& move, const Turn& turn, MoveRep
   // Golden-section search for where the axis' correction is furthest its first way, the
   // pieces showing it between turn.from and turn.to.
   const auto k = static_cast<Eigen::Index>(turn.axis);
+  // Every point solved on the model: the search compares solutions nanometres apart.
+  struct Exact {
+    bool& flag;
+    ~Exact() { flag = false; }
+  } exact{exact_now_ = true};
   auto value = [&](double s) { return turn.way * point(along(move.start, move.end, s), report)[k]; };
   double lo = turn.from, hi = turn.to;
   constexpr double kGolden = 0.6180339887498949;

@@ -145,7 +145,7 @@ SolveStart start_of(const InverseProblem& problem, InverseWorkspace& ws, const C
   return s;
 }
 
-/// The share of a tenth of the bounded tolerance an evaluated iterate may stand with.
+/// The share of the bounded tolerance an evaluated iterate may stand with (a tenth).
 constexpr double kStandingShare = 0.1;
 
 /// mm: what an exact residual moves the tip by, the rotary residuals' share through the
@@ -304,7 +304,7 @@ void learn(const InverseProblem& problem, InverseWorkspace& ws, const ChainQ& q_
     if (const Eigen::Vector3d moved = ws.nodes[1].tip - ws.nodes[0].tip; moved.norm() > 1e-6)
       secant_update(ws, s_step, moved);
   }
-  if (s.same_target && s.approach_changes == 1) {
+  if (s.same_target && s.approach_changes == 1 && !after_bounded) {
     // The same point for one axis' changed approach: the solution's move per unit of it.
     const double change = conditions.directions[s.changed_axis] - ws.last_directions[s.changed_axis];
     ChainQ& gain = ws.approach_gain[s.changed_axis];
@@ -328,8 +328,9 @@ void learn(const InverseProblem& problem, InverseWorkspace& ws, const ChainQ& q_
 /// Accepts the prediction s.q where the nodes bound its residual below the caller's
 /// tolerance (see path_nodes.hpp); r gets the extrapolated residuals and the bound,
 /// `residual` them over the equations.
-bool accept_on_bound(const InverseProblem& problem, const model::Conditions& conditions, const InverseOptions& options, const InverseWorkspace& ws,
-                     const SolveStart& s, InverseResult& r, Residual& residual, bool& on_path) {
+bool accept_on_bound(const InverseProblem& problem, const model::Conditions& conditions, const InverseOptions& options,
+                     const InverseWorkspace& ws, const SolveStart& s, InverseResult& r, Residual& residual,
+                     bool& on_path) {
   if (!s.predicted || ws.node_count < 2 || problem.rotary_unknowns.size() > 1 ||
       !detail::nodes_hold(ws, conditions, s.R_target, s.q[static_cast<Eigen::Index>(model::kToolLengthIndex)]))
     return false;
@@ -375,6 +376,8 @@ InverseResult solve_inverse(const model::ForwardModel& model, const InverseProbl
     move_unknowns(problem, s.q, solve_matrix_times(ws.solve_matrix, residual), -1.0);
     learn(problem, ws, q_nominal, conditions, s, true);
     ++ws.bounded_points;
+    ws.last_answer = r.q;
+    ws.last_answer_bound = r.residual_bound;
     return r;
   }
   iterate(model, problem, d, conditions, options, ws, s, r);
@@ -386,6 +389,8 @@ InverseResult solve_inverse(const model::ForwardModel& model, const InverseProbl
                           s.evaluated_omega, options.bounded_tolerance);
     learn(problem, ws, q_nominal, conditions, s);
     r.residual_bound = s.stands ? s.standing_residual : options.position_tolerance;
+    ws.last_answer = r.q;
+    ws.last_answer_bound = r.residual_bound;
   }
   return r;
 }

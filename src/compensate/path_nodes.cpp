@@ -60,9 +60,11 @@ bool take_slopes(const model::ForwardModel& model, const model::VariationBound& 
   return true;
 }
 
-bool slopes_hold(const InverseProblem& problem, const InverseWorkspace::NominalSlopes& slopes, const ChainQ& q,
-                 const Eigen::Matrix3d& R_target) {
-  return slopes.valid && slopes.tool_length == q[kTool] && slopes.orientation == R_target &&
+/// Whether the slopes were taken (or found not to split, `valid` false) for q's tool
+/// length, the target orientation and near q's rotary axis value.
+bool slopes_taken_for(const InverseProblem& problem, const InverseWorkspace::NominalSlopes& slopes, const ChainQ& q,
+                      const Eigen::Matrix3d& R_target) {
+  return slopes.tool_length == q[kTool] && slopes.orientation == R_target &&
          (problem.rotary_unknowns.empty() ||
           std::abs(q[problem.rotary_unknowns.front()] - slopes.rotary_value) <= kSlopesTurn);
 }
@@ -116,13 +118,16 @@ void record_node(const model::ForwardModel& model, const model::VariationBound& 
                                   std::nextafter(bound.stretch_limit(a, q), 0.0)})
                       : 1.0;
   ws.line_reach = std::max(ws.line_reach, 1.0);
-  if (!slopes_hold(problem, ws.slopes, q, R_target)) take_slopes(model, bound, problem, d, ws.slopes, q, R_target);
+  if (!slopes_taken_for(problem, ws.slopes, q, R_target))
+    take_slopes(model, bound, problem, d, ws.slopes, q, R_target);
 }
 
 bool extrapolate(const model::VariationBound& bound, const InverseProblem& problem, const InverseWorkspace& ws,
                  const ChainQ& q, const Eigen::Vector3d& target, Extrapolated& out, bool bent, double* at) {
   const InverseWorkspace::Node &a = ws.nodes[0], &b = ws.nodes[1];
-  if (!slopes_hold(problem, ws.slopes, q, ws.node_orientation) || !std::isfinite(ws.line_chord)) return false;
+  if (!ws.slopes.valid || !slopes_taken_for(problem, ws.slopes, q, ws.node_orientation) ||
+      !std::isfinite(ws.line_chord))
+    return false;
   const ChainQ line = b.q - a.q;
   const double length2 = line.squaredNorm();
   if (!(length2 > 0.0)) return false;

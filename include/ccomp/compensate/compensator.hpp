@@ -106,6 +106,13 @@ class Compensator {
   void offset_by_control(bool on) { offset_by_control_ = on; }
   /// The compensated values for one point, for the approach the compensator assumes now.
   [[nodiscard]] model::ChainQ point(const model::ChainQ& nominal, MoveReport& report);
+  /// A solved point and how far its actual tip can be from the nominal one (mm).
+  struct SolvedPoint {
+    model::ChainQ q;
+    double residual_bound = 0.0;
+  };
+  /// point() with its residual bound.
+  [[nodiscard]] SolvedPoint solve_point(const model::ChainQ& nominal, MoveReport& report);
   /// The nominal pose at `nominal`, known to the caller: the next solve for that point uses
   /// it instead of evaluating it (the same numbers: the caller evaluated it as forward() does).
   void expect(const model::ChainQ& nominal, const NominalPose& pose) {
@@ -190,8 +197,8 @@ class Compensator {
   [[nodiscard]] double turn_left(std::size_t axis, double back) const;
   /// The fraction of the move where the turn's axis' correction is furthest its first way.
   [[nodiscard]] double extremum(const StraightMove& move, const Turn& turn, MoveReport& report);
-  void split(const model::ChainQ& a_nominal, const model::ChainQ& b_nominal, const model::ChainQ& a_comp,
-             const model::ChainQ& b_comp, double s0, double s1, int depth, double tolerance,
+  void split(const model::ChainQ& a_nominal, const model::ChainQ& b_nominal, const SolvedPoint& a,
+             const SolvedPoint& b, double s0, double s1, int depth, double tolerance,
              std::vector<CompensatedPoint>& out, MoveReport& report);
   /// How the move from nominal `start` (compensated `a`) begins from where the machine is:
   /// take-ups (or, under the control's offset, none: `a` becomes where the machine is), a
@@ -235,8 +242,6 @@ class Compensator {
   /// Whether the nominal path from a to b is straight in the workpiece frame as the linear
   /// axes are (the rotary axes and the tool length stand still).
   [[nodiscard]] static bool nominal_affine(const model::ChainQ& a, const model::ChainQ& b);
-  /// mm: how far the actual tip can be from its target at a solved point.
-  [[nodiscard]] double residual_bound(const model::ChainQ& solved) const;
   double executed_deviation(const model::ChainQ& a_nominal, const model::ChainQ& b_nominal, const model::ChainQ& a_comp,
                             const model::ChainQ& b_comp, double t);
 
@@ -264,12 +269,9 @@ class Compensator {
   model::ForwardData data_, check_;
   std::vector<CompensatedPoint> lead_;  ///< a stretch's take-ups, before they go in front of its pieces
   model::VariationBound bound_;  ///< for options_.conditions
-  /// The last points solved without evaluating the model (InverseOptions::bound), with
-  /// the bound of their residual, round robin: a move's pieces are accepted on their ends'.
-  std::array<std::pair<model::ChainQ, double>, 4> bounded_ = {
-      std::pair{model::ChainQ::Constant(std::nan("")), 0.0}, std::pair{model::ChainQ::Constant(std::nan("")), 0.0},
-      std::pair{model::ChainQ::Constant(std::nan("")), 0.0}, std::pair{model::ChainQ::Constant(std::nan("")), 0.0}};
-  std::size_t next_bounded_ = 0;
+  /// Every point solved on the model while set (InverseOptions::bound unused): a search
+  /// comparing solutions a few nanometres apart must not see the bound's.
+  bool exact_now_ = false;
   /// The probe error_at(probe, at_least) took last, and the bound of its error.
   ErrorProbe last_probe_;
   double last_probe_error_ = std::nan("");

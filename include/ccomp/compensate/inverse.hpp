@@ -61,6 +61,11 @@ struct InverseProblem {
 struct InverseWorkspace {
   Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, 9, 6> solve_matrix;  ///< n x m, empty until a Jacobian
   model::ChainQ last_solution = model::ChainQ::Constant(std::nan(""));
+  /// The last solution as given to the caller, and its residual bound: the same but where
+  /// a point was accepted on the bound or left standing (InverseOptions::bound), whose next
+  /// prediction starts from it moved by its known residual (last_solution).
+  model::ChainQ last_answer = model::ChainQ::Constant(std::nan(""));
+  double last_answer_bound = 0.0;
   model::ChainQ last_nominal = model::ChainQ::Constant(std::nan(""));  ///< the point it was solved for
   Eigen::Vector3d last_target = Eigen::Vector3d::Zero();
   Eigen::Matrix3d last_target_orientation = Eigen::Matrix3d::Zero();
