@@ -25,11 +25,13 @@ constexpr double kTolerance = 1e-4;  // mm: what the compensation at 1 um allows
 
 /// A finishing path in even steps of `step` mm: rows of 20 mm along X with a bent Z, a step
 /// over in Y between them (the approach of X turns round), a tool change and a table index
-/// on the way.
-model::ChainQ path_point(int k, double step, std::array<double, 9>& directions) {
+/// on the way. `zigzag`: every third point steps back a step and a half, so that points
+/// fall between the last two solved and behind them.
+model::ChainQ path_point(int k, double step, std::array<double, 9>& directions, bool zigzag = false) {
   const int per_row = static_cast<int>(std::lround(20.0 / step));
   const int row = k / per_row, along = k % per_row;
-  const double s = along * step, x = row % 2 == 0 ? -10.0 + s : -10.0 + (per_row - 1) * step - s;
+  const double s = (along - (zigzag && along % 3 == 2 ? 1.5 : 0.0)) * step;
+  const double x = row % 2 == 0 ? -10.0 + s : -10.0 + (per_row - 1) * step - s;
   directions[0] = row % 2 == 0 ? 1.0 : -1.0;
   model::ChainQ q = model::ChainQ::Zero();
   q << x, 30.0 + 0.5 * row, -20.0 + 0.5 * std::sin(0.1 * x) * std::cos(0.07 * row), 0, k < 1600 ? 0.0 : 0.4, 0, 0, 0, 0,
@@ -45,7 +47,7 @@ struct Outcome {
 
 /// Solves the path with the shortcut and checks each point against a fresh evaluation.
 Outcome solve_path(const model::ForwardModel& m, const model::Conditions& conditions, double step,
-                   const std::string& label) {
+                   const std::string& label, bool zigzag = false) {
   const InverseProblem problem(m);
   model::ForwardData d(m), check(m), nominal(m);
   model::Conditions c = conditions;
@@ -56,7 +58,7 @@ Outcome solve_path(const model::ForwardModel& m, const model::Conditions& condit
   InverseWorkspace ws;
   Outcome out;
   for (int k = 0; k < 2400; ++k, ++out.points) {
-    const model::ChainQ q = path_point(k, step, c.directions);
+    const model::ChainQ q = path_point(k, step, c.directions, zigzag);
     model::forward(m, nominal, q, c);
     const InverseResult r = solve_inverse(m, problem, d, q, c, options, nullptr, &ws);
     if (!r.converged) {
@@ -100,6 +102,7 @@ TEST(BoundedInverse, PointsAcceptedOnTheBoundLandWithinItForEveryForm) {
     // knots, a short period).
     EXPECT_GT(solve_path(m, c, 0.02, form + " at 0.02 mm").bounded, 0) << form;
     solve_path(m, c, 0.1, form + " at 0.1 mm");
+    EXPECT_GT(solve_path(m, c, 0.02, form + " zigzag at 0.02 mm", true).bounded, 0) << form;
   }
 }
 
