@@ -21,9 +21,11 @@ Compensator::Compensator(const model::ForwardModel& model, CompensationOptions o
       check_(model),
       bound_(model, options_.conditions) {}
 
-ChainQ Compensator::point(const ChainQ& nominal, MoveReport& report) { return solve_point(nominal, report).q; }
+ChainQ Compensator::point(const ChainQ& nominal, MoveReport& report, Shortcut shortcut) {
+  return solve_point(nominal, report, shortcut).q;
+}
 
-Compensator::SolvedPoint Compensator::solve_point(const ChainQ& nominal, MoveReport& report) {
+Compensator::SolvedPoint Compensator::solve_point(const ChainQ& nominal, MoveReport& report, Shortcut shortcut) {
   // A move usually starts where the last one ended: that point is solved already.
   if (nominal == workspace_.last_nominal && options_.conditions.directions == workspace_.last_directions)
     return {workspace_.last_answer, workspace_.last_answer_bound};
@@ -31,7 +33,7 @@ Compensator::SolvedPoint Compensator::solve_point(const ChainQ& nominal, MoveRep
   // is bounded below this share of the tolerance: the point then lands within a tenth of
   // the tolerance of where an evaluated solve puts it.
   InverseOptions inverse;
-  inverse.bound = options_.exact || exact_now_ ? nullptr : &bound_;
+  inverse.bound = options_.exact || shortcut == Shortcut::none ? nullptr : &bound_;
   inverse.bounded_tolerance = kBoundedShare * options_.tolerance;
   const InverseResult r = solve_inverse(model_, problem_, data_, nominal, options_.conditions, inverse, nullptr,
                                         &workspace_, nominal == expected_ ? &expected_pose_ : nullptr);

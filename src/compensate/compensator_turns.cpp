@@ -112,11 +112,9 @@ double Compensator::extremum(const StraightMove& move, const Turn& turn, MoveRep
   // pieces showing it between turn.from and turn.to.
   const auto k = static_cast<Eigen::Index>(turn.axis);
   // Every point solved on the model: the search compares solutions nanometres apart.
-  struct Exact {
-    bool& flag;
-    ~Exact() { flag = false; }
-  } exact{exact_now_ = true};
-  auto value = [&](double s) { return turn.way * point(along(move.start, move.end, s), report)[k]; };
+  auto value = [&](double s) {
+    return turn.way * point(along(move.start, move.end, s), report, Shortcut::none)[k];
+  };
   double lo = turn.from, hi = turn.to;
   constexpr double kGolden = 0.6180339887498949;
   double x1 = hi - kGolden * (hi - lo), x2 = lo + kGolden * (hi - lo);

@@ -30,6 +30,13 @@ using Step = Eigen::Matrix<double, Eigen::Dynamic, 1, 0, 9, 1>;
 using SolveMatrix = decltype(InverseWorkspace::solve_matrix);
 using Residual = Eigen::Matrix<double, Eigen::Dynamic, 1, 0, 6, 1>;  ///< over the equations
 
+/// v over the problem's unknowns.
+Step over_unknowns(const InverseProblem& problem, const ChainQ& v) {
+  Step out(static_cast<Eigen::Index>(problem.unknowns.size()));
+  for (Eigen::Index c = 0; c < out.size(); ++c) out[c] = v[problem.unknowns[static_cast<std::size_t>(c)]];
+  return out;
+}
+
 /// q += sign * step, the step given over the problem's unknowns.
 void move_unknowns(const InverseProblem& problem, ChainQ& q, const Step& step, double sign) {
   for (std::size_t c = 0; c < problem.unknowns.size(); ++c)
@@ -148,13 +155,11 @@ SolveStart start_of(const InverseProblem& problem, InverseWorkspace& ws, const C
 /// The share of the bounded tolerance an evaluated iterate may stand with (a tenth).
 constexpr double kStandingShare = 0.1;
 
-/// mm: what an exact residual moves the tip by, the rotary residuals' share through the
-/// bound's lever included; +inf where residuals are not to be bounded.
+/// mm: what a residual over the equations moves the tip by, the rotary residuals' share
+/// through `lever`.
 template <typename Residual>
-double bounded_residual(const InverseOptions& options, const ChainQ& q, const Residual& residual) {
-  if (!options.bound || !(options.bounded_tolerance > 0.0)) return std::numeric_limits<double>::infinity();
+double tip_displacement(const Residual& residual, double lever) {
   double tip = residual.template head<3>().norm();
-  const double lever = options.bound->lever(q, q);
   for (Eigen::Index k = 3; k < residual.size(); ++k) tip += lever * std::abs(residual[k]);
   return tip;
 }
@@ -207,9 +212,11 @@ void iterate(const model::ForwardModel& model, const InverseProblem& problem, mo
     // another evaluation for less than what the points accepted on the bound are allowed.
     // (Not at a point off any path, a plunge or a rapid's end: there a few nanometres can
     // decide whether an axis that barely moves has reversed, and with it its take-up.)
-    const double standing = bounded_residual(options, q, residual);
-    const bool stands =
-        s.on_path && !(position_ok && angles_ok) && standing <= kStandingShare * options.bounded_tolerance;
+    // (s.on_path: the solve has a bound, InverseOptions::bound.)
+    const double standing = s.on_path && !(position_ok && angles_ok)
+                                ? tip_displacement(residual, options.bound->lever(q, q))
+                                : std::numeric_limits<double>::infinity();
+    const bool stands = standing <= kStandingShare * options.bounded_tolerance;
     if ((position_ok && angles_ok) || stands) {
       r.converged = true;
       s.evaluated = q;
@@ -279,7 +286,6 @@ void secant_update(InverseWorkspace& ws, const Step& s_step, const Eigen::Vector
 void learn(const InverseProblem& problem, InverseWorkspace& ws, const ChainQ& q_nominal,
            const model::Conditions& conditions, const SolveStart& s, bool bounded = false) {
   const ChainQ& q = s.q;
-  const auto n = static_cast<Eigen::Index>(problem.unknowns.size());
   // A solution accepted on the bound is the extrapolation's, and so is the step from it to
   // the next evaluated one: neither is a secant of the Jacobian, and the latter's miss holds
   // the extrapolation's error, not one to repeat.
@@ -287,22 +293,15 @@ void learn(const InverseProblem& problem, InverseWorkspace& ws, const ChainQ& q_
   ws.last_bounded = bounded;
   if (s.predicted && s.shift.norm() > 1e-6 && !bounded && !after_bounded) {
     // Broyden's update along the step just taken: the target shift maps to the solution's.
-    Step s_step(n);
-    for (Eigen::Index c = 0; c < n; ++c) {
-      const auto k = problem.unknowns[static_cast<std::size_t>(c)];
-      s_step[c] = q[k] - ws.last_solution[k] - (s.approach_changes > 0 ? s.approach_step[k] : 0.0);
-    }
-    secant_update(ws, s_step, s.shift);
-  } else if (after_bounded && ws.node_count == 2 && ws.nodes[1].q == s.evaluated) {
+    const ChainQ step = s.approach_changes > 0 ? ChainQ(q - ws.last_solution - s.approach_step)
+                                               : ChainQ(q - ws.last_solution);
+    secant_update(ws, over_unknowns(problem, step), s.shift);
+  } else if (after_bounded && ws.path.count == 2 && ws.path.nodes[1].q == s.evaluated) {
     // After points accepted on the bound, the step between the last two points evaluated
     // (their actual tips, not their targets) is the secant to follow.
-    Step s_step(n);
-    for (Eigen::Index c = 0; c < n; ++c) {
-      const auto k = problem.unknowns[static_cast<std::size_t>(c)];
-      s_step[c] = ws.nodes[1].q[k] - ws.nodes[0].q[k];
-    }
-    if (const Eigen::Vector3d moved = ws.nodes[1].tip - ws.nodes[0].tip; moved.norm() > 1e-6)
-      secant_update(ws, s_step, moved);
+    const PathNodes::Node &older = ws.path.nodes[0], &newer = ws.path.nodes[1];
+    if (const Eigen::Vector3d moved = newer.tip - older.tip; moved.norm() > 1e-6)
+      secant_update(ws, over_unknowns(problem, newer.q - older.q), moved);
   }
   if (s.same_target && s.approach_changes == 1 && !after_bounded) {
     // The same point for one axis' changed approach: the solution's move per unit of it.
@@ -331,11 +330,11 @@ void learn(const InverseProblem& problem, InverseWorkspace& ws, const ChainQ& q_
 bool accept_on_bound(const InverseProblem& problem, const model::Conditions& conditions, const InverseOptions& options,
                      const InverseWorkspace& ws, const SolveStart& s, InverseResult& r, Residual& residual,
                      bool& on_path) {
-  if (!s.predicted || ws.node_count < 2 || problem.rotary_unknowns.size() > 1 ||
-      !detail::nodes_hold(ws, conditions, s.R_target, s.q[static_cast<Eigen::Index>(model::kToolLengthIndex)]))
+  if (!s.predicted || ws.path.count < 2 || problem.rotary_unknowns.size() > 1 ||
+      !detail::nodes_hold(ws.path, conditions, s.R_target, s.q[static_cast<Eigen::Index>(model::kToolLengthIndex)]))
     return false;
   detail::Extrapolated x;
-  if (!detail::extrapolate(*options.bound, problem, ws, s.q, s.target, x)) return false;
+  if (!detail::extrapolate(*options.bound, problem, ws.path, s.q, s.target, x)) return false;
   on_path = true;
   residual.resize(3 + static_cast<Eigen::Index>(problem.rotary_unknowns.size()));
   residual.head<3>() = x.position_residual;
@@ -376,22 +375,19 @@ InverseResult solve_inverse(const model::ForwardModel& model, const InverseProbl
     move_unknowns(problem, s.q, solve_matrix_times(ws.solve_matrix, residual), -1.0);
     learn(problem, ws, q_nominal, conditions, s, true);
     ++ws.bounded_points;
-    ws.last_answer = r.q;
-    ws.last_answer_bound = r.residual_bound;
-    return r;
-  }
-  iterate(model, problem, d, conditions, options, ws, s, r);
-  r.q = s.stands ? s.evaluated : s.q;
-  r.target = s.target;
-  if (r.converged) {
+  } else {
+    iterate(model, problem, d, conditions, options, ws, s, r);
+    r.q = s.stands ? s.evaluated : s.q;
+    r.target = s.target;
+    if (!r.converged) return r;
     if (bounded && problem.rotary_unknowns.size() <= 1)
-      detail::record_node(model, *options.bound, problem, d, ws, s.evaluated, conditions, s.R_target,
+      detail::record_node(model, *options.bound, problem, d, ws.path, s.evaluated, conditions, s.R_target,
                           s.evaluated_omega, options.bounded_tolerance);
     learn(problem, ws, q_nominal, conditions, s);
     r.residual_bound = s.stands ? s.standing_residual : options.position_tolerance;
-    ws.last_answer = r.q;
-    ws.last_answer_bound = r.residual_bound;
   }
+  ws.last_answer = r.q;
+  ws.last_answer_bound = r.residual_bound;
   return r;
 }
 

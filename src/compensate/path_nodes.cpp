@@ -19,10 +19,10 @@ constexpr double kSlopesTurn = 1e-4;
 /// The furthest an extrapolation goes, in distances between the nodes.
 constexpr double kLongestReach = 64.0;
 
-/// Takes the perfect machine's slopes at q (see InverseWorkspace::NominalSlopes); false
+/// Takes the perfect machine's slopes at q (see PathNodes::NominalSlopes); false
 /// where its turn from the target is not about the one rotary axis.
 bool take_slopes(const model::ForwardModel& model, const model::VariationBound& bound, const InverseProblem& problem,
-                 model::ForwardData& d, InverseWorkspace::NominalSlopes& slopes, const ChainQ& q,
+                 model::ForwardData& d, PathNodes::NominalSlopes& slopes, const ChainQ& q,
                  const Eigen::Matrix3d& R_target) {
   slopes.valid = false;
   slopes.tool_length = q[kTool];
@@ -62,7 +62,7 @@ bool take_slopes(const model::ForwardModel& model, const model::VariationBound& 
 
 /// Whether the slopes were taken (or found not to split, `valid` false) for q's tool
 /// length, the target orientation and near q's rotary axis value.
-bool slopes_taken_for(const InverseProblem& problem, const InverseWorkspace::NominalSlopes& slopes, const ChainQ& q,
+bool slopes_taken_for(const InverseProblem& problem, const PathNodes::NominalSlopes& slopes, const ChainQ& q,
                       const Eigen::Matrix3d& R_target) {
   return slopes.tool_length == q[kTool] && slopes.orientation == R_target &&
          (problem.rotary_unknowns.empty() ||
@@ -71,77 +71,77 @@ bool slopes_taken_for(const InverseProblem& problem, const InverseWorkspace::Nom
 
 }  // namespace
 
-bool nodes_hold(const InverseWorkspace& ws, const model::Conditions& conditions, const Eigen::Matrix3d& R_target,
+bool nodes_hold(const PathNodes& path, const model::Conditions& conditions, const Eigen::Matrix3d& R_target,
                 double tool_length) {
-  return ws.node_count > 0 && ws.node_directions == conditions.directions && ws.node_orientation == R_target &&
-         ws.nodes[1].q[kTool] == tool_length && ws.node_time == conditions.time &&
-         ws.node_temperatures == conditions.temperatures;
+  return path.count > 0 && path.directions == conditions.directions && path.orientation == R_target &&
+         path.nodes[1].q[kTool] == tool_length && path.time == conditions.time &&
+         path.temperatures == conditions.temperatures;
 }
 
 void record_node(const model::ForwardModel& model, const model::VariationBound& bound, const InverseProblem& problem,
-                 model::ForwardData& d, InverseWorkspace& ws, const ChainQ& q, const model::Conditions& conditions,
+                 model::ForwardData& d, PathNodes& path, const ChainQ& q, const model::Conditions& conditions,
                  const Eigen::Matrix3d& R_target, const Eigen::Vector3d& omega, double tolerance) {
-  if (!nodes_hold(ws, conditions, R_target, q[kTool])) {
-    ws.node_count = 0;
-    ws.node_directions = conditions.directions;
-    ws.node_orientation = R_target;
-    ws.node_time = conditions.time;
-    ws.node_temperatures = conditions.temperatures;
+  if (!nodes_hold(path, conditions, R_target, q[kTool])) {
+    path.count = 0;
+    path.directions = conditions.directions;
+    path.orientation = R_target;
+    path.time = conditions.time;
+    path.temperatures = conditions.temperatures;
   }
   // What the last line's extrapolation missed this point by, over s (s - 1): its bend,
   // to be carried to the next line (scaled to its length).
   Eigen::Vector3d bend = Eigen::Vector3d::Zero(), turn_bend = Eigen::Vector3d::Zero();
   double bend_s = 0.0;
-  if (ws.node_count == 2) {
+  if (path.count == 2) {
     Extrapolated x;
-    if (extrapolate(bound, problem, ws, q, Eigen::Vector3d::Zero(), x, false, &bend_s) &&
+    if (extrapolate(bound, problem, path, q, Eigen::Vector3d::Zero(), x, false, &bend_s) &&
         std::abs(bend_s * (bend_s - 1.0)) >= 0.5) {
       bend = (d.actual - x.position_residual) / (bend_s * (bend_s - 1.0));
       turn_bend = (omega - x.orientation_error) / (bend_s * (bend_s - 1.0));
     }
   }
-  const double old_length2 = (ws.nodes[1].q - ws.nodes[0].q).squaredNorm();
-  ws.nodes[0] = ws.nodes[1];
-  ws.nodes[1] = {q, d.actual, omega};
-  ws.node_count = std::min(ws.node_count + 1, 2);
-  if (ws.node_count < 2) return;
-  const ChainQ &a = ws.nodes[0].q, line = q - a;
+  const double old_length2 = (path.nodes[1].q - path.nodes[0].q).squaredNorm();
+  path.nodes[0] = path.nodes[1];
+  path.nodes[1] = {q, d.actual, omega};
+  path.count = std::min(path.count + 1, 2);
+  if (path.count < 2) return;
+  const ChainQ &a = path.nodes[0].q, line = q - a;
   const double scale = old_length2 > 0.0 ? line.squaredNorm() / old_length2 : 0.0;
-  ws.line_bend = bend * scale;
-  ws.line_turn_bend = turn_bend * scale;
-  ws.line_chord = bound.chord_deviation(a, q);
+  path.line_bend = bend * scale;
+  path.line_turn_bend = turn_bend * scale;
+  path.line_chord = bound.chord_deviation(a, q);
   // Out to where 4 (s - 1) s chord, the along-line bound at s, reaches the tolerance, and
   // short of the first table knot the stretched line would step over (the chord bound
   // out there is then at most s^2 times the nodes' own).
-  ws.line_reach = std::isfinite(ws.line_chord) && ws.line_chord > 0.0
-                      ? std::min({0.5 + std::sqrt(0.25 + tolerance / (4.0 * ws.line_chord)), kLongestReach,
-                                  std::nextafter(bound.stretch_limit(a, q), 0.0)})
-                      : 1.0;
-  ws.line_reach = std::max(ws.line_reach, 1.0);
-  if (!slopes_taken_for(problem, ws.slopes, q, R_target))
-    take_slopes(model, bound, problem, d, ws.slopes, q, R_target);
+  path.line_reach = std::isfinite(path.line_chord) && path.line_chord > 0.0
+                        ? std::min({0.5 + std::sqrt(0.25 + tolerance / (4.0 * path.line_chord)), kLongestReach,
+                                    std::nextafter(bound.stretch_limit(a, q), 0.0)})
+                        : 1.0;
+  path.line_reach = std::max(path.line_reach, 1.0);
+  if (!slopes_taken_for(problem, path.slopes, q, R_target))
+    take_slopes(model, bound, problem, d, path.slopes, q, R_target);
 }
 
-bool extrapolate(const model::VariationBound& bound, const InverseProblem& problem, const InverseWorkspace& ws,
+bool extrapolate(const model::VariationBound& bound, const InverseProblem& problem, const PathNodes& path,
                  const ChainQ& q, const Eigen::Vector3d& target, Extrapolated& out, bool bent, double* at) {
-  const InverseWorkspace::Node &a = ws.nodes[0], &b = ws.nodes[1];
-  if (!ws.slopes.valid || !slopes_taken_for(problem, ws.slopes, q, ws.node_orientation) ||
-      !std::isfinite(ws.line_chord))
+  const PathNodes::Node &a = path.nodes[0], &b = path.nodes[1];
+  if (!path.slopes.valid || !slopes_taken_for(problem, path.slopes, q, path.orientation) ||
+      !std::isfinite(path.line_chord))
     return false;
   const ChainQ line = b.q - a.q;
   const double length2 = line.squaredNorm();
   if (!(length2 > 0.0)) return false;
   const double s = line.dot(q - a.q) / length2;
   if (at) *at = s;
-  if (!(s >= 0.0 && s <= ws.line_reach)) return false;
+  if (!(s >= 0.0 && s <= path.line_reach)) return false;
   const ChainQ on_line = a.q + s * line, off = q - on_line;  // off: w
   // Along the line: 4 |s (s - 1)| / hull^2 of the hull's chord bound.
-  const double chord = s <= 1.0 ? ws.line_chord : s * s * ws.line_chord;
+  const double chord = s <= 1.0 ? path.line_chord : s * s * path.line_chord;
   const double hull = std::max(s, 1.0);
   const double along = 4.0 * std::abs(s * (s - 1.0)) / (hull * hull) * chord;
   // Off it: the error field's slopes, the nominal slopes' turn since they were taken, and
   // the rotary axis' own share.
-  const InverseWorkspace::NominalSlopes& slopes = ws.slopes;
+  const PathNodes::NominalSlopes& slopes = path.slopes;
   const double errors = slopes.error_slopes.change(on_line, q);
   double linear = 0.0, turned = 0.0, turning = 0.0;
   for (const int k : problem.unknowns) linear += std::abs(off[k]) * (slopes.tip.col(k).squaredNorm() > 0.0);
@@ -158,7 +158,7 @@ bool extrapolate(const model::VariationBound& bound, const InverseProblem& probl
   const double slope_rounding = 8.0 * std::numeric_limits<double>::epsilon() * out.lever * linear;
   // The last line's bend, carried over, is a guess: its whole size goes to the bound.
   const double bending = bent ? s * (s - 1.0) : 0.0;
-  const Eigen::Vector3d bend = bending * ws.line_bend, turn_bend = bending * ws.line_turn_bend;
+  const Eigen::Vector3d bend = bending * path.line_bend, turn_bend = bending * path.line_turn_bend;
   out.position_bound = along + errors + turned * slopes.column_norm * linear + out.lever * turning + rounding +
                        slope_rounding + bend.norm();
   if (!std::isfinite(out.position_bound)) return false;

@@ -29,9 +29,9 @@
 
 namespace ccomp::compensate::detail {
 
-/// Whether the workspace's nodes were evaluated under these conditions, target
+/// Whether the nodes were evaluated under these conditions, target
 /// orientation and tool length.
-[[nodiscard]] bool nodes_hold(const InverseWorkspace& ws, const model::Conditions& conditions,
+[[nodiscard]] bool nodes_hold(const PathNodes& path, const model::Conditions& conditions,
                               const Eigen::Matrix3d& R_target, double tool_length);
 
 /// Makes the last evaluation at q (`d` holds its actual pose, `omega` its orientation
@@ -39,9 +39,8 @@ namespace ccomp::compensate::detail {
 /// changed; with two, their line's chord bounds out to where an extrapolation could still
 /// stay below `tolerance` (mm), and the nominal slopes there.
 void record_node(const model::ForwardModel& model, const model::VariationBound& bound, const InverseProblem& problem,
-                 model::ForwardData& d, InverseWorkspace& ws, const model::ChainQ& q,
-                 const model::Conditions& conditions, const Eigen::Matrix3d& R_target, const Eigen::Vector3d& omega,
-                 double tolerance);
+                 model::ForwardData& d, PathNodes& path, const model::ChainQ& q, const model::Conditions& conditions,
+                 const Eigen::Matrix3d& R_target, const Eigen::Vector3d& omega, double tolerance);
 
 /// The residuals at a prediction as the nodes extrapolate them, and how far the truth can be.
 struct Extrapolated {
@@ -55,8 +54,8 @@ struct Extrapolated {
 /// The nodes' extrapolation to q, where two nodes hold (the caller's to check) and the
 /// prediction lies within their line's reach; `bent`: with the bend carried from the last
 /// line. `at` gets q's place along the line (s), whatever the outcome.
-[[nodiscard]] bool extrapolate(const model::VariationBound& bound, const InverseProblem& problem,
-                               const InverseWorkspace& ws, const model::ChainQ& q, const Eigen::Vector3d& target,
-                               Extrapolated& out, bool bent = true, double* at = nullptr);
+[[nodiscard]] bool extrapolate(const model::VariationBound& bound, const InverseProblem& problem, const PathNodes& path,
+                               const model::ChainQ& q, const Eigen::Vector3d& target, Extrapolated& out,
+                               bool bent = true, double* at = nullptr);
 
 }  // namespace ccomp::compensate::detail

@@ -104,15 +104,20 @@ class Compensator {
   /// no take-up, re-approach or lead-to-start moves are written (a jog that turns back is
   /// an inside corner the control refuses). The moves given are the tool centre's.
   void offset_by_control(bool on) { offset_by_control_ = on; }
+  /// Whether a point may be accepted on the error field's bound (InverseOptions::bound)
+  /// rather than solved on the model (as --exact solves them all).
+  enum class Shortcut : std::uint8_t { allowed, none };
   /// The compensated values for one point, for the approach the compensator assumes now.
-  [[nodiscard]] model::ChainQ point(const model::ChainQ& nominal, MoveReport& report);
+  [[nodiscard]] model::ChainQ point(const model::ChainQ& nominal, MoveReport& report,
+                                    Shortcut shortcut = Shortcut::allowed);
   /// A solved point and how far its actual tip can be from the nominal one (mm).
   struct SolvedPoint {
     model::ChainQ q;
     double residual_bound = 0.0;
   };
   /// point() with its residual bound.
-  [[nodiscard]] SolvedPoint solve_point(const model::ChainQ& nominal, MoveReport& report);
+  [[nodiscard]] SolvedPoint solve_point(const model::ChainQ& nominal, MoveReport& report,
+                                        Shortcut shortcut = Shortcut::allowed);
   /// The nominal pose at `nominal`, known to the caller: the next solve for that point uses
   /// it instead of evaluating it (the same numbers: the caller evaluated it as forward() does).
   void expect(const model::ChainQ& nominal, const NominalPose& pose) {
@@ -269,9 +274,6 @@ class Compensator {
   model::ForwardData data_, check_;
   std::vector<CompensatedPoint> lead_;  ///< a stretch's take-ups, before they go in front of its pieces
   model::VariationBound bound_;  ///< for options_.conditions
-  /// Every point solved on the model while set (InverseOptions::bound unused): a search
-  /// comparing solutions a few nanometres apart must not see the bound's.
-  bool exact_now_ = false;
   /// The probe error_at(probe, at_least) took last, and the bound of its error.
   ErrorProbe last_probe_;
   double last_probe_error_ = std::nan("");

@@ -51,6 +51,47 @@ struct InverseProblem {
   std::vector<int> rotary_unknowns;                ///< their indices into q
 };
 
+/// The last two points where a solve evaluated the model (its last iterate), under one
+/// approach, target orientation, tool length and conditions: the actual tip there and the
+/// log of the actual orientation against the target. Along a path the tip moves smoothly,
+/// so the line through them extrapolates it to the next points, within what the error
+/// field's bound allows (src/compensate/path_nodes.hpp).
+struct PathNodes {
+  struct Node {
+    model::ChainQ q;
+    Eigen::Vector3d tip = Eigen::Vector3d::Zero();
+    Eigen::Vector3d omega = Eigen::Vector3d::Zero();
+  };
+  std::array<Node, 2> nodes{};  ///< the older first
+  int count = 0;
+  /// What they were evaluated under.
+  std::array<double, 9> directions{};
+  Eigen::Matrix3d orientation = Eigen::Matrix3d::Zero();
+  double time = 0.0;
+  std::vector<double> temperatures;
+  /// The chord bound of the nodes' line over the nodes, and how far out (in their distance
+  /// from the older) an extrapolation goes.
+  double line_chord = 0.0, line_reach = 0.0;
+  /// The bend the last line missed the newer node by, as a second derivative in the
+  /// current line's units: added to its extrapolation (the error field bends alike from
+  /// node to node), and its size to the bound.
+  Eigen::Vector3d line_bend = Eigen::Vector3d::Zero(), line_turn_bend = Eigen::Vector3d::Zero();
+  /// The perfect machine's slopes where the nodes are, for a prediction off their line:
+  /// the tip per unit of each linear unknown (exact: the tip is affine in them while the
+  /// rotary axis stands), the orientation per unit of the rotary one, the largest column,
+  /// and the error field's slopes (model::VariationBound::error_slopes), for the tool
+  /// length, target orientation and rotary axis value they were taken at.
+  struct NominalSlopes {
+    bool valid = false;
+    double tool_length = 0.0, rotary_value = 0.0, column_norm = 0.0;
+    Eigen::Matrix3d orientation = Eigen::Matrix3d::Zero();
+    Eigen::Matrix<double, 3, model::kChainVariables> tip = Eigen::Matrix<double, 3, model::kChainVariables>::Zero();
+    Eigen::Vector3d turn = Eigen::Vector3d::Zero();
+    model::VariationBound::ErrorSlopes error_slopes;
+  };
+  NominalSlopes slopes;
+};
+
 /// What one solve leaves for the next, when points come in a stream of neighbours: the
 /// solve matrix of the last Jacobian evaluated (its pseudo-inverse) and the last solution
 /// with its target. The error field changes slowly, so a Jacobian from a nearby point
@@ -81,43 +122,9 @@ struct InverseWorkspace {
   std::array<model::ChainQ, 9> approach_gain{};
   std::array<bool, 9> approach_gain_known{};
   std::size_t jacobian_evaluations = 0;  ///< how often the exact Jacobian was evaluated
-  /// The last two points where a solve evaluated the model (its last iterate), under one
-  /// approach, target orientation, tool length and conditions: the actual tip there and
-  /// the log of the actual orientation against the target. Along a path the tip moves
-  /// smoothly, so the line through them extrapolates it to the next points, within what
-  /// the error field's bound allows (src/compensate/path_nodes.hpp).
-  struct Node {
-    model::ChainQ q;
-    Eigen::Vector3d tip = Eigen::Vector3d::Zero();
-    Eigen::Vector3d omega = Eigen::Vector3d::Zero();
-  };
-  std::array<Node, 2> nodes{};  ///< the older first
-  int node_count = 0;
-  std::array<double, 9> node_directions{};
-  Eigen::Matrix3d node_orientation = Eigen::Matrix3d::Zero();
-  double node_time = 0.0;
-  std::vector<double> node_temperatures;
-  /// The chord bound of the nodes' line over the nodes, and how far out (in their distance
-  /// from the older) an extrapolation goes.
-  double line_chord = 0.0, line_reach = 0.0;
-  /// The bend the last line missed the newer node by, as a second derivative in the
-  /// current line's units: added to its extrapolation (the error field bends alike from
-  /// node to node), and its size to the bound.
-  Eigen::Vector3d line_bend = Eigen::Vector3d::Zero(), line_turn_bend = Eigen::Vector3d::Zero();
-  /// The perfect machine's slopes where the nodes are, for a prediction off their line:
-  /// the tip per unit of each linear unknown (exact: the tip is affine in them while the
-  /// rotary axis stands), the orientation per unit of the rotary one, the largest column,
-  /// and the error field's slopes (model::VariationBound::error_slopes), for the tool
-  /// length, target orientation and rotary axis value they were taken at.
-  struct NominalSlopes {
-    bool valid = false;
-    double tool_length = 0.0, rotary_value = 0.0, column_norm = 0.0;
-    Eigen::Matrix3d orientation = Eigen::Matrix3d::Zero();
-    Eigen::Matrix<double, 3, model::kChainVariables> tip = Eigen::Matrix<double, 3, model::kChainVariables>::Zero();
-    Eigen::Vector3d turn = Eigen::Vector3d::Zero();
-    model::VariationBound::ErrorSlopes error_slopes;
-  };
-  NominalSlopes slopes;
+  /// The last two points evaluated along the path: what bounds a prediction without
+  /// evaluating it (InverseOptions::bound).
+  PathNodes path;
   std::size_t bounded_points = 0;  ///< how many points were accepted on the bound
   bool last_bounded = false;       ///< the last solution was accepted on the bound
 };
