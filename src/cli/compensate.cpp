@@ -110,11 +110,10 @@ compensate::JobReport compensate_one(const Target& t, const model::MachineModel&
                                      const compensate::JobOptions& options, const CompensateArgs& args) {
   gcode::LineSource input = gcode::LineSource::open(t.input);
   if (t.output == "-") {
-    std::setvbuf(stdout, nullptr, _IOFBF, 1 << 20);
+    buffer_standard_output();
     return compensate::run_program_job(input, stdout, model, options);
   }
   OutputFile out(t.output);
-  std::setvbuf(out.file(), nullptr, _IOFBF, 1 << 20);
   const compensate::JobReport r = compensate::run_program_job(input, out.file(), model, options);
   if (args.in_place) keep_backup(t.input, args.backup_suffix);
   // Keep the input's permissions on the output (post processors may mark files executable).

@@ -153,6 +153,8 @@ OutputFile::OutputFile(std::string path) : path_(std::move(path)) {
     release(temporary_.c_str());
     throw Error(ErrorKind::io, fmt::format("cannot write '{}'", path_));
   }
+  buffer_ = std::make_unique_for_overwrite<char[]>(kOutputBuffer);
+  std::setvbuf(file_, buffer_.get(), _IOFBF, kOutputBuffer);
 }
 
 OutputFile::~OutputFile() {
@@ -202,6 +204,15 @@ void write_output(const std::string& path, const std::string& text) {
   OutputFile out(path);
   std::fwrite(text.data(), 1, text.size(), out.file());
   out.commit();
+}
+
+void buffer_standard_output() {
+  // Static, without a destructor: standard output is flushed at exit, after the destructors.
+  alignas(64) static char buffer[kOutputBuffer];
+  static bool given = false;
+  if (given) return;
+  given = true;
+  std::setvbuf(stdout, buffer, _IOFBF, sizeof buffer);
 }
 
 void finish_standard_output() {

@@ -4,7 +4,9 @@
 // beside it that is synced and renamed into place only when the whole output is written.
 // An interrupted run (SIGINT, SIGTERM) removes its temporary files; one killed outright
 // leaves them named with its process id, and the next run writing there removes them.
+#include <cstddef>
 #include <cstdio>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -22,6 +24,14 @@ void check_output(const std::string& path, const std::vector<RunInput>& inputs, 
 
 /// Refuses (usage) two targets that would write the same file.
 void check_distinct_outputs(const std::vector<std::string>& outputs);
+
+/// The stdio buffer an output is written through. (glibc takes setvbuf's size only with a
+/// buffer of the caller's: without one it allocates a block of 4 kB, a write call each.)
+inline constexpr std::size_t kOutputBuffer = std::size_t{1} << 18;
+
+/// Gives standard output a buffer of kOutputBuffer bytes; call it before anything is
+/// written there (later calls do nothing).
+void buffer_standard_output();
 
 /// An output being written: `file()` is a temporary file beside `path`; `commit()` flushes,
 /// syncs and renames it into place; destroyed without a commit it is removed.
@@ -45,6 +55,7 @@ class OutputFile {
 
  private:
   std::string path_, temporary_;
+  std::unique_ptr<char[]> buffer_;  ///< file_'s stdio buffer (freed after the destructor closes file_)
   std::FILE* file_ = nullptr;
 };
 

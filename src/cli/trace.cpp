@@ -10,6 +10,7 @@
 #include "ccomp/gcode/flatten.hpp"
 #include "ccomp/util/json.hpp"
 #include "commands.hpp"
+#include "output_file.hpp"
 
 namespace ccomp::cli {
 
@@ -59,7 +60,7 @@ void print_flattened_json(std::FILE* spool, const gcode::LineOrigins& origins) {
 
 int run_flatten(const TraceArgs& args) {
   gcode::LineSource source = gcode::LineSource::open(args.input);
-  std::setvbuf(stdout, nullptr, _IOFBF, 1 << 16);
+  buffer_standard_output();
   if (!args.json) {
     (void)gcode::flatten(source, stdout, interpreter_options(args.program, ""));
     return 0;
@@ -76,7 +77,7 @@ int run_trace(const TraceArgs& args) {
   // A trace prints every run of a loop, as flatten does: the same cap on what it writes.
   if (args.program.max_blocks == 0) options.max_blocks = std::min(options.max_blocks, gcode::kFlattenMaxBlocks);
   gcode::Interpreter interpreter(options);
-  std::setvbuf(stdout, nullptr, _IOFBF, 1 << 16);
+  buffer_standard_output();
   gcode::TracePrinter printer(stdout);
   printer.set_file_name(source.name());
   printer.set_json(args.json);
