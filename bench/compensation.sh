@@ -8,8 +8,7 @@
 source "$(dirname "$0")/common.sh"
 model=samples/machines/hmc-xyzb.yaml
 sensors=(--sensor bed=24 --sensor column=23 --sensor spindle=31 --time 3600)
-[ -f "$work/finishing-1000000.ngc" ] || "$build/bench/ccomp_bench_generate" 1000000 "$work/finishing-1000000.ngc"
-program="$work/finishing-1000000.ngc"
+program=$(generated_program 1000000)
 printf 'T1 P1 Z3.937 D0.25\n' > "$work/tools-inch.tbl"   # rs274 alone reads inches: 100 mm
 printf 'T1 P1 Z100 D6\n' > "$work/tools-mm.tbl"
 lines=$(wc -l < "$program")

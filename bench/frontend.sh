@@ -44,8 +44,7 @@ echo "tokenising and parse+interpret in memory (stellabee1.ngc):"
 echo
 echo "peak memory (max RSS) of the main job as the program grows:"
 for n in 1000000 10000000; do
-  f="$work/finishing-$n.ngc"
-  [ -f "$f" ] || "$build/bench/ccomp_bench_generate" "$n" "$f"
+  f=$(generated_program "$n")
   rss=$(/usr/bin/time -f '%M' "$ccomp" "$f" -m samples/machines/zero.yaml -o "$work/out.ngc" \
         --tool-table "$work/tools.tbl" --machine-units inch 2>&1 >/dev/null | tail -1)
   printf '  %9d lines (%5.0f MB): %6.1f MB\n' "$n" "$(echo "$(stat -c %s "$f")/1000000" | bc -l)" "$(echo "$rss/1024" | bc -l)"

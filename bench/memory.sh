@@ -15,19 +15,14 @@ full=(-m samples/machines/hmc-xyzb.yaml --tool-table "$work/tools-mm.tbl"
 zero=(-m samples/machines/zero.yaml --tool-table "$work/tools-inch.tbl" --machine-units inch)
 
 peak_mb() {  # max RSS of one run, in MB (1 MB = 1024 kB as time -v counts)
-  /usr/bin/time -v -o "$work/time-v" "$ccomp" "$@" > /dev/null 2> "$work/err" || { cat "$work/err"; exit 1; }
+  /usr/bin/time -v -o "$work/time-v" "$ccomp" "$@" > /dev/null 2> "$work/err" || { cat "$work/err" >&2; exit 1; }
   awk -F': ' '/Maximum resident set size/ {printf "%.1f", $2 / 1024}' "$work/time-v"
 }
 
 echo "peak memory (max RSS):"
 printf '  %-10s %9s %14s %14s %14s\n' lines "MB in" "zero model" "full HMC model" "verify"
 for n in $sizes; do
-  f="$work/finishing-$n.ngc"
-  # (a program written before the generator went back over the surface past 4M lines runs
-  # off the HMC's Y travel: written again)
-  if [ ! -f "$f" ] || { [ "$n" -gt 4000000 ] && ! grep -q '^G0 Z5$' "$f"; }; then
-    "$build/bench/ccomp_bench_generate" "$n" "$f"
-  fi
+  f=$(generated_program "$n")
   zero_mb=$(peak_mb "$f" "${zero[@]}" -o "$work/out.ngc" -q)
   full_mb=$(peak_mb "$f" "${full[@]}" -o "$work/out.ngc" -q)
   verify_mb=$(peak_mb verify "$f" "$work/out.ngc" "${full[@]}")

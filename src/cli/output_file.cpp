@@ -129,7 +129,9 @@ mode_t output_mode(const std::string& path) {
 
 }  // namespace
 
-OutputFile::OutputFile(std::string path) : path_(std::move(path)) {
+// (The buffer first: its allocation failing once the temporary exists would leave it.)
+OutputFile::OutputFile(std::string path)
+    : path_(std::move(path)), buffer_(std::make_unique_for_overwrite<char[]>(kOutputBuffer)) {
   const fs::path out(path_);
   remove_orphans(out);
   temporary_ = ((out.parent_path().empty() ? fs::path(".") : out.parent_path()) /
@@ -153,7 +155,6 @@ OutputFile::OutputFile(std::string path) : path_(std::move(path)) {
     release(temporary_.c_str());
     throw Error(ErrorKind::io, fmt::format("cannot write '{}'", path_));
   }
-  buffer_ = std::make_unique_for_overwrite<char[]>(kOutputBuffer);
   std::setvbuf(file_, buffer_.get(), _IOFBF, kOutputBuffer);
 }
 

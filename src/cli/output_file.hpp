@@ -26,7 +26,8 @@ void check_output(const std::string& path, const std::vector<RunInput>& inputs, 
 void check_distinct_outputs(const std::vector<std::string>& outputs);
 
 /// The stdio buffer an output is written through. (glibc takes setvbuf's size only with a
-/// buffer of the caller's: without one it allocates a block of 4 kB, a write call each.)
+/// buffer of the caller's: without one it allocates its own, BUFSIZ or the file system's
+/// block if smaller, 4 kB here: a write call each.)
 inline constexpr std::size_t kOutputBuffer = std::size_t{1} << 18;
 
 /// Gives standard output a buffer of kOutputBuffer bytes; call it before anything is
