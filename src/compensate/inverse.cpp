@@ -55,8 +55,8 @@ Step position_columns_times(const SolveMatrix& S, const Eigen::Vector3d& v) {
 }
 
 /// S r, r over the equations.
-template <typename Residual>
-Step solve_matrix_times(const SolveMatrix& S, const Residual& r) {
+template <typename Equations>
+Step solve_matrix_times(const SolveMatrix& S, const Equations& r) {
   Step out(S.rows());
   for (Eigen::Index c = 0; c < S.rows(); ++c) {
     double sum = 0.0;
@@ -157,8 +157,8 @@ constexpr double kStandingShare = 0.1;
 
 /// mm: what a residual over the equations moves the tip by, the rotary residuals' share
 /// through `lever`.
-template <typename Residual>
-double tip_displacement(const Residual& residual, double lever) {
+template <typename Equations>
+double tip_displacement(const Equations& residual, double lever) {
   double tip = residual.template head<3>().norm();
   for (Eigen::Index k = 3; k < residual.size(); ++k) tip += lever * std::abs(residual[k]);
   return tip;

@@ -255,11 +255,11 @@ VariationBound::Travel VariationBound::travel(const ChainQ& a, const ChainQ& b) 
 }
 
 double VariationBound::stretch_limit(const ChainQ& a, const ChainQ& b) const {
+  const Travel m = travel(a, b);
   double limit = kInf;
-  for (std::size_t i = 0; i < kChainVariables; ++i) {
-    const double d = std::abs(b[static_cast<Eigen::Index>(i)] - a[static_cast<Eigen::Index>(i)]);
-    if (d > 0.0) limit = std::min(limit, along_[i].knot_gap / d);  // chord_deviation() needs d < knot_gap
-  }
+  for (std::size_t i = 0; i < kChainVariables; ++i)
+    if (const double d = m.by_variable[i]; d > 0.0)
+      limit = std::min(limit, along_[i].knot_gap / d);  // chord_deviation() needs d < knot_gap
   return limit;
 }
 
