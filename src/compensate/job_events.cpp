@@ -46,13 +46,14 @@ struct CompensationStages {
         rewriter(writer, machine, DecimalsOption{options.decimals, options.rotary_decimals}, report, file),
         cycles(CycleStages{solver, error_before, rewriter, guards, writer, report}, machine, options.expand_cycles,
                file),
-        pipeline(solver, options.threads > 1, std::move(write)) {}
+        pipeline(solver, options.threads > 1, options.split, std::move(write)) {}
 
   model::ForwardModel forward;
   model::ForwardData nominal;  ///< scratch for the moves' nominal ends, on the reading thread
   MoveSolver solver;
   /// The uncompensated machine's error, for the report, is taken by a compensator of its own
-  /// on the writing side (it changes nothing the compensation decides).
+  /// on the writing side (it changes nothing the compensation decides), or by the worker's
+  /// (MovePipeline::reader_helps()).
   Compensator error_before;
   JobGuards guards;
   MoveRewriter rewriter;
@@ -233,10 +234,13 @@ void JobSink::queue_task(const gcode::Motion& m, const ChordRange& chords) {
   t.terminator.assign(line_.terminator);
   t.chords = chords;
   t.adds_lines_only = moves_in_block_ > 0;
-  // The nominal pose at its end, here: it balances the two threads' work.
+  // The nominal pose at its end, here or on the worker: whichever has time to spare.
   const model::ChainQ end = chain_of(m.end, t.offsets);
-  model::forward(stages_->forward, stages_->nominal, end, {}, false, model::Evaluate::nominal);
-  t.end_pose = {stages_->nominal.nominal, stages_->nominal.R_nominal};
+  t.end_pose_known = stages_->pipeline.reader_helps();
+  if (t.end_pose_known) {
+    model::forward(stages_->forward, stages_->nominal, end, {}, false, model::Evaluate::nominal);
+    t.end_pose = {stages_->nominal.nominal, stages_->nominal.R_nominal};
+  }
   // The points it is expected to give: its chords (half the tolerance, as the solver takes
   // them), else the points the model checks it at.
   std::size_t points = chords.end - chords.begin;
@@ -259,12 +263,7 @@ void JobSink::write_move(MoveTask& t) {
     }
   }
   writer_.advance_to(t.offset);
-  for (const ErrorProbe& p : t.probes) {
-    // Only what may raise the program's maximum is evaluated (the rest is bounded below it).
-    const double at_least = std::max(report_.max_error_before, t.report.max_deviation_before);
-    t.report.max_deviation_before =
-        std::max(t.report.max_deviation_before, stages_->error_before.error_at(p, at_least));
-  }
+  take_error_before(stages_->error_before, report_.max_error_before, t);  // (none left: the worker took them)
   stages_->guards.account(t.report, t.motion.units, t.block.line, t.text, t.chords.last());
   stages_->rewriter.rewrite(t.motion, t.block, t.points, t.offset, t.terminator, t.chords, t.arc_starts,
                             t.adds_lines_only);

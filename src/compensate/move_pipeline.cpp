@@ -4,8 +4,8 @@
 
 namespace ccomp::compensate {
 
-MovePipeline::MovePipeline(MoveSolver& solver, bool worker_thread, Writer write)
-    : solver_(solver), write_(std::move(write)) {
+MovePipeline::MovePipeline(MoveSolver& solver, bool worker_thread, WorkSplit split, Writer write)
+    : solver_(solver), split_(split), reader_helps_(split != WorkSplit::worker), write_(std::move(write)) {
   if (worker_thread) worker_ = std::make_unique<util::BackgroundThread>();
 }
 
@@ -26,6 +26,8 @@ void MovePipeline::queued(std::size_t points) {
 void MovePipeline::pass_batch() {
   const std::size_t b = filling_;
   batch_points_ = 0;
+  batches_[b].probes_on_worker = !reader_helps_;
+  if (split_ == WorkSplit::alternate) reader_helps_ = !reader_helps_;
   std::size_t ticket = 0;
   if (worker_)
     ticket = worker_->run([this, b] { solver_.solve_batch(batches_[b]); });
@@ -38,6 +40,8 @@ void MovePipeline::pass_batch() {
 
 void MovePipeline::write_oldest() {
   const InFlight oldest = in_flight_.front();
+  // (Without a worker thread the batch was solved in line: the reading thread does all.)
+  if (split_ == WorkSplit::adaptive) reader_helps_ = !worker_ || !worker_->done(oldest.ticket);
   if (worker_) worker_->wait(oldest.ticket);
   in_flight_.pop_front();
   write_batch(batches_[oldest.batch]);

@@ -10,6 +10,7 @@
 #include <functional>
 #include <memory>
 
+#include "ccomp/compensate/program_job.hpp"
 #include "ccomp/util/parallel.hpp"
 #include "move_solver.hpp"
 #include "move_task.hpp"
@@ -35,8 +36,16 @@ class MovePipeline {
 
   using Writer = std::function<void(MoveTask&)>;
 
-  /// `write` takes each compensated move, in program order, on the caller's thread.
-  MovePipeline(MoveSolver& solver, bool worker_thread, Writer write);
+  /// `write` takes each compensated move, in program order, on the caller's thread;
+  /// `split` says who does the work either thread may (the reading thread or the worker).
+  MovePipeline(MoveSolver& solver, bool worker_thread, WorkSplit split, Writer write);
+
+  /// Whether the reading thread takes the nominal end poses of the moves it queues now (the
+  /// worker takes those it leaves), as the split says. Adaptive: while the reading thread
+  /// had to wait for the worker to write the last batch it came to, it has time to spare;
+  /// else the worker has (it also takes the error before at the batch's probes). Which
+  /// thread does it changes nothing written: the same pose, the same largest error.
+  [[nodiscard]] bool reader_helps() const { return reader_helps_; }
 
   /// The next task to fill; queued() hands it on once filled.
   [[nodiscard]] MoveTask& next_task();
@@ -55,6 +64,8 @@ class MovePipeline {
   void write_batch(MoveBatch& batch);
 
   MoveSolver& solver_;
+  WorkSplit split_;
+  bool reader_helps_ = true;
   Writer write_;
   std::array<MoveBatch, kBatches> batches_;
   std::size_t filling_ = 0;       ///< the batch the interpreter fills

@@ -77,7 +77,11 @@ gcode::Axes programmed_under(const gcode::Motion& m, const gcode::Axes& tool) {
 }  // namespace
 
 MoveSolver::MoveSolver(const model::ForwardModel& model, const CompensationOptions& options)
-    : compensator(model, options), model_(model), data_(model), tolerance_(options.tolerance) {}
+    : compensator(model, options),
+      model_(model),
+      data_(model),
+      error_before_(model, options),
+      tolerance_(options.tolerance) {}
 
 void MoveSolver::solve_batch(MoveBatch& batch) {
   bool failed = false;
@@ -91,8 +95,18 @@ void MoveSolver::solve_batch(MoveBatch& batch) {
     try {
       compensator.defer_error_before(&t.probes);
       if (t.first) compensator.moved(chain_of(t.motion.offset ? t.motion.tool_start : t.motion.start, t.offsets));
-      compensator.expect(chain_of(t.motion.end, t.offsets), t.end_pose);
+      const model::ChainQ end = chain_of(t.motion.end, t.offsets);
+      if (!t.end_pose_known) {
+        model::forward(model_, data_, end, {}, false, model::Evaluate::nominal);
+        t.end_pose = {data_.nominal, data_.R_nominal};
+        t.end_pose_known = true;
+      }
+      compensator.expect(end, t.end_pose);
       solve(t.motion, t.offsets, t.report, t.points, t.chords, &t.arc_starts);
+      if (batch.probes_on_worker) {
+        take_error_before(error_before_, largest_before_, t);
+        largest_before_ = std::max(largest_before_, t.report.max_deviation_before);
+      }
     } catch (...) {
       t.error = std::current_exception();
       failed = true;

@@ -21,7 +21,9 @@ class alignas(64) MoveSolver {
  public:
   MoveSolver(const model::ForwardModel& model, const CompensationOptions& options);
 
-  /// Compensates the batch's moves in order, up to the first that fails (its error kept).
+  /// Compensates the batch's moves in order, up to the first that fails (its error kept):
+  /// each from its nominal end pose (taken here where the reading thread left it), the
+  /// error before taken at its probes where the batch leaves that to the worker.
   void solve_batch(MoveBatch& batch);
 
   /// The compensated points of a motion into `points`: a rapid's end (its path is the
@@ -52,7 +54,11 @@ class alignas(64) MoveSolver {
                                           const model::ChainQ& to, int n);
 
   const model::ForwardModel& model_;
-  model::ForwardData data_;  ///< scratch for kept_arc_deviation()
+  model::ForwardData data_;  ///< scratch for the nominal end poses and kept_arc_deviation()
+  /// The error before at the probes of the batches the worker takes them for, and the
+  /// largest it found (the writing side's compensator and figure are its own).
+  Compensator error_before_;
+  double largest_before_ = 0.0;
   double tolerance_;
   bool offset_before_ = false;  ///< the last move was under the control's radius offset
   /// Where the last move's tool centre ended under the control's radius offset, as the

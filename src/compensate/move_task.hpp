@@ -2,6 +2,7 @@
 // A move on its way from the interpreter, through the compensation, to the writer: the data
 // the job's stages hand on (reading fills it, solving adds the compensated points, the
 // writer turns them into edits).
+#include <algorithm>
 #include <cstdint>
 #include <exception>
 #include <string>
@@ -32,12 +33,17 @@ struct MoveTask {
   std::uint64_t offset = 0;
   ChordRange chords;             ///< this task's part of the move's chords
   bool adds_lines_only = false;  ///< not the block's first move: its line is the first's
-  NominalPose end_pose;          ///< the nominal tool pose at its end (the reading thread's)
+  /// The nominal tool pose at its end, where the reading thread took it (end_pose_known);
+  /// else the worker takes it.
+  NominalPose end_pose;
+  bool end_pose_known = false;
   // what the compensation made of it
   std::vector<CompensatedPoint> points;
   std::vector<gcode::Axes> arc_starts;  ///< an arc under the control's offset: each piece's programmed start
   MoveReport report;
-  std::vector<ErrorProbe> probes;  ///< where the uncompensated machine's error is taken
+  /// Where the uncompensated machine's error is taken: left for the writing side, or
+  /// taken by the worker already (MoveBatch::probes_on_worker) and then empty.
+  std::vector<ErrorProbe> probes;
   std::exception_ptr error;
 };
 
@@ -46,6 +52,19 @@ struct MoveTask {
 struct alignas(64) MoveBatch {
   std::vector<MoveTask> tasks;
   std::size_t filled = 0;
+  bool probes_on_worker = false;  ///< the worker takes the error before at its moves' probes
 };
+
+/// The uncompensated machine's error at a move's probes, into its report, the probes then
+/// dropped. Only what may raise `largest`, the largest error before taken so far, or the
+/// move's own, is evaluated (Compensator::error_at): the largest over the program comes
+/// out the same whichever thread takes which moves, each with a compensator of its own.
+inline void take_error_before(Compensator& error_before, double largest, MoveTask& t) {
+  for (const ErrorProbe& p : t.probes) {
+    const double at_least = std::max(largest, t.report.max_deviation_before);
+    t.report.max_deviation_before = std::max(t.report.max_deviation_before, error_before.error_at(p, at_least));
+  }
+  t.probes.clear();
+}
 
 }  // namespace ccomp::compensate

@@ -78,6 +78,38 @@ TEST(Pipeline, TwoThreadsWriteWhatOneWrites) {
   EXPECT_LT(one.max_error_after, 0.001);
 }
 
+TEST(Pipeline, WhicheverThreadTakesTheSharedWorkTheOutputIsTheSame) {
+  // The moves' nominal end poses and the error before at their probes may be taken by the
+  // reading thread or the worker (adaptive by default: batch by batch, whichever has time
+  // to spare). Each split, on one thread and two, writes what the reading thread alone
+  // writes, and reports the same figures to the bit: the error before's largest value
+  // comes out the same though each side skips probes against a largest of its own.
+  const model::MachineModel mm = sample_machine("hmc-xyzb");
+  const std::string program = long_program();
+  compensate::JobReport reference;
+  compensate::JobOptions o = full_model_options(1);
+  o.split = compensate::WorkSplit::reader;
+  const std::string expected = compensate(program, mm, o, &reference);
+  ASSERT_GT(reference.max_error_before, 0.02) << "the sample machine's error is tens of um";
+  using compensate::WorkSplit;
+  for (const WorkSplit split : {WorkSplit::worker, WorkSplit::alternate, WorkSplit::adaptive, WorkSplit::reader})
+    for (const int threads : {1, 2}) {
+      if (split == WorkSplit::reader && threads == 1) continue;  // the reference
+      o = full_model_options(threads);
+      o.split = split;
+      compensate::JobReport report;
+      const std::string written = compensate(program, mm, o, &report);
+      const std::string what = "split " + std::to_string(static_cast<int>(split)) + ", " + std::to_string(threads) +
+                               " thread(s)";
+      EXPECT_EQ(written, expected) << what;
+      EXPECT_EQ(report.max_error_before, reference.max_error_before) << what;
+      EXPECT_EQ(report.max_error_after, reference.max_error_after) << what;
+      EXPECT_EQ(report.max_correction, reference.max_correction) << what;
+      EXPECT_EQ(report.max_orientation_error, reference.max_orientation_error) << what;
+      EXPECT_EQ(report.added_lines, reference.added_lines) << what;
+    }
+}
+
 TEST(Pipeline, BatchesOfBentMovesHoldFewerMoves) {
   // Full circles of 60 mm radius give about 500 chords each at 1 um: a batch passes on
   // after some 30 of them (its points, not its moves, are bounded), several times over

@@ -17,6 +17,14 @@
 
 namespace ccomp::compensate {
 
+/// Who does the work of the main job that either of its two threads may do.
+enum class WorkSplit : std::uint8_t {
+  adaptive,   ///< the reading thread while it would wait for the worker, else the worker
+  reader,     ///< always the reading thread
+  worker,     ///< always the worker
+  alternate,  ///< batch by batch in turn (for tests: the hand-over between the two)
+};
+
 struct JobOptions {
   gcode::InterpreterOptions interpreter;
   /// mm: the largest distance the executed path may keep from the nominal one.
@@ -55,6 +63,11 @@ struct JobOptions {
   /// and writes the program (and takes the uncompensated machine's error for the report).
   /// The output is the same for 1 and 2: the same work is done in the same order.
   int threads = 1;
+  /// On two threads, which does the work either may (each move's nominal end pose, the
+  /// uncompensated machine's error at its probes): by default the one with time to spare,
+  /// judged batch by batch. The output and the report are the same whichever does it; the
+  /// others are there to show that, and to measure.
+  WorkSplit split = WorkSplit::adaptive;
   /// Called with the fraction of the input read, at most about a hundred times.
   std::function<void(double)> progress;
   /// Called for every warning, with the line it concerns.

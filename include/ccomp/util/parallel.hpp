@@ -65,7 +65,7 @@ void for_each_index(std::size_t n, int threads, Fn&& fn) {
 /// One thread that runs pieces of work, in the order they were queued, while its owner goes
 /// on with others: the second stage of a pipeline. run() queues a piece and returns its
 /// ticket (1, 2, ...); wait(ticket) returns once that piece and those before it are done,
-/// wait() once all are, and both rethrow the first failure.
+/// wait() once all are, and both rethrow the first failure; done(ticket) asks without waiting.
 class BackgroundThread {
  public:
   BackgroundThread() : thread_([this] { loop(); }) {}
@@ -89,6 +89,12 @@ class BackgroundThread {
     }
     wake_.notify_all();
     return ticket;
+  }
+
+  /// Whether the piece with that ticket, and those before it, are done (without waiting).
+  [[nodiscard]] bool done(std::size_t ticket) {
+    const std::lock_guard lock(mutex_);
+    return done_count_ >= std::min(ticket, queued_);
   }
 
   void wait(std::size_t ticket) {

@@ -31,6 +31,7 @@ class MovePipelineTest : public ::testing::TestWithParam<bool> {
     t.motion.offsets = &t.offsets;
     model::forward(forward_, scratch_, model::chain_of(t.motion.end, t.offsets), {}, false, model::Evaluate::nominal);
     t.end_pose = {scratch_.nominal, scratch_.R_nominal};
+    t.end_pose_known = true;
     pipeline.queued(1);
   }
 
@@ -43,7 +44,7 @@ class MovePipelineTest : public ::testing::TestWithParam<bool> {
     first_ = true;
     MoveSolver solver(forward_, CompensationOptions{});
     Written w;
-    MovePipeline pipeline(solver, worker, [&](MoveTask& t) {
+    MovePipeline pipeline(solver, worker, WorkSplit::adaptive, [&](MoveTask& t) {
       ASSERT_FALSE(t.error);
       w.x.push_back(t.motion.start[0]);
       w.q.push_back(t.points.back().q);
@@ -77,7 +78,7 @@ TEST_P(MovePipelineTest, CompensatesAlikeOnOneThreadAndTwo) {
 TEST_P(MovePipelineTest, AFailedWriteStopsTheWritingAndAbandonWritesNothingMore) {
   MoveSolver solver(forward_, CompensationOptions{});
   std::size_t written = 0;
-  MovePipeline pipeline(solver, GetParam(), [&](MoveTask&) {
+  MovePipeline pipeline(solver, GetParam(), WorkSplit::adaptive, [&](MoveTask&) {
     if (++written == 10) throw std::runtime_error("disk full");
   });
   for (int k = 0; k < 40; ++k) queue(pipeline, 0.5 * k);
