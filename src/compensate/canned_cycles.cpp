@@ -286,10 +286,7 @@ void CannedCycles::solve_move_here(const gcode::Motion& m, const gcode::Offsets&
   compensator_.defer_error_before(&probes_);
   stages_.solver.solve(m, offsets, move, points_);
   compensator_.defer_error_before(nullptr);
-  for (const ErrorProbe& p : probes_) {
-    const double at_least = std::max(stages_.report.max_error_before, move.max_deviation_before);
-    move.max_deviation_before = std::max(move.max_deviation_before, stages_.error_before.error_at(p, at_least));
-  }
+  take_error_before(stages_.error_before, stages_.report.max_error_before, probes_, move);
 }
 
 }  // namespace ccomp::compensate

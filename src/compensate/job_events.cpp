@@ -263,7 +263,8 @@ void JobSink::write_move(MoveTask& t) {
     }
   }
   writer_.advance_to(t.offset);
-  take_error_before(stages_->error_before, report_.max_error_before, t);  // (none left: the worker took them)
+  // (None are left where the worker took them: MoveBatch::probes_on_worker.)
+  take_error_before(stages_->error_before, report_.max_error_before, t.probes, t.report);
   stages_->guards.account(t.report, t.motion.units, t.block.line, t.text, t.chords.last());
   stages_->rewriter.rewrite(t.motion, t.block, t.points, t.offset, t.terminator, t.chords, t.arc_starts,
                             t.adds_lines_only);

@@ -10,7 +10,7 @@
 #include <functional>
 #include <memory>
 
-#include "ccomp/compensate/program_job.hpp"
+#include "ccomp/compensate/work_split.hpp"
 #include "ccomp/util/parallel.hpp"
 #include "move_solver.hpp"
 #include "move_task.hpp"
@@ -65,7 +65,7 @@ class MovePipeline {
 
   MoveSolver& solver_;
   WorkSplit split_;
-  bool reader_helps_ = true;
+  bool reader_helps_;
   Writer write_;
   std::array<MoveBatch, kBatches> batches_;
   std::size_t filling_ = 0;       ///< the batch the interpreter fills

@@ -104,7 +104,7 @@ void MoveSolver::solve_batch(MoveBatch& batch) {
       compensator.expect(end, t.end_pose);
       solve(t.motion, t.offsets, t.report, t.points, t.chords, &t.arc_starts);
       if (batch.probes_on_worker) {
-        take_error_before(error_before_, largest_before_, t);
+        take_error_before(error_before_, largest_before_, t.probes, t.report);
         largest_before_ = std::max(largest_before_, t.report.max_deviation_before);
       }
     } catch (...) {

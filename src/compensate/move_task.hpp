@@ -59,12 +59,13 @@ struct alignas(64) MoveBatch {
 /// dropped. Only what may raise `largest`, the largest error before taken so far, or the
 /// move's own, is evaluated (Compensator::error_at): the largest over the program comes
 /// out the same whichever thread takes which moves, each with a compensator of its own.
-inline void take_error_before(Compensator& error_before, double largest, MoveTask& t) {
-  for (const ErrorProbe& p : t.probes) {
-    const double at_least = std::max(largest, t.report.max_deviation_before);
-    t.report.max_deviation_before = std::max(t.report.max_deviation_before, error_before.error_at(p, at_least));
+inline void take_error_before(Compensator& error_before, double largest, std::vector<ErrorProbe>& probes,
+                              MoveReport& move) {
+  for (const ErrorProbe& p : probes) {
+    const double at_least = std::max(largest, move.max_deviation_before);
+    move.max_deviation_before = std::max(move.max_deviation_before, error_before.error_at(p, at_least));
   }
-  t.probes.clear();
+  probes.clear();
 }
 
 }  // namespace ccomp::compensate

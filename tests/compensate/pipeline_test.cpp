@@ -84,10 +84,16 @@ TEST(Pipeline, WhicheverThreadTakesTheSharedWorkTheOutputIsTheSame) {
   // to spare). Each split, on one thread and two, writes what the reading thread alone
   // writes, and reports the same figures to the bit: the error before's largest value
   // comes out the same though each side skips probes against a largest of its own.
+  // Drilling cycles in the mix: their moves are solved, and their error before taken, on
+  // the reading thread between batches the worker may have taken the probes of.
   const model::MachineModel mm = sample_machine("hmc-xyzb");
-  const std::string program = long_program();
+  std::string program = long_program();
+  std::string cycles = random_program(5, true);
+  ASSERT_NE(cycles.find(" G99 G8"), std::string::npos) << "drilling cycles among the moves";
+  program.insert(program.rfind("M30"), cycles.substr(0, cycles.rfind("M30")));
   compensate::JobReport reference;
   compensate::JobOptions o = full_model_options(1);
+  o.expand_cycles = true;
   o.split = compensate::WorkSplit::reader;
   const std::string expected = compensate(program, mm, o, &reference);
   ASSERT_GT(reference.max_error_before, 0.02) << "the sample machine's error is tens of um";
@@ -96,6 +102,7 @@ TEST(Pipeline, WhicheverThreadTakesTheSharedWorkTheOutputIsTheSame) {
     for (const int threads : {1, 2}) {
       if (split == WorkSplit::reader && threads == 1) continue;  // the reference
       o = full_model_options(threads);
+      o.expand_cycles = true;
       o.split = split;
       compensate::JobReport report;
       const std::string written = compensate(program, mm, o, &report);

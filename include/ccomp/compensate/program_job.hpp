@@ -11,19 +11,12 @@
 #include <vector>
 
 #include "ccomp/compensate/program_header.hpp"
+#include "ccomp/compensate/work_split.hpp"
 #include "ccomp/gcode/interpreter.hpp"
 #include "ccomp/gcode/source.hpp"
 #include "ccomp/model/machine.hpp"
 
 namespace ccomp::compensate {
-
-/// Who does the work of the main job that either of its two threads may do.
-enum class WorkSplit : std::uint8_t {
-  adaptive,   ///< the reading thread while it would wait for the worker, else the worker
-  reader,     ///< always the reading thread
-  worker,     ///< always the worker
-  alternate,  ///< batch by batch in turn (for tests: the hand-over between the two)
-};
 
 struct JobOptions {
   gcode::InterpreterOptions interpreter;
