@@ -79,17 +79,35 @@ struct Piece {
   /// from it, for arc_lower_distance(); set by prepare_bounds() (strays < 0: none).
   Eigen::Vector3d chord_from = Eigen::Vector3d::Zero(), chord_to = Eigen::Vector3d::Zero();
   double strays = -1.0;
+  /// A segment's ball: its middle, and a radius that holds it whole (half its length, and a
+  /// picometre for the rounding of millimetres); set by prepare_bounds() (radius < 0: none).
+  Eigen::Vector3d middle = Eigen::Vector3d::Zero();
+  double ball = -1.0;
 
-  /// For an arc of at most half a turn: its chord, and how far the helix strays from it at
-  /// the same fraction, r (1 - cos(sweep/2)) across (the sagitta, at most) plus |r1 - r0|
-  /// sin(sweep/2) / 2 for a spiral, the rise the same on both.
+  /// A segment's ball; for an arc of at most half a turn: its chord, and how far the helix
+  /// strays from it at the same fraction, r (1 - cos(sweep/2)) across (the sagitta, at
+  /// most) plus |r1 - r0| sin(sweep/2) / 2 for a spiral, the rise the same on both.
   void prepare_bounds() {
-    if (!arc || sweep > std::numbers::pi) return;
+    if (!arc) {
+      middle = 0.5 * (a + b);
+      ball = 0.5 * (b - a).norm() + 1e-9;
+      return;
+    }
+    if (sweep > std::numbers::pi) return;
     const double end_angle = a0 + (ccw ? sweep : -sweep);
     chord_from = centre + r0 * (std::cos(a0) * e1 + std::sin(a0) * e2);
     chord_to = centre + r1 * (std::cos(end_angle) * e1 + std::sin(end_angle) * e2) + dw * n;
     strays = 1.001 * std::max(r0, r1) * (1.0 - std::cos(0.5 * sweep)) +
              0.5 * std::abs(r1 - r0) * std::sin(0.5 * sweep) + 1e-12;
+  }
+
+  /// Whether the piece is shown farther than `d` from p by its ball alone (no root, no
+  /// division: most pieces near a point are, and distance() need not be asked of them).
+  /// Never for an arc.
+  [[nodiscard]] bool farther_than(const Eigen::Vector3d& p, double d) const {
+    if (ball < 0.0) return false;
+    const double reach = d + ball;
+    return (p - middle).squaredNorm() > reach * reach;
   }
 
   /// No more than distance(p) to the helix' points, and changing no faster than p moves:
@@ -278,6 +296,8 @@ class PathSearch {
       }
       if (window().group_box(start).distance(p) > reach(best)) continue;
       for (std::size_t i = std::max(g, from); i < std::min(g + PieceWindow::kGroup, to); ++i) {
+        // (Beyond the reach: not a candidate, a segment being no nearer than its ball shows.)
+        if (window()[i].farther_than(p, reach(best))) continue;
         const double d = window()[i].distance(p);
         if (reuse_ == Candidates::kept && candidate(window()[i], p, d)) candidates_.push_back(i);
         if (d > reach(best)) continue;
@@ -317,11 +337,18 @@ class PathSearch {
       if (candidate(piece, gathered_at_, piece.distance(gathered_at_))) candidates_.push_back(certified_to_);
     }
     const double margin = kCandidateRadius - (p - gathered_at_).norm() - 1e-9;  // 1e-9: the distances' rounding
-    double best = kInfinity;
+    // The cursor's piece first, most often the nearest: a candidate its ball shows farther
+    // than the slack of the nearest so far is neither the nearest nor near.
+    double best = kInfinity, cursor_distance = kInfinity;
+    const bool cursor_kept = cursor_ >= from && cursor_ < to && std::binary_search(candidates_.begin(), candidates_.end(), cursor_);
+    if (cursor_kept) best = cursor_distance = window()[cursor_].distance(p);
     near_.clear();
     for (const std::size_t i : candidates_) {
       if (i < from || i >= to) continue;
-      const double d = window()[i].distance(p);
+      if (i != cursor_ || !cursor_kept) {
+        if (window()[i].farther_than(p, slack(best))) continue;
+      }
+      const double d = i == cursor_ && cursor_kept ? cursor_distance : window()[i].distance(p);
       best = std::min(best, d);
       near_.emplace_back(i, d);
     }

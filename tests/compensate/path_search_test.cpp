@@ -165,6 +165,32 @@ TEST(PathSearch, KeptCandidatesFindWhatTheFullSearchFindsOnASpringPassAsLongAsTh
   }
 }
 
+TEST(PathSearch, ASegmentShownFartherByItsBallIsFarther) {
+  // What skipping a piece on its ball rests on: where farther_than(p, d) says so, the
+  // segment's distance from p is more than d, for segments of a micrometre to 100 mm far
+  // out in the workspace (millimetres round to 1e-13 there), and points on their line.
+  std::mt19937 random(11);
+  std::uniform_real_distribution<double> unit(-1.0, 1.0);
+  int shown = 0;
+  for (int trial = 0; trial < 20000; ++trial) {
+    const Eigen::Vector3d a = 900.0 * Eigen::Vector3d(unit(random), unit(random), unit(random));
+    const double length = std::pow(10.0, -3 + 5 * (0.5 + 0.5 * unit(random)));
+    const Eigen::Vector3d b = a + length * Eigen::Vector3d(unit(random), unit(random), unit(random)).normalized();
+    Piece piece = segment(a, b, 1);
+    piece.prepare_bounds();
+    const Eigen::Vector3d p =
+        trial % 2 == 0 ? Eigen::Vector3d(a + (1.0 + 1e-9 * (0.5 + 0.5 * unit(random))) * (b - a))
+                       : Eigen::Vector3d(a + 2.0 * length * Eigen::Vector3d(unit(random), unit(random), unit(random)));
+    const double distance = piece.distance(p);
+    for (const double d : {0.0, 0.5 * distance, distance * (1 - 1e-12), distance, 2.0 * distance}) {
+      if (!piece.farther_than(p, d)) continue;
+      ++shown;
+      ASSERT_GT(distance, d) << "trial " << trial;
+    }
+  }
+  EXPECT_GT(shown, 5000) << "the ball shows most pieces farther than half their distance";
+}
+
 TEST(PathSearch, AnArcsLowerDistanceIsNeverMoreThanTheDistanceToAnyOfItsPoints) {
   // What keeping an arc as a candidate rests on: for arcs, helices and spirals of any size,
   // turning either way in a turned (or mirrored) frame, the bound is no more than the
