@@ -236,7 +236,7 @@ class PathSearch {
     // and the next begins has cut only the first), and the search has come to it (a closed
     // contour's last piece ends where its first begins).
     for (const auto& [i, d] : near_)
-      if (i <= cursor_ && (p - window()[i].a).norm() > slack(best)) uncut_from_ = std::max(uncut_from_, i + 1);
+      if (i <= cursor_ && i >= uncut_from_ && (p - window()[i].a).norm() > slack(best)) uncut_from_ = i + 1;
     note_passed_over(p, best);
     window().drop_before(behind());
     return best;
@@ -428,7 +428,7 @@ class PathSearch {
       }
     }
     // The cursor's piece is cut once the point is past its start.
-    next_piece_ = std::max(next_piece_, cursor_ + ((p - window()[cursor_].a).norm() <= slack(best) ? 0 : 1));
+    if (next_piece_ <= cursor_) next_piece_ = cursor_ + ((p - window()[cursor_].a).norm() <= slack(best) ? 0 : 1);
     last_point_ = p;
     after_rapid_ = false;
   }
