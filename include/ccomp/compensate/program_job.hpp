@@ -53,8 +53,8 @@ struct JobOptions {
   /// field's bound within a share of the tolerance (CompensationOptions::exact).
   bool exact = false;
   /// 2: the moves are compensated on a thread of their own while this one reads, interprets
-  /// and writes the program (and takes the uncompensated machine's error for the report).
-  /// The output is the same for 1 and 2: the same work is done in the same order.
+  /// and writes the program (what either may do goes as `split` says). The output is the
+  /// same for 1 and 2: the same work is done in the same order.
   int threads = 1;
   /// On two threads, which does the work either may (each move's nominal end pose, the
   /// uncompensated machine's error at its probes): by default the one with time to spare,
