@@ -5,20 +5,24 @@
 namespace ccomp::compensate {
 
 MovePipeline::MovePipeline(MoveSolver& solver, bool worker_thread, WorkSplit split, Writer write)
-    : solver_(solver), split_(split), reader_helps_(split != WorkSplit::worker), write_(std::move(write)) {
+    : solver_(solver),
+      split_(split),
+      reader_helps_(split != WorkSplit::worker),
+      write_(std::move(write)),
+      shape_(worker_thread ? kThreaded : kInline) {
   if (worker_thread) worker_ = std::make_unique<util::BackgroundThread>();
 }
 
 MoveTask& MovePipeline::next_task() {
   MoveBatch& batch = batches_[filling_];
-  if (batch.tasks.empty()) batch.tasks.resize(kBatch);
+  if (batch.tasks.empty()) batch.tasks.resize(shape_.moves);
   return batch.tasks[batch.filled++];
 }
 
 void MovePipeline::queued(std::size_t points) {
   batch_points_ += points;
   const MoveBatch& batch = batches_[filling_];
-  if (batch.filled == kBatch || batch_points_ >= kBatchPoints) pass_batch();
+  if (batch.filled == shape_.moves || batch_points_ >= shape_.points) pass_batch();
 }
 
 /// The filled batch goes to be compensated; when no batch is left to fill, the oldest is
@@ -34,8 +38,8 @@ void MovePipeline::pass_batch() {
   else
     solver_.solve_batch(batches_[b]);
   in_flight_.push_back({b, ticket});
-  filling_ = (filling_ + 1) % kBatches;  // the ring's order: the oldest batch is next
-  if (in_flight_.size() == kBatches) write_oldest();
+  filling_ = (filling_ + 1) % shape_.in_flight;  // the ring's order: the oldest batch is next
+  if (in_flight_.size() == shape_.in_flight) write_oldest();
 }
 
 void MovePipeline::write_oldest() {

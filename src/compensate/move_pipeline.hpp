@@ -19,17 +19,24 @@ namespace ccomp::compensate {
 
 class MovePipeline {
  public:
-  /// A batch holds at most kBatch moves and about kBatchPoints compensated points (arcs'
-  /// chords, long moves' checks, as the reader foresees them): a program of full circles at
-  /// 1 um gives thousands of points a move, and memory must not grow with that. A move's
-  /// task is 1.2 kB and is touched three times (read, solved, written): the ring of
-  /// batches fits a core's cache (1 MB here) at 256 moves a batch, where at 4096 each touch
-  /// missed it (the 1M-line finishing program: ~15% faster on one thread, output the same).
-  static constexpr std::size_t kBatch = 256;
-  static constexpr std::size_t kBatchPoints = 4 * kBatch;
-  /// Four batches: while one fills, the others may wait for or be in compensation, so that
-  /// a batch the reading thread took longer over does not leave the worker idle.
-  static constexpr std::size_t kBatches = 4;
+  /// How the moves are cut into batches: at most `moves` moves and about `points`
+  /// compensated points a batch (arcs' chords, long moves' checks, as the reader foresees
+  /// them: a program of full circles at 1 um gives thousands of points a move, and memory
+  /// must not grow with that), and how many batches are filled before the oldest is written.
+  struct BatchShape {
+    std::size_t moves = 0, points = 0, in_flight = 0;
+  };
+  /// On one thread a batch is written as soon as it is compensated, while its moves are
+  /// still in the core's cache: a move's task is 1.2 kB and is touched three times (read,
+  /// solved, written).
+  static constexpr BatchShape kInline{256, 4 * 256, 1};
+  /// With a worker, each batch handed over costs both threads a wake-up: batches of 1024
+  /// moves (5 MB of tasks in the ring) against 256 cut two threads' time on the 1M-line
+  /// finishing program by 10% (0.59 -> 0.53 s), where on one thread they cost 3%. Four
+  /// batches: while one fills, the others may wait for or be in compensation, so that a
+  /// batch the reading thread took longer over does not leave the worker idle.
+  static constexpr BatchShape kThreaded{1024, 4 * 1024, 4};
+  static constexpr std::size_t kBatches = 4;  ///< the ring: the most either shape keeps in flight
   /// An arc of more chords is compensated and written in parts of this many: a helix of a
   /// thousand turns must not hold a million points.
   static constexpr std::size_t kPartChords = 8192;
@@ -67,6 +74,7 @@ class MovePipeline {
   WorkSplit split_;
   bool reader_helps_;
   Writer write_;
+  BatchShape shape_;
   std::array<MoveBatch, kBatches> batches_;
   std::size_t filling_ = 0;       ///< the batch the interpreter fills
   std::size_t batch_points_ = 0;  ///< the points expected of the batch being filled

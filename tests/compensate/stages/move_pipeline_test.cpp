@@ -61,7 +61,7 @@ class MovePipelineTest : public ::testing::TestWithParam<bool> {
 };
 
 TEST_P(MovePipelineTest, WritesEveryMoveOnceInProgramOrderAcrossBatches) {
-  const int moves = static_cast<int>(2 * MovePipeline::kBatch + 17);  // three batches, the last part full
+  const int moves = static_cast<int>(2 * MovePipeline::kThreaded.moves + 17);  // three batches (nine on one thread)
   const Written w = run(GetParam(), moves);
   ASSERT_EQ(w.x.size(), static_cast<std::size_t>(moves));
   for (int k = 0; k < moves; ++k) ASSERT_DOUBLE_EQ(w.x[static_cast<std::size_t>(k)], -200.0 + 0.04 * k) << k;
