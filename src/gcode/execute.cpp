@@ -249,7 +249,7 @@ Motion Interpreter::Impl::motion_to(MotionKind kind, MotionSource source, const 
   return m;
 }
 
-void Interpreter::Impl::send(Motion m, const Axes& target) {
+void Interpreter::Impl::send(Motion& m, const Axes& target) {
   const bool leaving = leaving_offset;
   position = target;
   blocks_since_motion = 0;

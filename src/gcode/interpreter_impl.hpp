@@ -161,8 +161,9 @@ struct Interpreter::Impl {
   /// A motion of the programmed point from here to `target`, in the interpreter's frame.
   [[nodiscard]] Motion motion_to(MotionKind kind, MotionSource source, const Axes& target) const;
   /// Moves the programmed point to `target` and reports `m` (interpreter frame): at once, or
-  /// under G41/G42 through the offset's queue (the offset path, or `m` with it).
-  void send(Motion m, const Axes& target);
+  /// under G41/G42 through the offset's queue (the offset path, or `m` with it). `m` is
+  /// turned into the machine frame in place (a motion is ~400 bytes, sent at every move).
+  void send(Motion& m, const Axes& target);
 
   // --- cutter radius compensation (execute_cutter_comp.cpp)
   void cutter_compensation(const Block& b, int code);
