@@ -240,7 +240,9 @@ struct ReadMotion {
 
 /// The program's motions, read on a thread of their own while the caller evaluates them.
 void produce_motions(gcode::LineSource& program, const CheckOptions& options, util::Handoff<ReadMotion>& out) {
-  constexpr std::size_t kBatch = 256;
+  // (Each batch handed over wakes the other thread: 1024 motions against 256 cut predict's
+  // time on the 1M-line finishing program by 8%, peak RSS 9 -> 13 MB.)
+  constexpr std::size_t kBatch = 1024;
   std::vector<ReadMotion> batch;
   each_motion(program, options, [&](const gcode::Motion& m) {
     batch.push_back({m, *m.offsets, progress_of(options, program)});
