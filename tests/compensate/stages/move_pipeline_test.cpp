@@ -61,14 +61,16 @@ class MovePipelineTest : public ::testing::TestWithParam<bool> {
 };
 
 TEST_P(MovePipelineTest, WritesEveryMoveOnceInProgramOrderAcrossBatches) {
-  const int moves = static_cast<int>(2 * MovePipeline::kThreaded.moves + 17);  // three batches (nine on one thread)
+  // Five batches on two threads, more than the ring holds (17 on one thread).
+  const int moves = static_cast<int>(4 * MovePipeline::kThreaded.moves + 17);
   const Written w = run(GetParam(), moves);
   ASSERT_EQ(w.x.size(), static_cast<std::size_t>(moves));
   for (int k = 0; k < moves; ++k) ASSERT_DOUBLE_EQ(w.x[static_cast<std::size_t>(k)], -200.0 + 0.04 * k) << k;
 }
 
 TEST_P(MovePipelineTest, CompensatesAlikeOnOneThreadAndTwo) {
-  const Written here = run(false, 300), there = run(GetParam(), 300);
+  const int moves = static_cast<int>(MovePipeline::kThreaded.moves + 300);  // two batches on two threads
+  const Written here = run(false, moves), there = run(GetParam(), moves);
   ASSERT_EQ(here.q.size(), there.q.size());
   for (std::size_t k = 0; k < here.q.size(); ++k) ASSERT_EQ(here.q[k], there.q[k]) << k;
   EXPECT_GT((here.q[0].head<3>() - model::chain_of({-199.0, -40, -100}, offsets_).head<3>()).norm(), 1e-6)
