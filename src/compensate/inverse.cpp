@@ -2,6 +2,7 @@
 
 #include <Eigen/QR>
 #include <array>
+#include <cstdint>
 #include <limits>
 
 #include "ccomp/kinematics/pose.hpp"
@@ -281,11 +282,20 @@ void secant_update(InverseWorkspace& ws, const Step& s_step, const Eigen::Vector
   }
 }
 
+/// How a solution was reached: by evaluating the model, or accepted on the nodes' bound.
+enum class Reached : std::uint8_t { evaluated, on_bound };
+
+/// The path shortcut (path_nodes.hpp) bounds at most one rotary axis' residual.
+bool shortcut_applies(const InverseProblem& problem) {
+  return problem.rotary_unknowns.size() <= 1;
+}
+
 /// What the next solve predicts from: the solve matrix made exact along the step just taken,
 /// a changed approach's effect, the path's last step and miss, the solution itself.
 void learn(const InverseProblem& problem, InverseWorkspace& ws, const ChainQ& q_nominal,
-           const model::Conditions& conditions, const SolveStart& s, bool bounded = false) {
+           const model::Conditions& conditions, const SolveStart& s, Reached reached) {
   const ChainQ& q = s.q;
+  const bool bounded = reached == Reached::on_bound;
   // A solution accepted on the bound is the extrapolation's, and so is the step from it to
   // the next evaluated one: neither is a secant of the Jacobian, and the latter's miss holds
   // the extrapolation's error, not one to repeat.
@@ -330,7 +340,7 @@ void learn(const InverseProblem& problem, InverseWorkspace& ws, const ChainQ& q_
 bool accept_on_bound(const InverseProblem& problem, const model::Conditions& conditions, const InverseOptions& options,
                      const InverseWorkspace& ws, const SolveStart& s, InverseResult& r, Residual& residual,
                      bool& on_path) {
-  if (!s.predicted || ws.path.count < 2 || problem.rotary_unknowns.size() > 1 ||
+  if (!s.predicted || ws.path.count < 2 || !shortcut_applies(problem) ||
       !detail::nodes_hold(ws.path, conditions, s.R_target, s.q[static_cast<Eigen::Index>(model::kToolLengthIndex)]))
     return false;
   detail::Extrapolated x;
@@ -373,17 +383,17 @@ InverseResult solve_inverse(const model::ForwardModel& model, const InverseProbl
     // The point stays where the bound holds; the next prediction starts from it moved by
     // the extrapolated residual, as from an evaluated solution (learn() as after iterate()).
     move_unknowns(problem, s.q, solve_matrix_times(ws.solve_matrix, residual), -1.0);
-    learn(problem, ws, q_nominal, conditions, s, true);
+    learn(problem, ws, q_nominal, conditions, s, Reached::on_bound);
     ++ws.bounded_points;
   } else {
     iterate(model, problem, d, conditions, options, ws, s, r);
     r.q = s.stands ? s.evaluated : s.q;
     r.target = s.target;
     if (!r.converged) return r;
-    if (bounded && problem.rotary_unknowns.size() <= 1)
+    if (bounded && shortcut_applies(problem))
       detail::record_node(model, *options.bound, problem, d, ws.path, s.evaluated, conditions, s.R_target,
                           s.evaluated_omega, options.bounded_tolerance);
-    learn(problem, ws, q_nominal, conditions, s);
+    learn(problem, ws, q_nominal, conditions, s, Reached::evaluated);
     r.residual_bound = s.stands ? s.standing_residual : options.position_tolerance;
   }
   ws.last_answer = r.q;
