@@ -80,8 +80,7 @@ MoveSolver::MoveSolver(const model::ForwardModel& model, const CompensationOptio
     : compensator(model, options),
       model_(model),
       data_(model),
-      error_before_(model, options),
-      tolerance_(options.tolerance) {}
+      options_(options) {}
 
 void MoveSolver::solve_batch(MoveBatch& batch) {
   bool failed = false;
@@ -104,7 +103,8 @@ void MoveSolver::solve_batch(MoveBatch& batch) {
       compensator.expect(end, t.end_pose);
       solve(t.motion, t.offsets, t.report, t.points, t.chords, &t.arc_starts);
       if (batch.probes_on_worker) {
-        take_error_before(error_before_, largest_before_, t.probes, t.report);
+        if (!error_before_) error_before_.emplace(model_, options_);
+        take_error_before(*error_before_, largest_before_, t.probes, t.report);
         largest_before_ = std::max(largest_before_, t.report.max_deviation_before);
       }
     } catch (...) {
@@ -229,18 +229,18 @@ int MoveSolver::arc_pieces(const gcode::Motion& m, const gcode::ArcGeometry& g, 
         worst = std::max(worst, (error(f0 + t * (f1 - f0)) - ((1 - t) * e0 + t * e1)).norm());
       }
     }
-    if (worst <= 0.5 * tolerance_ || pieces >= kMostPieces) return pieces;
+    if (worst <= 0.5 * options_.tolerance || pieces >= kMostPieces) return pieces;
   }
 }
 
 void MoveSolver::solve_arc_chords(const gcode::Motion& m, const gcode::Offsets& offsets, MoveReport& move,
                                   std::vector<CompensatedPoint>& points, const ChordRange& range) {
-  arc_chords(m, tolerance_ / 2.0, range, chords_);
+  arc_chords(m, options_.tolerance / 2.0, range, chords_);
   points.clear();
   const auto n = static_cast<double>(range.whole() ? chords_.size() - 1 : range.count);
   for (std::size_t k = 1; k < chords_.size(); ++k) {
     compensator.straight(chain_of(chords_[k - 1], offsets), chain_of(chords_[k], offsets), pieces_, move,
-                         tolerance_ / 2.0);
+                         options_.tolerance / 2.0);
     for (CompensatedPoint& piece : pieces_) {
       piece.s = (static_cast<double>(range.begin + k - 1) + piece.s) / n;
       points.push_back(piece);

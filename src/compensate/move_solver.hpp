@@ -3,6 +3,7 @@
 // split where the error field needs it, arcs as chords). It runs on the worker thread when
 // the job has one, so it keeps everything it writes to itself.
 #include <cstddef>
+#include <optional>
 #include <vector>
 
 #include "ccomp/compensate/compensator.hpp"
@@ -56,10 +57,11 @@ class alignas(64) MoveSolver {
   const model::ForwardModel& model_;
   model::ForwardData data_;  ///< scratch for the nominal end poses and kept_arc_deviation()
   /// The error before at the probes of the batches the worker takes them for, and the
-  /// largest it found (the writing side's compensator and figure are its own).
-  Compensator error_before_;
+  /// largest it found (the writing side's compensator and figure are its own). Built at the
+  /// first such batch: on one thread, or where the writing side takes them all, never.
+  CompensationOptions options_;
+  std::optional<Compensator> error_before_;
   double largest_before_ = 0.0;
-  double tolerance_;
   bool offset_before_ = false;  ///< the last move was under the control's radius offset
   /// Where the last move's tool centre ended under the control's radius offset, as the
   /// control offsets it alone (chain values; NaN when there was none).
