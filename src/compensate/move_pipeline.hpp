@@ -2,9 +2,9 @@
 // Batching and the worker thread, the job's second stage. The interpreter's thread fills a
 // batch of moves while those before it are compensated on the worker thread (on one
 // thread: each batch is compensated in line once filled), then the compensated batches are
-// handed to the writer here, in program order; so the
-// compensator sees the same moves in the same order either way, and the output is the same
-// for one thread and two.
+// handed to the writer here, in program order; so the compensator sees the same moves in
+// the same order either way, and the output is the same for one thread and two.
+#include <algorithm>
 #include <array>
 #include <cstddef>
 #include <deque>
@@ -34,13 +34,13 @@ class MovePipeline {
   /// With a worker, each batch handed over costs both threads a wake-up: batches of 1024
   /// moves (5 MB of tasks in the ring) against 256 cut two threads' time on the 1M-line
   /// finishing program by 10% (0.59 -> 0.53 s), where on one thread they cost 3%; 2,048
-  /// were 2% faster again for twice the memory. Four
-  /// batches: while one fills, the others may wait for or be in compensation, so that a
-  /// batch the reading thread took longer over does not leave the worker idle.
+  /// were 2% faster again for twice the memory. Four batches: while one fills, the others
+  /// may wait for or be in compensation, so that a batch the reading thread took longer
+  /// over does not leave the worker idle.
   static constexpr BatchShape kThreaded{1024, 4 * 1024, 4};
-  static constexpr std::size_t kBatches = 4;  ///< the ring: the most either shape keeps in flight
-  static_assert(kInline.in_flight >= 1 && kThreaded.in_flight >= 1 && kInline.in_flight <= kBatches &&
-                kThreaded.in_flight <= kBatches);
+  /// The ring: as many batches as either shape keeps in flight.
+  static constexpr std::size_t kBatches = std::max(kInline.in_flight, kThreaded.in_flight);
+  static_assert(kInline.in_flight >= 1 && kThreaded.in_flight >= 1);
   /// An arc of more chords is compensated and written in parts of this many: a helix of a
   /// thousand turns must not hold a million points.
   static constexpr std::size_t kPartChords = 8192;

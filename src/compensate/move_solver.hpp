@@ -59,6 +59,7 @@ class alignas(64) MoveSolver {
   /// The error before at the probes of the batches the worker takes them for, and the
   /// largest it found (the writing side's compensator and figure are its own). Built at the
   /// first such batch: on one thread, or where the writing side takes them all, never.
+  /// (From the job's options as given: the compensator's own follow the play as it moves.)
   CompensationOptions options_;
   std::optional<Compensator> error_before_;
   double largest_before_ = 0.0;

@@ -14,6 +14,7 @@
 #include "ccomp/error.hpp"
 #include "ccomp/model/machine.hpp"
 #include "ccomp/model/model_file.hpp"
+#include "compensate/move_pipeline.hpp"
 #include "job_runner.hpp"
 #include "sample_models.hpp"
 #include "trace_capture.hpp"
@@ -59,7 +60,7 @@ TEST(Pipeline, TwoThreadsWriteWhatOneWrites) {
   const std::string by_two = compensate(program, mm, full_model_options(2), &two);
   // More batches than the pipeline holds (four of 1,024 moves on two threads): its ring
   // goes round.
-  ASSERT_GT(one.compensated_moves, 5U * 1024U) << "several batches of moves";
+  ASSERT_GT(one.compensated_moves, 5U * compensate::MovePipeline::kThreaded.moves) << "several batches of moves";
   EXPECT_GT(one.take_up_moves, 0U) << "the rows' reversals are taken up";
   EXPECT_EQ(by_one, by_two);
   // What the report counts is what was written: the header's line, the program's, and
