@@ -11,6 +11,13 @@
 #include "ccomp/error.hpp"
 
 namespace ccomp::gcode {
+namespace {
+/// Writes to the program's stream without taking its lock (two atomic operations a call,
+/// and a call a line): only the writer's thread writes it (ProgramWriter).
+void put(const char* data, std::size_t size, std::FILE* out) {
+  fwrite_unlocked(data, 1, size, out);
+}
+}  // namespace
 
 std::string apply_edits(std::string_view line, std::vector<Edit> edits) {
   std::string out;
@@ -98,15 +105,15 @@ void ProgramWriter::write_line(const SourceLine& line, bool terminate) {
   if (!header_written_) {
     constexpr std::string_view kByteOrderMark = "\xEF\xBB\xBF";
     if (line.offset == 0 && line.text.starts_with(kByteOrderMark)) {
-      std::fwrite(kByteOrderMark.data(), 1, kByteOrderMark.size(), out_);
+      put(kByteOrderMark.data(), kByteOrderMark.size(), out_);
       skip = kByteOrderMark.size();
     }
     const auto first = line.text.find_first_not_of(" \t", skip);
     const bool percent = first != std::string_view::npos && line.text[first] == '%';
     if (!(percent && line.offset == 0)) {
       const std::string_view terminator = line.terminator.empty() ? std::string_view("\n") : line.terminator;
-      std::fwrite(header_.data(), 1, header_.size(), out_);
-      std::fwrite(terminator.data(), 1, terminator.size(), out_);
+      put(header_.data(), header_.size(), out_);
+      put(terminator.data(), terminator.size(), out_);
       header_written_ = true;
     }
   }
@@ -118,13 +125,13 @@ void ProgramWriter::write_line(const SourceLine& line, bool terminate) {
     apply_edits(line.text, std::span<Edit>(pending_.data(), n), edited_);
     pending_.erase(pending_.begin(), pending_.begin() + static_cast<std::ptrdiff_t>(n));
     pending_offsets_.erase(pending_offsets_.begin(), pending_offsets_.begin() + static_cast<std::ptrdiff_t>(n));
-    if (terminate) edited_.append(line.terminator);  // (one write a line: each takes the stream's lock)
-    std::fwrite(edited_.data() + skip, 1, edited_.size() - skip, out_);
+    if (terminate) edited_.append(line.terminator);  // (one write a line)
+    put(edited_.data() + skip, edited_.size() - skip, out_);
   } else if (!terminate) {
-    std::fwrite(line.text.data() + skip, 1, line.text.size() - skip, out_);
+    put(line.text.data() + skip, line.text.size() - skip, out_);
   } else {
     // The text and its terminator are adjacent in the reader's buffer: one write.
-    std::fwrite(line.text.data() + skip, 1, line.text.size() + line.terminator.size() - skip, out_);
+    put(line.text.data() + skip, line.text.size() + line.terminator.size() - skip, out_);
   }
 }
 
@@ -146,12 +153,12 @@ void ProgramWriter::write_open(std::uint64_t line_offset, std::span<Edit> edits)
 
 void ProgramWriter::append(std::string_view text) {
   if (!open_) throw Error(ErrorKind::internal, "append() without an open line");
-  std::fwrite(text.data(), 1, text.size(), out_);
+  put(text.data(), text.size(), out_);
 }
 
 void ProgramWriter::close_line() {
   if (!open_) throw Error(ErrorKind::internal, "close_line() without an open line");
-  std::fwrite(open_terminator_.data(), 1, open_terminator_.size(), out_);
+  put(open_terminator_.data(), open_terminator_.size(), out_);
   open_ = false;
 }
 
@@ -170,7 +177,7 @@ void ProgramWriter::finish() {
   advance_to(UINT64_MAX);
   if (!pending_.empty()) throw Error(ErrorKind::internal, "an edit arrived for a place no line starts at");
   if (!header_written_) {  // an empty program, or only a `%` line
-    std::fwrite(header_.data(), 1, header_.size(), out_);
+    put(header_.data(), header_.size(), out_);
     std::fputc('\n', out_);
     header_written_ = true;
   }
