@@ -57,15 +57,16 @@ MoveRewriter::MoveRewriter(gcode::ProgramWriter& writer, const model::MachineMod
 std::optional<std::string> MoveRewriter::axis_word(std::size_t i, double p, double last, bool incremental, bool named,
                                                    std::string_view styled, bool inch, const TurnWord& turn) {
   std::string text;
-  if (!write_axis_word(i, p, last, incremental, named, styled, inch, turn, text)) return std::nullopt;
+  const bool rotary = gcode::is_rotary(i);
+  const NumberStyle style = style_of(styled, inch && !rotary, rotary, decimals_.for_axis(rotary));
+  if (!write_axis_word(i, p, last, incremental, named, style, turn, text)) return std::nullopt;
   return text;
 }
 
 bool MoveRewriter::write_axis_word(std::size_t i, double p, double last, bool incremental, bool named,
-                                   std::string_view styled, bool inch, const TurnWord& turn, std::string& text) {
+                                   NumberStyle style, const TurnWord& turn, std::string& text) {
   gcode::Axes& rounding = position_.rounding;
-  const bool rotary = gcode::is_rotary(i), own_digits = decimals_.for_axis(rotary) < 0;
-  NumberStyle style = style_of(styled, inch && !rotary, rotary, decimals_.for_axis(rotary));
+  const bool own_digits = decimals_.for_axis(gcode::is_rotary(i)) < 0;
   // Where the written digits left the machine, what the word's value counts from (an
   // incremental word's is its travel from there), and the travel planned.
   const double at = last + rounding[i], from = incremental ? 0.0 : at, planned = p - last;
@@ -139,14 +140,15 @@ void MoveRewriter::point_words(const gcode::Motion& m, const gcode::Block& b, co
     const char letter = gcode::kAxisLetters[i];
     const gcode::Word* own = b.find(letter);
     const gcode::Word* word = line.own ? own : nullptr;
-    const std::string_view styled = own ? b.slice(own->value_span) : std::string_view();
+    const bool rotary = gcode::is_rotary(i);
+    const NumberStyle style = style_of(own, b.text, inch && !rotary, rotary, decimals_.for_axis(rotary));
     const TurnWord turn = turn_word(point, *m.offsets, i, unit);
     if (word) {  // the block's own word: its value replaced, the text made in the edit
       gcode::Edit& edit = edits_.emplace_back(gcode::Edit{word->value_span, {}});
-      if (!write_axis_word(i, p[i], last[i], m.incremental, true, styled, inch, turn, edit.text)) edits_.pop_back();
+      if (!write_axis_word(i, p[i], last[i], m.incremental, true, style, turn, edit.text)) edits_.pop_back();
       continue;
     }
-    if (!write_axis_word(i, p[i], last[i], m.incremental, false, styled, inch, turn, word_text_)) continue;
+    if (!write_axis_word(i, p[i], last[i], m.incremental, false, style, turn, word_text_)) continue;
     // (An added word: into an insertion on the block's own line, or onto an added line.)
     std::string& into =
         line.own ? edits_.emplace_back(gcode::Edit{{line.insert_at, line.insert_at}, {}}).text : line.segment;
@@ -166,16 +168,18 @@ void MoveRewriter::rewrite(const gcode::Motion& m, const gcode::Block& b, const 
   double previous_s = part.whole() ? 0.0 : static_cast<double>(part.begin) / static_cast<double>(part.count);
   const std::uint32_t insert_at = insertion_point(b);
   for (std::size_t k = 0; k < points.size(); ++k) {
-    std::string segment = k == own_line                           ? ""
-                          : arc_pieces                            ? (m.arc.turns > 0 ? "G3" : "G2")
-                          : m.kind == gcode::MotionKind::traverse ? "G0"
-                                                                  : "G1";
-    const std::size_t bare = segment.size();
+    // (The block's own line, nearly every move's only point, makes no string of its own.)
+    const bool own = k == own_line;
+    const std::string_view motion_code = own                                     ? ""
+                                         : arc_pieces                            ? (m.arc.turns > 0 ? "G3" : "G2")
+                                         : m.kind == gcode::MotionKind::traverse ? "G0"
+                                                                                 : "G1";
+    PointLine line{own, own ? std::string() : std::string(motion_code), motion_code.size(), insert_at};
     // Its centre words count from where the piece starts: the machine, before its words move it.
-    const std::string centre = arc_pieces && k != own_line ? centre_words(m, b, arc_starts[k]) : "";
-    PointLine line{k == own_line, std::move(segment), bare, insert_at};
+    std::string centre;
+    if (arc_pieces && !own) centre = centre_words(m, b, arc_starts[k]);
     point_words(m, b, points[k], line);
-    line.segment += centre;
+    if (!centre.empty()) line.segment += centre;
     // A take-up finer than the program's digits moves nothing: no line for it.
     if (!line.own && points[k].take_up && line.segment.size() == line.bare) continue;
     // Inverse time: each piece keeps its share of the block's duration; a take-up move

@@ -63,9 +63,10 @@ class MoveRewriter {
   [[nodiscard]] std::optional<std::string> axis_word(std::size_t i, double p, double last, bool incremental, bool named,
                                                      std::string_view styled, bool inch, const TurnWord& turn = {});
 
-  /// The same into `text` (its storage reused): false for nothing to write.
-  bool write_axis_word(std::size_t i, double p, double last, bool incremental, bool named, std::string_view styled,
-                       bool inch, const TurnWord& turn, std::string& text);
+  /// The same into `text` (its storage reused), in `style` (the styled word's, the user's
+  /// decimals applied): false for nothing to write.
+  bool write_axis_word(std::size_t i, double p, double last, bool incremental, bool named, NumberStyle style,
+                       const TurnWord& turn, std::string& text);
 
   [[nodiscard]] WrittenPosition& position() { return position_; }
   [[nodiscard]] const DecimalsOption& decimals() const { return decimals_; }

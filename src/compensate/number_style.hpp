@@ -6,6 +6,8 @@
 #include <string>
 #include <string_view>
 
+#include "ccomp/gcode/block.hpp"
+
 namespace ccomp::compensate {
 
 /// At least 4 decimals in mm, 5 in inches, 5 in degrees (1e-5 deg is 0.07 um at 400 mm
@@ -20,6 +22,10 @@ struct NumberStyle {
 /// The style of `original` (the word's value as written, empty for a word the block lacks)
 /// for a linear axis in inches or mm, or a rotary one; `decimals` >= 0 overrides the count.
 [[nodiscard]] NumberStyle style_of(std::string_view original, bool inch, bool rotary, int decimals);
+/// The same for a word's value (`word` null: a word the block lacks), from what the parser
+/// read of it where it could (gcode::Word::decimals), else from its text in `block_text`.
+[[nodiscard]] NumberStyle style_of(const gcode::Word* word, std::string_view block_text, bool inch, bool rotary,
+                                   int decimals);
 
 /// A coordinate as written: its text, and the number the text means (what the machine
 /// will be told).

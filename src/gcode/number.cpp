@@ -21,7 +21,6 @@ double read_long_decimal(std::string_view digits) {
 }
 
 namespace {
-constexpr std::array<double, 10> kPower = {1e0, 1e1, 1e2, 1e3, 1e4, 1e5, 1e6, 1e7, 1e8, 1e9};
 constexpr std::array<std::uint64_t, 10> kIntegerPower = {1,      10,      100,      1000,      10000,
                                                          100000, 1000000, 10000000, 100000000, 1000000000};
 
@@ -51,19 +50,6 @@ std::pair<std::uint64_t, std::uint64_t> split_at(std::uint64_t magnitude, std::s
 }
 }  // namespace
 
-bool fixed_units(double v, int decimals, std::int64_t& units) {
-  if (decimals < 0 || decimals >= static_cast<int>(kPower.size()) || !std::isfinite(v)) return false;
-  const double scaled = v * kPower[static_cast<std::size_t>(decimals)];  // 10^d is exact: within half an ulp of v 10^d
-  if (!(std::abs(scaled) < 1e15)) return false;
-  const double nearest = std::nearbyint(scaled);
-  // Exact (the two are within one of each other). Further from halfway than the product's
-  // error, the product rounds as the exact value does; nearer, to_chars decides.
-  const double off = std::abs(scaled - nearest);
-  if (!(0.5 - off > 1e-15 * std::abs(scaled) + 1e-300)) return false;
-  units = static_cast<std::int64_t>(nearest);
-  return true;
-}
-
 std::size_t format_units(std::int64_t units, int decimals, bool negative, char* out) {
   const auto d = static_cast<std::size_t>(decimals);
   char* at = out;
@@ -82,10 +68,6 @@ std::size_t format_units(std::int64_t units, int decimals, bool negative, char* 
     at += d;
   }
   return static_cast<std::size_t>(at - out);
-}
-
-double units_value(std::int64_t units, int decimals) {
-  return static_cast<double>(units) / kPower[static_cast<std::size_t>(decimals)];
 }
 
 std::size_t format_fixed(double v, int decimals, char* out) {

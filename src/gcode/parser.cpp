@@ -600,7 +600,8 @@ bool Parser::parse_simple(std::string_view t, Block& out) const {
   };
   // A number at i: sets `value`, advances i.
   double value = 0.0;
-  auto number = [&] { return read_decimal(t, i, value); };
+  DecimalForm form;
+  auto number = [&] { return read_decimal(t, i, value, &form); };
   auto is_letter = [](char c) { return (c >= 'A' && c <= 'Z') || (c >= 'a' && c <= 'z'); };
   auto upper = [](char c) { return c >= 'a' && c <= 'z' ? static_cast<char>(c - 'a' + 'A') : c; };
 
@@ -658,6 +659,8 @@ bool Parser::parse_simple(std::string_view t, Block& out) const {
     w.span = Span{static_cast<std::uint32_t>(start), static_cast<std::uint32_t>(after)};
     w.value_span = Span{static_cast<std::uint32_t>(value_start), static_cast<std::uint32_t>(after)};
     w.value = Value{value, 0, 0};
+    w.decimals = form.fraction_digits <= 127 ? static_cast<std::int8_t>(form.fraction_digits) : std::int8_t{-1};
+    w.point_first = form.point_first;
     out.words.push_back(w);
   }
 }

@@ -78,8 +78,12 @@ struct Value {
 struct Word {
   char letter = 0;        ///< upper case; '$' is LinuxCNC's spindle selector
   bool has_value = true;  ///< false for a lone letter (fanuc dialect)
-  Span span;              ///< the whole word in the original text
-  Span value_span;        ///< the value's bytes (what a writer replaces)
+  /// How a plain number was written, for a writer to keep its style: the digits after its
+  /// point (0 without one), -1 where the value is not a plain number the parser read.
+  std::int8_t decimals = -1;
+  bool point_first = false;  ///< written ".5": the point before any digit
+  Span span;                 ///< the whole word in the original text
+  Span value_span;           ///< the value's bytes (what a writer replaces)
   Value value;
 };
 

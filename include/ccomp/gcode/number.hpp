@@ -4,6 +4,7 @@
 // fraction of their cost for the short fixed-point numbers a program carries (every
 // coordinate of a program goes through these).
 #include <algorithm>
+#include <cmath>
 #include <cstddef>
 #include <cstdint>
 #include <string_view>
@@ -14,11 +15,17 @@ namespace ccomp::gcode {
 /// infinity beyond the largest double, zero below the smallest.
 double read_long_decimal(std::string_view digits);
 
+/// How a number was written: what a writer keeps of it.
+struct DecimalForm {
+  std::size_t fraction_digits = 0;  ///< after the point (0 without one)
+  bool point_first = false;         ///< ".5": a point before any digit
+};
+
 /// Reads `[+-] digits [. digits] | [+-] . digits` at `i` in `t` into `value`, advancing `i`
 /// past it; false when no digit is there (`i` may have passed a sign or a lone point; an `i`
-/// past the end comes back as the end). Inline: the parser reads every number of a program
-/// with it.
-inline bool read_decimal(std::string_view t, std::size_t& i, double& value) {
+/// past the end comes back as the end). `form`, where given, gets how it was written.
+/// Inline: the parser reads every number of a program with it.
+inline bool read_decimal(std::string_view t, std::size_t& i, double& value, DecimalForm* form = nullptr) {
   // (Pointers, not indices into t: the loops then keep the end in a register.)
   const char* const begin = t.data();
   const char* const end = begin + t.size();
@@ -38,6 +45,7 @@ inline bool read_decimal(std::string_view t, std::size_t& i, double& value) {
   }
   i = static_cast<std::size_t>(at - begin);
   if (integer_digits + fraction == 0) return false;
+  if (form) *form = {fraction, integer_digits == 0};
   constexpr double kPow10[16] = {1e0, 1e1, 1e2, 1e3, 1e4, 1e5, 1e6, 1e7, 1e8, 1e9, 1e10, 1e11, 1e12, 1e13, 1e14, 1e15};
   // Exact while the digits fit 15 decimal places (2^53 > 10^15): one correctly rounded
   // division of two exact numbers. (Leading zeros make the count pessimistic, never wrong.)
@@ -50,11 +58,26 @@ inline bool read_decimal(std::string_view t, std::size_t& i, double& value) {
   return true;
 }
 
+/// 10^d for the decimals fixed_units takes (0 to 9).
+inline constexpr double kFixedPowers[10] = {1e0, 1e1, 1e2, 1e3, 1e4, 1e5, 1e6, 1e7, 1e8, 1e9};
+
 /// v * 10^decimals rounded to the nearest integer exactly as std::to_chars(fixed, decimals)
 /// rounds v, when that is cheap to decide: false next to a halfway point, beyond 1e15, or
 /// for more than 9 decimals (format_fixed then asks to_chars). Two values with the same
 /// units are written alike (but for the sign of a zero); the text means units / 10^decimals.
-bool fixed_units(double v, int decimals, std::int64_t& units);
+/// Inline: every number the job writes, or compares as written, comes here.
+inline bool fixed_units(double v, int decimals, std::int64_t& units) {
+  if (decimals < 0 || decimals > 9 || !std::isfinite(v)) return false;
+  const double scaled = v * kFixedPowers[decimals];  // 10^d is exact: within half an ulp of v 10^d
+  if (!(std::abs(scaled) < 1e15)) return false;
+  const double nearest = std::nearbyint(scaled);
+  // Exact (the two are within one of each other). Further from halfway than the product's
+  // error, the product rounds as the exact value does; nearer, to_chars decides.
+  const double off = std::abs(scaled - nearest);
+  if (!(0.5 - off > 1e-15 * std::abs(scaled) + 1e-300)) return false;
+  units = static_cast<std::int64_t>(nearest);
+  return true;
+}
 
 /// Writes units / 10^decimals (0 <= decimals <= 9), a minus sign first when `negative`,
 /// into `out` (room for 32 characters) and returns the length.
@@ -62,7 +85,9 @@ std::size_t format_units(std::int64_t units, int decimals, bool negative, char* 
 
 /// The number units / 10^decimals (0 <= decimals <= 9) is: the division read_decimal does
 /// reading the text format_units writes.
-double units_value(std::int64_t units, int decimals);
+inline double units_value(std::int64_t units, int decimals) {
+  return static_cast<double>(units) / kFixedPowers[decimals];
+}
 
 /// Writes v with `decimals` digits after the point into `out` (room for 40 characters) and
 /// returns the length: exactly what std::to_chars(fixed, decimals) writes; 0 when the text
