@@ -3,6 +3,10 @@
 
 #include <gtest/gtest.h>
 
+#include <string>
+
+#include "ccomp/gcode/parser.hpp"
+
 namespace ccomp::compensate {
 namespace {
 
@@ -15,6 +19,45 @@ TEST(NumberStyleAlone, TakesTheDecimalsAndLeadingZeroOfTheWordItReplaces) {
   EXPECT_EQ(style_of("12.123456", false, false, -1).decimals, 6);
   EXPECT_EQ(style_of("12", false, false, -1).decimals, kDefaultDecimals);
   EXPECT_TRUE(style_of("12", false, false, -1).leading_zero);
+}
+
+TEST(NumberStyleAlone, AWordsStyleFromTheParserIsTheStyleOfItsText) {
+  // What the parser counted of a word (gcode::Word::decimals, point_first) must give the
+  // style its text gives, in every form a number takes, through both of the parser's paths.
+  const std::string texts[] = {"1", "12", "-3", "+7", ".5", "-.25", "+.125", "0.0500", "-0.9975", "5.", "-5.",
+                               "12.123456", "0.0000", "1.", "123456.1234567890123"};
+  for (const bool fast_path : {true, false}) {
+    gcode::Parser parser({}, fast_path);
+    for (const std::string& number : texts) {
+      gcode::Block block;
+      const std::string line = "G1 X" + number;
+      parser.parse(line, 1, "f", block);
+      const gcode::Word* x = block.find('X');
+      ASSERT_NE(x, nullptr) << line;
+      for (const bool inch : {false, true})
+        for (const bool rotary : {false, true})
+          for (const int decimals : {-1, 3}) {
+            const NumberStyle from_word = style_of(x, block.text, inch, rotary, decimals);
+            const NumberStyle from_text = style_of(block.slice(x->value_span), inch, rotary, decimals);
+            EXPECT_EQ(from_word.decimals, from_text.decimals) << line << (fast_path ? " fast" : " grammar");
+            EXPECT_EQ(from_word.leading_zero, from_text.leading_zero) << line << (fast_path ? " fast" : " grammar");
+          }
+    }
+  }
+  // The fast path counts what it reads; a line it leaves to the grammar (an expression) is
+  // styled from its text.
+  gcode::Parser parser;
+  gcode::Block block;
+  parser.parse("G1 X-.25 Y12", 1, "f", block);
+  EXPECT_EQ(int{block.find('X')->decimals}, 2);
+  EXPECT_TRUE(block.find('X')->point_first);
+  EXPECT_EQ(int{block.find('Y')->decimals}, 0);
+  EXPECT_FALSE(block.find('Y')->point_first);
+  parser.parse("G1 X-.25 Z[1.5 + 2]", 2, "f", block);
+  EXPECT_EQ(int{block.find('X')->decimals}, -1);
+  EXPECT_EQ(int{block.find('Z')->decimals}, -1);
+  EXPECT_FALSE(style_of(block.find('X'), block.text, false, false, -1).leading_zero);
+  EXPECT_EQ(style_of(nullptr, block.text, false, false, -1).decimals, kDefaultDecimals);
 }
 
 TEST(NumberStyleAlone, DefaultsDependOnUnitsAndAxisAndTheUserOverridesThem) {
