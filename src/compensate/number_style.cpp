@@ -78,19 +78,26 @@ NumberStyle style_of(const gcode::Word* word, std::string_view block_text, bool 
 double format_value(double v, const NumberStyle& style, std::string& out) {
   // Rounds the exact binary value as fmt does, without parsing a format string: this runs
   // for every number the job writes. Where the rounding is cheap to decide, from the units
-  // of the last digit: their digits are the text, their quotient its value.
+  // of the last digit: their digits are the text (written here right to left, in one pass
+  // and one copy), their quotient its value.
   if (std::int64_t units = 0; gcode::fixed_units(v, style.decimals, units)) {
-    std::array<char, 32> buffer{};
-    char* text = buffer.data();
-    std::size_t length = gcode::format_units(units, style.decimals, units < 0, text);  // no "-0.0000"
-    if (!style.leading_zero && style.decimals > 0) {
-      const std::size_t zero = units < 0 ? 1 : 0;  // "0.5" -> ".5", "-0.5" -> "-.5"
-      if (text[zero] == '0' && text[zero + 1] == '.') {
-        std::copy(text + zero + 1, text + length, text + zero);
-        --length;
-      }
+    // (The magnitude in unsigned arithmetic: -units overflows at the most negative.)
+    std::uint64_t magnitude = units < 0 ? 0 - static_cast<std::uint64_t>(units) : static_cast<std::uint64_t>(units);
+    std::array<char, 32> buffer;  // fixed_units: below 1e15 and 9 decimals at most, a point and a sign
+    char* const end = buffer.data() + buffer.size();
+    char* at = end;
+    for (int k = 0; k < style.decimals; ++k) {
+      *--at = static_cast<char>('0' + magnitude % 10);
+      magnitude /= 10;
     }
-    out.assign(text, length);
+    if (style.decimals > 0) *--at = '.';
+    // "0.5" -> ".5" and "-0.5" -> "-.5" where the program wrote no leading zero.
+    if (magnitude != 0 || style.leading_zero || style.decimals == 0) do {
+        *--at = static_cast<char>('0' + magnitude % 10);
+        magnitude /= 10;
+      } while (magnitude != 0);
+    if (units < 0) *--at = '-';  // (no "-0.0000": a zero has no units below it)
+    out.assign(at, static_cast<std::size_t>(end - at));
     return gcode::units_value(units, style.decimals);
   }
   WrittenValue written = format_value_slowly(v, style);

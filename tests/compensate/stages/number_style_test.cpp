@@ -3,7 +3,12 @@
 
 #include <gtest/gtest.h>
 
+#include <charconv>
+#include <cmath>
+#include <random>
 #include <string>
+
+#include <fmt/format.h>
 
 #include "ccomp/gcode/parser.hpp"
 
@@ -65,6 +70,35 @@ TEST(NumberStyleAlone, DefaultsDependOnUnitsAndAxisAndTheUserOverridesThem) {
   EXPECT_EQ(style_of("", false, true, -1).decimals, kDefaultRotaryDecimals);
   EXPECT_EQ(style_of("1.123456", false, false, 2).decimals, 2);  // fewer than the program wrote: asked for
   EXPECT_EQ(format_value(1.005, style_of("", false, false, 0)).text, "1");
+}
+
+TEST(NumberStyleAlone, WritesWhatFixedPointFormattingWritesInEveryStyle) {
+  // Against fmt's correctly rounded fixed-point text (no "-0.000"; ".5" where the program
+  // wrote no leading zero), on random coordinates of every size, halfway points among them,
+  // and the number the text means.
+  std::mt19937_64 random(23);
+  std::uniform_real_distribution<double> unit(-1.0, 1.0);
+  std::uniform_int_distribution<int> exponent(-6, 9);
+  for (int n = 0; n < 40000; ++n) {
+    double v = unit(random) * std::pow(10.0, exponent(random));
+    const int decimals = n % 10;
+    if (n % 7 == 0) v = (std::round(v * std::pow(10.0, decimals)) + 0.5) / std::pow(10.0, decimals);  // halfway
+    for (const bool leading_zero : {true, false}) {
+      std::string expected = fmt::format("{:.{}f}", v, decimals);
+      if (expected.starts_with('-') && expected.find_first_not_of("0.", 1) == std::string::npos) expected.erase(0, 1);
+      if (!leading_zero && decimals > 0) {
+        if (expected.starts_with("0."))
+          expected.erase(0, 1);
+        else if (expected.starts_with("-0."))
+          expected.erase(1, 1);
+      }
+      const WrittenValue written = format_value(v, NumberStyle{decimals, leading_zero});
+      ASSERT_EQ(written.text, expected) << v << " to " << decimals << (leading_zero ? "" : " without the zero");
+      double meant = 0.0;
+      std::from_chars(expected.data(), expected.data() + expected.size(), meant);
+      ASSERT_EQ(written.value, meant) << expected;
+    }
+  }
 }
 
 TEST(NumberStyleAlone, NeverWritesMinusZeroAndTellsTheValueTheTextMeans) {
