@@ -29,6 +29,7 @@ bool take_slopes(const model::ForwardModel& model, const model::VariationBound& 
   slopes.orientation = R_target;
   slopes.tip.setZero();
   slopes.turn.setZero();
+  slopes.moving_columns = 0;
   model::forward(model, d, q, {}, false, model::Evaluate::nominal);
   const Eigen::Vector3d tip = d.nominal;
   const Eigen::Vector3d turn = kinematics::so3_log(R_target.transpose() * d.R_nominal);
@@ -41,6 +42,7 @@ bool take_slopes(const model::ForwardModel& model, const model::VariationBound& 
     model::forward(model, d, moved, {}, false, model::Evaluate::nominal);
     slopes.tip.col(k) = d.nominal - tip;
     slopes.column_norm = std::max(slopes.column_norm, slopes.tip.col(k).norm());
+    if (slopes.tip.col(k).squaredNorm() > 0.0) slopes.moving_columns |= 1U << k;
   }
   if (!problem.rotary_unknowns.empty()) {
     const int k = problem.rotary_unknowns.front();
@@ -106,7 +108,10 @@ void record_node(const model::ForwardModel& model, const model::VariationBound& 
   path.count = std::min(path.count + 1, 2);
   if (path.count < 2) return;
   const ChainQ &a = path.nodes[0].q, line = q - a;
-  const double scale = old_length2 > 0.0 ? line.squaredNorm() / old_length2 : 0.0;
+  path.line = line;
+  path.length2 = line.squaredNorm();
+  path.lever = bound.lever(a, q);
+  const double scale = old_length2 > 0.0 ? path.length2 / old_length2 : 0.0;
   path.line_bend = bend * scale;
   path.line_turn_bend = turn_bend * scale;
   path.line_chord = bound.chord_deviation(a, q);
@@ -128,8 +133,8 @@ bool extrapolate(const model::VariationBound& bound, const InverseProblem& probl
   if (!path.slopes.valid || !slopes_taken_for(problem, path.slopes, q, path.orientation) ||
       !std::isfinite(path.line_chord))
     return false;
-  const ChainQ line = b.q - a.q;
-  const double length2 = line.squaredNorm();
+  const ChainQ& line = path.line;
+  const double length2 = path.length2;
   if (!(length2 > 0.0)) return false;
   const double s = line.dot(q - a.q) / length2;
   if (at) *at = s;
@@ -144,13 +149,14 @@ bool extrapolate(const model::VariationBound& bound, const InverseProblem& probl
   const PathNodes::NominalSlopes& slopes = path.slopes;
   const double errors = slopes.error_slopes.change(on_line, q);
   double linear = 0.0, turned = 0.0, turning = 0.0;
-  for (const int k : problem.unknowns) linear += std::abs(off[k]) * (slopes.tip.col(k).squaredNorm() > 0.0);
+  for (const int k : problem.unknowns)
+    if (slopes.moving_columns >> k & 1U) linear += std::abs(off[k]);
   if (!problem.rotary_unknowns.empty()) {
     const int k = problem.rotary_unknowns.front();
     turning = std::abs(off[k]);
     turned = std::abs(a.q[k] + s * line[k] - slopes.rotary_value);
   }
-  out.lever = bound.lever(a.q, b.q);
+  out.lever = path.lever;
   // The nodes' tips are computed a lever long: a few units in their last place, weighed.
   const double rounding =
       256.0 * std::numeric_limits<double>::epsilon() * out.lever * (std::abs(1.0 - s) + std::abs(s) + 1.0);

@@ -64,6 +64,10 @@ struct PathNodes {
   };
   std::array<Node, 2> nodes{};  ///< the older first
   int count = 0;
+  /// With two nodes: the newer less the older, its squared length and the bound's lever
+  /// over both (model::VariationBound::lever), kept with them: every extrapolation asks.
+  model::ChainQ line = model::ChainQ::Zero();
+  double length2 = 0.0, lever = 0.0;
   /// What they were evaluated under.
   std::array<double, 9> directions{};
   Eigen::Matrix3d orientation = Eigen::Matrix3d::Zero();
@@ -84,6 +88,7 @@ struct PathNodes {
   struct NominalSlopes {
     bool valid = false;
     double tool_length = 0.0, rotary_value = 0.0, column_norm = 0.0;
+    unsigned moving_columns = 0;  ///< bit k: the tip moves with unknown k (its column is not zero)
     Eigen::Matrix3d orientation = Eigen::Matrix3d::Zero();
     Eigen::Matrix<double, 3, model::kChainVariables> tip = Eigen::Matrix<double, 3, model::kChainVariables>::Zero();
     Eigen::Vector3d turn = Eigen::Vector3d::Zero();
