@@ -339,12 +339,12 @@ void learn(const InverseProblem& problem, InverseWorkspace& ws, const ChainQ& q_
 /// `residual` them over the equations.
 bool accept_on_bound(const InverseProblem& problem, const model::Conditions& conditions, const InverseOptions& options,
                      const InverseWorkspace& ws, const SolveStart& s, InverseResult& r, Residual& residual,
-                     bool& on_path) {
+                     bool& on_path, detail::LinePoint& kept) {
   if (!s.predicted || ws.path.count < 2 || !shortcut_applies(problem) ||
       !detail::nodes_hold(ws.path, conditions, s.R_target, s.q[static_cast<Eigen::Index>(model::kToolLengthIndex)]))
     return false;
   detail::Extrapolated x;
-  if (!detail::extrapolate(*options.bound, problem, ws.path, s.q, s.target, x)) return false;
+  if (!detail::extrapolate(*options.bound, problem, ws.path, s.q, s.target, x, true, nullptr, &kept)) return false;
   on_path = true;
   residual.resize(3 + static_cast<Eigen::Index>(problem.rotary_unknowns.size()));
   residual.head<3>() = x.position_residual;
@@ -377,7 +377,9 @@ InverseResult solve_inverse(const model::ForwardModel& model, const InverseProbl
   SolveStart s = start_of(problem, ws, q_nominal, conditions, guess, nominal ? nominal->tip : d.nominal,
                           nominal ? nominal->orientation : d.R_nominal);
   const bool bounded = options.bound && options.bounded_tolerance > 0.0;
-  if (Residual residual; bounded && accept_on_bound(problem, conditions, options, ws, s, r, residual, s.on_path)) {
+  detail::LinePoint kept;  // the extrapolation to the prediction, for its node where it is evaluated
+  if (Residual residual;
+      bounded && accept_on_bound(problem, conditions, options, ws, s, r, residual, s.on_path, kept)) {
     r.q = s.q;
     r.target = s.target;
     // The point stays where the bound holds; the next prediction starts from it moved by
@@ -392,7 +394,7 @@ InverseResult solve_inverse(const model::ForwardModel& model, const InverseProbl
     if (!r.converged) return r;
     if (bounded && shortcut_applies(problem))
       detail::record_node(model, *options.bound, problem, d, ws.path, s.evaluated, conditions, s.R_target,
-                          s.evaluated_omega, options.bounded_tolerance);
+                          s.evaluated_omega, options.bounded_tolerance, &kept);
     learn(problem, ws, q_nominal, conditions, s, Reached::evaluated);
     r.residual_bound = s.stands ? s.standing_residual : options.position_tolerance;
   }

@@ -82,7 +82,8 @@ bool nodes_hold(const PathNodes& path, const model::Conditions& conditions, cons
 
 void record_node(const model::ForwardModel& model, const model::VariationBound& bound, const InverseProblem& problem,
                  model::ForwardData& d, PathNodes& path, const ChainQ& q, const model::Conditions& conditions,
-                 const Eigen::Matrix3d& R_target, const Eigen::Vector3d& omega, double tolerance) {
+                 const Eigen::Matrix3d& R_target, const Eigen::Vector3d& omega, double tolerance,
+                 const LinePoint* kept) {
   if (!nodes_hold(path, conditions, R_target, q[kTool])) {
     path.count = 0;
     path.directions = conditions.directions;
@@ -95,11 +96,16 @@ void record_node(const model::ForwardModel& model, const model::VariationBound& 
   Eigen::Vector3d bend = Eigen::Vector3d::Zero(), turn_bend = Eigen::Vector3d::Zero();
   double bend_s = 0.0;
   if (path.count == 2) {
-    Extrapolated x;
-    if (extrapolate(bound, problem, path, q, Eigen::Vector3d::Zero(), x, false, &bend_s) &&
-        std::abs(bend_s * (bend_s - 1.0)) >= 0.5) {
-      bend = (d.actual - x.position_residual) / (bend_s * (bend_s - 1.0));
-      turn_bend = (omega - x.orientation_error) / (bend_s * (bend_s - 1.0));
+    LinePoint point;
+    if (!(kept && kept->q == q)) {  // (nearly always kept: the prediction, evaluated once)
+      Extrapolated x;
+      (void)extrapolate(bound, problem, path, q, Eigen::Vector3d::Zero(), x, false, nullptr, &point);
+      kept = &point;
+    }
+    bend_s = kept->s;
+    if (kept->reached && std::abs(bend_s * (bend_s - 1.0)) >= 0.5) {
+      bend = (d.actual - kept->tip) / (bend_s * (bend_s - 1.0));
+      turn_bend = (omega - kept->omega) / (bend_s * (bend_s - 1.0));
     }
   }
   const double old_length2 = (path.nodes[1].q - path.nodes[0].q).squaredNorm();
@@ -128,8 +134,10 @@ void record_node(const model::ForwardModel& model, const model::VariationBound& 
 }
 
 bool extrapolate(const model::VariationBound& bound, const InverseProblem& problem, const PathNodes& path,
-                 const ChainQ& q, const Eigen::Vector3d& target, Extrapolated& out, bool bent, double* at) {
+                 const ChainQ& q, const Eigen::Vector3d& target, Extrapolated& out, bool bent, double* at,
+                 LinePoint* kept) {
   const PathNodes::Node &a = path.nodes[0], &b = path.nodes[1];
+  if (kept) kept->q = q, kept->reached = false;
   if (!path.slopes.valid || !slopes_taken_for(problem, path.slopes, q, path.orientation) ||
       !std::isfinite(path.line_chord))
     return false;
@@ -138,6 +146,7 @@ bool extrapolate(const model::VariationBound& bound, const InverseProblem& probl
   if (!(length2 > 0.0)) return false;
   const double s = line.dot(q - a.q) / length2;
   if (at) *at = s;
+  if (kept) kept->s = s;
   if (!(s >= 0.0 && s <= path.line_reach)) return false;
   const ChainQ on_line = a.q + s * line, off = q - on_line;  // off: w
   // Along the line: 4 |s (s - 1)| / hull^2 of the hull's chord bound.
@@ -168,10 +177,13 @@ bool extrapolate(const model::VariationBound& bound, const InverseProblem& probl
   out.position_bound = along + errors + turned * slopes.column_norm * linear + out.lever * turning + rounding +
                        slope_rounding + bend.norm();
   if (!std::isfinite(out.position_bound)) return false;
-  out.position_residual = a.tip + s * (b.tip - a.tip) + slopes.tip * off + bend - target;
-  out.orientation_error = a.omega + s * (b.omega - a.omega) +
-                          slopes.turn * (problem.rotary_unknowns.empty() ? 0.0 : off[problem.rotary_unknowns.front()]) +
-                          turn_bend;
+  const Eigen::Vector3d tip = a.tip + s * (b.tip - a.tip) + slopes.tip * off;
+  const Eigen::Vector3d omega =
+      a.omega + s * (b.omega - a.omega) +
+      slopes.turn * (problem.rotary_unknowns.empty() ? 0.0 : off[problem.rotary_unknowns.front()]);
+  if (kept) kept->reached = true, kept->tip = tip, kept->omega = omega;
+  out.position_residual = tip + bend - target;
+  out.orientation_error = omega + turn_bend;
   // What the error angles' products leave out of the rotary residual's split: the turn
   // times the error angle squared over 12, doubled for the higher orders, at each of the
   // three points the extrapolation weighs (the turn at most the residual's angle and the

@@ -22,6 +22,7 @@
 // residual is that turn plus the error rotation's component along the axis, up to a term
 // of third order (the turn times the error angle squared, over 12), which is added.
 #include <Eigen/Core>
+#include <limits>
 
 #include "ccomp/compensate/inverse.hpp"
 #include "ccomp/model/forward.hpp"
@@ -34,13 +35,24 @@ namespace ccomp::compensate::detail {
 [[nodiscard]] bool nodes_hold(const PathNodes& path, const model::Conditions& conditions,
                               const Eigen::Matrix3d& R_target, double tool_length);
 
+/// An extrapolation's point before the bend carried over and the target: what
+/// record_node() asks again of a point evaluated where the bound did not let it through.
+struct LinePoint {
+  model::ChainQ q = model::ChainQ::Constant(std::numeric_limits<double>::quiet_NaN());
+  bool reached = false;  ///< the extrapolation held (extrapolate() returned true)
+  double s = 0.0;        ///< q's place along the line
+  Eigen::Vector3d tip = Eigen::Vector3d::Zero(), omega = Eigen::Vector3d::Zero();  ///< the actual tip, orientation residual
+};
+
 /// Makes the last evaluation at q (`d` holds its actual pose, `omega` its orientation
 /// residual against R_target) the newer node, the older one gone where the conditions
 /// changed; with two, their line's chord bounds out to where an extrapolation could still
-/// stay below `tolerance` (mm), and the nominal slopes there.
+/// stay below `tolerance` (mm), and the nominal slopes there. `kept`: the extrapolation to
+/// q already made with these nodes, if it was to q.
 void record_node(const model::ForwardModel& model, const model::VariationBound& bound, const InverseProblem& problem,
                  model::ForwardData& d, PathNodes& path, const model::ChainQ& q, const model::Conditions& conditions,
-                 const Eigen::Matrix3d& R_target, const Eigen::Vector3d& omega, double tolerance);
+                 const Eigen::Matrix3d& R_target, const Eigen::Vector3d& omega, double tolerance,
+                 const LinePoint* kept = nullptr);
 
 /// The residuals at a prediction as the nodes extrapolate them, and how far the truth can be.
 struct Extrapolated {
@@ -53,9 +65,10 @@ struct Extrapolated {
 
 /// The nodes' extrapolation to q, where two nodes hold (the caller's to check) and the
 /// prediction lies within their line's reach; `bent`: with the bend carried from the last
-/// line. `at` gets q's place along the line (s), whatever the outcome.
+/// line. `at` gets q's place along the line (s), whatever the outcome; `kept`, where given,
+/// the point before the bend and target, for record_node() (nodes unchanged meanwhile).
 [[nodiscard]] bool extrapolate(const model::VariationBound& bound, const InverseProblem& problem, const PathNodes& path,
                                const model::ChainQ& q, const Eigen::Vector3d& target, Extrapolated& out,
-                               bool bent = true, double* at = nullptr);
+                               bool bent = true, double* at = nullptr, LinePoint* kept = nullptr);
 
 }  // namespace ccomp::compensate::detail
