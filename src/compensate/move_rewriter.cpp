@@ -49,7 +49,9 @@ struct MoveRewriter::PointLine {
 MoveRewriter::MoveRewriter(gcode::ProgramWriter& writer, const model::MachineModel& model, DecimalsOption decimals,
                            JobReport& report, std::string_view file)
     : writer_(writer), model_(model), decimals_(decimals), report_(report), file_(file) {
-  for (std::size_t i = 0; i < gcode::kAxisCount; ++i) machine_axis_[i] = model.axis(gcode::kAxisLetters[i]) != nullptr;
+  for (std::size_t i = 0; i < gcode::kAxisCount; ++i)
+    if (model.axis(gcode::kAxisLetters[i]) != nullptr)
+      machine_axes_[machine_axis_count_++] = static_cast<std::uint8_t>(i);
   for (const model::ErrorTermSpec& t : model.terms)
     if (t.primary.kind == model::VariableKind::direction) approach_axes_ |= 1U << t.primary.index;
 }
@@ -135,10 +137,14 @@ void MoveRewriter::point_words(const gcode::Motion& m, const gcode::Block& b, co
   const double unit = mm_per_unit(m.units);
   const gcode::Axes p = program_of(point.q, *m.offsets, unit);
   const gcode::Axes last = program_of(model::chain_of(position_.commanded, *m.offsets), *m.offsets, unit);
-  for (std::size_t i = 0; i < gcode::kAxisCount; ++i) {
-    if (!machine_axis_[i]) continue;
+  // The block's first word of each axis, in one pass over its words.
+  std::array<const gcode::Word*, gcode::kAxisCount> words{};
+  for (const gcode::Word& w : b.words)
+    if (const std::optional<std::size_t> axis = gcode::axis_index(w.letter); axis && !words[*axis]) words[*axis] = &w;
+  for (std::size_t n = 0; n < machine_axis_count_; ++n) {
+    const std::size_t i = machine_axes_[n];
     const char letter = gcode::kAxisLetters[i];
-    const gcode::Word* own = b.find(letter);
+    const gcode::Word* own = words[i];
     const gcode::Word* word = line.own ? own : nullptr;
     const bool rotary = gcode::is_rotary(i);
     const NumberStyle style = style_of(own, b.text, inch && !rotary, rotary, decimals_.for_axis(rotary));

@@ -95,7 +95,9 @@ class MoveRewriter {
   WrittenPosition position_;
   std::vector<gcode::Edit> edits_;                      ///< the move's line's edits, storage kept from move to move
   std::string word_text_;                               ///< an added word's value, storage kept
-  std::array<bool, gcode::kAxisCount> machine_axis_{};  ///< the machine has axis i
+  /// The machine's axes, in the order words are written (X Y Z A B C U V W).
+  std::array<std::uint8_t, gcode::kAxisCount> machine_axes_{};
+  std::size_t machine_axis_count_ = 0;
   unsigned approach_axes_ = 0;                          ///< bit i: a term reads axis i's approach
 };
 

@@ -52,18 +52,6 @@ WrittenValue format_value_slowly(double v, const NumberStyle& style) {
 
 }  // namespace
 
-namespace {
-/// The style of a number written with `written` digits after its point (0 without one),
-/// the point first or not.
-NumberStyle style_written(int written, bool point_first, bool inch, bool rotary, int decimals) {
-  NumberStyle style{rotary ? kDefaultRotaryDecimals : inch ? kDefaultInchDecimals : kDefaultDecimals, true};
-  style.decimals = std::max(style.decimals, written);
-  style.leading_zero = !point_first;
-  if (decimals >= 0) style.decimals = decimals;
-  return style;
-}
-}  // namespace
-
 NumberStyle style_of(std::string_view original, bool inch, bool rotary, int decimals) {
   // One pass: whether a digit or the point comes first, and how many digits follow the
   // first point.
@@ -76,14 +64,6 @@ NumberStyle style_of(std::string_view original, bool inch, bool rotary, int deci
   if (i < original.size())
     for (++i; i < original.size() && digit(original[i]); ++i) ++written;
   return style_written(written, point_first, inch, rotary, decimals);
-}
-
-NumberStyle style_of(const gcode::Word* word, std::string_view block_text, bool inch, bool rotary, int decimals) {
-  // (Every axis word of every line comes here: the parser's count saves reading it again.)
-  if (!word) return style_written(0, false, inch, rotary, decimals);
-  if (word->decimals >= 0) return style_written(word->decimals, word->point_first, inch, rotary, decimals);
-  return style_of(block_text.substr(word->value_span.begin, word->value_span.end - word->value_span.begin), inch,
-                  rotary, decimals);
 }
 
 double format_value(double v, const NumberStyle& style, std::string& out) {

@@ -22,10 +22,26 @@ struct NumberStyle {
 /// The style of `original` (the word's value as written, empty for a word the block lacks)
 /// for a linear axis in inches or mm, or a rotary one; `decimals` >= 0 overrides the count.
 [[nodiscard]] NumberStyle style_of(std::string_view original, bool inch, bool rotary, int decimals);
+/// The style of a number written with `written` digits after its point (0 without one),
+/// the point first or not.
+[[nodiscard]] inline NumberStyle style_written(int written, bool point_first, bool inch, bool rotary, int decimals) {
+  NumberStyle style{rotary ? kDefaultRotaryDecimals : inch ? kDefaultInchDecimals : kDefaultDecimals, true};
+  style.decimals = written > style.decimals ? written : style.decimals;
+  style.leading_zero = !point_first;
+  if (decimals >= 0) style.decimals = decimals;
+  return style;
+}
+
 /// The same for a word's value (`word` null: a word the block lacks), from what the parser
 /// read of it where it could (gcode::Word::decimals), else from its text in `block_text`.
-[[nodiscard]] NumberStyle style_of(const gcode::Word* word, std::string_view block_text, bool inch, bool rotary,
-                                   int decimals);
+/// Inline: every axis word of every line comes here.
+[[nodiscard]] inline NumberStyle style_of(const gcode::Word* word, std::string_view block_text, bool inch, bool rotary,
+                                          int decimals) {
+  if (!word) return style_written(0, false, inch, rotary, decimals);
+  if (word->decimals >= 0) return style_written(word->decimals, word->point_first, inch, rotary, decimals);
+  return style_of(block_text.substr(word->value_span.begin, word->value_span.end - word->value_span.begin), inch,
+                  rotary, decimals);
+}
 
 /// A coordinate as written: its text, and the number the text means (what the machine
 /// will be told).

@@ -41,7 +41,8 @@ struct LinePoint {
   model::ChainQ q = model::ChainQ::Constant(std::numeric_limits<double>::quiet_NaN());
   bool reached = false;  ///< the extrapolation held (extrapolate() returned true)
   double s = 0.0;        ///< q's place along the line
-  Eigen::Vector3d tip = Eigen::Vector3d::Zero(), omega = Eigen::Vector3d::Zero();  ///< the actual tip, orientation residual
+  Eigen::Vector3d tip = Eigen::Vector3d::Zero(),
+                  omega = Eigen::Vector3d::Zero();  ///< the actual tip, orientation residual
 };
 
 /// Makes the last evaluation at q (`d` holds its actual pose, `omega` its orientation

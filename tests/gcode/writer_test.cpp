@@ -72,8 +72,8 @@ TEST(Writer, ApplyEditsSortsAndKeepsTheRest) {
   EXPECT_EQ(apply_edits("abc", {}), "abc");
   // Shorter and longer replacements, an insertion and a removal, out of order: the line's
   // length is worked out before the pieces are copied.
-  EXPECT_EQ(apply_edits("G1 X1.5 Y2 Z-3", {Edit{{12, 14}, "-3.0000"}, Edit{{4, 7}, "1"}, Edit{{7, 10}, ""},
-                                            Edit{{14, 14}, " B0.5"}}),
+  EXPECT_EQ(apply_edits("G1 X1.5 Y2 Z-3",
+                        {Edit{{12, 14}, "-3.0000"}, Edit{{4, 7}, "1"}, Edit{{7, 10}, ""}, Edit{{14, 14}, " B0.5"}}),
             "G1 X1 Z-3.0000 B0.5");
   EXPECT_EQ(apply_edits("X123456789", {Edit{{1, 10}, "1"}}), "X1");
   EXPECT_THROW((void)apply_edits("abc", {Edit{{2, 5}, "x"}}), Error);

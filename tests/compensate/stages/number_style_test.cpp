@@ -1,14 +1,13 @@
 // The number style on its own: how one compensated value is written.
 #include "compensate/number_style.hpp"
 
+#include <fmt/format.h>
 #include <gtest/gtest.h>
 
 #include <charconv>
 #include <cmath>
 #include <random>
 #include <string>
-
-#include <fmt/format.h>
 
 #include "ccomp/gcode/parser.hpp"
 
@@ -29,8 +28,9 @@ TEST(NumberStyleAlone, TakesTheDecimalsAndLeadingZeroOfTheWordItReplaces) {
 TEST(NumberStyleAlone, AWordsStyleFromTheParserIsTheStyleOfItsText) {
   // What the parser counted of a word (gcode::Word::decimals, point_first) must give the
   // style its text gives, in every form a number takes, through both of the parser's paths.
-  const std::string texts[] = {"1", "12", "-3", "+7", ".5", "-.25", "+.125", "0.0500", "-0.9975", "5.", "-5.",
-                               "12.123456", "0.0000", "1.", "123456.1234567890123"};
+  const std::string texts[] = {"1",    "12",        "-3",     "+7",      ".5",
+                               "-.25", "+.125",     "0.0500", "-0.9975", "5.",
+                               "-5.",  "12.123456", "0.0000", "1.",      "123456.1234567890123"};
   for (const bool fast_path : {true, false}) {
     gcode::Parser parser({}, fast_path);
     for (const std::string& number : texts) {
