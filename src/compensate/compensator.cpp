@@ -170,13 +170,15 @@ double Compensator::error_at(const ErrorProbe& probe) {
 }
 
 double Compensator::error_at(const ErrorProbe& probe, double at_least) {
-  if (probe.directions == last_probe_.directions && !std::isnan(last_probe_error_)) {
+  if (!std::isnan(last_probe_error_)) {
     const auto tool = static_cast<Eigen::Index>(model::kToolLengthIndex);
     const double tool_length = probe.nominal[tool];
     if (probe_slopes_.tool_length != tool_length) probe_slopes_ = bound_.error_slopes(tool_length);
-    const double change = last_probe_.nominal[tool] == tool_length
-                              ? probe_slopes_.change(last_probe_.nominal, probe.nominal)
-                              : bound_.error_change(last_probe_.nominal, probe.nominal);
+    double change = last_probe_.nominal[tool] == tool_length ? probe_slopes_.change(last_probe_.nominal, probe.nominal)
+                                                             : bound_.error_change(last_probe_.nominal, probe.nominal);
+    // An approach changed since (a take-up, an axis reversed): what its terms switch.
+    if (probe.directions != last_probe_.directions)
+      change += bound_.direction_change(last_probe_.directions, probe.directions, tool_length);
     const double bound = last_probe_error_ + change;
     if (bound <= at_least) {
       last_probe_ = probe;

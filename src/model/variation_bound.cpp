@@ -221,6 +221,17 @@ VariationBound::VariationBound(const ForwardModel& model, const Conditions& cond
         term_bound(t, range_of(t.primary, machine, conditions), range_of(t.secondary, machine, conditions));
     const bool angular = t.component >= 3;
     (angular ? angular_sum_ : translation_sum_) += b.value;
+    // (A direction is no chain variable: it stands along a move, and changes between moves.)
+    auto per_direction = [&](const Variable& v, double slope) {
+      if (v.kind != VariableKind::direction) return;
+      if (v.index >= direction_translation_.size() || !(slope >= 0.0)) {  // (NaN too)
+        directions_bounded_ = false;
+        return;
+      }
+      (angular ? direction_angular_ : direction_translation_)[v.index] += slope;
+    };
+    per_direction(t.primary, b.slope_p);
+    per_direction(t.secondary, b.slope_s);
     const int p = chain_variable(t.primary), s = chain_variable(t.secondary);
     if (p >= 0 && s >= 0) {
       two_variables_.push_back({static_cast<std::size_t>(p), static_cast<std::size_t>(s), angular, b.slope_p, b.slope_s,
@@ -322,6 +333,20 @@ double VariationBound::error_change(const ChainQ& a, const ChainQ& b) const {
   // Rounding: of both errors, each the difference of two computed tips.
   const double rounding = 256.0 * std::numeric_limits<double>::epsilon() * m.lever;
   return second_order(m.lever) * slope + rounding;
+}
+
+double VariationBound::direction_change(const std::array<double, 9>& a, const std::array<double, 9>& b,
+                                        double tool_length) const {
+  if (!bounded_ || !directions_bounded_) return kInf;
+  // At one point the chain stands: only the terms reading a direction change, each by at
+  // most its slope in it times the change; a translation moves the tip by as much, a
+  // rotation through the lever; their products with the rest, by second_order().
+  const double lever = lever_ + std::abs(tool_length);
+  double change = 0.0;
+  for (std::size_t i = 0; i < a.size(); ++i)
+    if (const double d = std::abs(b[i] - a[i]); d != 0.0)
+      change += (direction_translation_[i] + lever * direction_angular_[i]) * d;
+  return second_order(lever) * change;
 }
 
 VariationBound::ErrorSlopes VariationBound::error_slopes(double tool_length) const {

@@ -3,6 +3,8 @@
 // program stays exactly what evaluating every probe gives.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstring>
 #include <new>
@@ -50,6 +52,50 @@ TEST(ErrorBefore, TheMaximumIsExactWhileMostProbesAreBounded) {
   }
   EXPECT_EQ(skipping, all);
   EXPECT_LT(evaluated, probes / 4) << "most probes of a finishing pass are bounded below the maximum";
+}
+
+TEST(ErrorBefore, ProbesAcrossAnApproachChangeAreBoundedToo) {
+  // Along the rows, Y barely moves: its correction's travel turns it every few moves, and
+  // its play is taken up whole or in part. The probes after such a change are bounded by
+  // what the change can switch (VariationBound::direction_change), not evaluated each time,
+  // and the maximum is still exactly that of evaluating them all.
+  const model::MachineModel mm =
+      model::load_machine_model(std::string(CCOMP_SOURCE_DIR) + "/samples/machines/hmc-xyzb.yaml");
+  const model::ForwardModel m(mm);
+  CompensationOptions o;
+  o.conditions.time = 3600;
+  o.conditions.temperatures = {24.0, 23.0, 31.0};
+  Compensator every(m, o), bounded(m, o);
+  double all = 0.0, skipping = 0.0;
+  int evaluated = 0, probes = 0, changes = 0;
+  std::array<double, 9> last{};
+  for (int row = 0; row < 10; ++row) {
+    const double direction = row % 2 == 0 ? 1.0 : -1.0;
+    for (int k = 0; k <= 400; ++k, ++probes) {
+      ErrorProbe p;
+      p.nominal = model::ChainQ::Zero();
+      p.nominal << -10 + direction * (k * 0.05 - 10), -20 + 2 * row, -0.3 + 1e-4 * k, 0, 0, 0, 0, 0, 0, 100;
+      const double y = k % 6 < 3 ? 1.0 : k % 6 == 3 ? 0.4 : -1.0;  // reversed, or part-way
+      p.directions = {direction, y, -1, 0, 1, 0, 0, 0, 0};
+      changes += p.directions != last;
+      last = p.directions;
+      model::ForwardData d(m);
+      model::forward(m, d, p.nominal, o.conditions, false, model::Evaluate::nominal);
+      p.tip = d.nominal;
+      const double exact = every.error_at(p);
+      const double taken = bounded.error_at(p, skipping);
+      if (taken == exact)
+        ++evaluated;
+      else
+        EXPECT_LE(taken, skipping) << "a bounded probe may not raise the maximum";
+      EXPECT_GE(taken, exact) << "a bound below the error at probe " << probes;
+      all = std::max(all, exact);
+      skipping = std::max(skipping, taken);
+    }
+  }
+  EXPECT_EQ(skipping, all);
+  EXPECT_GT(changes, probes / 4);
+  EXPECT_LT(evaluated, probes / 4) << "a probe after an approach change is bounded as any other";
 }
 
 TEST(ErrorBefore, TheChainsZeroIsAPointLikeAnyOther) {

@@ -5,8 +5,13 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <array>
 #include <cmath>
 #include <random>
+#include <string>
+#include <utility>
+#include <vector>
 
 #include "ccomp/model/model_file.hpp"
 #include "random_terms.hpp"
@@ -107,6 +112,65 @@ TEST(VariationBound, ErrorSlopesSumToTheErrorChange) {
       EXPECT_GE(summed, exact) << form << ": move " << k;
       EXPECT_LE(summed, exact * (1 + 1e-12) + slopes.rounding) << form << ": move " << k;
     }
+  }
+}
+
+/// |e(q, b) - e(q, a)|: the tip's error at q, the approach directions changed from a to b.
+double measured_direction_change(const ForwardModel& m, const ChainQ& q, Conditions c, const std::array<double, 9>& a,
+                                 const std::array<double, 9>& b) {
+  ForwardData d(m);
+  auto error = [&](const std::array<double, 9>& directions) {
+    c.directions = directions;
+    forward(m, d, q, c, false, Evaluate::both);
+    return Eigen::Vector3d(d.actual - d.nominal);
+  };
+  return (error(b) - error(a)).norm();
+}
+
+TEST(VariationBound, BoundsWhatTheErrorSwitchesAsTheApproachChanges) {
+  // At one point the approach changes (an axis reversed, or part of its play taken up): the
+  // tip's error moves by no more than direction_change() (with error_change()'s rounding,
+  // as the two are used together), and by a fair share of it: the bound is not vacuous.
+  std::mt19937 rng(31);
+  std::uniform_real_distribution<double> u(-1, 1);
+  const std::string chain = test::with_limits(test::kHmcChain, 600.0) + "terms:\n";
+  std::vector<std::pair<std::string, MachineModel>> models;
+  for (int n = 0; n < 3; ++n)
+    models.emplace_back(
+        "reversal " + std::to_string(n),
+        parse_machine_model(chain + test::random_terms("reversal", rng) + test::random_terms("polynomial", rng) +
+                                test::random_terms("reversal", rng),
+                            "reversal.yaml"));
+  models.emplace_back("sample HMC",
+                      load_machine_model(std::string(CCOMP_SOURCE_DIR) + "/samples/machines/hmc-xyzb.yaml"));
+  for (const auto& [name, mm] : models) {
+    const ForwardModel m(mm);
+    Conditions c;
+    c.time = 3600;
+    c.temperatures = {24.0, 23.0, 31.0};
+    const VariationBound bound(m, c);
+    double tightest = std::numeric_limits<double>::infinity();
+    for (int k = 0; k < 200; ++k) {
+      ChainQ q = ChainQ::Zero();
+      for (int i = 0; i < 3; ++i) q[i] = 400 * u(rng);
+      q[4] = 3.0 * u(rng);
+      q[kToolLengthIndex] = 100.0;
+      std::array<double, 9> a{}, b{};
+      for (std::size_t i = 0; i < a.size(); ++i) {
+        a[i] = u(rng) > 0 ? 1.0 : -1.0;
+        // reversed, part of the play taken up, or as it was
+        b[i] = k % 3 == 0 ? -a[i] : k % 3 == 1 ? std::clamp(a[i] + 0.3 * u(rng), -1.0, 1.0) : a[i];
+      }
+      if (k % 3 == 2) b[static_cast<std::size_t>(k) % 5] *= -1.0;  // one axis reversed
+      const double measured = measured_direction_change(m, q, c, a, b);
+      const double limit = bound.direction_change(a, b, 100.0);
+      EXPECT_LE(measured, limit + bound.error_change(q, q)) << name << ": point " << k;
+      if (measured > 1e-9) tightest = std::min(tightest, limit / measured);
+    }
+    EXPECT_LT(tightest, 10.0) << name;
+    std::array<double, 9> same{};
+    same.fill(0.25);
+    EXPECT_EQ(bound.direction_change(same, same, 100.0), 0.0) << name;
   }
 }
 

@@ -135,9 +135,9 @@ class Compensator {
   /// The same for a probe, under its own approach.
   [[nodiscard]] double error_at(const ErrorProbe& probe);
   /// The same where it may exceed `at_least` (mm). Where the error at the probe before it
-  /// (under the same approach) and the bound of the error's change between them show it
-  /// cannot, that bound (<= at_least) without evaluating the model: a report's maximum
-  /// over a program stays exactly what evaluating every probe gives.
+  /// and the bound of the error's change between them (the point's, and the approach's
+  /// where it changed) show it cannot, that bound (<= at_least) without evaluating the
+  /// model: a report's maximum over a program stays exactly what evaluating every probe gives.
   [[nodiscard]] double error_at(const ErrorProbe& probe, double at_least);
   /// From now on, the points where a move's error before is taken are appended to `probes`
   /// instead of evaluated (the report's max_deviation_before is then left to the caller,

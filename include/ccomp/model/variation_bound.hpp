@@ -17,11 +17,12 @@
 // translations (mm); a model whose terms may reach 0.01 rad or 1 mm gets no bound.
 //
 // The same bounds give how much the tip's error (actual - nominal) can change between two
-// points: what lets a report skip evaluating a point that cannot raise its maximum.
+// points, and as the approach directions change (the terms reading them, each by its slope
+// in them): what lets a report skip evaluating a point that cannot raise its maximum.
 //
 // Nominal points may lie outside the limits by their correction: the ranges are widened
-// by the model's max_correction. The bound is +inf where none holds: an axis without limits under a term that grows with
-// it, a move longer than a table's knot spacing, a term in a variable with no range.
+// by the model's max_correction. The bound is +inf where none holds: an axis without limits under a term that grows
+// with it, a move longer than a table's knot spacing, a term in a variable with no range.
 #include <array>
 #include <cmath>
 #include <limits>
@@ -65,6 +66,12 @@ class VariationBound {
     }
   };
   [[nodiscard]] ErrorSlopes error_slopes(double tool_length) const;
+  /// Upper bound (mm) of |e(q, b) - e(q, a)| at any one point q: the tip's error as the
+  /// approach directions (each axis' in [-1, 1], Conditions::directions) change from `a` to
+  /// `b`, with a tool of `tool_length`; +inf when the model gives no bound. Added to
+  /// error_change(), it bounds a change of both the point and the approach.
+  [[nodiscard]] double direction_change(const std::array<double, 9>& a, const std::array<double, 9>& b,
+                                        double tool_length) const;
   /// rad: the sum of the angular terms' bounds, the largest error angle the chain can make.
   [[nodiscard]] double largest_error_angle() const { return angular_sum_; }
 
@@ -95,6 +102,10 @@ class VariationBound {
   };
   std::array<AlongVariable, kChainVariables> along_{};
   std::vector<TwoVariables> two_variables_;
+  /// What the terms reading axis i's approach direction add up to, per unit of it:
+  /// translations in mm, rotations in rad (times the lever).
+  std::array<double, 9> direction_translation_{}, direction_angular_{};
+  bool directions_bounded_ = true;  ///< false: a term reads a direction the bound cannot place
   std::array<bool, kChainVariables> rotary_{};
   double lever_ = 0.0;               ///< mm, without the tool length
   double angular_sum_ = 0.0;      ///< E (rad)
