@@ -1,8 +1,9 @@
 #!/usr/bin/env bash
 # Whether a change to the main job kept its output: every sample and corpus program through
 # every sample machine model, on one thread and two, with the binary before and after; the
-# written program, the report on stdout, the messages and the exit code must be the same
-# byte for byte. A speed change is kept only when this prints nothing but its last line.
+# written program, the report on stdout (the --json summary: every figure to ten digits),
+# the messages and the exit code must be the same byte for byte. A speed change is kept
+# only when this prints nothing but its last line.
 #   bench/same-output.sh OLD_CCOMP NEW_CCOMP [EXTRA_PROGRAM...]
 # (e.g. a copy of build/src/ccomp from before the change, and build/src/ccomp; a long
 # program such as the bench's finishing pass as an extra).
@@ -27,9 +28,11 @@ for model in samples/machines/*.yaml; do
         bin=$old
         [ "$side" = new ] && bin=$new
         rc=0
-        "$bin" "$program" -m "$model" -o "$out/$side/$key.$threads.ngc" --tool-table samples/tools.tbl \
-          "${sensors[@]}" --force -q --threads "$threads" > "$out/$side/$key.$threads.stdout" \
+        # (written to one place for both binaries, as the summary names it, then moved)
+        "$bin" "$program" -m "$model" -o "$out/written.ngc" --tool-table samples/tools.tbl \
+          "${sensors[@]}" --force --json --threads "$threads" > "$out/$side/$key.$threads.stdout" \
           2> "$out/$side/$key.$threads.stderr" || rc=$?
+        if [ -e "$out/written.ngc" ]; then mv "$out/written.ngc" "$out/$side/$key.$threads.ngc"; fi
         echo "$rc" > "$out/$side/$key.$threads.rc"
       done
       runs=$((runs + 1))
