@@ -253,29 +253,11 @@ VariationBound::VariationBound(const ForwardModel& model, const Conditions& cond
       if (j.type == kinematics::JointType::linear && j.axis < 9) lever_ += axis_range(machine, j.axis).magnitude();
     }
   bounded_ = std::isfinite(lever_) && angular_sum_ <= 0.01 && translation_sum_ <= 1.0;  // false for NaN too
-  // The variables a move's travel can bend the tip along: the chain's joints, the tool
-  // length, and any a term reads. The rest (a machine's absent axes) never move it, and the
-  // bounds' loops pass them by (every one of their terms would add zero).
-  std::array<bool, kChainVariables> active{};
-  active[kToolLengthIndex] = true;
-  for (const auto* side : {&model.chain().workpiece, &model.chain().tool})
-    for (const kinematics::Joint& j : side->joints)
-      if (j.axis < kChainVariables) active[j.axis] = true;
-  for (std::size_t i = 0; i < kChainVariables; ++i) {
-    const AlongVariable& v = along_[i];
-    if (v.translation_curvature != 0.0 || v.angular_curvature != 0.0 || v.translation_slope != 0.0 ||
-        v.angular_slope != 0.0 || v.translation_kink != 0.0 || v.angular_kink != 0.0 || std::isfinite(v.knot_gap))
-      active[i] = true;
-  }
-  for (const TwoVariables& t : two_variables_) active[t.u] = active[t.w] = true;
-  for (std::size_t i = 0; i < kChainVariables; ++i)
-    if (active[i]) active_[active_count_++] = static_cast<std::uint8_t>(i);
 }
 
 VariationBound::Travel VariationBound::travel(const ChainQ& a, const ChainQ& b) const {
   Travel t;
-  for (std::size_t n = 0; n < active_count_; ++n) {
-    const std::size_t i = active_[n];
+  for (std::size_t i = 0; i < kChainVariables; ++i) {
     t.by_variable[i] = std::abs(b[static_cast<Eigen::Index>(i)] - a[static_cast<Eigen::Index>(i)]);
     (rotary_[i] ? t.turning : t.linear) += t.by_variable[i];
   }
@@ -311,8 +293,7 @@ double VariationBound::chord_deviation(const ChainQ& a, const ChainQ& b) const {
   // acting through the lever r(t): eps'' r + 2 eps' r' + eps r''.
   const double translation_slope_weight = 2.0 * turning, angular_slope_weight = 2.0 * (linear + lever * turning);
   double curvature = translation_sum_ * turning * turning + angular_sum_ * rigid, kinks = 0.0;
-  for (std::size_t n = 0; n < active_count_; ++n) {
-    const std::size_t i = active_[n];
+  for (std::size_t i = 0; i < kChainVariables; ++i) {
     const double d = m.by_variable[i];
     if (d == 0.0) continue;
     const AlongVariable& v = along_[i];
@@ -376,9 +357,7 @@ VariationBound::ErrorSlopes VariationBound::error_slopes(double tool_length) con
   if (!bounded_) return slopes;
   // error_change() is linear in each variable's travel: its terms, variable by variable.
   const double lever = lever_ + std::abs(tool_length), factor = second_order(lever);
-  slopes.per_variable.fill(0.0);  // (a variable that cannot bend the tip: travel() passes it by)
-  for (std::size_t n = 0; n < active_count_; ++n) {
-    const std::size_t i = active_[n];
+  for (std::size_t i = 0; i < kChainVariables; ++i) {
     double slope = rotary_[i] ? translation_sum_ + 2.0 * angular_sum_ * lever : angular_sum_;
     slope += along_[i].translation_slope + lever * along_[i].angular_slope;
     for (const TwoVariables& t : two_variables_) {

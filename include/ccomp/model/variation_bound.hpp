@@ -25,7 +25,6 @@
 // with it, a move longer than a table's knot spacing, a term in a variable with no range.
 #include <array>
 #include <cmath>
-#include <cstdint>
 #include <limits>
 #include <vector>
 
@@ -108,9 +107,6 @@ class VariationBound {
   std::array<double, 9> direction_translation_{}, direction_angular_{};
   bool directions_bounded_ = true;  ///< false: a term reads a direction the bound cannot place
   std::array<bool, kChainVariables> rotary_{};
-  /// The variables whose travel can bend the tip (see the constructor), in order.
-  std::array<std::uint8_t, kChainVariables> active_{};
-  std::size_t active_count_ = 0;
   double lever_ = 0.0;               ///< mm, without the tool length
   double angular_sum_ = 0.0;      ///< E (rad)
   double translation_sum_ = 0.0;  ///< T (mm)
