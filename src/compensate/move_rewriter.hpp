@@ -32,9 +32,9 @@ struct DecimalsOption {
 
 /// How a take-up's turning axis is written (CompensatedPoint::turns, travel_slack).
 struct TurnWord {
-  int way = 0;  ///< +1, -1; 0: the axis does not turn
+  int way = 0;                                             ///< +1, -1; 0: the axis does not turn
   double slack = std::numeric_limits<double>::infinity();  ///< program units, degrees
-  double slack_stray = 0.0;                                 ///< mm
+  double slack_stray = 0.0;                                ///< mm
 };
 
 class MoveRewriter {
@@ -93,12 +93,12 @@ class MoveRewriter {
   JobReport& report_;
   std::string_view file_;
   WrittenPosition position_;
-  std::vector<gcode::Edit> edits_;                      ///< the move's line's edits, storage kept from move to move
-  std::string word_text_;                               ///< an added word's value, storage kept
+  std::vector<gcode::Edit> edits_;  ///< the move's line's edits, storage kept from move to move
+  std::string word_text_;           ///< an added word's value, storage kept
   /// The machine's axes, in the order words are written (X Y Z A B C U V W).
   std::array<std::uint8_t, gcode::kAxisCount> machine_axes_{};
   std::size_t machine_axis_count_ = 0;
-  unsigned approach_axes_ = 0;                          ///< bit i: a term reads axis i's approach
+  unsigned approach_axes_ = 0;  ///< bit i: a term reads axis i's approach
 };
 
 /// How axis i of a take-up point turns, in program units (`unit`: mm per program unit): no

@@ -89,6 +89,7 @@ double format_value(double v, const NumberStyle& style, std::string& out) {
     // "0.5" -> ".5" and "-0.5" -> "-.5" where the program wrote no leading zero.
     if (magnitude != 0 || style.leading_zero || style.decimals == 0) {
       while (magnitude >= 10) two_digits();
+      // The last digit, or the single 0 of a zero integer part (nothing or the point after it).
       if (magnitude != 0 || at == end || *at == '.') *--at = static_cast<char>('0' + magnitude);
     }
     if (units < 0) *--at = '-';  // (no "-0.0000": a zero has no units below it)

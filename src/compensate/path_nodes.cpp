@@ -96,16 +96,17 @@ void record_node(const model::ForwardModel& model, const model::VariationBound& 
   Eigen::Vector3d bend = Eigen::Vector3d::Zero(), turn_bend = Eigen::Vector3d::Zero();
   double bend_s = 0.0;
   if (path.count == 2) {
-    LinePoint point;
-    if (!(kept && kept->q == q)) {  // (nearly always kept: the prediction, evaluated once)
+    LinePoint made;
+    const LinePoint* point = kept;
+    if (!(point && point->q == q)) {  // (nearly always kept: the prediction, evaluated once)
       Extrapolated x;
-      (void)extrapolate(bound, problem, path, q, Eigen::Vector3d::Zero(), x, false, nullptr, &point);
-      kept = &point;
+      (void)extrapolate(bound, problem, path, q, Eigen::Vector3d::Zero(), x, false, nullptr, &made);
+      point = &made;
     }
-    bend_s = kept->s;
-    if (kept->reached && std::abs(bend_s * (bend_s - 1.0)) >= 0.5) {
-      bend = (d.actual - kept->tip) / (bend_s * (bend_s - 1.0));
-      turn_bend = (omega - kept->omega) / (bend_s * (bend_s - 1.0));
+    bend_s = point->s;
+    if (point->reached && std::abs(bend_s * (bend_s - 1.0)) >= 0.5) {
+      bend = (d.actual - point->tip) / (bend_s * (bend_s - 1.0));
+      turn_bend = (omega - point->omega) / (bend_s * (bend_s - 1.0));
     }
   }
   const double old_length2 = (path.nodes[1].q - path.nodes[0].q).squaredNorm();

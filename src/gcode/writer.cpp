@@ -13,7 +13,8 @@
 namespace ccomp::gcode {
 namespace {
 /// Writes to the program's stream without taking its lock (two atomic operations a call,
-/// and a call a line): only the writer's thread writes it (ProgramWriter).
+/// and a call a line): one thread, the one running the writer (the job's reading thread),
+/// writes it (ProgramWriter's constructor).
 void put(const char* data, std::size_t size, std::FILE* out) {
   fwrite_unlocked(data, 1, size, out);
 }

@@ -141,6 +141,17 @@ TEST(VariationBound, BoundsWhatTheErrorSwitchesAsTheApproachChanges) {
         parse_machine_model(chain + test::random_terms("reversal", rng) + test::random_terms("polynomial", rng) +
                                 test::random_terms("reversal", rng),
                             "reversal.yaml"));
+  // Every form a direction may take (docs/machine-model.md): an order-1 polynomial (here an
+  // angle), a linear table at -1 and 1, and a location that follows an approach.
+  models.emplace_back(
+      "direction forms",
+      parse_machine_model(chain +
+                              "  - {name: EAY, variable: vy, form: polynomial, unit: urad, coefficients: [0.5, 2.0]}\n"
+                              "  - {name: EZX, variable: vx, form: table, interpolation: linear, at: [-1, 1], "
+                              "values: [-0.4, 0.6]}\n"
+                              "  - {name: EC0X, variable: vz, form: reversal, unit: urad, reversal: 3}\n"
+                              "  - {name: EX0B, variable: vb, form: reversal, reversal: 2}\n",
+                          "directions.yaml"));
   models.emplace_back("sample HMC",
                       load_machine_model(std::string(CCOMP_SOURCE_DIR) + "/samples/machines/hmc-xyzb.yaml"));
   for (const auto& [name, mm] : models) {

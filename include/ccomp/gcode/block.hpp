@@ -79,7 +79,8 @@ struct Word {
   char letter = 0;        ///< upper case; '$' is LinuxCNC's spindle selector
   bool has_value = true;  ///< false for a lone letter (fanuc dialect)
   /// How a plain number was written, for a writer to keep its style: the digits after its
-  /// point (0 without one), -1 where the value is not a plain number the parser read.
+  /// point (0 without one); -1 where the parser's fast path did not read it (an expression,
+  /// a line the grammar read, more than 127 digits after the point).
   std::int8_t decimals = -1;
   bool point_first = false;  ///< written ".5": the point before any digit
   Span span;                 ///< the whole word in the original text

@@ -34,7 +34,8 @@ void removal_edits(std::string_view line, std::vector<Span> words, std::vector<E
 class ProgramWriter {
  public:
   /// `reader` is a reader of the program (LineSource::another_reader()); `header` is one
-  /// line (without terminator) written first, or after a leading `%` line.
+  /// line (without terminator) written first, or after a leading `%` line. `out` is
+  /// written without its lock: no other thread may write it while the writer lives.
   ProgramWriter(LineSource reader, std::FILE* out, std::string header);
 
   /// Edits for the line starting at `line_offset` (not yet written).

@@ -66,10 +66,11 @@ class VariationBound {
     }
   };
   [[nodiscard]] ErrorSlopes error_slopes(double tool_length) const;
-  /// Upper bound (mm) of |e(q, b) - e(q, a)| at any one point q: the tip's error as the
-  /// approach directions (each axis' in [-1, 1], Conditions::directions) change from `a` to
-  /// `b`, with a tool of `tool_length`; +inf when the model gives no bound. Added to
-  /// error_change(), it bounds a change of both the point and the approach.
+  /// Upper bound (mm) of |e(q, b) - e(q, a)| at any one point q, of the exact errors: the
+  /// tip's as the approach directions (each axis' in [-1, 1], Conditions::directions)
+  /// change from `a` to `b`, with a tool of `tool_length`; +inf when the model gives no
+  /// bound. Added to error_change() (which holds the computed errors' rounding), it bounds
+  /// a change of both the point and the approach between two computed errors.
   [[nodiscard]] double direction_change(const std::array<double, 9>& a, const std::array<double, 9>& b,
                                         double tool_length) const;
   /// rad: the sum of the angular terms' bounds, the largest error angle the chain can make.
