@@ -6,22 +6,11 @@
 #include <array>
 #include <charconv>
 #include <cstdint>
-#include <cstring>
 
 #include "ccomp/gcode/number.hpp"
 
 namespace ccomp::compensate {
 namespace {
-
-/// "00" to "99", each number's two digits.
-constexpr std::array<char, 200> kDigitPairs = [] {
-  std::array<char, 200> pairs{};
-  for (std::size_t n = 0; n < 100; ++n) {
-    pairs[2 * n] = static_cast<char>('0' + n / 10);
-    pairs[2 * n + 1] = static_cast<char>('0' + n % 10);
-  }
-  return pairs;
-}();
 
 /// The number a value as written means (".5", "-.25", "12.0000").
 double number_of(std::string_view text) {
@@ -69,30 +58,13 @@ NumberStyle style_of(std::string_view original, bool inch, bool rotary, int deci
 double format_value(double v, const NumberStyle& style, std::string& out) {
   // Rounds the exact binary value as fmt does, without parsing a format string: this runs
   // for every number the job writes. Where the rounding is cheap to decide, from the units
-  // of the last digit: their digits are the text (written here right to left, in one pass
-  // and one copy), their quotient its value.
+  // of the last digit: their digits are the text (gcode::write_units, then one copy),
+  // their quotient its value.
   if (std::int64_t units = 0; gcode::fixed_units(v, style.decimals, units)) {
-    // (The magnitude in unsigned arithmetic: -units overflows at the most negative.)
-    std::uint64_t magnitude = units < 0 ? 0 - static_cast<std::uint64_t>(units) : static_cast<std::uint64_t>(units);
-    std::array<char, 32> buffer;  // fixed_units: below 1e15 and 9 decimals at most, a point and a sign
+    std::array<char, 32> buffer;
     char* const end = buffer.data() + buffer.size();
-    char* at = end;
-    auto two_digits = [&] {  // (two at a time: one division by a constant for two digits)
-      at -= 2;
-      std::memcpy(at, &kDigitPairs[2 * (magnitude % 100)], 2);
-      magnitude /= 100;
-    };
-    int fraction = style.decimals;
-    for (; fraction >= 2; fraction -= 2) two_digits();
-    if (fraction == 1) *--at = static_cast<char>('0' + magnitude % 10), magnitude /= 10;
-    if (style.decimals > 0) *--at = '.';
-    // "0.5" -> ".5" and "-0.5" -> "-.5" where the program wrote no leading zero.
-    if (magnitude != 0 || style.leading_zero || style.decimals == 0) {
-      while (magnitude >= 10) two_digits();
-      // The last digit, or the single 0 of a zero integer part (nothing or the point after it).
-      if (magnitude != 0 || at == end || *at == '.') *--at = static_cast<char>('0' + magnitude);
-    }
-    if (units < 0) *--at = '-';  // (no "-0.0000": a zero has no units below it)
+    // (no "-0.0000": a zero has no units below it)
+    const char* const at = gcode::write_units(units, style.decimals, units < 0, style.leading_zero, end);
     out.assign(at, static_cast<std::size_t>(end - at));
     return gcode::units_value(units, style.decimals);
   }

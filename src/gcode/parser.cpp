@@ -181,8 +181,6 @@ struct Action : pegtl::nothing<Rule> {};
 /// exact, so one division rounds correctly (Clinger's fast path); longer numbers go to
 /// std::from_chars.
 double decimal_value(const char* first, const char* last) {
-  static constexpr double kPow10[] = {1e0,  1e1,  1e2,  1e3,  1e4,  1e5,  1e6,  1e7,  1e8,  1e9,  1e10, 1e11,
-                                      1e12, 1e13, 1e14, 1e15, 1e16, 1e17, 1e18, 1e19, 1e20, 1e21, 1e22};
   std::uint64_t mantissa = 0;
   int digits = 0, fraction = 0;
   bool point = false;
@@ -199,7 +197,7 @@ double decimal_value(const char* first, const char* last) {
     ++digits;
     fraction += point;
   }
-  if (digits <= 15 && fraction <= 22) return static_cast<double>(mantissa) / kPow10[fraction];
+  if (digits <= 15 && fraction <= 22) return static_cast<double>(mantissa) / kPowersOfTen[fraction];
   double v = 0.0;
   const auto [ptr, ec] = std::from_chars(first, last, v);
   // Out of range: zero below the smallest double; beyond the largest, infinity, which the
