@@ -2,12 +2,13 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <optional>
 #include <span>
 #include <utility>
 
-#include "ccomp/error.hpp"
 #include "axis_travel.hpp"
+#include "ccomp/error.hpp"
 
 namespace ccomp::compensate {
 
@@ -140,6 +141,29 @@ unsigned Compensator::unhidden(const std::array<double, 9>& target) const {
       axes |= 1U << i;
   }
   return axes;
+}
+
+void Compensator::keep_still(unsigned axes, const ChainQ& at, const std::array<double, 9>& play_before,
+                             const ChainQ& start, const ChainQ& end, bool feed, std::vector<CompensatedPoint>& points,
+                             MoveReport& report) {
+  auto kept = [axes](Eigen::Index k) { return (axes >> k & 1U) != 0; };
+  ChainQ from_nominal = start, from = at;
+  for (CompensatedPoint& point : points) {
+    for (Eigen::Index k = 0; k < point.q.size(); ++k)
+      if (kept(k)) point.q[k] = at[k];
+    if (!feed) continue;
+    const ChainQ to_nominal = along(start, end, point.s);
+    for (const double t : {0.5, 1.0})
+      report.max_deviation_after =
+          std::max(report.max_deviation_after, executed_deviation(from_nominal, to_nominal, from, point.q, t));
+    from_nominal = to_nominal, from = point.q;
+  }
+  for (Eigen::Index k = 0; k < commanded_.size(); ++k) {
+    if (!kept(k)) continue;
+    commanded_[k] = at[k];
+    if (static_cast<std::size_t>(k) < play_.size())
+      play_[static_cast<std::size_t>(k)] = play_before[static_cast<std::size_t>(k)];
+  }
 }
 
 Eigen::Vector3d Compensator::nominal_tip(const ChainQ& q) {

@@ -1,6 +1,7 @@
 #include "move_solver.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <numbers>
 
@@ -74,6 +75,20 @@ gcode::Axes programmed_under(const gcode::Motion& m, const gcode::Axes& tool) {
   return p;
 }
 
+/// The chain values the control keeps still through a move under its radius offset (bit k:
+/// chain value k; 0: none). A straight move with no travel in the offset's plane (a plunge,
+/// a retract under G41/G42) keeps the plane's axes still: the control offsets any step in
+/// the plane across the step's own direction, a radius from where the correction meant it,
+/// and refuses one that turns back as a gouging corner (LinuxCNC does).
+unsigned kept_still_by_offset(const gcode::Motion& m, const gcode::Offsets& offsets) {
+  if (!m.radius_compensation || (m.kind != gcode::MotionKind::feed && m.kind != gcode::MotionKind::traverse)) return 0;
+  // (A rotated frame turns about Z: its XY plane is the machine's, its other planes are not.)
+  if (offsets.rotation != 0.0 && m.arc.plane != gcode::Plane::xy) return 0;
+  const gcode::PlaneAxes pa = gcode::plane_axes(m.arc.plane);
+  if (m.end[pa.first] != m.start[pa.first] || m.end[pa.second] != m.start[pa.second]) return 0;
+  return 1U << pa.first | 1U << pa.second;
+}
+
 }  // namespace
 
 MoveSolver::MoveSolver(const model::ForwardModel& model, const CompensationOptions& options)
@@ -136,7 +151,12 @@ void MoveSolver::solve(const gcode::Motion& m, const gcode::Offsets& offsets, Mo
   const model::ChainQ start = chain_of(m.tool_start, offsets);
   if (tool_end_.allFinite() && compensator.commanded().allFinite()) compensator.carried(start - tool_end_);
   tool_end_ = m.radius_compensation ? chain_of(m.tool_end, offsets) : model::ChainQ::Constant(std::nan(""));
+  const model::ChainQ before = compensator.commanded();
+  const std::array<double, 9> play_before = compensator.play();
   solve_path(centre, offsets, move, points, range);
+  if (const unsigned still = kept_still_by_offset(m, offsets); still != 0 && before.allFinite())
+    compensator.keep_still(still, before, play_before, start, chain_of(m.tool_end, offsets),
+                           m.kind == gcode::MotionKind::feed, points, move);
   const bool arc = m.kind == gcode::MotionKind::arc && m.radius_compensation;
   const gcode::ArcGeometry g = arc ? gcode::arc_geometry(centre) : gcode::ArcGeometry{};
   // The move's end is the corner: the programmed end, where the tool is as the control

@@ -203,6 +203,58 @@ TEST(RadiusCompensation, TheSampleProfilePassesVerifyOnTheToolCentresPath) {
                           [](const std::string& w) { return w.find("no take-up moves") != std::string::npos; }));
 }
 
+TEST(RadiusCompensation, AMoveAlongTheNormalKeepsThePlaneStill) {
+  // A plunge and a retract under G41: the control offsets a step in the plane across the
+  // step's own direction, so the correction's few micrometres of X and Y there would be a
+  // move of their own, a radius off, and one that turns back a gouging corner LinuxCNC
+  // refuses. X and Y stay where the last move left them; what that leaves is reported. Z
+  // is 0.2 um a millimetre off in X here, so the plunge's 15 mm leave 3 um at its bottom.
+  std::string chain = kVmcChain;  // (without its spindle sensor: no term reads it)
+  chain.erase(chain.find("sensors: [spindle]\n"), std::string("sensors: [spindle]\n").size());
+  const model::MachineModel mm = model::parse_machine_model(chain + R"(terms:
+  - {name: EXZ, form: polynomial, unit: um, coefficients: [0, 0.2]}
+)",
+                                                            "vmc.yaml");
+  const std::string program =
+      "G21 G90 G94 G54\nG0 X-60 Y-40 Z-80\nG1 F800\nG41.1 D10\nG1 X-50 Y-30\nG1 X50\n(plunge)\nG1 Z-95\n"
+      "(plunged)\nG1 Y30\nG1 X-50\n(retract)\nG0 Z-80\n(retracted)\nG40\nG0 X-60 Y40\nM30\n";
+  compensate::JobReport report;
+  const std::string output = compensate(program, mm, 0.001, &report);
+  for (const auto& [from, to] : {std::pair{"(plunge)", "(plunged)"}, std::pair{"(retract)", "(retracted)"}}) {
+    const std::vector<std::string> lines = lines_between(output, from, to);
+    ASSERT_FALSE(lines.empty()) << output;
+    for (const std::string& line : lines) {
+      EXPECT_EQ(line.find('X'), std::string::npos) << line << "\n" << output;
+      EXPECT_EQ(line.find('Y'), std::string::npos) << line << "\n" << output;
+      EXPECT_NE(line.find('Z'), std::string::npos) << "Z is still compensated: " << line;
+    }
+  }
+  expect_rs274_accepts(output);
+  const double left = tool_centre_error(program, output, mm).max;
+  EXPECT_NEAR(left, 0.003, 0.0005) << output;
+  // (verify finds 2.75 um: the next move's correction turns it by 50 urad, and the control's
+  // corner, offset across it, slides a quarter of a micrometre; see docs/compensation.md)
+  EXPECT_GE(report.max_error_after, 0.95 * left) << "verify finds " << left * 1e3 << " um";
+  EXPECT_LE(report.max_error_after, 1.15 * left) << "verify finds " << left * 1e3 << " um";
+}
+
+TEST(RadiusCompensation, TheCorpusRetractUnderG41IsNoGougingCorner) {
+  // What the job fuzzer found (fuzz/job_fuzz.cpp): the corpus' mill-g90g91g92 on the full
+  // HMC, whose retract under G41 was written "G0Z0.99836 X0.99933 Y-0.00118", a step back
+  // in the plane that LinuxCNC refuses as a concave corner it cannot reach without gouging.
+  CCOMP_REQUIRE_RS274();
+  const std::string dir = source_dir() + "/tests/data/corpus/linuxcnc/ccomp/mill-g90g91g92";
+  std::vector<std::string> warnings;
+  compensate::JobOptions o = warm_machine(&warnings);
+  o.interpreter.tools = gcode::read_tool_table_file(dir + "/test.tbl");
+  const std::string program = read_file(dir + "/test.ngc");
+  const std::string output = compensate(program, sample_machine("hmc-xyzb"), o);
+  const std::string out_dir = temp_dir("radius_compensation_corpus");
+  write_file(out_dir + "/out.ngc", output);
+  const TraceResult theirs = rs274_trace(out_dir + "/out.ngc", dir + "/test.tbl");
+  EXPECT_FALSE(theirs.error) << theirs.error->what() << "\n" << output;
+}
+
 TEST(RadiusCompensation, OutsideCornersAndRadiusArcsBothWays) {
   // Round a boss clockwise with the tool on the left (outside): every corner is convex, so
   // the control adds an arc before the move; the arcs are R-format, one the long way round.

@@ -1,5 +1,5 @@
 // What the job writes must run on the control. LinuxCNC's own interpreter, rs274, reads
-// every program of its suite that it accepts as written, compensated (--flatten) for two
+// every program of its suite that it accepts as written, compensated (--flatten) for three
 // sample machines, and with --expand-cycles: it must accept the output too. This caught
 // chords and split moves under cutter radius compensation, which it refuses. A sample
 // machine may refuse a program for what the machine is (an axis it lacks, its limits) or
@@ -60,6 +60,8 @@ TEST_P(Rs274AcceptsOutput, OnTheSampleMachinesAndWithCyclesExpanded) {
       {"zero", sample("zero"), ""},
       {"vmc-xyz", sample("vmc-xyz"), ""},
       {"hmc-xyzb-geometric", sample("hmc-xyzb-geometric"), ""},
+      // (the full HMC: backlash, and thermal terms at the bench's readings)
+      {"hmc-xyzb", sample("hmc-xyzb"), " --sensor bed=24 --sensor column=23 --sensor spindle=31 --time 3600"},
       {"vmc-xyz", sample("vmc-xyz"), " --expand-cycles"},
       {"vmc-xyz-unlimited", dir + "/vmc-xyz-unlimited.yaml", " --expand-cycles"}};
   int compensated = 0;  // outputs of a machine with error terms that rs274 read

@@ -168,6 +168,15 @@ class Compensator {
   bool approach_by_travel(const model::ChainQ& from, const model::ChainQ& to);
   /// The approach state of each axis after what was commanded so far.
   [[nodiscard]] const std::array<double, 9>& play() const { return play_; }
+  /// The control keeps the axes in `axes` (bit k: chain value k) still through the straight
+  /// move from `start` to `end` (nominal) whose points were just solved into `points`: they
+  /// keep those values at `at`, where the machine was before the move, and so do the last
+  /// command and those axes' play (`play_before`, theirs before the move). Where the move
+  /// cuts (`feed`), the error that leaves at each point and half-way to it goes into the
+  /// report's figure after.
+  void keep_still(unsigned axes, const model::ChainQ& at, const std::array<double, 9>& play_before,
+                  const model::ChainQ& start, const model::ChainQ& end, bool feed,
+                  std::vector<CompensatedPoint>& points, MoveReport& report);
 
  private:
   /// A straight move as straight() was given it.
