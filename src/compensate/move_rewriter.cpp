@@ -48,7 +48,7 @@ struct MoveRewriter::PointLine {
 
 MoveRewriter::MoveRewriter(gcode::ProgramWriter& writer, const model::MachineModel& model, DecimalsOption decimals,
                            JobReport& report, std::string_view file)
-    : writer_(writer), model_(model), decimals_(decimals), report_(report), file_(file) {
+    : writer_(writer), decimals_(decimals), report_(report), file_(file) {
   for (std::size_t i = 0; i < gcode::kAxisCount; ++i)
     if (model.axis(gcode::kAxisLetters[i]) != nullptr)
       machine_axes_[machine_axis_count_++] = static_cast<std::uint8_t>(i);

@@ -88,7 +88,6 @@ class MoveRewriter {
   static constexpr int kMostDecimals = 8;
 
   gcode::ProgramWriter& writer_;
-  const model::MachineModel& model_;
   DecimalsOption decimals_;
   JobReport& report_;
   std::string_view file_;
