@@ -137,10 +137,12 @@ void MoveRewriter::point_words(const gcode::Motion& m, const gcode::Block& b, co
   const double unit = mm_per_unit(m.units);
   const gcode::Axes p = program_of(point.q, *m.offsets, unit);
   const gcode::Axes last = program_of(model::chain_of(position_.commanded, *m.offsets), *m.offsets, unit);
-  // The block's first word of each axis, in one pass over its words.
+  // The block's first word of each axis, in one pass over its words (a lone letter, which
+  // the interpreter ignores, is not one: a value written into it would be a second word).
   std::array<const gcode::Word*, gcode::kAxisCount> words{};
   for (const gcode::Word& w : b.words)
-    if (const std::optional<std::size_t> axis = gcode::axis_index(w.letter); axis && !words[*axis]) words[*axis] = &w;
+    if (const std::optional<std::size_t> axis = gcode::axis_index(w.letter); axis && w.has_value && !words[*axis])
+      words[*axis] = &w;
   for (std::size_t n = 0; n < machine_axis_count_; ++n) {
     const std::size_t i = machine_axes_[n];
     const char letter = gcode::kAxisLetters[i];

@@ -20,7 +20,7 @@ std::optional<double> literal_of(const gcode::Block& b, char letter) {
 
 bool has_g(const gcode::Block& b, double code) {
   for (const gcode::Word& w : b.words)
-    if (w.letter == 'G' && w.value.is_literal() && w.value.literal == code) return true;
+    if (w.letter == 'G' && w.has_value && w.value.is_literal() && w.value.literal == code) return true;
   return false;
 }
 
@@ -105,7 +105,7 @@ std::vector<gcode::Edit> offset_keeping_edits(const gcode::Block& b, const Offse
   std::vector<gcode::Edit> edits;
   for (const gcode::Word& w : b.words) {
     const auto axis = gcode::axis_index(w.letter);
-    if (!axis || std::abs(p.off[*axis]) == 0.0) continue;
+    if (!axis || !w.has_value || std::abs(p.off[*axis]) == 0.0) continue;  // (a lone letter is ignored)
     const bool rotary = gcode::is_rotary(*axis);
     const std::string_view text = b.slice(w.value_span);
     const NumberStyle style = style_of(text, inch && !rotary, rotary, at.decimals.for_axis(rotary));

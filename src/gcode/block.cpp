@@ -28,7 +28,7 @@ void Block::clear() {
 
 const Word* Block::find(char letter) const {
   for (const Word& w : words)
-    if (w.letter == letter) return &w;
+    if (w.letter == letter && w.has_value) return &w;
   return nullptr;
 }
 

@@ -9,8 +9,9 @@
 namespace ccomp::test {
 
 struct ParsedBlock {
-  explicit ParsedBlock(std::string line, std::uint32_t number = 1) : text(std::move(line)) {
-    gcode::Parser().parse(text, number, "test.ngc", block);
+  explicit ParsedBlock(std::string line, std::uint32_t number = 1, gcode::Dialect dialect = {})
+      : text(std::move(line)) {
+    gcode::Parser(std::move(dialect)).parse(text, number, "test.ngc", block);
   }
   ParsedBlock(const ParsedBlock&) = delete;
   ParsedBlock& operator=(const ParsedBlock&) = delete;

@@ -158,7 +158,8 @@ struct Block {
     return std::string_view(names).substr(begin, size);
   }
   [[nodiscard]] std::string_view slice(Span s) const { return text.substr(s.begin, s.size()); }
-  /// The first word with this letter, or nullptr.
+  /// The first word with this letter and a value, or nullptr: a lone letter (where the
+  /// dialect allows one) is ignored, as the interpreter ignores it.
   [[nodiscard]] const Word* find(char letter) const;
   /// True when the line holds nothing but blanks and comments.
   [[nodiscard]] bool is_empty() const { return words.empty() && settings.empty() && !o.present && !program_delimiter; }

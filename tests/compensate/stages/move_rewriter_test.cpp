@@ -7,6 +7,7 @@
 #include <cstdio>
 #include <cstdlib>
 
+#include "ccomp/gcode/dialect.hpp"
 #include "ccomp/model/chain_values.hpp"
 #include "job_runner.hpp"
 #include "memory_file.hpp"
@@ -59,6 +60,22 @@ TEST(MoveRewriter, ASplitMoveKeepsItsLineForTheFirstPointAndAddsLinesForTheRest)
   r.rewriter().rewrite(m, b.block, points, 0, "\n");
   EXPECT_EQ(r.output(), "(header)\nG1 X5.0001 Y5.0000 F100 (cut)\nG1 X10.0008\n");
   EXPECT_EQ(r.report().added_lines, 1U);
+}
+
+TEST(MoveRewriter, ALoneLetterIsNoWordOfItsAxis) {
+  // Fanuc-family dialects let a letter stand alone, ignored: `G0 X Y0 X1` moves X to 1. The
+  // correction goes into X1; a value written into the lone X would make a second X word
+  // (the job fuzzer found `g0xg0x0y0z` rewritten to `g0x-0.00093g0x0y-0.00129z-0.00176`,
+  // which the interpreter then refuses).
+  Rewriting r("G0 X Y0 X1 Z\n");
+  const ParsedBlock b("G0 X Y0 X1 Z", 1, *gcode::dialect_named("fanuc"));
+  const gcode::Offsets offsets;
+  gcode::Motion m;
+  m.kind = gcode::MotionKind::traverse;
+  m.offsets = &offsets;
+  r.rewriter().position().commanded = {0, 0, 0};
+  r.rewriter().rewrite(m, b.block, {point_at(1.0, {1.00012, -0.00021, 0.00034}, offsets)}, 0, "\n");
+  EXPECT_EQ(r.output(), "(header)\nG0 X Y-0.0002 X1.0001 Z Z0.0003\n");
 }
 
 TEST(MoveRewriter, IncrementalWordsCarryTheirRoundingInsteadOfSummingIt) {
