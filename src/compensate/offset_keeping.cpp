@@ -20,7 +20,7 @@ std::optional<double> literal_of(const gcode::Block& b, char letter) {
 
 bool has_g(const gcode::Block& b, double code) {
   for (const gcode::Word& w : b.words)
-    if (w.letter == 'G' && w.has_value && w.value.is_literal() && w.value.literal == code) return true;
+    if (w.letter == 'G' && w.value.is_literal() && w.value.literal == code) return true;
   return false;
 }
 
