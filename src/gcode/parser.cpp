@@ -56,8 +56,6 @@ inline constexpr const char* kMessage<pegtl::one<'='>> = "expected '=' after the
 template <>
 inline constexpr const char* kMessage<g::parameter_name> = "expected a parameter name between '<' and '>'";
 template <>
-inline constexpr const char* kMessage<g::named_parameter> = "expected a named parameter #<name>";
-template <>
 inline constexpr const char* kMessage<pegtl::sor<g::named_parameter, g::real_value>> =
     "expected a parameter number or <name> after '#'";
 template <>
