@@ -53,6 +53,15 @@ compensate::JobOptions warm_machine(std::vector<std::string>* warnings) {
   return o;
 }
 
+/// The test VMC with one error term (a YAML mapping), without its spindle sensor: no term
+/// reads it, and tool_centre_error() reads the sensors a model has.
+model::MachineModel vmc_with(const std::string& term) {
+  std::string chain = kVmcChain;
+  const std::string sensor = "sensors: [spindle]\n";
+  chain.erase(chain.find(sensor), sensor.size());
+  return model::parse_machine_model(chain + "terms:\n  - " + term + "\n", "vmc.yaml");
+}
+
 /// The lines of `text` between the line holding `from` and the one holding `to`.
 std::vector<std::string> lines_between(const std::string& text, const std::string& from, const std::string& to) {
   std::vector<std::string> lines;
@@ -152,10 +161,7 @@ TEST(RadiusCompensation, TheErrorIsTakenWhereTheToolCentreRuns) {
   // X is 2.5 um off (Y's straightness in X grows 0.5 um a millimetre). Written out, the
   // line's end must carry the correction the same path gets programmed at Y5 without G41
   // (the corner's arc written as the control makes it); not the one at Y0.
-  const model::MachineModel mm = model::parse_machine_model(std::string(kVmcChain) + R"(terms:
-  - {name: EXY, form: polynomial, unit: um, coefficients: [0, 0.5]}
-)",
-                                                            "vmc.yaml");
+  const model::MachineModel mm = vmc_with("{name: EXY, form: polynomial, unit: um, coefficients: [0, 0.5]}");
   const std::string with_offset =
       "G21 G90 G94 G54\nG0 X-60 Y-10 Z-90\nG1 F800\nG41.1 D10\nG1 X-50 Y0\n"
       "(the line)\nG1 X50\n(the line's end)\nG40\nG1 X60 Y-10\nM30\n";
@@ -209,12 +215,7 @@ TEST(RadiusCompensation, AMoveAlongTheNormalKeepsThePlaneStill) {
   // move of their own, a radius off, and one that turns back a gouging corner LinuxCNC
   // refuses. X and Y stay where the last move left them; what that leaves is reported. Z
   // is 0.2 um a millimetre off in X here, so the plunge's 15 mm leave 3 um at its bottom.
-  std::string chain = kVmcChain;  // (without its spindle sensor: no term reads it)
-  chain.erase(chain.find("sensors: [spindle]\n"), std::string("sensors: [spindle]\n").size());
-  const model::MachineModel mm = model::parse_machine_model(chain + R"(terms:
-  - {name: EXZ, form: polynomial, unit: um, coefficients: [0, 0.2]}
-)",
-                                                            "vmc.yaml");
+  const model::MachineModel mm = vmc_with("{name: EXZ, form: polynomial, unit: um, coefficients: [0, 0.2]}");
   const std::string program =
       "G21 G90 G94 G54\nG0 X-60 Y-40 Z-80\nG1 F800\nG41.1 D10\nG1 X-50 Y-30\nG1 X50\n(plunge)\nG1 Z-95\n"
       "(plunged)\nG1 Y30\nG1 X-50\n(retract)\nG0 Z-80\n(retracted)\nG40\nG0 X-60 Y40\nM30\n";
