@@ -71,7 +71,7 @@ void Compensator::approach(const ChainQ& start, const ChainQ& end) {
   for (std::size_t i = 0; i < need.size(); ++i) {
     if (!model_.reads_approach(i)) continue;
     const double delta = end[static_cast<Eigen::Index>(i)] - start[static_cast<Eigen::Index>(i)];
-    need[i] = std::abs(delta) > still(i) ? (delta > 0 ? 1.0 : -1.0) : play_[i];
+    need[i] = std::abs(delta) > still(i) && !held(i) ? (delta > 0 ? 1.0 : -1.0) : play_[i];
   }
 }
 
@@ -82,7 +82,7 @@ bool Compensator::approach_by_travel(const ChainQ& from, const ChainQ& to) {
   bool changed = false;
   for (std::size_t i = 0; i < need.size(); ++i) {
     const auto k = static_cast<Eigen::Index>(i);
-    if (!model_.reads_approach(i) || std::abs(to[k] - from[k]) <= 10 * still(i)) continue;
+    if (!model_.reads_approach(i) || held(i) || std::abs(to[k] - from[k]) <= 10 * still(i)) continue;
     const double travel = to[k] > from[k] ? 1.0 : -1.0;
     if (travel != need[i]) need[i] = travel, changed = true;
   }
@@ -147,6 +147,10 @@ void Compensator::keep_still(unsigned axes, const ChainQ& at, const std::array<d
                              const ChainQ& start, const ChainQ& end, bool feed, std::vector<CompensatedPoint>& points,
                              MoveReport& report) {
   auto kept = [axes](Eigen::Index k) { return (axes >> k & 1U) != 0; };
+  // Still, they approach as their play before the move has them, and turn nowhere.
+  for (std::size_t i = 0; i < play_before.size(); ++i)
+    if (kept(static_cast<Eigen::Index>(i))) options_.conditions.directions[i] = play_before[i];
+  report.unhidden_reversals &= ~axes;
   ChainQ from_nominal = start, from = at;
   for (CompensatedPoint& point : points) {
     for (Eigen::Index k = 0; k < point.q.size(); ++k)
@@ -164,6 +168,11 @@ void Compensator::keep_still(unsigned axes, const ChainQ& at, const std::array<d
     if (static_cast<std::size_t>(k) < play_.size())
       play_[static_cast<std::size_t>(k)] = play_before[static_cast<std::size_t>(k)];
   }
+  // A rapid's end is where the cut after it starts (from there, as its plan does not know).
+  if (!feed && !points.empty())
+    report.max_deviation_after =
+        std::max(report.max_deviation_after, executed_deviation(end, end, points.back().q, points.back().q, 1.0));
+  held_axes_ = 0;
 }
 
 Eigen::Vector3d Compensator::nominal_tip(const ChainQ& q) {

@@ -153,8 +153,10 @@ void MoveSolver::solve(const gcode::Motion& m, const gcode::Offsets& offsets, Mo
   tool_end_ = m.radius_compensation ? chain_of(m.tool_end, offsets) : model::ChainQ::Constant(std::nan(""));
   const model::ChainQ before = compensator.commanded();
   const std::array<double, 9> play_before = compensator.play();
+  const unsigned still = before.allFinite() ? kept_still_by_offset(m, offsets) : 0U;
+  compensator.hold(still);
   solve_path(centre, offsets, move, points, range);
-  if (const unsigned still = kept_still_by_offset(m, offsets); still != 0 && before.allFinite())
+  if (still != 0)
     compensator.keep_still(still, before, play_before, start, chain_of(m.tool_end, offsets),
                            m.kind == gcode::MotionKind::feed, points, move);
   const bool arc = m.kind == gcode::MotionKind::arc && m.radius_compensation;

@@ -168,12 +168,18 @@ class Compensator {
   bool approach_by_travel(const model::ChainQ& from, const model::ChainQ& to);
   /// The approach state of each axis after what was commanded so far.
   [[nodiscard]] const std::array<double, 9>& play() const { return play_; }
+  /// The control keeps the axes in `axes` (bit k: chain value k) still through the next
+  /// move (see MoveSolver: a move under its radius offset with no travel in the plane): their
+  /// approach stays as their play has it while the move is solved, whatever the correction's
+  /// travel. keep_still() then holds their values and ends the hold.
+  void hold(unsigned axes) { held_axes_ = axes; }
   /// The control keeps the axes in `axes` (bit k: chain value k) still through the straight
   /// move from `start` to `end` (nominal) whose points were just solved into `points`: they
   /// keep those values at `at`, where the machine was before the move, and so do the last
-  /// command and those axes' play (`play_before`, theirs before the move). Where the move
-  /// cuts (`feed`), the error that leaves at each point and half-way to it goes into the
-  /// report's figure after.
+  /// command and those axes' play (`play_before`, theirs before the move); no reversal of
+  /// theirs is reported. The error that leaves goes into the report's figure after: where the
+  /// move cuts (`feed`), at each point and half-way to it; a rapid's, at its end, where the
+  /// next cut starts.
   void keep_still(unsigned axes, const model::ChainQ& at, const std::array<double, 9>& play_before,
                   const model::ChainQ& start, const model::ChainQ& end, bool feed,
                   std::vector<CompensatedPoint>& points, MoveReport& report);
@@ -265,6 +271,8 @@ class Compensator {
   std::array<double, 9> play_{};                                     ///< approach state after the commands so far
   bool uncompensated_ = false;      ///< the last command was one moved() reported, not one planned here
   bool offset_by_control_ = false;  ///< see offset_by_control()
+  unsigned held_axes_ = 0;          ///< see hold()
+  [[nodiscard]] bool held(std::size_t i) const { return (held_axes_ >> i & 1U) != 0; }
   model::ChainQ last_straight_end_ = model::ChainQ::Constant(std::nan(""));  ///< its error before is counted
   // The nominal tips of the last points solved (a move's ends and midpoints), round robin.
   /// The last nominal tips taken, by chain values; NaN keys match nothing (Eigen leaves a
