@@ -125,7 +125,9 @@ void JobSink::take_out_offset(const gcode::Block& block) {
 
 void JobSink::check_axes(const gcode::Block& block) const {
   for (const gcode::Word& w : block.words) {
-    if (w.letter < 'A' || w.letter > 'Z' || ((machine_axes_ >> (w.letter - 'A')) & 1U) || !gcode::axis_index(w.letter))
+    // (A lone letter, which the interpreter ignores, names no axis it moves.)
+    if (!w.has_value || w.letter < 'A' || w.letter > 'Z' || ((machine_axes_ >> (w.letter - 'A')) & 1U) ||
+        !gcode::axis_index(w.letter))
       continue;
     throw Error(ErrorKind::safety,
                 fmt::format("the program uses axis {}, which machine '{}' does not have", w.letter, model_.name),

@@ -85,6 +85,12 @@ TEST(Cli, RefusesAxesTheMachineLacks) {
   EXPECT_EQ(r.exit_code, 7);
   EXPECT_NE(r.err.find("in.nc:2:4: refused: the program uses axis A"), std::string::npos) << r.err;
   EXPECT_FALSE(fs::exists(dir + "/out.nc"));
+  // A lone letter (Fanuc, Mazak: ignored) names no axis the program moves.
+  write_file(dir + "/lone.nc", "G0 X1 A\nM2\n");
+  EXPECT_EQ(run_command(ccomp() + " " + dir + "/lone.nc -m " + dir + "/xyz.yaml -o " + dir + "/lone-out.nc" +
+                        " --dialect fanuc")
+                .exit_code,
+            0);
 }
 
 TEST(Cli, ExitCodesForUsageModelAndIo) {
