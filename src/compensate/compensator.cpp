@@ -113,7 +113,9 @@ void Compensator::rapid(const ChainQ& end, std::vector<CompensatedPoint>& out, M
   const std::array<double, 9> target = need;
   for (std::size_t i = 0; i < need.size(); ++i) {
     const auto k = static_cast<Eigen::Index>(i);
-    if (!model_.reads_approach(i) || model_.lost_motion()[i] <= 0 || std::abs(play_[i] - target[i]) <= 0.02) continue;
+    // (A held axis does not move: its play stays where it was, keep_still() says.)
+    if (!model_.reads_approach(i) || model_.lost_motion()[i] <= 0 || held(i) || std::abs(play_[i] - target[i]) <= 0.02)
+      continue;
     if (offset_by_control_) {
       report.jogs_withheld = true;
       continue;
@@ -143,9 +145,9 @@ unsigned Compensator::unhidden(const std::array<double, 9>& target) const {
   return axes;
 }
 
-void Compensator::keep_still(unsigned axes, const ChainQ& at, const std::array<double, 9>& play_before,
-                             const ChainQ& start, const ChainQ& end, bool feed, std::vector<CompensatedPoint>& points,
-                             MoveReport& report) {
+double Compensator::keep_still(unsigned axes, const ChainQ& at, const std::array<double, 9>& play_before,
+                               const ChainQ& start, const ChainQ& end, bool feed, std::vector<CompensatedPoint>& points,
+                               MoveReport& report) {
   auto kept = [axes](Eigen::Index k) { return (axes >> k & 1U) != 0; };
   // Still, they approach as their play before the move has them, and turn nowhere.
   for (std::size_t i = 0; i < play_before.size(); ++i)
@@ -168,11 +170,9 @@ void Compensator::keep_still(unsigned axes, const ChainQ& at, const std::array<d
     if (static_cast<std::size_t>(k) < play_.size())
       play_[static_cast<std::size_t>(k)] = play_before[static_cast<std::size_t>(k)];
   }
-  // A rapid's end is where the cut after it starts (from there, as its plan does not know).
-  if (!feed && !points.empty())
-    report.max_deviation_after =
-        std::max(report.max_deviation_after, executed_deviation(end, end, points.back().q, points.back().q, 1.0));
   held_axes_ = 0;
+  // Where the move leaves the machine: a cut after it starts there, as its plan does not know.
+  return points.empty() ? 0.0 : executed_deviation(end, end, points.back().q, points.back().q, 1.0);
 }
 
 Eigen::Vector3d Compensator::nominal_tip(const ChainQ& q) {

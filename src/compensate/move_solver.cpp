@@ -4,6 +4,7 @@
 #include <array>
 #include <cmath>
 #include <numbers>
+#include <utility>
 
 #include "ccomp/model/chain_values.hpp"
 
@@ -134,6 +135,10 @@ void MoveSolver::solve(const gcode::Motion& m, const gcode::Offsets& offsets, Mo
                        std::vector<CompensatedPoint>& points, const ChordRange& range,
                        std::vector<gcode::Axes>* arc_starts) {
   if (arc_starts) arc_starts->clear();
+  // A cut that starts where a held rapid left the machine starts that far off.
+  if (const double left = std::exchange(held_off_, 0.0);
+      m.kind == gcode::MotionKind::feed || m.kind == gcode::MotionKind::arc)
+    move.max_deviation_after = std::max(move.max_deviation_after, left);
   if (!m.offset) {
     tool_end_.setConstant(std::nan(""));
     solve_path(m, offsets, move, points, range);
@@ -156,9 +161,11 @@ void MoveSolver::solve(const gcode::Motion& m, const gcode::Offsets& offsets, Mo
   const unsigned still = before.allFinite() ? kept_still_by_offset(m, offsets) : 0U;
   compensator.hold(still);
   solve_path(centre, offsets, move, points, range);
-  if (still != 0)
-    compensator.keep_still(still, before, play_before, start, chain_of(m.tool_end, offsets),
-                           m.kind == gcode::MotionKind::feed, points, move);
+  if (still != 0) {
+    const double left = compensator.keep_still(still, before, play_before, start, chain_of(m.tool_end, offsets),
+                                               m.kind == gcode::MotionKind::feed, points, move);
+    if (m.kind == gcode::MotionKind::traverse) held_off_ = left;
+  }
   const bool arc = m.kind == gcode::MotionKind::arc && m.radius_compensation;
   const gcode::ArcGeometry g = arc ? gcode::arc_geometry(centre) : gcode::ArcGeometry{};
   // The move's end is the corner: the programmed end, where the tool is as the control

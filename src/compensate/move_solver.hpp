@@ -67,6 +67,9 @@ class alignas(64) MoveSolver {
   /// Where the last move's tool centre ended under the control's radius offset, as the
   /// control offsets it alone (chain values; NaN when there was none).
   model::ChainQ tool_end_ = model::ChainQ::Constant(std::nan(""));
+  /// mm: how far off its plan the last move, a rapid with axes the control held still
+  /// (Compensator::keep_still), left the machine: the error where a cut after it starts.
+  double held_off_ = 0.0;
   std::vector<gcode::Axes> chords_;
   std::vector<CompensatedPoint> pieces_;
 };

@@ -242,6 +242,20 @@ TEST(RadiusCompensation, AMoveAlongTheNormalKeepsThePlaneStill) {
   }
 }
 
+TEST(RadiusCompensation, ARetractAfterTheLastCutLeavesNothingInTheFigure) {
+  // X held up a 30 mm retract under G41 ends 6 um off its correction, but nothing is cut
+  // from there: the figure is the cut's (it said 6 um where verify finds none while a rapid's
+  // end counted whatever followed it).
+  const model::MachineModel mm = vmc_with("{name: EXZ, form: polynomial, unit: um, coefficients: [0, 0.2]}");
+  const std::string program =
+      "G21 G90 G94 G54\nG0 X-70 Y-40 Z-80\nG0 X-60\nG1 F800\nG41.1 D10\nG1 X-50 Y-30\nG1 X50\nG0 Z-50\nG40\n"
+      "G0 X70 Y40\nM30\n";
+  compensate::JobReport report;
+  const std::string output = compensate(program, mm, 0.001, &report);
+  EXPECT_LE(tool_centre_error(program, output, mm).max, 1e-4);
+  EXPECT_LE(report.max_error_after, 1e-4) << output;
+}
+
 TEST(RadiusCompensation, AHeldAxisNeitherTurnsNorReportsATurn) {
   // X held through a plunge under G41 on a machine with 4 um of X backlash: the correction's
   // travel in X (3 um along the plunge, against X's last travel) would turn X round, but X
@@ -260,6 +274,16 @@ TEST(RadiusCompensation, AHeldAxisNeitherTurnsNorReportsATurn) {
   EXPECT_GE(report.max_error_after, 0.95 * left) << "verify finds " << left * 1e3 << " um";
   EXPECT_LE(report.max_error_after, 1.15 * left) << "verify finds " << left * 1e3 << " um\n" << output;
   expect_rs274_accepts(output);
+  // A rapid retract between two cuts: X, held, has no play to take up, so no take-up is
+  // withheld (the warning, said once a job, was spent on it before).
+  std::vector<std::string> warnings;
+  compensate::JobOptions o;
+  o.warning = [&warnings](const std::string& text, std::uint32_t) { warnings.push_back(text); };
+  (void)compensate(
+      "G21 G90 G94 G54\nG0 X-70 Y-40 Z-80\nG0 X-60\nG1 F800\nG41.1 D10\nG1 X-50 Y-30\nG1 X50\nG1 Z-95\n"
+      "G1 Y30\nG0 Z-80\nG1 X60\nG40\nG0 X70 Y40\nM30\n",
+      mm, o);
+  for (const std::string& w : warnings) EXPECT_EQ(w.find("no take-up moves"), std::string::npos) << w;
 }
 
 TEST(RadiusCompensation, TheCorpusRetractUnderG41IsNoGougingCorner) {
