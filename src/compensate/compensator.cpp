@@ -82,9 +82,9 @@ bool Compensator::approach_by_travel(const ChainQ& from, const ChainQ& to) {
   bool changed = false;
   for (std::size_t i = 0; i < need.size(); ++i) {
     const auto k = static_cast<Eigen::Index>(i);
-    if (!model_.reads_approach(i) || held(i) || std::abs(to[k] - from[k]) <= 10 * still(i)) continue;
+    if (!model_.reads_approach(i) || std::abs(to[k] - from[k]) <= 10 * still(i)) continue;
     const double travel = to[k] > from[k] ? 1.0 : -1.0;
-    if (travel != need[i]) need[i] = travel, changed = true;
+    if (travel != need[i] && !held(i)) need[i] = travel, changed = true;
   }
   return changed;
 }
