@@ -134,6 +134,18 @@ void Compensator::rapid(const ChainQ& end, std::vector<CompensatedPoint>& out, M
   report.unhidden_reversals |= unhidden(target);
 }
 
+void Compensator::carried(const ChainQ& by, MoveReport& report) {
+  const std::array<double, 9> before = play_;
+  command(commanded_ + by);
+  for (std::size_t i = 0; i < play_.size(); ++i) {
+    // (as unhidden() counts a play left short: the switch times the share of it taken up)
+    const double shown = 0.5 * model_.reversal_size()[i] * std::abs(play_[i] - before[i]);
+    if (!(shown > 0.0)) continue;
+    report.max_deviation_after = std::max(report.max_deviation_after, shown);
+    if (shown > 0.25 * options_.tolerance) report.jogs_withheld = true;  // worth the warning
+  }
+}
+
 unsigned Compensator::unhidden(const std::array<double, 9>& target) const {
   // What a play left short of its target costs: the switch of the axis' terms (mm at the
   // tool) times the shortfall. Worth a warning at a quarter of the tolerance.

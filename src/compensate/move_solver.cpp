@@ -154,7 +154,7 @@ void MoveSolver::solve(const gcode::Motion& m, const gcode::Offsets& offsets, Mo
   // Between one offset move's end and the next one's start the control goes round the
   // corner (or cuts it short), the correction with it.
   const model::ChainQ start = chain_of(m.tool_start, offsets);
-  if (tool_end_.allFinite() && compensator.commanded().allFinite()) compensator.carried(start - tool_end_);
+  if (tool_end_.allFinite() && compensator.commanded().allFinite()) compensator.carried(start - tool_end_, move);
   tool_end_ = m.radius_compensation ? chain_of(m.tool_end, offsets) : model::ChainQ::Constant(std::nan(""));
   const model::ChainQ before = compensator.commanded();
   const std::array<double, 9> play_before = compensator.play();

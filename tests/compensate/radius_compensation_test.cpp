@@ -256,6 +256,21 @@ TEST(RadiusCompensation, ARetractAfterTheLastCutLeavesNothingInTheFigure) {
   EXPECT_LE(report.max_error_after, 1e-4) << output;
 }
 
+TEST(RadiusCompensation, AReversalOnTheControlsCornerIsReported) {
+  // Under G41 the entry move takes the tool centre to X-5 and the control's corner arc turns
+  // X round to +X: the 4 um of X backlash is taken up on the control's arc, where no take-up
+  // can be written. The job reported 0 there (verify finds 3.98 um).
+  const model::MachineModel mm = vmc_with("{name: EXX, variable: vx, form: reversal, reversal: -4 um}");
+  const std::string program =
+      "G21 G90 G94 G54\nG0 X0 Y-40 Z-80\nG1 F800\nG41.1 D10\nG1 X0 Y-30\nG1 X50\nG1 Y30\nG40\nG0 X0 Y40\nM30\n";
+  compensate::JobReport report;
+  const std::string output = compensate(program, mm, 0.001, &report);
+  const double left = tool_centre_error(program, output, mm).max;
+  EXPECT_GT(left, 0.003);
+  EXPECT_GE(report.max_error_after, 0.95 * left) << "verify finds " << left * 1e3 << " um";
+  EXPECT_LE(report.max_error_after, 1.15 * left) << "verify finds " << left * 1e3 << " um";
+}
+
 TEST(RadiusCompensation, AHeldAxisNeitherTurnsNorReportsATurn) {
   // X held through a plunge under G41 on a machine with 4 um of X backlash: the correction's
   // travel in X (3 um along the plunge, against X's last travel) would turn X round, but X

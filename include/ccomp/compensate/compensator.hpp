@@ -129,7 +129,9 @@ class Compensator {
   void moved(const model::ChainQ& q);
   /// Tells the compensator the control moved the axes by `by` (chain values) on a path of
   /// its own with the correction kept: round the corner of a radius-offset path (G41/G42).
-  void carried(const model::ChainQ& by) { command(commanded_ + by); }
+  /// An axis that takes up play on the way (it turns round on the corner's arc) does so
+  /// where no take-up can be written: what its terms switch meanwhile goes into the report.
+  void carried(const model::ChainQ& by, MoveReport& report);
   /// The error of the uncompensated machine at a point: |actual - nominal| (mm).
   [[nodiscard]] double error_at(const model::ChainQ& nominal);
   /// The same for a probe, under its own approach.
