@@ -170,9 +170,28 @@ void JobSink::warning(const std::string& message, std::uint32_t line) {
   if (options_.warning) options_.warning(message, line);
 }
 
+namespace {
+
+/// Whether the block has a G code whose axis words are its own (G10, G28, G30, G52, G92):
+/// a motion code beside it has none (the interpreter refuses both with axis words), and
+/// moves nowhere.
+bool axis_words_are_another_codes(const gcode::Block& b) {
+  for (const gcode::Word& w : b.words)
+    if (w.letter == 'G' && w.has_value && w.value.is_literal())
+      for (const double code : {10.0, 28.0, 30.0, 52.0, 92.0})
+        if (w.value.literal == code) return true;
+  return false;
+}
+
+}  // namespace
+
 void JobSink::compensate(const gcode::Motion& m) {
   using gcode::MotionKind;
   using gcode::MotionSource;
+  // `G0 G28`: the G0 is a move of no length that the block's words cannot be written into
+  // (axis words there would be G28's intermediate point). The machine stays where the
+  // reference return, or the line before, left it.
+  if (m.source == MotionSource::program && m.start == m.end && block_ && axis_words_are_another_codes(*block_)) return;
   const bool machine = m.source == MotionSource::machine_coordinates || m.source == MotionSource::reference_return;
   if (!machine && m.kind != MotionKind::probe && m.source != MotionSource::canned_cycle && !repeated_ && !elsewhere_) {
     queue_move(m);

@@ -93,5 +93,17 @@ TEST(PositionOffsets, ACutFromWhereAMachineCoordinateMoveLeftTheMachineIsReporte
   EXPECT_EQ(report.added_lines, 1U) << "the move to the compensated start\n" << output;
 }
 
+TEST(PositionOffsets, AMotionCodeBesideAReferenceReturnGetsNoWords) {
+  // `G0 G28` without axis words: G28 returns to the reference point, the G0 moves nowhere.
+  // Its correction written into the block ("G0 G28 X-0.0236 Y-0.0328 ...", found by the job
+  // fuzzer) made G28's intermediate point of it, which the interpreter and LinuxCNC refuse:
+  // two G codes that both use axis values.
+  const model::MachineModel mm = sample_machine("hmc-xyzb-geometric");
+  const std::string program = "G21 G90 G54 T1 M6 G43 H1\nG0 X10 Y10 Z-60\nG0 G28\nG1 X20 F300\nM30\n";
+  const std::string output = compensate(program, mm, 0.001);
+  EXPECT_NE(output.find("\nG0 G28\n"), std::string::npos) << output;
+  EXPECT_NO_THROW((void)left_of(program, output, mm)) << output;
+}
+
 }  // namespace
 }  // namespace ccomp::test
