@@ -157,14 +157,14 @@ unsigned Compensator::unhidden(const std::array<double, 9>& target) const {
   return axes;
 }
 
-double Compensator::keep_still(unsigned axes, const ChainQ& at, const std::array<double, 9>& play_before,
-                               const ChainQ& start, const ChainQ& end, bool feed, std::vector<CompensatedPoint>& points,
+double Compensator::keep_still(const ChainQ& at, const std::array<double, 9>& play_before, const ChainQ& start,
+                               const ChainQ& end, bool feed, std::vector<CompensatedPoint>& points,
                                MoveReport& report) {
-  auto kept = [axes](Eigen::Index k) { return (axes >> k & 1U) != 0; };
+  auto kept = [this](Eigen::Index k) { return held(static_cast<std::size_t>(k)); };
   // Still, they approach as their play before the move has them, and turn nowhere.
   for (std::size_t i = 0; i < play_before.size(); ++i)
-    if (kept(static_cast<Eigen::Index>(i))) options_.conditions.directions[i] = play_before[i];
-  report.unhidden_reversals &= ~axes;
+    if (held(i)) options_.conditions.directions[i] = play_before[i];
+  report.unhidden_reversals &= ~held_axes_;
   ChainQ from_nominal = start, from = at;
   for (CompensatedPoint& point : points) {
     for (Eigen::Index k = 0; k < point.q.size(); ++k)

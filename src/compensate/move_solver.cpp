@@ -156,13 +156,15 @@ void MoveSolver::solve(const gcode::Motion& m, const gcode::Offsets& offsets, Mo
   const model::ChainQ start = chain_of(m.tool_start, offsets);
   if (tool_end_.allFinite() && compensator.commanded().allFinite()) compensator.carried(start - tool_end_, move);
   tool_end_ = m.radius_compensation ? chain_of(m.tool_end, offsets) : model::ChainQ::Constant(std::nan(""));
-  const model::ChainQ before = compensator.commanded();
-  const std::array<double, 9> play_before = compensator.play();
-  const unsigned still = before.allFinite() ? kept_still_by_offset(m, offsets) : 0U;
+  const unsigned still = compensator.commanded().allFinite() ? kept_still_by_offset(m, offsets) : 0U;
   compensator.hold(still);
-  solve_path(centre, offsets, move, points, range);
-  if (still != 0) {
-    const double left = compensator.keep_still(still, before, play_before, start, chain_of(m.tool_end, offsets),
+  if (still == 0) {
+    solve_path(centre, offsets, move, points, range);
+  } else {  // (where the machine stands before the move: what the held axes keep)
+    const model::ChainQ before = compensator.commanded();
+    const std::array<double, 9> play_before = compensator.play();
+    solve_path(centre, offsets, move, points, range);
+    const double left = compensator.keep_still(before, play_before, start, chain_of(m.tool_end, offsets),
                                                m.kind == gcode::MotionKind::feed, points, move);
     if (m.kind == gcode::MotionKind::traverse) held_off_ = left;
   }

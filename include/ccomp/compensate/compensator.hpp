@@ -175,16 +175,15 @@ class Compensator {
   /// approach stays as their play has it while the move is solved, whatever the correction's
   /// travel. keep_still() then holds their values and ends the hold.
   void hold(unsigned axes) { held_axes_ = axes; }
-  /// The control keeps the axes in `axes` (bit k: chain value k) still through the straight
-  /// move from `start` to `end` (nominal) whose points were just solved into `points`: they
+  /// The axes hold() named stay still through the straight move from `start` to `end`
+  /// (nominal) whose points were just solved into `points`: they
   /// keep those values at `at`, where the machine was before the move, and so do the last
   /// command and those axes' play (`play_before`, theirs before the move); no reversal of
   /// theirs is reported. Where the move cuts (`feed`), the error that leaves at each point and
   /// half-way to it goes into the report's figure after. Returns the error where the move
   /// leaves the machine (mm): the start of a cut after it (the caller's to count there).
-  double keep_still(unsigned axes, const model::ChainQ& at, const std::array<double, 9>& play_before,
-                    const model::ChainQ& start, const model::ChainQ& end, bool feed,
-                    std::vector<CompensatedPoint>& points, MoveReport& report);
+  double keep_still(const model::ChainQ& at, const std::array<double, 9>& play_before, const model::ChainQ& start,
+                    const model::ChainQ& end, bool feed, std::vector<CompensatedPoint>& points, MoveReport& report);
 
  private:
   /// A straight move as straight() was given it.
