@@ -310,6 +310,14 @@ int run_check(const IdentifyArgs& args) {
     return 0;
   }
   fmt::print("refitted as it is (its free parameters): rms {:.3f} um\n", d.rms_refit * 1e3);
+  if (d.origin_misfit) {
+    const identify::OriginMisfit& o = *d.origin_misfit;
+    fmt::print(
+        "the readings' program zero looks {:.3f} mm off where they were taken to be ({:+.3f}, {:+.3f}, {:+.3f} mm "
+        "along X, Y, Z; rms {:.3f} -> {:.3f} um, BIC {:+.1f}): a wrong work offset? Check each file's '# frame:' "
+        "line, --work-offset and the model's work_offsets (docs/identification.md, 'Frames') before adding effects\n",
+        o.shift.norm(), o.shift.x(), o.shift.y(), o.shift.z(), o.rms_before * 1e3, o.rms_after * 1e3, o.bic_delta);
+  }
   for (const identify::Region& g : d.regions)
     fmt::print("  the residual concentrates at {} in [{:.4g}, {:.4g}]: rms {:.3f} um ({:.1f}x)\n", g.variable, g.from,
                g.to, g.rms * 1e3, g.ratio);

@@ -189,3 +189,45 @@ TEST(ReferenceLoop, TheMeasurementsFrameGivenAnyWayPlacesTheSameReadings) {
 
 }  // namespace
 }  // namespace ccomp::identify
+
+namespace ccomp::identify {
+namespace {
+
+// The reference's readings read with the sample's own G54 (the B centre) instead of the
+// reference's program zero: check says the frame is wrong, with the shift, rather than let
+// the table's harmonics absorb it; read right, it says nothing of the kind.
+TEST(ReferenceLoop, AWrongWorkOffsetIsNamedAsSuch) {
+  // The table's angular positioning with a second harmonic (an encoder's or a worm's): what
+  // it moves a point by grows with the point's distance from the B line, so a wrong origin
+  // leaves a twice-a-turn error that B's own translations (one harmonic in the model)
+  // cannot take. (Errors the model's free terms can take whatever the origin, the data
+  // cannot place: then nothing is said, and nothing is lost in compensation either.)
+  test::ReferenceHmc machine = test::geometric_reference();
+  machine.EBB = [](double b) {
+    const double r = b * std::numbers::pi / 180.0;
+    return 12e-6 * std::cos(r) + 20e-6 * std::sin(2 * r);
+  };
+  test::ReferencePlans plans;
+  plans.noise = kNoise, plans.seed = 5, plans.line_step = 20.0;
+  const std::vector<test::ReferenceReading> readings = test::measure_reference(machine, plans);
+  const std::string sample = test::source_dir() + "/samples/machines/hmc-xyzb-geometric.yaml";
+  const model::MachineModel geometric = model::load_machine_model(sample);
+  MeasurementSet wrong;  // no frame line: the model's G54, Z-400 where the reference's is Z-330
+  parse_measurements(test::reference_csv(machine, readings, test::FrameGiven::by_model), "wrong.csv", geometric, {},
+                     wrong);
+  const Diagnosis d = diagnose(model::ForwardModel(geometric), wrong);
+  ASSERT_TRUE(d.origin_misfit.has_value()) << "the readings sit 70 mm off along Z and 35 along X; " << d.skipped
+                                            << " rms " << d.rms_refit << " noise " << d.noise << " readings "
+                                            << wrong.observations.size();
+  const Eigen::Vector3d truth = machine.work_origin - Eigen::Vector3d(0, 0, -400);
+  // Weighed at the refit of the wrongly placed readings: near the truth, not at it.
+  EXPECT_NEAR(d.origin_misfit->shift.x(), truth.x(), 0.3 * truth.norm()) << d.origin_misfit->shift.transpose();
+  EXPECT_NEAR(d.origin_misfit->shift.z(), truth.z(), 0.3 * truth.norm()) << d.origin_misfit->shift.transpose();
+  EXPECT_LT(std::abs(d.origin_misfit->shift.y()), 0.3 * truth.norm()) << "Y moves no lever of B's: not said";
+  EXPECT_LT(d.origin_misfit->rms_after, 0.8 * d.origin_misfit->rms_before);
+  const MeasurementSet right = test::reference_measurements(machine, readings);
+  EXPECT_FALSE(diagnose(model::ForwardModel(geometric), right).origin_misfit.has_value());
+}
+
+}  // namespace
+}  // namespace ccomp::identify
