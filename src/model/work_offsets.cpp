@@ -48,8 +48,9 @@ double axis_value(std::string_view text, char letter, const std::string& what) {
     v *= u->scale;                   // mm or rad
     if (rotary) v /= kRadPerDeg;     // degrees, as programs write angles
   }
-  if (!std::isfinite(v) || std::abs(v) > 1e7)
-    throw Error(ErrorKind::usage, fmt::format("{}: {} {} is beyond any machine", what, letter, text));
+  if (!std::isfinite(v))
+    throw Error(ErrorKind::usage, fmt::format("{}: {}{} is not a finite number", what, letter, text));
+  if (std::abs(v) > 1e7) throw Error(ErrorKind::usage, fmt::format("{}: {}{} is beyond any machine", what, letter, text));
   return v;
 }
 

@@ -392,3 +392,39 @@ TEST(Cli, ToleranceThatIsNotMillimetresSaysSo) {
 
 }  // namespace
 }  // namespace ccomp::test
+
+namespace ccomp::test {
+namespace {
+
+// A shop's G54 given on the command line: the output's header records it, verify and
+// predict measure the program where it ran without being told again, and told another
+// origin they measure another machine's cut.
+TEST(Cli, TheWorkOffsetTravelsWithTheOutput) {
+  const std::string dir = temp_dir("cli_work_offset");
+  const std::string model = " -m " + source_dir() + "/samples/machines/hmc-xyzb-geometric.yaml";
+  const std::string tools = " --tool-table " + source_dir() + "/samples/tools.tbl";
+  const std::string program = source_dir() + "/samples/programs/face-b0-b90.ngc";
+  const std::string ccomp = shell_quote(ccomp_binary());
+  const std::string shop = " --work-offset G54=X-35,Y20,Z-330";
+  const CommandResult made = run_command(ccomp + " " + program + model + tools + shop + " -q -o " + dir + "/out.ngc");
+  ASSERT_EQ(made.exit_code, 0) << made.err;
+  EXPECT_NE(read_file(dir + "/out.ngc").find("; work offsets G54 X-35 Y20 Z-330)"), std::string::npos);
+  auto max_um = [](const std::string& json) { return std::stod(json.substr(json.find("\"max_um\": ") + 10)); };
+  const std::string verify = ccomp + " verify " + program + " " + dir + "/out.ngc" + model + tools + " --json";
+  const CommandResult as_made = run_command(verify);
+  EXPECT_EQ(as_made.exit_code, 0) << as_made.err;
+  EXPECT_LT(max_um(as_made.out), 1.0 + 0.1);
+  const CommandResult told_again = run_command(verify + shop);
+  EXPECT_EQ(max_um(told_again.out), max_um(as_made.out)) << "the header's G54 is the option's";
+  const CommandResult elsewhere = run_command(verify + " --work-offset G54=X0,Y0,Z-400");
+  EXPECT_NE(max_um(elsewhere.out), max_um(as_made.out)) << "another origin is another cut";
+  const std::string predict = ccomp + " predict " + program + model + tools + " --json";
+  EXPECT_NE(max_um(run_command(predict + shop).out), max_um(run_command(predict).out))
+      << "predict measures the program where it runs";
+  const CommandResult bad = run_command(ccomp + " " + program + model + tools + " --work-offset G54=X1,X2 -o -");
+  EXPECT_EQ(bad.exit_code, 2) << bad.err;
+  EXPECT_NE(bad.err.find("axis X is given twice"), std::string::npos) << bad.err;
+}
+
+}  // namespace
+}  // namespace ccomp::test
