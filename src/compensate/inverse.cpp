@@ -1,6 +1,8 @@
 #include "ccomp/compensate/inverse.hpp"
 
+#include <Eigen/Cholesky>
 #include <Eigen/QR>
+#include <algorithm>
 #include <array>
 #include <cstdint>
 #include <limits>
@@ -15,6 +17,8 @@ using model::ChainQ;
 InverseProblem::InverseProblem(const model::ForwardModel& model) {
   for (const auto* chain : {&model.chain().workpiece, &model.chain().tool}) {
     for (const kinematics::Joint& j : chain->joints) {
+      if (j.type != kinematics::JointType::fixed && j.axis == model::kToolLengthIndex)
+        tool_axis = j.direction.normalized();  // the tip's frame is this joint's, moved along it
       if (j.type == kinematics::JointType::fixed || j.axis == model::kToolLengthIndex) continue;
       unknowns.push_back(static_cast<int>(j.axis));
       if (j.type == kinematics::JointType::rotary) {
@@ -23,6 +27,24 @@ InverseProblem::InverseProblem(const model::ForwardModel& model) {
       }
     }
   }
+  orientation = rotary_unknowns.empty()       ? OrientationEquations::none
+                : rotary_unknowns.size() == 1 ? OrientationEquations::about_rotary
+                                              : OrientationEquations::tool_direction;
+  // Two directions across the tool: any pair completing its axis to a right-handed frame.
+  const Eigen::Vector3d least = tool_axis.cwiseAbs().minCoeff() == std::abs(tool_axis.x()) ? Eigen::Vector3d::UnitX()
+                                : std::abs(tool_axis.y()) <= std::abs(tool_axis.z())        ? Eigen::Vector3d::UnitY()
+                                                                                            : Eigen::Vector3d::UnitZ();
+  across_tool[0] = tool_axis.cross(least).normalized();
+  across_tool[1] = tool_axis.cross(across_tool[0]);
+}
+
+std::size_t InverseProblem::orientation_equations() const {
+  switch (orientation) {
+    case OrientationEquations::none: return 0;
+    case OrientationEquations::about_rotary: return 1;
+    case OrientationEquations::tool_direction: return 2;
+  }
+  return 0;
 }
 
 namespace {
@@ -75,6 +97,7 @@ struct SolveStart {
   Eigen::Vector3d target;  ///< where the tool tip would be on a perfect machine
   Eigen::Matrix3d R_target;
   ChainQ q;            ///< the first iterate
+  ChainQ program;      ///< the program's axis values (what a damped correction keeps to)
   ChainQ first_order;  ///< the prediction before the last miss is added
   /// The approach changed since the last solution (a play taken up, an axis reversed): each
   /// changed axis' learnt effect on the solution, where every one is known.
@@ -119,6 +142,7 @@ SolveStart start_of(const InverseProblem& problem, InverseWorkspace& ws, const C
                     const model::Conditions& conditions, const ChainQ* guess, const Eigen::Vector3d& target,
                     const Eigen::Matrix3d& R_target) {
   SolveStart s;
+  s.program = q_nominal;
   s.target = target;
   s.R_target = R_target;
   const bool have_solve_matrix = ws.solve_matrix.size() != 0;
@@ -259,6 +283,103 @@ void iterate(const model::ForwardModel& model, const InverseProblem& problem, mo
   }
 }
 
+/// Whether unknown k is a rotary axis.
+bool is_rotary(const InverseProblem& problem, int k) {
+  return std::find(problem.rotary_unknowns.begin(), problem.rotary_unknowns.end(), k) != problem.rotary_unknowns.end();
+}
+
+using Jacobian = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, 6, 9>;
+
+/// The tool_direction solve's step from the exact Jacobian J (the position rows, then the
+/// tool's turn across its axis) at q: the linear axes land the tip exactly, the rotary axes
+/// answer the tool's direction in the least-squares sense, damped toward the program's
+/// rotary values (minimum of |direction residual|^2 + kSingularDamping^2 |rotary - program|^2;
+/// the singularity-robust inverse of Nakamura and Hanafusa). S gets the step per unit of
+/// residual, which the next point's prediction reads; the step to subtract from q is returned.
+Step damped_step(const InverseProblem& problem, const Jacobian& J, const Residual& residual, const ChainQ& q,
+                 const ChainQ& program, SolveMatrix& S) {
+  const Eigen::Index n = J.cols();
+  std::vector<Eigen::Index> linear, rotary;
+  for (Eigen::Index c = 0; c < n; ++c)
+    (is_rotary(problem, problem.unknowns[static_cast<std::size_t>(c)]) ? rotary : linear).push_back(c);
+  const auto nl = static_cast<Eigen::Index>(linear.size()), nr = static_cast<Eigen::Index>(rotary.size());
+  const Eigen::Index m = J.rows(), no = m - 3;
+  Eigen::MatrixXd Pl(3, nl), Pr(3, nr), Ol(no, nl), Or(no, nr);
+  for (Eigen::Index c = 0; c < nl; ++c) Pl.col(c) = J.col(linear[c]).head<3>(), Ol.col(c) = J.col(linear[c]).tail(no);
+  for (Eigen::Index c = 0; c < nr; ++c) Pr.col(c) = J.col(rotary[c]).head<3>(), Or.col(c) = J.col(rotary[c]).tail(no);
+  const Eigen::MatrixXd Pl_inv = Pl.completeOrthogonalDecomposition().pseudoInverse();
+  // The linear axes take whatever the rotary axes move the tip by: the direction rows as
+  // the rotary axes alone see them (M) and the direction residual left by that (reduce).
+  const Eigen::MatrixXd M = Or - Ol * Pl_inv * Pr;
+  Eigen::MatrixXd reduce(no, m);
+  reduce << -Ol * Pl_inv, Eigen::MatrixXd::Identity(no, no);
+  const double damping2 = kSingularDamping * kSingularDamping;
+  const Eigen::LDLT<Eigen::MatrixXd> normal(M.transpose() * M + damping2 * Eigen::MatrixXd::Identity(nr, nr));
+  const Eigen::MatrixXd Sr = normal.solve(M.transpose() * reduce);  // nr x m
+  Eigen::MatrixXd position(nl, m);
+  position << Pl_inv, Eigen::MatrixXd::Zero(nl, no);
+  const Eigen::MatrixXd Sl = position - Pl_inv * Pr * Sr;
+  Eigen::VectorXd from_program(nr);
+  for (Eigen::Index c = 0; c < nr; ++c) {
+    const int k = problem.unknowns[static_cast<std::size_t>(rotary[c])];
+    from_program[c] = q[k] - program[k];
+  }
+  const Eigen::VectorXd keep_r = normal.solve(damping2 * from_program);
+  const Eigen::VectorXd keep_l = -Pl_inv * Pr * keep_r;
+  S.resize(n, m);
+  Step step(n);
+  for (Eigen::Index c = 0; c < nl; ++c) S.row(linear[c]) = Sl.row(c), step[linear[c]] = keep_l[c];
+  for (Eigen::Index c = 0; c < nr; ++c) S.row(rotary[c]) = Sr.row(c), step[rotary[c]] = keep_r[c];
+  return step + solve_matrix_times(S, residual);
+}
+
+/// Newton's iteration for the tool_direction equations (two rotary axes or more): the exact
+/// Jacobian at every iterate (the rotary lines turn with the pose), converged where the tip
+/// is within the position tolerance and the rotary step below the angle tolerance; r gets
+/// the outcome, s.q the solution.
+void iterate_tool_direction(const model::ForwardModel& model, const InverseProblem& problem, model::ForwardData& d,
+                            const model::Conditions& conditions, const InverseOptions& options, InverseWorkspace& ws,
+                            SolveStart& s, InverseResult& r) {
+  ChainQ& q = s.q;
+  const auto n = static_cast<Eigen::Index>(problem.unknowns.size());
+  Residual residual(5);
+  Jacobian J(5, n);
+  for (r.iterations = 0; r.iterations <= options.max_iterations; ++r.iterations) {
+    model::forward(model, d, q, conditions, true, model::Evaluate::actual, false);
+    Eigen::Matrix3d Jr_inv;
+    const Eigen::Vector3d omega = kinematics::so3_log(s.R_target.transpose() * d.R_actual, &Jr_inv);
+    residual.head<3>() = d.actual - s.target;
+    residual[3] = problem.across_tool[0].dot(omega);
+    residual[4] = problem.across_tool[1].dot(omega);
+    r.position_residual = residual.head<3>();
+    r.orientation_error = omega - problem.tool_axis.dot(omega) * problem.tool_axis;
+    if (!residual.allFinite()) break;
+    const Eigen::Matrix<double, 3, Eigen::Dynamic> J_rot = Jr_inv * d.actual_chain.J_q.bottomRows<3>();
+    for (Eigen::Index c = 0; c < n; ++c) {
+      const int k = problem.unknowns[static_cast<std::size_t>(c)];
+      J.block<3, 1>(0, c) = d.J_q.col(k);
+      J(3, c) = problem.across_tool[0].dot(J_rot.col(k));
+      J(4, c) = problem.across_tool[1].dot(J_rot.col(k));
+    }
+    const Step step = damped_step(problem, J, residual, q, s.program, ws.solve_matrix);
+    ++ws.jacobian_evaluations;
+    double rotary_step = 0.0;
+    for (Eigen::Index c = 0; c < n; ++c)
+      if (is_rotary(problem, problem.unknowns[static_cast<std::size_t>(c)]))
+        rotary_step = std::max(rotary_step, std::abs(step[c]));
+    const bool converged = r.position_residual.norm() < options.position_tolerance &&
+                           rotary_step < options.angle_tolerance;
+    if (converged) {
+      r.converged = true;
+      s.evaluated = q;
+      s.evaluated_omega = omega;
+    }
+    // (Converged too: the step on the residual already known costs no evaluation.)
+    move_unknowns(problem, q, step, -1.0);
+    if (converged || r.iterations == options.max_iterations) break;
+  }
+}
+
 /// Broyden's update: the solve matrix made exact along a step of the solution (s_step) that
 /// moved the tip by `shift`, so it follows the Jacobian along the path.
 void secant_update(InverseWorkspace& ws, const Step& s_step, const Eigen::Vector3d& shift) {
@@ -388,7 +509,10 @@ InverseResult solve_inverse(const model::ForwardModel& model, const InverseProbl
     learn(problem, ws, q_nominal, conditions, s, Reached::on_bound);
     ++ws.bounded_points;
   } else {
-    iterate(model, problem, d, conditions, options, ws, s, r);
+    if (problem.orientation == OrientationEquations::tool_direction)
+      iterate_tool_direction(model, problem, d, conditions, options, ws, s, r);
+    else
+      iterate(model, problem, d, conditions, options, ws, s, r);
     r.q = s.stands ? s.evaluated : s.q;
     r.target = s.target;
     if (!r.converged) return r;
