@@ -1,12 +1,14 @@
 #pragma once
-// Test support: a reference five-axis machine with a trunnion table (XYZAC: the table moves
-// X and Y, an A trunnion about X sits on it, a C table on the trunnion, the head moves Z),
-// written apart from ccomp's model code (no kinematics::, no model::): its own rotations
-// about its own lines, its own geometry and program origin, from the physical meaning
-// docs/machine-model.md gives each term. Tests hold ccomp's five-axis compensation to it.
+// Test support: two reference five-axis machines, a trunnion table (XYZAC: the table moves
+// X and Y, an A trunnion about X sits on it, a C table on the trunnion, the head moves Z) and
+// a head-head one (XYZBC: the table moves X, the head Y and Z, a C head about Z carries a B
+// fork about Y), written apart from ccomp's model code (no kinematics::, no model::): their
+// own rotations about their own lines, their own geometry and program origin, from the
+// physical meaning docs/machine-model.md gives each term. Tests hold ccomp's five-axis
+// compensation to them.
 //
-// Its geometry is a machine's, not a chain's: the points below are in the frame of the table
-// base (which X and Y move) at machine zero, the program origin is set by a work offset
+// Their geometry is a machine's, not a chain's: the points below are in the frame of the
+// table base at machine zero, the program origin is set by a work offset
 // (G54, machine coordinates) on a point of the part away from both rotary lines, and the
 // linear axes' errors are functions of the machine position, not of the program's.
 #include <Eigen/Core>
@@ -15,9 +17,9 @@
 namespace ccomp::test {
 
 /// A program's words for one pose: x y z in mm (program coordinates, the tool length
-/// applied by G43), a c in degrees.
+/// applied by G43 along Z), a b c in degrees.
 struct FiveAxisWords {
-  double x = 0, y = 0, z = 0, a = 0, c = 0;
+  double x = 0, y = 0, z = 0, a = 0, b = 0, c = 0;
 };
 
 /// Where the tool is in the part: the tip (mm) and the tool's axis (unit, from the tip toward
@@ -51,6 +53,34 @@ struct ReferenceTrunnion {
   /// Where the tool is in the part for the words, with a tool of length L (mm).
   [[nodiscard]] PartPose actual(const FiveAxisWords& w, double L) const;
   /// The same on a perfect machine.
+  [[nodiscard]] PartPose nominal(const FiveAxisWords& w, double L) const;
+
+ private:
+  [[nodiscard]] PartPose pose(const FiveAxisWords& w, double L, bool with_errors) const;
+};
+
+struct ReferenceHeads {
+  // Geometry, mm: C's centre in the table base's frame with every axis at machine zero (C
+  // along +Z), B's centre from C's (B along +Y at C 0), the spindle nose from B's centre
+  // (the pivot), the program origin on the table.
+  Eigen::Vector3d c_centre{5, -12, 420};
+  Eigen::Vector3d b_from_c{3, -2, -95};
+  Eigen::Vector3d nose_from_b{0, 0, -150};
+  Eigen::Vector3d program_origin{-40, 25, 60};
+  // Location errors: the tool is off by (EX0C, EY0C, 0) on average over a turn of C, whose
+  // line runs along (EB0C, -EA0C, 1); by (EX0B, 0, EZ0B) over a turn of B (in the C head, at
+  // C 0 in machine directions), whose line runs along (-EC0B, 1, EA0B).
+  double EX0C = 0, EY0C = 0, EX0B = 0, EZ0B = 0;  ///< mm
+  double EA0C = 0, EB0C = 0, EA0B = 0, EC0B = 0;  ///< rad
+  /// Angular positioning (rad, of the angle in degrees): the tool turns by b + EBB(b), c +
+  /// ECC(c). Empty: none.
+  std::function<double(double)> EBB, ECC;
+  /// Positioning of the linear axes (mm of the tool along the axis, of the machine position).
+  std::function<double(double)> EXX, EYY, EZZ;
+
+  /// G54: the machine position that puts the tool tip on the program origin at B 0 C 0.
+  [[nodiscard]] Eigen::Vector3d work_offset() const;
+  [[nodiscard]] PartPose actual(const FiveAxisWords& w, double L) const;
   [[nodiscard]] PartPose nominal(const FiveAxisWords& w, double L) const;
 
  private:
