@@ -235,6 +235,8 @@ struct FiveAxisCase {
   std::function<PartPose(const FiveAxisWords&, bool actual)> pose;
 };
 
+void PrintTo(const FiveAxisCase& c, std::ostream* os) { *os << c.name; }
+
 template <typename Reference>
 FiveAxisCase case_of(std::string name, const std::vector<MachineError<Reference>>& errors) {
   Reference reference;
