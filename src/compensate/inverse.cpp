@@ -31,20 +31,10 @@ InverseProblem::InverseProblem(const model::ForwardModel& model) {
                 : rotary_unknowns.size() == 1 ? OrientationEquations::about_rotary
                                               : OrientationEquations::tool_direction;
   // Two directions across the tool: any pair completing its axis to a right-handed frame.
-  const Eigen::Vector3d least = tool_axis.cwiseAbs().minCoeff() == std::abs(tool_axis.x()) ? Eigen::Vector3d::UnitX()
-                                : std::abs(tool_axis.y()) <= std::abs(tool_axis.z())        ? Eigen::Vector3d::UnitY()
-                                                                                            : Eigen::Vector3d::UnitZ();
-  across_tool[0] = tool_axis.cross(least).normalized();
+  Eigen::Index least = 0;  // the direction furthest from the axis
+  tool_axis.cwiseAbs().minCoeff(&least);
+  across_tool[0] = tool_axis.cross(Eigen::Vector3d::Unit(least)).normalized();
   across_tool[1] = tool_axis.cross(across_tool[0]);
-}
-
-std::size_t InverseProblem::orientation_equations() const {
-  switch (orientation) {
-    case OrientationEquations::none: return 0;
-    case OrientationEquations::about_rotary: return 1;
-    case OrientationEquations::tool_direction: return 2;
-  }
-  return 0;
 }
 
 namespace {
@@ -367,8 +357,8 @@ void iterate_tool_direction(const model::ForwardModel& model, const InverseProbl
     for (Eigen::Index c = 0; c < n; ++c)
       if (is_rotary(problem, problem.unknowns[static_cast<std::size_t>(c)]))
         rotary_step = std::max(rotary_step, std::abs(step[c]));
-    const bool converged = r.position_residual.norm() < options.position_tolerance &&
-                           rotary_step < options.angle_tolerance;
+    const bool converged =
+        r.position_residual.norm() < options.position_tolerance && rotary_step < options.angle_tolerance;
     if (converged) {
       r.converged = true;
       s.evaluated = q;

@@ -59,7 +59,7 @@ std::string moved_polynomial(const char* name, const LinearErrors& e, double shi
 template <typename Reference>
 struct MachineError {
   const char* name;
-  void (*set)(Reference&);
+  std::function<void(Reference&)> set;
   std::string term;
   std::string (*terms)(const Reference&) = nullptr;
 };
@@ -79,27 +79,35 @@ std::vector<MachineError<Reference>> linear_errors() {
   };
 }
 
-/// A worm gear's first harmonic: rad of the angle in degrees (a sine of amplitude `urad`).
-template <int urad>
-double worm(double deg) {
-  return urad * 1e-6 * std::sin(deg * kRadPerDeg);
+/// A location error: `value` um or urad on the reference's member and in the model.
+template <typename Reference>
+MachineError<Reference> located(const char* name, double Reference::*member, double value, bool length) {
+  std::ostringstream term;
+  term << "  - {name: " << name << ", value: " << value << ", unit: " << (length ? "um" : "urad") << "}\n";
+  return {name, [member, v = value * (length ? 1e-3 : 1e-6)](Reference& r) { r.*member = v; }, term.str()};
+}
+
+/// A worm gear's angular positioning error: a first harmonic (sine) of `urad` on the
+/// reference's member and in the model.
+template <typename Reference>
+MachineError<Reference> worm_gear(const char* name, std::function<double(double)> Reference::*member, double urad) {
+  std::ostringstream term;
+  term << "  - {name: " << name << ", form: periodic, period: 360 deg, unit: urad, harmonics: [[0, " << urad << "]]}\n";
+  return {name,
+          [member, urad](Reference& r) {
+            r.*member = [urad](double deg) { return urad * 1e-6 * std::sin(deg * kRadPerDeg); };
+          },
+          term.str()};
 }
 
 std::vector<MachineError<ReferenceTrunnion>> trunnion_errors() {
   using R = ReferenceTrunnion;
   std::vector<MachineError<R>> errors{
-      {"EY0A", [](R& r) { r.EY0A = 0.012; }, "  - {name: EY0A, value: 12, unit: um}\n"},
-      {"EZ0A", [](R& r) { r.EZ0A = -0.008; }, "  - {name: EZ0A, value: -8, unit: um}\n"},
-      {"EB0A", [](R& r) { r.EB0A = 15e-6; }, "  - {name: EB0A, value: 15, unit: urad}\n"},
-      {"EC0A", [](R& r) { r.EC0A = -10e-6; }, "  - {name: EC0A, value: -10, unit: urad}\n"},
-      {"EX0C", [](R& r) { r.EX0C = -0.009; }, "  - {name: EX0C, value: -9, unit: um}\n"},
-      {"EY0C", [](R& r) { r.EY0C = 0.007; }, "  - {name: EY0C, value: 7, unit: um}\n"},
-      {"EA0C", [](R& r) { r.EA0C = 12e-6; }, "  - {name: EA0C, value: 12, unit: urad}\n"},
-      {"EB0C", [](R& r) { r.EB0C = -9e-6; }, "  - {name: EB0C, value: -9, unit: urad}\n"},
-      {"EAA", [](R& r) { r.EAA = worm<14>; },
-       "  - {name: EAA, form: periodic, period: 360 deg, unit: urad, harmonics: [[0, 14]]}\n"},
-      {"ECC", [](R& r) { r.ECC = worm<-11>; },
-       "  - {name: ECC, form: periodic, period: 360 deg, unit: urad, harmonics: [[0, -11]]}\n"},
+      located<R>("EY0A", &R::EY0A, 12, true),  located<R>("EZ0A", &R::EZ0A, -8, true),
+      located<R>("EB0A", &R::EB0A, 15, false), located<R>("EC0A", &R::EC0A, -10, false),
+      located<R>("EX0C", &R::EX0C, -9, true),  located<R>("EY0C", &R::EY0C, 7, true),
+      located<R>("EA0C", &R::EA0C, 12, false), located<R>("EB0C", &R::EB0C, -9, false),
+      worm_gear<R>("EAA", &R::EAA, 14),        worm_gear<R>("ECC", &R::ECC, -11),
   };
   for (auto& e : linear_errors<R>()) errors.push_back(e);
   return errors;
@@ -108,18 +116,11 @@ std::vector<MachineError<ReferenceTrunnion>> trunnion_errors() {
 std::vector<MachineError<ReferenceHeads>> head_errors() {
   using R = ReferenceHeads;
   std::vector<MachineError<R>> errors{
-      {"EX0C", [](R& r) { r.EX0C = 0.010; }, "  - {name: EX0C, value: 10, unit: um}\n"},
-      {"EY0C", [](R& r) { r.EY0C = -0.006; }, "  - {name: EY0C, value: -6, unit: um}\n"},
-      {"EA0C", [](R& r) { r.EA0C = -11e-6; }, "  - {name: EA0C, value: -11, unit: urad}\n"},
-      {"EB0C", [](R& r) { r.EB0C = 8e-6; }, "  - {name: EB0C, value: 8, unit: urad}\n"},
-      {"EX0B", [](R& r) { r.EX0B = -0.007; }, "  - {name: EX0B, value: -7, unit: um}\n"},
-      {"EZ0B", [](R& r) { r.EZ0B = 0.011; }, "  - {name: EZ0B, value: 11, unit: um}\n"},
-      {"EA0B", [](R& r) { r.EA0B = 13e-6; }, "  - {name: EA0B, value: 13, unit: urad}\n"},
-      {"EC0B", [](R& r) { r.EC0B = -12e-6; }, "  - {name: EC0B, value: -12, unit: urad}\n"},
-      {"EBB", [](R& r) { r.EBB = worm<16>; },
-       "  - {name: EBB, form: periodic, period: 360 deg, unit: urad, harmonics: [[0, 16]]}\n"},
-      {"ECC", [](R& r) { r.ECC = worm<-9>; },
-       "  - {name: ECC, form: periodic, period: 360 deg, unit: urad, harmonics: [[0, -9]]}\n"},
+      located<R>("EX0C", &R::EX0C, 10, true),   located<R>("EY0C", &R::EY0C, -6, true),
+      located<R>("EA0C", &R::EA0C, -11, false), located<R>("EB0C", &R::EB0C, 8, false),
+      located<R>("EX0B", &R::EX0B, -7, true),   located<R>("EZ0B", &R::EZ0B, 11, true),
+      located<R>("EA0B", &R::EA0B, 13, false),  located<R>("EC0B", &R::EC0B, -12, false),
+      worm_gear<R>("EBB", &R::EBB, 16),         worm_gear<R>("ECC", &R::ECC, -9),
   };
   for (auto& e : linear_errors<R>()) errors.push_back(e);
   return errors;
@@ -235,7 +236,9 @@ struct FiveAxisCase {
   std::function<PartPose(const FiveAxisWords&, bool actual)> pose;
 };
 
-void PrintTo(const FiveAxisCase& c, std::ostream* os) { *os << c.name; }
+void PrintTo(const FiveAxisCase& c, std::ostream* os) {
+  *os << c.name;
+}
 
 template <typename Reference>
 FiveAxisCase case_of(std::string name, const std::vector<MachineError<Reference>>& errors) {
@@ -254,7 +257,8 @@ FiveAxisCase case_of(std::string name, const std::vector<MachineError<Reference>
 /// Each error alone, then all together, on both references.
 std::vector<FiveAxisCase> five_axis_cases() {
   std::vector<FiveAxisCase> cases;
-  for (const auto& e : trunnion_errors()) cases.push_back(case_of<ReferenceTrunnion>(std::string("Trunnion") + e.name, {e}));
+  for (const auto& e : trunnion_errors())
+    cases.push_back(case_of<ReferenceTrunnion>(std::string("Trunnion") + e.name, {e}));
   cases.push_back(case_of("TrunnionAll", trunnion_errors()));
   for (const auto& e : head_errors()) cases.push_back(case_of<ReferenceHeads>(std::string("Heads") + e.name, {e}));
   cases.push_back(case_of("HeadsAll", head_errors()));
@@ -285,7 +289,8 @@ Landing compensate_on(const FiveAxisCase& c) {
     out.made_worse = std::max(out.made_worse, direction - uncompensated);
     out.direction_left_unreported =
         std::max(out.direction_left_unreported, std::abs(direction - r.orientation_error.norm()));
-    for (const int k : problem.rotary_unknowns) out.rotary_correction = std::max(out.rotary_correction, std::abs(r.q[k] - q[k]));
+    for (const int k : problem.rotary_unknowns)
+      out.rotary_correction = std::max(out.rotary_correction, std::abs(r.q[k] - q[k]));
   }
   return out;
 }

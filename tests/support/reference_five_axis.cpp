@@ -8,7 +8,9 @@ namespace ccomp::test {
 namespace {
 constexpr double kRadPerDeg = std::numbers::pi / 180.0;
 
-double value_of(const std::function<double(double)>& f, double v) { return f ? f(v) : 0.0; }
+double value_of(const std::function<double(double)>& f, double v) {
+  return f ? f(v) : 0.0;
+}
 
 /// Base coordinates -> coordinates of a body turned by -angle about the line through
 /// `point` along `direction` (the tool turning by +angle about it, the body seen from it),
@@ -59,10 +61,9 @@ PartPose ReferenceTrunnion::pose(const FiveAxisWords& w, double L, bool with_err
   return {tip - origin_from_c, axis.normalized()};
 }
 
-PartPose ReferenceTrunnion::actual(const FiveAxisWords& w, double L) const { return pose(w, L, true); }
-PartPose ReferenceTrunnion::nominal(const FiveAxisWords& w, double L) const { return pose(w, L, false); }
-
-Eigen::Vector3d ReferenceHeads::work_offset() const { return program_origin - c_centre - b_from_c - nose_from_b; }
+Eigen::Vector3d ReferenceHeads::work_offset() const {
+  return program_origin - c_centre - b_from_c - nose_from_b;
+}
 
 PartPose ReferenceHeads::pose(const FiveAxisWords& w, double L, bool with_errors) const {
   const double e = with_errors ? 1.0 : 0.0;
@@ -86,8 +87,5 @@ PartPose ReferenceHeads::pose(const FiveAxisWords& w, double L, bool with_errors
   tip += c_centre + machine + e * linear_errors(EXX, EYY, EZZ, machine);
   return {tip - program_origin, axis.normalized()};
 }
-
-PartPose ReferenceHeads::actual(const FiveAxisWords& w, double L) const { return pose(w, L, true); }
-PartPose ReferenceHeads::nominal(const FiveAxisWords& w, double L) const { return pose(w, L, false); }
 
 }  // namespace ccomp::test

@@ -29,7 +29,31 @@ struct PartPose {
   Eigen::Vector3d axis = Eigen::Vector3d::UnitZ();
 };
 
-struct ReferenceTrunnion {
+/// What both references share: the linear axes' positioning errors, and the tool's pose in
+/// the part for a program's words.
+class ReferenceFiveAxis {
+ public:
+  virtual ~ReferenceFiveAxis() = default;
+  /// Positioning of the linear axes (mm of the tool along the axis, as functions of the
+  /// machine position in mm). Empty: none.
+  std::function<double(double)> EXX, EYY, EZZ;
+
+  /// G54: the machine position (mm) that puts the tool tip on the program origin with the
+  /// rotary axes at 0.
+  [[nodiscard]] virtual Eigen::Vector3d work_offset() const = 0;
+  /// Where the tool is in the part for the words, with a tool of length L (mm).
+  [[nodiscard]] PartPose actual(const FiveAxisWords& w, double L) const { return pose(w, L, true); }
+  /// The same on a perfect machine.
+  [[nodiscard]] PartPose nominal(const FiveAxisWords& w, double L) const { return pose(w, L, false); }
+
+ protected:
+  ReferenceFiveAxis() = default;
+  ReferenceFiveAxis(const ReferenceFiveAxis&) = default;
+  ReferenceFiveAxis& operator=(const ReferenceFiveAxis&) = default;
+  [[nodiscard]] virtual PartPose pose(const FiveAxisWords& w, double L, bool with_errors) const = 0;
+};
+
+struct ReferenceTrunnion : ReferenceFiveAxis {
   // Geometry, mm, in the table base's frame with every axis at machine zero.
   Eigen::Vector3d spindle_nose{-35, 22, 480};  ///< the gauge point
   Eigen::Vector3d a_centre{10, -15, 160};      ///< a point of A's line (along +X)
@@ -44,22 +68,14 @@ struct ReferenceTrunnion {
   /// Angular positioning (rad, of the angle in degrees): the tool turns by a + EAA(a) about
   /// A's line, by c + ECC(c) about C's. Empty: none.
   std::function<double(double)> EAA, ECC;
-  /// Positioning of the linear axes (mm of the tool along the axis, as functions of the
-  /// machine position in mm). Empty: none.
-  std::function<double(double)> EXX, EYY, EZZ;
 
-  /// G54: the machine position (mm) that puts the tool tip on the program origin at A 0 C 0.
-  [[nodiscard]] Eigen::Vector3d work_offset() const;
-  /// Where the tool is in the part for the words, with a tool of length L (mm).
-  [[nodiscard]] PartPose actual(const FiveAxisWords& w, double L) const;
-  /// The same on a perfect machine.
-  [[nodiscard]] PartPose nominal(const FiveAxisWords& w, double L) const;
+  [[nodiscard]] Eigen::Vector3d work_offset() const override;
 
- private:
-  [[nodiscard]] PartPose pose(const FiveAxisWords& w, double L, bool with_errors) const;
+ protected:
+  [[nodiscard]] PartPose pose(const FiveAxisWords& w, double L, bool with_errors) const override;
 };
 
-struct ReferenceHeads {
+struct ReferenceHeads : ReferenceFiveAxis {
   // Geometry, mm: C's centre in the table base's frame with every axis at machine zero (C
   // along +Z), B's centre from C's (B along +Y at C 0), the spindle nose from B's centre
   // (the pivot), the program origin on the table.
@@ -75,16 +91,11 @@ struct ReferenceHeads {
   /// Angular positioning (rad, of the angle in degrees): the tool turns by b + EBB(b), c +
   /// ECC(c). Empty: none.
   std::function<double(double)> EBB, ECC;
-  /// Positioning of the linear axes (mm of the tool along the axis, of the machine position).
-  std::function<double(double)> EXX, EYY, EZZ;
 
-  /// G54: the machine position that puts the tool tip on the program origin at B 0 C 0.
-  [[nodiscard]] Eigen::Vector3d work_offset() const;
-  [[nodiscard]] PartPose actual(const FiveAxisWords& w, double L) const;
-  [[nodiscard]] PartPose nominal(const FiveAxisWords& w, double L) const;
+  [[nodiscard]] Eigen::Vector3d work_offset() const override;
 
- private:
-  [[nodiscard]] PartPose pose(const FiveAxisWords& w, double L, bool with_errors) const;
+ protected:
+  [[nodiscard]] PartPose pose(const FiveAxisWords& w, double L, bool with_errors) const override;
 };
 
 }  // namespace ccomp::test

@@ -71,8 +71,6 @@ struct InverseProblem {
   /// turn about these two.
   Eigen::Vector3d tool_axis = -Eigen::Vector3d::UnitZ();
   std::array<Eigen::Vector3d, 2> across_tool{Eigen::Vector3d::UnitX(), Eigen::Vector3d::UnitY()};
-  /// How many orientation equations the solve has.
-  [[nodiscard]] std::size_t orientation_equations() const;
 };
 
 /// The tool_direction solve's damping (dimensionless: rad of tool direction per rad of the
