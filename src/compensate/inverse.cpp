@@ -1,6 +1,7 @@
 #include "ccomp/compensate/inverse.hpp"
 
 #include <Eigen/Cholesky>
+#include <Eigen/LU>
 #include <Eigen/QR>
 #include <algorithm>
 #include <array>
@@ -25,6 +26,8 @@ InverseProblem::InverseProblem(const model::ForwardModel& model) {
         rotary_unknowns.push_back(static_cast<int>(j.axis));
         rotary_directions.push_back(j.direction);
       }
+      const auto column = static_cast<Eigen::Index>(unknowns.size() - 1);
+      (j.type == kinematics::JointType::rotary ? rotary_columns : linear_columns).push_back(column);
     }
   }
   orientation = rotary_unknowns.empty()       ? OrientationEquations::none
@@ -273,12 +276,65 @@ void iterate(const model::ForwardModel& model, const InverseProblem& problem, mo
   }
 }
 
-/// Whether unknown k is a rotary axis.
-bool is_rotary(const InverseProblem& problem, int k) {
-  return std::find(problem.rotary_unknowns.begin(), problem.rotary_unknowns.end(), k) != problem.rotary_unknowns.end();
-}
-
 using Jacobian = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, 6, 9>;
+
+/// damped_step() for NL linear and NR rotary unknowns (Eigen::Dynamic: any count, at most 9):
+/// fixed sizes where the machine has three linear axes and two rotary ones, so the small
+/// products are written out, and the linear axes' 3 x 3 block is inverted directly (the
+/// model refuses X, Y, Z along parallel lines or in a plane).
+template <int NL, int NR>
+Step damped_step_sized(const InverseProblem& problem, const Jacobian& J, const Residual& residual, const ChainQ& q,
+                       const ChainQ& program, SolveMatrix& S) {
+  constexpr int ML = NL == Eigen::Dynamic ? 9 : NL, MR = NR == Eigen::Dynamic ? 9 : NR;
+  using Linear = Eigen::Matrix<double, 3, NL, 0, 3, ML>;
+  using Rotary = Eigen::Matrix<double, 3, NR, 0, 3, MR>;
+  using LinearTurn = Eigen::Matrix<double, 2, NL, 0, 2, ML>;
+  using RotaryTurn = Eigen::Matrix<double, 2, NR, 0, 2, MR>;
+  using LinearInverse = Eigen::Matrix<double, NL, 3, 0, ML, 3>;
+  using Normal = Eigen::Matrix<double, NR, NR, 0, MR, MR>;
+  using RotaryRows = Eigen::Matrix<double, NR, 5, 0, MR, 5>;
+  using LinearRows = Eigen::Matrix<double, NL, 5, 0, ML, 5>;
+  using RotaryVector = Eigen::Matrix<double, NR, 1, 0, MR, 1>;
+  using LinearVector = Eigen::Matrix<double, NL, 1, 0, ML, 1>;
+  const auto& linear = problem.linear_columns;
+  const auto& rotary = problem.rotary_columns;
+  const auto nl = static_cast<Eigen::Index>(linear.size()), nr = static_cast<Eigen::Index>(rotary.size());
+  Linear Pl(3, nl);
+  LinearTurn Ol(2, nl);
+  Rotary Pr(3, nr);
+  RotaryTurn Or(2, nr);
+  for (Eigen::Index c = 0; c < nl; ++c) Pl.col(c) = J.col(linear[c]).head<3>(), Ol.col(c) = J.col(linear[c]).tail<2>();
+  for (Eigen::Index c = 0; c < nr; ++c) Pr.col(c) = J.col(rotary[c]).head<3>(), Or.col(c) = J.col(rotary[c]).tail<2>();
+  LinearInverse Pl_inv;
+  if constexpr (NL == 3)
+    Pl_inv = Pl.inverse();
+  else
+    Pl_inv = Pl.completeOrthogonalDecomposition().pseudoInverse();
+  // The linear axes take whatever the rotary axes move the tip by: the direction rows as
+  // the rotary axes alone see them (M) and the direction residual left by that (reduce).
+  const Eigen::Matrix<double, 2, 3> turn_per_tip = Ol * Pl_inv;
+  const RotaryTurn M = Or - turn_per_tip * Pr;
+  Eigen::Matrix<double, 2, 5> reduce;
+  reduce << -turn_per_tip, Eigen::Matrix2d::Identity();
+  const double damping2 = kSingularDamping * kSingularDamping;
+  const Eigen::LDLT<Normal> normal(M.transpose() * M + damping2 * Normal::Identity(nr, nr));
+  const RotaryRows Sr = normal.solve(M.transpose() * reduce);
+  LinearRows Sl(nl, 5);
+  Sl << Pl_inv, Eigen::Matrix<double, NL, 2, 0, ML, 2>::Zero(nl, 2);
+  Sl -= Pl_inv * Pr * Sr;
+  RotaryVector from_program(nr);
+  for (Eigen::Index c = 0; c < nr; ++c) {
+    const int k = problem.unknowns[static_cast<std::size_t>(rotary[c])];
+    from_program[c] = q[k] - program[k];
+  }
+  const RotaryVector keep_r = normal.solve(damping2 * from_program);
+  const LinearVector keep_l = -Pl_inv * (Pr * keep_r);
+  S.resize(J.cols(), 5);
+  Step step(J.cols());
+  for (Eigen::Index c = 0; c < nl; ++c) S.row(linear[c]) = Sl.row(c), step[linear[c]] = keep_l[c];
+  for (Eigen::Index c = 0; c < nr; ++c) S.row(rotary[c]) = Sr.row(c), step[rotary[c]] = keep_r[c];
+  return step + solve_matrix_times(S, residual);
+}
 
 /// The tool_direction solve's step from the exact Jacobian J (the position rows, then the
 /// tool's turn across its axis) at q: the linear axes land the tip exactly, the rotary axes
@@ -288,39 +344,9 @@ using Jacobian = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, 6, 9>;
 /// residual, which the next point's prediction reads; the step to subtract from q is returned.
 Step damped_step(const InverseProblem& problem, const Jacobian& J, const Residual& residual, const ChainQ& q,
                  const ChainQ& program, SolveMatrix& S) {
-  const Eigen::Index n = J.cols();
-  std::vector<Eigen::Index> linear, rotary;
-  for (Eigen::Index c = 0; c < n; ++c)
-    (is_rotary(problem, problem.unknowns[static_cast<std::size_t>(c)]) ? rotary : linear).push_back(c);
-  const auto nl = static_cast<Eigen::Index>(linear.size()), nr = static_cast<Eigen::Index>(rotary.size());
-  const Eigen::Index m = J.rows(), no = m - 3;
-  Eigen::MatrixXd Pl(3, nl), Pr(3, nr), Ol(no, nl), Or(no, nr);
-  for (Eigen::Index c = 0; c < nl; ++c) Pl.col(c) = J.col(linear[c]).head<3>(), Ol.col(c) = J.col(linear[c]).tail(no);
-  for (Eigen::Index c = 0; c < nr; ++c) Pr.col(c) = J.col(rotary[c]).head<3>(), Or.col(c) = J.col(rotary[c]).tail(no);
-  const Eigen::MatrixXd Pl_inv = Pl.completeOrthogonalDecomposition().pseudoInverse();
-  // The linear axes take whatever the rotary axes move the tip by: the direction rows as
-  // the rotary axes alone see them (M) and the direction residual left by that (reduce).
-  const Eigen::MatrixXd M = Or - Ol * Pl_inv * Pr;
-  Eigen::MatrixXd reduce(no, m);
-  reduce << -Ol * Pl_inv, Eigen::MatrixXd::Identity(no, no);
-  const double damping2 = kSingularDamping * kSingularDamping;
-  const Eigen::LDLT<Eigen::MatrixXd> normal(M.transpose() * M + damping2 * Eigen::MatrixXd::Identity(nr, nr));
-  const Eigen::MatrixXd Sr = normal.solve(M.transpose() * reduce);  // nr x m
-  Eigen::MatrixXd position(nl, m);
-  position << Pl_inv, Eigen::MatrixXd::Zero(nl, no);
-  const Eigen::MatrixXd Sl = position - Pl_inv * Pr * Sr;
-  Eigen::VectorXd from_program(nr);
-  for (Eigen::Index c = 0; c < nr; ++c) {
-    const int k = problem.unknowns[static_cast<std::size_t>(rotary[c])];
-    from_program[c] = q[k] - program[k];
-  }
-  const Eigen::VectorXd keep_r = normal.solve(damping2 * from_program);
-  const Eigen::VectorXd keep_l = -Pl_inv * Pr * keep_r;
-  S.resize(n, m);
-  Step step(n);
-  for (Eigen::Index c = 0; c < nl; ++c) S.row(linear[c]) = Sl.row(c), step[linear[c]] = keep_l[c];
-  for (Eigen::Index c = 0; c < nr; ++c) S.row(rotary[c]) = Sr.row(c), step[rotary[c]] = keep_r[c];
-  return step + solve_matrix_times(S, residual);
+  if (problem.linear_columns.size() == 3 && problem.rotary_columns.size() == 2)
+    return damped_step_sized<3, 2>(problem, J, residual, q, program, S);
+  return damped_step_sized<Eigen::Dynamic, Eigen::Dynamic>(problem, J, residual, q, program, S);
 }
 
 /// Newton's iteration for the tool_direction equations (two rotary axes or more): the exact
@@ -354,9 +380,7 @@ void iterate_tool_direction(const model::ForwardModel& model, const InverseProbl
     const Step step = damped_step(problem, J, residual, q, s.program, ws.solve_matrix);
     ++ws.jacobian_evaluations;
     double rotary_step = 0.0;
-    for (Eigen::Index c = 0; c < n; ++c)
-      if (is_rotary(problem, problem.unknowns[static_cast<std::size_t>(c)]))
-        rotary_step = std::max(rotary_step, std::abs(step[c]));
+    for (const Eigen::Index c : problem.rotary_columns) rotary_step = std::max(rotary_step, std::abs(step[c]));
     const bool converged =
         r.position_residual.norm() < options.position_tolerance && rotary_step < options.angle_tolerance;
     if (converged) {

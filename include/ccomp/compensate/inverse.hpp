@@ -65,6 +65,8 @@ struct InverseProblem {
   std::vector<int> unknowns;                       ///< chain variable indices moved by the solve
   std::vector<Eigen::Vector3d> rotary_directions;  ///< for each rotary unknown: its axis in the table frame at q=0
   std::vector<int> rotary_unknowns;                ///< their indices into q
+  /// Where the linear and the rotary unknowns are among `unknowns`.
+  std::vector<Eigen::Index> linear_columns, rotary_columns;
   OrientationEquations orientation = OrientationEquations::none;
   /// The tool's axis in the tool frame (its tool-length direction; -Z where the chain gives
   /// none) and two directions across it: the tool_direction equations are the tool frame's
