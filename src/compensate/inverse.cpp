@@ -1,6 +1,7 @@
 #include "ccomp/compensate/inverse.hpp"
 
 #include <Eigen/Cholesky>
+#include <Eigen/Eigenvalues>
 #include <Eigen/LU>
 #include <Eigen/QR>
 #include <algorithm>
@@ -278,6 +279,15 @@ void iterate(const model::ForwardModel& model, const InverseProblem& problem, mo
 
 using Jacobian = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, 6, 9>;
 
+/// lambda^2 of the damped step (kSingularZone) for the rotary axes' normal matrix M^T M,
+/// whose least eigenvalue is their weakest turn of the tool squared.
+template <typename Normal>
+double singular_damping2(const Normal& MtM) {
+  const double sigma2 = std::max(0.0, Eigen::SelfAdjointEigenSolver<Normal>(MtM, Eigen::EigenvaluesOnly).eigenvalues()[0]);
+  const double zone2 = kSingularZone * kSingularZone;
+  return sigma2 >= zone2 ? 0.0 : kSingularDamping * kSingularDamping * (1.0 - sigma2 / zone2);
+}
+
 /// damped_step() for NL linear and NR rotary unknowns (Eigen::Dynamic: any count, at most 9):
 /// fixed sizes where the machine has three linear axes and two rotary ones, so the small
 /// products are written out, and the linear axes' 3 x 3 block is inverted directly (the
@@ -316,8 +326,9 @@ Step damped_step_sized(const InverseProblem& problem, const Jacobian& J, const R
   const RotaryTurn M = Or - turn_per_tip * Pr;
   Eigen::Matrix<double, 2, 5> reduce;
   reduce << -turn_per_tip, Eigen::Matrix2d::Identity();
-  const double damping2 = kSingularDamping * kSingularDamping;
-  const Eigen::LDLT<Normal> normal(M.transpose() * M + damping2 * Normal::Identity(nr, nr));
+  const Normal MtM = M.transpose() * M;
+  const double damping2 = singular_damping2(MtM);
+  const Eigen::LDLT<Normal> normal(MtM + damping2 * Normal::Identity(nr, nr));
   const RotaryRows Sr = normal.solve(M.transpose() * reduce);
   LinearRows Sl(nl, 5);
   Sl << Pl_inv, Eigen::Matrix<double, NL, 2, 0, ML, 2>::Zero(nl, 2);
@@ -338,9 +349,8 @@ Step damped_step_sized(const InverseProblem& problem, const Jacobian& J, const R
 
 /// The tool_direction solve's step from the exact Jacobian J (the position rows, then the
 /// tool's turn across its axis) at q: the linear axes land the tip exactly, the rotary axes
-/// answer the tool's direction in the least-squares sense, damped toward the program's
-/// rotary values (minimum of |direction residual|^2 + kSingularDamping^2 |rotary - program|^2;
-/// the singularity-robust inverse of Nakamura and Hanafusa). S gets the step per unit of
+/// answer the tool's direction in the least-squares sense, near the singular pose damped
+/// toward the program's rotary values (kSingularZone). S gets the step per unit of
 /// residual, which the next point's prediction reads; the step to subtract from q is returned.
 Step damped_step(const InverseProblem& problem, const Jacobian& J, const Residual& residual, const ChainQ& q,
                  const ChainQ& program, SolveMatrix& S) {

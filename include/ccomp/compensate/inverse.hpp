@@ -7,7 +7,7 @@
 // turn about the tool's own axis does not move an axisymmetric tool), each rotary line taken
 // from the chain at the current pose through the exact Jacobian; near the singular pose
 // (the tool along a rotary line) the rotary axes' correction is damped toward the program's
-// values, so the branch the program chose is kept. The orientation the machine cannot
+// values, so the branch the program chose is kept (kSingularZone below). The orientation the machine cannot
 // correct is reported.
 #include <Eigen/Core>
 #include <array>
@@ -75,12 +75,16 @@ struct InverseProblem {
   std::array<Eigen::Vector3d, 2> across_tool{Eigen::Vector3d::UnitX(), Eigen::Vector3d::UnitY()};
 };
 
-/// The tool_direction solve's damping (dimensionless: rad of tool direction per rad of the
-/// rotary axes). Where the rotary axes turn the tool's direction by less than this per unit
-/// (an AC table within about a degree of A = 0), the correction of that direction gives way
-/// to keeping the program's rotary values, so no correction exceeds 1 / (2 * this) times the
-/// error it answers (25x); elsewhere it leaves (this / singular value)^2 of the error, below
-/// 0.05% where A is beyond 30 degrees.
+/// The tool_direction solve near the singular pose. The rotary axes turn the tool's direction
+/// by sigma (rad per rad) in their weakest combination (sin A on an AC table). Where sigma is
+/// below kSingularZone (A within 5.7 degrees of 0) the correction of that direction gives way
+/// to keeping the program's rotary values: the solve minimises |direction left|^2 +
+/// lambda^2 |rotary - program|^2 with lambda^2 = kSingularDamping^2 (1 - (sigma /
+/// kSingularZone)^2), which leaves lambda^2 / (sigma^2 + lambda^2) of that direction's error
+/// and corrects no axis by more than 26 times the error it answers. Beyond the zone lambda is
+/// 0 and the solve is exact. (The variable damping of Nakamura and Hanafusa's
+/// singularity-robust inverse.)
+inline constexpr double kSingularZone = 0.1;
 inline constexpr double kSingularDamping = 0.02;
 
 /// The last two points where a solve evaluated the model (its last iterate), under one
