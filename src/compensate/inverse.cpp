@@ -283,7 +283,8 @@ using Jacobian = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, 6, 9>;
 /// whose least eigenvalue is their weakest turn of the tool squared.
 template <typename Normal>
 double singular_damping2(const Normal& MtM) {
-  const double sigma2 = std::max(0.0, Eigen::SelfAdjointEigenSolver<Normal>(MtM, Eigen::EigenvaluesOnly).eigenvalues()[0]);
+  const Eigen::SelfAdjointEigenSolver<Normal> eigen(MtM, Eigen::EigenvaluesOnly);
+  const double sigma2 = std::max(0.0, eigen.eigenvalues()[0]);
   const double zone2 = kSingularZone * kSingularZone;
   return sigma2 >= zone2 ? 0.0 : kSingularDamping * kSingularDamping * (1.0 - sigma2 / zone2);
 }
