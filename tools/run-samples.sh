@@ -5,6 +5,11 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 ccomp=${CCOMP:-build/src/ccomp}
 out_root=${CCOMP_SAMPLES_OUT:-build/samples-out}
+# The rotary axis letters a program's words use (comments left out), one a line.
+rotary_letters() {
+  sed -e 's/([^)]*)//g' -e 's/;.*//' "$1" | grep -oE '[ABCabc][[:space:]]*[-+]?[.0-9]' | cut -c1 |
+    tr abc ABC | sort -u || true
+}
 for model in samples/machines/*.yaml; do
   name=$(basename "$model" .yaml)
   out="$out_root/$name"
@@ -12,11 +17,17 @@ for model in samples/machines/*.yaml; do
   # The full HMC model has thermal terms: give it the sensor readings of a warm machine.
   extra=()
   grep -q '^sensors:' "$model" && extra=(--sensor bed=24 --sensor column=23 --sensor spindle=31 --time 3600)
-  # The 3-axis and trunnion machines have no B: they take the programs without a B word.
-  programs=(samples/programs/*.ngc)
-  if ! grep -q '^  B:' "$model" && [ "$name" != zero ]; then
-    programs=(samples/programs/pocket-xy.ngc samples/programs/profile-g41.ngc)
-  fi
+  # Each machine takes the programs whose rotary words (A B C) it has axes for: the 3-axis
+  # VMC the plane programs, the HMC the B ones, the five-axis trunnion the A C one (a
+  # program naming an axis the machine lacks is refused, exit 7, as it should be).
+  programs=()
+  for program in samples/programs/*.ngc; do
+    missing=0
+    for letter in $(rotary_letters "$program"); do
+      grep -q "^  $letter:" "$model" || missing=1
+    done
+    [ "$missing" = 0 ] && programs+=("$program")
+  done
   "$ccomp" "${programs[@]}" -m "$model" --out-dir "$out" \
     --tool-table samples/tools.tbl -j "$(nproc)" "${extra[@]}"
   echo "ccomp: samples/programs/*.ngc with $model -> $out/"

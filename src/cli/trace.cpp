@@ -56,24 +56,32 @@ void print_flattened_json(std::FILE* spool, const gcode::LineOrigins& origins) {
   }
 }
 
+/// The interpreter of trace and flatten: no machine model, so where program zero lies
+/// changes nothing they print.
+gcode::InterpreterOptions modelless_options(const ProgramArgs& args) {
+  gcode::InterpreterOptions o = interpreter_options(args, "");
+  o.origin_matters = false;
+  return o;
+}
+
 }  // namespace
 
 int run_flatten(const TraceArgs& args) {
   gcode::LineSource source = gcode::LineSource::open(args.input);
   buffer_standard_output();
   if (!args.json) {
-    (void)gcode::flatten(source, stdout, interpreter_options(args.program, ""));
+    (void)gcode::flatten(source, stdout, modelless_options(args.program));
     return 0;
   }
   const std::unique_ptr<std::FILE, int (*)(std::FILE*)> spool(std::tmpfile(), &std::fclose);
   if (!spool) throw Error(ErrorKind::io, "cannot make a temporary file for --json");
-  print_flattened_json(spool.get(), gcode::flatten(source, spool.get(), interpreter_options(args.program, "")));
+  print_flattened_json(spool.get(), gcode::flatten(source, spool.get(), modelless_options(args.program)));
   return 0;
 }
 
 int run_trace(const TraceArgs& args) {
   gcode::LineSource source = gcode::LineSource::open(args.input);
-  gcode::InterpreterOptions options = interpreter_options(args.program, "");
+  gcode::InterpreterOptions options = modelless_options(args.program);
   // A trace prints every run of a loop, as flatten does: the same cap on what it writes.
   if (args.program.max_blocks == 0) options.max_blocks = std::min(options.max_blocks, gcode::kFlattenMaxBlocks);
   gcode::Interpreter interpreter(options);

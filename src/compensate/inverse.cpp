@@ -1,6 +1,10 @@
 #include "ccomp/compensate/inverse.hpp"
 
+#include <Eigen/Cholesky>
+#include <Eigen/Eigenvalues>
+#include <Eigen/LU>
 #include <Eigen/QR>
+#include <algorithm>
 #include <array>
 #include <cstdint>
 #include <limits>
@@ -15,14 +19,26 @@ using model::ChainQ;
 InverseProblem::InverseProblem(const model::ForwardModel& model) {
   for (const auto* chain : {&model.chain().workpiece, &model.chain().tool}) {
     for (const kinematics::Joint& j : chain->joints) {
+      if (j.type != kinematics::JointType::fixed && j.axis == model::kToolLengthIndex)
+        tool_axis = j.direction.normalized();  // the tip's frame is this joint's, moved along it
       if (j.type == kinematics::JointType::fixed || j.axis == model::kToolLengthIndex) continue;
       unknowns.push_back(static_cast<int>(j.axis));
       if (j.type == kinematics::JointType::rotary) {
         rotary_unknowns.push_back(static_cast<int>(j.axis));
         rotary_directions.push_back(j.direction);
       }
+      const auto column = static_cast<Eigen::Index>(unknowns.size() - 1);
+      (j.type == kinematics::JointType::rotary ? rotary_columns : linear_columns).push_back(column);
     }
   }
+  orientation = rotary_unknowns.empty()       ? OrientationEquations::none
+                : rotary_unknowns.size() == 1 ? OrientationEquations::about_rotary
+                                              : OrientationEquations::tool_direction;
+  // Two directions across the tool: any pair completing its axis to a right-handed frame.
+  Eigen::Index least = 0;  // the direction furthest from the axis
+  tool_axis.cwiseAbs().minCoeff(&least);
+  across_tool[0] = tool_axis.cross(Eigen::Vector3d::Unit(least)).normalized();
+  across_tool[1] = tool_axis.cross(across_tool[0]);
 }
 
 namespace {
@@ -75,6 +91,7 @@ struct SolveStart {
   Eigen::Vector3d target;  ///< where the tool tip would be on a perfect machine
   Eigen::Matrix3d R_target;
   ChainQ q;            ///< the first iterate
+  ChainQ program;      ///< the program's axis values (what a damped correction keeps to)
   ChainQ first_order;  ///< the prediction before the last miss is added
   /// The approach changed since the last solution (a play taken up, an axis reversed): each
   /// changed axis' learnt effect on the solution, where every one is known.
@@ -119,6 +136,7 @@ SolveStart start_of(const InverseProblem& problem, InverseWorkspace& ws, const C
                     const model::Conditions& conditions, const ChainQ* guess, const Eigen::Vector3d& target,
                     const Eigen::Matrix3d& R_target) {
   SolveStart s;
+  s.program = q_nominal;
   s.target = target;
   s.R_target = R_target;
   const bool have_solve_matrix = ws.solve_matrix.size() != 0;
@@ -259,6 +277,134 @@ void iterate(const model::ForwardModel& model, const InverseProblem& problem, mo
   }
 }
 
+using Jacobian = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, 6, 9>;
+
+/// lambda^2 of the damped step (kSingularZone) for the rotary axes' normal matrix M^T M,
+/// whose least eigenvalue is their weakest turn of the tool squared.
+template <typename Normal>
+double singular_damping2(const Normal& MtM) {
+  const Eigen::SelfAdjointEigenSolver<Normal> eigen(MtM, Eigen::EigenvaluesOnly);
+  const double sigma2 = std::max(0.0, eigen.eigenvalues()[0]);
+  const double zone2 = kSingularZone * kSingularZone;
+  return sigma2 >= zone2 ? 0.0 : kSingularDamping * kSingularDamping * (1.0 - sigma2 / zone2);
+}
+
+/// damped_step() for NL linear and NR rotary unknowns (Eigen::Dynamic: any count, at most 9):
+/// fixed sizes where the machine has three linear axes and two rotary ones, so the small
+/// products are written out, and the linear axes' 3 x 3 block is inverted directly (the
+/// model refuses X, Y, Z along parallel lines or in a plane).
+template <int NL, int NR>
+Step damped_step_sized(const InverseProblem& problem, const Jacobian& J, const Residual& residual, const ChainQ& q,
+                       const ChainQ& program, SolveMatrix& S) {
+  constexpr int ML = NL == Eigen::Dynamic ? 9 : NL, MR = NR == Eigen::Dynamic ? 9 : NR;
+  using Linear = Eigen::Matrix<double, 3, NL, 0, 3, ML>;
+  using Rotary = Eigen::Matrix<double, 3, NR, 0, 3, MR>;
+  using LinearTurn = Eigen::Matrix<double, 2, NL, 0, 2, ML>;
+  using RotaryTurn = Eigen::Matrix<double, 2, NR, 0, 2, MR>;
+  using LinearInverse = Eigen::Matrix<double, NL, 3, 0, ML, 3>;
+  using Normal = Eigen::Matrix<double, NR, NR, 0, MR, MR>;
+  using RotaryRows = Eigen::Matrix<double, NR, 5, 0, MR, 5>;
+  using LinearRows = Eigen::Matrix<double, NL, 5, 0, ML, 5>;
+  using RotaryVector = Eigen::Matrix<double, NR, 1, 0, MR, 1>;
+  using LinearVector = Eigen::Matrix<double, NL, 1, 0, ML, 1>;
+  const auto& linear = problem.linear_columns;
+  const auto& rotary = problem.rotary_columns;
+  const auto nl = static_cast<Eigen::Index>(linear.size()), nr = static_cast<Eigen::Index>(rotary.size());
+  Linear Pl(3, nl);
+  LinearTurn Ol(2, nl);
+  Rotary Pr(3, nr);
+  RotaryTurn Or(2, nr);
+  for (Eigen::Index c = 0; c < nl; ++c) Pl.col(c) = J.col(linear[c]).head<3>(), Ol.col(c) = J.col(linear[c]).tail<2>();
+  for (Eigen::Index c = 0; c < nr; ++c) Pr.col(c) = J.col(rotary[c]).head<3>(), Or.col(c) = J.col(rotary[c]).tail<2>();
+  LinearInverse Pl_inv;
+  if constexpr (NL == 3)
+    Pl_inv = Pl.inverse();
+  else
+    Pl_inv = Pl.completeOrthogonalDecomposition().pseudoInverse();
+  // The linear axes take whatever the rotary axes move the tip by: the direction rows as
+  // the rotary axes alone see them (M) and the direction residual left by that (reduce).
+  const Eigen::Matrix<double, 2, 3> turn_per_tip = Ol * Pl_inv;
+  const RotaryTurn M = Or - turn_per_tip * Pr;
+  Eigen::Matrix<double, 2, 5> reduce;
+  reduce << -turn_per_tip, Eigen::Matrix2d::Identity();
+  const Normal MtM = M.transpose() * M;
+  const double damping2 = singular_damping2(MtM);
+  const Eigen::LDLT<Normal> normal(MtM + damping2 * Normal::Identity(nr, nr));
+  const RotaryRows Sr = normal.solve(M.transpose() * reduce);
+  LinearRows Sl(nl, 5);
+  Sl << Pl_inv, Eigen::Matrix<double, NL, 2, 0, ML, 2>::Zero(nl, 2);
+  Sl -= Pl_inv * Pr * Sr;
+  RotaryVector from_program(nr);
+  for (Eigen::Index c = 0; c < nr; ++c) {
+    const int k = problem.unknowns[static_cast<std::size_t>(rotary[c])];
+    from_program[c] = q[k] - program[k];
+  }
+  const RotaryVector keep_r = normal.solve(damping2 * from_program);
+  const LinearVector keep_l = -Pl_inv * (Pr * keep_r);
+  S.resize(J.cols(), 5);
+  Step step(J.cols());
+  for (Eigen::Index c = 0; c < nl; ++c) S.row(linear[c]) = Sl.row(c), step[linear[c]] = keep_l[c];
+  for (Eigen::Index c = 0; c < nr; ++c) S.row(rotary[c]) = Sr.row(c), step[rotary[c]] = keep_r[c];
+  return step + solve_matrix_times(S, residual);
+}
+
+/// The tool_direction solve's step from the exact Jacobian J (the position rows, then the
+/// tool's turn across its axis) at q: the linear axes land the tip exactly, the rotary axes
+/// answer the tool's direction in the least-squares sense, near the singular pose damped
+/// toward the program's rotary values (kSingularZone). S gets the step per unit of
+/// residual, which the next point's prediction reads; the step to subtract from q is returned.
+Step damped_step(const InverseProblem& problem, const Jacobian& J, const Residual& residual, const ChainQ& q,
+                 const ChainQ& program, SolveMatrix& S) {
+  if (problem.linear_columns.size() == 3 && problem.rotary_columns.size() == 2)
+    return damped_step_sized<3, 2>(problem, J, residual, q, program, S);
+  return damped_step_sized<Eigen::Dynamic, Eigen::Dynamic>(problem, J, residual, q, program, S);
+}
+
+/// Newton's iteration for the tool_direction equations (two rotary axes or more): the exact
+/// Jacobian at every iterate (the rotary lines turn with the pose), converged where the tip
+/// is within the position tolerance and the rotary step below the angle tolerance; r gets
+/// the outcome, s.q the solution.
+void iterate_tool_direction(const model::ForwardModel& model, const InverseProblem& problem, model::ForwardData& d,
+                            const model::Conditions& conditions, const InverseOptions& options, InverseWorkspace& ws,
+                            SolveStart& s, InverseResult& r) {
+  ChainQ& q = s.q;
+  const auto n = static_cast<Eigen::Index>(problem.unknowns.size());
+  Residual residual(5);
+  Jacobian J(5, n);
+  for (r.iterations = 0; r.iterations <= options.max_iterations; ++r.iterations) {
+    model::forward(model, d, q, conditions, true, model::Evaluate::actual, false);
+    Eigen::Matrix3d Jr_inv;
+    const Eigen::Vector3d omega = kinematics::so3_log(s.R_target.transpose() * d.R_actual, &Jr_inv);
+    residual.head<3>() = d.actual - s.target;
+    residual[3] = problem.across_tool[0].dot(omega);
+    residual[4] = problem.across_tool[1].dot(omega);
+    r.position_residual = residual.head<3>();
+    r.orientation_error = omega - problem.tool_axis.dot(omega) * problem.tool_axis;
+    if (!residual.allFinite()) break;
+    const Eigen::Matrix<double, 3, Eigen::Dynamic> J_rot = Jr_inv * d.actual_chain.J_q.bottomRows<3>();
+    for (Eigen::Index c = 0; c < n; ++c) {
+      const int k = problem.unknowns[static_cast<std::size_t>(c)];
+      J.block<3, 1>(0, c) = d.J_q.col(k);
+      J(3, c) = problem.across_tool[0].dot(J_rot.col(k));
+      J(4, c) = problem.across_tool[1].dot(J_rot.col(k));
+    }
+    const Step step = damped_step(problem, J, residual, q, s.program, ws.solve_matrix);
+    ++ws.jacobian_evaluations;
+    double rotary_step = 0.0;
+    for (const Eigen::Index c : problem.rotary_columns) rotary_step = std::max(rotary_step, std::abs(step[c]));
+    const bool converged =
+        r.position_residual.norm() < options.position_tolerance && rotary_step < options.angle_tolerance;
+    if (converged) {
+      r.converged = true;
+      s.evaluated = q;
+      s.evaluated_omega = omega;
+    }
+    // (Converged too: the step on the residual already known costs no evaluation.)
+    move_unknowns(problem, q, step, -1.0);
+    if (converged || r.iterations == options.max_iterations) break;
+  }
+}
+
 /// Broyden's update: the solve matrix made exact along a step of the solution (s_step) that
 /// moved the tip by `shift`, so it follows the Jacobian along the path.
 void secant_update(InverseWorkspace& ws, const Step& s_step, const Eigen::Vector3d& shift) {
@@ -388,7 +534,10 @@ InverseResult solve_inverse(const model::ForwardModel& model, const InverseProbl
     learn(problem, ws, q_nominal, conditions, s, Reached::on_bound);
     ++ws.bounded_points;
   } else {
-    iterate(model, problem, d, conditions, options, ws, s, r);
+    if (problem.orientation == OrientationEquations::tool_direction)
+      iterate_tool_direction(model, problem, d, conditions, options, ws, s, r);
+    else
+      iterate(model, problem, d, conditions, options, ws, s, r);
     r.q = s.stands ? s.evaluated : s.q;
     r.target = s.target;
     if (!r.converged) return r;

@@ -250,7 +250,8 @@ Motion Interpreter::Impl::motion_to(MotionKind kind, MotionSource source, const 
 }
 
 void Interpreter::Impl::check_origin_known(const Motion& m) {
-  if (warned_unknown_origin || (known_systems >> (offsets.coordinate_system - 1) & 1U)) return;
+  if (!options.origin_matters || warned_unknown_origin || (known_systems >> (offsets.coordinate_system - 1) & 1U))
+    return;
   bool turns = false;
   for (std::size_t i = 0; i < kAxisCount; ++i) turns = turns || (is_rotary(i) && m.start[i] != m.end[i]);
   if (!turns) return;

@@ -161,6 +161,59 @@ TEST(Inverse, APlayTakenUpPointByPointIsPredictedFromTheLastTakeUp) {
   EXPECT_LT(second_evaluations, points / 50);
 }
 
+TEST(Inverse, AHeadOverATableSolvesTheToolsDirectionAndKeepsItsBranchAtTheSingularPose) {
+  // A B head over a C table (one rotary axis on each side), with both lines' location
+  // errors: the tip lands below a nanometre and the tool's direction in the part below the
+  // angle tolerance, the tool's turn about its own axis left alone; at B 0 (the tool along
+  // C's line) C stays within a milliradian of the program's value and what is left is
+  // reported.
+  const model::MachineModel mm = model::parse_machine_model(R"(
+name: head-b-table-c
+axes: {X: {}, Y: {}, Z: {}, B: {type: rotary}, C: {type: rotary}}
+chain:
+  workpiece:
+    - {link: X, axis: X, direction: [-1, 0, 0]}
+    - {link: C, axis: C, direction: [0, 0, -1], offset: [20 mm, -10 mm, 0 mm]}
+    - {link: part, offset: [-20 mm, 10 mm, 250 mm]}
+  tool:
+    - {link: Y, axis: Y, direction: [0, 1, 0]}
+    - {link: Z, axis: Z, direction: [0, 0, 1], offset: [0 mm, 0 mm, 400 mm]}
+    - {link: B, axis: B, direction: [0, 1, 0]}
+    - {link: tool, tool_length: [0, 0, -1], offset: [0 mm, 0 mm, -150 mm]}
+terms:
+  - {name: EX0B, value: 8}
+  - {name: EA0B, value: 14}
+  - {name: EC0B, value: -9}
+  - {name: EX0C, value: -6}
+  - {name: EA0C, value: 11}
+  - {name: EB0C, value: 13}
+  - {name: EBB, form: periodic, period: 360 deg, harmonics: [[0, 12]]}
+)",
+                                                            "m.yaml");
+  const model::ForwardModel m(mm);
+  const InverseProblem problem(m);
+  ASSERT_EQ(problem.orientation, OrientationEquations::tool_direction);
+  model::ForwardData d(m), check(m), nominal(m);
+  for (const double b_deg : {30.0, -25.0, 0.0}) {
+    for (const double c_deg : {0.0, 100.0, -170.0}) {
+      model::ChainQ q = model::ChainQ::Zero();
+      q << 35, -20, 60 + 90, 0, b_deg * std::numbers::pi / 180, c_deg * std::numbers::pi / 180, 0, 0, 0, 90;
+      const InverseResult r = solve_inverse(m, problem, d, q, {});
+      ASSERT_TRUE(r.converged) << "B" << b_deg << " C" << c_deg;
+      model::forward(m, check, r.q, {});
+      model::forward(m, nominal, q, {});
+      EXPECT_LT((check.actual - nominal.nominal).norm(), 1e-6) << "B" << b_deg << " C" << c_deg;
+      const Eigen::Vector3d meant = nominal.R_nominal * problem.tool_axis, got = check.R_actual * problem.tool_axis;
+      const double direction = meant.cross(got).norm();
+      EXPECT_NEAR(direction, r.orientation_error.norm(), 1e-9) << "what is left is what is reported";
+      EXPECT_LT(std::abs(r.q[5] - q[5]), 1e-3) << "C keeps the program's branch";
+      if (b_deg != 0.0) {
+        EXPECT_LT(direction, 1e-7) << "B" << b_deg << " C" << c_deg;
+      }
+    }
+  }
+}
+
 TEST(Inverse, ThreeAxisMachineHasNoOrientationEquation) {
   const model::MachineModel mm = model::parse_machine_model(std::string(test::kVmcChain) + R"(
 terms:

@@ -1,12 +1,19 @@
 #pragma once
 // The inverse of the machine's error: the axis values whose actual tool tip lands on the
 // point the program means. Newton's method on the exact forward model, with its analytic
-// Jacobian: three position equations, plus one per rotary axis (the table's rotation about
-// that axis, which the rotary axis itself can correct). The orientation the machine cannot
+// Jacobian: three position equations, plus the orientation equations the rotary axes can
+// answer. With one rotary axis: the table's rotation about that axis (which it corrects
+// itself). With two (a five-axis machine): the tool's direction in the part, two equations (a
+// turn about the tool's own axis does not move an axisymmetric tool), each rotary line taken
+// from the chain at the current pose through the exact Jacobian; near the singular pose
+// (the tool along a rotary line) the rotary axes' correction is damped toward the program's
+// values, so the branch the program chose is kept (kSingularZone below). The orientation the machine cannot
 // correct is reported.
 #include <Eigen/Core>
 #include <array>
 #include <cmath>
+#include <cstdint>
+#include <vector>
 
 #include "ccomp/model/forward.hpp"
 #include "ccomp/model/variation_bound.hpp"
@@ -31,7 +38,9 @@ struct InverseResult {
   model::ChainQ q;                                              ///< the commanded axis values (mm, rad; L unchanged)
   Eigen::Vector3d target = Eigen::Vector3d::Zero();             ///< the nominal tool tip it lands on (table frame, mm)
   Eigen::Vector3d position_residual = Eigen::Vector3d::Zero();  ///< actual - target, mm
-  Eigen::Vector3d orientation_error = Eigen::Vector3d::Zero();  ///< rotation left, rad (table frame)
+  /// Rotation left, rad (tool frame). With the tool_direction equations only the tool's
+  /// tilt (its turn about the tool's own axis, which moves nothing, left out).
+  Eigen::Vector3d orientation_error = Eigen::Vector3d::Zero();
   int iterations = 0;
   bool converged = false;
   /// The model was evaluated at q (false: accepted on the bound below, and the residuals
@@ -43,13 +52,40 @@ struct InverseResult {
   double residual_bound = 0.0;
 };
 
+/// What the orientation equations ask of the tool.
+enum class OrientationEquations : std::uint8_t {
+  none,            ///< no rotary axis: the orientation is only reported
+  about_rotary,    ///< one rotary axis: the turn about its line (the table's own rotation)
+  tool_direction,  ///< two or more: the tool's direction in the part (two equations)
+};
+
 /// The axes the solve may move: the chain's linear and rotary axes (not the tool length).
 struct InverseProblem {
   explicit InverseProblem(const model::ForwardModel& model);
   std::vector<int> unknowns;                       ///< chain variable indices moved by the solve
   std::vector<Eigen::Vector3d> rotary_directions;  ///< for each rotary unknown: its axis in the table frame at q=0
   std::vector<int> rotary_unknowns;                ///< their indices into q
+  /// Where the linear and the rotary unknowns are among `unknowns`.
+  std::vector<Eigen::Index> linear_columns, rotary_columns;
+  OrientationEquations orientation = OrientationEquations::none;
+  /// The tool's axis in the tool frame (its tool-length direction; -Z where the chain gives
+  /// none) and two directions across it: the tool_direction equations are the tool frame's
+  /// turn about these two.
+  Eigen::Vector3d tool_axis = -Eigen::Vector3d::UnitZ();
+  std::array<Eigen::Vector3d, 2> across_tool{Eigen::Vector3d::UnitX(), Eigen::Vector3d::UnitY()};
 };
+
+/// The tool_direction solve near the singular pose. The rotary axes turn the tool's direction
+/// by sigma (rad per rad) in their weakest combination (sin A on an AC table). Where sigma is
+/// below kSingularZone (A within 5.7 degrees of 0) the correction of that direction gives way
+/// to keeping the program's rotary values: the solve minimises |direction left|^2 +
+/// lambda^2 |rotary - program|^2 with lambda^2 = kSingularDamping^2 (1 - (sigma /
+/// kSingularZone)^2), which leaves lambda^2 / (sigma^2 + lambda^2) of that direction's error
+/// and corrects no axis by more than 26 times the error it answers. Beyond the zone lambda is
+/// 0 and the solve is exact. (The variable damping of Nakamura and Hanafusa's
+/// singularity-robust inverse.)
+inline constexpr double kSingularZone = 0.1;
+inline constexpr double kSingularDamping = 0.02;
 
 /// The last two points where a solve evaluated the model (its last iterate), under one
 /// approach, target orientation, tool length and conditions: the actual tip there and the

@@ -48,6 +48,9 @@ struct InterpreterOptions {
   /// program that moves a rotary axis in it, without setting it first (G10 L2/L20 or its
   /// parameters), gets one warning that its origin was taken at machine zero.
   std::array<std::optional<Axes>, 9> work_offsets;
+  /// Whether that warning is worth giving: false where nothing depends on where program
+  /// zero is (a machine model without any error, a trace).
+  bool origin_matters = true;
   /// Folders searched for `O<name> call` subroutines in files of their own (name.ngc).
   std::vector<std::string> subroutine_path;
   /// When set, lines starting with `/` are skipped (the operator's block-delete switch).
