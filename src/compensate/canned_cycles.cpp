@@ -6,13 +6,12 @@
 #include <cmath>
 
 #include "ccomp/error.hpp"
-#include "ccomp/model/chain_values.hpp"
+#include "ccomp/compensate/machine_coordinates.hpp"
 #include "number_style.hpp"
 #include "program_coordinates.hpp"
 
 namespace ccomp::compensate {
 
-using model::chain_of;
 
 bool is_cycle_code(double g) {
   return g == 73 || g == 74 || g == 76 || (g >= 81 && g <= 89);

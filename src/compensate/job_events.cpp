@@ -7,7 +7,7 @@
 
 #include "canned_cycles.hpp"
 #include "ccomp/error.hpp"
-#include "ccomp/model/chain_values.hpp"
+#include "ccomp/compensate/machine_coordinates.hpp"
 #include "ccomp/model/conditions.hpp"
 #include "job_guards.hpp"
 #include "move_pipeline.hpp"
@@ -17,7 +17,6 @@
 
 namespace ccomp::compensate {
 
-using model::chain_of;
 
 namespace {
 

@@ -1,9 +1,38 @@
 #include "ccomp/compensate/machine_coordinates.hpp"
 
+#include <array>
 #include <charconv>
 #include <string>
 
+#include "ccomp/constants.hpp"
+
 namespace ccomp::compensate {
+
+namespace {
+/// Each axis' chain unit per program unit: radians per degree for the rotary axes, 1 for
+/// the others (a product or quotient by 1 is exact: one branch-free loop serves all nine,
+/// at every point a program moves to).
+constexpr std::array<double, gcode::kAxisCount> kChainPerAxisUnit = [] {
+  std::array<double, gcode::kAxisCount> scale{};
+  for (std::size_t i = 0; i < gcode::kAxisCount; ++i) scale[i] = gcode::is_rotary(i) ? kRadPerDeg : 1.0;
+  return scale;
+}();
+}  // namespace
+
+model::ChainQ chain_of(const gcode::Axes& controlled, const gcode::Offsets& o) {
+  model::ChainQ q;
+  for (std::size_t i = 0; i < gcode::kAxisCount; ++i)  // the machine axis carries the tool
+    q[static_cast<Eigen::Index>(i)] = (controlled[i] + o.tool[i]) * kChainPerAxisUnit[i];
+  q[static_cast<Eigen::Index>(model::kToolLengthIndex)] = o.tool[2];
+  return q;
+}
+
+gcode::Axes controlled_of_chain(const model::ChainQ& q, const gcode::Offsets& o) {
+  gcode::Axes controlled;
+  for (std::size_t i = 0; i < gcode::kAxisCount; ++i)
+    controlled[i] = q[static_cast<Eigen::Index>(i)] / kChainPerAxisUnit[i] - o.tool[i];
+  return controlled;
+}
 
 void set_work_offsets(const model::WorkOffsets& offsets, gcode::InterpreterOptions& into) {
   for (std::size_t s = 0; s < model::kCoordinateSystems; ++s)

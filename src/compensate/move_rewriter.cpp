@@ -8,7 +8,7 @@
 
 #include "ccomp/constants.hpp"
 #include "ccomp/error.hpp"
-#include "ccomp/model/chain_values.hpp"
+#include "ccomp/compensate/machine_coordinates.hpp"
 #include "number_style.hpp"
 
 namespace ccomp::compensate {
@@ -136,7 +136,7 @@ void MoveRewriter::point_words(const gcode::Motion& m, const gcode::Block& b, co
   const bool inch = m.units == gcode::Units::inch;
   const double unit = mm_per_unit(m.units);
   const gcode::Axes p = program_of(point.q, *m.offsets, unit);
-  const gcode::Axes last = program_of(model::chain_of(position_.commanded, *m.offsets), *m.offsets, unit);
+  const gcode::Axes last = program_of(chain_of(position_.commanded, *m.offsets), *m.offsets, unit);
   // The block's first word of each axis, in one pass over its words (a lone letter, which
   // the interpreter ignores, is not one: a value written into it would be a second word).
   std::array<const gcode::Word*, gcode::kAxisCount> words{};
@@ -227,7 +227,7 @@ std::string MoveRewriter::centre_words(const gcode::Motion& m, const gcode::Bloc
   centre[pa.second] = m.arc.center_second;
   const gcode::Axes c = m.offsets->program_of(centre), p = m.offsets->program_of(start);
   // Absolute centres move with the piece's start as written, as incremental ones do.
-  const gcode::Axes written = program_of(model::chain_of(position_.commanded, *m.offsets), *m.offsets, unit);
+  const gcode::Axes written = program_of(chain_of(position_.commanded, *m.offsets), *m.offsets, unit);
   std::string words;
   for (std::size_t axis : {pa.first, pa.second}) {
     const char letter = "IJK"[axis];

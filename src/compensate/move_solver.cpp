@@ -6,12 +6,10 @@
 #include <numbers>
 #include <utility>
 
-#include "ccomp/model/chain_values.hpp"
+#include "ccomp/compensate/machine_coordinates.hpp"
 
 namespace ccomp::compensate {
 
-using model::chain_of;
-using model::controlled_of_chain;
 
 std::size_t arc_chord_count(const gcode::ArcGeometry& g, double tolerance) {
   const double r = std::max(g.r_start, g.r_end);

@@ -6,7 +6,7 @@
 #include <optional>
 
 #include "ccomp/error.hpp"
-#include "ccomp/model/chain_values.hpp"
+#include "ccomp/compensate/machine_coordinates.hpp"
 #include "number_style.hpp"
 
 namespace ccomp::compensate {
@@ -46,8 +46,8 @@ struct PositionOff {
 
 PositionOff position_off(const OffsetContext& at, double unit) {
   const gcode::Offsets& o = at.offsets;
-  const gcode::Axes written = program_of(model::chain_of(at.written.commanded, o), o, unit),
-                    nominal = program_of(model::chain_of(at.nominal_end, o), o, unit);
+  const gcode::Axes written = program_of(chain_of(at.written.commanded, o), o, unit),
+                    nominal = program_of(chain_of(at.nominal_end, o), o, unit);
   PositionOff p;
   for (std::size_t i = 0; i < gcode::kAxisCount; ++i) {
     p.off[i] = written[i] + at.written.rounding[i] - nominal[i];

@@ -1,12 +1,12 @@
 #include "program_coordinates.hpp"
 
 #include "ccomp/constants.hpp"
-#include "ccomp/model/chain_values.hpp"
+#include "ccomp/compensate/machine_coordinates.hpp"
 
 namespace ccomp::compensate {
 
 gcode::Axes program_of(const model::ChainQ& q, const gcode::Offsets& offsets, double unit) {
-  gcode::Axes p = offsets.program_of(model::controlled_of_chain(q, offsets));
+  gcode::Axes p = offsets.program_of(controlled_of_chain(q, offsets));
   if (unit == 1.0) return p;  // (a division by 1 changes nothing, and costs as much as any)
   for (std::size_t i = 0; i < gcode::kAxisCount; ++i)
     if (!gcode::is_rotary(i)) p[i] /= unit;
@@ -21,7 +21,7 @@ gcode::Axes controlled_of_program(const gcode::Axes& p, const gcode::Offsets& of
 }
 
 gcode::Axes controlled_of(const model::ChainQ& q, const gcode::Offsets& offsets) {
-  return offsets.from_machine(offsets.to_machine(model::controlled_of_chain(q, offsets)));
+  return offsets.from_machine(offsets.to_machine(controlled_of_chain(q, offsets)));
 }
 
 double mm_per_unit(gcode::Units units) {

@@ -12,7 +12,6 @@
 
 #include "ccomp/compensate/machine_coordinates.hpp"
 #include "ccomp/constants.hpp"
-#include "ccomp/model/chain_values.hpp"
 #include "ccomp/util/handoff.hpp"
 #include "ccomp/util/parallel.hpp"
 #include "executed_tip.hpp"
@@ -20,8 +19,6 @@
 
 namespace ccomp::compensate {
 
-using model::chain_of;
-using model::controlled_of_chain;
 namespace {
 
 /// Collects what the interpreter does into a callback per motion (with its offsets).

@@ -17,7 +17,7 @@
 #include "ccomp/compensate/program_job.hpp"
 #include "ccomp/error.hpp"
 #include "ccomp/gcode/dialect.hpp"
-#include "ccomp/model/chain_values.hpp"
+#include "ccomp/compensate/machine_coordinates.hpp"
 #include "ccomp/model/forward.hpp"
 #include "ccomp/model/machine.hpp"
 #include "ccomp/model/model_file.hpp"
@@ -335,7 +335,7 @@ terms:
   model::ForwardData d(m);
   double expected = 0;
   for (double x : {-50.0, 50.0}) {
-    model::forward(m, d, model::chain_of({x, 0, 0}, gcode::Offsets{}), {});
+    model::forward(m, d, compensate::chain_of({x, 0, 0}, gcode::Offsets{}), {});
     expected = std::max(expected, (d.actual - d.nominal).norm());
   }
   ASSERT_GT(expected, 1e-3);

@@ -1,12 +1,21 @@
 #pragma once
 // Program coordinates to machine coordinates, in one place: the work offsets a program
 // starts with (the model's, the user's, the control's parameters) as the interpreter holds
-// them, and back as the one set of offsets a compensated program's header records.
+// them, back as the one set of offsets a compensated program's header records; and a
+// controlled point (machine frame, the tool's offsets apart) as the chain's variables (the
+// machine axes that carry the tool, in mm and rad, and the tool length), and back.
+#include "ccomp/gcode/canon.hpp"
 #include "ccomp/gcode/interpreter.hpp"
+#include "ccomp/model/forward.hpp"
 #include "ccomp/model/machine.hpp"
 #include "ccomp/model/work_offsets.hpp"
 
 namespace ccomp::compensate {
+
+/// Chain values (axes in mm and rad, tool length) of a controlled point and its offsets.
+[[nodiscard]] model::ChainQ chain_of(const gcode::Axes& controlled, const gcode::Offsets& offsets);
+/// chain_of()'s inverse: the controlled point (machine frame, mm and deg) of chain values.
+[[nodiscard]] gcode::Axes controlled_of_chain(const model::ChainQ& q, const gcode::Offsets& offsets);
 
 /// Puts `offsets`' known systems into the interpreter's starting offsets (each replaces
 /// the system it names; parameters given by number still win over them).

@@ -9,7 +9,7 @@
 #include <regex>
 
 #include "ccomp/gcode/interpreter.hpp"
-#include "ccomp/model/chain_values.hpp"
+#include "ccomp/compensate/machine_coordinates.hpp"
 #include "error_of.hpp"
 #include "job_runner.hpp"
 #include "memory_file.hpp"
@@ -52,7 +52,7 @@ class CycleRun : public gcode::CanonSink {
   }
   void motion(const gcode::Motion& m) override {
     if (m.source == gcode::MotionSource::canned_cycle) return cycles_.add(m, *block_, line_, repeated_);
-    solver_.compensator.moved(model::chain_of(m.end, *m.offsets));
+    solver_.compensator.moved(compensate::chain_of(m.end, *m.offsets));
     rewriter_.position().commanded = m.end;
   }
 

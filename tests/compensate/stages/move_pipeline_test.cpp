@@ -7,7 +7,7 @@
 #include <stdexcept>
 #include <vector>
 
-#include "ccomp/model/chain_values.hpp"
+#include "ccomp/compensate/machine_coordinates.hpp"
 #include "job_runner.hpp"
 
 namespace ccomp::compensate {
@@ -29,7 +29,7 @@ class MovePipelineTest : public ::testing::TestWithParam<bool> {
     t.motion.start = {x, -40, -100, 0, 0, 0, 0, 0, 0};
     t.motion.end = {x + 1, -40, -100, 0, 0, 0, 0, 0, 0};
     t.motion.offsets = &t.offsets;
-    model::forward(forward_, scratch_, model::chain_of(t.motion.end, t.offsets), {}, false, model::Evaluate::nominal);
+    model::forward(forward_, scratch_, compensate::chain_of(t.motion.end, t.offsets), {}, false, model::Evaluate::nominal);
     t.end_pose = {scratch_.nominal, scratch_.R_nominal};
     t.end_pose_known = true;
     pipeline.queued(1);
@@ -73,7 +73,7 @@ TEST_P(MovePipelineTest, CompensatesAlikeOnOneThreadAndTwo) {
   const Written here = run(false, moves), there = run(GetParam(), moves);
   ASSERT_EQ(here.q.size(), there.q.size());
   for (std::size_t k = 0; k < here.q.size(); ++k) ASSERT_EQ(here.q[k], there.q[k]) << k;
-  EXPECT_GT((here.q[0].head<3>() - model::chain_of({-199.0, -40, -100}, offsets_).head<3>()).norm(), 1e-6)
+  EXPECT_GT((here.q[0].head<3>() - compensate::chain_of({-199.0, -40, -100}, offsets_).head<3>()).norm(), 1e-6)
       << "the moves were compensated";
 }
 

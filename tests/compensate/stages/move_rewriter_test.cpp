@@ -8,7 +8,7 @@
 #include <cstdlib>
 
 #include "ccomp/gcode/dialect.hpp"
-#include "ccomp/model/chain_values.hpp"
+#include "ccomp/compensate/machine_coordinates.hpp"
 #include "job_runner.hpp"
 #include "memory_file.hpp"
 #include "parsed_block.hpp"
@@ -44,7 +44,7 @@ class Rewriting {
 
 CompensatedPoint point_at(double s, const gcode::Axes& controlled, const gcode::Offsets& offsets,
                           bool take_up = false) {
-  return CompensatedPoint{s, model::chain_of(controlled, offsets), take_up};
+  return CompensatedPoint{s, compensate::chain_of(controlled, offsets), take_up};
 }
 
 TEST(MoveRewriter, ASplitMoveKeepsItsLineForTheFirstPointAndAddsLinesForTheRest) {

@@ -6,7 +6,7 @@
 #include <cmath>
 #include <numbers>
 
-#include "ccomp/model/chain_values.hpp"
+#include "ccomp/compensate/machine_coordinates.hpp"
 #include "job_runner.hpp"
 
 namespace ccomp::compensate {
@@ -56,7 +56,7 @@ TEST_F(MoveSolverTest, ARapidIsItsCompensatedEnd) {
   std::vector<CompensatedPoint> points;
   solver_.solve(m, offsets_, report, points);
   ASSERT_EQ(points.size(), 1U);
-  const model::ChainQ nominal = model::chain_of(m.end, offsets_);
+  const model::ChainQ nominal = compensate::chain_of(m.end, offsets_);
   EXPECT_GT((points[0].q - nominal).norm(), 1e-6);
   EXPECT_LT((points[0].q - nominal).norm(), forward_.machine().max_correction);
 }
@@ -78,7 +78,7 @@ TEST_F(MoveSolverTest, AFullCircleComesAsChordsAndReportsTheirSagitta) {
   EXPECT_DOUBLE_EQ(points.back().s, 1.0);
   EXPECT_GE(report.max_deviation_after, sagitta(40, 2 * std::numbers::pi, chords));
   EXPECT_LT(report.max_deviation_after, 0.001);
-  EXPECT_LT((points.back().q - model::chain_of(m.end, offsets_)).norm(), forward_.machine().max_correction);
+  EXPECT_LT((points.back().q - compensate::chain_of(m.end, offsets_)).norm(), forward_.machine().max_correction);
 }
 
 }  // namespace
