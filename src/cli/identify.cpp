@@ -223,7 +223,7 @@ int run_fit(const IdentifyArgs& args) {
     fmt::print("  {:<18} {:>12} -> {:>12} +- {:<10} {}\n", p.label, readable(t, k, p.before), readable(t, k, p.after),
                readable(t, k, p.uncertainty), p.identified ? "" : "(not separable: see below)");
   }
-  if (r.singular_values.size() > 0) {
+  if (r.singular_values.size() > 0 && r.singular_values[0] > 0) {
     fmt::print("  singular values (relative to the largest, columns in physical scales):");
     for (Eigen::Index k = 0; k < r.singular_values.size(); ++k)
       fmt::print("{}{:.1e}", k == static_cast<Eigen::Index>(r.rank) ? " | dropped:" : " ",
@@ -285,6 +285,8 @@ int run_check(const IdentifyArgs& args) {
     return 0;
   }
   fmt::print("refitted as it is (its free parameters): rms {:.3f} um\n", d.rms_refit * 1e3);
+  if (const std::string nothing = identify::nothing_identifiable(d.refit); !nothing.empty())
+    fmt::print("  {}\n", nothing);
   for (const identify::Region& g : d.regions)
     fmt::print("  the residual concentrates at {} in [{:.4g}, {:.4g}]: rms {:.3f} um ({:.1f}x)\n", g.variable, g.from,
                g.to, g.rms * 1e3, g.ratio);

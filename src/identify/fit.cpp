@@ -241,6 +241,15 @@ Eigen::VectorXd residuals(const model::ForwardModel& model, const Eigen::VectorX
   return r;
 }
 
+std::string nothing_identifiable(const FitReport& report) {
+  if (report.parameters.empty() || report.rank > 0) return {};
+  return fmt::format(
+      "nothing identifiable above the noise floor: none of the {} free parameters moves the predictions by more than "
+      "3 noise sigmas ({:.3f} um) over these {} readings; measure a longer stroke, more targets, more runs or both "
+      "directions",
+      report.parameters.size(), kSignificant * report.noise * 1e3, report.observations);
+}
+
 FitReport fit(const model::ForwardModel& model, const MeasurementSet& data, const FitOptions& options,
               Linearization* at_fit) {
   const model::MachineModel& mm = model.machine();
@@ -375,6 +384,12 @@ FitReport fit(const model::ForwardModel& model, const MeasurementSet& data, cons
         }
       subspace.resize(m, static_cast<Eigen::Index>(kept.size()));
       for (std::size_t c = 0; c < kept.size(); ++c) subspace.col(static_cast<Eigen::Index>(c)) = V.col(kept[c]);
+    }
+    // No direction above the noise floor (a short stroke, few targets, one run): nothing
+    // to step along, and nothing to decompose (Eigen's solver of an empty matrix faults).
+    if (subspace.cols() == 0) {
+      report.converged = true;
+      break;
     }
     // Levenberg-Marquardt within the identified subspace: where the cost does not fall,
     // the weak directions are damped first (lambda), not the whole step (a period far
@@ -586,6 +601,7 @@ FitReport fit(const model::ForwardModel& model, const MeasurementSet& data, cons
           fmt::format("the fitted model predicts {:.4g} mm at row {}, beyond the model's max_correction of {:.4g} mm",
                       largest, row, mm.max_correction));
   }
+  if (std::string nothing = nothing_identifiable(report); !nothing.empty()) report.refusals.push_back(std::move(nothing));
   // In words: parameters the data do not see at all, then the combinations they cannot
   // separate or that the data do not support above the noise.
   std::string unseen;

@@ -80,6 +80,13 @@ struct Linearization {
 [[nodiscard]] FitReport fit(const model::ForwardModel& model, const MeasurementSet& data,
                             const FitOptions& options = {}, Linearization* at_fit = nullptr);
 
+/// "nothing identifiable above the noise floor: ..." when the fit had free parameters and
+/// the data determine none of their combinations (a short stroke, few targets, one run
+/// each way, one direction: no direction moves the predictions by more than 3 noise
+/// sigmas); empty otherwise. A result, not a failure: `fit` refuses to write a model on it
+/// (it is among the report's refusals), `check` reports it.
+[[nodiscard]] std::string nothing_identifiable(const FitReport& report);
+
 /// The indices of the parameters a fit may change (free terms; a period only with
 /// fit_period), and the model's whole parameter vector.
 [[nodiscard]] std::vector<std::size_t> free_parameters(const model::ForwardModel& model);
