@@ -84,6 +84,23 @@ void against_datum_faces(const model::ForwardModel& truth, MeasurementSet& set, 
   for (std::size_t i = 0; i < n; ++i) set.observations[first + i].value -= explained[static_cast<Eigen::Index>(i)];
 }
 
+/// A reading that is not a number (a term of 1e308, a polynomial far beyond where it means
+/// anything) is refused as the main job refuses such an error (exit 7): no NaN row is written.
+void refuse_non_finite(const model::MachineModel& m, const MeasurementSet& set) {
+  for (const Observation& o : set.observations) {
+    if (std::isfinite(o.value)) continue;
+    std::string at;
+    for (const model::AxisSpec& a : m.axes) {
+      const auto j = static_cast<Eigen::Index>(std::string_view("XYZABCUVW").find(a.letter));
+      at += fmt::format(" {} {:g}", a.letter, a.type == model::AxisType::rotary ? o.q[j] / kRadPerDeg : o.q[j]);
+    }
+    throw Error(ErrorKind::safety,
+                fmt::format("the model's error at{} ({}, row {}) is not a number ({}): nothing is written; is the "
+                            "model right for this machine?",
+                            at, set.sources[o.source], o.row, o.value));
+  }
+}
+
 }  // namespace
 
 Plan plan_from_name(const std::string& name) {
@@ -204,6 +221,7 @@ MeasurementSet simulate(const model::ForwardModel& truth, const SimulateOptions&
       }
     }
   }
+  refuse_non_finite(m, set);
   return set;
 }
 
