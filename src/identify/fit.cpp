@@ -5,6 +5,8 @@
 #include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <cmath>
+#include <limits>
+#include <optional>
 #include <string_view>
 
 #include "ccomp/error.hpp"
@@ -239,6 +241,54 @@ Eigen::VectorXd residuals(const model::ForwardModel& model, const Eigen::VectorX
   Eigen::VectorXd r;
   design_matrix(model, parameters, data, {}, r, nullptr);
   return r;
+}
+
+model::MachineModel without_free_spans(model::MachineModel machine) {
+  for (model::ErrorTermSpec& t : machine.terms)
+    if (t.free) t.span.reset();
+  return machine;
+}
+
+namespace {
+
+/// Whether a fitted term of this form is held beyond where it was fitted (see fitted_spans()).
+bool grows_beyond_its_data(TermForm form) {
+  return form == TermForm::polynomial || form == TermForm::cross_axis || form == TermForm::thermal_linear ||
+         form == TermForm::scale_expansion;
+}
+
+/// A reading's value of a term variable (mm, rad, degC, s); none for an approach.
+std::optional<double> variable_of(const model::Variable& v, const Observation& o) {
+  switch (v.kind) {
+    case model::VariableKind::axis:
+      return o.q[static_cast<Eigen::Index>(v.index)];
+    case model::VariableKind::tool_length:
+      return o.q[static_cast<Eigen::Index>(model::kToolLengthIndex)];
+    case model::VariableKind::temperature:
+      return v.index < o.temperatures.size() ? o.temperatures[v.index] : 20.0;
+    case model::VariableKind::time:
+      return o.time;
+    case model::VariableKind::direction:
+    case model::VariableKind::none:
+      return std::nullopt;
+  }
+  return std::nullopt;
+}
+
+}  // namespace
+
+std::vector<std::optional<model::TermSpan>> fitted_spans(const model::MachineModel& machine,
+                                                         const MeasurementSet& data) {
+  std::vector<std::optional<model::TermSpan>> spans(machine.terms.size());
+  for (std::size_t t = 0; t < machine.terms.size(); ++t) {
+    const model::ErrorTermSpec& term = machine.terms[t];
+    if (!term.free || !grows_beyond_its_data(term.shape.form)) continue;
+    double low = std::numeric_limits<double>::infinity(), high = -low;
+    for (const Observation& o : data.observations)
+      if (const std::optional<double> v = variable_of(term.primary, o)) low = std::min(low, *v), high = std::max(high, *v);
+    if (low < high) spans[t] = model::TermSpan{low, high};
+  }
+  return spans;
 }
 
 std::string nothing_identifiable(const FitReport& report) {
