@@ -70,3 +70,60 @@ TEST(WriterBounds, SimulateWritesNoRowThatIsNotANumber) {
 
 }  // namespace
 }  // namespace ccomp::test
+
+namespace ccomp::test {
+namespace {
+
+/// Readings of the cubic over +-20 mm, five runs each way, 0.2 um of noise.
+std::string cubic_over_20mm() {
+  std::string csv = "x,y,z,vx,nx,ny,nz,d\n";
+  std::uint32_t state = 7;
+  for (int run = 0; run < 5; ++run)
+    for (const int v : {1, -1})
+      for (int k = 0; k <= 20; ++k) {
+        const double x = v > 0 ? -20.0 + 2.0 * k : 20.0 - 2.0 * k;
+        state = state * 1664525U + 1013904223U;
+        const double noise = 2e-4 * (2.0 * static_cast<double>(state >> 8) / static_cast<double>(1U << 24) - 1.0);
+        const double e = (0.1 * x + 0.001 * x * x + 0.0159 * x * x * x) * 1e-3 + noise;
+        csv += std::to_string(x) + ",0,0," + std::to_string(v) + ",1,0,0," + std::to_string(e) + "\n";
+      }
+  return csv;
+}
+
+TEST(WriterBounds, AFittedCubicIsHeldBeyondWhereItWasFittedAndSaidSo) {
+  const std::string dir = temp_dir("writer_bounds_fitted");
+  write_file(dir + "/m.yaml", one_axis_model("[0, 0, 0, 0]"));
+  write_file(dir + "/pm20.csv", cubic_over_20mm());
+  const std::string ccomp = shell_quote(ccomp_binary()), fitted = shell_quote(dir + "/fitted.yaml");
+  CommandResult r = run_command(ccomp + " fit " + shell_quote(dir + "/pm20.csv") + " -m " +
+                                shell_quote(dir + "/m.yaml") + " -o " + fitted);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find("EXX x [-20, 20] mm"), std::string::npos) << r.out;
+  EXPECT_NE(read_file(dir + "/fitted.yaml").find("span: [-20, 20]"), std::string::npos);
+  const std::string said = "term EXX was fitted over x [-20, 20] mm; at x ";
+  // Every writer: the held value (about 129 um at +-20 mm), not 15.9 m or NaN, and a warning.
+  for (const char* control : {"linuxcnc --axis X", "linuxcnc --axis X --comp-file-type 1", "fanuc --axis X",
+                              "siemens --axis X", "heidenhain --axis X", "isg --step 250"}) {
+    const std::string table = dir + "/table.txt";
+    r = run_command(ccomp + " export -m " + fitted + " --control " + control + " -o " + shell_quote(table));
+    ASSERT_EQ(r.exit_code, 0) << control << ": " << r.err;
+    EXPECT_NE(r.err.find(said), std::string::npos) << control << ": " << r.err;
+    const std::string text = read_file(table);
+    EXPECT_EQ(text.find("nan"), std::string::npos) << control;
+    EXPECT_EQ(text.find("inf"), std::string::npos) << control;
+  }
+  // Once each, in predict and the main job, at the first line beyond.
+  write_file(dir + "/p.ngc", "G21 G90\nG0 X0 Y0 Z0\nG1 X10 F100\nG1 X100\nG1 X-200\nM2\n");
+  for (const std::string& command : {" predict " + shell_quote(dir + "/p.ngc") + " -m " + fitted,
+                                    " " + shell_quote(dir + "/p.ngc") + " -m " + fitted + " -o " +
+                                        shell_quote(dir + "/out.ngc")}) {
+    r = run_command(ccomp + command);
+    EXPECT_EQ(r.exit_code, 0) << r.err;
+    const std::size_t first = r.err.find("p.ngc:4: warning: " + said + "100 mm it holds its value at 20 mm");
+    EXPECT_NE(first, std::string::npos) << r.err;
+    EXPECT_EQ(r.err.find(said, first + said.size()), std::string::npos) << "said once: " << r.err;
+  }
+}
+
+}  // namespace
+}  // namespace ccomp::test
