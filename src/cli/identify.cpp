@@ -276,7 +276,11 @@ int run_check(const IdentifyArgs& args) {
   if (args.robust) options.fit.loss = identify::Loss::huber;
   ProgressBar bar("check", !args.json && stderr_is_terminal());
   options.progress = [&bar](double done) { bar.update(done); };
-  const identify::Diagnosis d = identify::diagnose(forward, data, options);
+  // The model as it is holds its terms beyond their spans; its refit, as `fit` does, lets
+  // the free terms follow these data wherever they reach.
+  const model::MachineModel refitted = identify::without_free_spans(m);
+  const model::ForwardModel refit_forward(refitted);
+  const identify::Diagnosis d = identify::diagnose(refit_forward, data, options);
   bar.clear();
   if (!args.report.empty()) {
     write_output(args.report, report::html_check_report({m, data, r, d, "check", {}}));
