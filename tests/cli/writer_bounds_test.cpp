@@ -56,16 +56,19 @@ INSTANTIATE_TEST_SUITE_P(Controls, EveryWriter,
                                            Writer{"isg", "--control isg --step 250"}),
                          [](const ::testing::TestParamInfo<Writer>& p) { return std::string(p.param.name); });
 
-TEST(WriterBounds, SimulateWritesNoRowThatIsNotANumber) {
+TEST(WriterBounds, SimulateWritesNoRowThatIsNotANumberOrBeyondTheBound) {
   const std::string dir = temp_dir("writer_bounds_simulate");
-  write_file(dir + "/m.yaml", one_axis_model("[0, 0, 1e308]"));
-  const std::string out = dir + "/sim.csv";
-  const CommandResult r = run_command(shell_quote(ccomp_binary()) + " simulate -m " + shell_quote(dir + "/m.yaml") +
-                                      " -o " + shell_quote(out));
-  EXPECT_EQ(r.exit_code, 7) << r.err;
-  EXPECT_NE(r.err.find("is not a number"), std::string::npos) << r.err;
-  EXPECT_NE(r.err.find("at X -1000"), std::string::npos) << r.err;
-  EXPECT_FALSE(std::filesystem::exists(out));
+  for (const auto& [model, said] : {std::pair{"[0, 0, 1e308]", "is not a number"},
+                                    std::pair{kRunawayCubic, "mm, beyond its bound of 1 mm (max_correction)"}}) {
+    write_file(dir + "/m.yaml", one_axis_model(model));
+    const std::string out = dir + "/sim.csv";
+    const CommandResult r = run_command(shell_quote(ccomp_binary()) + " simulate -m " + shell_quote(dir + "/m.yaml") +
+                                        " -o " + shell_quote(out));
+    EXPECT_EQ(r.exit_code, 7) << r.err;
+    EXPECT_NE(r.err.find(said), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("at X -1000"), std::string::npos) << r.err;
+    EXPECT_FALSE(std::filesystem::exists(out));
+  }
 }
 
 }  // namespace
