@@ -28,12 +28,37 @@ namespace {
 void add_common(CLI::App& cmd, IdentifyArgs& args) {
   cmd.add_option("-m,--model", args.model, "machine model (YAML)")->required();
   cmd.add_option("--tool-length", args.tool_length, "mm: tool or optic length of rows without an L column (100)");
+  cmd.add_option("--frame", args.frame,
+                 "what the files' positions are, where a file does not say (# frame:): program coordinates "
+                 "(the default) or machine coordinates")
+      ->check(CLI::IsMember({"program", "machine"}));
+  cmd.add_option("--work-offset", args.work_offsets,
+                 "where the files' program zero lies in machine coordinates: G54=X-250,Y0,Z-300 (over the model's "
+                 "work_offsets; docs/identification.md, 'Frames')");
+}
+
+/// The frame the user gives the files (nothing when neither option is given).
+std::optional<identify::MeasurementFrame> frame_of(const IdentifyArgs& args) {
+  if (args.frame.empty() && args.work_offsets.empty()) return std::nullopt;
+  identify::MeasurementFrame f;
+  f.kind = args.frame == "machine" ? identify::FrameKind::machine : identify::FrameKind::program;
+  if (f.kind == identify::FrameKind::machine && !args.work_offsets.empty())
+    throw Error(ErrorKind::usage, "--frame machine has no work offset: --work-offset goes with program coordinates");
+  if (args.work_offsets.size() > 1)
+    throw Error(ErrorKind::usage, "measurement files are in one coordinate system: give one --work-offset");
+  if (!args.work_offsets.empty()) {
+    const model::WorkOffsetEntry e = model::parse_work_offset(args.work_offsets[0], "--work-offset " + args.work_offsets[0]);
+    f.system = e.system;
+    f.origin = e.origin;
+  }
+  return f;
 }
 
 identify::MeasurementSet read_all(const IdentifyArgs& args, const model::MachineModel& m) {
   identify::MeasurementSet set;
   identify::ReadOptions o;
   o.tool_length = args.tool_length;
+  o.frame = frame_of(args);
   for (const std::string& path : args.measurements) identify::read_measurements(path, m, o, set);
   identify::summarize(set, m);
   for (const std::string& notice : set.notices) fmt::print(stderr, "notice: {}\n", notice);
@@ -303,6 +328,14 @@ int run_check(const IdentifyArgs& args) {
   fmt::print("refitted as it is (its free parameters): rms {:.3f} um\n", d.rms_refit * 1e3);
   if (const std::string nothing = identify::nothing_identifiable(d.refit); !nothing.empty())
     fmt::print("  {}\n", nothing);
+  if (d.origin_misfit) {
+    const identify::OriginMisfit& o = *d.origin_misfit;
+    fmt::print(
+        "the readings' program zero looks {:.3f} mm off where they were taken to be ({:+.3f}, {:+.3f}, {:+.3f} mm "
+        "along X, Y, Z; rms {:.3f} -> {:.3f} um, BIC {:+.1f}): a wrong work offset? Check each file's '# frame:' "
+        "line, --work-offset and the model's work_offsets (docs/identification.md, 'Frames') before adding effects\n",
+        o.shift.norm(), o.shift.x(), o.shift.y(), o.shift.z(), o.rms_before * 1e3, o.rms_after * 1e3, o.bic_delta);
+  }
   for (const identify::Region& g : d.regions)
     fmt::print("  the residual concentrates at {} in [{:.4g}, {:.4g}]: rms {:.3f} um ({:.1f}x)\n", g.variable, g.from,
                g.to, g.rms * 1e3, g.ratio);
@@ -347,6 +380,7 @@ int run_positioning(const IdentifyArgs& args) {
   identify::MeasurementSet data;
   identify::ReadOptions o;
   o.tool_length = args.tool_length;
+  o.frame = frame_of(args);
   for (const std::string& path : args.measurements) identify::read_measurements(path, m, o, data);
   const auto axis = static_cast<std::size_t>(args.axis[0] - 'x');
   const identify::PositioningReport r = identify::analyse_positioning(data, axis, args.source);
@@ -447,8 +481,11 @@ int run_simulate(const IdentifyArgs& args) {
   o.step = args.step;
   o.rotary_step = args.rotary_step;
   o.runs = args.runs;
+  // The file says its frame, its origin written out: the model's (or the user's) G54.
+  const identify::ResolvedFrame frame = identify::resolve_frame(std::nullopt, frame_of(args), m, args.output);
+  o.origin = frame.origin;
   const identify::MeasurementSet set = identify::simulate(forward, o);
-  write_output(args.output, identify::to_csv(set, m));
+  write_output(args.output, identify::to_csv(set, m, frame));
   if (args.json)
     fmt::print("{}", simulate_json(m, set, args.output));
   else if (args.output != "-")

@@ -133,6 +133,15 @@ std::string check_json(const model::MachineModel& m, const identify::CheckReport
   }
   j.end_array();
   j.field("candidates_tried", d.candidates_tried).field("unproven", d.unproven).field("implausible", d.implausible);
+  if (d.origin_misfit) {
+    const identify::OriginMisfit& o = *d.origin_misfit;
+    j.key("origin_misfit").begin_object().key("shift_mm").begin_array();
+    for (int k = 0; k < 3; ++k) j.value(o.shift[k]);
+    j.end_array().field("rms_before_um", o.rms_before * 1e3).field("rms_after_um", o.rms_after * 1e3);
+    j.field("bic_delta", o.bic_delta).field("significance", o.significance).end_object();
+  } else {
+    j.key("origin_misfit").null();
+  }
   j.key("suggestions").begin_array();
   for (const identify::Suggestion& s : d.suggestions) {
     j.begin_object().field("rank", s.rank).field("effect", s.effect).field("error", s.error).field("term", s.term);

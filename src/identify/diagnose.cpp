@@ -24,6 +24,7 @@
 #include "ccomp/util/interval.hpp"
 #include "ccomp/util/parallel.hpp"
 #include "held_out.hpp"
+#include "origin_shift.hpp"
 
 namespace ccomp::identify {
 namespace {
@@ -109,6 +110,13 @@ struct Projector {
   /// coefficients. C is given on some rows (a probe's), `r_rows` is the residual there
   /// and `AtC` is A^T C over the same rows (m x C.cols()). U = A W is never formed: what
   /// the base absorbs of C is W^T (A^T C), and A^T C is one product for many candidates.
+  /// The sum of squares of column c (A^T c given) that the base cannot absorb.
+  [[nodiscard]] double left_over(const Eigen::Ref<const Eigen::VectorXd>& c,
+                                 const Eigen::Ref<const Eigen::VectorXd>& Atc) const {
+    const Eigen::VectorXd Utc = W.transpose() * Atc;
+    return c.squaredNorm() - Utc.squaredNorm();
+  }
+
   double gain(const Eigen::Ref<const Eigen::MatrixXd>& C, const Eigen::Ref<const Eigen::VectorXd>& r_rows,
               const Eigen::Ref<const Eigen::MatrixXd>& AtC, Eigen::VectorXd* coefficients) const {
     const Eigen::Index k = C.cols();
@@ -342,6 +350,41 @@ std::string unexplained_structure(const Diagnosis& d, const MeasurementSet& data
 }
 
 }  // namespace
+
+/// The shift of the readings' program zero that the residual holds beyond what the base's
+/// free parameters absorb, where significant and larger than kSmallestOriginShift.
+std::optional<OriginMisfit> origin_misfit(const model::ForwardModel& model, const MeasurementSet& data,
+                                          const Projector& base, const Diagnosis& out, double sse0, double sigma2) {
+  const Eigen::MatrixXd all = detail::origin_shift_columns(model, out.refit.all_parameters, data);
+  // Only the axes along which the data place the origin, once the base has taken what it
+  // can, to within kOriginResolution (a shift along the B line moves nothing of a B error's
+  // lever: its column is all but absorbed, and its coefficient would be noise).
+  const Eigen::MatrixXd At_all = transpose_product(base.A, all);
+  std::vector<Eigen::Index> seen;
+  for (Eigen::Index axis = 0; axis < 3; ++axis)
+    if (std::sqrt(std::max(base.left_over(all.col(axis), At_all.col(axis)), 0.0)) * detail::kOriginResolution >
+        std::sqrt(sigma2))
+      seen.push_back(axis);
+  if (seen.empty()) return std::nullopt;
+  Eigen::MatrixXd C(all.rows(), static_cast<Eigen::Index>(seen.size()));
+  for (std::size_t k = 0; k < seen.size(); ++k) C.col(static_cast<Eigen::Index>(k)) = all.col(seen[k]);
+  Eigen::VectorXd coefficients;
+  const double gain = base.gain(C, base.r, transpose_product(base.A, C), &coefficients);
+  if (!(gain > 0) || coefficients.size() != C.cols()) return std::nullopt;
+  Eigen::Vector3d shift = Eigen::Vector3d::Zero();
+  for (std::size_t k = 0; k < seen.size(); ++k) shift[seen[k]] = coefficients[static_cast<Eigen::Index>(k)];
+  const auto n = static_cast<double>(data.observations.size());
+  OriginMisfit m;
+  m.shift = shift;
+  const auto k = static_cast<double>(seen.size());
+  m.rms_before = out.refit.rms_after;
+  m.rms_after = std::sqrt(std::max(sse0 - gain, 0.0) / n);
+  m.bic_delta = n * std::log(std::max(sse0 - gain, 1e-300) / std::max(sse0, 1e-300)) + k * std::log(n);
+  m.significance = gain / sigma2 - k;
+  if (!(m.significance > kSignificance) || !(m.bic_delta < -10.0) || shift.norm() < detail::kSmallestOriginShift)
+    return std::nullopt;
+  return m;
+}
 
 Diagnosis diagnose(const model::ForwardModel& model, const MeasurementSet& data, const DiagnoseOptions& options) {
   const model::MachineModel& mm = model.machine();
@@ -614,6 +657,7 @@ Diagnosis diagnose(const model::ForwardModel& model, const MeasurementSet& data,
   if (static_cast<double>(base.W.cols()) > kProjectionShare * static_cast<double>(n))
     for (Suggestion& s : out.suggestions) refit_with(model, data, options.fit, s);
 
+  out.origin_misfit = origin_misfit(model, data, base, out, sse0, sigma2);
   const std::vector<Region> bins = residual_bins(data, axes, base.r, rms_projected);
   out.regions = residual_regions(bins, out.noise);
   out.residual = std::move(base.r);

@@ -93,6 +93,41 @@ void check_magnitude(const MeasurementSet& set, std::size_t first, const model::
 
 }  // namespace
 
+namespace {
+
+/// The rows read as program coordinates (work offset zero) become machine positions: the
+/// frame's origin added, or for a machine frame the tool length taken back off Z (the axis
+/// positions themselves). An origin nobody gave is said where a rotary axis turns.
+void place_in_machine(MeasurementSet& set, std::size_t first, const ResolvedFrame& frame,
+                      const model::MachineModel& model, const std::string& name) {
+  set.frames.push_back(frame);
+  for (std::size_t k = first; k < set.observations.size(); ++k) {
+    model::ChainQ& q = set.observations[k].q;
+    if (frame.frame.kind == FrameKind::machine) {
+      q[2] -= q[static_cast<Eigen::Index>(model::kToolLengthIndex)];
+      continue;
+    }
+    for (std::size_t i = 0; i < 9; ++i)
+      q[static_cast<Eigen::Index>(i)] += (i >= 3 && i <= 5) ? frame.origin[i] * kRadPerDeg : frame.origin[i];
+  }
+  if (!frame.unknown) return;
+  for (const model::AxisSpec& a : model.axes) {
+    if (a.type != model::AxisType::rotary) continue;
+    const auto i = static_cast<Eigen::Index>(std::string_view("XYZABCUVW").find(a.letter));
+    for (std::size_t k = first + 1; k < set.observations.size(); ++k)
+      if (set.observations[k].q[i] != set.observations[first].q[i]) {
+        set.notices.push_back(fmt::format(
+            "{}: its rows are program coordinates of {}, whose origin nobody gave (no '# frame:' line with it, "
+            "no --work-offset, no work_offsets in the model): taken at machine zero, and every rotary error's "
+            "lever with it (docs/identification.md, 'Frames')",
+            name, model::coordinate_system_name(frame.frame.system)));
+        return;
+      }
+  }
+}
+
+}  // namespace
+
 void parse_measurements(const std::string& text, const std::string& name, const model::MachineModel& model,
                         const ReadOptions& options, MeasurementSet& into) {
   const auto file_index = static_cast<std::uint32_t>(into.files.size());
@@ -114,12 +149,18 @@ void parse_measurements(const std::string& text, const std::string& name, const 
            "convert them to LF or CRLF");
     }
   };
-  // The header: the first line that is not blank or a # comment.
+  // The header: the first line that is not blank or a # comment (one of which may state
+  // the file's frame).
   std::vector<std::string> header;
   std::vector<std::uint32_t> column_of_field;  // 1-based text column of each header field
+  std::optional<MeasurementFrame> file_frame;
   while (std::getline(in, line)) {
     ++number;
     check_line_end();
+    if (is_frame_line(line)) {
+      if (file_frame) fail(number, 1, "a second '# frame:' line: a file has one frame");
+      file_frame = parse_frame_line(line, name, number);
+    }
     if (line.find_first_not_of(" \t\r") == std::string::npos || line.front() == '#') continue;
     split(line, header, column_of_field);
     break;
@@ -293,6 +334,7 @@ void parse_measurements(const std::string& text, const std::string& name, const 
     }
   }
   line.clear();
+  place_in_machine(into, first_observation, resolve_frame(file_frame, options.frame, model, name), model, name);
   if (repeated_rows > 3)
     into.notices.push_back(fmt::format("{}: {} rows repeat an earlier row to the last digit", name, repeated_rows));
   if (into.observations.size() == first_observation)
@@ -330,8 +372,14 @@ void summarize(MeasurementSet& set, const model::MachineModel& model) {
   for (const model::AxisSpec& a : model.axes) {
     const std::size_t i = std::string_view("XYZABCUVW").find(a.letter);
     const bool rotary = a.type == model::AxisType::rotary;
-    add(std::string(1, static_cast<char>(std::tolower(a.letter))), rotary ? "deg" : "mm",
-        [&](const Observation& o) { return file_axis_value(o, i, rotary); });
+    // As the files write it: in each file's own frame.
+    add(std::string(1, static_cast<char>(std::tolower(a.letter))), rotary ? "deg" : "mm", [&](const Observation& o) {
+      if (o.file >= set.frames.size()) return file_axis_value(o, i, rotary);
+      const ResolvedFrame& f = set.frames[o.file];
+      const bool machine_z = f.frame.kind == FrameKind::machine && i == 2;  // the axis itself, tool not taken off
+      return file_axis_value(o, i, rotary) - f.origin[i] +
+             (machine_z ? o.q[static_cast<Eigen::Index>(model::kToolLengthIndex)] : 0.0);
+    });
   }
   add("L", "mm", [](const Observation& o) { return o.q[static_cast<Eigen::Index>(model::kToolLengthIndex)]; });
   add("t", "s", [](const Observation& o) { return o.time; });
@@ -346,8 +394,8 @@ double predict(const model::ForwardModel& model, model::ForwardData& data, const
   return o.direction.dot(model::deviation(data));
 }
 
-std::string to_csv(const MeasurementSet& set, const model::MachineModel& model) {
-  std::string out = "x,y,z";
+std::string to_csv(const MeasurementSet& set, const model::MachineModel& model, const ResolvedFrame& frame) {
+  std::string out = frame_line(frame) + "\nx,y,z";
   std::vector<std::size_t> rotary;
   for (const model::AxisSpec& a : model.axes)
     if (a.type == model::AxisType::rotary) {
@@ -361,8 +409,11 @@ std::string to_csv(const MeasurementSet& set, const model::MachineModel& model) 
   out += ",nx,ny,nz,d,source\n";
   for (const Observation& o : set.observations) {
     const double tool = o.q[static_cast<Eigen::Index>(model::kToolLengthIndex)];
-    out += fmt::format("{:.6f},{:.6f},{:.6f}", o.q[0], o.q[1], o.q[2] - tool);
-    for (std::size_t i : rotary) out += fmt::format(",{:.6f}", o.q[static_cast<Eigen::Index>(i)] / kRadPerDeg);
+    const bool machine = frame.frame.kind == FrameKind::machine;
+    out += fmt::format("{:.6f},{:.6f},{:.6f}", o.q[0] - frame.origin[0], o.q[1] - frame.origin[1],
+                       o.q[2] - frame.origin[2] - (machine ? 0.0 : tool));
+    for (std::size_t i : rotary)
+      out += fmt::format(",{:.6f}", o.q[static_cast<Eigen::Index>(i)] / kRadPerDeg - frame.origin[i]);
     out += fmt::format(",{:.3f},{:.3f}", tool, o.time);
     for (double T : o.temperatures) out += std::isnan(T) ? std::string(",") : fmt::format(",{:.4f}", T);
     for (std::size_t i = 0; i < 3; ++i) out += fmt::format(",{:g}", o.directions[i]);

@@ -243,7 +243,7 @@ TEST(Cli, PredictAndVerifyProveTheSample) {
       run_command(shell_quote(ccomp_binary()) + " verify " + program + " " + dir + "/out.ngc -m " + model + tools);
   ASSERT_EQ(verified.exit_code, 0) << verified.err;
   auto max_um = [](const std::string& text) { return std::stod(text.substr(text.find(" max ") + 5)); };
-  EXPECT_GT(max_um(predicted.out), 10.0) << predicted.out;
+  EXPECT_GT(max_um(predicted.out), 5.0) << predicted.out;  // 9.6 um with program zero on the B centre
   EXPECT_LT(max_um(verified.out), 1.0 + 0.1) << verified.out;
 
   // A script reads the verdict from the exit code: more than the tolerance is refused...
@@ -268,7 +268,7 @@ TEST(Cli, PredictAndVerifyProveTheSample) {
       << barely.err;
   EXPECT_EQ(fmt::format("{:.2f}", left_um), fmt::format("{:.2f}", tolerance_um)) << "the case is one of rounding";
   EXPECT_NE(said[1].str(), said[2].str()) << barely.err;
-  EXPECT_NEAR(std::stod(said[1]), left_um, 1e-4) << barely.err;
+  EXPECT_NEAR(std::stod(said[1]), left_um, 5e-4 + 1e-12) << barely.err;  // to its last printed digit
   // A model without a chain (the zero model) would put every point at the origin: refused.
   for (const char* command : {" predict ", " verify "}) {
     const std::string second = std::string(command) == " verify " ? program + " " : "";
@@ -301,7 +301,7 @@ TEST(Cli, DecimalsAsToldAndRefusedWhenTooCoarseForTheTolerance) {
   const CommandResult three = run_command(base + "/three.ngc --decimals 3");
   ASSERT_EQ(three.exit_code, 0) << three.err;
   EXPECT_NE(three.err.find("warning: coordinates written to 3 decimals in mm"), std::string::npos) << three.err;
-  EXPECT_NE(read_file(dir + "/three.ngc").find("G0 X-30.002 Y-19.998 Z5.002"), std::string::npos)
+  EXPECT_TRUE(std::regex_search(read_file(dir + "/three.ngc"), std::regex(R"(\nG0 X-30\.\d{3} Y-19\.\d{3} Z5\.\d{3} )")))
       << read_file(dir + "/three.ngc");
   const CommandResult two = run_command(base + "/two.ngc --decimals 2");
   EXPECT_EQ(two.exit_code, 2);
@@ -356,7 +356,7 @@ TEST(Cli, VerifyMeetsTheToleranceInTheHeaderAndWarnsOfAnotherModel) {
                         " --tolerance 0.005 -q -o " + dir + "/out.ngc")
                 .exit_code,
             0);
-  EXPECT_NE(read_file(dir + "/out.ngc").find(" at 5 um)\n"), std::string::npos);
+  EXPECT_NE(read_file(dir + "/out.ngc").find(" at 5 um; "), std::string::npos);
   const std::string verify = ccomp + " verify " + program + " " + dir + "/out.ngc" + tools + " -m " + machines;
   // Compensated to 5 um, it is held to 5 um unless told otherwise.
   const CommandResult as_made = run_command(verify + "vmc-xyz.yaml");
@@ -386,8 +386,44 @@ TEST(Cli, ToleranceThatIsNotMillimetresSaysSo) {
   }
   // A number of mm passes the check (and reaches the run: its header names it in um).
   EXPECT_EQ(run_command(compensate + "0.002").exit_code, 0);
-  EXPECT_NE(read_file(dir + "/out.ngc").find(" at 2 um)"), std::string::npos) << read_file(dir + "/out.ngc");
+  EXPECT_NE(read_file(dir + "/out.ngc").find(" at 2 um; "), std::string::npos) << read_file(dir + "/out.ngc");
   EXPECT_EQ(run_command(verify + "0.002").exit_code, 0);
+}
+
+}  // namespace
+}  // namespace ccomp::test
+
+namespace ccomp::test {
+namespace {
+
+// A shop's G54 given on the command line: the output's header records it, verify and
+// predict measure the program where it ran without being told again, and told another
+// origin they measure another machine's cut.
+TEST(Cli, TheWorkOffsetTravelsWithTheOutput) {
+  const std::string dir = temp_dir("cli_work_offset");
+  const std::string model = " -m " + source_dir() + "/samples/machines/hmc-xyzb-geometric.yaml";
+  const std::string tools = " --tool-table " + source_dir() + "/samples/tools.tbl";
+  const std::string program = source_dir() + "/samples/programs/face-b0-b90.ngc";
+  const std::string ccomp = shell_quote(ccomp_binary());
+  const std::string shop = " --work-offset G54=X-35,Y20,Z-330";
+  const CommandResult made = run_command(ccomp + " " + program + model + tools + shop + " -q -o " + dir + "/out.ngc");
+  ASSERT_EQ(made.exit_code, 0) << made.err;
+  EXPECT_NE(read_file(dir + "/out.ngc").find("; work offsets G54 X-35 Y20 Z-330)"), std::string::npos);
+  auto max_um = [](const std::string& json) { return std::stod(json.substr(json.find("\"max_um\": ") + 10)); };
+  const std::string verify = ccomp + " verify " + program + " " + dir + "/out.ngc" + model + tools + " --json";
+  const CommandResult as_made = run_command(verify);
+  EXPECT_EQ(as_made.exit_code, 0) << as_made.err;
+  EXPECT_LT(max_um(as_made.out), 1.0 + 0.1);
+  const CommandResult told_again = run_command(verify + shop);
+  EXPECT_EQ(max_um(told_again.out), max_um(as_made.out)) << "the header's G54 is the option's";
+  const CommandResult elsewhere = run_command(verify + " --work-offset G54=X0,Y0,Z-400");
+  EXPECT_NE(max_um(elsewhere.out), max_um(as_made.out)) << "another origin is another cut";
+  const std::string predict = ccomp + " predict " + program + model + tools + " --json";
+  EXPECT_NE(max_um(run_command(predict + shop).out), max_um(run_command(predict).out))
+      << "predict measures the program where it runs";
+  const CommandResult bad = run_command(ccomp + " " + program + model + tools + " --work-offset G54=X1,X2 -o -");
+  EXPECT_EQ(bad.exit_code, 2) << bad.err;
+  EXPECT_NE(bad.err.find("axis X is given twice"), std::string::npos) << bad.err;
 }
 
 }  // namespace

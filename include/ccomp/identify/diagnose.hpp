@@ -8,6 +8,7 @@
 // the fall in the residual, the Bayesian information criterion and its significance
 // against the noise floor, and ranked; only the significant are suggested.
 #include <functional>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -59,6 +60,15 @@ struct Tie {
   std::string measurement;            ///< in words: what to measure to separate them, and why
 };
 
+/// The readings fit the model better with their program zero moved: read with the wrong
+/// work offset (a file's `# frame:` line, --work-offset, the model's work_offsets).
+struct OriginMisfit {
+  Eigen::Vector3d shift = Eigen::Vector3d::Zero();  ///< mm: where program zero seems to be, less where it was taken
+  double rms_before = 0.0, rms_after = 0.0;         ///< mm: the refit without, and with, the shift
+  double bic_delta = 0.0;
+  double significance = 0.0;  ///< fall in chi-square against the noise floor, less the shift's 3 parameters
+};
+
 struct DiagnoseOptions {
   double noise = 0.0;  ///< mm: the noise floor (check's estimate); 0 estimates it
   int max_suggestions = 5;
@@ -78,6 +88,9 @@ struct Diagnosis {
   Eigen::VectorXd residual;             ///< mm, per reading: the refitted model's (what the suggestions start from)
   std::vector<Suggestion> suggestions;  ///< best first, significant only
   std::vector<Region> regions;
+  /// Set where moving the readings' program zero explains the residual, significantly and
+  /// by more than kSmallestOriginShift (diagnose.cpp): said before any missing effect.
+  std::optional<OriginMisfit> origin_misfit;
   /// The first suggestion and those the data cannot tell from it (next_measurement.hpp).
   std::vector<Tie> ties;
   std::size_t candidates_tried = 0;

@@ -5,9 +5,11 @@
 #include <Eigen/Core>
 #include <array>
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <vector>
 
+#include "ccomp/identify/measurement_frame.hpp"
 #include "ccomp/model/forward.hpp"
 
 namespace ccomp::identify {
@@ -34,6 +36,9 @@ struct VariableRange {
 
 struct MeasurementSet {
   std::vector<std::string> files;
+  /// Each file's frame, as read (parallel to `files`): its observations' q are machine
+  /// positions, the frame's origin added.
+  std::vector<ResolvedFrame> frames;
   /// Every sensor the files read (their T_<name> columns): the model's first, in its order,
   /// then the others as they appear. A missing effect may depend on one the model lacks.
   std::vector<std::string> sensors;
@@ -55,6 +60,9 @@ struct MeasurementSet {
 struct ReadOptions {
   /// Tool length (mm) for rows without an L column.
   double tool_length = 0.0;
+  /// The frame the user says the files are in (--frame, --work-offset); a file's own
+  /// `# frame:` line is taken first (measurement_frame.hpp).
+  std::optional<MeasurementFrame> frame;
 };
 
 /// Reads a measurement file and appends its rows. Throws ccomp::Error (data) naming the
@@ -76,7 +84,9 @@ void summarize(MeasurementSet& set, const model::MachineModel& model);
 /// What a model predicts for an observation: n . deviation (mm).
 [[nodiscard]] double predict(const model::ForwardModel& model, model::ForwardData& data, const Observation& o);
 
-/// Writes observations in the CSV contract (one row per observation, n and d).
-[[nodiscard]] std::string to_csv(const MeasurementSet& set, const model::MachineModel& model);
+/// Writes observations in the CSV contract (one row per observation, n and d), in `frame`
+/// (its `# frame:` line first): program coordinates relative to its origin, or machine ones.
+[[nodiscard]] std::string to_csv(const MeasurementSet& set, const model::MachineModel& model,
+                                 const ResolvedFrame& frame);
 
 }  // namespace ccomp::identify
