@@ -44,7 +44,8 @@ case "$target" in
     seed samples/machines samples/measurements samples/test-piece -name '*.yaml' ;;
   measurements)
     max_len=4096
-    seed samples/measurements samples/test-piece -name '*.csv' ;;
+    # fuzz/seeds/measurements: short strokes, single runs, few targets, one direction, one row.
+    seed samples/measurements samples/test-piece fuzz/seeds/measurements -name '*.csv' ;;
   tool_table)
     max_len=1024
     seed samples tests/data -name '*.tbl' ;;

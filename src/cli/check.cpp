@@ -114,6 +114,10 @@ int run_predict(const CheckArgs& args) {
   ProgressBar bar(program.name(), !args.json && stderr_is_terminal());
   compensate::CheckOptions o = check_options(args, m, m.work_offsets);
   o.progress = [&bar](double done) { bar.update(done); };
+  o.warning = [&bar, &program](const std::string& message, std::uint32_t line) {
+    bar.clear();
+    fmt::print(stderr, "{}:{}: warning: {}\n", program.name(), line, message);
+  };
   const compensate::PathError e = compensate::predict(program, forward, o);
   bar.clear();
   if (args.json)

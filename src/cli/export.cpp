@@ -11,6 +11,7 @@
 #include "ccomp/error.hpp"
 #include "ccomp/model/conditions.hpp"
 #include "ccomp/model/model_file.hpp"
+#include "ccomp/model/term_span.hpp"
 #include "ccomp/util/json.hpp"
 #include "ccomp/version.hpp"
 #include "commands.hpp"
@@ -137,6 +138,12 @@ Uncarried uncarried_terms(const model::MachineModel& m, bool cross) {
   return u;
 }
 
+void warn_beyond_spans(const model::MachineModel& m, const model::ChainQ& low, const model::ChainQ& high,
+                       const model::Conditions& conditions) {
+  model::SpanWatch spans(m);
+  for (const std::string& message : spans.beyond(low, high, conditions)) fmt::print(stderr, "warning: {}\n", message);
+}
+
 std::string joined(const std::vector<std::string>& names) {
   std::string out;
   for (const std::string& n : names) out += (out.empty() ? "" : " ") + n;
@@ -205,6 +212,13 @@ int run_export(const ExportArgs& args) {
   const model::ForwardModel forward(m);
   const controller::TableOptions o = table_options(m, args, axis, control);
   const controller::WriteOptions w = write_options(args, m, o);
+  {
+    model::ChainQ low = o.line, high = o.line;
+    const auto a = static_cast<Eigen::Index>(kChainAxisLetters.find(axis));
+    const double scale = m.axis(axis)->type == model::AxisType::rotary ? M_PI / 180.0 : 1.0;
+    low[a] = o.from * scale, high[a] = o.to * scale;
+    warn_beyond_spans(m, low, high, o.conditions);
+  }
   const controller::AxisTable table = controller::sample_axis_table(forward, o);
   const std::string text = controller::write_table(control, table, w);
   const controller::AxisTable applied = controller::as_control_applies(control, table, w);

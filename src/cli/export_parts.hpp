@@ -33,6 +33,12 @@ std::string joined(const std::vector<std::string>& names);
 void json_names(util::JsonWriter& j, std::string_view key, const std::vector<std::string>& names);
 void json_residual(util::JsonWriter& j, std::string_view key, const controller::Residual& r);
 
+/// Warns on stderr, once a term, of each term the table uses beyond where it was fitted
+/// (it holds its value at the span's end there: model/term_span.hpp), the axes over
+/// [low, high] (chain values) under `conditions`.
+void warn_beyond_spans(const model::MachineModel& m, const model::ChainQ& low, const model::ChainQ& high,
+                       const model::Conditions& conditions);
+
 /// ccomp export --control isg: the volumetric table.
 int run_volume_export(const ExportArgs& args);
 

@@ -241,6 +241,12 @@ int run_volume_export(const ExportArgs& args) {
   const model::ForwardModel forward(m);
   Partial partial;
   const controller::VolumeOptions o = volume_options(m, args, partial);
+  {
+    model::ChainQ low = o.line, high = o.line;
+    for (std::size_t a = 0; a < 3; ++a)
+      low[static_cast<Eigen::Index>(a)] = o.grids[a].from, high[static_cast<Eigen::Index>(a)] = o.grids[a].to;
+    warn_beyond_spans(m, low, high, o.conditions);
+  }
   const controller::VolumeTable table = controller::sample_volume_table(forward, o);
   const std::string header =
       fmt::format("ccomp {} volumetric export of '{}' (model SHA-256 {})", kVersion, m.name, m.sha256);

@@ -15,6 +15,7 @@
 #include "ccomp/identify/positioning.hpp"
 #include "ccomp/identify/simulate.hpp"
 #include "ccomp/model/model_file.hpp"
+#include "ccomp/model/term_span.hpp"
 #include "ccomp/report/html_report.hpp"
 #include "commands.hpp"
 #include "identify_json.hpp"
@@ -164,9 +165,18 @@ std::string write_fitted(const std::string& text, const model::MachineModel& m, 
       "], observations: {}, free_parameters: {}, identified: {}, significant: {}, rms_before_um: {:.4f}, rms_after_um: "
       "{:.4f}}}",
       data.observations.size(), r.parameters.size(), r.rank, r.significant, r.rms_before * 1e3, r.rms_after * 1e3);
-  std::string fitted = model::rewrite_parameters(text, m, per_term, record);
+  std::string fitted = model::rewrite_parameters(text, m, per_term, record, identify::fitted_spans(m, data));
   write_output(output, fitted);
   return fitted;
+}
+
+/// Where each fitted term holds: its span, beyond which its value at the end is held.
+void print_spans(const model::MachineModel& m, const std::vector<std::optional<model::TermSpan>>& spans) {
+  std::string said;
+  for (std::size_t t = 0; t < m.terms.size(); ++t)
+    if (spans[t]) said += fmt::format(" {} {};", m.terms[t].name, model::span_text(m.terms[t], *spans[t]));
+  if (!said.empty())
+    fmt::print("  fitted over (each term's value is held at the end of its span beyond it):{}\n", said);
 }
 
 /// The page check --report would write for the fitted model: the check against the same data.
@@ -209,7 +219,8 @@ int run_fit(const IdentifyArgs& args) {
     for (const std::string& spec : args.add) (void)model::with_terms(base, {spec}, fmt::format("--add '{}'", spec));
     text = model::add_terms(text, args.add, args.model);
   }
-  const model::MachineModel m = model::parse_machine_model(text, args.model);
+  // The free terms over the whole line while they are fitted: the data say where they hold.
+  const model::MachineModel m = identify::without_free_spans(model::parse_machine_model(text, args.model));
   const model::ForwardModel forward(m);
   const identify::MeasurementSet data = read_all(args, m);
   if (!args.json) print_summary(data);
@@ -248,7 +259,7 @@ int run_fit(const IdentifyArgs& args) {
     fmt::print("  {:<18} {:>12} -> {:>12} +- {:<10} {}\n", p.label, readable(t, k, p.before), readable(t, k, p.after),
                readable(t, k, p.uncertainty), p.identified ? "" : "(not separable: see below)");
   }
-  if (r.singular_values.size() > 0) {
+  if (r.singular_values.size() > 0 && r.singular_values[0] > 0) {
     fmt::print("  singular values (relative to the largest, columns in physical scales):");
     for (Eigen::Index k = 0; k < r.singular_values.size(); ++k)
       fmt::print("{}{:.1e}", k == static_cast<Eigen::Index>(r.rank) ? " | dropped:" : " ",
@@ -270,6 +281,7 @@ int run_fit(const IdentifyArgs& args) {
     throw Error(ErrorKind::data, fmt::format("the fit is not written to {}: {}", args.output, why));
   }
   const std::string fitted_text = write_fitted(text, m, forward, data, r, args.output);
+  print_spans(m, identify::fitted_spans(m, data));
   fmt::print("wrote {}\n", args.output);
   if (!args.report.empty()) {
     write_fit_report(args, fitted_text, data, options);
@@ -289,7 +301,11 @@ int run_check(const IdentifyArgs& args) {
   if (args.robust) options.fit.loss = identify::Loss::huber;
   ProgressBar bar("check", !args.json && stderr_is_terminal());
   options.progress = [&bar](double done) { bar.update(done); };
-  const identify::Diagnosis d = identify::diagnose(forward, data, options);
+  // The model as it is holds its terms beyond their spans; its refit, as `fit` does, lets
+  // the free terms follow these data wherever they reach.
+  const model::MachineModel refitted = identify::without_free_spans(m);
+  const model::ForwardModel refit_forward(refitted);
+  const identify::Diagnosis d = identify::diagnose(refit_forward, data, options);
   bar.clear();
   if (!args.report.empty()) {
     write_output(args.report, report::html_check_report({m, data, r, d, "check", {}}));
@@ -310,6 +326,8 @@ int run_check(const IdentifyArgs& args) {
     return 0;
   }
   fmt::print("refitted as it is (its free parameters): rms {:.3f} um\n", d.rms_refit * 1e3);
+  if (const std::string nothing = identify::nothing_identifiable(d.refit); !nothing.empty())
+    fmt::print("  {}\n", nothing);
   if (d.origin_misfit) {
     const identify::OriginMisfit& o = *d.origin_misfit;
     fmt::print(

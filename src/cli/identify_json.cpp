@@ -158,8 +158,10 @@ std::string check_json(const model::MachineModel& m, const identify::CheckReport
     j.field("measurement", t.measurement).end_object();
   }
   j.end_array();
-  for (const auto& [key, text] :
-       {std::pair<const char*, const std::string&>{"unexplained", d.unexplained}, {"skipped", d.skipped}}) {
+  const std::string nothing = identify::nothing_identifiable(d.refit);
+  for (const auto& [key, text] : {std::pair<const char*, const std::string&>{"unexplained", d.unexplained},
+                                  {"skipped", d.skipped},
+                                  {"nothing_identifiable", nothing}}) {
     if (text.empty())
       j.key(key).null();
     else

@@ -63,7 +63,7 @@ struct CompensationStages {
 
 JobSink::JobSink(gcode::ProgramWriter& writer, const model::MachineModel& model, const JobOptions& options,
                  const gcode::LineSource& input, JobReport& report)
-    : writer_(writer), model_(model), options_(options), input_(input), report_(report) {
+    : writer_(writer), model_(model), options_(options), input_(input), report_(report), spans_(model) {
   for (const model::AxisSpec& a : model.axes) {
     machine_axes_ |= 1U << (a.letter - 'A');
     has_limits_ = has_limits_ || std::isfinite(a.min) || std::isfinite(a.max);
@@ -71,6 +71,7 @@ JobSink::JobSink(gcode::ProgramWriter& writer, const model::MachineModel& model,
   if (!model.terms.empty())
     stages_ = std::make_unique<CompensationStages>(model, options, compensation_options(model, options), writer, report,
                                                    input.name(), [this](MoveTask& t) { write_move(t); });
+  if (!spans_.empty()) span_conditions_ = compensation_options(model, options).conditions;
 }
 
 JobSink::~JobSink() = default;
@@ -162,7 +163,18 @@ void JobSink::motion(const gcode::Motion& m) {
   nominal_end_ = m.end;
   last_units_ = m.units;
   if (has_limits_) check_limits(m, model_, input_.name(), block_ ? block_->text : std::string_view());
+  if (!spans_.empty()) warn_beyond_spans(m);
   if (stages_) compensate(m);
+}
+
+/// A term used beyond where it was fitted holds its value there (forward.hpp): said once a
+/// term, at the first line that takes it there.
+void JobSink::warn_beyond_spans(const gcode::Motion& m) {
+  gcode::Axes low, high;
+  motion_extent(m, low, high);
+  const model::ChainQ a = chain_of(low, *m.offsets), b = chain_of(high, *m.offsets);
+  for (const std::string& message : spans_.beyond(a.cwiseMin(b), a.cwiseMax(b), span_conditions_))
+    warning(message, m.line);
 }
 
 void JobSink::warning(const std::string& message, std::uint32_t line) {

@@ -14,6 +14,7 @@
 #include "ccomp/gcode/source.hpp"
 #include "ccomp/gcode/writer.hpp"
 #include "ccomp/model/forward.hpp"
+#include "ccomp/model/term_span.hpp"
 #include "move_task.hpp"
 
 namespace ccomp::compensate {
@@ -45,6 +46,7 @@ class JobSink : public gcode::CanonSink {
   void report_progress(const gcode::SourceLine& line);
   void keep_offsets(const gcode::Block& block);
   void compensate(const gcode::Motion& m);
+  void warn_beyond_spans(const gcode::Motion& m);
   void follow_machine_move(const gcode::Motion& m);
   void queue_move(const gcode::Motion& m);
   void queue_task(const gcode::Motion& m, const ChordRange& chords);
@@ -71,6 +73,8 @@ class JobSink : public gcode::CanonSink {
   gcode::Axes nominal_end_{};                     ///< where the original's last motion ended
   gcode::Units last_units_ = gcode::Units::mm;    ///< the units of the original's last motion
   std::unique_ptr<CompensationStages> stages_;    ///< none when the model has no terms
+  model::SpanWatch spans_;                        ///< terms used beyond where they were fitted, said once
+  model::Conditions span_conditions_;             ///< the job's temperatures and time, for the spans
 };
 
 }  // namespace ccomp::compensate

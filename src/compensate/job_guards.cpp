@@ -38,10 +38,15 @@ void widen_by_arc_extremes(const gcode::Motion& m, gcode::Axes& low, gcode::Axes
 
 }  // namespace
 
+void motion_extent(const gcode::Motion& m, gcode::Axes& low, gcode::Axes& high) {
+  low = high = m.end;
+  if (m.kind == gcode::MotionKind::arc) widen_by_arc_extremes(m, low, high);
+}
+
 void check_limits(const gcode::Motion& m, const model::MachineModel& model, std::string_view file,
                   std::string_view text) {
-  gcode::Axes low = m.end, high = m.end;
-  if (m.kind == gcode::MotionKind::arc) widen_by_arc_extremes(m, low, high);
+  gcode::Axes low, high;
+  motion_extent(m, low, high);
   for (const model::AxisSpec& a : model.axes) {
     const auto i = *gcode::axis_index(a.letter);
     const double tool = m.offsets ? m.offsets->tool[i] : 0.0;

@@ -14,6 +14,10 @@
 
 namespace ccomp::compensate {
 
+/// The controlled point's extent over a motion (program axes, mm and deg): its end, and for
+/// an arc the extremes it passes through (its start is the last motion's end).
+void motion_extent(const gcode::Motion& m, gcode::Axes& low, gcode::Axes& high);
+
 /// Throws Error(safety) at the motion's line when the machine axes (controlled point plus
 /// tool offset) leave the model's limits: at the move's end, and for arcs at the extremes
 /// they pass through.

@@ -12,6 +12,7 @@
 
 #include "ccomp/compensate/machine_coordinates.hpp"
 #include "ccomp/constants.hpp"
+#include "ccomp/model/term_span.hpp"
 #include "ccomp/util/handoff.hpp"
 #include "ccomp/util/parallel.hpp"
 #include "executed_tip.hpp"
@@ -255,10 +256,27 @@ void produce_motions(gcode::LineSource& program, const model::MachineModel& mach
 
 }  // namespace
 
+namespace {
+
+/// predict's word on a term used beyond where it was fitted (held there), once a term: the
+/// points a move is looked at in, an arc's included.
+void warn_beyond_spans(const MotionPath& path, int steps, const model::Conditions& conditions, std::uint32_t line,
+                       model::SpanWatch& spans, const CheckOptions& options) {
+  model::ChainQ low = path.start().cwiseMin(path.end()), high = path.start().cwiseMax(path.end());
+  for (int k = 1; k < steps; ++k) {
+    const model::ChainQ q = path.at(static_cast<double>(k) / steps);
+    low = low.cwiseMin(q), high = high.cwiseMax(q);
+  }
+  for (const std::string& message : spans.beyond(low, high, conditions)) options.warning(message, line);
+}
+
+}  // namespace
+
 PathError predict(gcode::LineSource& program, const model::ForwardModel& model, const CheckOptions& options) {
   PathError e;
   Evaluator ev{model, model::ForwardData(model), options.conditions};
   ExecutedTip tip(model, options.conditions);
+  model::SpanWatch spans(model.machine());
   double sum2 = 0.0;
   util::BackgroundProducer<ReadMotion> reader(
       4, [&program, &model, &options](util::Handoff<ReadMotion>& out) { produce_motions(program, model.machine(), options, out); });
@@ -274,6 +292,7 @@ PathError predict(gcode::LineSource& program, const model::ForwardModel& model, 
       if (m.kind == gcode::MotionKind::traverse || m.kind == gcode::MotionKind::probe) continue;
       ++e.moves;
       const int steps = path.steps(model, options.samples);
+      if (!spans.empty() && options.warning) warn_beyond_spans(path, steps, ev.conditions, m.line, spans, options);
       if (m.kind == gcode::MotionKind::feed)
         tip.start_move(path.start(), path.end(), ev.conditions, true);
       else

@@ -8,6 +8,7 @@
 
 #include "ccomp/error.hpp"
 #include "ccomp/kinematics/pose.hpp"
+#include "correction_bound.hpp"
 #include "tip_miss.hpp"
 
 namespace ccomp::controller {
@@ -103,11 +104,22 @@ AxisTable sample_axis_table(const model::ForwardModel& model, const TableOptions
         t -= step;
         if (std::abs(step) < 1e-12) break;
       }
+      // Newton runs away where the error is far beyond any machine's: then what it would
+      // have to correct is said, the model's error at the point.
+      const std::array<double, 9> travel = travelling({table.axis_index}, direction);
+      const double said = std::isfinite(t) || table.rotary ? t : -miss(target, target, travel)[a] / own_sense;
+      check_correction(machine, std::isfinite(said) ? said : t, table.rotary, fmt::format("the correction of {}", options.axis),
+                       fmt::format("{} {:g} {} travelling {}", options.axis, p, table.rotary ? "deg" : "mm",
+                                   direction > 0 ? "up" : "down"));
       (direction > 0 ? table.forward : table.reverse).push_back(t / scale);
       miss_mean += 0.5 * m;
     }
-    for (std::size_t k = 0; k < table.cross.size(); ++k)
-      table.cross[k].correction.push_back(-miss_mean[static_cast<Eigen::Index>(table.cross[k].axis_index)] / sense[k]);
+    for (std::size_t k = 0; k < table.cross.size(); ++k) {
+      const double c = -miss_mean[static_cast<Eigen::Index>(table.cross[k].axis_index)] / sense[k];
+      check_correction(machine, c, false, fmt::format("the correction of {}", table.cross[k].axis),
+                       fmt::format("{} {:g} mm", options.axis, p));
+      table.cross[k].correction.push_back(c);
+    }
   }
   // Nothing at the reference position: there the work offset takes the machine's error.
   table.reference = options.reference;

@@ -7,6 +7,7 @@
 #include <cmath>
 
 #include "ccomp/error.hpp"
+#include "correction_bound.hpp"
 
 namespace ccomp::controller {
 namespace {
@@ -36,6 +37,19 @@ void check_fits(Control control, const AxisTable& t) {
 // line, ascending; reading stops at the first line that is not three numbers, so the file
 // carries no comment. Type 0: a, b are where the joint really is travelling up and down
 // (LinuxCNC adds nominal - a); type 1: a, b are the trims it adds.
+/// No value that is not a number reaches a table (a NaN prints as -nan, and Fanuc's
+/// rounding makes it P0).
+void check_finite(Control control, const AxisTable& t) {
+  const std::string_view name = control_name(control);
+  for (std::size_t k = 0; k < t.positions.size(); ++k) {
+    const std::string where = fmt::format("{} {:g}", t.axis, t.positions[k]);
+    check_written(t.positions[k], name, where);
+    check_written(t.forward[k], name, where);
+    check_written(t.reverse[k], name, where);
+    for (const AxisTable::Cross& c : t.cross) check_written(c.correction[k], name, where);
+  }
+}
+
 std::string write_linuxcnc(const AxisTable& t, const WriteOptions& o) {
   std::string text;
   for (std::size_t k = 0; k < points_of(t); ++k) {
@@ -224,6 +238,7 @@ ControlLimits control_limits(Control control) {
 
 std::string write_table(Control control, const AxisTable& table, const WriteOptions& options) {
   check_fits(control, table);
+  check_finite(control, table);
   switch (control) {
     case Control::linuxcnc:
       return write_linuxcnc(table, options);

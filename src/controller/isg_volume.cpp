@@ -4,6 +4,8 @@
 
 #include <cmath>
 
+#include "correction_bound.hpp"
+
 namespace ccomp::controller {
 namespace {
 
@@ -54,6 +56,10 @@ IsgVolumeFiles write_isg_volume(const VolumeTable& table, const std::string& csv
     for (std::size_t j = 0; j < table.positions[1].size(); ++j)
       for (std::size_t i = 0; i < table.positions[0].size(); ++i) {
         const Eigen::Vector3d& c = table.correction[table.index(i, j, k)];
+        for (Eigen::Index a = 0; a < 3 && !c.allFinite(); ++a)
+          check_written(c[a], "isg",
+                        fmt::format("X {} Y {} Z {}", position(table.positions[0][i]), position(table.positions[1][j]),
+                                    position(table.positions[2][k])));
         csv += fmt::format("{} {} {} {:.{}f} {:.{}f} {:.{}f}\n", position(table.positions[0][i]),
                            position(table.positions[1][j]), position(table.positions[2][k]), to_written(-c[0]),
                            kDecimals, to_written(-c[1]), kDecimals, to_written(-c[2]), kDecimals);

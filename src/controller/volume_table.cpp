@@ -6,6 +6,7 @@
 #include <cmath>
 
 #include "ccomp/error.hpp"
+#include "correction_bound.hpp"
 #include "tip_miss.hpp"
 
 namespace ccomp::controller {
@@ -61,10 +62,19 @@ Eigen::Vector3d senses(const model::MachineModel& machine, const model::ChainQ& 
   return sense;
 }
 
+/// Refuses a node's correction beyond the model's max_correction or not finite, as the
+/// main job refuses it.
+void check_node(const model::MachineModel& machine, const Eigen::Vector3d& t, const model::ChainQ& target) {
+  for (Eigen::Index a = 0; a < 3; ++a)
+    check_correction(machine, t[a], false, fmt::format("the correction of {}", "XYZ"[a]),
+                     fmt::format("X {:g} Y {:g} Z {:g}", target[0], target[1], target[2]));
+}
+
 /// The correction at `target`, Newton from `t` (the last node's: neighbours correct alike)
-/// with the nominal slope (the error's own is ~1e-4: four digits a step).
-Eigen::Vector3d solve_node(TipMiss& miss, const model::ChainQ& target, const Eigen::Vector3d& sense,
-                           Eigen::Vector3d t) {
+/// with the nominal slope (the error's own is ~1e-4: four digits a step). One beyond the
+/// model's bound is refused as such, converged or not.
+Eigen::Vector3d solve_node(const model::MachineModel& machine, TipMiss& miss, const model::ChainQ& target,
+                           const Eigen::Vector3d& sense, Eigen::Vector3d t) {
   for (int iteration = 0; iteration < 12; ++iteration) {
     model::ChainQ commanded = target;
     commanded.head<3>() += t;
@@ -72,8 +82,17 @@ Eigen::Vector3d solve_node(TipMiss& miss, const model::ChainQ& target, const Eig
         0.5 * (miss(commanded, target, travelling({0, 1, 2}, +1)) + miss(commanded, target, travelling({0, 1, 2}, -1)));
     const Eigen::Vector3d step = m.cwiseQuotient(sense);
     t -= step;
-    if (step.cwiseAbs().maxCoeff() < 1e-12 && t.allFinite()) return t;
+    if (step.cwiseAbs().maxCoeff() < 1e-12 && t.allFinite()) {
+      check_node(machine, t, target);
+      return t;
+    }
   }
+  // Newton runs away where the error is far beyond any machine's: then what it would have to
+  // correct is said, the model's error at the node.
+  const Eigen::Vector3d said = -0.5 * (miss(target, target, travelling({0, 1, 2}, +1)) +
+                                       miss(target, target, travelling({0, 1, 2}, -1)))
+                                          .cwiseQuotient(sense);
+  check_node(machine, said.allFinite() && !t.allFinite() ? said : t, target);
   throw Error(ErrorKind::model, fmt::format("the correction at X {:g} Y {:g} Z {:g} does not converge: the model's "
                                             "error there changes as fast as the axes move",
                                             target[0], target[1], target[2]));
@@ -134,7 +153,7 @@ VolumeTable sample_volume_table(const model::ForwardModel& model, const VolumeOp
       for (std::size_t i = 0; i < table.positions[0].size(); ++i) {
         model::ChainQ target = options.line;
         target.head<3>() << table.positions[0][i], table.positions[1][j], table.positions[2][k];
-        t = solve_node(miss, target, sense, t);
+        t = solve_node(machine, miss, target, sense, t);
         table.correction[table.index(i, j, k)] = t;
       }
   const Eigen::Vector3d at_reference = table.correction_at(options.reference);

@@ -5,6 +5,8 @@
 #include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <cmath>
+#include <limits>
+#include <optional>
 #include <string_view>
 
 #include "ccomp/error.hpp"
@@ -241,6 +243,63 @@ Eigen::VectorXd residuals(const model::ForwardModel& model, const Eigen::VectorX
   return r;
 }
 
+model::MachineModel without_free_spans(model::MachineModel machine) {
+  for (model::ErrorTermSpec& t : machine.terms)
+    if (t.free) t.span.reset();
+  return machine;
+}
+
+namespace {
+
+/// Whether a fitted term of this form is held beyond where it was fitted (see fitted_spans()).
+bool grows_beyond_its_data(TermForm form) {
+  return form == TermForm::polynomial || form == TermForm::cross_axis || form == TermForm::thermal_linear ||
+         form == TermForm::scale_expansion;
+}
+
+/// A reading's value of a term variable (mm, rad, degC, s); none for an approach.
+std::optional<double> variable_of(const model::Variable& v, const Observation& o) {
+  switch (v.kind) {
+    case model::VariableKind::axis:
+      return o.q[static_cast<Eigen::Index>(v.index)];
+    case model::VariableKind::tool_length:
+      return o.q[static_cast<Eigen::Index>(model::kToolLengthIndex)];
+    case model::VariableKind::temperature:
+      return v.index < o.temperatures.size() ? o.temperatures[v.index] : 20.0;
+    case model::VariableKind::time:
+      return o.time;
+    case model::VariableKind::direction:
+    case model::VariableKind::none:
+      return std::nullopt;
+  }
+  return std::nullopt;
+}
+
+}  // namespace
+
+std::vector<std::optional<model::TermSpan>> fitted_spans(const model::MachineModel& machine,
+                                                         const MeasurementSet& data) {
+  std::vector<std::optional<model::TermSpan>> spans(machine.terms.size());
+  for (std::size_t t = 0; t < machine.terms.size(); ++t) {
+    const model::ErrorTermSpec& term = machine.terms[t];
+    if (!term.free || !grows_beyond_its_data(term.shape.form)) continue;
+    double low = std::numeric_limits<double>::infinity(), high = -low;
+    for (const Observation& o : data.observations)
+      if (const std::optional<double> v = variable_of(term.primary, o)) low = std::min(low, *v), high = std::max(high, *v);
+    if (low < high) spans[t] = model::TermSpan{low, high};
+  }
+  return spans;
+}
+
+std::string nothing_identifiable(const FitReport& report) {
+  if (report.parameters.empty() || report.rank > 0) return {};
+  return fmt::format(
+      "nothing identifiable above the noise floor: none of the {} free parameters moves the predictions by more than "
+      "3 noise sigmas ({:.3f} um) over these {} readings; measure a longer stroke, more targets, more runs or both "
+      "directions",
+      report.parameters.size(), kSignificant * report.noise * 1e3, report.observations);
+}
+
 FitReport fit(const model::ForwardModel& model, const MeasurementSet& data, const FitOptions& options,
               Linearization* at_fit) {
   const model::MachineModel& mm = model.machine();
@@ -375,6 +434,12 @@ FitReport fit(const model::ForwardModel& model, const MeasurementSet& data, cons
         }
       subspace.resize(m, static_cast<Eigen::Index>(kept.size()));
       for (std::size_t c = 0; c < kept.size(); ++c) subspace.col(static_cast<Eigen::Index>(c)) = V.col(kept[c]);
+    }
+    // No direction above the noise floor (a short stroke, few targets, one run): nothing
+    // to step along, and nothing to decompose (Eigen's solver of an empty matrix faults).
+    if (subspace.cols() == 0) {
+      report.converged = true;
+      break;
     }
     // Levenberg-Marquardt within the identified subspace: where the cost does not fall,
     // the weak directions are damped first (lambda), not the whole step (a period far
@@ -586,6 +651,7 @@ FitReport fit(const model::ForwardModel& model, const MeasurementSet& data, cons
           fmt::format("the fitted model predicts {:.4g} mm at row {}, beyond the model's max_correction of {:.4g} mm",
                       largest, row, mm.max_correction));
   }
+  if (std::string nothing = nothing_identifiable(report); !nothing.empty()) report.refusals.push_back(std::move(nothing));
   // In words: parameters the data do not see at all, then the combinations they cannot
   // separate or that the data do not support above the noise.
   std::string unseen;

@@ -85,6 +85,28 @@ void against_datum_faces(const model::ForwardModel& truth, MeasurementSet& set, 
   for (std::size_t i = 0; i < n; ++i) set.observations[first + i].value -= explained[static_cast<Eigen::Index>(i)];
 }
 
+/// A reading that is not a number (a term of 1e308, a polynomial far beyond where it means
+/// anything) or beyond the model's max_correction is refused as the main job refuses such an
+/// error (exit 7): no NaN row, and no row `fit` would refuse as a file in the wrong unit.
+void refuse_beyond_bound(const model::MachineModel& m, const MeasurementSet& set) {
+  for (const Observation& o : set.observations) {
+    if (std::abs(o.value) <= m.max_correction) continue;
+    std::string at;
+    for (const model::AxisSpec& a : m.axes) {
+      const auto j = static_cast<Eigen::Index>(std::string_view("XYZABCUVW").find(a.letter));
+      at += fmt::format(" {} {:g}", a.letter, a.type == model::AxisType::rotary ? o.q[j] / kRadPerDeg : o.q[j]);
+    }
+    const std::string size = std::isfinite(o.value)
+                                 ? fmt::format("{:.6g} mm, beyond its bound of {} mm (max_correction)", o.value,
+                                               m.max_correction)
+                                 : fmt::format("not a number ({})", o.value);
+    throw Error(ErrorKind::safety,
+                fmt::format("the model's error at{} ({}, row {}) is {}: nothing is written; is the model right for "
+                            "this machine?",
+                            at, set.sources[o.source], o.row, size));
+  }
+}
+
 }  // namespace
 
 Plan plan_from_name(const std::string& name) {
@@ -208,6 +230,7 @@ MeasurementSet simulate(const model::ForwardModel& truth, const SimulateOptions&
       }
     }
   }
+  refuse_beyond_bound(m, set);
   return set;
 }
 

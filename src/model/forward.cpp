@@ -97,7 +97,9 @@ constexpr std::size_t kMotionComponents = 6;
 void add_link_term(ForwardModel::LinkTerms& link, const ForwardModel::TermSlot& slot, std::size_t index) {
   for (const std::int16_t v : {slot.primary, slot.secondary})
     if (v >= 0 && v < static_cast<int>(kChainVariables)) link.variables |= 1U << static_cast<unsigned>(v);
-  if (slot.form != TermForm::polynomial || slot.secondary >= 0) {
+  // A polynomial held beyond its span is not one polynomial of its variable everywhere:
+  // evaluated on its own.
+  if (slot.form != TermForm::polynomial || slot.secondary >= 0 || std::isfinite(slot.span_from)) {
     link.terms.push_back(index);
     return;
   }
@@ -116,6 +118,7 @@ ForwardModel::TermSlot slot_of(const kinematics::ChainModel& chain, const Forwar
   slot.form = t.shape.form;
   slot.primary = variable_slot(t.primary);
   slot.secondary = variable_slot(t.secondary);
+  if (t.span) slot.span_from = t.span->from, slot.span_to = t.span->to;
   slot.on_axes = (slot.primary >= 0 && slot.primary < static_cast<int>(kChainVariables)) ||
                  (slot.secondary >= 0 && slot.secondary < static_cast<int>(kChainVariables));
   slot.on_approach = direction_axis(slot.primary) >= 0 || direction_axis(slot.secondary) >= 0;
@@ -132,11 +135,13 @@ ForwardModel::TermSlot slot_of(const kinematics::ChainModel& chain, const Forwar
 /// t): the one whose phase it can take; -1 for none.
 std::int32_t phase_source(const std::vector<ForwardModel::TermSlot>& slots, const std::vector<ErrorTermSpec>& terms,
                           const ForwardModel::TermSlot& slot, const ErrorTermSpec& t) {
-  if (!slot.on_axes || slot.form != TermForm::periodic) return -1;
+  // A term held beyond a span turns with its own (held) phase.
+  if (!slot.on_axes || slot.form != TermForm::periodic || std::isfinite(slot.span_from)) return -1;
   // Its source must be evaluated before it: links are summed in chain order.
   const std::size_t link = slot.error_index / kLinkErrorSize;
   for (std::size_t j = 0; j < slots.size(); ++j)
     if (slots[j].on_axes && slots[j].form == TermForm::periodic && slots[j].primary == slot.primary &&
+        !std::isfinite(slots[j].span_from) &&
         terms[j].parameters[0] == t.parameters[0] && slots[j].error_index / kLinkErrorSize <= link)
       return static_cast<std::int32_t>(j);
   return -1;
@@ -414,9 +419,11 @@ void evaluate_terms_with_derivatives(const ForwardModel& model, ForwardData& d, 
   const auto& slots = model.slots();
   for (std::size_t i = 0; i < terms.size(); ++i) {
     const ErrorTermSpec& t = terms[i];
-    const TermInputs in{variable_value(t.primary, q, c), variable_value(t.secondary, q, c)};
+    const double primary = variable_value(t.primary, q, c);
+    const TermInputs in{std::clamp(primary, slots[i].span_from, slots[i].span_to), variable_value(t.secondary, q, c)};
     const auto params = d.parameters().segment(static_cast<Eigen::Index>(model.parameter_offset(i)), t.parameters.size());
     evaluate(t.shape, params, in, gradient, d.values[i]);
+    if (in.primary != primary) d.values[i].d_primary = 0.0;  // held beyond its span
     d.evaluated_inputs[i] = in;
     d.errors[slots[i].error_index] += slots[i].sign * d.values[i].value;
   }
@@ -424,7 +431,8 @@ void evaluate_terms_with_derivatives(const ForwardModel& model, ForwardData& d, 
 }
 
 TermInputs slot_inputs(const ForwardData& d, const ForwardModel::TermSlot& s) {
-  return TermInputs{s.primary >= 0 ? d.variables[static_cast<std::size_t>(s.primary)] : 0.0,
+  return TermInputs{s.primary >= 0 ? std::clamp(d.variables[static_cast<std::size_t>(s.primary)], s.span_from, s.span_to)
+                                   : 0.0,
                     s.secondary >= 0 ? d.variables[static_cast<std::size_t>(s.secondary)] : 0.0};
 }
 
@@ -449,14 +457,14 @@ double on_axes_value(const ForwardModel& model, ForwardData& d, std::size_t i, b
   const ForwardModel::TermSlot& s = model.slots()[i];
   const double* parameters = d.parameters().data();
   if (s.form == TermForm::polynomial) {  // Horner, as inline_value() does
-    const double v = d.variables[static_cast<std::size_t>(s.primary)];
+    const double v = std::clamp(d.variables[static_cast<std::size_t>(s.primary)], s.span_from, s.span_to);
     const double* p = parameters + s.offset;
     double value = p[s.order];
     for (int k = s.order - 1; k >= 0; --k) value = value * v + p[k];
     return value;
   }
   if (s.form == TermForm::periodic) {  // a lead screw's error: its value alone
-    const double v = d.variables[static_cast<std::size_t>(s.primary)];
+    const double v = std::clamp(d.variables[static_cast<std::size_t>(s.primary)], s.span_from, s.span_to);
     TermInputs& last = d.evaluated_inputs[i];
     if (!same_parameters || v != last.primary || last.secondary != 0.0) {
       const double* p = parameters + s.offset;

@@ -170,6 +170,8 @@ Section parameters_section(const CheckReportInput& in, FigureIds& ids) {
         p.identified ? "yes" : "not alone (see below)");
   }
   s.html += "</table>\n";
+  if (const std::string nothing = identify::nothing_identifiable(r); !nothing.empty())
+    s.html += "<p class=\"note\"><b>" + html_escape(nothing) + "</b></p>\n";
   for (const std::string& u : r.unidentifiable) s.html += "<p class=\"note\">" + html_escape(u) + "</p>\n";
   if (r.singular_values.size() > 0 && r.singular_values[0] > 0) {
     std::vector<double> kept_x, kept_y, dropped_x, dropped_y;

@@ -6,6 +6,7 @@
 #include <regex>
 #include <utility>
 
+#include "short_runs.hpp"
 #include "trace_capture.hpp"
 
 namespace ccomp::test {
@@ -155,6 +156,47 @@ TEST(IdentifyCli, AThermalEffectOnASensorTheModelLacksIsFoundAndTheSensorAdded) 
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_LT(rms_of(r.out), 1.3 * 0.2) << r.out;
   EXPECT_NE(r.out.find("missing effects: none"), std::string::npos) << r.out;
+}
+
+}  // namespace
+}  // namespace ccomp::test
+
+namespace ccomp::test {
+namespace {
+
+/// A quadratic error of X (10 um at 100 mm) over +-`reach` mm, three runs each way.
+std::string quadratic_runs(int reach) {
+  std::string csv = "x,y,z,vx,nx,ny,nz,d\n";
+  for (int run = 0; run < 3; ++run)
+    for (const int v : {1, -1})
+      for (int k = 0; k <= 10; ++k) {
+        const double x = v * (-reach + reach * k / 5.0);
+        const double noise = 1e-4 * ((k * 7 + run * 3 + (v > 0 ? 0 : 5)) % 5 - 2) / 2.0;
+        csv += std::to_string(x) + ",0,0," + std::to_string(v) + ",1,0,0," + std::to_string(1e-6 * x * x + noise) +
+               "\n";
+      }
+  return csv;
+}
+
+TEST(IdentifyCli, CheckRefitsATermBeyondWhereItWasFitted) {
+  // Fitted over +-20 mm, the cubic holds its value beyond; checked against +-100 mm, the
+  // model as it is misses by 10 um there, and its refit (as fit would) follows the new data
+  // instead of staying held.
+  const std::string dir = temp_dir("identify_cli_span_refit");
+  write_file(dir + "/m.yaml", one_axis_model("[0, 0, 0, 0]"));
+  write_file(dir + "/near.csv", quadratic_runs(20));
+  write_file(dir + "/far.csv", quadratic_runs(100));
+  const std::string fitted = shell_quote(dir + "/fitted.yaml");
+  CommandResult r = run_command(ccomp() + " fit " + shell_quote(dir + "/near.csv") + " -m " +
+                                shell_quote(dir + "/m.yaml") + " -o " + fitted);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  r = run_command(ccomp() + " check " + shell_quote(dir + "/far.csv") + " -m " + fitted);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  std::smatch m;
+  ASSERT_TRUE(std::regex_search(r.out, m, std::regex("max ([0-9.]+) um"))) << r.out;
+  EXPECT_GT(std::stod(m[1]), 5.0) << "held beyond +-20 mm: " << r.out;
+  ASSERT_TRUE(std::regex_search(r.out, m, std::regex("refitted as it is \\(its free parameters\\): rms ([0-9.]+) um")));
+  EXPECT_LT(std::stod(m[1]), 0.2) << r.out;
 }
 
 }  // namespace

@@ -35,6 +35,9 @@ struct CheckOptions {
   int samples = 8;  ///< points checked inside each move
   /// Called with the fraction of the program read (the compensated one for verify), 0 to 1.
   std::function<void(double)> progress;
+  /// predict: called once a term, at the first line that uses it beyond where it was fitted
+  /// (its span: model/term_span.hpp), with what it holds there.
+  std::function<void(const std::string& message, std::uint32_t line)> warning;
 };
 
 /// The uncompensated machine's error along the program: |actual - nominal| at each point.

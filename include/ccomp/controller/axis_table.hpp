@@ -63,7 +63,9 @@ struct AxisTable {
 /// turns the tool's orientation relative to the table back to the commanded angle about
 /// the axis (its angular positioning error); the rest of its errors move the part, which
 /// no table of the axis' own position carries (no cross tables). Throws ccomp::Error
-/// (usage) for an axis the model lacks, or a grid that is empty or not finite.
+/// (usage) for an axis the model lacks, or a grid that is empty or not finite; (safety,
+/// exit 7, naming the point) for a correction beyond the model's max_correction or not
+/// finite, which the main job refuses as well.
 [[nodiscard]] AxisTable sample_axis_table(const model::ForwardModel& model, const TableOptions& options);
 
 /// The grid of `options` for an axis spanning [lo, hi]: points at multiples of `step`

@@ -55,7 +55,8 @@ struct VolumeTable {
 /// travelling up and down, less its value at the reference node. Throws ccomp::Error
 /// (usage) when the machine lacks linear X, Y or Z, the reference is not a node, or a
 /// term left out is not periodic; ccomp::Error (model) when X, Y or Z does not move the
-/// tip along itself, or where the solve does not converge.
+/// tip along itself, or where the solve does not converge; ccomp::Error (safety) for a
+/// correction beyond the model's max_correction or not finite, naming the node.
 [[nodiscard]] VolumeTable sample_volume_table(const model::ForwardModel& model, const VolumeOptions& options);
 
 /// Points spread evenly through the grid's box (a Halton sequence: cell centres and

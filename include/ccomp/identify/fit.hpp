@@ -7,6 +7,7 @@
 // combinations of them, those are.
 #include <Eigen/Core>
 #include <functional>
+#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -79,6 +80,26 @@ struct Linearization {
 /// saves a pass over the data).
 [[nodiscard]] FitReport fit(const model::ForwardModel& model, const MeasurementSet& data,
                             const FitOptions& options = {}, Linearization* at_fit = nullptr);
+
+/// "nothing identifiable above the noise floor: ..." when the fit had free parameters and
+/// the data determine none of their combinations (a short stroke, few targets, one run
+/// each way, one direction: no direction moves the predictions by more than 3 noise
+/// sigmas); empty otherwise. A result, not a failure: `fit` refuses to write a model on it
+/// (it is among the report's refusals), `check` reports it.
+[[nodiscard]] std::string nothing_identifiable(const FitReport& report);
+
+/// The model a fit works on: its free terms without the spans an earlier fit gave them (a
+/// term held beyond its old span could not follow new data there; the new data say where
+/// it holds).
+[[nodiscard]] model::MachineModel without_free_spans(model::MachineModel machine);
+
+/// Each fitted term's span (model::TermSpan): the range of its primary variable over the
+/// data, for the free terms whose form grows without bound beyond it (polynomial, cross-axis
+/// in its own axis, thermal, scale expansion); none for the others (a periodic term repeats
+/// and a bump or a warm-up levels off by their nature; a table holds its ends already) and
+/// where the data do not vary the variable. One entry per term of the model.
+[[nodiscard]] std::vector<std::optional<model::TermSpan>> fitted_spans(const model::MachineModel& machine,
+                                                                      const MeasurementSet& data);
 
 /// The indices of the parameters a fit may change (free terms; a period only with
 /// fit_period), and the model's whole parameter vector.

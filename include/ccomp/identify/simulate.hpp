@@ -42,7 +42,9 @@ struct SimulateOptions {
 };
 
 /// Measures `truth` along the plans: each observation is the truth's prediction plus
-/// Gaussian noise. The workspace is the axes' limits (a 400 mm cube where unlimited).
+/// Gaussian noise. The workspace is the axes' limits (a 400 mm cube where unlimited). Throws
+/// ccomp::Error (safety) where the truth's error is not a number or beyond its max_correction:
+/// no NaN row is ever written.
 [[nodiscard]] MeasurementSet simulate(const model::ForwardModel& truth, const SimulateOptions& options);
 
 }  // namespace ccomp::identify

@@ -31,6 +31,13 @@ enum class TermForm : std::uint8_t {
 
 enum class Interpolation : std::uint8_t { linear, cubic };
 
+/// Where a term was fitted: the range of its primary variable (internal units: mm, rad,
+/// degC, s) in the data. Beyond it the term holds its value at the nearer end (as a table
+/// holds its end values), and whoever uses the model there says so (term_span.hpp).
+struct TermSpan {
+  double from = 0.0, to = 0.0;
+};
+
 /// The values a term may depend on, for one point of a program or one measurement row.
 struct TermInputs {
   double primary = 0.0;    ///< the term's variable (mm, rad, s, degC or a direction sign)

@@ -78,6 +78,9 @@ class ForwardModel {
     bool on_axes = true;                        ///< depends on a chain variable (an axis or the tool length)
     bool on_approach = false;                   ///< depends on an axis' approach state (a reversal)
     std::int16_t primary = -1, secondary = -1;  ///< into the variables; -1: none (0)
+    /// The primary variable is held within [span_from, span_to] (the term's span; the
+    /// whole line without one).
+    double span_from = -std::numeric_limits<double>::infinity(), span_to = std::numeric_limits<double>::infinity();
     std::size_t offset = 0;                     ///< its first parameter
     /// Its link's error component, in one array of 12 per link (the error motion's six,
     /// then the location's; the workpiece side's links, then the tool side's), and the

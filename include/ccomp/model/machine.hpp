@@ -70,7 +70,11 @@ struct ErrorTermSpec {
   /// Internal units per file unit, to write values back; negative where the file's name is
   /// a Ref 1 symbol of the opposite sign (S_xy = -EC0X).
   std::vector<double> parameter_unit;
-  bool free = false;         ///< a fit may change it
+  /// Where it was fitted (the file's `span`): its value is held at the ends beyond. None:
+  /// the form as it is everywhere.
+  std::optional<TermSpan> span;
+  double variable_unit = 1.0;  ///< internal units per file unit of the primary variable (its span's)
+  bool free = false;           ///< a fit may change it
   bool free_period = false;  ///< periodic: a fit may change the period too (fit_period: true)
   std::string note;
 };

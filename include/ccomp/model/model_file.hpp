@@ -3,6 +3,7 @@
 // and writing fitted parameters or more terms back into its text. The model itself, plain
 // data, is ccomp/model/machine.hpp; this is the one place that knows the file.
 #include <Eigen/Core>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -17,9 +18,12 @@ namespace ccomp::model {
 
 /// The model file's text with new parameter values for its terms (one vector per term, in
 /// internal units; written back in the file's units) and `record` (YAML lines, a mapping)
-/// under a top-level `fitted:` key. Comments do not survive: yaml-cpp does not keep them.
+/// under a top-level `fitted:` key. `spans`, where given (one per term), is written as
+/// each such term's `span` in its variable's unit; the others keep theirs. Comments do not
+/// survive: yaml-cpp does not keep them.
 [[nodiscard]] std::string rewrite_parameters(const std::string& text, const MachineModel& model,
-                                             const std::vector<Eigen::VectorXd>& parameters, const std::string& record);
+                                             const std::vector<Eigen::VectorXd>& parameters, const std::string& record,
+                                             const std::vector<std::optional<TermSpan>>& spans = {});
 
 /// The model file's text with more terms (each a YAML mapping, one line: what `ccomp check`
 /// suggests) appended to its `terms`. Throws ccomp::Error (usage) for a spec that is not

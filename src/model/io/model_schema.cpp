@@ -14,8 +14,8 @@ const Section kTopLevel{
 const Section kAxis{"an axis", {"type", "min", "max"}};
 const Section kChain{"chain", {"workpiece", "tool"}};
 const Section kLink{"a link", {"link", "axis", "direction", "offset", "tool_length"}};
-const std::vector<std::string_view> kTermKeys{"name",       "link", "component", "note",     "fit",
-                                              "fit_period", "unit", "form",      "variable", "variable_unit"};
+const std::vector<std::string_view> kTermKeys{"name", "link",     "component", "note",          "fit", "fit_period",
+                                              "unit", "form",     "variable",  "variable_unit", "span"};
 
 std::vector<std::string_view> form_keys(std::string_view form) {
   if (form == "constant") return {"value"};

@@ -482,6 +482,27 @@ void check_linear_in_approach(const TermReading& r, const ErrorTermSpec& t) {
                     r.what, t.primary.text));
 }
 
+/// `span: [from, to]`, in the variable's unit: where the term was fitted (`ccomp fit`
+/// writes it), its value held at the ends beyond. Only of a variable that has a range (an
+/// axis, the tool length, a temperature, the time), ordered and finite.
+void read_span(const TermReading& r, ErrorTermSpec& t) {
+  t.variable_unit = r.var;
+  const YAML::Node n = r.node["span"];
+  if (!n) return;
+  const VariableKind kind = t.primary.kind;
+  if (kind == VariableKind::none || kind == VariableKind::direction)
+    bad(r.file, n,
+        fmt::format("{}: span is the range of the term's variable where it was fitted; {} has none", r.what,
+                    kind == VariableKind::none ? "a term without a variable" : "an approach (" + t.primary.text + ")"));
+  if (!n.IsSequence() || n.size() != 2)
+    bad(r.file, n, fmt::format("{}: span is [from, to] in the variable's unit ({})", r.what, r.var_unit_text));
+  const double from = finite_number(r, n[0], "span from"), to = finite_number(r, n[1], "span to");
+  if (!(from < to))
+    bad(r.file, n, fmt::format("{}: span [{}, {}] of {} is empty: from must be below to", r.what, from, to,
+                               t.primary.text));
+  t.span = TermSpan{from * r.var, to * r.var};
+}
+
 ErrorTermSpec read_term(const std::string& file, const YAML::Node& n, const MachineModel& m) {
   ErrorTermSpec t;
   if (!n.IsMap()) bad(file, n, "a term is a mapping {name: ..., form: ..., ...}");
@@ -496,6 +517,7 @@ ErrorTermSpec read_term(const std::string& file, const YAML::Node& n, const Mach
   read_primary_variable(r, location, t);
   Parameters p = read_form(r, t);
   check_linear_in_approach(r, t);
+  read_span(r, t);
   apply_sign(t, iso.sign, p);
   t.parameters = Eigen::Map<Eigen::VectorXd>(p.values.data(), static_cast<Eigen::Index>(p.values.size()));
   t.parameter_unit = p.scale;

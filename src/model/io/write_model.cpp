@@ -103,11 +103,19 @@ std::string emit(const YAML::Node& root, const std::string& what) {
 }  // namespace
 
 std::string rewrite_parameters(const std::string& text, const MachineModel& model,
-                               const std::vector<Eigen::VectorXd>& parameters, const std::string& record) {
+                               const std::vector<Eigen::VectorXd>& parameters, const std::string& record,
+                               const std::vector<std::optional<TermSpan>>& spans) {
   YAML::Node root = YAML::Load(text);
   YAML::Node terms = root["terms"];
   for (std::size_t i = 0; i < model.terms.size() && i < parameters.size(); ++i)
     write_parameters(terms[i], model.terms[i], parameters[i]);
+  for (std::size_t i = 0; i < model.terms.size() && i < spans.size(); ++i) {
+    if (!spans[i]) continue;
+    const double unit = model.terms[i].variable_unit;
+    YAML::Node span = YAML::Load(fmt::format("[{}, {}]", number(spans[i]->from / unit), number(spans[i]->to / unit)));
+    span.SetStyle(YAML::EmitterStyle::Flow);
+    terms[i]["span"] = span;
+  }
   if (!record.empty()) root["fitted"] = YAML::Load(record);
   return emit(root, "writing the model");
 }
