@@ -14,6 +14,8 @@
 
 #include "ccomp/constants.hpp"
 #include "ccomp/error.hpp"
+#include "ccomp/identify/measurement_formats.hpp"
+#include "io/line_reader.hpp"
 
 namespace ccomp::identify {
 namespace {
@@ -93,13 +95,11 @@ void check_magnitude(const MeasurementSet& set, std::size_t first, const model::
 
 }  // namespace
 
-void parse_measurements(const std::string& text, const std::string& name, const model::MachineModel& model,
-                        const ReadOptions& options, MeasurementSet& into) {
+void io::read_contract(std::istream& stream, const std::string& name, const model::MachineModel& model,
+                   const ReadOptions& options, MeasurementSet& into) {
   const auto file_index = static_cast<std::uint32_t>(into.files.size());
   into.files.push_back(name);
-  // A UTF-8 byte-order mark (a spreadsheet's "CSV UTF-8") is not text of the header.
-  constexpr std::string_view kByteOrderMark = "\xEF\xBB\xBF";
-  std::istringstream in(text.starts_with(kByteOrderMark) ? text.substr(kByteOrderMark.size()) : text);
+  io::LineReader in(stream, name);  // a line's length capped while it is read
   std::string line;
   std::uint32_t number = 0;
   auto fail = [&](std::uint32_t row, std::uint32_t column, const std::string& message) {
@@ -117,8 +117,8 @@ void parse_measurements(const std::string& text, const std::string& name, const 
   // The header: the first line that is not blank or a # comment.
   std::vector<std::string> header;
   std::vector<std::uint32_t> column_of_field;  // 1-based text column of each header field
-  while (std::getline(in, line)) {
-    ++number;
+  while (in.next(line)) {
+    number = in.number();
     check_line_end();
     if (line.find_first_not_of(" \t\r") == std::string::npos || line.front() == '#') continue;
     split(line, header, column_of_field);
@@ -192,19 +192,22 @@ void parse_measurements(const std::string& text, const std::string& name, const 
   for (std::size_t s = 0; s < into.sources.size(); ++s) source_index[into.sources[s]] = static_cast<std::uint32_t>(s);
   std::vector<std::string> fields;  // reused row after row
   std::vector<std::uint32_t> at_column;
-  std::unordered_map<std::string, std::uint32_t> rows_seen;  // a row's text -> its line
+  // A row's text, hashed, -> its line: 16 bytes a row, where the text itself was a
+  // hundred and more (a hash that two different rows share only costs a wrong notice).
+  std::unordered_map<std::uint64_t, std::uint32_t> rows_seen;
   std::size_t repeated_rows = 0;
   const std::size_t first_observation = into.observations.size();
-  while (std::getline(in, line)) {
-    ++number;
+  while (in.next(line)) {
+    number = in.number();
     check_line_end();
     if (line.find_first_not_of(" \t\r") == std::string::npos || line.front() == '#') continue;
     // The same row twice, to the last digit: ISO 230-2's repeated approaches read at the
     // instrument's resolution do that, and so does a file pasted together twice. Kept, and
     // said (the first few), so that a doubled file does not count double unnoticed.
-    std::string key = line;
-    while (!key.empty() && (key.back() == '\r' || key.back() == ' ' || key.back() == '\t')) key.pop_back();
-    if (const auto [seen, fresh] = rows_seen.try_emplace(key, number); !fresh && ++repeated_rows <= 3)
+    std::string_view key = line;
+    while (!key.empty() && (key.back() == '\r' || key.back() == ' ' || key.back() == '\t')) key.remove_suffix(1);
+    const std::uint64_t hash = std::hash<std::string_view>{}(key);
+    if (const auto [seen, fresh] = rows_seen.try_emplace(hash, number); !fresh && ++repeated_rows <= 3)
       into.notices.push_back(
           fmt::format("{}:{}: the row repeats row {} to the last digit (a repeated approach, or a "
                       "file pasted in twice?)",
@@ -303,13 +306,24 @@ void parse_measurements(const std::string& text, const std::string& name, const 
   });
 }
 
+void parse_measurements(const std::string& text, const std::string& name, const model::MachineModel& model,
+                        const ReadOptions& options, MeasurementSet& into) {
+  std::istringstream in(text);
+  io::detect_format(std::string_view(text).substr(0, io::kDetectBytes), name).read(in, name, model, options, into);
+}
+
 void read_measurements(const std::string& path, const model::MachineModel& model, const ReadOptions& options,
                        MeasurementSet& into) {
+  // Read as a stream, a line at a time: the file is never held whole.
   std::ifstream f(path, std::ios::binary);
   if (!f) throw Error(ErrorKind::io, fmt::format("cannot read measurement file '{}'", path));
-  std::ostringstream text;
-  text << f.rdbuf();
-  parse_measurements(text.str(), path, model, options, into);
+  std::string head(io::kDetectBytes, '\0');
+  f.read(head.data(), static_cast<std::streamsize>(head.size()));
+  head.resize(static_cast<std::size_t>(f.gcount()));
+  f.clear();
+  f.seekg(0);
+  if (!f) throw Error(ErrorKind::io, fmt::format("cannot read measurement file '{}' (not a file one can read twice)", path));
+  io::detect_format(head, path).read(f, path, model, options, into);
 }
 
 double file_axis_value(const Observation& o, std::size_t axis, bool rotary) {

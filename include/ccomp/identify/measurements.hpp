@@ -52,12 +52,29 @@ struct MeasurementSet {
   }
 };
 
+/// Where an axis stood while another was measured (`--at y=100`): mm or deg.
+struct AxisPosition {
+  char axis = 'Y';  ///< upper case
+  double value = 0.0;
+};
+
 struct ReadOptions {
   /// Tool length (mm) for rows without an L column.
   double tool_length = 0.0;
+  // One-axis files (an instrument's runs along one axis: docs/identification.md)
+  /// The axis measured (upper case), where the file does not name it; 0: the file's.
+  char axis = 0;
+  /// Where the other axes stood; unnamed ones at 0, and for a rotary axis' readings a point
+  /// 100 mm from its line (docs/identification.md).
+  std::vector<AxisPosition> at;
+  /// The label of the rows (empty: the file's name).
+  std::string source;
+  /// The deviations' unit where the file states none ("um", "arcsec"...; empty: none).
+  std::string unit;
 };
 
-/// Reads a measurement file and appends its rows. Throws ccomp::Error (data) naming the
+/// Reads a measurement file and appends its rows: the CSV contract or an instrument's file,
+/// recognised by its content (identify/measurement_formats.hpp). Throws ccomp::Error (data) naming the
 /// file, the row and the column: a missing column, a value that is not a number, NaN, a
 /// direction that is not a unit vector, a variable the model needs that the file lacks.
 void read_measurements(const std::string& path, const model::MachineModel& model, const ReadOptions& options,
