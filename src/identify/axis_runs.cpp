@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cctype>
 #include <cmath>
+#include <filesystem>
 #include <limits>
 #include <map>
 
@@ -244,13 +245,15 @@ void append_axis_runs(const AxisRuns& runs, const std::string& name, const model
   std::vector<AxisReading> readings = runs.readings;
   approach_from_run_order(readings);
   const model::ChainQ base = base_point(model, options, index, rotary);
-  const model::ForwardModel forward(model);
-  model::ForwardData data(forward);
+  std::optional<model::ForwardModel> forward;  // a rotary axis' readings are placed through the kinematics
+  std::optional<model::ForwardData> data;
+  if (rotary) forward.emplace(model), data.emplace(*forward);
 
   const auto file_index = static_cast<std::uint32_t>(into.files.size());
   into.files.push_back(name);
   if (into.sensors.empty()) into.sensors = model.sensors;
-  const std::string label = options.source.empty() ? name : options.source;
+  // The file's name without folder and extension: a laser line saved as x-line1.rtl is source x-line1.
+  const std::string label = options.source.empty() ? std::filesystem::path(name).stem().string() : options.source;
   auto source = std::find(into.sources.begin(), into.sources.end(), label);
   if (source == into.sources.end()) source = into.sources.insert(into.sources.end(), label);
   Observation o;
@@ -272,8 +275,8 @@ void append_axis_runs(const AxisRuns& runs, const std::string& name, const model
     } else {
       // The table turned by e beyond its target moves the point, relative to the tool, as the
       // axis turning by e would: along d(point)/d(angle), by e times its length (mm/rad).
-      model::forward(forward, data, o.q, MeasurementSet::conditions(o), true);
-      const Eigen::Vector3d along = data.nominal_chain.oMp.R * data.J_q.col(static_cast<Eigen::Index>(index));
+      model::forward(*forward, *data, o.q, MeasurementSet::conditions(o), true);
+      const Eigen::Vector3d along = data->nominal_chain.oMp.R * data->J_q.col(static_cast<Eigen::Index>(index));
       if (along.norm() < 1.0)
         throw Error(ErrorKind::usage,
                     fmt::format("{}: the point the readings are placed at is {:.3g} mm from axis {}'s line: give a "
