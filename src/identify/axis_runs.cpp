@@ -267,7 +267,7 @@ void append_axis_runs(const AxisRuns& runs, const std::string& name, const model
     o.q[2] += tool;  // program coordinates carry the tool length, as in the contract
     o.q[static_cast<Eigen::Index>(model::kToolLengthIndex)] = tool;
     o.directions = {};
-    o.directions[index] = r.approach;
+    o.directions[index] = static_cast<std::int8_t>(r.approach);
     o.row = r.line;
     if (!rotary) {
       o.direction = Eigen::Vector3d::Unit(static_cast<Eigen::Index>(index));

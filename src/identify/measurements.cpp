@@ -255,7 +255,7 @@ void io::read_contract(std::istream& stream, const std::string& name, const mode
       if (sign != 0.0 && sign != 1.0 && sign != -1.0)
         fail(number, at_column[static_cast<std::size_t>(at.direction[i])],
              fmt::format("column 'v{}' is {}: an approach direction is +1, -1 or 0 (unknown)", axis, sign));
-      o.directions[i] = sign;
+      o.directions[i] = static_cast<std::int8_t>(sign);
     }
     // Program coordinates carry the tool length: the Z axis sits L above the tool tip.
     o.q[2] += tool;
@@ -379,8 +379,8 @@ std::string to_csv(const MeasurementSet& set, const model::MachineModel& model) 
     for (std::size_t i : rotary) out += fmt::format(",{:.6f}", o.q[static_cast<Eigen::Index>(i)] / kRadPerDeg);
     out += fmt::format(",{:.3f},{:.3f}", tool, o.time);
     for (double T : o.temperatures) out += std::isnan(T) ? std::string(",") : fmt::format(",{:.4f}", T);
-    for (std::size_t i = 0; i < 3; ++i) out += fmt::format(",{:g}", o.directions[i]);
-    for (std::size_t i : rotary) out += fmt::format(",{:g}", o.directions[i]);
+    for (std::size_t i = 0; i < 3; ++i) out += fmt::format(",{}", static_cast<int>(o.directions[i]));
+    for (std::size_t i : rotary) out += fmt::format(",{}", static_cast<int>(o.directions[i]));
     out += fmt::format(",{:.9g},{:.9g},{:.9g},{:.9e},{}\n", o.direction.x(), o.direction.y(), o.direction.z(), o.value,
                        set.sources[o.source]);
   }

@@ -191,7 +191,8 @@ TEST(InstrumentFormats, AFileWithoutAUnitIsRefusedWhenItsValuesCannotBeMm) {
   EXPECT_NEAR(parse("unit: um\n" + small, o).observations[1].value, 1e-3 * 0.0888 * std::sin(0.75), 1e-7)
       << "a unit line states it";
   o.unit = "mm";
-  EXPECT_EQ(test::error_of([&] { (void)parse("unit: um\n" + small, o); }).kind(), ErrorKind::usage)
+  EXPECT_EQ(test::error_of([&] { (void)parse("unit: um\n" + small, o); }, "--unit mm on a file in um").kind(),
+            ErrorKind::usage)
       << "an option that contradicts the file";
 }
 
@@ -222,7 +223,7 @@ TEST(InstrumentFormats, ARotaryCalibratorsTurnIsTheTablesTurnAtTheReadingsPoint)
   }
   MeasurementSet linear_units;
   EXPECT_EQ(test::error_of([&] { parse_measurements("axis: B\ntarget,deviation [um]\n0,1\n90,2\n", "b.txt", hmc(), {},
-                                                    linear_units); })
+                                                    linear_units); }, "um on B")
                 .kind(),
             ErrorKind::data)
       << "um on a rotary axis";
@@ -252,7 +253,7 @@ TEST(InstrumentFormats, RtlErrorsNameTheirLine) {
 
 TEST(InstrumentFormats, ALineIsCappedWhileItIsRead) {
   const std::string text = "x,y,z,nx,ny,nz,d\n" + std::string(200000, '1') + ",0,0,1,0,0,0\n";
-  const Error e = test::error_of([&] { (void)parse(text); });
+  const Error e = test::error_of([&] { (void)parse(text); }, "a line of 200,000 characters");
   EXPECT_EQ(e.kind(), ErrorKind::data);
   EXPECT_EQ(e.where().line, 2U);
   EXPECT_EQ(e.where().column, 65537U);

@@ -17,7 +17,7 @@ struct Observation {
   model::ChainQ q = model::ChainQ::Zero();               ///< axes (mm, rad) and the tool length
   double time = 0.0;                                     ///< s
   std::vector<double> temperatures;                      ///< degC, one per sensor of the set (NaN: not read)
-  std::array<double, 9> directions{};                    ///< approach sign of each axis: +1, -1, 0 unknown
+  std::array<std::int8_t, 9> directions{};  ///< approach sign of each axis: +1, -1, 0 unknown (a byte: rows held compactly)
   Eigen::Vector3d direction = Eigen::Vector3d::UnitX();  ///< unit, machine-axis directions
   double value = 0.0;                                    ///< measured deviation along `direction`, mm
   std::uint32_t source = 0;                              ///< index into MeasurementSet::sources
@@ -47,7 +47,7 @@ struct MeasurementSet {
     model::Conditions c;
     c.time = o.time;
     c.temperatures = o.temperatures;
-    c.directions = o.directions;
+    for (std::size_t i = 0; i < o.directions.size(); ++i) c.directions[i] = o.directions[i];
     return c;
   }
 };
