@@ -233,7 +233,12 @@ void append_axis_runs(const AxisRuns& runs, const std::string& name, const model
   const double target_scale = rotary ? 1.0 : scale_of(target_unit);
   const std::optional<Unit> stated = deviation_unit(runs, name, options);
   if (stated && is_length(*stated) == rotary) throw unit_error("deviations", *stated);
-  if (!stated) check_plausible(runs, name, rotary, target_scale);
+  if (!stated) {
+    check_plausible(runs, name, rotary, target_scale);
+    into.notices.push_back(fmt::format("{}: no unit stated: deviations read as {} (plausible as such; state the "
+                                       "unit to be sure)",
+                                       name, rotary ? "deg" : "mm"));
+  }
   const double deviation_scale = scale_of(stated.value_or(rotary ? Unit::deg : Unit::mm));
   if (!rotary && median_abs(runs.readings) * deviation_scale > model.max_correction)
     throw Error(ErrorKind::data,
