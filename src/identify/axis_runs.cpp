@@ -12,6 +12,7 @@
 #include "ccomp/constants.hpp"
 #include "ccomp/error.hpp"
 #include "ccomp/model/forward.hpp"
+#include "io/text_fields.hpp"
 
 namespace ccomp::identify {
 namespace {
@@ -31,12 +32,6 @@ constexpr double kRadPerArcsec = kRadPerDeg / 3600.0;
 constexpr double kLargestSlope = 1e-3;       // mm per mm of travel
 constexpr double kLargestReversal = 0.020;   // mm: reversal and repeatability
 constexpr double kLargestIndexing = 0.05;    // deg
-
-std::string lower(std::string_view text) {
-  std::string s;
-  for (const char c : text) s += static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-  return s;
-}
 
 bool is_length(Unit u) { return u == Unit::mm || u == Unit::um || u == Unit::nm || u == Unit::inch; }
 
@@ -152,7 +147,7 @@ std::optional<Unit> parse_unit(std::string_view text) {
       {"degrees", Unit::deg},   {"\xC2\xB0", Unit::deg},  {"arcsec", Unit::arcsec}, {"arc-sec", Unit::arcsec},
       {"arcseconds", Unit::arcsec}, {"sec", Unit::arcsec}, {"\"", Unit::arcsec},   {"urad", Unit::urad},
       {"\xC2\xB5rad", Unit::urad}, {"\xCE\xBCrad", Unit::urad}, {"microradian", Unit::urad}};
-  const auto it = names.find(lower(text));
+  const auto it = names.find(io::lower(text));
   if (it == names.end()) return std::nullopt;
   return it->second;
 }

@@ -10,7 +10,6 @@
 #include <limits>
 #include <map>
 #include <sstream>
-#include <unordered_map>
 
 #include "ccomp/constants.hpp"
 #include "ccomp/error.hpp"
@@ -91,6 +90,28 @@ void check_magnitude(const MeasurementSet& set, std::size_t first, const model::
            fmt::format("the readings' median size is {:.6g} mm, beyond the model's max_correction of {:.6g} mm: "
                        "deviations are in mm (written in um?)",
                        median, model.max_correction));
+}
+
+/// The same row twice, to the last digit: ISO 230-2's repeated approaches read at the
+/// instrument's resolution do that, and so does a file pasted together twice. Kept, and said
+/// (the first few), so that a doubled file does not count double unnoticed. A hash two
+/// different rows share would only cost a wrong notice.
+void note_repeated_rows(std::vector<std::pair<std::uint64_t, std::uint32_t>>& rows, const std::string& name,
+                        std::vector<std::string>& notices) {
+  std::sort(rows.begin(), rows.end());  // by text, then line
+  std::vector<std::pair<std::uint32_t, std::uint32_t>> repeats;  // a row's line, and the first with its text
+  for (std::size_t i = 1, first = 0; i < rows.size(); ++i) {
+    if (rows[i].first != rows[first].first) first = i;
+    else repeats.emplace_back(rows[i].second, rows[first].second);
+  }
+  rows = {};
+  std::sort(repeats.begin(), repeats.end());
+  for (std::size_t k = 0; k < repeats.size() && k < 3; ++k)
+    notices.push_back(fmt::format("{}:{}: the row repeats row {} to the last digit (a repeated approach, or a "
+                                  "file pasted in twice?)",
+                                  name, repeats[k].first, repeats[k].second));
+  if (repeats.size() > 3)
+    notices.push_back(fmt::format("{}: {} rows repeat an earlier row to the last digit", name, repeats.size()));
 }
 
 }  // namespace
@@ -192,26 +213,17 @@ void io::read_contract(std::istream& stream, const std::string& name, const mode
   for (std::size_t s = 0; s < into.sources.size(); ++s) source_index[into.sources[s]] = static_cast<std::uint32_t>(s);
   std::vector<std::string> fields;  // reused row after row
   std::vector<std::uint32_t> at_column;
-  // A row's text, hashed, -> its line: 16 bytes a row, where the text itself was a
-  // hundred and more (a hash that two different rows share only costs a wrong notice).
-  std::unordered_map<std::uint64_t, std::uint32_t> rows_seen;
-  std::size_t repeated_rows = 0;
+  // Each row's text hashed, with its line: 16 bytes a row while the file is read (a map of
+  // the texts took a hundred and more), sorted once at the end to find the rows read twice.
+  std::vector<std::pair<std::uint64_t, std::uint32_t>> row_hashes;
   const std::size_t first_observation = into.observations.size();
   while (in.next(line)) {
     number = in.number();
     check_line_end();
     if (line.find_first_not_of(" \t\r") == std::string::npos || line.front() == '#') continue;
-    // The same row twice, to the last digit: ISO 230-2's repeated approaches read at the
-    // instrument's resolution do that, and so does a file pasted together twice. Kept, and
-    // said (the first few), so that a doubled file does not count double unnoticed.
     std::string_view key = line;
     while (!key.empty() && (key.back() == '\r' || key.back() == ' ' || key.back() == '\t')) key.remove_suffix(1);
-    const std::uint64_t hash = std::hash<std::string_view>{}(key);
-    if (const auto [seen, fresh] = rows_seen.try_emplace(hash, number); !fresh && ++repeated_rows <= 3)
-      into.notices.push_back(
-          fmt::format("{}:{}: the row repeats row {} to the last digit (a repeated approach, or a "
-                      "file pasted in twice?)",
-                      name, number, seen->second));
+    row_hashes.emplace_back(std::hash<std::string_view>{}(key), number);
     split(line, fields, at_column);
     if (fields.size() != header.size())
       fail(number, 1, fmt::format("this row has {} fields, the header {}", fields.size(), header.size()));
@@ -296,8 +308,7 @@ void io::read_contract(std::istream& stream, const std::string& name, const mode
     }
   }
   line.clear();
-  if (repeated_rows > 3)
-    into.notices.push_back(fmt::format("{}: {} rows repeat an earlier row to the last digit", name, repeated_rows));
+  note_repeated_rows(row_hashes, name, into.notices);
   if (into.observations.size() == first_observation)
     fail(header_line, 1, "no readings after the header: there is nothing to compare the model with");
   check_magnitude(into, first_observation, model, [&](std::uint32_t row, const std::string& message) {

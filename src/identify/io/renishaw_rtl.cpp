@@ -37,12 +37,6 @@
 namespace ccomp::identify::io {
 namespace {
 
-std::string lower(std::string_view text) {
-  std::string s;
-  for (const char c : text) s += static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-  return s;
-}
-
 bool detect(std::string_view head) {
   const std::string text = lower(head);
   return text.find("target-count") != std::string::npos ||

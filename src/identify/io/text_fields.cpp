@@ -59,6 +59,12 @@ std::optional<double> parse_number(std::string_view text, bool decimal_comma) {
   return v;
 }
 
+std::string lower(std::string_view text) {
+  std::string s;
+  for (const char c : text) s += static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return s;
+}
+
 std::string fold(std::string_view text) {
   std::string s;
   for (const char c : text)

@@ -22,6 +22,8 @@ struct Field {
 /// A finite number written with a decimal point, or (decimal_comma) a comma; a leading '+' allowed.
 [[nodiscard]] std::optional<double> parse_number(std::string_view text, bool decimal_comma);
 
+/// Lower case (ASCII).
+[[nodiscard]] std::string lower(std::string_view text);
 /// Lower case, blanks and '-' '_' removed: "Target-Count" and "target count" compare equal.
 [[nodiscard]] std::string fold(std::string_view text);
 
