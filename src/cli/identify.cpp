@@ -331,6 +331,7 @@ int run_positioning(const IdentifyArgs& args) {
   identify::MeasurementSet data;
   const identify::ReadOptions o = reading_options(args);
   for (const std::string& path : args.measurements) identify::read_measurements(path, m, o, data);
+  for (const std::string& notice : data.notices) fmt::print(stderr, "notice: {}\n", notice);
   const auto axis = static_cast<std::size_t>(args.axis[0] - 'x');
   const identify::PositioningReport r = identify::analyse_positioning(data, axis, args.source);
   const double um = 1e3;

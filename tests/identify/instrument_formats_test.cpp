@@ -86,6 +86,12 @@ TEST(InstrumentFormats, EachSampleFormatReadsToTheHandWrittenRows) {
   }
 }
 
+TEST(InstrumentFormats, AContractFileWithColumnsNamedLikeATablesIsTheContract) {
+  const MeasurementSet set = parse("x,y,z,nx,ny,nz,d,target,error\n1,2,3,1,0,0,0.001,a,b\n");
+  ASSERT_EQ(set.observations.size(), 1U);
+  EXPECT_DOUBLE_EQ(set.observations[0].q[1], 2.0);
+}
+
 TEST(InstrumentFormats, RecognisedByContentNotByName) {
   std::ifstream f(kSamples + "x-laser.rtl");
   std::stringstream text;

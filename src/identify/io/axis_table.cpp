@@ -41,15 +41,18 @@ char delimiter_of(std::string_view line) {
   return ',';
 }
 
-/// Whether `line` is a header of this format: a target and a deviation column.
+/// Whether `line` is a header of this format: a target and a deviation column, and not the
+/// contract's x, y, z (whose extra columns may have any name).
 bool is_header(std::string_view line) {
   bool target = false, deviation = false;
+  int contract = 0;
   for (const Field& f : split_fields(line, delimiter_of(line))) {
     const Column c = column_of(f.text);
     target = target || c == Column::target;
     deviation = deviation || c == Column::deviation;
+    contract += f.text == "x" || f.text == "y" || f.text == "z";
   }
-  return target && deviation;
+  return target && deviation && contract < 3;
 }
 
 /// A line before the header saying "key: value" (or "key;value"): the axis or a unit.
