@@ -26,9 +26,10 @@ constexpr double kLatestTime = 1e11;
 
 constexpr std::string_view kAxes = "xyzabcuvw";
 
-/// Splits one CSV line into its fields (blanks around them trimmed; double quotes allow a
-/// comma in a source label) and the 1-based column where each starts in the line.
-void split(std::string_view line, std::vector<std::string>& fields, std::vector<std::uint32_t>& columns) {
+/// Splits one CSV line at `delimiter` into its fields (blanks around them trimmed; double
+/// quotes allow a delimiter in a source label) and the 1-based column where each starts.
+void split(std::string_view line, char delimiter, std::vector<std::string>& fields,
+           std::vector<std::uint32_t>& columns) {
   fields.assign(1, std::string());
   columns.assign(1, 1);
   bool quoted = false;
@@ -39,7 +40,7 @@ void split(std::string_view line, std::vector<std::string>& fields, std::vector<
         fields.back() += '"', ++i;
       else
         quoted = !quoted;
-    } else if (c == ',' && !quoted) {
+    } else if (c == delimiter && !quoted) {
       fields.emplace_back();
       columns.push_back(static_cast<std::uint32_t>(i + 2));
     } else if (c != '\r') {
@@ -138,11 +139,14 @@ void io::read_contract(std::istream& stream, const std::string& name, const mode
   // The header: the first line that is not blank or a # comment.
   std::vector<std::string> header;
   std::vector<std::uint32_t> column_of_field;  // 1-based text column of each header field
+  char delimiter = ',';
   while (in.next(line)) {
     number = in.number();
     check_line_end();
     if (line.find_first_not_of(" \t\r") == std::string::npos || line.front() == '#') continue;
-    split(line, header, column_of_field);
+    // A spreadsheet set to a decimal comma writes semicolons (or tabs) between fields.
+    delimiter = line.find('\t') != std::string::npos ? '\t' : line.find(';') != std::string::npos ? ';' : ',';
+    split(line, delimiter, header, column_of_field);
     break;
   }
   if (header.empty()) fail(0, 0, "the file is empty: a measurement file starts with a header row (x,y,z,...)");
@@ -224,15 +228,16 @@ void io::read_contract(std::istream& stream, const std::string& name, const mode
     std::string_view key = line;
     while (!key.empty() && (key.back() == '\r' || key.back() == ' ' || key.back() == '\t')) key.remove_suffix(1);
     row_hashes.emplace_back(std::hash<std::string_view>{}(key), number);
-    split(line, fields, at_column);
+    split(line, delimiter, fields, at_column);
     if (fields.size() != header.size())
       fail(number, 1, fmt::format("this row has {} fields, the header {}", fields.size(), header.size()));
     // A number from column c (its name for messages); `fallback` when the file has no such
     // column or leaves it empty.
     auto value = [&](int c, std::string_view column, double fallback) {
       if (c < 0) return fallback;
-      const std::string& f = fields[static_cast<std::size_t>(c)];
+      std::string& f = fields[static_cast<std::size_t>(c)];
       if (f.empty()) return fallback;
+      if (delimiter != ',') std::replace(f.begin(), f.end(), ',', '.');  // a decimal comma
       double v = 0.0;
       const auto [end, ec] = std::from_chars(f.data(), f.data() + f.size(), v);
       if (ec != std::errc() || end != f.data() + f.size())
