@@ -86,6 +86,14 @@ TEST(InstrumentFormats, EachSampleFormatReadsToTheHandWrittenRows) {
   }
 }
 
+TEST(InstrumentFormats, TheAngularLaserFileAndTheCalibratorsTableReadAlike) {
+  // The same B runs as a laser's "Run Target Data" block and as a tab-separated table.
+  const MeasurementSet table = read_file(kSamples + "b-rotary.txt", ReadOptions{});
+  const MeasurementSet laser = read_file(kSamples + "b-laser.rtl", ReadOptions{});
+  expect_same_rows(laser, table, "b-laser.rtl");
+  EXPECT_EQ(laser.observations.front().row, 10U) << "the line of the reading";
+}
+
 TEST(InstrumentFormats, AContractFileWithColumnsNamedLikeATablesIsTheContract) {
   const MeasurementSet set = parse("x,y,z,nx,ny,nz,d,target,error\n1,2,3,1,0,0,0.001,a,b\n");
   ASSERT_EQ(set.observations.size(), 1U);
@@ -248,6 +256,10 @@ TEST(InstrumentFormats, RtlErrorsNameTheirLine) {
       {head + "Run: 1 Dir: Sideways\n 0.1 0.2 0.3\n", "Fwd or Bwd", 7},
       {head + "Run: 1 Dir: Fwd\n 0.1 x 0.3\n", "not a number", 8},
       {"Renishaw Laser10\nAxis: Q\nTargets: 0 10\n", "not an axis", 2},
+      {"Renishaw\nAxis: X\nTargets :  0  10  20  Flags : 0 0 0\nRun Target Data:\n1 1 0.1\n1 2 0.2\n1 3 0.3\n1 3 0.3\n"
+       "EQUIPMENT::\n",
+       "4 readings for 3 targets", 4},
+      {"Renishaw\nAxis: X\nTargets :  0  10  x20\n", "'x20' is not a number", 3},
   };
   for (const Case& c : cases) {
     const Error e = test::error_of([&] { (void)parse(c.text); }, c.text);

@@ -1,32 +1,41 @@
 // Renishaw's laser data file, the .rtl text that Laser10 and LaserXL write for a linear or
 // an angular (rotary) positioning test.
 //
-// What the format is, as this reader takes it. The stored public corpora this project
-// searches (code, pages, issues, docs: "rtl Renishaw laser file parser", "Target-Count
-// Run-count", "Laser10 rtl", "Renishaw rtl") hold no reader of it and no file, so the layout
-// below is the one the brief of issue 45 names (Target-Count, Run-count) filled in from what
-// such a test records; it is written down here so that a real file that differs is easy to
-// compare, and the reader refuses, at its line, anything it does not understand rather than
-// guess:
+// What the format is, as this reader takes it, and from where. The public corpora this
+// project searches hold no Renishaw file and one public reader of its text: a PyQt
+// laser-plot tool found by the code index's exact-string search ("Renishaw Laser"; the index
+// names no repository) reads a Renishaw text file (it offers *.rta and *.rtl) as: "Renishaw"
+// somewhere in it; header lines "Machine: ...", "Serial No: ...", "Date: ..."; "Targets :"
+// followed by the targets separated by blanks up to "Flags"; "Run Target Data:" followed by a
+// line per reading whose last field is the error, up to "EQUIPMENT::"; the first half of the
+// readings one way over the targets and the second half back, in reverse order. Issue 45's
+// brief names "Target-Count" and "Run-count" as keys of the header. Read here (no code
+// copied), with what a test records filled in where neither says:
 //
-//   - free text first (the software's name, "Renishaw" in it, a title, the machine, dates);
-//   - "key: value" lines, several on one line allowed, keys in any case with '-' or blanks:
+//   - free text, "key: value" lines (several on a line, the keys after the first one word
+//     each), keys in any case, with '-' or blanks, a blank before the colon allowed:
 //       Axis: X                      the axis measured (a rotary one for an angular test)
 //       Units: mm | inch | deg       the targets' unit
 //       Error units: um | mm | arcsec | deg   the deviations' (errors') unit
-//       Target-Count: N  Run-count: M
-//   - "Targets:" then the N targets (mm, inch or deg), on that line or the next ones;
-//   - per run "Run: k" with "Dir: Fwd" (the targets in their listed order), "Dir: Bwd" (the
-//     list reversed) or no Dir (a run there and back: N readings in the listed order, then N
-//     in the reverse; or N one way), then the errors (actual - target) in the order the run
-//     visited the targets, on that line or the next ones.
+//       Target-Count: N  Run-count: M   checked against the targets and runs read
+//     any other key (Machine, Serial No, Date, Flags, temperatures) is the report's;
+//   - "Targets :" then the N targets (mm, inch or deg), on that line or the next ones, up to
+//     a word that is not a number ("Flags");
+//   - the readings, either as "Run Target Data:" above (passes there and back, run after run,
+//     each line's last number the error), or per run "Run: k" with "Dir: Fwd" (the targets
+//     in their listed order), "Dir: Bwd" (the list reversed) or no Dir (N readings in the
+//     listed order, or 2N there and back), then its errors (actual - target) in the order
+//     the run visited the targets.
 //
-// The run count is checked against the runs read; a reading's line is the line its number
-// is on. Without "Error units" the deviations go through the plausibility rule of
-// identify/axis_runs, as any file without a unit does.
+// Where neither the file nor the order says, the approach comes from the run order
+// (identify/axis_runs). Without "Error units" (the public reader assumes its own scale) the
+// deviations go through the plausibility rule of identify/axis_runs, as any file without a
+// unit does: state it with --unit. Anything else is refused at its line rather than guessed:
+// a real file that differs should be compared with this and the reader corrected here.
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <cctype>
 
 #include "ccomp/error.hpp"
 #include "ccomp/identify/axis_runs.hpp"
@@ -86,7 +95,9 @@ class RtlReader {
       const std::string folded = fold(line_);
       if (folded.starts_with("targets")) {
         read_targets();
-      } else if (folded.starts_with("run") && !folded.starts_with("runcount")) {
+      } else if (folded.starts_with("runtargetdata")) {
+        read_run_target_data();
+      } else if (const auto pairs = pairs_of(line_); !pairs.empty() && pairs.front().first == "run") {
         read_run();
       } else {
         settings();
@@ -142,31 +153,81 @@ class RtlReader {
   }
 
   /// The numbers after the keyword's colon on this line and on the lines after it, up to a
-  /// line that is not numbers (left for the caller).
+  /// line, or a word within one ("Targets : 0  10  20  Flags : ..."), that is not a number:
+  /// what starts there is left for the caller as the next line.
   std::vector<Value> values() {
     std::vector<Value> out;
-    auto take = [&](std::string_view text) {
-      for (const Field& f : split_blanks(text)) {
+    // Takes the numbers of line_ from `from`; where a word that is not one starts, or npos.
+    auto take = [&](std::size_t from) {
+      for (const Field& f : split_blanks(std::string_view(line_).substr(from))) {
         const std::optional<double> v = parse_number(f.text, false);
-        if (!v || std::abs(*v) > 1e7) return false;
+        if (!v || std::abs(*v) > 1e7) return from + f.column - 1;
         out.push_back({*v, lines_.number()});
       }
-      return true;
+      return std::string::npos;
+    };
+    // What follows a word that is not a number: the next key ("Flags :"), else a bad value.
+    auto stop = [&](std::size_t at) {
+      if (!std::isalpha(static_cast<unsigned char>(line_[at])) || line_.find(':', at) == std::string::npos ||
+          out.empty())
+        fail_at(lines_.number(), fmt::format("'{}' is not a number", split_blanks(line_.substr(at)).front().text));
+      line_.erase(0, at);
+      pending_ = true;
     };
     const std::size_t colon = line_.find(':');
-    std::string_view rest = colon == std::string::npos ? std::string_view() : std::string_view(line_).substr(colon + 1);
-    if (fold(line_).starts_with("run")) rest = {};  // "Run: 1 Dir: Fwd": its words are not values
-    if (!take(rest)) fail_at(lines_.number(), "a value that is not a number");
+    // "Run: 1 Dir: Fwd": its words are no values
+    if (colon != std::string::npos && !fold(line_).starts_with("run"))
+      if (const std::size_t at = take(colon + 1); at != std::string::npos) {
+        stop(at);
+        return out;
+      }
     while (lines_.next(line_)) {
       if (line_.find_first_not_of(" \t\r") == std::string::npos) continue;
       const std::size_t size = out.size();
-      if (!take(line_)) {
-        if (out.size() != size) fail_at(lines_.number(), "a line of values with one that is not a number");
-        pending_ = true;
+      if (const std::size_t at = take(0); at != std::string::npos) {
+        if (out.size() == size) {
+          pending_ = true;  // a line of words: the next keyword
+        } else {
+          stop(at);
+        }
         break;
       }
     }
     return out;
+  }
+
+  /// "Run Target Data:" and a line per reading, its error the last number of the line, in
+  /// the order measured: passes of the targets there and back, run after run (as the public
+  /// reader named in the header takes the file).
+  void read_run_target_data() {
+    if (targets_.empty()) fail_at(lines_.number(), "'Run Target Data' before the 'Targets :' block");
+    const std::uint32_t first = lines_.number();
+    std::vector<Value> errors;
+    while (lines_.next(line_)) {
+      if (line_.find_first_not_of(" \t\r") == std::string::npos) continue;
+      const std::vector<Field> words = split_blanks(line_);
+      if (!parse_number(words.front().text, false)) {
+        pending_ = true;  // "EQUIPMENT::" and what follows
+        break;
+      }
+      for (const Field& w : words)
+        if (const std::optional<double> v = parse_number(w.text, false); !v || std::abs(*v) > 1e7)
+          fail_at(lines_.number(), fmt::format("'{}' is not a number", w.text));
+      errors.push_back({*parse_number(words.back().text, false), lines_.number()});
+    }
+    const std::size_t n = targets_.size();
+    if (errors.empty() || errors.size() % n != 0)
+      fail_at(first, fmt::format("{} readings for {} targets: not whole passes over the targets", errors.size(), n));
+    for (std::size_t k = 0; k < errors.size(); ++k) {
+      const std::size_t pass = k / n;
+      AxisReading r;
+      r.target = targets_[pass % 2 == 1 ? n - 1 - k % n : k % n];
+      r.deviation = errors[k].value;
+      r.run = static_cast<int>(pass / 2) + 1;
+      r.line = errors[k].line;
+      runs_.readings.push_back(r);  // the approach from the run's order
+    }
+    runs_read_ += static_cast<int>((errors.size() / n + 1) / 2);
   }
 
   void read_targets() {
