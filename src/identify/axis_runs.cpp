@@ -134,6 +134,34 @@ void check_conditions(const model::MachineModel& model, const std::string& name)
     }
 }
 
+/// What a one-axis file became, for the user to see: the axis, the runs, the units, the
+/// approaches worked out and the point the readings are placed at.
+std::string conversion_summary(const AxisRuns& runs, const std::vector<AxisReading>& readings, const std::string& name,
+                               char axis, const model::ChainQ& base, const model::MachineModel& model,
+                               std::optional<Unit> stated, bool rotary) {
+  std::vector<int> run_numbers;
+  std::size_t worked_out = 0, unknown = 0;
+  for (std::size_t i = 0; i < readings.size(); ++i) {
+    if (std::find(run_numbers.begin(), run_numbers.end(), readings[i].run) == run_numbers.end())
+      run_numbers.push_back(readings[i].run);
+    worked_out += runs.readings[i].approach == 0 && readings[i].approach != 0;
+    unknown += readings[i].approach == 0;
+  }
+  std::string at;
+  for (const model::AxisSpec& a : model.axes) {
+    const std::size_t i = kAxisLetters.find(a.letter);
+    if (a.letter == axis || i == std::string_view::npos) continue;
+    const double v = base[static_cast<Eigen::Index>(i)];
+    at += fmt::format(" {}={:g}", static_cast<char>(std::tolower(a.letter)),
+                      a.type == model::AxisType::rotary ? v / kRadPerDeg : v);
+  }
+  return fmt::format("{}: axis {}, {} readings in {} run(s); deviations in {}{}; {} approaches worked out from the run "
+                     "order{}; placed at{}",
+                     name, axis, readings.size(), run_numbers.size(),
+                     unit_name(stated.value_or(rotary ? Unit::deg : Unit::mm)), stated ? "" : " (assumed)", worked_out,
+                     unknown ? fmt::format(", {} unknown", unknown) : "", at);
+}
+
 }  // namespace
 
 std::optional<Unit> parse_unit(std::string_view text) {
@@ -287,6 +315,7 @@ void append_axis_runs(const AxisRuns& runs, const std::string& name, const model
     }
     into.observations.push_back(o);
   }
+  into.notices.push_back(conversion_summary(runs, readings, name, axis, base, model, stated, rotary));
 }
 
 }  // namespace ccomp::identify
