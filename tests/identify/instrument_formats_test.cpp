@@ -100,6 +100,13 @@ TEST(InstrumentFormats, AContractFileWithColumnsNamedLikeATablesIsTheContract) {
   EXPECT_DOUBLE_EQ(set.observations[0].q[1], 2.0);
 }
 
+TEST(InstrumentFormats, ASpreadsheetOrABinaryFileIsSaidToBeOne) {
+  const std::string xlsx("PK\x03\x04\x14\x00\x06\x00", 8), binary("x,y,z\n\x00\x01", 8);
+  EXPECT_NE(test::error_of([&] { (void)parse(xlsx); }, "xlsx").message().find("save the sheet as CSV"),
+            std::string::npos);
+  EXPECT_NE(test::error_of([&] { (void)parse(binary); }, "binary").message().find("a binary file"), std::string::npos);
+}
+
 TEST(InstrumentFormats, RecognisedByContentNotByName) {
   std::ifstream f(kSamples + "x-laser.rtl");
   std::stringstream text;

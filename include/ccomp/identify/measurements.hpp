@@ -64,8 +64,8 @@ struct ReadOptions {
   // One-axis files (an instrument's runs along one axis: docs/identification.md)
   /// The axis measured (upper case), where the file does not name it; 0: the file's.
   char axis = 0;
-  /// Where the other axes stood; unnamed ones at 0, and for a rotary axis' readings a point
-  /// 100 mm from its line (docs/identification.md).
+  /// Where the other axes stood; unnamed ones at 0, and for a rotary axis' readings without
+  /// any, X at 100 mm (Y for A) from the program origin (docs/identification.md).
   std::vector<AxisPosition> at;
   /// The label of the rows (empty: the file's name).
   std::string source;

@@ -19,6 +19,13 @@ std::span<const MeasurementFormat> measurement_formats() {
 }
 
 const MeasurementFormat& detect_format(std::string_view head, const std::string& name) {
+  // What users pass for a measurement file and no reader can take: said as what it is.
+  if (head.starts_with("PK\x03\x04"))
+    throw Error(ErrorKind::data, "a zip file (a spreadsheet's .xlsx or .ods?): save the sheet as CSV (commas, semicolons or tabs)",
+                SourceLocation{name, 1, 1});
+  if (head.find('\0') != std::string_view::npos)
+    throw Error(ErrorKind::data, "a binary file (a NUL byte in its first 4 kB): measurement files are text",
+                SourceLocation{name, 1, 1});
   for (const MeasurementFormat& f : measurement_formats())
     if (f.detect(head)) return f;
   std::string known;
