@@ -27,9 +27,12 @@ void add_model_options(CLI::App& cmd, CheckArgs& args) {
   add_program_options(cmd, args.program);
 }
 
-compensate::CheckOptions check_options(const CheckArgs& args, const model::MachineModel& m) {
+/// `work_offsets`: where the programs' zero lies, unless --work-offset says otherwise (the
+/// model's, or those a compensated program's header records).
+compensate::CheckOptions check_options(const CheckArgs& args, const model::MachineModel& m,
+                                       const model::WorkOffsets& work_offsets) {
   compensate::CheckOptions o;
-  o.interpreter = interpreter_options(args.program, m.dialect);
+  o.interpreter = interpreter_options(args.program, m.dialect, work_offsets);
   o.samples = args.samples;
   // As the main job: a thermal term needs its reading (the same one the program was
   // compensated with, or the check proves nothing).
@@ -109,7 +112,7 @@ int run_predict(const CheckArgs& args) {
   const model::ForwardModel forward(m);
   gcode::LineSource program = gcode::LineSource::open(args.input);
   ProgressBar bar(program.name(), !args.json && stderr_is_terminal());
-  compensate::CheckOptions o = check_options(args, m);
+  compensate::CheckOptions o = check_options(args, m, m.work_offsets);
   o.progress = [&bar](double done) { bar.update(done); };
   const compensate::PathError e = compensate::predict(program, forward, o);
   bar.clear();
@@ -128,6 +131,7 @@ int run_verify(const CheckArgs& args) {
   // ccomp's header says which model and tolerance the output was made for: the tolerance
   // is the one to meet unless told, and another model's output is measured, with a warning.
   double tolerance = args.tolerance > 0.0 ? args.tolerance : 0.001;
+  model::WorkOffsets work_offsets = m.work_offsets;  // the header's, where it has them
   if (args.compensated != "-") {
     gcode::LineSource head = compensated.another_reader();
     gcode::SourceLine line;
@@ -135,6 +139,7 @@ int run_verify(const CheckArgs& args) {
       const std::optional<compensate::HeaderFacts> facts = compensate::read_header(line.text);
       if (!facts) continue;
       if (args.tolerance <= 0.0 && std::isfinite(facts->tolerance)) tolerance = facts->tolerance;
+      if (facts->work_offsets) work_offsets = *facts->work_offsets;
       if (!facts->model_sha256.empty() && facts->model_sha256 != m.sha256)
         fmt::print(stderr,
                    "{}:{}: warning: compensated with another model (sha256:{}), not {} (sha256:{}): this measures "
@@ -145,7 +150,7 @@ int run_verify(const CheckArgs& args) {
     }
   }
   ProgressBar bar(compensated.name(), !args.json && stderr_is_terminal());
-  compensate::CheckOptions o = check_options(args, m);
+  compensate::CheckOptions o = check_options(args, m, work_offsets);
   o.progress = [&bar](double done) { bar.update(done); };
   const compensate::PathError e = compensate::verify(original, compensated, forward, o);
   bar.clear();

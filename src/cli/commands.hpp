@@ -8,6 +8,7 @@
 
 #include "ccomp/gcode/interpreter.hpp"
 #include "ccomp/identify/measurements.hpp"
+#include "ccomp/model/work_offsets.hpp"
 
 namespace ccomp::cli {
 
@@ -20,13 +21,19 @@ struct ProgramArgs {
   std::vector<std::string> sub_path;
   bool block_delete = false;
   std::uint64_t max_blocks = 0;  ///< 0: the interpreter's own limit
+  std::vector<std::string> work_offsets;  ///< --work-offset G54=X-250,Y0,Z-300
 };
 void add_program_options(CLI::App& cmd, ProgramArgs& args);
 /// --tolerance's check: a positive, finite number of mm. CLI11's PositiveNumber answers '1um'
 /// with its range printed as a 300-digit double; this names the value and the unit.
 [[nodiscard]] CLI::Validator tolerance_in_mm();
-/// Interpreter options from the shared arguments; `model_dialect` when none is given.
-[[nodiscard]] gcode::InterpreterOptions interpreter_options(const ProgramArgs& args, const std::string& model_dialect);
+/// --work-offset's systems (usage errors name the option).
+[[nodiscard]] model::WorkOffsets work_offsets_of(const std::vector<std::string>& specs);
+/// Interpreter options from the shared arguments; `model_dialect` when none is given. The
+/// work offsets the program starts with: `base` (the model's, or a compensated program's
+/// header), with --work-offset's systems over them (and --param's numbers over those).
+[[nodiscard]] gcode::InterpreterOptions interpreter_options(const ProgramArgs& args, const std::string& model_dialect,
+                                                            const model::WorkOffsets& base = {});
 
 struct CompensateArgs {
   std::vector<std::string> inputs;
@@ -93,6 +100,8 @@ struct IdentifyArgs {
   bool json = false;
   std::string report;  ///< check: the HTML page to write
   double tool_length = 100.0;
+  std::string frame;                      ///< --frame: program or machine
+  std::vector<std::string> work_offsets;  ///< --work-offset G54=X..,Y..,Z..
   // simulate
   std::vector<std::string> plans{"nine_lines"};
   double noise_um = 0.2;

@@ -190,7 +190,7 @@ int run_compensate(const CompensateArgs& args) {
 
   const model::MachineModel model = model::load_machine_model(args.model);
   compensate::JobOptions options;
-  options.interpreter = interpreter_options(args.program, model.dialect);
+  options.interpreter = interpreter_options(args.program, model.dialect, model.work_offsets);
   options.force = args.force;
   options.expand_cycles = args.expand_cycles;
   options.resolve_cutter_comp = args.resolve_cutter_comp;

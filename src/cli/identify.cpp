@@ -27,11 +27,36 @@ namespace {
 void add_common(CLI::App& cmd, IdentifyArgs& args) {
   cmd.add_option("-m,--model", args.model, "machine model (YAML)")->required();
   cmd.add_option("--tool-length", args.tool_length, "mm: tool or optic length of rows without an L column (100)");
+  cmd.add_option("--frame", args.frame,
+                 "what the files' positions are, where a file does not say (# frame:): program coordinates "
+                 "(the default) or machine coordinates")
+      ->check(CLI::IsMember({"program", "machine"}));
+  cmd.add_option("--work-offset", args.work_offsets,
+                 "where the files' program zero lies in machine coordinates: G54=X-250,Y0,Z-300 (over the model's "
+                 "work_offsets; docs/identification.md, 'Frames')");
+}
+
+/// The frame the user gives the files (nothing when neither option is given).
+std::optional<identify::MeasurementFrame> frame_of(const IdentifyArgs& args) {
+  if (args.frame.empty() && args.work_offsets.empty()) return std::nullopt;
+  identify::MeasurementFrame f;
+  f.kind = args.frame == "machine" ? identify::FrameKind::machine : identify::FrameKind::program;
+  if (f.kind == identify::FrameKind::machine && !args.work_offsets.empty())
+    throw Error(ErrorKind::usage, "--frame machine has no work offset: --work-offset goes with program coordinates");
+  if (args.work_offsets.size() > 1)
+    throw Error(ErrorKind::usage, "measurement files are in one coordinate system: give one --work-offset");
+  if (!args.work_offsets.empty()) {
+    const model::WorkOffsetEntry e = model::parse_work_offset(args.work_offsets[0], "--work-offset " + args.work_offsets[0]);
+    f.system = e.system;
+    f.origin = e.origin;
+  }
+  return f;
 }
 
 identify::MeasurementSet read_all(const IdentifyArgs& args, const model::MachineModel& m) {
   identify::MeasurementSet set;
-  const identify::ReadOptions o = reading_options(args);
+  identify::ReadOptions o = reading_options(args);
+  o.frame = frame_of(args);
   for (const std::string& path : args.measurements) identify::read_measurements(path, m, o, set);
   identify::summarize(set, m);
   for (const std::string& notice : set.notices) fmt::print(stderr, "notice: {}\n", notice);
@@ -329,7 +354,8 @@ CLI::App* add_positioning(CLI::App& app, IdentifyArgs& args) {
 int run_positioning(const IdentifyArgs& args) {
   const model::MachineModel m = model::load_machine_model(args.model);
   identify::MeasurementSet data;
-  const identify::ReadOptions o = reading_options(args);
+  identify::ReadOptions o = reading_options(args);
+  o.frame = frame_of(args);
   for (const std::string& path : args.measurements) identify::read_measurements(path, m, o, data);
   for (const std::string& notice : data.notices) fmt::print(stderr, "notice: {}\n", notice);
   const auto axis = static_cast<std::size_t>(args.axis[0] - 'x');
@@ -432,8 +458,11 @@ int run_simulate(const IdentifyArgs& args) {
   o.step = args.step;
   o.rotary_step = args.rotary_step;
   o.runs = args.runs;
+  // The file says its frame, its origin written out: the model's (or the user's) G54.
+  const identify::ResolvedFrame frame = identify::resolve_frame(std::nullopt, frame_of(args), m, args.output);
+  o.origin = frame.origin;
   const identify::MeasurementSet set = identify::simulate(forward, o);
-  write_output(args.output, identify::to_csv(set, m));
+  write_output(args.output, identify::to_csv(set, m, frame));
   if (args.json)
     fmt::print("{}", simulate_json(m, set, args.output));
   else if (args.output != "-")

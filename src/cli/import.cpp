@@ -126,7 +126,8 @@ int run_import(const IdentifyArgs& args) {
   identify::MeasurementSet set;
   identify::read_measurements(input, m, o, set);
   for (const std::string& notice : set.notices) fmt::print(stderr, "notice: {}\n", notice);
-  write_output(args.output, identify::to_csv(set, m));
+  // Written in the frame it was read in (the model's work offset, where it has one).
+  write_output(args.output, identify::to_csv(set, m, set.frames.front()));
   if (args.json) {
     fmt::print("{}", import_json(input, format, set, args.output));
   } else if (args.output != "-") {

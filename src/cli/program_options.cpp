@@ -1,6 +1,7 @@
 #include <charconv>
 #include <cmath>
 
+#include "ccomp/compensate/machine_coordinates.hpp"
 #include "ccomp/error.hpp"
 #include "ccomp/gcode/dialect.hpp"
 #include "ccomp/gcode/tool_table.hpp"
@@ -15,6 +16,9 @@ void add_program_options(CLI::App& cmd, ProgramArgs& args) {
       ->check(CLI::IsMember({"mm", "inch"}));
   cmd.add_option("--param", args.params,
                  "a value only the controller has: NAME=VALUE (e.g. '_hal[x.y]=2.5' or 5063=1.2)");
+  cmd.add_option("--work-offset", args.work_offsets,
+                 "where a coordinate system's zero lies in machine coordinates, as the control stores it: "
+                 "G54=X-250,Y0,Z-300 (mm and deg; repeat for G55 ... G59.3; over the model's work_offsets)");
   cmd.add_option("--dialect", args.dialect, "G-code dialect: linuxcnc, fanuc, mazak, wincnc")
       ->check(CLI::IsMember(gcode::dialect_names()));
   cmd.add_option("--sub-path", args.sub_path, "folder with subroutine files (name.ngc)");
@@ -35,8 +39,24 @@ CLI::Validator tolerance_in_mm() {
       "MM > 0");
 }
 
-gcode::InterpreterOptions interpreter_options(const ProgramArgs& args, const std::string& model_dialect) {
+model::WorkOffsets work_offsets_of(const std::vector<std::string>& specs) {
+  model::WorkOffsets offsets;
+  for (const std::string& spec : specs) {
+    const model::WorkOffsetEntry e = model::parse_work_offset(spec, "--work-offset " + spec);
+    if (offsets.of(e.system))
+      throw Error(ErrorKind::usage,
+                  "--work-offset gives " + model::coordinate_system_name(e.system) + " twice: give each system once");
+    offsets.set(e.system, e.origin);
+  }
+  return offsets;
+}
+
+gcode::InterpreterOptions interpreter_options(const ProgramArgs& args, const std::string& model_dialect,
+                                              const model::WorkOffsets& base) {
   gcode::InterpreterOptions o;
+  model::WorkOffsets offsets = base;
+  offsets.override_with(work_offsets_of(args.work_offsets));
+  compensate::set_work_offsets(offsets, o);
   const std::string name = !args.dialect.empty() ? args.dialect : model_dialect.empty() ? "linuxcnc" : model_dialect;
   auto dialect = gcode::dialect_named(name);
   if (!dialect) throw Error(ErrorKind::usage, "unknown dialect '" + name + "'");

@@ -5,12 +5,33 @@
 #include <charconv>
 #include <system_error>
 
+#include "ccomp/error.hpp"
 #include "ccomp/version.hpp"
 
 namespace ccomp::compensate {
 namespace {
 
 constexpr std::string_view kHeaderPrefix = "(ccomp ";
+constexpr std::string_view kWorkOffsets = "work offsets ";
+
+/// "G54 X0 Y0 Z-400, G55 X100 Y0 Z0" (or "none") as header_line() writes it.
+std::optional<model::WorkOffsets> read_work_offsets(std::string_view text) {
+  model::WorkOffsets offsets;
+  if (text == "none") return offsets;
+  while (!text.empty()) {
+    const auto comma = text.find(',');
+    const std::string_view one = text.substr(0, comma);
+    try {
+      const model::WorkOffsetEntry e = model::parse_work_offset(one, "the header");
+      offsets.set(e.system, e.origin);
+    } catch (const Error&) {
+      return std::nullopt;
+    }
+    if (comma == std::string_view::npos) break;
+    text.remove_prefix(comma + 1);
+  }
+  return offsets;
+}
 
 /// The model's name inside a comment: no parenthesis or line end may close it early.
 std::string sanitize(std::string_view s) {
@@ -21,9 +42,10 @@ std::string sanitize(std::string_view s) {
 
 }  // namespace
 
-std::string header_line(const model::MachineModel& model, double tolerance) {
-  return fmt::format("{}{} compensated for machine '{}' model sha256:{} at {:g} um)", kHeaderPrefix, kVersion,
-                     sanitize(model.name), model.sha256, tolerance * 1000.0);
+std::string header_line(const model::MachineModel& model, double tolerance, const model::WorkOffsets& work_offsets) {
+  return fmt::format("{}{} compensated for machine '{}' model sha256:{} at {:g} um; {}{})", kHeaderPrefix, kVersion,
+                     sanitize(model.name), model.sha256, tolerance * 1000.0, kWorkOffsets,
+                     model::describe_work_offsets(work_offsets));
 }
 
 std::optional<HeaderFacts> read_header(std::string_view line) {
@@ -38,9 +60,15 @@ std::optional<HeaderFacts> read_header(std::string_view line) {
       double um = 0.0;
       const std::string_view number = line.substr(end + kAt.size());
       if (const auto [p, ec] = std::from_chars(number.data(), number.data() + number.size(), um);
-          ec == std::errc() && std::string_view(p, number.data() + number.size()).starts_with(" um)"))
+          ec == std::errc() && (std::string_view(p, number.data() + number.size()).starts_with(" um)") ||
+                                std::string_view(p, number.data() + number.size()).starts_with(" um;")))
         facts.tolerance = um / 1000.0;
     }
+  }
+  if (const auto at = line.find(kWorkOffsets); at != std::string_view::npos) {
+    const auto begin = at + kWorkOffsets.size();
+    const auto end = line.find(')', begin);
+    if (end != std::string_view::npos) facts.work_offsets = read_work_offsets(line.substr(begin, end - begin));
   }
   return facts;
 }

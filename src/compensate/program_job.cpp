@@ -7,6 +7,7 @@
 #include <cstdio>
 #include <filesystem>
 
+#include "ccomp/compensate/machine_coordinates.hpp"
 #include "ccomp/error.hpp"
 #include "ccomp/gcode/flatten.hpp"
 #include "ccomp/gcode/writer.hpp"
@@ -84,8 +85,10 @@ JobReport run_flattened_job(gcode::LineSource& input, std::FILE* out, const mode
 }  // namespace
 
 JobReport run_program_job(gcode::LineSource& input, std::FILE* out, const model::MachineModel& model,
-                          const JobOptions& options) {
-  validate(options);
+                          const JobOptions& given) {
+  validate(given);
+  JobOptions options = given;  // the machine's own work offsets under the caller's
+  options.interpreter = with_model_offsets(given.interpreter, model);
   if (options.flatten) return run_flattened_job(input, out, model, options);
   JobReport report;
   report.bytes = input.size();
@@ -101,7 +104,7 @@ JobReport run_program_job(gcode::LineSource& input, std::FILE* out, const model:
                     SourceLocation{input.name(), line.number, 1}, std::string(line.text));
     }
   }
-  gcode::ProgramWriter writer(input.another_reader(), out, header_line(model, options.tolerance));
+  gcode::ProgramWriter writer(input.another_reader(), out, header_line(model, options.tolerance, starting_work_offsets(options.interpreter)));
   JobSink sink(writer, model, options, input, report);
   // The program's G41/G42 stay for the control (the job rewrites the programmed path), or
   // the offset path is written instead.

@@ -249,6 +249,22 @@ Motion Interpreter::Impl::motion_to(MotionKind kind, MotionSource source, const 
   return m;
 }
 
+void Interpreter::Impl::check_origin_known(const Motion& m) {
+  if (warned_unknown_origin || (known_systems >> (offsets.coordinate_system - 1) & 1U)) return;
+  bool turns = false;
+  for (std::size_t i = 0; i < kAxisCount; ++i) turns = turns || (is_rotary(i) && m.start[i] != m.end[i]);
+  if (!turns) return;
+  warned_unknown_origin = true;
+  const char* names[] = {"G54", "G55", "G56", "G57", "G58", "G59", "G59.1", "G59.2", "G59.3"};
+  const char* name = names[offsets.coordinate_system - 1];
+  warn(fmt::format("a rotary axis turns in {0}, whose origin nobody gave (no work_offsets in the model, no "
+                   "--work-offset or --param, no G10 L2 before): program zero is taken at machine zero, and every "
+                   "rotary error's lever with it; give it with --work-offset {0}=X..,Y..,Z.. or the model's "
+                   "work_offsets (docs/machine-model.md)",
+                   name),
+       m.line);
+}
+
 void Interpreter::Impl::send(Motion& m, const Axes& target) {
   const bool leaving = leaving_offset;
   position = target;
@@ -277,6 +293,7 @@ void Interpreter::Impl::send(Motion& m, const Axes& target) {
   }
   m.start = offsets.to_machine(m.start);
   m.end = offsets.to_machine(m.end);
+  check_origin_known(m);
   if (through_queue) {
     comp.attach(m);
     return;

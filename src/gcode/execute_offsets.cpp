@@ -124,6 +124,7 @@ void Interpreter::Impl::g10(const Block& b) {
       params.set_numbered(base + static_cast<int>(i), offset / stored_scale(i));
     }
     params.set_numbered(base + 9, rotation);
+    known_systems |= 1U << (system - 1);
     if (system == offsets.coordinate_system) select_coordinate_system(system);
     return;
   }

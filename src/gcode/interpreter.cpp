@@ -36,16 +36,29 @@ Interpreter::Impl::Impl(InterpreterOptions o)
       if (!is_rotary(i)) entry.offset[i] *= machine_unit();
     entry.diameter *= machine_unit();
   }
+  for (std::size_t s = 0; s < options.work_offsets.size(); ++s) {
+    if (!options.work_offsets[s]) continue;
+    known_systems |= 1U << s;
+    for (std::size_t i = 0; i < kAxisCount; ++i)
+      params.set_numbered(5221 + static_cast<int>(s) * 20 + static_cast<int>(i),
+                          (*options.work_offsets[s])[i] / stored_scale(i));
+  }
   for (const auto& [name, value] : options.parameters) {
     std::string folded;
     for (char c : name)
       if (c != ' ' && c != '\t') folded.push_back(static_cast<char>(std::toupper(static_cast<unsigned char>(c))));
     overrides[folded] = value;
     int n = 0;
-    if (std::sscanf(folded.c_str(), "%d", &n) == 1 && std::to_string(n) == folded && n > 0 && n < kParameterCount)
+    if (std::sscanf(folded.c_str(), "%d", &n) == 1 && std::to_string(n) == folded && n > 0 && n < kParameterCount) {
       params.set_numbered(n, value);
+      if (n >= 5221 && n <= 5389 && (n - 5221) % 20 <= 9) known_systems |= 1U << ((n - 5221) / 20);
+    }
   }
   params.set_numbered(5220, 1.0);
+  // The control starts in G54 with its stored origin (rs274 reads it from its parameter
+  // file): the machine stands where it stands, the program's point is relative to it.
+  for (std::size_t i = 0; i < kAxisCount; ++i) offsets.g5x[i] = params.numbered(5221 + static_cast<int>(i)) * stored_scale(i);
+  offsets.rotation = params.numbered(5230);
   modal.retract_to_r = options.dialect.starts_in_g99;
 }
 
@@ -228,6 +241,7 @@ void Interpreter::Impl::write_numbered(const Block& b, double index, double v) {
   if (n >= 5221 && n <= 5389) {
     const int system = (n - 5221) / 20 + 1;
     const auto field = static_cast<std::size_t>((n - 5221) % 20);
+    if (field <= kAxisCount) known_systems |= 1U << (system - 1);
     if (system == offsets.coordinate_system && field <= kAxisCount)
       change_offsets([&] {
         if (field == kAxisCount)

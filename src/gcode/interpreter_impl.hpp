@@ -88,6 +88,11 @@ struct Interpreter::Impl {
   NamedValues overrides;  ///< --param values
   ModalState modal;
   Offsets offsets;
+  /// Bit s - 1: coordinate system s's origin is known (given, or set by the program).
+  std::uint32_t known_systems = 0;
+  bool warned_unknown_origin = false;
+  /// Says once that a rotary axis moves in a coordinate system whose origin nobody gave.
+  void check_origin_known(const Motion& m);
   Axes position{};                     ///< controlled point, machine frame, no tool length
   std::uint32_t position_unknown = 0;  ///< axes whose place only a probe knows
   ToolTable tools;

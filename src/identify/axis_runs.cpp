@@ -11,6 +11,7 @@
 
 #include "ccomp/constants.hpp"
 #include "ccomp/error.hpp"
+#include "ccomp/identify/measurement_formats.hpp"
 #include "ccomp/model/forward.hpp"
 #include "io/text_fields.hpp"
 
@@ -277,6 +278,10 @@ void append_axis_runs(const AxisRuns& runs, const std::string& name, const model
   std::optional<model::ForwardData> data;
   if (rotary) forward.emplace(model), data.emplace(*forward);
 
+  // The --at point and the targets are program coordinates, placed in the machine as the
+  // contract's rows are (a one-axis file states no frame of its own).
+  const ResolvedFrame frame = resolve_frame(std::nullopt, options.frame, model, name);
+  const std::size_t first_observation = into.observations.size();
   const auto file_index = static_cast<std::uint32_t>(into.files.size());
   into.files.push_back(name);
   if (into.sensors.empty()) into.sensors = model.sensors;
@@ -303,7 +308,9 @@ void append_axis_runs(const AxisRuns& runs, const std::string& name, const model
     } else {
       // The table turned by e beyond its target moves the point, relative to the tool, as the
       // axis turning by e would: along d(point)/d(angle), by e times its length (mm/rad).
-      model::forward(*forward, *data, o.q, MeasurementSet::conditions(o), true);
+      model::ChainQ machine = o.q;
+      io::to_machine(machine, frame);
+      model::forward(*forward, *data, machine, MeasurementSet::conditions(o), true);
       const Eigen::Vector3d along = data->nominal_chain.oMp.R * data->J_q.col(static_cast<Eigen::Index>(index));
       if (along.norm() < 1.0)
         throw Error(ErrorKind::usage,
@@ -316,6 +323,7 @@ void append_axis_runs(const AxisRuns& runs, const std::string& name, const model
     into.observations.push_back(o);
   }
   into.notices.push_back(conversion_summary(runs, readings, name, axis, base, model, stated, rotary));
+  io::place_in_machine(into, first_observation, frame, model, name);
 }
 
 }  // namespace ccomp::identify

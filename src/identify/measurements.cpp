@@ -117,8 +117,40 @@ void note_repeated_rows(std::vector<std::pair<std::uint64_t, std::uint32_t>>& ro
 
 }  // namespace
 
+void io::to_machine(model::ChainQ& q, const ResolvedFrame& frame) {
+  if (frame.frame.kind == FrameKind::machine) {
+    q[2] -= q[static_cast<Eigen::Index>(model::kToolLengthIndex)];
+    return;
+  }
+  for (std::size_t i = 0; i < 9; ++i)
+    q[static_cast<Eigen::Index>(i)] += (i >= 3 && i <= 5) ? frame.origin[i] * kRadPerDeg : frame.origin[i];
+}
+
+/// The rows read as program coordinates (work offset zero) become machine positions: the
+/// frame's origin added, or for a machine frame the tool length taken back off Z (the axis
+/// positions themselves). An origin nobody gave is said where a rotary axis turns.
+void io::place_in_machine(MeasurementSet& set, std::size_t first, const ResolvedFrame& frame,
+                          const model::MachineModel& model, const std::string& name) {
+  set.frames.push_back(frame);
+  for (std::size_t k = first; k < set.observations.size(); ++k) to_machine(set.observations[k].q, frame);
+  if (!frame.unknown) return;
+  for (const model::AxisSpec& a : model.axes) {
+    if (a.type != model::AxisType::rotary) continue;
+    const auto i = static_cast<Eigen::Index>(std::string_view("XYZABCUVW").find(a.letter));
+    for (std::size_t k = first + 1; k < set.observations.size(); ++k)
+      if (set.observations[k].q[i] != set.observations[first].q[i]) {
+        set.notices.push_back(fmt::format(
+            "{}: its rows are program coordinates of {}, whose origin nobody gave (no '# frame:' line with it, "
+            "no --work-offset, no work_offsets in the model): taken at machine zero, and every rotary error's "
+            "lever with it (docs/identification.md, 'Frames')",
+            name, model::coordinate_system_name(frame.frame.system)));
+        return;
+      }
+  }
+}
+
 void io::read_contract(std::istream& stream, const std::string& name, const model::MachineModel& model,
-                   const ReadOptions& options, MeasurementSet& into) {
+                       const ReadOptions& options, MeasurementSet& into) {
   const auto file_index = static_cast<std::uint32_t>(into.files.size());
   into.files.push_back(name);
   io::LineReader in(stream, name);  // a line's length capped while it is read
@@ -136,13 +168,19 @@ void io::read_contract(std::istream& stream, const std::string& name, const mode
            "convert them to LF or CRLF");
     }
   };
-  // The header: the first line that is not blank or a # comment.
+  // The header: the first line that is not blank or a # comment (one of which may state
+  // the file's frame).
   std::vector<std::string> header;
   std::vector<std::uint32_t> column_of_field;  // 1-based text column of each header field
   char delimiter = ',';
+  std::optional<MeasurementFrame> file_frame;
   while (in.next(line)) {
     number = in.number();
     check_line_end();
+    if (is_frame_line(line)) {
+      if (file_frame) fail(number, 1, "a second '# frame:' line: a file has one frame");
+      file_frame = parse_frame_line(line, name, number);
+    }
     if (line.find_first_not_of(" \t\r") == std::string::npos || line.front() == '#') continue;
     // A spreadsheet set to a decimal comma writes semicolons (or tabs) between fields.
     delimiter = line.find('\t') != std::string::npos ? '\t' : line.find(';') != std::string::npos ? ';' : ',';
@@ -313,6 +351,7 @@ void io::read_contract(std::istream& stream, const std::string& name, const mode
     }
   }
   line.clear();
+  io::place_in_machine(into, first_observation, resolve_frame(file_frame, options.frame, model, name), model, name);
   note_repeated_rows(row_hashes, name, into.notices);
   if (into.observations.size() == first_observation)
     fail(header_line, 1, "no readings after the header: there is nothing to compare the model with");
@@ -360,8 +399,14 @@ void summarize(MeasurementSet& set, const model::MachineModel& model) {
   for (const model::AxisSpec& a : model.axes) {
     const std::size_t i = std::string_view("XYZABCUVW").find(a.letter);
     const bool rotary = a.type == model::AxisType::rotary;
-    add(std::string(1, static_cast<char>(std::tolower(a.letter))), rotary ? "deg" : "mm",
-        [&](const Observation& o) { return file_axis_value(o, i, rotary); });
+    // As the files write it: in each file's own frame.
+    add(std::string(1, static_cast<char>(std::tolower(a.letter))), rotary ? "deg" : "mm", [&](const Observation& o) {
+      if (o.file >= set.frames.size()) return file_axis_value(o, i, rotary);
+      const ResolvedFrame& f = set.frames[o.file];
+      const bool machine_z = f.frame.kind == FrameKind::machine && i == 2;  // the axis itself, tool not taken off
+      return file_axis_value(o, i, rotary) - f.origin[i] +
+             (machine_z ? o.q[static_cast<Eigen::Index>(model::kToolLengthIndex)] : 0.0);
+    });
   }
   add("L", "mm", [](const Observation& o) { return o.q[static_cast<Eigen::Index>(model::kToolLengthIndex)]; });
   add("t", "s", [](const Observation& o) { return o.time; });
@@ -376,8 +421,8 @@ double predict(const model::ForwardModel& model, model::ForwardData& data, const
   return o.direction.dot(model::deviation(data));
 }
 
-std::string to_csv(const MeasurementSet& set, const model::MachineModel& model) {
-  std::string out = "x,y,z";
+std::string to_csv(const MeasurementSet& set, const model::MachineModel& model, const ResolvedFrame& frame) {
+  std::string out = frame_line(frame) + "\nx,y,z";
   std::vector<std::size_t> rotary;
   for (const model::AxisSpec& a : model.axes)
     if (a.type == model::AxisType::rotary) {
@@ -391,8 +436,11 @@ std::string to_csv(const MeasurementSet& set, const model::MachineModel& model) 
   out += ",nx,ny,nz,d,source\n";
   for (const Observation& o : set.observations) {
     const double tool = o.q[static_cast<Eigen::Index>(model::kToolLengthIndex)];
-    out += fmt::format("{:.6f},{:.6f},{:.6f}", o.q[0], o.q[1], o.q[2] - tool);
-    for (std::size_t i : rotary) out += fmt::format(",{:.6f}", o.q[static_cast<Eigen::Index>(i)] / kRadPerDeg);
+    const bool machine = frame.frame.kind == FrameKind::machine;
+    out += fmt::format("{:.6f},{:.6f},{:.6f}", o.q[0] - frame.origin[0], o.q[1] - frame.origin[1],
+                       o.q[2] - frame.origin[2] - (machine ? 0.0 : tool));
+    for (std::size_t i : rotary)
+      out += fmt::format(",{:.6f}", o.q[static_cast<Eigen::Index>(i)] / kRadPerDeg - frame.origin[i]);
     out += fmt::format(",{:.3f},{:.3f}", tool, o.time);
     for (double T : o.temperatures) out += std::isnan(T) ? std::string(",") : fmt::format(",{:.4f}", T);
     for (std::size_t i = 0; i < 3; ++i) out += fmt::format(",{}", static_cast<int>(o.directions[i]));

@@ -34,7 +34,8 @@ struct Recorder {
     set.sources.push_back(label);
     return static_cast<std::uint32_t>(set.sources.size() - 1);
   }
-  /// Records the reading along each direction at program point (x, y, z, b deg).
+  /// Records the reading along each direction at the controlled point (x, y, z, b deg) in
+  /// machine coordinates.
   void record(const std::string& label, double x, double y, double z, double b_deg, double tool, double time,
               const std::vector<double>& temperatures, const std::array<double, 9>& directions,
               std::initializer_list<Eigen::Vector3d> along) {
@@ -105,6 +106,7 @@ MeasurementSet simulate(const model::ForwardModel& truth, const SimulateOptions&
                std::normal_distribution<double>(0.0, options.noise)};
   const std::vector<double> cold(m.sensors.size(), 20.0);
   const bool has_b = m.axis('B') != nullptr;
+  const model::WorkOrigin& o = options.origin;  // program zero, for the plans on the part
   const Eigen::Vector3d e[3] = {Eigen::Vector3d::UnitX(), Eigen::Vector3d::UnitY(), Eigen::Vector3d::UnitZ()};
   const char letters[3] = {'X', 'Y', 'Z'};
   std::pair<double, double> s[3];
@@ -163,8 +165,8 @@ MeasurementSet simulate(const model::ForwardModel& truth, const SimulateOptions&
         for (int k = 0; k < count; ++k)
           for (const auto& [px, pz] : {std::pair{150.0, 0.0}, std::pair{-60.0, 100.0}})
             for (double y : {mid(1) - 50, mid(1) + 50})
-              rec.record("sphere", px, y, pz, -180.0 + 360.0 * k / count, options.tool_length, 0, cold, {},
-                         {e[0], e[1], e[2]});
+              rec.record("sphere", px + o[0], y + o[1], pz + o[2], -180.0 + 360.0 * k / count + o[4],
+                         options.tool_length, 0, cold, {}, {e[0], e[1], e[2]});
         break;
       }
       case Plan::test_piece: {
@@ -177,8 +179,10 @@ MeasurementSet simulate(const model::ForwardModel& truth, const SimulateOptions&
           for (int i = 0; i < 3; ++i)
             for (int j = 0; j < 3; ++j) {
               const double u = -40.0 + 40.0 * i, v = -40.0 + 40.0 * j;
-              rec.record(fmt::format("face-b{:g}-top", b), u, v, 60.0, b, options.tool_length, 0, cold, {}, {e[2]});
-              rec.record(fmt::format("face-b{:g}-side", b), 60.0, v, u, b, options.tool_length, 0, cold, {}, {e[0]});
+              rec.record(fmt::format("face-b{:g}-top", b), u + o[0], v + o[1], 60.0 + o[2], b + o[4],
+                         options.tool_length, 0, cold, {}, {e[2]});
+              rec.record(fmt::format("face-b{:g}-side", b), 60.0 + o[0], v + o[1], u + o[2], b + o[4],
+                         options.tool_length, 0, cold, {}, {e[0]});
             }
         against_datum_faces(truth, set, first, {rec.source("face-b0-top"), rec.source("face-b0-side")});
         break;

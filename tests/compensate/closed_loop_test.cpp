@@ -112,7 +112,7 @@ TEST(ClosedLoop, Refusals) {
   // 6 mrad error is refused at the first move; 4 mrad is compensated.
   for (const double rad : {6e-3, 4e-3}) {
     const model::MachineModel tilted = model::with_terms(mm, {fmt::format("{{name: EBB, value: {}, unit: rad}}", rad)}, "t");
-    const std::string program = "G21 G90 F100\nG0 X0 Y0 Z-100 B0\nG1 X10 B20\nM30\n";
+    const std::string program = "G21 G90 F100\nG0 X0 Y0 Z300 B0\nG1 X10 B20\nM30\n";
     if (rad > 5e-3) {
       const Error turned = test::error_of([&] { (void)compensate(program, tilted, 0.001); }, "accepted 6 mrad");
       EXPECT_EQ(turned.kind(), ErrorKind::safety);
@@ -173,10 +173,10 @@ TEST(ClosedLoop, ExpandedCyclesAreCompensatedMovesAndTheBlocksKeepTheirOtherWord
   const model::MachineModel mm = sample_machine("hmc-xyzb-geometric");
   const model::ForwardModel m(mm);
   const std::string program =
-      "G21 G17 G90 G94 G54\nT1 M6\nG43 H1\nS3000 M3\nG0 X0 Y0 Z-80 B30\n"
-      "G98 G81 X50 Y30 Z-110 R-98 F200 M8\nX-60 Y40\n"
-      "G91 G81 X15 Y0 Z-12 R-18 L3\nG90 G80\nG0 Z-80\n"
-      "G99 G83 X-100 Y-50 Z-125 R-98 Q5 F150\nG80\nG0 Z-60\nM30\n";
+      "G21 G17 G90 G94 G54\nT1 M6\nG43 H1\nS3000 M3\nG0 X0 Y0 Z320 B30\n"
+      "G98 G81 X50 Y30 Z290 R302 F200 M8\nX-60 Y40\n"
+      "G91 G81 X15 Y0 Z-12 R-18 L3\nG90 G80\nG0 Z320\n"
+      "G99 G83 X-100 Y-50 Z275 R302 Q5 F150\nG80\nG0 Z340\nM30\n";
   compensate::JobOptions o;
   const Error in_words = test::error_of([&] { (void)compensate(program, mm, o); },
                                         "an incremental cycle with L repeats was compensated in its words");
@@ -193,7 +193,7 @@ TEST(ClosedLoop, ExpandedCyclesAreCompensatedMovesAndTheBlocksKeepTheirOtherWord
   EXPECT_GE(left.moves, 5U + 6U) << "five G81 holes fed once each, and the G83 hole's six pecks (27 mm by 5)";
   // G82 dwells at the bottom: moves cannot say that.
   const Error dwell = test::error_of(
-      [&] { (void)compensate("G21 G90 G0 X0 Y0 Z-80\nG82 X10 Y10 Z-110 R-98 P0.5 F100\nG80\nM30\n", mm, o); },
+      [&] { (void)compensate("G21 G90 G0 X0 Y0 Z320\nG82 X10 Y10 Z290 R302 P0.5 F100\nG80\nM30\n", mm, o); },
       "G82 was expanded without its dwell");
   EXPECT_NE(dwell.message().find("G82"), std::string::npos) << dwell.message();
 }
@@ -271,7 +271,7 @@ TEST(ClosedLoop, ShortPeriodErrorsOnLongMovesAreNotSteppedOver) {
   EXPECT_GE(m.check_points(model::ChainQ::Zero(), (model::ChainQ() << 200, 0, 0, 0, 0, 0, 0, 0, 0, 0).finished(), 3),
             300);
   const std::string program =
-      "G21 G90 G94 G54\nT1 M6\nG43 H1\nF1200\nG0 X-100 Y0 Z-100 B0\nG1 X100\nG1 Y10\nG1 X-100\nM30\n";
+      "G21 G90 G94 G54\nT1 M6\nG43 H1\nF1200\nG0 X-100 Y0 Z300 B0\nG1 X100\nG1 Y10\nG1 X-100\nM30\n";
   compensate::JobOptions o;
   o.sensors = {{"bed", 20.0}, {"spindle", 20.0}};
   compensate::JobReport report;
@@ -291,7 +291,7 @@ TEST(ClosedLoop, IncrementalPiecesCarryTheirRoundingInsteadOfSummingIt) {
       std::string(kRandomChain) + "  - {name: EXX, form: periodic, period: 5 mm, harmonics: [[4, 3]]}\n", "screw.yaml");
   const model::ForwardModel m(mm);
   const std::string program =
-      "G21 G90 G94 G54\nT1 M6\nG43 H1\nF1200\nG0 X-100 Y0 Z-100 B0\nG91 G1 X200.000\nG1 Y10.000\nG1 "
+      "G21 G90 G94 G54\nT1 M6\nG43 H1\nF1200\nG0 X-100 Y0 Z300 B0\nG91 G1 X200.000\nG1 Y10.000\nG1 "
       "X-200.000\nG90\nM30\n";
   compensate::JobOptions o;
   o.sensors = {{"bed", 20.0}, {"spindle", 20.0}};
@@ -338,7 +338,7 @@ Backlash run_backlash(const std::string& terms, const std::string& program, int 
 
 // A zig-zag: X turns round at every line, Y at the end, B once.
 const std::string kZigZag =
-    "G21 G90 G94 G54\nT1 M6\nG43 H1\nF1200\nG0 X-100 Y0 Z-100 B0\nG1 X100\nG1 Y5\nG1 X-100\nG1 Y10\nG1 X100\n"
+    "G21 G90 G94 G54\nT1 M6\nG43 H1\nF1200\nG0 X-100 Y0 Z300 B0\nG1 X100\nG1 Y5\nG1 X-100\nG1 Y10\nG1 X100\n"
     "G1 Y0\nG1 X-100 Y-20\nG0 B30\nG1 X100\nG0 B10\nG1 X0 Y-40\nM30\n";
 
 TEST(ClosedLoop, BacklashIsTakenUpWhereAnAxisTurnsRound) {
@@ -361,7 +361,7 @@ TEST(ClosedLoop, AnErrorOfAnyFormThatReadsAnApproachIsFollowedThere) {
       "  - {name: EZX, variable: vx, form: polynomial, unit: um, coefficients: [0, 3]}\n"
       "  - {name: EBX, variable: vx, form: table, unit: urad, at: [-1, 1], values: [-4, 6]}\n";
   // X travels one way, from the rapid that brings it to the start on: 40 cuts.
-  std::string one_way = "G21 G90 G94 G54\nT1 M6\nG43 H1\nF1200\nG0 X-110 Y0 Z-100 B0\nG0 X-100\n";
+  std::string one_way = "G21 G90 G94 G54\nT1 M6\nG43 H1\nF1200\nG0 X-110 Y0 Z300 B0\nG0 X-100\n";
   for (int k = 1; k <= 40; ++k) one_way += fmt::format("G1 X{} Y{}\n", -100 + 5 * k, k % 2);
   one_way += "M30\n";
   const Backlash r = run_backlash(terms, one_way);
@@ -395,7 +395,7 @@ TEST(ClosedLoop, ATakeUpThatCannotHoldTheToolStillIsReported) {
   const Backlash after_g53 = run_backlash(
       "  - {name: EBX, variable: vx, form: reversal, unit: urad, reversal: 10}\n"
       "  - {name: EXX, variable: vx, form: reversal, reversal: -8 um}\n",
-      "G21 G90 G94 G54\nT1 M6\nG43 H1\nF1200\nG0 X-110 Y0 Z-100 B0\nG0 X-100\nG1 X100\nG53 G1 X110\n"
+      "G21 G90 G94 G54\nT1 M6\nG43 H1\nF1200\nG0 X-110 Y0 Z300 B0\nG0 X-100\nG1 X100\nG53 G1 X110\n"
       "G1 X-100\nM30\n");
   EXPECT_GT(after_g53.report.max_error_after, 0.5 * after_g53.after) << "verify finds " << after_g53.after;
   // Y turning round at the same corners, its backlash taken up cleanly, is not blamed.
@@ -403,7 +403,7 @@ TEST(ClosedLoop, ATakeUpThatCannotHoldTheToolStillIsReported) {
       "  - {name: EBX, variable: vx, form: reversal, unit: urad, reversal: 10}\n"
       "  - {name: EXX, variable: vx, form: reversal, reversal: -8 um}\n"
       "  - {name: EYY, variable: vy, form: reversal, reversal: -5 um}\n",
-      "G21 G90 G94 G54\nT1 M6\nG43 H1\nF1200\nG0 X-100 Y0 Z-100 B0\nG1 X100 Y5\nG1 X-100 Y-5\nG1 X100 Y5\nM30\n");
+      "G21 G90 G94 G54\nT1 M6\nG43 H1\nF1200\nG0 X-100 Y0 Z300 B0\nG1 X100 Y5\nG1 X-100 Y-5\nG1 X100 Y5\nM30\n");
   ASSERT_EQ(both.warnings.size(), 1U);
   EXPECT_NE(both.warnings.front().find("axis X's"), std::string::npos) << both.warnings.front();
 }
@@ -431,7 +431,7 @@ TEST(ClosedLoop, APlayFinerThanTheDigitsIsTakenUpWhole) {
       "  - {name: EXX, variable: vx, form: reversal, reversal: -0.46 um}\n"
       "  - {name: EYX, variable: vx, form: reversal, reversal: 10 um}\n"
       "  - {name: EXY, variable: y, form: polynomial, unit: um, coefficients: [0, 1.5e-4]}\n";
-  const std::string head = "G21 G90 G94 G54\nT1 M6\nG43 H1\nF1200\nG0 X0 Y0 Z-100 B0\n";
+  const std::string head = "G21 G90 G94 G54\nT1 M6\nG43 H1\nF1200\nG0 X0 Y0 Z300 B0\n";
   for (const std::string& moves : {std::string("G1 X10\nG1 Y100\nG1 Y0\nG1 Y100\nG1 Y0\n"),
                                    std::string("G91\nG1 X10\nG1 Y100\nG1 Y-100\nG1 Y100\nG1 Y-100\nG90\n")}) {
     const Backlash own = run_backlash(turned_by_correction, head + moves + "M30\n");
@@ -449,7 +449,7 @@ TEST(ClosedLoop, PastTheTurnsAMoveIsCutAtWhatTheRestLeavesIsCounted) {
   const Backlash r = run_backlash(
       "  - {name: EYX, form: periodic, period: 20 mm, harmonics: [[3, 0]], unit: um}\n"
       "  - {name: EYY, variable: vy, form: reversal, reversal: -5 um}\n",
-      "G21 G90 G94 G54\nT1 M6\nG43 H1\nF1000\nG0 X-150 Y0 Z-100 B0\nG1 Y1\nG1 X150\nG1 Y2\nM30\n");
+      "G21 G90 G94 G54\nT1 M6\nG43 H1\nF1000\nG0 X-150 Y0 Z300 B0\nG1 Y1\nG1 X150\nG1 Y2\nM30\n");
   EXPECT_GT(r.after, 0.003) << "the turns past the eighth keep Y's play";
   EXPECT_GE(r.report.max_error_after, 0.8 * r.after) << "verify finds " << r.after;
   ASSERT_FALSE(r.warnings.empty());

@@ -11,9 +11,9 @@
 #include <optional>
 
 #include "ccomp/compensate/verify.hpp"
-#include "ccomp/model/chain_values.hpp"
 #include "ccomp/model/model_file.hpp"
 #include "job_runner.hpp"
+#include "reference_cut.hpp"
 #include "reference_hmc.hpp"
 #include "sample_models.hpp"
 #include "trace_capture.hpp"
@@ -66,23 +66,25 @@ double distance(const Eigen::Vector3d& p, const Segment& s) {
   return (p - (s.a + t * d)).norm();
 }
 
-/// A motion's chain values as the reference takes them: x y z (mm), b (deg), L (mm).
-struct Chain {
-  double x, y, z, b, L;
-};
+/// A motion's end as the reference's axes: x y z (mm), b (deg), L (mm).
+using Chain = ReferenceAxes;
 Chain chain(const RecordedMotion& m) {
-  const model::ChainQ q = model::chain_of(m.motion.end, m.offsets);
-  return {q[0], q[1], q[2], q[4] * 180.0 / std::numbers::pi, q[model::kToolLengthIndex]};
+  return reference_axes(reference(), m.motion.end, m.offsets);
 }
 
-/// A program compensated at 1 um, and both run through the interpreter with tool 1.
+/// A program compensated at 1 um (told the reference's program zero, as --work-offset
+/// tells it), and both run through the interpreter with tool 1.
 struct Runs {
   std::string output;
   RunResult original, compensated;
 };
 Runs compensate_and_run(const std::string& program, const model::MachineModel& mm) {
   Runs r;
-  r.output = compensate(program, mm, 0.001);
+  compensate::JobOptions o;
+  o.tolerance = 0.001;
+  const Eigen::Vector3d origin = reference().work_origin;
+  o.interpreter.work_offsets[0] = gcode::Axes{origin.x(), origin.y(), origin.z()};
+  r.output = compensate(program, mm, o);
   gcode::InterpreterOptions with_tool;
   with_tool.tools.tools[1] = kTool1;
   r.original = run_program(program, with_tool);

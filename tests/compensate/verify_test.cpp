@@ -226,12 +226,12 @@ TEST(Verify, ACutMissingBetweenRapidsIsFound) {
 
 TEST(Verify, ATableTurningBackWhileTheToolMovesOnIsCutToItsEnd) {
   // B turns to 10 degrees, then back while X moves 10 mm: in the table frame the way back
-  // starts on the way out, 300 mm from B's axis. The output takes the way back in steps
+  // starts on the way out, 300 mm from B's axis (program zero on it). The output takes the way back in steps
   // (as take-ups and splits write it), its first points as near the way out as the way back;
   // the search follows the program's order, and nothing is uncut.
-  const std::string program = "G21 G90 G17 F500\nG0 X0 Y0 Z-100 B0\nG1 B10\nG1 X10 B0\nM2\n";
+  const std::string program = "G21 G90 G17 F500\nG0 X0 Y0 Z300 B0\nG1 B10\nG1 X10 B0\nM2\n";
   const std::string stepped =
-      "G21 G90 G17 F500\nG0 X0 Y0 Z-100 B0\nG1 B10\nG1 X0.01 B9.99\nG1 X0.05 B9.95\nG1 X10 B0\nM2\n";
+      "G21 G90 G17 F500\nG0 X0 Y0 Z300 B0\nG1 B10\nG1 X0.01 B9.99\nG1 X0.05 B9.95\nG1 X10 B0\nM2\n";
   const model::ForwardModel m(sample_machine("hmc-xyzb-geometric"));
   for (const std::string& output : {program, stepped}) {
     const compensate::PathError e = verify_text(program, output, m);

@@ -238,8 +238,9 @@ TEST(InstrumentFormats, ARotaryCalibratorsTurnIsTheTablesTurnAtTheReadingsPoint)
     model::forward(forward, data, turned, MeasurementSet::conditions(o));
     const double moved = o.direction.dot(R * (data.nominal - at_target));
     // The conversion takes the turn's lever from the modelled machine, the test from the
-    // perfect one: they differ by the model's errors, some 1e-5 of it.
-    EXPECT_NEAR(o.value, moved, 1e-4 * std::abs(moved) + 1e-12) << "target " << i;
+    // perfect one: they differ by the model's errors (its B line tens of um off), some 1e-4
+    // of the lever.
+    EXPECT_NEAR(o.value, moved, 1e-3 * std::abs(moved) + 1e-12) << "target " << i;
     EXPECT_NEAR(o.direction.norm(), 1.0, 1e-12);
   }
   MeasurementSet linear_units;

@@ -53,7 +53,7 @@ TEST(LocationFit, SquarenessAndTheBAxisLocationOfAReferenceMachineAreFittedBack)
   truth.EZZ = [](double z) { return 1.5e-5 * z - 1e-8 * z * z; };
   truth.EAY = [](double y) { return 4e-6 + 1.8e-8 * y; };
   const model::ForwardModel start(geometric_start());
-  const MeasurementSet data = test::reference_measurements(test::measure_reference(truth, {kNoise, 7}));
+  const MeasurementSet data = test::reference_measurements(truth, test::measure_reference(truth, {kNoise, 7}));
   const FitReport r = fit(start, data);
   EXPECT_TRUE(r.converged);
   EXPECT_GT(r.rms_before, 0.005) << "the start misses several um";

@@ -40,7 +40,7 @@ TEST(Measurements, ScalarAndFullRowsBecomeObservations) {
   ASSERT_EQ(s.observations.size(), 4U);
   const Observation& a = s.observations[0];
   EXPECT_DOUBLE_EQ(a.q[0], 10);
-  EXPECT_DOUBLE_EQ(a.q[2], -30 + 100) << "program z plus the tool length is the Z axis";
+  EXPECT_DOUBLE_EQ(a.q[2], -30 - 400 + 100) << "program z, G54 (the model's) and the tool length make the Z axis";
   EXPECT_DOUBLE_EQ(a.q[9], 100);
   EXPECT_NEAR(a.q[4], M_PI / 2, 1e-15);
   EXPECT_EQ(a.directions[0], 1.0);
@@ -161,7 +161,7 @@ TEST(Measurements, SummaryGivesRangesAndCsvRoundTrips) {
   EXPECT_EQ(range("L"), std::make_pair(50.0, 150.0));
   EXPECT_EQ(range("b"), std::make_pair(0.0, 45.0));
   EXPECT_EQ(range("T_spindle"), std::make_pair(21.0, 24.0));
-  const MeasurementSet again = parse(to_csv(s, hmc()));
+  const MeasurementSet again = parse(to_csv(s, hmc(), s.frames.at(0)));
   ASSERT_EQ(again.observations.size(), s.observations.size());
   for (std::size_t i = 0; i < s.observations.size(); ++i) {
     EXPECT_LT((again.observations[i].q - s.observations[i].q).norm(), 1e-9);

@@ -118,7 +118,7 @@ TEST_P(ReferenceEffects, TheLoopNamesWhatIsHiddenEndsAtTheNoiseAndWritesNothingA
   ReferencePlans plans;
   plans.noise = kNoise, plans.seed = 21, plans.line_step = 2.5, plans.thermal = h.thermal;
   plans.sphere_step = h.sphere_step;
-  identify::MeasurementSet data = reference_measurements(measure_reference(machine, plans));
+  identify::MeasurementSet data = reference_measurements(machine, measure_reference(machine, plans));
   std::vector<std::uint32_t> spiked;  // rows
   if (h.spikes) {
     for (std::size_t i = 500; i < data.observations.size(); i += 2001) {
@@ -175,7 +175,7 @@ TEST(ReferenceNull, NothingHiddenNothingSuggestedWhateverTheNoiseDraw) {
     ReferencePlans plans;
     plans.noise = kNoise, plans.seed = seed, plans.line_step = 2.5, plans.thermal = true;
     const LoopResult loop = follow_the_loop(read_file(source_dir() + "/samples/machines/hmc-xyzb-geometric.yaml"),
-                                            reference_measurements(measure_reference(geometric_reference(), plans)), 2);
+                                            reference_measurements(geometric_reference(), measure_reference(geometric_reference(), plans)), 2);
     EXPECT_TRUE(loop.ended && loop.added.empty())
         << "seed " << seed << ": added " << ::testing::PrintToString(loop.added);
     EXPECT_TRUE(loop.unexplained.empty()) << "seed " << seed << ": " << loop.unexplained;

@@ -4,6 +4,7 @@
 // would (check's first suggestion added, refit, again until nothing is missing), compensate
 // a program cut across the workspace at several table angles with the model it ends with,
 // and judge the compensated program on the reference machine itself.
+#include <fmt/format.h>
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -13,10 +14,10 @@
 #include "ccomp/compensate/verify.hpp"
 #include "ccomp/identify/diagnose.hpp"
 #include "ccomp/identify/fit.hpp"
-#include "ccomp/model/chain_values.hpp"
 #include "ccomp/model/model_file.hpp"
 #include "job_runner.hpp"
 #include "metrology_loop.hpp"
+#include "reference_cut.hpp"
 #include "reference_hmc.hpp"
 #include "reference_measurements.hpp"
 #include "trace_capture.hpp"
@@ -38,12 +39,16 @@ test::ReferenceHmc reference() {
   return m;
 }
 
-/// A slanted rectangle cut at each table angle, across the workspace.
-std::string contour_program() {
+/// A slanted rectangle cut at each table angle, across the workspace the reference was
+/// measured over, in its program coordinates (its own zero, reference_hmc.hpp).
+std::string contour_program(const test::ReferenceHmc& machine) {
+  const Eigen::Vector3d o = -machine.work_origin;  // machine zero in program coordinates
   std::string p = "G21 G17 G90 G94 G54\nT1 M6\nG43 H1\n";
   for (const char* b : {"0", "30", "135", "220", "300"})
-    p += std::string("G0 B") + b +
-         "\nG0 X-300 Y-200 Z-280\nG1 X310 F800\nG1 Y180 Z-120\nG1 X-300\nG1 Y-200 Z-280\nG0 Z-380\n";
+    p += fmt::format(
+        "G0 B{}\nG0 X{} Y{} Z{}\nG1 X{} F800\nG1 Y{} Z{}\nG1 X{}\nG1 Y{} Z{}\nG0 Z{}\n", b, o.x() - 300,
+        o.y() - 200, o.z() - 380, o.x() + 310, o.y() + 180, o.z() - 220, o.x() - 300, o.y() - 200, o.z() - 380,
+        o.z() - 480);
   return p + "M30\n";
 }
 
@@ -61,13 +66,14 @@ double contour_error(const test::ReferenceHmc& machine, const std::vector<Segmen
   double worst = 0.0;
   for (const test::RecordedMotion& m : run.motions) {
     if (m.motion.kind != gcode::MotionKind::feed) continue;
-    const model::ChainQ a = model::chain_of(m.motion.start, m.offsets);
-    const model::ChainQ b = model::chain_of(m.motion.end, m.offsets);
-    const int steps = std::max(1, static_cast<int>((b - a).head<3>().norm()));
+    const test::ReferenceAxes a = test::reference_axes(machine, m.motion.start, m.offsets);
+    const test::ReferenceAxes b = test::reference_axes(machine, m.motion.end, m.offsets);
+    const Eigen::Vector3d from(a.x, a.y, a.z), to(b.x, b.y, b.z);
+    const int steps = std::max(1, static_cast<int>((to - from).norm()));
     for (int k = 0; k <= steps; ++k) {
-      const model::ChainQ q = a + (b - a) * (static_cast<double>(k) / steps);
-      const Eigen::Vector3d cut =
-          machine.actual_table_point(q[0], q[1], q[2], q[4] * 180.0 / std::numbers::pi, q[model::kToolLengthIndex]);
+      const double f = static_cast<double>(k) / steps;
+      const Eigen::Vector3d q = from + (to - from) * f;
+      const Eigen::Vector3d cut = machine.actual_table_point(q.x(), q.y(), q.z(), a.b + (b.b - a.b) * f, b.L);
       double nearest = std::numeric_limits<double>::infinity();
       for (const Segment& s : path) {
         const Eigen::Vector3d d = s.b - s.a;
@@ -80,17 +86,63 @@ double contour_error(const test::ReferenceHmc& machine, const std::vector<Segmen
   return worst;
 }
 
+/// The path the program means, on the reference's table.
+std::vector<Segment> nominal_path(const test::ReferenceHmc& machine, const std::string& program) {
+  gcode::InterpreterOptions with_tool;
+  with_tool.tools.tools[1] = test::kTool1;
+  std::vector<Segment> path;
+  for (const test::RecordedMotion& r : test::run_program(program, with_tool).motions) {
+    if (r.motion.kind != gcode::MotionKind::feed) continue;
+    auto nominal = [&](const gcode::Axes& axes) {
+      const test::ReferenceAxes q = test::reference_axes(machine, axes, r.offsets);
+      return machine.nominal_table_point(q.x, q.y, q.z, q.b, q.L);
+    };
+    path.push_back({nominal(r.motion.start), nominal(r.motion.end)});
+  }
+  return path;
+}
+
+/// The program compensated with the model `text`, told where the reference's program zero
+/// is in each documented way: the model's work_offsets, --work-offset, the program's own
+/// G10 L2, and the control's parameters (--param 5221...). Each output, judged on the
+/// reference, by way.
+std::vector<std::pair<std::string, double>> compensated_each_way(const test::ReferenceHmc& machine,
+                                                                 const std::vector<Segment>& path,
+                                                                 const std::string& text, const std::string& program) {
+  const Eigen::Vector3d o = machine.work_origin;
+  std::vector<std::pair<std::string, double>> judged;
+  {
+    std::string with_offsets = text;
+    const std::string g54 = "G54: {X: 0 mm, Y: 0 mm, Z: -400 mm}";
+    const auto at = with_offsets.find(g54);
+    EXPECT_NE(at, std::string::npos) << "the sample's work offset, to replace";
+    if (at != std::string::npos) with_offsets.replace(at, g54.size(), fmt::format("G54: {{X: {}, Y: {}, Z: {}}}", o.x(), o.y(), o.z()));
+    const model::MachineModel m = model::parse_machine_model(with_offsets, "fitted.yaml");
+    judged.emplace_back("model", contour_error(machine, path, test::compensate(program, m, 0.001)));
+  }
+  const model::MachineModel m = model::parse_machine_model(text, "fitted.yaml");
+  compensate::JobOptions option;
+  option.interpreter.work_offsets[0] = gcode::Axes{o.x(), o.y(), o.z()};
+  judged.emplace_back("--work-offset", contour_error(machine, path, test::compensate(program, m, option)));
+  std::string set_by_program = program;
+  set_by_program.insert(set_by_program.find('\n') + 1, fmt::format("G10 L2 P1 X{} Y{} Z{}\n", o.x(), o.y(), o.z()));
+  judged.emplace_back("G10 L2", contour_error(machine, path, test::compensate(set_by_program, m, 0.001)));
+  compensate::JobOptions params;
+  params.interpreter.parameters = {{"5221", o.x()}, {"5222", o.y()}, {"5223", o.z()}};
+  judged.emplace_back("--param", contour_error(machine, path, test::compensate(program, m, params)));
+  return judged;
+}
+
 TEST(ReferenceLoop, FollowingTheSuggestionsThenCompensatingLeavesUnderFivePercentOfTheError) {
   const test::ReferenceHmc machine = reference();
   test::ReferencePlans plans;
   plans.noise = kNoise, plans.seed = 11, plans.line_step = 2.5;  // four readings per screw pitch, as the samples
-  const MeasurementSet data = test::reference_measurements(test::measure_reference(machine, plans));
+  const MeasurementSet data = test::reference_measurements(machine, test::measure_reference(machine, plans));
   // The loop, as a script follows check --json: add the first suggestion, refit, again.
   const test::LoopResult loop =
       test::follow_the_loop(test::read_file(test::source_dir() + "/samples/machines/hmc-xyzb-geometric.yaml"), data);
   ASSERT_TRUE(loop.refusals.empty()) << loop.refusals.front();
   const std::vector<std::string>& added = loop.added;
-  const model::MachineModel m = model::parse_machine_model(loop.text, "fitted.yaml");
   ASSERT_FALSE(added.empty()) << "the lead screw is missing from the geometric model";
   EXPECT_NE(added.front().find("name: EXX, form: periodic, period: "), std::string::npos) << added.front();
   const double period = std::stod(added.front().substr(added.front().find("period: ") + 8));
@@ -98,24 +150,41 @@ TEST(ReferenceLoop, FollowingTheSuggestionsThenCompensatingLeavesUnderFivePercen
   EXPECT_TRUE(loop.ended) << "the loop ends: nothing is missing";
   EXPECT_LE(loop.last.rms_after, 1.3 * kNoise);
   // Compensate with the model the loop ended with; judge on the reference machine.
-  const std::string program = contour_program();
-  gcode::InterpreterOptions with_tool;
-  with_tool.tools.tools[1] = test::kTool1;
-  std::vector<Segment> path;
-  for (const test::RecordedMotion& r : test::run_program(program, with_tool).motions) {
-    if (r.motion.kind != gcode::MotionKind::feed) continue;
-    auto nominal = [&](const gcode::Axes& axes) {
-      const model::ChainQ q = model::chain_of(axes, r.offsets);
-      return machine.nominal_table_point(q[0], q[1], q[2], q[4] * 180.0 / std::numbers::pi, q[model::kToolLengthIndex]);
-    };
-    path.push_back({nominal(r.motion.start), nominal(r.motion.end)});
-  }
+  const std::string program = contour_program(machine);
+  const std::vector<Segment> path = nominal_path(machine, program);
   const double before = contour_error(machine, path, program);
-  const double after = contour_error(machine, path, test::compensate(program, m, 0.001));
   EXPECT_GT(before, 0.015) << "the machine as it is misses the contour by tens of um";
-  EXPECT_LE(after, 0.05 * before) << "before " << before * 1e3 << " um, after " << after * 1e3 << " um";
+  const auto judged = compensated_each_way(machine, path, loop.text, program);
+  for (const auto& [way, after] : judged) {
+    EXPECT_LE(after, 0.05 * before) << way << ": before " << before * 1e3 << " um, after " << after * 1e3 << " um";
+    EXPECT_NEAR(after, judged.front().second, 1e-6) << "told by " << way << " as by the model's work_offsets";
+  }
   std::cout << "[ reference ] loop added " << added.size() << " term(s); contour error before " << before * 1e3
-            << " um, after " << after * 1e3 << " um\n";
+            << " um, after " << judged.front().second * 1e3 << " um\n";
+}
+
+// Where the reference's program zero is told the reader in each documented way, the
+// readings land on the same axis positions: the loop above is the same whichever way.
+TEST(ReferenceLoop, TheMeasurementsFrameGivenAnyWayPlacesTheSameReadings) {
+  const test::ReferenceHmc machine = reference();
+  test::ReferencePlans plans;
+  plans.noise = kNoise, plans.seed = 11, plans.line_step = 20.0;
+  const std::vector<test::ReferenceReading> readings = test::measure_reference(machine, plans);
+  const MeasurementSet in_file = test::reference_measurements(machine, readings, test::FrameGiven::in_file);
+  for (const test::FrameGiven how : {test::FrameGiven::by_option, test::FrameGiven::by_model}) {
+    const MeasurementSet other = test::reference_measurements(machine, readings, how);
+    ASSERT_EQ(other.observations.size(), in_file.observations.size());
+    double off = 0.0;
+    for (std::size_t i = 0; i < other.observations.size(); ++i)
+      off = std::max(off, (other.observations[i].q - in_file.observations[i].q).cwiseAbs().maxCoeff());
+    EXPECT_LT(off, 1e-9) << "frame given way " << static_cast<int>(how);
+  }
+  // And they are the reference's own axis positions.
+  for (std::size_t i = 0; i < readings.size(); i += 97) {
+    const model::ChainQ& q = in_file.observations[i].q;
+    EXPECT_NEAR(q[0], readings[i].x, 1e-8);
+    EXPECT_NEAR(q[2], readings[i].z, 1e-8);
+  }
 }
 
 }  // namespace

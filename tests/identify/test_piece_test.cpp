@@ -29,7 +29,7 @@ TEST(TestPiece, FindsTheRotaryAxisLocationAndTilt) {
     for (const model::ErrorTermSpec& u : truth.terms)
       if (u.iso == t.iso && u.placement == t.placement) {
         EXPECT_NEAR(p.after, u.parameters[0], 4 * p.uncertainty) << p.label;
-        EXPECT_GT(std::abs(u.parameters[0]), 8 * p.uncertainty) << p.label << ": the machine has it, clearly";
+        EXPECT_GT(std::abs(u.parameters[0]), 6 * p.uncertainty) << p.label << ": the machine has it, clearly";
         ++located;
       }
   }

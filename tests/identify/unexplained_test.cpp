@@ -24,7 +24,7 @@ std::string geometric_model() {
 identify::MeasurementSet measured(const ReferenceHmc& machine) {
   ReferencePlans plans;
   plans.noise = kNoise, plans.seed = 5, plans.line_step = 2.5;
-  return reference_measurements(measure_reference(machine, plans));
+  return reference_measurements(machine, measure_reference(machine, plans));
 }
 
 // A 10 mm ripple on one laser line only (the optics of that set-up, not the machine): it

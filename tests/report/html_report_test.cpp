@@ -156,6 +156,8 @@ TEST(HtmlReport, IsSelfContainedAndRendersInChromium) {
     std::ifstream csv(data.csv);
     std::string line;
     std::getline(csv, line);
+    EXPECT_TRUE(line.starts_with("# frame: program G54")) << "simulate says the frame: " << line;
+    std::getline(csv, line);  // the header
     while (std::getline(csv, line)) {
       std::vector<std::string> field;
       std::stringstream row(line);

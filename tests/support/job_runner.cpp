@@ -61,7 +61,9 @@ std::string compensate(const std::string& program, const model::MachineModel& mm
 std::string random_program(unsigned seed, bool cycles) {
   std::mt19937 rng(seed), cycle_rng(seed + 1000);  // the cycles leave the other moves as they were
   std::uniform_real_distribution<double> u(-1, 1);
-  std::string p = "G21 G90 G94 G54\nT1 M6\nG43 H1\nF1200\nG0 X0 Y0 Z-100 B0\n";
+  // Its own zero, set by the program as a shop would (G10 L2): machine zero, which puts
+  // the B centre at Z-400 on the sample HMCs and the moves within their axes.
+  std::string p = "G21 G90 G94 G54\nG10 L2 P1 X0 Y0 Z0 B0\nT1 M6\nG43 H1\nF1200\nG0 X0 Y0 Z-100 B0\n";
   for (int i = 0; i < 40; ++i) {
     char line[240];
     if (cycles && i % 10 == 6) {

@@ -1,6 +1,7 @@
 #include "reference_hmc.hpp"
 
 #include <cmath>
+#include <cstdio>
 #include <numbers>
 #include <random>
 
@@ -74,6 +75,20 @@ Eigen::Vector3d ReferenceHmc::actual_table_point(double x, double y, double z, d
 Eigen::Vector3d ReferenceHmc::axes_for_table_point(const Eigen::Vector3d& s, double b_deg, double L) const {
   const Vec3 v = nominal_table_turn(b_deg * std::numbers::pi / 180.0) * s;
   return Vec3(v.x(), v.y(), v.z() - b_centre + L);
+}
+
+Eigen::Vector3d ReferenceHmc::axes_of_program(const Eigen::Vector3d& p, double L) const {
+  return p + work_origin + Vec3(0, 0, L);
+}
+
+Eigen::Vector3d ReferenceHmc::program_of_axes(const Eigen::Vector3d& axes, double L) const {
+  return axes - work_origin - Vec3(0, 0, L);
+}
+
+std::string ReferenceHmc::work_offset_text() const {
+  char text[96];
+  std::snprintf(text, sizeof text, "G54=X%.6g,Y%.6g,Z%.6g", work_origin.x(), work_origin.y(), work_origin.z());
+  return text;
 }
 
 ReferenceHmc geometric_reference() {

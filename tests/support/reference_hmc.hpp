@@ -53,8 +53,19 @@ struct ReferenceHmc {
   /// The spindle grows along Z with the temperature its sensor reads: mm per degC above 20.
   double spindle_growth = 0.0;
   double b_centre = 400.0;  ///< mm from the spindle nose to the B centre along Z
+  /// Where this machine's programs have their zero, in its axis positions (the gauge line's,
+  /// as its control's G54 holds it): neither machine zero nor the B centre (Z = -b_centre),
+  /// so that no test can share a convention with ccomp's defaults.
+  Eigen::Vector3d work_origin{-35.0, 20.0, -330.0};
 
   using State = ReferenceState;
+
+  /// The axis positions (x, y and z of the gauge line, mm) that put a tool of length L on
+  /// program point p (mm), and back.
+  [[nodiscard]] Eigen::Vector3d axes_of_program(const Eigen::Vector3d& p, double L) const;
+  [[nodiscard]] Eigen::Vector3d program_of_axes(const Eigen::Vector3d& axes, double L) const;
+  /// work_origin as `--work-offset` takes it: "G54=X-35,Y20,Z-330".
+  [[nodiscard]] std::string work_offset_text() const;
 
   /// The tool tip's deviation from where it should touch the part, in machine-axis
   /// directions (mm), for program (chain) values x y z (mm), b (deg) and tool length L (mm).

@@ -6,11 +6,13 @@
 namespace ccomp::test {
 
 /// X and Z carry the table, B turns it about -Y 400 mm from the spindle nose, Y carries the
-/// spindle head, the tool points along -Z; sensors "bed" and "spindle". Append "terms:" lines.
+/// spindle head, the tool points along -Z; sensors "bed" and "spindle"; program zero (G54) on
+/// the B centre. Append "terms:" lines.
 inline constexpr const char* kHmcChain = R"(
 name: test-hmc
 axes: {X: {}, Y: {}, Z: {}, B: {type: rotary}}
 sensors: [bed, spindle]
+work_offsets: {G54: {Z: -400 mm}}
 chain:
   workpiece:
     - {link: X, axis: X, direction: [-1, 0, 0]}

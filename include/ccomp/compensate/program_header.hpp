@@ -12,8 +12,10 @@
 namespace ccomp::compensate {
 
 /// The header comment that marks a compensated program, names the model by its hash and
-/// says the tolerance (mm) it was compensated to.
-[[nodiscard]] std::string header_line(const model::MachineModel& model, double tolerance);
+/// says the tolerance (mm) it was compensated to and the work offsets the program started
+/// with (where its zero lies in machine coordinates, which verify and predict need).
+[[nodiscard]] std::string header_line(const model::MachineModel& model, double tolerance,
+                                      const model::WorkOffsets& work_offsets = {});
 /// True when `line` is a header that header_line() wrote.
 [[nodiscard]] bool is_header_line(std::string_view line);
 /// What a header line says: the model's SHA-256 (hex) and the tolerance in mm (NaN when
@@ -21,6 +23,8 @@ namespace ccomp::compensate {
 struct HeaderFacts {
   std::string model_sha256;
   double tolerance = std::numeric_limits<double>::quiet_NaN();
+  /// The work offsets the program was compensated with; absent in a header older than them.
+  std::optional<model::WorkOffsets> work_offsets;
 };
 [[nodiscard]] std::optional<HeaderFacts> read_header(std::string_view line);
 

@@ -4,7 +4,9 @@
 // tells a CanonSink every block it executes and every motion that block commands.
 // Semantics follow LinuxCNC's rs274ngc; tests/gcode/linuxcnc_suite_test.cpp holds the two
 // side by side.
+#include <array>
 #include <cstdint>
+#include <optional>
 #include <memory>
 #include <string>
 #include <utility>
@@ -40,6 +42,12 @@ struct InterpreterOptions {
   /// Values only the controller knows (`_hal[...]`, `_ini[...]`, probe results, or any
   /// parameter), by name ("_hal[x.y]") or number ("5063").
   std::vector<std::pair<std::string, double>> parameters;
+  /// The work offsets the control holds as the program starts (index 0 is G54 ... 8 is
+  /// G59.3; mm and degrees, whatever the machine units): they fill parameters #5221-#5389,
+  /// and `parameters` given by number win over them. A system left empty is unknown: a
+  /// program that moves a rotary axis in it, without setting it first (G10 L2/L20 or its
+  /// parameters), gets one warning that its origin was taken at machine zero.
+  std::array<std::optional<Axes>, 9> work_offsets;
   /// Folders searched for `O<name> call` subroutines in files of their own (name.ngc).
   std::vector<std::string> subroutine_path;
   /// When set, lines starting with `/` are skipped (the operator's block-delete switch).

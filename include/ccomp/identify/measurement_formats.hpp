@@ -38,6 +38,14 @@ struct MeasurementFormat {
 [[nodiscard]] const MeasurementFormat& renishaw_rtl_format();
 [[nodiscard]] const MeasurementFormat& axis_table_format();
 
+/// A row's program coordinates (with the tool length on Z) as machine positions in `frame`.
+void to_machine(model::ChainQ& q, const ResolvedFrame& frame);
+/// A file's observations from `first` on, read in program coordinates, placed in machine
+/// positions; `frame` recorded as the file's (MeasurementSet::frames), and an origin nobody
+/// gave said where a rotary axis turns.
+void place_in_machine(MeasurementSet& set, std::size_t first, const ResolvedFrame& frame,
+                      const model::MachineModel& model, const std::string& name);
+
 /// The contract CSV's reader (identify/measurements.cpp).
 void read_contract(std::istream& in, const std::string& name, const model::MachineModel& model,
                    const ReadOptions& options, MeasurementSet& into);

@@ -5,9 +5,11 @@
 #include <Eigen/Core>
 #include <array>
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <vector>
 
+#include "ccomp/identify/measurement_frame.hpp"
 #include "ccomp/model/forward.hpp"
 
 namespace ccomp::identify {
@@ -34,6 +36,9 @@ struct VariableRange {
 
 struct MeasurementSet {
   std::vector<std::string> files;
+  /// Each file's frame, as read (parallel to `files`): its observations' q are machine
+  /// positions, the frame's origin added.
+  std::vector<ResolvedFrame> frames;
   /// Every sensor the files read (their T_<name> columns): the model's first, in its order,
   /// then the others as they appear. A missing effect may depend on one the model lacks.
   std::vector<std::string> sensors;
@@ -71,6 +76,9 @@ struct ReadOptions {
   std::string source;
   /// The deviations' unit where the file states none ("um", "arcsec"...; empty: none).
   std::string unit;
+  /// The frame the user says the files are in (--frame, --work-offset); a file's own
+  /// `# frame:` line is taken first (measurement_frame.hpp).
+  std::optional<MeasurementFrame> frame;
 };
 
 /// Reads a measurement file and appends its rows: the CSV contract or an instrument's file,
@@ -93,7 +101,9 @@ void summarize(MeasurementSet& set, const model::MachineModel& model);
 /// What a model predicts for an observation: n . deviation (mm).
 [[nodiscard]] double predict(const model::ForwardModel& model, model::ForwardData& data, const Observation& o);
 
-/// Writes observations in the CSV contract (one row per observation, n and d).
-[[nodiscard]] std::string to_csv(const MeasurementSet& set, const model::MachineModel& model);
+/// Writes observations in the CSV contract (one row per observation, n and d), in `frame`
+/// (its `# frame:` line first): program coordinates relative to its origin, or machine ones.
+[[nodiscard]] std::string to_csv(const MeasurementSet& set, const model::MachineModel& model,
+                                 const ResolvedFrame& frame);
 
 }  // namespace ccomp::identify

@@ -35,6 +35,10 @@ struct SimulateOptions {
   double hours = 4.0;       ///< length of the thermal run
   /// Sensor temperatures at the end of the thermal run (degC); 20 elsewhere.
   std::vector<double> warm_temperatures;
+  /// Where program zero lies in machine coordinates (mm, deg): the plans on the part (the
+  /// spheres, the test piece) are placed in program coordinates from it; the laser lines,
+  /// the grid and the thermal points span the machine's axes wherever program zero is.
+  model::WorkOrigin origin{};
 };
 
 /// Measures `truth` along the plans: each observation is the truth's prediction plus

@@ -11,6 +11,7 @@
 
 #include "ccomp/model/error_term.hpp"
 #include "ccomp/model/units.hpp"
+#include "ccomp/model/work_offsets.hpp"
 
 namespace ccomp::model {
 
@@ -87,6 +88,9 @@ struct MachineModel {
   std::vector<std::string> sensors;       ///< temperature sensors, for T_<name> variables
   std::vector<ErrorTermSpec> terms;
   double max_correction = 0.5;  ///< mm: larger corrections are refused (a rotary axis': kRotaryBoundPerMm of it)
+  /// The work offsets programs on this machine run with, as its control stores them
+  /// (`work_offsets:`): where program zero lies in machine coordinates.
+  WorkOffsets work_offsets;
   std::string dialect = "linuxcnc";
   std::string path;    ///< where it was read from
   std::string sha256;  ///< of the file's bytes: names the model in compensated programs

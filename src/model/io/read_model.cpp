@@ -12,6 +12,7 @@
 #include <optional>
 #include <sstream>
 
+#include "ccomp/constants.hpp"
 #include "ccomp/error.hpp"
 #include "ccomp/gcode/dialect.hpp"
 #include "ccomp/model/model_file.hpp"
@@ -94,6 +95,37 @@ void read_max_correction(const std::string& file, const YAML::Node& node, Machin
     bad(file, node, fmt::format("max_correction must be positive, not {}", m.max_correction));
 }
 
+/// `work_offsets:`: a mapping from a coordinate system (G54 ... G59.3) to its origin in
+/// machine coordinates, a mapping from the model's axis letters to mm or degrees (an axis
+/// not written is 0).
+void read_work_offsets(const std::string& file, const YAML::Node& node, MachineModel& m) {
+  if (!node) return;
+  if (!node.IsMap()) bad(file, node, "'work_offsets' is a mapping from G54 ... G59.3 to {X: ..., Y: ..., Z: ...}");
+  std::vector<std::string_view> letters;
+  static const std::string kLetters = "XYZABCUVW";
+  for (const AxisSpec& a : m.axes) letters.push_back(std::string_view(kLetters).substr(kLetters.find(a.letter), 1));
+  for (const auto& entry : node) {
+    const std::string name = io::text(file, entry.first, "a coordinate system");
+    const std::optional<std::size_t> system = coordinate_system_number(name);
+    if (!system)
+      bad(file, entry.first, fmt::format("work_offsets: '{}' is not a coordinate system (G54 ... G59, G59.1 ... G59.3)", name));
+    if (m.work_offsets.of(*system)) bad(file, entry.first, fmt::format("work_offsets: {} is written twice", name));
+    io::check_keys(file, entry.second, io::Section{fmt::format("work offset {}", name), letters});
+    WorkOrigin origin{};
+    for (const auto& axis : entry.second) {
+      const char letter = axis.first.Scalar()[0];
+      const std::size_t i = kLetters.find(letter);
+      const bool rotary = m.axis(letter)->type == AxisType::rotary;
+      const std::string what = fmt::format("work offset {} {}", name, letter);
+      const double v = rotary ? io::quantity(file, axis.second, kAngle, "deg", what) / kRadPerDeg
+                              : io::quantity(file, axis.second, kLength, "mm", what);
+      if (!std::isfinite(v) || std::abs(v) > 1e7) bad(file, axis.second, fmt::format("{}: {} is beyond any machine", what, v));
+      origin[i] = v;
+    }
+    m.work_offsets.set(*system, origin);
+  }
+}
+
 /// The model from its root mapping (parse_machine_model() loads and guards it).
 MachineModel read_model(const YAML::Node& root, const std::string& name, const std::string& text) {
   io::check_keys(name, root, io::kTopLevel);
@@ -105,6 +137,7 @@ MachineModel read_model(const YAML::Node& root, const std::string& name, const s
   read_sensors(name, root["sensors"], m);
   io::read_chains(name, root["chain"], m);
   read_max_correction(name, root["max_correction"], m);
+  read_work_offsets(name, root["work_offsets"], m);
   io::read_terms(name, root["terms"], m);
   validate(m);
   return m;

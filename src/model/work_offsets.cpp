@@ -1,0 +1,143 @@
+#include "ccomp/model/work_offsets.hpp"
+
+#include <fmt/format.h>
+
+#include <cctype>
+#include <charconv>
+#include <cmath>
+
+#include "ccomp/constants.hpp"
+#include "ccomp/error.hpp"
+#include "ccomp/model/units.hpp"
+
+namespace ccomp::model {
+namespace {
+
+constexpr std::string_view kAxisLetters = "XYZABCUVW";
+constexpr std::array<std::string_view, kCoordinateSystems> kSystemNames = {"G54", "G55", "G56",   "G57",  "G58",
+                                                                           "G59", "G59.1", "G59.2", "G59.3"};
+
+bool is_rotary_letter(char letter) {
+  return letter == 'A' || letter == 'B' || letter == 'C';
+}
+
+std::string upper(std::string_view s) {
+  std::string out;
+  for (char c : s) out.push_back(static_cast<char>(std::toupper(static_cast<unsigned char>(c))));
+  return out;
+}
+
+/// "-250", "-300mm", "0.5 deg": the value in mm (linear) or degrees (rotary).
+double axis_value(std::string_view text, char letter, const std::string& what) {
+  double v = 0.0;
+  const char* begin = text.data();
+  const char* end = text.data() + text.size();
+  if (begin != end && *begin == '+') ++begin;
+  const auto [stop, ec] = std::from_chars(begin, end, v);
+  if (ec != std::errc() || stop == begin)
+    throw Error(ErrorKind::usage, fmt::format("{}: '{}{}' has no number after {}", what, letter, text, letter));
+  std::string_view unit(stop, static_cast<std::size_t>(end - stop));
+  while (!unit.empty() && unit.front() == ' ') unit.remove_prefix(1);
+  const bool rotary = is_rotary_letter(letter);
+  if (!unit.empty()) {
+    const std::optional<Unit> u = parse_unit(unit);
+    const Dimension expected = rotary ? kAngle : kLength;
+    if (!u || !(u->dimension == expected))
+      throw Error(ErrorKind::usage, fmt::format("{}: '{}' after {} is not a unit of {} (mm, um, in; deg, arcsec)",
+                                                what, unit, letter, rotary ? "angle" : "length"));
+    v *= u->scale;                   // mm or rad
+    if (rotary) v /= kRadPerDeg;     // degrees, as programs write angles
+  }
+  if (!std::isfinite(v) || std::abs(v) > 1e7)
+    throw Error(ErrorKind::usage, fmt::format("{}: {} {} is beyond any machine", what, letter, text));
+  return v;
+}
+
+}  // namespace
+
+bool WorkOffsets::any() const {
+  for (const auto& s : systems)
+    if (s) return true;
+  return false;
+}
+
+void WorkOffsets::override_with(const WorkOffsets& other) {
+  for (std::size_t i = 0; i < kCoordinateSystems; ++i)
+    if (other.systems[i]) systems[i] = other.systems[i];
+}
+
+std::optional<std::size_t> coordinate_system_number(std::string_view name) {
+  const std::string n = upper(name);
+  for (std::size_t i = 0; i < kCoordinateSystems; ++i)
+    if (n == kSystemNames[i]) return i + 1;
+  return std::nullopt;
+}
+
+std::string coordinate_system_name(std::size_t number) {
+  return std::string(kSystemNames.at(number - 1));
+}
+
+std::string describe_work_offset(std::size_t number, const WorkOrigin& origin) {
+  std::string out = coordinate_system_name(number);
+  for (std::size_t i = 0; i < origin.size(); ++i) {
+    if (i >= 3 && origin[i] == 0.0) continue;
+    std::string v = fmt::format("{:.6f}", origin[i]);
+    while (v.back() == '0') v.pop_back();
+    if (v.back() == '.') v.pop_back();
+    if (v == "-0") v = "0";
+    out += fmt::format(" {}{}", kAxisLetters[i], v);
+  }
+  return out;
+}
+
+std::string describe_work_offsets(const WorkOffsets& offsets) {
+  std::string out;
+  for (std::size_t i = 0; i < kCoordinateSystems; ++i)
+    if (offsets.systems[i]) out += (out.empty() ? "" : ", ") + describe_work_offset(i + 1, *offsets.systems[i]);
+  return out.empty() ? "none" : out;
+}
+
+WorkOffsetEntry parse_work_offset(std::string_view text, const std::string& what) {
+  // The system's name, then '=' or blanks, then the axis words.
+  std::size_t at = 0;
+  while (at < text.size() && text[at] == ' ') ++at;
+  std::size_t name_end = at;
+  while (name_end < text.size() && text[name_end] != '=' && text[name_end] != ' ' && text[name_end] != ',') ++name_end;
+  const std::string_view name = text.substr(at, name_end - at);
+  const std::optional<std::size_t> system = coordinate_system_number(name);
+  if (!system)
+    throw Error(ErrorKind::usage,
+                fmt::format("{}: '{}' is not a coordinate system (G54 ... G59, G59.1 ... G59.3); write e.g. "
+                            "G54=X-250,Y0,Z-300",
+                            what, name));
+  WorkOffsetEntry entry;
+  entry.system = *system;
+  std::array<bool, 9> seen{};
+  std::size_t i = name_end;
+  if (i < text.size() && text[i] == '=') ++i;
+  while (i < text.size()) {
+    if (text[i] == ' ' || text[i] == ',') {
+      ++i;
+      continue;
+    }
+    const char letter = static_cast<char>(std::toupper(static_cast<unsigned char>(text[i])));
+    const std::size_t axis = kAxisLetters.find(letter);
+    if (axis == std::string_view::npos)
+      throw Error(ErrorKind::usage, fmt::format("{}: '{}' is not an axis letter (X Y Z A B C U V W)", what, text[i]));
+    if (seen[axis]) throw Error(ErrorKind::usage, fmt::format("{}: axis {} is given twice", what, letter));
+    seen[axis] = true;
+    std::size_t end = i + 1;
+    while (end < text.size() && text[end] != ',' &&
+           !(text[end] == ' ' && end + 1 < text.size() && kAxisLetters.find(static_cast<char>(std::toupper(
+                                                              static_cast<unsigned char>(text[end + 1])))) !=
+                                                              std::string_view::npos))
+      ++end;
+    std::string_view value = text.substr(i + 1, end - i - 1);
+    while (!value.empty() && value.back() == ' ') value.remove_suffix(1);
+    entry.origin[axis] = axis_value(value, letter, what);
+    i = end;
+  }
+  return entry;
+}
+
+}  // namespace ccomp::model
