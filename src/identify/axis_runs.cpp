@@ -279,8 +279,8 @@ void append_axis_runs(const AxisRuns& runs, const std::string& name, const model
   if (rotary) forward.emplace(model), data.emplace(*forward);
 
   // The --at point and the targets are program coordinates, placed in the machine as the
-  // contract's rows are (a one-axis file states no frame of its own).
-  const ResolvedFrame frame = resolve_frame(std::nullopt, options.frame, model, name);
+  // contract's rows are: in the file's own '# frame:', else the options', else the model's.
+  const ResolvedFrame frame = resolve_frame(runs.frame, options.frame, model, name);
   const std::size_t first_observation = into.observations.size();
   const auto file_index = static_cast<std::uint32_t>(into.files.size());
   into.files.push_back(name);

@@ -94,6 +94,15 @@ TEST(InstrumentFormats, TheAngularLaserFileAndTheCalibratorsTableReadAlike) {
   EXPECT_EQ(laser.observations.front().row, 10U) << "the line of the reading";
 }
 
+TEST(InstrumentFormats, AOneAxisTableStatesItsFrameAsTheContractDoes) {
+  const std::string rows = "axis: X\nunit: um\ntarget,deviation\n0,1\n10,2\n";
+  const MeasurementSet plain = parse(rows), offset = parse("# frame: program G54 X-250 Y10 Z-300\n" + rows);
+  ASSERT_EQ(offset.observations.size(), 2U);
+  EXPECT_NEAR(offset.observations[1].q[0] - plain.observations[1].q[0], -250.0 - plain.frames[0].origin[0], 1e-9);
+  EXPECT_NEAR(offset.observations[1].q[1] - plain.observations[1].q[1], 10.0 - plain.frames[0].origin[1], 1e-9);
+  EXPECT_EQ(offset.frames.size(), 1U);
+}
+
 TEST(InstrumentFormats, AContractFileWithColumnsNamedLikeATablesIsTheContract) {
   const MeasurementSet set = parse("x,y,z,nx,ny,nz,d,target,error\n1,2,3,1,0,0,0.001,a,b\n");
   ASSERT_EQ(set.observations.size(), 1U);

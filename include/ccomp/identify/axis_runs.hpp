@@ -34,6 +34,7 @@ struct AxisRuns {
   char axis = 0;  ///< upper case, as the file names it; 0: it does not
   std::optional<Unit> target_unit, deviation_unit;
   std::uint32_t unit_line = 0;  ///< where the file states a unit (0: nowhere)
+  std::optional<MeasurementFrame> frame;  ///< its own '# frame:' line, if it has one
   std::vector<AxisReading> readings;  ///< in the file's order
 };
 

@@ -3,7 +3,7 @@
 // row per reading. Fields separated by commas, semicolons or tabs (the header's tells which);
 // with semicolons or tabs a decimal comma is read as a point. Units come from the header
 // ("Deviation [um]", "target (mm)") or a line before it ("unit: um", "axis: B"); lines
-// starting with '#' are comments. Without a direction column, the approach is worked out from
+// starting with '#' are comments, but for a '# frame:' line as the contract has it. Without a direction column, the approach is worked out from
 // the order of each run (identify/axis_runs). docs/identification.md describes the format.
 #include <fmt/format.h>
 
@@ -97,6 +97,10 @@ void read(std::istream& in, const std::string& name, const model::MachineModel& 
   std::vector<Field> header;
   char delimiter = ',';
   while (lines.next(line)) {
+    if (is_frame_line(line)) {
+      if (runs.frame) fail(1, "a second '# frame:' line: a file has one frame");
+      runs.frame = parse_frame_line(line, name, lines.number());
+    }
     if (line.find_first_not_of(" \t\r") == std::string::npos || line.front() == '#') continue;
     if (is_header(line)) {
       delimiter = delimiter_of(line);
