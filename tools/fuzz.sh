@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Builds one libFuzzer target (fuzz/) with clang, ASan and UBSan in build-fuzz/ and runs it
 # on seeds assembled from the repository's own inputs.
-#   tools/fuzz.sh gcode|job|model|measurements|tool_table SECONDS|-runs=N [libFuzzer flags...]
+#   tools/fuzz.sh gcode|job|model|measurements|instruments|tool_table SECONDS|-runs=N [libFuzzer flags...]
 # (job: the main job end to end on programs, the sample HMC's model; the others: one reader)
 # New inputs that reach new code are kept in build-fuzz/corpus/<target>/ (reused by the next
 # run); a crash, a sanitizer report, an exception other than ccomp::Error or an input that
@@ -10,7 +10,7 @@
 # Replay one: build-fuzz/fuzz/ccomp_fuzz_<target> build-fuzz/findings/<target>/crash-...
 set -euo pipefail
 cd "$(dirname "$0")/.."
-usage="usage: tools/fuzz.sh gcode|job|model|measurements|tool_table SECONDS|-runs=N [libFuzzer flags...]"
+usage="usage: tools/fuzz.sh gcode|job|model|measurements|instruments|tool_table SECONDS|-runs=N [libFuzzer flags...]"
 target=${1:?$usage}
 budget=${2:?$usage}
 shift 2
@@ -46,6 +46,17 @@ case "$target" in
     max_len=4096
     # fuzz/seeds/measurements: short strokes, single runs, few targets, one direction, one row.
     seed samples/measurements samples/test-piece fuzz/seeds/measurements -name '*.csv' ;;
+  instruments)
+    # The samples of each instrument format, each behind a byte that picks its reader (and
+    # the axis and unit options: fuzz/instruments_fuzz.cpp).
+    max_len=4096
+    n=0
+    for f in samples/measurements/*.rtl samples/measurements/*.txt samples/measurements/x-axis-table.csv; do
+      for pick in 01 09 00 08 02 04; do
+        { printf "\\x$pick"; head -c 65535 "$f"; } >"$seeds/$n-$pick-$(basename "$f")"
+        n=$((n + 1))
+      done
+    done ;;
   tool_table)
     max_len=1024
     seed samples tests/data -name '*.tbl' ;;

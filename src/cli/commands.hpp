@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "ccomp/gcode/interpreter.hpp"
+#include "ccomp/identify/measurements.hpp"
 #include "ccomp/model/work_offsets.hpp"
 
 namespace ccomp::cli {
@@ -111,7 +112,17 @@ struct IdentifyArgs {
   // positioning
   std::string axis;
   std::string source;
+  // one-axis instrument files (import, and every command reading measurements)
+  std::vector<std::string> at;  ///< AXIS=VALUE[,AXIS=VALUE]
+  std::string unit;             ///< the deviations' unit where the file states none
 };
+/// --axis (when `with_axis`), --at and --unit: what a one-axis instrument file needs to be placed.
+void add_reading_options(CLI::App& cmd, IdentifyArgs& args, bool with_axis);
+/// The reader's options from the command line (usage errors for a bad --at or --axis).
+[[nodiscard]] identify::ReadOptions reading_options(const IdentifyArgs& args);
+/// import: an instrument's file converted to the measurement contract.
+CLI::App* add_import(CLI::App& app, IdentifyArgs& args);
+int run_import(const IdentifyArgs& args);
 CLI::App* add_fit(CLI::App& app, IdentifyArgs& args);
 CLI::App* add_check(CLI::App& app, IdentifyArgs& args);
 CLI::App* add_simulate(CLI::App& app, IdentifyArgs& args);

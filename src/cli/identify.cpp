@@ -56,8 +56,7 @@ std::optional<identify::MeasurementFrame> frame_of(const IdentifyArgs& args) {
 
 identify::MeasurementSet read_all(const IdentifyArgs& args, const model::MachineModel& m) {
   identify::MeasurementSet set;
-  identify::ReadOptions o;
-  o.tool_length = args.tool_length;
+  identify::ReadOptions o = reading_options(args);
   o.frame = frame_of(args);
   for (const std::string& path : args.measurements) identify::read_measurements(path, m, o, set);
   identify::summarize(set, m);
@@ -109,7 +108,7 @@ std::string readable(const model::ErrorTermSpec& t, std::size_t k, double v) {
 
 CLI::App* add_fit(CLI::App& app, IdentifyArgs& args) {
   CLI::App* cmd = app.add_subcommand("fit", "identifies the model's free parameters from measurements");
-  cmd->add_option("measurements", args.measurements, "measurement files (CSV)")->required();
+  cmd->add_option("measurements", args.measurements, "measurement files (the CSV contract, or an instrument's: docs/identification.md)")->required();
   add_common(*cmd, args);
   cmd->add_option("-o,--output", args.output, "the fitted model (YAML)")->required();
   cmd->add_option("--weight", args.weights, "weight of a source's rows: SOURCE=W");
@@ -117,16 +116,18 @@ CLI::App* add_fit(CLI::App& app, IdentifyArgs& args) {
   cmd->add_option("--add", args.add, "a term to add before fitting, as check suggests it: '{name: EXX, form: ...}'");
   cmd->add_flag("--json", args.json, "the fit as JSON on stdout (docs/json.md)");
   cmd->add_option("--report", args.report, "also write the check of the fitted model as one self-contained HTML page");
+  add_reading_options(*cmd, args, true);
   return cmd;
 }
 
 CLI::App* add_check(CLI::App& app, IdentifyArgs& args) {
   CLI::App* cmd = app.add_subcommand("check", "compares the model with measurements: residuals and noise floor");
-  cmd->add_option("measurements", args.measurements, "measurement files (CSV)")->required();
+  cmd->add_option("measurements", args.measurements, "measurement files (the CSV contract, or an instrument's: docs/identification.md)")->required();
   add_common(*cmd, args);
   cmd->add_flag("--json", args.json, "the report as JSON on stdout");
   cmd->add_option("--report", args.report, "also write the check as one self-contained HTML page");
   cmd->add_flag("--robust", args.robust, "refit with the Huber loss: spikes (a laser beam cut) do not pull the base");
+  add_reading_options(*cmd, args, true);
   return cmd;
 }
 
@@ -367,21 +368,22 @@ int run_check(const IdentifyArgs& args) {
 CLI::App* add_positioning(CLI::App& app, IdentifyArgs& args) {
   CLI::App* cmd =
       app.add_subcommand("positioning", "ISO 230-2 positioning figures of a linear axis from bidirectional runs");
-  cmd->add_option("measurements", args.measurements, "measurement files (CSV)")->required();
+  cmd->add_option("measurements", args.measurements, "measurement files (the CSV contract, or an instrument's: docs/identification.md)")->required();
   add_common(*cmd, args);
   cmd->add_option("--axis", args.axis, "x, y or z")->required()->check(CLI::IsMember({"x", "y", "z"}));
   cmd->add_option("--source", args.source, "only the rows of this source (a laser line)");
   cmd->add_flag("--json", args.json, "the figures as JSON on stdout");
+  add_reading_options(*cmd, args, false);  // its --axis names a one-axis file's axis too
   return cmd;
 }
 
 int run_positioning(const IdentifyArgs& args) {
   const model::MachineModel m = model::load_machine_model(args.model);
   identify::MeasurementSet data;
-  identify::ReadOptions o;
-  o.tool_length = args.tool_length;
+  identify::ReadOptions o = reading_options(args);
   o.frame = frame_of(args);
   for (const std::string& path : args.measurements) identify::read_measurements(path, m, o, data);
+  for (const std::string& notice : data.notices) fmt::print(stderr, "notice: {}\n", notice);
   const auto axis = static_cast<std::size_t>(args.axis[0] - 'x');
   const identify::PositioningReport r = identify::analyse_positioning(data, axis, args.source);
   const double um = 1e3;
@@ -414,6 +416,7 @@ CLI::App* add_nine_line(CLI::App& app, IdentifyArgs& args) {
   add_common(*cmd, args);
   cmd->add_option("-o,--output", args.output, "the fitted model (YAML)");
   cmd->add_flag("--json", args.json, "the figures as JSON on stdout (docs/json.md)");
+  add_reading_options(*cmd, args, true);
   return cmd;
 }
 

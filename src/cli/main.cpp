@@ -62,12 +62,13 @@ int main(int argc, char** argv) {
   ccomp::cli::CheckArgs predict, verify;
   CLI::App* predict_cmd = ccomp::cli::add_predict(app, predict);
   CLI::App* verify_cmd = ccomp::cli::add_verify(app, verify);
-  ccomp::cli::IdentifyArgs fit, check, simulate, positioning, nine_line;
+  ccomp::cli::IdentifyArgs fit, check, simulate, positioning, nine_line, import;
   CLI::App* fit_cmd = ccomp::cli::add_fit(app, fit);
   CLI::App* check_cmd = ccomp::cli::add_check(app, check);
   CLI::App* simulate_cmd = ccomp::cli::add_simulate(app, simulate);
   CLI::App* positioning_cmd = ccomp::cli::add_positioning(app, positioning);
   CLI::App* nine_line_cmd = ccomp::cli::add_nine_line(app, nine_line);
+  CLI::App* import_cmd = ccomp::cli::add_import(app, import);
   ccomp::cli::ExportArgs export_args;
   CLI::App* export_cmd = ccomp::cli::add_export(app, export_args);
   one_value_per_occurrence(app);
@@ -94,6 +95,7 @@ int main(int argc, char** argv) {
     if (simulate_cmd->parsed()) return finished(ccomp::cli::run_simulate(simulate));
     if (positioning_cmd->parsed()) return finished(ccomp::cli::run_positioning(positioning));
     if (nine_line_cmd->parsed()) return finished(ccomp::cli::run_nine_line(nine_line));
+    if (import_cmd->parsed()) return finished(ccomp::cli::run_import(import));
     if (export_cmd->parsed()) return finished(ccomp::cli::run_export(export_args));
     return finished(ccomp::cli::run_compensate(compensate));
   } catch (const ccomp::Error& e) {

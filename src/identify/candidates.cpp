@@ -164,7 +164,7 @@ std::vector<Candidate> candidate_library(const model::MachineModel& mm, const Me
       candidates.push_back(c);
       // Reversal: the axis' positioning differs with the approach direction (backlash).
       const std::size_t vi = a.index;
-      if (varies([vi](const Observation& o) { return o.directions[vi]; })) {
+      if (varies([vi](const Observation& o) { return static_cast<double>(o.directions[vi]); })) {
         Candidate r;
         r.effect = fmt::format(
             "reversal of the {} axis: its position depends on the approach direction (backlash, "

@@ -10,10 +10,11 @@
 #include <limits>
 #include <map>
 #include <sstream>
-#include <unordered_map>
 
 #include "ccomp/constants.hpp"
 #include "ccomp/error.hpp"
+#include "ccomp/identify/measurement_formats.hpp"
+#include "io/line_reader.hpp"
 
 namespace ccomp::identify {
 namespace {
@@ -25,9 +26,10 @@ constexpr double kLatestTime = 1e11;
 
 constexpr std::string_view kAxes = "xyzabcuvw";
 
-/// Splits one CSV line into its fields (blanks around them trimmed; double quotes allow a
-/// comma in a source label) and the 1-based column where each starts in the line.
-void split(std::string_view line, std::vector<std::string>& fields, std::vector<std::uint32_t>& columns) {
+/// Splits one CSV line at `delimiter` into its fields (blanks around them trimmed; double
+/// quotes allow a delimiter in a source label) and the 1-based column where each starts.
+void split(std::string_view line, char delimiter, std::vector<std::string>& fields,
+           std::vector<std::uint32_t>& columns) {
   fields.assign(1, std::string());
   columns.assign(1, 1);
   bool quoted = false;
@@ -38,7 +40,7 @@ void split(std::string_view line, std::vector<std::string>& fields, std::vector<
         fields.back() += '"', ++i;
       else
         quoted = !quoted;
-    } else if (c == ',' && !quoted) {
+    } else if (c == delimiter && !quoted) {
       fields.emplace_back();
       columns.push_back(static_cast<std::uint32_t>(i + 2));
     } else if (c != '\r') {
@@ -91,25 +93,46 @@ void check_magnitude(const MeasurementSet& set, std::size_t first, const model::
                        median, model.max_correction));
 }
 
+/// The same row twice, to the last digit: ISO 230-2's repeated approaches read at the
+/// instrument's resolution do that, and so does a file pasted together twice. Kept, and said
+/// (the first few), so that a doubled file does not count double unnoticed. A hash two
+/// different rows share would only cost a wrong notice.
+void note_repeated_rows(std::vector<std::pair<std::uint64_t, std::uint32_t>>& rows, const std::string& name,
+                        std::vector<std::string>& notices) {
+  std::sort(rows.begin(), rows.end());  // by text, then line
+  std::vector<std::pair<std::uint32_t, std::uint32_t>> repeats;  // a row's line, and the first with its text
+  for (std::size_t i = 1, first = 0; i < rows.size(); ++i) {
+    if (rows[i].first != rows[first].first) first = i;
+    else repeats.emplace_back(rows[i].second, rows[first].second);
+  }
+  rows = {};
+  std::sort(repeats.begin(), repeats.end());
+  for (std::size_t k = 0; k < repeats.size() && k < 3; ++k)
+    notices.push_back(fmt::format("{}:{}: the row repeats row {} to the last digit (a repeated approach, or a "
+                                  "file pasted in twice?)",
+                                  name, repeats[k].first, repeats[k].second));
+  if (repeats.size() > 3)
+    notices.push_back(fmt::format("{}: {} rows repeat an earlier row to the last digit", name, repeats.size()));
+}
+
 }  // namespace
 
-namespace {
+void io::to_machine(model::ChainQ& q, const ResolvedFrame& frame) {
+  if (frame.frame.kind == FrameKind::machine) {
+    q[2] -= q[static_cast<Eigen::Index>(model::kToolLengthIndex)];
+    return;
+  }
+  for (std::size_t i = 0; i < 9; ++i)
+    q[static_cast<Eigen::Index>(i)] += (i >= 3 && i <= 5) ? frame.origin[i] * kRadPerDeg : frame.origin[i];
+}
 
 /// The rows read as program coordinates (work offset zero) become machine positions: the
 /// frame's origin added, or for a machine frame the tool length taken back off Z (the axis
 /// positions themselves). An origin nobody gave is said where a rotary axis turns.
-void place_in_machine(MeasurementSet& set, std::size_t first, const ResolvedFrame& frame,
-                      const model::MachineModel& model, const std::string& name) {
+void io::place_in_machine(MeasurementSet& set, std::size_t first, const ResolvedFrame& frame,
+                          const model::MachineModel& model, const std::string& name) {
   set.frames.push_back(frame);
-  for (std::size_t k = first; k < set.observations.size(); ++k) {
-    model::ChainQ& q = set.observations[k].q;
-    if (frame.frame.kind == FrameKind::machine) {
-      q[2] -= q[static_cast<Eigen::Index>(model::kToolLengthIndex)];
-      continue;
-    }
-    for (std::size_t i = 0; i < 9; ++i)
-      q[static_cast<Eigen::Index>(i)] += (i >= 3 && i <= 5) ? frame.origin[i] * kRadPerDeg : frame.origin[i];
-  }
+  for (std::size_t k = first; k < set.observations.size(); ++k) to_machine(set.observations[k].q, frame);
   if (!frame.unknown) return;
   for (const model::AxisSpec& a : model.axes) {
     if (a.type != model::AxisType::rotary) continue;
@@ -126,15 +149,11 @@ void place_in_machine(MeasurementSet& set, std::size_t first, const ResolvedFram
   }
 }
 
-}  // namespace
-
-void parse_measurements(const std::string& text, const std::string& name, const model::MachineModel& model,
-                        const ReadOptions& options, MeasurementSet& into) {
+void io::read_contract(std::istream& stream, const std::string& name, const model::MachineModel& model,
+                       const ReadOptions& options, MeasurementSet& into) {
   const auto file_index = static_cast<std::uint32_t>(into.files.size());
   into.files.push_back(name);
-  // A UTF-8 byte-order mark (a spreadsheet's "CSV UTF-8") is not text of the header.
-  constexpr std::string_view kByteOrderMark = "\xEF\xBB\xBF";
-  std::istringstream in(text.starts_with(kByteOrderMark) ? text.substr(kByteOrderMark.size()) : text);
+  io::LineReader in(stream, name);  // a line's length capped while it is read
   std::string line;
   std::uint32_t number = 0;
   auto fail = [&](std::uint32_t row, std::uint32_t column, const std::string& message) {
@@ -153,16 +172,19 @@ void parse_measurements(const std::string& text, const std::string& name, const 
   // the file's frame).
   std::vector<std::string> header;
   std::vector<std::uint32_t> column_of_field;  // 1-based text column of each header field
+  char delimiter = ',';
   std::optional<MeasurementFrame> file_frame;
-  while (std::getline(in, line)) {
-    ++number;
+  while (in.next(line)) {
+    number = in.number();
     check_line_end();
     if (is_frame_line(line)) {
       if (file_frame) fail(number, 1, "a second '# frame:' line: a file has one frame");
       file_frame = parse_frame_line(line, name, number);
     }
     if (line.find_first_not_of(" \t\r") == std::string::npos || line.front() == '#') continue;
-    split(line, header, column_of_field);
+    // A spreadsheet set to a decimal comma writes semicolons (or tabs) between fields.
+    delimiter = line.find('\t') != std::string::npos ? '\t' : line.find(';') != std::string::npos ? ';' : ',';
+    split(line, delimiter, header, column_of_field);
     break;
   }
   if (header.empty()) fail(0, 0, "the file is empty: a measurement file starts with a header row (x,y,z,...)");
@@ -233,32 +255,27 @@ void parse_measurements(const std::string& text, const std::string& name, const 
   for (std::size_t s = 0; s < into.sources.size(); ++s) source_index[into.sources[s]] = static_cast<std::uint32_t>(s);
   std::vector<std::string> fields;  // reused row after row
   std::vector<std::uint32_t> at_column;
-  std::unordered_map<std::string, std::uint32_t> rows_seen;  // a row's text -> its line
-  std::size_t repeated_rows = 0;
+  // Each row's text hashed, with its line: 16 bytes a row while the file is read (a map of
+  // the texts took a hundred and more), sorted once at the end to find the rows read twice.
+  std::vector<std::pair<std::uint64_t, std::uint32_t>> row_hashes;
   const std::size_t first_observation = into.observations.size();
-  while (std::getline(in, line)) {
-    ++number;
+  while (in.next(line)) {
+    number = in.number();
     check_line_end();
     if (line.find_first_not_of(" \t\r") == std::string::npos || line.front() == '#') continue;
-    // The same row twice, to the last digit: ISO 230-2's repeated approaches read at the
-    // instrument's resolution do that, and so does a file pasted together twice. Kept, and
-    // said (the first few), so that a doubled file does not count double unnoticed.
-    std::string key = line;
-    while (!key.empty() && (key.back() == '\r' || key.back() == ' ' || key.back() == '\t')) key.pop_back();
-    if (const auto [seen, fresh] = rows_seen.try_emplace(key, number); !fresh && ++repeated_rows <= 3)
-      into.notices.push_back(
-          fmt::format("{}:{}: the row repeats row {} to the last digit (a repeated approach, or a "
-                      "file pasted in twice?)",
-                      name, number, seen->second));
-    split(line, fields, at_column);
+    std::string_view key = line;
+    while (!key.empty() && (key.back() == '\r' || key.back() == ' ' || key.back() == '\t')) key.remove_suffix(1);
+    row_hashes.emplace_back(std::hash<std::string_view>{}(key), number);
+    split(line, delimiter, fields, at_column);
     if (fields.size() != header.size())
       fail(number, 1, fmt::format("this row has {} fields, the header {}", fields.size(), header.size()));
     // A number from column c (its name for messages); `fallback` when the file has no such
     // column or leaves it empty.
     auto value = [&](int c, std::string_view column, double fallback) {
       if (c < 0) return fallback;
-      const std::string& f = fields[static_cast<std::size_t>(c)];
+      std::string& f = fields[static_cast<std::size_t>(c)];
       if (f.empty()) return fallback;
+      if (delimiter != ',') std::replace(f.begin(), f.end(), ',', '.');  // a decimal comma
       double v = 0.0;
       const auto [end, ec] = std::from_chars(f.data(), f.data() + f.size(), v);
       if (ec != std::errc() || end != f.data() + f.size())
@@ -293,7 +310,7 @@ void parse_measurements(const std::string& text, const std::string& name, const 
       if (sign != 0.0 && sign != 1.0 && sign != -1.0)
         fail(number, at_column[static_cast<std::size_t>(at.direction[i])],
              fmt::format("column 'v{}' is {}: an approach direction is +1, -1 or 0 (unknown)", axis, sign));
-      o.directions[i] = sign;
+      o.directions[i] = static_cast<std::int8_t>(sign);
     }
     // Program coordinates carry the tool length: the Z axis sits L above the tool tip.
     o.q[2] += tool;
@@ -334,9 +351,8 @@ void parse_measurements(const std::string& text, const std::string& name, const 
     }
   }
   line.clear();
-  place_in_machine(into, first_observation, resolve_frame(file_frame, options.frame, model, name), model, name);
-  if (repeated_rows > 3)
-    into.notices.push_back(fmt::format("{}: {} rows repeat an earlier row to the last digit", name, repeated_rows));
+  io::place_in_machine(into, first_observation, resolve_frame(file_frame, options.frame, model, name), model, name);
+  note_repeated_rows(row_hashes, name, into.notices);
   if (into.observations.size() == first_observation)
     fail(header_line, 1, "no readings after the header: there is nothing to compare the model with");
   check_magnitude(into, first_observation, model, [&](std::uint32_t row, const std::string& message) {
@@ -345,13 +361,24 @@ void parse_measurements(const std::string& text, const std::string& name, const 
   });
 }
 
+void parse_measurements(const std::string& text, const std::string& name, const model::MachineModel& model,
+                        const ReadOptions& options, MeasurementSet& into) {
+  std::istringstream in(text);
+  io::detect_format(std::string_view(text).substr(0, io::kDetectBytes), name).read(in, name, model, options, into);
+}
+
 void read_measurements(const std::string& path, const model::MachineModel& model, const ReadOptions& options,
                        MeasurementSet& into) {
+  // Read as a stream, a line at a time: the file is never held whole.
   std::ifstream f(path, std::ios::binary);
   if (!f) throw Error(ErrorKind::io, fmt::format("cannot read measurement file '{}'", path));
-  std::ostringstream text;
-  text << f.rdbuf();
-  parse_measurements(text.str(), path, model, options, into);
+  std::string head(io::kDetectBytes, '\0');
+  f.read(head.data(), static_cast<std::streamsize>(head.size()));
+  head.resize(static_cast<std::size_t>(f.gcount()));
+  f.clear();
+  f.seekg(0);
+  if (!f) throw Error(ErrorKind::io, fmt::format("cannot read measurement file '{}' (not a file one can read twice)", path));
+  io::detect_format(head, path).read(f, path, model, options, into);
 }
 
 double file_axis_value(const Observation& o, std::size_t axis, bool rotary) {
@@ -416,8 +443,8 @@ std::string to_csv(const MeasurementSet& set, const model::MachineModel& model, 
       out += fmt::format(",{:.6f}", o.q[static_cast<Eigen::Index>(i)] / kRadPerDeg - frame.origin[i]);
     out += fmt::format(",{:.3f},{:.3f}", tool, o.time);
     for (double T : o.temperatures) out += std::isnan(T) ? std::string(",") : fmt::format(",{:.4f}", T);
-    for (std::size_t i = 0; i < 3; ++i) out += fmt::format(",{:g}", o.directions[i]);
-    for (std::size_t i : rotary) out += fmt::format(",{:g}", o.directions[i]);
+    for (std::size_t i = 0; i < 3; ++i) out += fmt::format(",{}", static_cast<int>(o.directions[i]));
+    for (std::size_t i : rotary) out += fmt::format(",{}", static_cast<int>(o.directions[i]));
     out += fmt::format(",{:.9g},{:.9g},{:.9g},{:.9e},{}\n", o.direction.x(), o.direction.y(), o.direction.z(), o.value,
                        set.sources[o.source]);
   }

@@ -43,7 +43,7 @@ struct Recorder {
     o.q << x, y, z + tool, 0, b_deg * kRadPerDeg, 0, 0, 0, 0, tool;
     o.time = time;
     o.temperatures = temperatures;
-    o.directions = directions;
+    for (std::size_t i = 0; i < directions.size(); ++i) o.directions[i] = static_cast<std::int8_t>(directions[i]);
     o.source = source(label);
     o.row = static_cast<std::uint32_t>(set.observations.size() + 2);
     for (const Eigen::Vector3d& n : along) {

@@ -2,6 +2,7 @@
 // them, fit it, check again; and the exit code of a bad measurement file.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <filesystem>
 #include <regex>
 #include <utility>
@@ -156,6 +157,38 @@ TEST(IdentifyCli, AThermalEffectOnASensorTheModelLacksIsFoundAndTheSensorAdded) 
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_LT(rms_of(r.out), 1.3 * 0.2) << r.out;
   EXPECT_NE(r.out.find("missing effects: none"), std::string::npos) << r.out;
+}
+
+TEST(IdentifyCli, InstrumentFilesAreImportedOrReadDirectly) {
+  const std::string dir = temp_dir("identify_cli_import");
+  const std::string laser = shell_quote(source_dir() + "/samples/measurements/x-laser.rtl");
+  const std::string csv = shell_quote(dir + "/x.csv");
+  const std::string place = " --at y=-360,z=-400 ";
+  CommandResult r = run_command(ccomp() + " import " + laser + place + "-o " + csv);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.err.find("renishaw-rtl file, 24 observations"), std::string::npos) << r.err;
+  const std::string converted_text = read_file(dir + "/x.csv");
+  EXPECT_EQ(std::count(converted_text.begin(), converted_text.end(), '\n'), 26) << "its frame, the header, 24 rows";
+  EXPECT_TRUE(converted_text.starts_with("# frame:")) << converted_text.substr(0, 80);
+  // The native file and its conversion give the same figures.
+  const std::string model = " -m " + sample("hmc-xyzb-geometric.yaml");
+  const CommandResult native = run_command(ccomp() + " positioning " + laser + model + " --axis x" + place);
+  const CommandResult converted = run_command(ccomp() + " positioning " + csv + model + " --axis x");
+  ASSERT_EQ(native.exit_code, 0) << native.err;
+  EXPECT_EQ(native.out, converted.out);
+  r = run_command(ccomp() + " check " + laser + model + place);
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find("x-laser (24)"), std::string::npos) << r.out;
+  // What a one-axis file lacks is said with its code: its axis (usage), its unit (data).
+  write_file(dir + "/stage.txt", "target;deviation\n0;0,01\n12,5;0,0888\n25;0,03\n");
+  r = run_command(ccomp() + " import " + shell_quote(dir + "/stage.txt") + " -o " + csv);
+  EXPECT_EQ(r.exit_code, 2) << r.err;
+  r = run_command(ccomp() + " import " + shell_quote(dir + "/stage.txt") + " --axis x -o " + csv);
+  EXPECT_EQ(r.exit_code, 8) << r.err;
+  EXPECT_NE(r.err.find("stage.txt:3:1: error: no unit stated"), std::string::npos) << r.err;
+  r = run_command(ccomp() + " import " + shell_quote(dir + "/stage.txt") + " --axis x --unit um --json -o " + csv);
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find("\"format\": \"axis-table\""), std::string::npos) << r.out;
 }
 
 }  // namespace

@@ -55,6 +55,22 @@ TEST(Measurements, ScalarAndFullRowsBecomeObservations) {
   EXPECT_NE(s.notices[0].find("'operator'"), std::string::npos);
 }
 
+TEST(Measurements, SemicolonsAndTabsWithDecimalCommasReadAsCommas) {
+  // What a spreadsheet set to a decimal comma writes ("header has no 'x' column" before).
+  const MeasurementSet commas =
+      parse("x,y,z,T_spindle,vx,nx,ny,nz,d,source\n10.5,-2,3,21.5,1,1,0,0,0.0042,\"a;b\"\n");
+  for (const char* text :
+       {"x;y;z;T_spindle;vx;nx;ny;nz;d;source\n10,5;-2;3;21,5;1;1;0;0;0,0042;\"a;b\"\n",
+        "x\ty\tz\tT_spindle\tvx\tnx\tny\tnz\td\tsource\n10,5\t-2\t3\t21,5\t1\t1\t0\t0\t0,0042\ta;b\n"}) {
+    const MeasurementSet s = parse(text);
+    ASSERT_EQ(s.observations.size(), 1U) << text;
+    EXPECT_EQ(s.observations[0].q, commas.observations[0].q) << text;
+    EXPECT_EQ(s.observations[0].value, commas.observations[0].value) << text;
+    EXPECT_EQ(s.observations[0].temperatures, commas.observations[0].temperatures) << text;
+    EXPECT_EQ(s.sources, commas.sources) << text;
+  }
+}
+
 TEST(Measurements, ErrorsNameRowColumnAndCause) {
   struct Case {
     const char* text;

@@ -19,7 +19,7 @@ struct Observation {
   model::ChainQ q = model::ChainQ::Zero();               ///< axes (mm, rad) and the tool length
   double time = 0.0;                                     ///< s
   std::vector<double> temperatures;                      ///< degC, one per sensor of the set (NaN: not read)
-  std::array<double, 9> directions{};                    ///< approach sign of each axis: +1, -1, 0 unknown
+  std::array<std::int8_t, 9> directions{};  ///< approach sign of each axis: +1, -1, 0 unknown (a byte: rows held compactly)
   Eigen::Vector3d direction = Eigen::Vector3d::UnitX();  ///< unit, machine-axis directions
   double value = 0.0;                                    ///< measured deviation along `direction`, mm
   std::uint32_t source = 0;                              ///< index into MeasurementSet::sources
@@ -52,20 +52,37 @@ struct MeasurementSet {
     model::Conditions c;
     c.time = o.time;
     c.temperatures = o.temperatures;
-    c.directions = o.directions;
+    for (std::size_t i = 0; i < o.directions.size(); ++i) c.directions[i] = o.directions[i];
     return c;
   }
+};
+
+/// Where an axis stood while another was measured (`--at y=100`): mm or deg.
+struct AxisPosition {
+  char axis = 'Y';  ///< upper case
+  double value = 0.0;
 };
 
 struct ReadOptions {
   /// Tool length (mm) for rows without an L column.
   double tool_length = 0.0;
+  // One-axis files (an instrument's runs along one axis: docs/identification.md)
+  /// The axis measured (upper case), where the file does not name it; 0: the file's.
+  char axis = 0;
+  /// Where the other axes stood; unnamed ones at 0, and for a rotary axis' readings without
+  /// any, X at 100 mm (Y for A) from the program origin (docs/identification.md).
+  std::vector<AxisPosition> at;
+  /// The label of the rows (empty: the file's name).
+  std::string source;
+  /// The deviations' unit where the file states none ("um", "arcsec"...; empty: none).
+  std::string unit;
   /// The frame the user says the files are in (--frame, --work-offset); a file's own
   /// `# frame:` line is taken first (measurement_frame.hpp).
   std::optional<MeasurementFrame> frame;
 };
 
-/// Reads a measurement file and appends its rows. Throws ccomp::Error (data) naming the
+/// Reads a measurement file and appends its rows: the CSV contract or an instrument's file,
+/// recognised by its content (identify/measurement_formats.hpp). Throws ccomp::Error (data) naming the
 /// file, the row and the column: a missing column, a value that is not a number, NaN, a
 /// direction that is not a unit vector, a variable the model needs that the file lacks.
 void read_measurements(const std::string& path, const model::MachineModel& model, const ReadOptions& options,
