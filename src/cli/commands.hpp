@@ -118,6 +118,10 @@ struct IdentifyArgs {
 };
 /// --axis (when `with_axis`), --at and --unit: what a one-axis instrument file needs to be placed.
 void add_reading_options(CLI::App& cmd, IdentifyArgs& args, bool with_axis);
+/// --frame and --work-offset: the frame of measurement files that do not state their own.
+void add_frame_options(CLI::App& cmd, IdentifyArgs& args);
+/// The frame the user gives the files (nothing when neither option is given).
+[[nodiscard]] std::optional<identify::MeasurementFrame> frame_of(const IdentifyArgs& args);
 /// The reader's options from the command line (usage errors for a bad --at or --axis).
 [[nodiscard]] identify::ReadOptions reading_options(const IdentifyArgs& args);
 /// import: an instrument's file converted to the measurement contract.

@@ -28,6 +28,12 @@ namespace {
 void add_common(CLI::App& cmd, IdentifyArgs& args) {
   cmd.add_option("-m,--model", args.model, "machine model (YAML)")->required();
   cmd.add_option("--tool-length", args.tool_length, "mm: tool or optic length of rows without an L column (100)");
+  add_frame_options(cmd, args);
+}
+
+}  // namespace
+
+void add_frame_options(CLI::App& cmd, IdentifyArgs& args) {
   cmd.add_option("--frame", args.frame,
                  "what the files' positions are, where a file does not say (# frame:): program coordinates "
                  "(the default) or machine coordinates")
@@ -37,7 +43,6 @@ void add_common(CLI::App& cmd, IdentifyArgs& args) {
                  "work_offsets; docs/identification.md, 'Frames')");
 }
 
-/// The frame the user gives the files (nothing when neither option is given).
 std::optional<identify::MeasurementFrame> frame_of(const IdentifyArgs& args) {
   if (args.frame.empty() && args.work_offsets.empty()) return std::nullopt;
   identify::MeasurementFrame f;
@@ -53,6 +58,8 @@ std::optional<identify::MeasurementFrame> frame_of(const IdentifyArgs& args) {
   }
   return f;
 }
+
+namespace {
 
 identify::MeasurementSet read_all(const IdentifyArgs& args, const model::MachineModel& m) {
   identify::MeasurementSet set;

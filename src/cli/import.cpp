@@ -102,6 +102,7 @@ CLI::App* add_import(CLI::App& app, IdentifyArgs& args) {
   cmd->add_option("--tool-length", args.tool_length, "mm: tool or optic length of the readings (100)");
   cmd->add_option("--source", args.source, "the label of the rows (the file's name without folder and extension)");
   add_reading_options(*cmd, args, true);
+  add_frame_options(*cmd, args);
   cmd->add_flag("--json", args.json, "what was converted as JSON on stdout (needs -o FILE; docs/json.md)");
   return cmd;
 }
@@ -114,6 +115,7 @@ int run_import(const IdentifyArgs& args) {
   if (args.output != "-") check_output(args.output, inputs, "-o");
   const model::MachineModel m = args.model.empty() ? linear_axes_only() : model::load_machine_model(args.model);
   identify::ReadOptions o = reading_options(args);
+  o.frame = frame_of(args);
   o.source = args.source;
   std::string head(identify::io::kDetectBytes, '\0');
   {
@@ -126,7 +128,7 @@ int run_import(const IdentifyArgs& args) {
   identify::MeasurementSet set;
   identify::read_measurements(input, m, o, set);
   for (const std::string& notice : set.notices) fmt::print(stderr, "notice: {}\n", notice);
-  // Written in the frame it was read in (the model's work offset, where it has one).
+  // Written in the frame it was read in (the file's, the options', or the model's work offset).
   write_output(args.output, identify::to_csv(set, m, set.frames.front()));
   if (args.json) {
     fmt::print("{}", import_json(input, format, set, args.output));
