@@ -47,9 +47,12 @@ extern "C" void remove_temporaries_and_stop(int signal) {
   std::raise(signal);
 }
 
-/// "<output>.ccomp-<pid>-": what this process' temporary files for `output` start with.
+/// "<output>.ccomp-": what the temporary files for `output` start with, "<pid>-XXXXXX"
+/// following. A long name is cut so that the whole fits NAME_MAX (255 bytes): an output
+/// named up to the limit can be written.
 std::string temporary_prefix(const fs::path& output) {
-  return output.filename().string() + ".ccomp-";
+  constexpr std::size_t kNameMax = 255, kTail = 7 + 10 + 1 + 6;  // ".ccomp-", pid, '-', XXXXXX
+  return output.filename().string().substr(0, kNameMax - kTail) + ".ccomp-";
 }
 
 /// Removes temporary files beside `output` that a process no longer running left (a run
@@ -71,6 +74,26 @@ void remove_orphans(const fs::path& output) {
   }
 }
 
+/// Whether `path` names the file standard input reads (`ccomp - -o p.ngc < p.ngc`): the
+/// same device and inode.
+bool is_standard_input(const std::string& path) {
+  struct stat in {}, out {};
+  return ::fstat(STDIN_FILENO, &in) == 0 && ::stat(path.c_str(), &out) == 0 && in.st_dev == out.st_dev &&
+         in.st_ino == out.st_ino;
+}
+
+/// Refuses (io, exit 6) to replace a file the user could not write: the rename would replace
+/// it all the same, as the folder is writable. Root may write anything, so a file with no
+/// write bit at all (0444, chmod a-w) is refused for root too: someone protected it.
+void check_writable(const std::string& path) {
+  struct stat st {};
+  if (::stat(path.c_str(), &st) != 0) return;
+  if (::access(path.c_str(), W_OK) != 0 || (st.st_mode & 0222) == 0)
+    throw Error(ErrorKind::io, fmt::format("cannot replace '{}': it is read-only (mode {:04o}); make it writable "
+                                           "or write elsewhere",
+                                           path, st.st_mode & 07777));
+}
+
 }  // namespace
 
 void check_output(const std::string& path, const std::vector<RunInput>& inputs, const std::string& what) {
@@ -90,15 +113,16 @@ void check_output(const std::string& path, const std::vector<RunInput>& inputs, 
                               what, path));
   }
   for (const RunInput& input : inputs) {
-    if (input.path.empty() || input.path == "-") continue;
+    if (input.path.empty()) continue;
     std::error_code ec;
-    if (fs::equivalent(path, input.path, ec))
+    if (input.path == "-" ? is_standard_input(path) : fs::equivalent(path, input.path, ec))
       throw Error(ErrorKind::usage,
                   fmt::format("{} '{}' is {} '{}', which this run reads: it would be lost; write "
                               "elsewhere{}",
                               what, path, input.role, input.path,
                               input.role == "the program" ? " (or use --in-place, which keeps a backup)" : ""));
   }
+  check_writable(path);
 }
 
 void check_distinct_outputs(const std::vector<std::string>& outputs) {
@@ -130,7 +154,7 @@ mode_t output_mode(const std::string& path) {
 }  // namespace
 
 // (The buffer first: its allocation failing once the temporary exists would leave it.)
-OutputFile::OutputFile(std::string path)
+OutputFile::OutputFile(std::string path, std::optional<unsigned> mode)
     : path_(std::move(path)), buffer_(std::make_unique_for_overwrite<char[]>(kOutputBuffer)) {
   const fs::path out(path_);
   remove_orphans(out);
@@ -147,7 +171,7 @@ OutputFile::OutputFile(std::string path)
     throw Error(ErrorKind::io,
                 fmt::format("cannot create a temporary file beside '{}': {}", path_, std::strerror(made)));
   }
-  (void)::fchmod(fd, output_mode(path_));  // mkstemp makes 0600
+  (void)::fchmod(fd, mode ? static_cast<mode_t>(*mode) : output_mode(path_));  // mkstemp makes 0600
   file_ = ::fdopen(fd, "wb");
   if (!file_) {
     ::close(fd);
@@ -168,6 +192,7 @@ OutputFile::~OutputFile() {
 
 void OutputFile::commit() {
   finish();
+  check_writable(path_);  // again: it may have been made read-only meanwhile
   if (std::rename(temporary_.c_str(), path_.c_str()) != 0)
     throw Error(ErrorKind::io,
                 fmt::format("cannot move the result into place as '{}': {}", path_, std::strerror(errno)));
@@ -232,8 +257,11 @@ void remove_temporaries_on_interrupt() {
     if (::sigaction(signal, nullptr, &old) == 0 && old.sa_handler == SIG_IGN) continue;
     std::signal(signal, remove_temporaries_and_stop);
   }
-  // A closed pipe is a write error (exit 6), not a silent death by SIGPIPE.
+  // A closed pipe is a write error (exit 6), not a silent death by SIGPIPE; so is a file
+  // past `ulimit -f` (EFBIG), which would otherwise end the run by SIGXFSZ and leave the
+  // temporary behind.
   std::signal(SIGPIPE, SIG_IGN);
+  std::signal(SIGXFSZ, SIG_IGN);
 }
 
 }  // namespace ccomp::cli

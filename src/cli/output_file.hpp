@@ -7,6 +7,7 @@
 #include <cstddef>
 #include <cstdio>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -38,8 +39,10 @@ void buffer_standard_output();
 /// syncs and renames it into place; destroyed without a commit it is removed.
 class OutputFile {
  public:
-  /// Throws ccomp::Error (io) when the temporary file cannot be made.
-  explicit OutputFile(std::string path);
+  /// Throws ccomp::Error (io) when the temporary file cannot be made, or `path` exists and is
+  /// read-only. The file gets `mode` (permission bits), else the mode of the file it
+  /// replaces, else 0666 less the umask.
+  explicit OutputFile(std::string path, std::optional<unsigned> mode = {});
   OutputFile(const OutputFile&) = delete;
   OutputFile& operator=(const OutputFile&) = delete;
   ~OutputFile();
@@ -68,8 +71,8 @@ void write_output(const std::string& path, const std::string& text);
 void finish_standard_output();
 
 /// Installs the SIGINT/SIGTERM/SIGHUP handler that removes the temporary files being
-/// written (not over a signal the caller ignores), ignores SIGPIPE (a closed pipe is then a
-/// write error, exit 6) and reads the umask the outputs' modes follow. Call it first.
+/// written (not over a signal the caller ignores), ignores SIGPIPE and SIGXFSZ (a closed
+/// pipe, a file past `ulimit -f`: then a write error, exit 6) and reads the umask the outputs' modes follow. Call it first.
 void remove_temporaries_on_interrupt();
 
 }  // namespace ccomp::cli
