@@ -11,6 +11,7 @@
 
 #include "ccomp/error.hpp"
 #include "ccomp/gcode/number.hpp"
+#include "ccomp/gcode/source.hpp"
 #include "grammar.hpp"
 
 namespace ccomp::gcode {
@@ -661,7 +662,6 @@ bool Parser::parse_simple(std::string_view t, Block& out) const {
   }
 }
 
-constexpr std::size_t kMaxLineBytes = 1 << 20;
 constexpr std::size_t kMaxNesting = 256;
 
 /// Refuses what would exhaust the parser rather than be read: a line longer than any

@@ -80,7 +80,16 @@ bool LineSource::fill() {
     begin_ = 0;
     end_ = tail;
   }
-  if (end_ == buffer_.size()) buffer_.resize(buffer_.size() * 2);
+  if (end_ == buffer_.size()) {
+    // A line end may still come (CRLF: one byte more), but a tail longer than that is a
+    // line no program has: refused here, before the buffer grows again.
+    if (tail > kMaxLineBytes + 1)
+      throw Error(ErrorKind::program,
+                  "a line of more than " + std::to_string(kMaxLineBytes) +
+                      " bytes without a line end: not a line of G-code (a binary file, or /dev/zero?)",
+                  SourceLocation{name_, position_.line, static_cast<std::uint32_t>(kMaxLineBytes + 1)});
+    buffer_.resize(buffer_.size() * 2);
+  }
   ssize_t n = 0;
   do {
     n = ::pread(*fd_, buffer_.data() + end_, buffer_.size() - end_, static_cast<off_t>(read_offset_));

@@ -10,6 +10,11 @@
 
 namespace ccomp::gcode {
 
+/// The longest line of G-code read (bytes, without its line end): longer is no program. The
+/// reader stops at it while reading, so a file without a newline (or /dev/zero) is refused
+/// in bounded memory; the parser refuses it with its position too.
+inline constexpr std::size_t kMaxLineBytes = std::size_t{1} << 20;
+
 /// One physical line as it sits in the file.
 struct SourceLine {
   std::string_view text;        ///< without the terminator
