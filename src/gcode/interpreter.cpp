@@ -560,18 +560,46 @@ SubDefinition Interpreter::Impl::find_sub(const std::string& label, bool fanuc, 
     for (const std::string& dir : options.subroutine_path) {
       for (const std::string& candidate : {lower, b.o.name}) {
         const std::filesystem::path p = std::filesystem::path(dir) / (candidate + ".ngc");
-        if (!std::filesystem::exists(p)) continue;
-        owned_sources.push_back(std::make_unique<LineSource>(LineSource::open(p.string())));
+        // A folder the user cannot search, a file they cannot read: an I/O error (exit 6)
+        // at the call that needed it, not an exception from deep in the library.
+        const auto io_error_at_call = [&](const std::string& why) {
+          try {
+            fail(b, where, why);
+          } catch (const Error& e) {
+            throw Error(ErrorKind::io, e.message(), e.where(), e.source_line());
+          }
+        };
+        std::error_code ec;
+        if (!std::filesystem::exists(p, ec)) {
+          if (ec) io_error_at_call(fmt::format("cannot look for '{}' (called as O<{}>): {}", p.string(), b.o.name,
+                                               ec.message()));
+          continue;
+        }
+        std::unique_ptr<LineSource> opened;
+        try {
+          opened = std::make_unique<LineSource>(LineSource::open(p.string()));
+        } catch (const Error& e) {
+          io_error_at_call(e.message() + fmt::format(" (called as O<{}>)", b.o.name));
+        }
+        owned_sources.push_back(std::move(opened));
         sources.push_back(owned_sources.back().get());
         const std::size_t index = sources.size() - 1;
         // The file starts with `O<name> sub`: the body follows it.
         LineSource& f = *sources[index];
         SourceLine first;
         Block head;
-        while (f.next(first)) {
+        bool headed = false;
+        while (!headed && f.next(first)) {
           scanner.parse(first.text, first.number, f.name(), head);
-          if (head.o.present && head.o.keyword == OKeyword::sub) break;
+          headed = head.o.present && head.o.keyword == OKeyword::sub;
         }
+        // An empty file (or one without its `O<name> sub` line) is that file's error, shown
+        // there, not the calling line's.
+        if (!headed)
+          throw Error(ErrorKind::program,
+                      fmt::format("'{}' has no 'O<{}> sub' line: a subroutine file starts with it", f.name(),
+                                  candidate),
+                      SourceLocation{f.name(), f.tell().line > 1 ? f.tell().line - 1 : 1, 1});
         SubDefinition d{index, f.tell(), false};
         subs[label] = d;
         return d;

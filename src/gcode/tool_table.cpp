@@ -5,6 +5,7 @@
 #include <cctype>
 #include <charconv>
 #include <cmath>
+#include <filesystem>
 #include <fstream>
 #include <limits>
 
@@ -84,9 +85,17 @@ ToolTable read_tool_table(std::istream& in, const std::string& name) {
 }
 
 ToolTable read_tool_table_file(const std::string& path) {
+  // A folder opens and reads as nothing on Linux: it would be an empty table, every tool
+  // then unknown, rather than the mistake it is.
+  std::error_code ec;
+  if (std::filesystem::is_directory(path, ec))
+    throw Error(ErrorKind::io, "tool table '" + path + "' is a folder: name the tool table file (tool.tbl)",
+                SourceLocation{path});
   std::ifstream in(path);
-  if (!in) throw Error(ErrorKind::io, "cannot open tool table '" + path + "'");
-  return read_tool_table(in, path);
+  if (!in) throw Error(ErrorKind::io, "cannot open tool table '" + path + "'", SourceLocation{path});
+  ToolTable table = read_tool_table(in, path);
+  if (in.bad()) throw Error(ErrorKind::io, "cannot read tool table '" + path + "'", SourceLocation{path});
+  return table;
 }
 
 }  // namespace ccomp::gcode
