@@ -20,6 +20,12 @@ std::size_t utf8_sequence(std::string_view text, std::size_t at) {
   if (length == 0 || at + length > text.size() || (length == 2 && lead < 0xC2)) return 0;
   for (std::size_t k = 1; k < length; ++k)
     if ((byte(at + k) >> 6) != 0x2) return 0;
+  // Overlong forms, UTF-16 surrogates (ED A0..BF) and code points past U+10FFFF are no
+  // characters: a JSON reader would refuse them or read another text.
+  const unsigned char second = length > 1 ? byte(at + 1) : 0;
+  if ((lead == 0xE0 && second < 0xA0) || (lead == 0xED && second >= 0xA0) || (lead == 0xF0 && second < 0x90) ||
+      (lead == 0xF4 && second >= 0x90) || lead > 0xF4)
+    return 0;
   return length;
 }
 
@@ -31,9 +37,10 @@ std::string json_quoted(std::string_view text) {
     const char c = text[at];
     const std::size_t length = utf8_sequence(text, at);
     if (length == 0) {
-      // Not UTF-8 (a Latin-1 comment, an old control's file name): the byte as the Latin-1
-      // character it most likely is, so the document stays valid JSON.
-      out += fmt::format("\\u{:04x}", static_cast<unsigned char>(c));
+      // Not UTF-8 (a Latin-1 comment, an old control's file name): U+FFFD, the replacement
+      // character, a byte each. Never a guess at the character (Latin-1 \u00e9 for byte E9):
+      // that is another, real file name, which a script reading the report would then open.
+      out += "\\ufffd";
       ++at;
       continue;
     }

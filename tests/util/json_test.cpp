@@ -26,11 +26,15 @@ TEST(JsonQuoted, EscapesQuotesBackslashesAndControlCharacters) {
   EXPECT_EQ(json_quoted("a\"b\\c\nd\te"), "\"a\\\"b\\\\c\\nd\\u0009e\"");
 }
 
-TEST(JsonQuoted, KeepsUtf8AndTurnsOtherBytesIntoTheirLatin1Characters) {
+TEST(JsonQuoted, KeepsUtf8AndTurnsEveryOtherByteIntoTheReplacementCharacter) {
   EXPECT_EQ(json_quoted("caf\xc3\xa9 \xe2\x82\xac"), "\"caf\xc3\xa9 \xe2\x82\xac\"");  // UTF-8 as it is
-  EXPECT_EQ(json_quoted("caf\xe9"), "\"caf\\u00e9\"");                                 // a Latin-1 e-acute
-  EXPECT_EQ(json_quoted("\xc3"), "\"\\u00c3\"");                                       // a sequence cut short
-  EXPECT_EQ(json_quoted("\xc0\xaf"), "\"\\u00c0\\u00af\"");                            // an overlong form
+  // A Latin-1 e-acute is not shown as U+00E9: "caf\u00e9" is another file name.
+  EXPECT_EQ(json_quoted("caf\xe9"), "\"caf\\ufffd\"");
+  EXPECT_EQ(json_quoted("\xc3"), "\"\\ufffd\"");                          // a sequence cut short
+  EXPECT_EQ(json_quoted("\xc0\xaf"), "\"\\ufffd\\ufffd\"");              // an overlong form
+  EXPECT_EQ(json_quoted("\xe0\x80\xaf"), "\"\\ufffd\\ufffd\\ufffd\"");  // an overlong form of 3 bytes
+  EXPECT_EQ(json_quoted("\xed\xa0\x80"), "\"\\ufffd\\ufffd\\ufffd\"");  // a UTF-16 surrogate
+  EXPECT_EQ(json_quoted("\xf4\x90\x80\x80"), "\"\\ufffd\\ufffd\\ufffd\\ufffd\"");  // past U+10FFFF
 }
 
 }  // namespace
