@@ -21,7 +21,8 @@ namespace {
 void add_model_options(CLI::App& cmd, CheckArgs& args) {
   cmd.add_option("-m,--model", args.model, "machine model (YAML)")->required();
   cmd.add_option("--sensor", args.sensors, "a temperature reading for the model's thermal terms: NAME=DEGC");
-  cmd.add_option("--time", args.time, "s since the machine's warm-up started");
+  cmd.add_option("--time", args.time, "s since the machine's warm-up started")
+      ->check(seconds_since_warm_up());
   cmd.add_option("--samples", args.samples, "points checked inside each move (8)")->check(CLI::PositiveNumber);
   cmd.add_flag("--json", args.json, "the figures as JSON on stdout (docs/json.md)");
   add_program_options(cmd, args.program);

@@ -2,6 +2,7 @@
 // The subcommands of the ccomp CLI: argument structs, their CLI11 wiring and their runs.
 #include <CLI/CLI.hpp>
 #include <limits>
+#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -27,6 +28,8 @@ void add_program_options(CLI::App& cmd, ProgramArgs& args);
 /// --tolerance's check: a positive, finite number of mm. CLI11's PositiveNumber answers '1um'
 /// with its range printed as a 300-digit double; this names the value and the unit.
 [[nodiscard]] CLI::Validator tolerance_in_mm();
+/// --time: a finite number of seconds, 0 or more (a warm-up does not run backwards).
+[[nodiscard]] CLI::Validator seconds_since_warm_up();
 /// --work-offset's systems (usage errors name the option).
 [[nodiscard]] model::WorkOffsets work_offsets_of(const std::vector<std::string>& specs);
 /// Interpreter options from the shared arguments; `model_dialect` when none is given. The
@@ -54,7 +57,7 @@ struct CompensateArgs {
   int decimals = -1;                 ///< -1: the program's own
   int rotary_decimals = -1;          ///< -1: the program's own
   std::vector<std::string> sensors;  ///< NAME=VALUE (degC)
-  double time = 0.0;
+  std::optional<double> time;  ///< --time, s; none given: a warm-up term is refused
   bool quiet = false;
   bool json = false;
   ProgramArgs program;
@@ -67,7 +70,7 @@ struct CheckArgs {
   std::string compensated;
   std::string model;
   std::vector<std::string> sensors;
-  double time = 0.0;
+  std::optional<double> time;  ///< --time, s; none given: a warm-up term is refused
   int samples = 8;
   double tolerance = 0.0;  ///< verify: mm; 0: the one in the output's header, else 0.001
   bool json = false;

@@ -59,7 +59,8 @@ void add_compensate(CLI::App& app, CompensateArgs& args) {
                  "decimals of the compensated rotary coordinates, in degrees (default: the program's own, at least 5; up to 2 more on a take-up whose play needs them)")
       ->check(CLI::Range(0, 9));
   app.add_option("--sensor", args.sensors, "a temperature reading for the model's thermal terms: NAME=DEGC");
-  app.add_option("--time", args.time, "s since the machine's warm-up started, for warm-up terms");
+  app.add_option("--time", args.time, "s since the machine's warm-up started, for warm-up terms")
+      ->check(seconds_since_warm_up());
   app.add_flag("-q,--quiet", args.quiet, "no summary line per program");
   app.add_flag("--json", args.json, "the summary of every program as JSON on stdout (docs/json.md)");
   add_program_options(app, args.program);
@@ -90,7 +91,10 @@ std::string summary_line(const Target& t, const model::MachineModel& model, cons
 /// with the compensated text). Written whole and synced before it gets its name, so a backup
 /// is never partial, even after an interrupt or a power cut.
 void keep_backup(const std::string& input, const std::string& suffix) {
-  OutputFile backup(input + suffix);
+  // The backup keeps the input's mode (a program others may not read stays so).
+  std::error_code ec;
+  const auto mode = fs::status(input, ec).permissions();
+  OutputFile backup(input + suffix, ec ? std::optional<unsigned>{} : static_cast<unsigned>(mode) & 07777u);
   {
     std::ifstream in(input, std::ios::binary);
     if (!in) throw Error(ErrorKind::io, fmt::format("cannot read '{}' to back it up", input));
@@ -104,6 +108,20 @@ void keep_backup(const std::string& input, const std::string& suffix) {
   throw Error(ErrorKind::io, fmt::format("'{}' has 999 numbered backups: clear some first", input));
 }
 
+/// `write()`'s result; the writer's "cannot write the output" (a full disk, `ulimit -f`)
+/// names `output` instead: in a batch, which of the files.
+template <typename Write>
+auto name_the_output(const std::string& output, Write write) {
+  constexpr std::string_view kUnnamed = "cannot write the output";
+  try {
+    return write();
+  } catch (const Error& e) {
+    if (e.kind() != ErrorKind::io || !e.message().starts_with(kUnnamed)) throw;
+    throw Error(ErrorKind::io, fmt::format("cannot write '{}'{}", output, e.message().substr(kUnnamed.size())),
+                e.where(), e.source_line());
+  }
+}
+
 /// Writes through an OutputFile (a temporary beside the output, renamed into place only on
 /// success), so a failed or interrupted run leaves the previous output as it was.
 compensate::JobReport compensate_one(const Target& t, const model::MachineModel& model,
@@ -114,7 +132,9 @@ compensate::JobReport compensate_one(const Target& t, const model::MachineModel&
     return compensate::run_program_job(input, stdout, model, options);
   }
   OutputFile out(t.output);
-  const compensate::JobReport r = compensate::run_program_job(input, out.file(), model, options);
+  const compensate::JobReport r = name_the_output(t.output, [&] {
+    return compensate::run_program_job(input, out.file(), model, options);
+  });
   if (args.in_place) keep_backup(t.input, args.backup_suffix);
   // Keep the input's permissions on the output (post processors may mark files executable).
   std::error_code ec;
@@ -199,7 +219,7 @@ int run_compensate(const CompensateArgs& args) {
   options.exact = args.exact;
   options.decimals = args.decimals;
   options.rotary_decimals = args.rotary_decimals;
-  options.time = args.time;
+  options.time = args.time.value_or(0.0);
   options.sensors = model::parse_sensor_readings(args.sensors);
 
   // Nothing of the user's is overwritten: no output is an input, the model or the tool
@@ -225,6 +245,11 @@ int run_compensate(const CompensateArgs& args) {
       if (ec) throw Error(ErrorKind::io, fmt::format("cannot create the folder '{}': {}", args.out_dir, ec.message()));
       t.output = (fs::path(args.out_dir) / fs::path(in).filename()).string();
     }
+    // A subroutine file the run may read through --sub-path (LinuxCNC treats every .ngc
+    // there as callable): the output's name in each such folder, refused if it is that file.
+    if (!args.in_place && t.output != "-" && fs::path(t.output).extension() == ".ngc")
+      for (const std::string& folder : args.program.sub_path)
+        kept.push_back({"a subroutine file on --sub-path", (fs::path(folder) / fs::path(t.output).filename()).string()});
     check_output(t.output, kept, args.in_place ? "--in-place" : args.out_dir.empty() ? "-o" : "--out-dir");
     outputs.push_back(t.output);
     targets.push_back(t);
@@ -282,9 +307,17 @@ int run_compensate(const CompensateArgs& args) {
   compensate::validate(options);
   // A sensor mistake is refused here, once and before any program is read, as predict and
   // verify refuse it; the job builds the same conditions again for itself.
-  (void)model::conditions_for(model, options.sensors, options.time);
+  (void)model::conditions_for(model, options.sensors, args.time);
   std::vector<std::thread> pool;
-  for (int i = 1; i < threads; ++i) pool.emplace_back(worker);
+  // A thread the system will not give (a low `ulimit -u`) means fewer workers, not an abort:
+  // the programs are shared out among those there are (this one at least).
+  for (int i = 1; i < threads; ++i) {
+    try {
+      pool.emplace_back(worker);
+    } catch (const std::system_error&) {
+      break;
+    }
+  }
   worker();
   for (auto& t : pool) t.join();
   bar.clear();

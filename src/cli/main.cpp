@@ -3,6 +3,10 @@
 #include <fmt/format.h>
 
 #include <CLI/CLI.hpp>
+#include <csignal>
+#include <cstdio>
+#include <cstring>
+#include <iostream>
 #include <system_error>
 
 #include "ccomp/error.hpp"
@@ -72,11 +76,19 @@ int main(int argc, char** argv) {
   ccomp::cli::ExportArgs export_args;
   CLI::App* export_cmd = ccomp::cli::add_export(app, export_args);
   one_value_per_occurrence(app);
+  std::signal(SIGPIPE, SIG_IGN);  // a closed pipe is a write error (exit 6), --help's too
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
     const int code = app.exit(e);
-    return code == 0 ? 0 : ccomp::exit_code(ccomp::ErrorKind::usage);
+    if (code != 0) return ccomp::exit_code(ccomp::ErrorKind::usage);
+    // --help and --version to a full disk or a closed pipe: lost text is an I/O error.
+    std::cout.flush();
+    if (!std::cout || std::fflush(stdout) != 0 || std::ferror(stdout)) {
+      fmt::print(stderr, "error: cannot write standard output: {}\n", std::strerror(errno));
+      return ccomp::exit_code(ccomp::ErrorKind::io);
+    }
+    return 0;
   }
   ccomp::cli::remove_temporaries_on_interrupt();
   // What a command printed must have reached its reader: a full disk or a closed pipe on

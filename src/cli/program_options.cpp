@@ -39,6 +39,17 @@ CLI::Validator tolerance_in_mm() {
       "MM > 0");
 }
 
+CLI::Validator seconds_since_warm_up() {
+  return CLI::Validator(
+      [](std::string& text) -> std::string {
+        double v = 0.0;
+        const auto [ptr, ec] = std::from_chars(text.data(), text.data() + text.size(), v);
+        if (ec == std::errc() && ptr == text.data() + text.size() && std::isfinite(v) && v >= 0.0) return {};
+        return "'" + text + "' is not a time in s since the warm-up started (0 or more)";
+      },
+      "S >= 0");
+}
+
 model::WorkOffsets work_offsets_of(const std::vector<std::string>& specs) {
   model::WorkOffsets offsets;
   for (const std::string& spec : specs) {

@@ -63,10 +63,18 @@ std::vector<SensorReading> parse_sensor_readings(const std::vector<std::string>&
   return readings;
 }
 
-Conditions conditions_for(const MachineModel& model, const std::vector<SensorReading>& readings, double time) {
-  if (!std::isfinite(time)) refuse(fmt::format("the time must be finite, not {}", time));
+Conditions conditions_for(const MachineModel& model, const std::vector<SensorReading>& readings,
+                          std::optional<double> time) {
+  if (time && !std::isfinite(*time)) refuse(fmt::format("the time must be finite, not {}", *time));
+  if (!time)
+    for (const ErrorTermSpec& t : model.terms)
+      for (const Variable* v : {&t.primary, &t.secondary})
+        if (v->kind == VariableKind::time)
+          refuse(fmt::format("term {} depends on the time since the warm-up started, and none was given: --time "
+                             "SECONDS",
+                             t.name));
   Conditions c;
-  c.time = time;
+  c.time = time.value_or(0.0);
   c.temperatures.assign(model.sensors.size(), std::nan(""));
   for (const auto& [name, value] : readings) {
     if (!std::isfinite(value)) refuse(fmt::format("sensor '{}' must read a finite temperature, not {}", name, value));

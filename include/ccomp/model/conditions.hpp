@@ -2,6 +2,7 @@
 // The conditions a machine model is evaluated in (the time and the temperatures) from what
 // a command line gives: `--sensor NAME=DEGC` readings and `--time S`. The one place that
 // checks them, so that every command refuses the same mistakes alike (exit 2: usage).
+#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -27,8 +28,9 @@ using SensorReading = std::pair<std::string, double>;
 /// that no term depends on. Throws ccomp::Error (usage) for a time or reading that is not
 /// finite, a sensor read twice, a reading of a sensor the model lacks (naming the machine
 /// and its sensors), and a term's sensor left unread (naming the term, the sensor and the
-/// fix, --sensor NAME=VALUE).
+/// fix, --sensor NAME=VALUE), and a term over the time (a warm-up) without `time`, as a
+/// thermal term without its sensor (t = 0 would silently take the warm-up out).
 [[nodiscard]] Conditions conditions_for(const MachineModel& model, const std::vector<SensorReading>& readings,
-                                        double time);
+                                        std::optional<double> time);
 
 }  // namespace ccomp::model
