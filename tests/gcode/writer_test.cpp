@@ -9,6 +9,7 @@
 #include <string_view>
 
 #include "ccomp/error.hpp"
+#include "ccomp/gcode/source.hpp"
 
 namespace ccomp::gcode {
 namespace {
@@ -143,19 +144,37 @@ TEST(LineSource, SplitsLinesKeepingTerminatorsAndSeeks) {
   EXPECT_EQ(l.offset, 3U);
 }
 
-TEST(LineSource, FileReaderHandlesLinesLongerThanItsBuffer) {
+TEST(LineSource, FileReaderHandlesLinesUpToTheLimitAndRefusesLongerOnesWhileReading) {
   const std::string path = std::string(std::getenv("TMPDIR") ? std::getenv("TMPDIR") : "/tmp") + "/ccomp-long-line.ngc";
-  std::string long_line(3 << 20, 'x');
+  // A line of exactly kMaxLineBytes fills the first buffer: it grows once and reads it.
+  const std::string long_line(kMaxLineBytes - 2, 'x');
   std::FILE* f = std::fopen(path.c_str(), "wb");
-  std::fputs(("(" + long_line + ")\nG0 X1\n").c_str(), f);
+  std::fputs(("(" + long_line + ")\r\nG0 X1\n").c_str(), f);
+  std::fclose(f);
+  {
+    LineSource s = LineSource::open(path);
+    SourceLine l;
+    ASSERT_TRUE(s.next(l));
+    EXPECT_EQ(l.text.size(), kMaxLineBytes);
+    ASSERT_TRUE(s.next(l));
+    EXPECT_EQ(l.text, "G0 X1");
+    EXPECT_FALSE(s.next(l));
+  }
+  // Longer, it is refused at its line while reading, not held whole (a file without a
+  // newline, /dev/zero, grew the buffer until bad_alloc).
+  f = std::fopen(path.c_str(), "wb");
+  std::fputs(("G0 X1\n(" + std::string(3 << 20, 'x') + ")\n").c_str(), f);
   std::fclose(f);
   LineSource s = LineSource::open(path);
   SourceLine l;
   ASSERT_TRUE(s.next(l));
-  EXPECT_EQ(l.text.size(), long_line.size() + 2);
-  ASSERT_TRUE(s.next(l));
-  EXPECT_EQ(l.text, "G0 X1");
-  EXPECT_FALSE(s.next(l));
+  try {
+    (void)s.next(l);
+    ADD_FAILURE() << "a line of 3 MiB was read";
+  } catch (const Error& e) {
+    EXPECT_EQ(e.kind(), ErrorKind::program);
+    EXPECT_EQ(e.where().line, 2u);
+  }
   std::remove(path.c_str());
 }
 

@@ -32,6 +32,23 @@ model::MachineModel plain_hmc() {
   return model::parse_machine_model(kHmcChain, "hmc.yaml");
 }
 
+/// The 3-axis chain with a warm-up term over the time.
+model::MachineModel warming_vmc() {
+  return model::parse_machine_model(std::string(kVmcChain) + R"(terms:
+  - {name: EZZ, variable: t, form: warmup, amplitude: 5, time_constant: 1800, unit: um}
+)",
+                                    "vmc.yaml");
+}
+
+TEST(Conditions, RefusesAWarmUpTermWithoutTheTime) {
+  // As a thermal term without its sensor: t = 0 would leave the warm-up out in silence.
+  const Error e = error_of([] { (void)conditions_for(warming_vmc(), {}, std::nullopt); }, "--time");
+  EXPECT_EQ(e.kind(), ErrorKind::usage);
+  EXPECT_NE(e.message().find("EZZ"), std::string::npos) << e.message();
+  EXPECT_EQ(conditions_for(warming_vmc(), {}, 0.0).time, 0.0);  // given, even as 0, it is taken
+  EXPECT_EQ(conditions_for(plain_hmc(), {}, std::nullopt).time, 0.0);  // no term over the time: none needed
+}
+
 TEST(Conditions, ParsesAReading) {
   EXPECT_EQ(parse_sensor_reading("spindle=31.5"), (model::SensorReading{"spindle", 31.5}));
   EXPECT_EQ(parse_sensor_reading("bed=-4e1"), (model::SensorReading{"bed", -40.0}));
