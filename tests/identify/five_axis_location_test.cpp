@@ -18,6 +18,7 @@
 #include "ccomp/identify/simulate.hpp"
 #include "ccomp/model/model_file.hpp"
 #include "reference_five_axis.hpp"
+#include "fitted_location.hpp"
 #include "reference_measurements.hpp"
 
 namespace ccomp::identify {
@@ -91,14 +92,6 @@ struct Location {
   bool length;
 };
 
-double fitted(const model::ForwardModel& m, const FitReport& r, const std::string& iso) {
-  for (std::size_t t = 0; t < m.machine().terms.size(); ++t)
-    if (m.machine().terms[t].iso == iso && m.machine().terms[t].placement == model::ErrorPlacement::location)
-      return r.all_parameters[static_cast<Eigen::Index>(m.parameter_offset(t))];
-  ADD_FAILURE() << "no location term " << iso;
-  return std::nan("");
-}
-
 template <typename Reference>
 void fits_back(const std::vector<Location<Reference>>& locations, const std::string& rotary) {
   Reference truth;
@@ -125,7 +118,7 @@ void fits_back(const std::vector<Location<Reference>>& locations, const std::str
   EXPECT_GT(r.rms_before, 0.003) << "the start misses several um";
   EXPECT_LE(r.rms_after, 1.2 * kNoise) << "the reference is what the model can say, up to the noise";
   for (const Location<Reference>& l : locations)
-    EXPECT_NEAR(fitted(start, r, l.iso), l.value * (l.length ? 1e-3 : 1e-6), l.length ? 0.001 : 2e-6) << l.iso;
+    EXPECT_NEAR(test::fitted_location(start, r, l.iso), l.value * (l.length ? 1e-3 : 1e-6), l.length ? 0.001 : 2e-6) << l.iso;
 }
 
 TEST(FiveAxisLocationFit, BothLinesOfTheTrunnionTableAreFittedBackFromSpheresProbedAtAAndC) {
