@@ -7,7 +7,9 @@
 // location back within 2 urad and 1 um.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <numbers>
 #include <functional>
 #include <sstream>
 #include <string>
@@ -119,6 +121,27 @@ void fits_back(const std::vector<Location<Reference>>& locations, const std::str
   EXPECT_LE(r.rms_after, 1.2 * kNoise) << "the reference is what the model can say, up to the noise";
   for (const Location<Reference>& l : locations)
     EXPECT_NEAR(test::fitted_location(start, r, l.iso), l.value * (l.length ? 1e-3 : 1e-6), l.length ? 0.001 : 2e-6) << l.iso;
+}
+
+TEST(FiveAxisSpherePlan, ProbesTwoSpheresFixedOnTheTableAtEveryAAndCAngleWithinTheLimits) {
+  const ReferenceTrunnion machine;
+  const model::ForwardModel m(model::parse_machine_model(machine_model(machine) + "  - {name: EY0A, value: 0, unit: um}\n", "trunnion.yaml"));
+  SimulateOptions options;
+  options.plans = {Plan::sphere};
+  const Eigen::Vector3d g54 = machine.work_offset();
+  options.origin = model::WorkOrigin{g54.x(), g54.y(), g54.z()};
+  const std::vector<model::ChainQ> poses = sphere_poses(m, options);
+  ASSERT_EQ(poses.size(), 2U * 9U * 24U) << "A -120..120 every 30 deg by a turn of C every 15, two spheres";
+  model::ForwardData d(m);
+  std::vector<Eigen::Vector3d> spheres;  // where the nominal tip is on the table
+  for (const model::ChainQ& q : poses) {
+    EXPECT_LE(std::abs(q[3]), 120.0 * std::numbers::pi / 180.0 + 1e-12) << "A within its limits";
+    model::forward(m, d, q, model::Conditions{}, false, model::Evaluate::nominal);
+    if (std::none_of(spheres.begin(), spheres.end(), [&](const Eigen::Vector3d& s) { return (s - d.nominal).norm() < 1e-6; }))
+      spheres.push_back(d.nominal);
+  }
+  EXPECT_EQ(spheres.size(), 2U) << "each sphere stays where it is on the table as A and C turn";
+  EXPECT_EQ(simulate(m, options).observations.size(), 3U * poses.size()) << "X, Y and Z at each pose";
 }
 
 TEST(FiveAxisLocationFit, BothLinesOfTheTrunnionTableAreFittedBackFromSpheresProbedAtAAndC) {
