@@ -170,7 +170,8 @@ void reach_table_point(const model::ForwardModel& truth, model::ForwardData& d, 
 bool within_limits(const model::MachineModel& m, const model::ChainQ& q) {
   for (const model::AxisSpec& a : m.axes) {
     const auto j = static_cast<Eigen::Index>(std::string_view("XYZABCUVW").find(a.letter));
-    const double v = a.type == model::AxisType::rotary ? q[j] / kRadPerDeg : q[j];  // Z with the tool, as the axis stands
+    // Z with the tool length in it, as the axis stands.
+    const double v = a.type == model::AxisType::rotary ? q[j] / kRadPerDeg : q[j];
     if (v < a.min - 1e-9 || v > a.max + 1e-9) return false;
   }
   return true;
@@ -186,8 +187,7 @@ std::vector<model::ChainQ> sphere_poses(const model::ForwardModel& truth, const 
   // Every combination of the rotary axes' probing angles (a tilt axis' range by a turn of
   // the other), as ISO 10791-6's K tests and the control cycles that fit a kinematics do.
   std::vector<std::vector<double>> angles;
-  for (const Eigen::Index j : rotary)
-    angles.push_back(probe_angles(m, "XYZABCUVW"[j], options.rotary_step));
+  for (const Eigen::Index j : rotary) angles.push_back(probe_angles(m, "XYZABCUVW"[j], options.rotary_step));
   std::vector<model::ChainQ> out;
   model::ForwardData d(truth);
   const double L = options.tool_length;
@@ -236,7 +236,7 @@ MeasurementSet simulate(const model::ForwardModel& truth, const SimulateOptions&
   Recorder rec{truth, model::ForwardData(truth), set, std::mt19937(options.seed),
                std::normal_distribution<double>(0.0, options.noise)};
   const std::vector<double> cold(m.sensors.size(), 20.0);
-  const bool has_b = m.axis('B') != nullptr;  // the test piece's B table
+  const bool has_b = m.axis('B') != nullptr;    // the test piece's B table
   const model::WorkOrigin& o = options.origin;  // program zero, for the plans on the part
   const Eigen::Vector3d e[3] = {Eigen::Vector3d::UnitX(), Eigen::Vector3d::UnitY(), Eigen::Vector3d::UnitZ()};
   const char letters[3] = {'X', 'Y', 'Z'};

@@ -9,8 +9,8 @@
 
 #include <algorithm>
 #include <cmath>
-#include <numbers>
 #include <functional>
+#include <numbers>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -19,8 +19,8 @@
 #include "ccomp/identify/measurements.hpp"
 #include "ccomp/identify/simulate.hpp"
 #include "ccomp/model/model_file.hpp"
-#include "reference_five_axis.hpp"
 #include "fitted_location.hpp"
+#include "reference_five_axis.hpp"
 #include "reference_measurements.hpp"
 
 namespace ccomp::identify {
@@ -120,12 +120,14 @@ void fits_back(const std::vector<Location<Reference>>& locations, const std::str
   EXPECT_GT(r.rms_before, 0.003) << "the start misses several um";
   EXPECT_LE(r.rms_after, 1.2 * kNoise) << "the reference is what the model can say, up to the noise";
   for (const Location<Reference>& l : locations)
-    EXPECT_NEAR(test::fitted_location(start, r, l.iso), l.value * (l.length ? 1e-3 : 1e-6), l.length ? 0.001 : 2e-6) << l.iso;
+    EXPECT_NEAR(test::fitted_location(start, r, l.iso), l.value * (l.length ? 1e-3 : 1e-6), l.length ? 0.001 : 2e-6)
+        << l.iso;
 }
 
 TEST(FiveAxisSpherePlan, ProbesTwoSpheresFixedOnTheTableAtEveryAAndCAngleWithinTheLimits) {
   const ReferenceTrunnion machine;
-  const model::ForwardModel m(model::parse_machine_model(machine_model(machine) + "  - {name: EY0A, value: 0, unit: um}\n", "trunnion.yaml"));
+  const model::ForwardModel m(
+      model::parse_machine_model(machine_model(machine) + "  - {name: EY0A, value: 0, unit: um}\n", "trunnion.yaml"));
   SimulateOptions options;
   options.plans = {Plan::sphere};
   const Eigen::Vector3d g54 = machine.work_offset();
@@ -137,7 +139,8 @@ TEST(FiveAxisSpherePlan, ProbesTwoSpheresFixedOnTheTableAtEveryAAndCAngleWithinT
   for (const model::ChainQ& q : poses) {
     EXPECT_LE(std::abs(q[3]), 120.0 * std::numbers::pi / 180.0 + 1e-12) << "A within its limits";
     model::forward(m, d, q, model::Conditions{}, false, model::Evaluate::nominal);
-    if (std::none_of(spheres.begin(), spheres.end(), [&](const Eigen::Vector3d& s) { return (s - d.nominal).norm() < 1e-6; }))
+    if (std::none_of(spheres.begin(), spheres.end(),
+                     [&](const Eigen::Vector3d& s) { return (s - d.nominal).norm() < 1e-6; }))
       spheres.push_back(d.nominal);
   }
   EXPECT_EQ(spheres.size(), 2U) << "each sphere stays where it is on the table as A and C turn";

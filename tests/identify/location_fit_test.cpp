@@ -10,8 +10,8 @@
 #include "ccomp/identify/fit.hpp"
 #include "ccomp/identify/measurements.hpp"
 #include "ccomp/model/model_file.hpp"
-#include "reference_hmc.hpp"
 #include "fitted_location.hpp"
+#include "reference_hmc.hpp"
 #include "reference_measurements.hpp"
 #include "sample_models.hpp"
 

@@ -9,8 +9,7 @@
 
 namespace ccomp::test {
 
-std::string reference_csv(const ReferenceHmc& machine, const std::vector<ReferenceReading>& readings,
-                          FrameGiven how) {
+std::string reference_csv(const ReferenceHmc& machine, const std::vector<ReferenceReading>& readings, FrameGiven how) {
   std::string out;
   const Eigen::Vector3d& o = machine.work_origin;
   if (how == FrameGiven::in_file) out += fmt::format("# frame: program G54 X{} Y{} Z{}\n", o.x(), o.y(), o.z());
@@ -18,10 +17,10 @@ std::string reference_csv(const ReferenceHmc& machine, const std::vector<Referen
   out += "x,y,z,b,L,t,T_spindle,T_bed,vx,vy,vz,nx,ny,nz,d,source\n";
   for (const ReferenceReading& r : readings) {
     const Eigen::Vector3d p = machine.program_of_axes(Eigen::Vector3d(r.x, r.y, r.z), r.L);
-    out += fmt::format("{:.9f},{:.9f},{:.9f},{:.9f},{:.9f},{:.3f},{:.9f},{:.9f},{:g},{:g},{:g},{:.17g},{:.17g},{:.17g},{:.17g},{}\n",
-                       p.x(), p.y(), p.z(), r.b_deg, r.L, r.time, r.state.spindle_T, r.state.bed_T,
-                       r.state.approach[0], r.state.approach[1], r.state.approach[2], r.direction.x(), r.direction.y(),
-                       r.direction.z(), r.value, r.source);
+    out += fmt::format(
+        "{:.9f},{:.9f},{:.9f},{:.9f},{:.9f},{:.3f},{:.9f},{:.9f},{:g},{:g},{:g},{:.17g},{:.17g},{:.17g},{:.17g},{}\n",
+        p.x(), p.y(), p.z(), r.b_deg, r.L, r.time, r.state.spindle_T, r.state.bed_T, r.state.approach[0],
+        r.state.approach[1], r.state.approach[2], r.direction.x(), r.direction.y(), r.direction.z(), r.value, r.source);
   }
   return out;
 }
@@ -73,7 +72,7 @@ std::string five_axis_csv(const ReferenceFiveAxis& machine, const std::vector<mo
   std::normal_distribution<double> gauss(0.0, noise);
   for (const model::ChainQ& q : poses) {
     const double L = q[static_cast<Eigen::Index>(model::kToolLengthIndex)];
-    const FiveAxisWords w{q[0] - o.x(), q[1] - o.y(), q[2] - L - o.z(),
+    const FiveAxisWords w{q[0] - o.x(),      q[1] - o.y(),      q[2] - L - o.z(),
                           q[3] * kDegPerRad, q[4] * kDegPerRad, q[5] * kDegPerRad};
     const Eigen::Vector3d in_part = machine.actual(w, L).tip - machine.nominal(w, L).tip;
     const Eigen::Vector3d in_machine = part_from_machine(machine, w, L).transpose() * in_part;

@@ -47,8 +47,7 @@ struct SimulateOptions {
 /// `rotary_step` where the axis turns one, else its range in about 30 degree steps), the linear
 /// axes placed so the nominal tip is on the sphere's centre as the table turns it. Poses
 /// beyond an axis' limits are left out.
-[[nodiscard]] std::vector<model::ChainQ> sphere_poses(const model::ForwardModel& truth,
-                                                      const SimulateOptions& options);
+[[nodiscard]] std::vector<model::ChainQ> sphere_poses(const model::ForwardModel& truth, const SimulateOptions& options);
 
 /// Measures `truth` along the plans: each observation is the truth's prediction plus
 /// Gaussian noise. The workspace is the axes' limits (a 400 mm cube where unlimited). Throws
