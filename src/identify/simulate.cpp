@@ -39,8 +39,15 @@ struct Recorder {
   void record(const std::string& label, double x, double y, double z, double b_deg, double tool, double time,
               const std::vector<double>& temperatures, const std::array<double, 9>& directions,
               std::initializer_list<Eigen::Vector3d> along) {
+    model::ChainQ q;
+    q << x, y, z + tool, 0, b_deg * kRadPerDeg, 0, 0, 0, 0, tool;
+    record(label, q, time, temperatures, directions, along);
+  }
+  /// The same at the axis positions `q` (the tool length in it).
+  void record(const std::string& label, const model::ChainQ& q, double time, const std::vector<double>& temperatures,
+              const std::array<double, 9>& directions, std::initializer_list<Eigen::Vector3d> along) {
     Observation o;
-    o.q << x, y, z + tool, 0, b_deg * kRadPerDeg, 0, 0, 0, 0, tool;
+    o.q = q;
     o.time = time;
     o.temperatures = temperatures;
     for (std::size_t i = 0; i < directions.size(); ++i) o.directions[i] = static_cast<std::int8_t>(directions[i]);
@@ -107,7 +114,109 @@ void refuse_beyond_bound(const model::MachineModel& m, const MeasurementSet& set
   }
 }
 
+/// The rotary axes the model has, as indices of the chain's variables (3 A, 4 B, 5 C).
+std::vector<Eigen::Index> rotary_indices(const model::MachineModel& m) {
+  std::vector<Eigen::Index> out;
+  for (const model::AxisSpec& a : m.axes)
+    if (a.type == model::AxisType::rotary)
+      out.push_back(static_cast<Eigen::Index>(std::string_view("XYZABCUVW").find(a.letter)));
+  std::sort(out.begin(), out.end());
+  return out;
+}
+
+/// A B table alone (the HMC): the sphere plan it has always had, kept so its files do not change.
+bool turns_only_b(const model::MachineModel& m) {
+  const std::vector<Eigen::Index> r = rotary_indices(m);
+  return r.size() == 1 && r[0] == 4;
+}
+
+/// The angles (deg, machine) a rotary axis is probed at: a turn in `step` where it is
+/// unlimited or turns a full circle, else its range (at most 240 deg of it, centred on the
+/// middle of its limits) in about 30 deg steps, ends included.
+std::vector<double> probe_angles(const model::MachineModel& m, char letter, double step) {
+  const auto [lo, hi] = span(m, letter);
+  std::vector<double> out;
+  if (hi - lo >= 360.0 - 1e-9) {
+    const int count = std::max(4, static_cast<int>(std::lround(360.0 / step)));
+    for (int k = 0; k < count; ++k) out.push_back(-180.0 + 360.0 * k / count);
+    return out;
+  }
+  const double middle = 0.5 * (lo + hi), half = std::min(120.0, 0.5 * (hi - lo));
+  const int count = std::max(3, static_cast<int>(std::lround(2.0 * half / 30.0)) + 1);
+  for (int k = 0; k < count; ++k) out.push_back(middle - half + 2.0 * half * k / (count - 1));
+  return out;
+}
+
+/// The linear axes (in `q`) that bring the nominal tool tip onto the table point `target`
+/// (table frame) with the rotary axes as `q` has them: the nominal chain is affine in the
+/// linear axes, so two Newton steps with a difference Jacobian land to rounding.
+void reach_table_point(const model::ForwardModel& truth, model::ForwardData& d, model::ChainQ& q,
+                       const Eigen::Vector3d& target) {
+  const model::Conditions none{};
+  for (int iteration = 0; iteration < 2; ++iteration) {
+    model::forward(truth, d, q, none, false, model::Evaluate::nominal);
+    const Eigen::Vector3d at = d.nominal;
+    Eigen::Matrix3d J;
+    for (int k = 0; k < 3; ++k) {
+      model::ChainQ moved = q;
+      moved[k] += 1.0;
+      model::forward(truth, d, moved, none, false, model::Evaluate::nominal);
+      J.col(k) = d.nominal - at;
+    }
+    q.head<3>() += J.colPivHouseholderQr().solve(target - at);
+  }
+}
+
+bool within_limits(const model::MachineModel& m, const model::ChainQ& q) {
+  for (const model::AxisSpec& a : m.axes) {
+    const auto j = static_cast<Eigen::Index>(std::string_view("XYZABCUVW").find(a.letter));
+    // Z with the tool length in it, as the axis stands.
+    const double v = a.type == model::AxisType::rotary ? q[j] / kRadPerDeg : q[j];
+    if (v < a.min - 1e-9 || v > a.max + 1e-9) return false;
+  }
+  return true;
+}
+
 }  // namespace
+
+std::vector<model::ChainQ> sphere_poses(const model::ForwardModel& truth, const SimulateOptions& options) {
+  const model::MachineModel& m = truth.machine();
+  const model::WorkOrigin& o = options.origin;
+  const std::vector<Eigen::Index> rotary = rotary_indices(m);
+  if (rotary.empty()) return {};
+  // Every combination of the rotary axes' probing angles (a tilt axis' range by a turn of
+  // the other), as ISO 10791-6's K tests and the control cycles that fit a kinematics do.
+  std::vector<std::vector<double>> angles;
+  for (const Eigen::Index j : rotary) angles.push_back(probe_angles(m, "XYZABCUVW"[j], options.rotary_step));
+  std::vector<model::ChainQ> out;
+  model::ForwardData d(truth);
+  const double L = options.tool_length;
+  // Two spheres on the part at different radii, bearings and heights from program zero: one
+  // alone cannot tell a line's offset from its tilt.
+  for (const Eigen::Vector3d& sphere : {Eigen::Vector3d(80, 40, 20), Eigen::Vector3d(-50, -60, 90)}) {
+    model::ChainQ rest = model::ChainQ::Zero();
+    rest << sphere.x() + o[0], sphere.y() + o[1], sphere.z() + o[2] + L, o[3] * kRadPerDeg, o[4] * kRadPerDeg,
+        o[5] * kRadPerDeg, 0, 0, 0, L;
+    model::forward(truth, d, rest, model::Conditions{}, false, model::Evaluate::nominal);
+    const Eigen::Vector3d on_table = d.nominal;  // where the sphere sits on the table
+    std::vector<std::size_t> at(rotary.size(), 0);
+    for (bool more = true; more;) {
+      model::ChainQ q = rest;
+      for (std::size_t r = 0; r < rotary.size(); ++r) q[rotary[r]] = angles[r][at[r]] * kRadPerDeg;
+      reach_table_point(truth, d, q, on_table);
+      if (within_limits(m, q)) out.push_back(q);
+      more = false;  // the next combination, the last axis fastest
+      for (std::size_t r = rotary.size(); r-- > 0;) {
+        if (++at[r] < angles[r].size()) {
+          more = true;
+          break;
+        }
+        at[r] = 0;
+      }
+    }
+  }
+  return out;
+}
 
 Plan plan_from_name(const std::string& name) {
   if (name == "nine_lines" || name == "lines") return Plan::nine_lines;
@@ -127,7 +236,7 @@ MeasurementSet simulate(const model::ForwardModel& truth, const SimulateOptions&
   Recorder rec{truth, model::ForwardData(truth), set, std::mt19937(options.seed),
                std::normal_distribution<double>(0.0, options.noise)};
   const std::vector<double> cold(m.sensors.size(), 20.0);
-  const bool has_b = m.axis('B') != nullptr;
+  const bool has_b = m.axis('B') != nullptr;    // the test piece's B table
   const model::WorkOrigin& o = options.origin;  // program zero, for the plans on the part
   const Eigen::Vector3d e[3] = {Eigen::Vector3d::UnitX(), Eigen::Vector3d::UnitY(), Eigen::Vector3d::UnitZ()};
   const char letters[3] = {'X', 'Y', 'Z'};
@@ -180,7 +289,11 @@ MeasurementSet simulate(const model::ForwardModel& truth, const SimulateOptions&
         break;
       }
       case Plan::sphere: {
-        if (!has_b) break;
+        if (!turns_only_b(m)) {
+          for (const model::ChainQ& q : sphere_poses(truth, options))
+            rec.record("sphere", q, 0, cold, {}, {e[0], e[1], e[2]});
+          break;
+        }
         // Two spheres on the table, at different radii and bearings (one point alone cannot
         // tell the table's X error motion from its Z one), probed at two heights as B turns.
         const int count = std::max(4, static_cast<int>(std::lround(360.0 / options.rotary_step)));

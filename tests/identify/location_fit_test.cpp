@@ -10,6 +10,7 @@
 #include "ccomp/identify/fit.hpp"
 #include "ccomp/identify/measurements.hpp"
 #include "ccomp/model/model_file.hpp"
+#include "fitted_location.hpp"
 #include "reference_hmc.hpp"
 #include "reference_measurements.hpp"
 #include "sample_models.hpp"
@@ -31,14 +32,6 @@ model::MachineModel geometric_start() {
   for (const char* location : {"EX0B", "EZ0B"})
     text += std::string("  - {name: ") + location + ", value: 0, unit: um, fit: true}\n";
   return model::parse_machine_model(text, "start.yaml");
-}
-
-double fitted(const model::ForwardModel& m, const FitReport& r, const std::string& iso) {
-  for (std::size_t t = 0; t < m.machine().terms.size(); ++t)
-    if (m.machine().terms[t].iso == iso && m.machine().terms[t].placement == model::ErrorPlacement::location)
-      return r.all_parameters[static_cast<Eigen::Index>(m.parameter_offset(t))];
-  ADD_FAILURE() << "no location term " << iso;
-  return std::nan("");
 }
 
 TEST(LocationFit, SquarenessAndTheBAxisLocationOfAReferenceMachineAreFittedBack) {
@@ -66,7 +59,7 @@ TEST(LocationFit, SquarenessAndTheBAxisLocationOfAReferenceMachineAreFittedBack)
        {Expected{"EC0X", truth.EC0X, 2e-6}, Expected{"EB0X", truth.EB0X, 2e-6}, Expected{"EA0Y", truth.EA0Y, 2e-6},
         Expected{"EA0B", truth.EA0B, 2e-6}, Expected{"EC0B", truth.EC0B, 2e-6}, Expected{"EX0B", truth.EX0B, 0.001},
         Expected{"EZ0B", truth.EZ0B, 0.001}})
-    EXPECT_NEAR(fitted(start, r, e.iso), e.value, e.within) << e.iso;
+    EXPECT_NEAR(test::fitted_location(start, r, e.iso), e.value, e.within) << e.iso;
 }
 
 TEST(LocationFit, TheReferenceAndTheModelAgreeTermByTerm) {

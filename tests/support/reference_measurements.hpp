@@ -6,6 +6,8 @@
 #include <string>
 
 #include "ccomp/identify/measurements.hpp"
+#include "ccomp/model/forward.hpp"
+#include "reference_five_axis.hpp"
 #include "reference_hmc.hpp"
 
 namespace ccomp::test {
@@ -25,5 +27,13 @@ enum class FrameGiven : std::uint8_t {
 [[nodiscard]] identify::MeasurementSet reference_measurements(const ReferenceHmc& machine,
                                                               const std::vector<ReferenceReading>& readings,
                                                               FrameGiven how = FrameGiven::in_file);
+
+/// A five-axis reference probed at `poses` (chain values: machine axis positions, the tool
+/// length last, as identify::sphere_poses gives them; `rotary` the rotary axes' letters, upper
+/// case): the file in the reference's program coordinates (its own work offset, written in
+/// the `# frame:` line), one row per reading along X, Y and Z of the machine, each the tool
+/// tip's deviation from where the program meant it plus Gaussian noise of `noise` mm.
+[[nodiscard]] std::string five_axis_csv(const ReferenceFiveAxis& machine, const std::vector<model::ChainQ>& poses,
+                                        const std::string& rotary, double noise, unsigned seed);
 
 }  // namespace ccomp::test

@@ -13,7 +13,7 @@ namespace ccomp::identify {
 enum class Plan : std::uint8_t {
   nine_lines,  ///< Ref 4 (docs/error-model.md): three laser lines per linear axis, bidirectional passes
   grid,        ///< a volumetric grid of full deviations at several tool lengths
-  sphere,      ///< a sphere on the table probed at rotary angles
+  sphere,      ///< spheres on the table probed at rotary angles (any rotary axes: sphere_poses)
   thermal,     ///< a drift test: fixed points over hours, sensors warming up
   test_piece,  ///< Ref 2 (docs/error-model.md): faces cut at B 0/90/180/270 deg, probed on a CMM along their normals
 };
@@ -40,6 +40,14 @@ struct SimulateOptions {
   /// the grid and the thermal points span the machine's axes wherever program zero is.
   model::WorkOrigin origin{};
 };
+
+/// The sphere plan's axis positions (mm, rad, the tool length last) on a machine turning other
+/// than a B table alone: two spheres on the part, at different radii and heights from program
+/// zero, each probed at every combination of the rotary axes' angles (a full turn in
+/// `rotary_step` where the axis turns one, else its range in about 30 degree steps), the linear
+/// axes placed so the nominal tip is on the sphere's centre as the table turns it. Poses
+/// beyond an axis' limits are left out.
+[[nodiscard]] std::vector<model::ChainQ> sphere_poses(const model::ForwardModel& truth, const SimulateOptions& options);
 
 /// Measures `truth` along the plans: each observation is the truth's prediction plus
 /// Gaussian noise. The workspace is the axes' limits (a 400 mm cube where unlimited). Throws
