@@ -86,7 +86,8 @@ PositioningReport analyse_positioning(const MeasurementSet& data, std::size_t ax
 
   // docs/error-model.md Ref 3: the mean deviation is cumulative (a smooth curve: a cubic here) plus periodic
   // (the pitch); the reversal is B_mean. The period is the best of a scan from 2.5 target
-  // spacings to half the travel, kept when it takes a third of what the cubic leaves.
+  // spacings to a quarter of the travel (four cycles seen, as `check` asks: fewer are a
+  // cubic's wiggle, not a pitch), kept when it takes a third of what the cubic leaves.
   const auto n = static_cast<Eigen::Index>(report.targets.size());
   Eigen::VectorXd x(n), y(n);
   for (Eigen::Index i = 0; i < n; ++i) {
@@ -123,7 +124,7 @@ PositioningReport analyse_positioning(const MeasurementSet& data, std::size_t ax
   const double sse_cubic = solve(0.0, cubic);
   double best_sse = sse_cubic, best_period = 0.0;
   const double spacing = (x.maxCoeff() - x.minCoeff()) / std::max<double>(1.0, static_cast<double>(n - 1));
-  const double from = 2.5 * spacing, to = half;
+  const double from = 2.5 * spacing, to = 0.5 * half;
   if (n > 8 && to > from) {
     // Each period's fit is the cubic's plus what its cosine and sine explain of the cubic's
     // residual once the cubic's part of them is taken out: an n x 2 projection per period

@@ -4,6 +4,10 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
+#include <numbers>
+#include <string>
+
 #include "ccomp/error.hpp"
 #include "ccomp/identify/simulate.hpp"
 #include "ccomp/model/model_file.hpp"
@@ -68,6 +72,20 @@ TEST(Positioning, SeedTwoSplitsCumulativePeriodicAndReversal) {
   EXPECT_NEAR(x.periodic_amplitude, std::hypot(0.0016, 0.0009), 0.0002);
   EXPECT_NEAR(x.B_mean, 0.0, 0.0001);
   EXPECT_LT(x.rms_left, 0.0003);
+}
+
+TEST(Positioning, NamesNoPeriodSeenFewerThanFourTimes) {
+  // 9 targets over 80 mm, a 40 mm sine: two cycles seen, too few to call it a pitch.
+  std::string csv = "x,y,z,vx,nx,ny,nz,d\n";
+  for (int run = 0; run < 2; ++run)
+    for (int i = 0; i <= 8; ++i)
+      for (const char* v : {"1", "-1"}) {
+        const double x = 10.0 * i;
+        csv += std::to_string(x) + ",0,0," + v + ",1,0,0," + std::to_string(0.002 * std::sin(2 * std::numbers::pi * x / 40)) + "\n";
+      }
+  const PositioningReport r = analyse_positioning(read(csv), 0);
+  ASSERT_EQ(r.targets.size(), 9U);
+  EXPECT_EQ(r.period, 0.0) << "named a period of " << r.period << " mm with two cycles seen";
 }
 
 TEST(Positioning, OneWayRunsAreRefused) {
