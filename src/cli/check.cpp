@@ -144,7 +144,18 @@ int run_verify(const CheckArgs& args) {
       const std::optional<compensate::HeaderFacts> facts = compensate::read_header(line.text);
       if (!facts) continue;
       if (args.tolerance <= 0.0 && std::isfinite(facts->tolerance)) tolerance = facts->tolerance;
-      if (facts->work_offsets) work_offsets = *facts->work_offsets;
+      if (facts->work_offsets) {
+        work_offsets.override_with(*facts->work_offsets);
+        // Told another origin than the output was made for: measured there, and said.
+        const model::WorkOffsets told = work_offsets_of(args.program.work_offsets);
+        for (std::size_t s = 1; s <= model::kCoordinateSystems; ++s)
+          if (told.of(s) && facts->work_offsets->of(s) && *told.of(s) != *facts->work_offsets->of(s))
+            fmt::print(stderr,
+                       "{}:{}: warning: compensated with {}, measured with --work-offset's {}: this measures the "
+                       "program run there\n",
+                       compensated.name(), line.number, model::describe_work_offset(s, *facts->work_offsets->of(s)),
+                       model::describe_work_offset(s, *told.of(s)));
+      }
       if (!facts->model_sha256.empty() && facts->model_sha256 != m.sha256)
         fmt::print(stderr,
                    "{}:{}: warning: compensated with another model (sha256:{}), not {} (sha256:{}): this measures "

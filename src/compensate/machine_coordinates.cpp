@@ -5,6 +5,7 @@
 #include <string>
 
 #include "ccomp/constants.hpp"
+#include "ccomp/error.hpp"
 
 namespace ccomp::compensate {
 
@@ -43,6 +44,15 @@ gcode::InterpreterOptions with_model_offsets(gcode::InterpreterOptions options, 
   for (std::size_t s = 0; s < model::kCoordinateSystems; ++s)
     if (!options.work_offsets[s] && model.work_offsets.systems[s]) options.work_offsets[s] = *model.work_offsets.systems[s];
   return options;
+}
+
+void check_work_offsets(const gcode::InterpreterOptions& options, const model::MachineModel& model) {
+  std::vector<char> axes;
+  for (const model::AxisSpec& a : model.axes) axes.push_back(a.letter);
+  const model::WorkOffsets offsets = starting_work_offsets(options);
+  for (std::size_t s = 0; s < model::kCoordinateSystems; ++s)
+    if (offsets.systems[s])
+      model::check_on_machine(*offsets.systems[s], s + 1, axes, ErrorKind::usage, "the work offsets");
 }
 
 model::WorkOffsets starting_work_offsets(const gcode::InterpreterOptions& options) {

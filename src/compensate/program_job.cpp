@@ -90,6 +90,7 @@ JobReport run_program_job(gcode::LineSource& input, std::FILE* out, const model:
   JobOptions options = given;  // the machine's own work offsets under the caller's
   options.interpreter = with_model_offsets(given.interpreter, model);
   options.interpreter.origin_matters = !model.terms.empty();  // a machine without error has no lever
+  check_work_offsets(options.interpreter, model);
   if (options.flatten) return run_flattened_job(input, out, model, options);
   JobReport report;
   report.bytes = input.size();

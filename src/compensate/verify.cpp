@@ -39,7 +39,9 @@ template <typename OnMotion>
 void each_motion(gcode::LineSource& program, const model::MachineModel& model, const CheckOptions& options,
                  OnMotion on) {
   MotionSink<OnMotion> sink(std::move(on));
-  gcode::Interpreter interpreter(with_model_offsets(options.interpreter, model));
+  const gcode::InterpreterOptions interpreting = with_model_offsets(options.interpreter, model);
+  check_work_offsets(interpreting, model);
+  gcode::Interpreter interpreter(interpreting);
   interpreter.run(program, sink);
 }
 

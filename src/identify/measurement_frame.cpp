@@ -63,12 +63,15 @@ MeasurementFrame parse_frame_line(std::string_view line, const std::string& file
     fail(fmt::format("'{}' is no frame: write '# frame: program G54 [X.. Y.. Z..]' or '# frame: machine'", text));
   const std::string_view system = trimmed(text.substr(7));
   if (system.empty()) fail("'# frame: program' needs its coordinate system: '# frame: program G54 [X.. Y.. Z..]'");
+  // A system named alone leaves its origin to the user or the model.
+  if (const std::optional<std::size_t> alone = model::coordinate_system_number(system)) {
+    frame.system = *alone;
+    return frame;
+  }
   try {
     const model::WorkOffsetEntry e = model::parse_work_offset(system, "the frame");
     frame.system = e.system;
-    // A system named alone leaves its origin to the user or the model.
-    const bool numbers = system.find_first_of("XYZABCUVWxyzabcuvw") != std::string_view::npos;
-    if (numbers) frame.origin = e.origin;
+    frame.origin = e.origin;
   } catch (const Error& e) {
     fail(e.message());
   }
@@ -105,6 +108,11 @@ ResolvedFrame resolve_frame(const std::optional<MeasurementFrame>& in_file, cons
     r.unknown = true;
   }
   r.frame.origin = r.origin;
+  std::vector<char> axes;
+  for (const model::AxisSpec& a : model.axes) axes.push_back(a.letter);
+  const bool from_file = in_file && in_file->origin;
+  model::check_on_machine(r.origin, system, axes, from_file ? ErrorKind::data : ErrorKind::usage,
+                          from_file ? file + ": its frame" : "--work-offset");
   return r;
 }
 

@@ -262,6 +262,9 @@ void io::read_contract(std::istream& stream, const std::string& name, const mode
   while (in.next(line)) {
     number = in.number();
     check_line_end();
+    // A frame said among the rows would be read as a comment and the rows placed in another
+    // frame: refused where it stands.
+    if (is_frame_line(line)) fail(number, 1, "a '# frame:' line after the header row: put it before the header");
     if (line.find_first_not_of(" \t\r") == std::string::npos || line.front() == '#') continue;
     std::string_view key = line;
     while (!key.empty() && (key.back() == '\r' || key.back() == ' ' || key.back() == '\t')) key.remove_suffix(1);

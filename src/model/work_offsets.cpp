@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <cctype>
 #include <charconv>
 #include <cmath>
@@ -55,6 +56,14 @@ double axis_value(std::string_view text, char letter, const std::string& what) {
 }
 
 }  // namespace
+
+void check_on_machine(const WorkOrigin& origin, std::size_t system, const std::vector<char>& axes, ErrorKind kind,
+                      const std::string& what) {
+  for (std::size_t i = 0; i < origin.size(); ++i)
+    if (origin[i] != 0.0 && std::find(axes.begin(), axes.end(), kAxisLetters[i]) == axes.end())
+      throw Error(kind, fmt::format("{}: {} puts {} at {:g}, and the machine has no {} axis", what,
+                                    coordinate_system_name(system), kAxisLetters[i], origin[i], kAxisLetters[i]));
+}
 
 bool WorkOffsets::any() const {
   for (const auto& s : systems)
@@ -138,6 +147,10 @@ WorkOffsetEntry parse_work_offset(std::string_view text, const std::string& what
     entry.origin[axis] = axis_value(value, letter, what);
     i = end;
   }
+  // A system named without a word is no origin at all: machine zero must be said.
+  if (std::none_of(seen.begin(), seen.end(), [](bool s) { return s; }))
+    throw Error(ErrorKind::usage, fmt::format("{}: {} gives no axis; write {}=X0,Y0,Z0 to mean machine zero", what,
+                                              coordinate_system_name(entry.system), coordinate_system_name(entry.system)));
   return entry;
 }
 

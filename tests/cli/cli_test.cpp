@@ -418,6 +418,16 @@ TEST(Cli, TheWorkOffsetTravelsWithTheOutput) {
   EXPECT_EQ(max_um(told_again.out), max_um(as_made.out)) << "the header's G54 is the option's";
   const CommandResult elsewhere = run_command(verify + " --work-offset G54=X0,Y0,Z-400");
   EXPECT_NE(max_um(elsewhere.out), max_um(as_made.out)) << "another origin is another cut";
+  EXPECT_NE(elsewhere.err.find("warning: compensated with G54 X-35 Y20 Z-330, measured with --work-offset's G54 X0 Y0 "
+                               "Z-400"),
+            std::string::npos)
+      << elsewhere.err;
+  EXPECT_EQ(as_made.err.find("warning"), std::string::npos) << as_made.err;
+  const CommandResult off_machine = run_command(ccomp + " " + source_dir() + "/samples/programs/pocket-xy.ngc -m " +
+                                                source_dir() + "/samples/machines/vmc-xyz.yaml" + tools +
+                                                " --work-offset G54=B90 -o -");
+  EXPECT_EQ(off_machine.exit_code, 2) << off_machine.err;
+  EXPECT_NE(off_machine.err.find("the machine has no B axis"), std::string::npos) << off_machine.err;
   const std::string predict = ccomp + " predict " + program + model + tools + " --json";
   EXPECT_NE(max_um(run_command(predict + shop).out), max_um(run_command(predict).out))
       << "predict measures the program where it runs";

@@ -36,7 +36,7 @@ TEST(WorkOffsets, RefusalsNameTheWord) {
   for (const Case& c : {Case{"G53=X1", "'G53' is not a coordinate system"}, Case{"G54=Q1", "'Q' is not an axis"},
                         Case{"G54=X1,X2", "axis X is given twice"}, Case{"G54=Xabc", "has no number after X"},
                         Case{"G54=X5deg", "not a unit of length"}, Case{"G54=B5mm", "not a unit of angle"},
-                        Case{"G54=Xnan", "not a finite number"}, Case{"G54=X1e300", "beyond any machine"}}) {
+                        Case{"G54=Xnan", "not a finite number"}, Case{"G54=", "gives no axis"}, Case{"G55", "gives no axis"}, Case{"G54=X1e300", "beyond any machine"}}) {
     const Error e = test::error_of([&] { (void)parse_work_offset(c.text, "--work-offset"); }, c.text);
     EXPECT_EQ(e.kind(), ErrorKind::usage) << c.text;
     EXPECT_NE(e.message().find(c.says), std::string::npos) << c.text << ": " << e.message();
@@ -138,6 +138,20 @@ TEST(MeasurementFrame, AFileSaysItsFrameAndTheUsersWordMustAgree) {
   ASSERT_TRUE(stated.origin.has_value());
   EXPECT_EQ((*stated.origin)[2], -330.0);
   EXPECT_FALSE(is_frame_line("# a frame of mind"));
+  // A frame among the rows would be a comment, the rows read in another frame: refused there.
+  MeasurementSet late;
+  const Error after = test::error_of(
+      [&] { parse_measurements("x,y,z,dx,dy,dz\n1,2,3,0,0,0\n# frame: machine\n", "late.csv", m, {}, late); },
+      "a frame line after the header");
+  EXPECT_EQ(after.kind(), ErrorKind::data);
+  EXPECT_EQ(after.where().line, 3U);
+  // An origin on an axis the machine lacks is a mistake, in the file or given.
+  MeasurementSet on_a;
+  const Error no_a = test::error_of(
+      [&] { parse_measurements("# frame: program G54 A10\nx,y,z,dx,dy,dz\n1,2,3,0,0,0\n", "a.csv", m, {}, on_a); },
+      "an A offset on a machine without A");
+  EXPECT_EQ(no_a.kind(), ErrorKind::data);
+  EXPECT_NE(no_a.message().find("has no A axis"), std::string::npos) << no_a.message();
   // The file's own numbers first; the model's where nobody says; unknown past that.
   EXPECT_EQ(resolve_frame(stated, std::nullopt, m, "f.csv").origin[0], -35.0);
   EXPECT_EQ(resolve_frame(std::nullopt, std::nullopt, m, "f.csv").origin[2], -400.0) << "the model's G54";

@@ -26,6 +26,9 @@ void set_work_offsets(const model::WorkOffsets& offsets, gcode::InterpreterOptio
 [[nodiscard]] gcode::InterpreterOptions with_model_offsets(gcode::InterpreterOptions options,
                                                            const model::MachineModel& model);
 
+/// Refuses (usage) a starting work offset that moves an axis `model` lacks.
+void check_work_offsets(const gcode::InterpreterOptions& options, const model::MachineModel& model);
+
 /// The offsets the interpreter starts with: its `work_offsets`, with parameters
 /// #5221-#5389 given by number over them (in the machine units), as the program sees them
 /// before its first block.

@@ -10,6 +10,9 @@
 #include <optional>
 #include <string>
 #include <string_view>
+#include <vector>
+
+#include "ccomp/error.hpp"
 
 namespace ccomp::model {
 
@@ -43,6 +46,11 @@ struct WorkOffsets {
 [[nodiscard]] std::string describe_work_offset(std::size_t number, const WorkOrigin& origin);
 /// Every known system, described and joined by ", "; "none" when none is known.
 [[nodiscard]] std::string describe_work_offsets(const WorkOffsets& offsets);
+
+/// Refuses (ccomp::Error of `kind`, naming `what`) an origin that moves an axis not among
+/// `axes` (the machine's letters): an offset of an axis the machine lacks is a mistake.
+void check_on_machine(const WorkOrigin& origin, std::size_t system, const std::vector<char>& axes, ErrorKind kind,
+                      const std::string& what);
 
 struct WorkOffsetEntry {
   std::size_t system = 1;

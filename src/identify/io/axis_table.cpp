@@ -139,6 +139,7 @@ void read(std::istream& in, const std::string& name, const model::MachineModel& 
   const bool decimal_comma = delimiter != ',';
   std::vector<Field> fields;
   while (lines.next(line)) {
+    if (is_frame_line(line)) fail(1, "a '# frame:' line after the header row: put it before the header");
     if (line.find_first_not_of(" \t\r") == std::string::npos || line.front() == '#') continue;
     fields = split_fields(line, delimiter);
     if (fields.size() != header.size())
