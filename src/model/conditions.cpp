@@ -33,14 +33,39 @@ std::size_t sensor_index(const MachineModel& model, const std::string& name) {
   return static_cast<std::size_t>(it - model.sensors.begin());
 }
 
-/// Refuses a term that depends on a sensor without a reading: evaluating it would take
-/// NaN for the temperature.
-void check_read(const MachineModel& model, const std::vector<double>& temperatures) {
+/// What the terms need and were not given: each unread sensor a term depends on (in the
+/// model's sensor order, with the first term that needs it) and the time, if a term
+/// depends on it and none was given. Evaluating such a term would take NaN, or t = 0,
+/// which silently takes a warm-up out.
+std::vector<std::string> missing_conditions(const MachineModel& model, const std::vector<double>& temperatures,
+                                            bool time_given) {
+  std::vector<std::string> needing(model.sensors.size());  // the first term needing each sensor
+  std::string time_term;
   for (const ErrorTermSpec& t : model.terms)
-    for (const Variable* v : {&t.primary, &t.secondary})
-      if (v->kind == VariableKind::temperature && std::isnan(temperatures[v->index]))
-        refuse(fmt::format("term {} depends on sensor '{}', and no reading was given: --sensor {}=VALUE", t.name,
-                           model.sensors[v->index], model.sensors[v->index]));
+    for (const Variable* v : {&t.primary, &t.secondary}) {
+      if (v->kind == VariableKind::temperature && std::isnan(temperatures[v->index]) && needing[v->index].empty())
+        needing[v->index] = t.name;
+      if (v->kind == VariableKind::time && !time_given && time_term.empty()) time_term = t.name;
+    }
+  std::vector<std::string> missing;
+  for (std::size_t i = 0; i < needing.size(); ++i)
+    if (!needing[i].empty())
+      missing.push_back(fmt::format("--sensor {}=VALUE (term {} depends on sensor '{}')", model.sensors[i],
+                                    needing[i], model.sensors[i]));
+  if (!time_term.empty())
+    missing.push_back(fmt::format("--time SECONDS (term {} depends on the time since the warm-up started)", time_term));
+  return missing;
+}
+
+/// Refuses, in one message, everything missing_conditions() finds: a user fixing the
+/// command line learns all of it at once.
+void check_given(const MachineModel& model, const std::vector<double>& temperatures, bool time_given) {
+  const std::vector<std::string> missing = missing_conditions(model, temperatures, time_given);
+  if (missing.empty()) return;
+  if (missing.size() == 1) refuse(fmt::format("a reading the model needs was not given: {}", missing[0]));
+  std::string list;
+  for (const std::string& m : missing) list += "\n  " + m;
+  refuse(fmt::format("{} readings the model needs were not given:{}", missing.size(), list));
 }
 
 }  // namespace
@@ -66,13 +91,6 @@ std::vector<SensorReading> parse_sensor_readings(const std::vector<std::string>&
 Conditions conditions_for(const MachineModel& model, const std::vector<SensorReading>& readings,
                           std::optional<double> time) {
   if (time && !std::isfinite(*time)) refuse(fmt::format("the time must be finite, not {}", *time));
-  if (!time)
-    for (const ErrorTermSpec& t : model.terms)
-      for (const Variable* v : {&t.primary, &t.secondary})
-        if (v->kind == VariableKind::time)
-          refuse(fmt::format("term {} depends on the time since the warm-up started, and none was given: --time "
-                             "SECONDS",
-                             t.name));
   Conditions c;
   c.time = time.value_or(0.0);
   c.temperatures.assign(model.sensors.size(), std::nan(""));
@@ -83,7 +101,7 @@ Conditions conditions_for(const MachineModel& model, const std::vector<SensorRea
       refuse(fmt::format("--sensor {}: read twice ({} and {}); give one reading", name, temperature, value));
     temperature = value;
   }
-  check_read(model, c.temperatures);
+  check_given(model, c.temperatures, time.has_value());
   return c;
 }
 

@@ -200,7 +200,7 @@ TEST(Cli, RefusesAThermalTermWithoutItsSensorReading) {
   // A reading the user forgot is a usage error (exit 2), as every other sensor mistake.
   const CommandResult missing = run_command(base + "/out.nc");
   EXPECT_EQ(missing.exit_code, 2);
-  EXPECT_NE(missing.err.find("term EZZ depends on sensor 'spindle', and no reading was given: --sensor spindle=VALUE"),
+  EXPECT_NE(missing.err.find("--sensor spindle=VALUE (term EZZ depends on sensor 'spindle')"),
             std::string::npos)
       << missing.err;
   EXPECT_FALSE(std::filesystem::exists(dir + "/out.nc"));

@@ -100,8 +100,44 @@ TEST(Conditions, RefusesASensorReadTwice) {
 TEST(Conditions, RefusesAMissingReadingATermNeeds) {
   const Error e = error_of([] { (void)conditions_for(thermal_vmc(), {}, 0.0); }, "no reading");
   EXPECT_EQ(e.kind(), ErrorKind::usage);
-  EXPECT_EQ(e.message(), "term EZZ depends on sensor 'spindle', and no reading was given: --sensor spindle=VALUE");
+  EXPECT_EQ(e.message(),
+            "a reading the model needs was not given: --sensor spindle=VALUE (term EZZ depends on sensor 'spindle')");
   EXPECT_EQ(conditions_for(thermal_vmc(), {{"spindle", 30.0}}, 0.0).temperatures[0], 30.0);
+}
+
+/// Three sensors and a warm-up, the terms listed in another order than the sensors.
+model::MachineModel three_sensor_machine() {
+  std::string chain = kVmcChain;
+  chain.replace(chain.find("sensors: [spindle]"), 18, "sensors: [bed, column, spindle]");
+  return model::parse_machine_model(chain + R"(terms:
+  - {name: EZZ, variable: T_spindle, form: thermal, coefficient: 3, unit: um}
+  - {name: EXX, variable: T_bed, form: thermal, coefficient: 2, unit: um}
+  - {name: EYY, variable: T_column, form: thermal, coefficient: 1, unit: um}
+  - {name: EXY, variable: t, form: warmup, amplitude: 5, time_constant: 1800, unit: um}
+)",
+                                    "three.yaml");
+}
+
+// Every missing reading in one refusal, in the model's sensor order (not the terms'), the
+// time last: one run tells the user the whole command line, and the same each time.
+TEST(Conditions, NamesEveryMissingReadingInOneRefusal) {
+  const model::MachineModel m = three_sensor_machine();
+  const Error all = error_of([&] { (void)conditions_for(m, {}, std::nullopt); }, "every reading");
+  EXPECT_EQ(all.kind(), ErrorKind::usage);
+  EXPECT_EQ(all.message(),
+            "4 readings the model needs were not given:\n"
+            "  --sensor bed=VALUE (term EXX depends on sensor 'bed')\n"
+            "  --sensor column=VALUE (term EYY depends on sensor 'column')\n"
+            "  --sensor spindle=VALUE (term EZZ depends on sensor 'spindle')\n"
+            "  --time SECONDS (term EXY depends on the time since the warm-up started)");
+  const Error again = error_of([&] { (void)conditions_for(m, {}, std::nullopt); }, "every reading");
+  EXPECT_EQ(again.message(), all.message());
+  const Error some = error_of([&] { (void)conditions_for(m, {{"column", 20.0}}, 0.0); }, "two readings");
+  EXPECT_EQ(some.message(),
+            "2 readings the model needs were not given:\n"
+            "  --sensor bed=VALUE (term EXX depends on sensor 'bed')\n"
+            "  --sensor spindle=VALUE (term EZZ depends on sensor 'spindle')");
+  EXPECT_NO_THROW((void)conditions_for(m, {{"spindle", 21.0}, {"column", 20.0}, {"bed", 22.0}}, 0.0));
 }
 
 TEST(Conditions, RefusesATimeOrReadingThatIsNotFinite) {
