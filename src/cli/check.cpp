@@ -11,7 +11,9 @@
 #include "ccomp/model/conditions.hpp"
 #include "ccomp/model/model_file.hpp"
 #include "ccomp/util/json.hpp"
+#include "ccomp/compensate/verdict.hpp"
 #include "commands.hpp"
+#include "header_conditions.hpp"
 #include "progress.hpp"
 
 namespace ccomp::cli {
@@ -28,22 +30,20 @@ void add_model_options(CLI::App& cmd, CheckArgs& args) {
   add_program_options(cmd, args.program);
 }
 
-/// `work_offsets`: where the programs' zero lies, unless --work-offset says otherwise (the
-/// model's, or those a compensated program's header records).
-compensate::CheckOptions check_options(const CheckArgs& args, const model::MachineModel& m,
-                                       const model::WorkOffsets& work_offsets) {
+/// What the run assumed (assumed_by(): the header's, the command line's over it): where the
+/// programs' zero lies, --work-offset over it, and the readings and time of the thermal
+/// terms (the ones the program was compensated with, or the check proves nothing).
+compensate::CheckOptions check_options(const CheckArgs& args, const model::MachineModel& m, const Assumed& assumed) {
   compensate::CheckOptions o;
-  o.interpreter = interpreter_options(args.program, m.dialect, work_offsets);
+  o.interpreter = interpreter_options(args.program, m.dialect, assumed.work_offsets);
   o.samples = args.samples;
-  // As the main job: a thermal term needs its reading (the same one the program was
-  // compensated with, or the check proves nothing).
-  o.conditions = model::conditions_for(m, model::parse_sensor_readings(args.sensors), args.time);
+  o.conditions = model::conditions_for(m, assumed.sensors, assumed.time);
   return o;
 }
 
-/// The figures as JSON: `what` is "predict" or "verify".
+/// The figures as JSON: `what` is "predict" or "verify" (with `verdict`).
 std::string path_error_json(const char* what, const CheckArgs& args, const model::MachineModel& m,
-                            const compensate::PathError& e, double tolerance) {
+                            const compensate::PathError& e, const compensate::Verdict* verdict = nullptr) {
   util::JsonWriter j;
   j.begin_object().field("command", what).field("program", args.input);
   if (!args.compensated.empty()) j.field("compensated", args.compensated);
@@ -51,13 +51,13 @@ std::string path_error_json(const char* what, const CheckArgs& args, const model
   j.field("max_um", e.max * 1000.0).field("rms_um", e.rms * 1000.0).field("worst_line", e.worst_line);
   j.key("worst_point_mm").begin_array().value(e.worst_point.x()).value(e.worst_point.y()).value(e.worst_point.z());
   j.end_array();
-  if (tolerance > 0) {
-    j.field("tolerance_um", tolerance * 1000.0).field("uncut_mm", e.uncut_length);
+  if (verdict) {
+    j.field("tolerance_um", verdict->tolerance * 1000.0).field("uncut_mm", e.uncut_length);
     if (e.uncut_length > 0)
       j.field("uncut_line", e.uncut_line);
     else
       j.key("uncut_line").null();
-    j.field("passed", e.uncut_length <= 0.0 && e.max <= tolerance);
+    j.field("passed", verdict->passed());
   }
   return j.end_object().text();
 }
@@ -112,8 +112,10 @@ int run_predict(const CheckArgs& args) {
   const model::MachineModel m = model_with_chain(args, "predict");
   const model::ForwardModel forward(m);
   gcode::LineSource program = gcode::LineSource::open(args.input);
+  // A compensated program is predicted as it was made to run: its header's conditions.
+  const Assumed assumed = assumed_by(args, m, program);
   ProgressBar bar(program.name(), !args.json && stderr_is_terminal());
-  compensate::CheckOptions o = check_options(args, m, m.work_offsets);
+  compensate::CheckOptions o = check_options(args, m, assumed);
   o.progress = [&bar](double done) { bar.update(done); };
   o.warning = [&bar, &program](const std::string& message, std::uint32_t line) {
     bar.clear();
@@ -122,7 +124,7 @@ int run_predict(const CheckArgs& args) {
   const compensate::PathError e = compensate::predict(program, forward, o);
   bar.clear();
   if (args.json)
-    fmt::print("{}", path_error_json("predict", args, m, e, 0.0));
+    fmt::print("{}", path_error_json("predict", args, m, e));
   else
     print("machine error", program.name(), e);
   return 0;
@@ -133,62 +135,32 @@ int run_verify(const CheckArgs& args) {
   const model::ForwardModel forward(m);
   gcode::LineSource original = gcode::LineSource::open(args.input);
   gcode::LineSource compensated = gcode::LineSource::open(args.compensated);
-  // ccomp's header says which model and tolerance the output was made for: the tolerance
-  // is the one to meet unless told, and another model's output is measured, with a warning.
-  double tolerance = args.tolerance > 0.0 ? args.tolerance : 0.001;
-  model::WorkOffsets work_offsets = m.work_offsets;  // the header's, where it has them
-  if (args.compensated != "-") {
-    gcode::LineSource head = compensated.another_reader();
-    gcode::SourceLine line;
-    for (int k = 0; k < 2 && head.next(line); ++k) {
-      const std::optional<compensate::HeaderFacts> facts = compensate::read_header(line.text);
-      if (!facts) continue;
-      if (args.tolerance <= 0.0 && std::isfinite(facts->tolerance)) tolerance = facts->tolerance;
-      if (facts->work_offsets) {
-        work_offsets.override_with(*facts->work_offsets);
-        // Told another origin than the output was made for: measured there, and said.
-        const model::WorkOffsets told = work_offsets_of(args.program.work_offsets);
-        for (std::size_t s = 1; s <= model::kCoordinateSystems; ++s)
-          if (told.of(s) && facts->work_offsets->of(s) && *told.of(s) != *facts->work_offsets->of(s))
-            fmt::print(stderr,
-                       "{}:{}: warning: compensated with {}, measured with --work-offset's {}: this measures the "
-                       "program run there\n",
-                       compensated.name(), line.number, model::describe_work_offset(s, *facts->work_offsets->of(s)),
-                       model::describe_work_offset(s, *told.of(s)));
-      }
-      if (!facts->model_sha256.empty() && facts->model_sha256 != m.sha256)
-        fmt::print(stderr,
-                   "{}:{}: warning: compensated with another model (sha256:{}), not {} (sha256:{}): this measures "
-                   "what {} makes of it\n",
-                   compensated.name(), line.number, facts->model_sha256.substr(0, 12), args.model,
-                   m.sha256.substr(0, 12), args.model);
-      break;
-    }
-  }
+  // ccomp's header says which model, tolerance and conditions the output was made for:
+  // those are the ones to meet unless told, and another model's output is measured, with a
+  // warning.
+  const Assumed assumed = assumed_by(args, m, compensated);
+  const double tolerance = args.tolerance > 0.0                   ? args.tolerance
+                           : std::isfinite(assumed.header_tolerance) ? assumed.header_tolerance
+                                                                     : 0.001;
   ProgressBar bar(compensated.name(), !args.json && stderr_is_terminal());
-  compensate::CheckOptions o = check_options(args, m, work_offsets);
+  compensate::CheckOptions o = check_options(args, m, assumed);
   o.progress = [&bar](double done) { bar.update(done); };
-  const compensate::PathError e = compensate::verify(original, compensated, forward, o);
+  // The main job judges its output with the same function (compensate/verdict.hpp).
+  const compensate::Verdict v = compensate::judge(original, compensated, forward, o, tolerance);
+  const compensate::PathError& e = v.after;
   bar.clear();
   if (args.json)
-    fmt::print("{}", path_error_json("verify", args, m, e, tolerance));
+    fmt::print("{}", path_error_json("verify", args, m, e, &v));
   else
     print("contour error left", compensated.name(), e);
-  if (e.uncut_length > 0.0)
+  if (v.leaves_cuts_out())
     throw Error(ErrorKind::safety,
                 fmt::format("{} leaves {:.3f} mm of the original's cuts uncut, the first at this line of the original",
                             compensated.name(), e.uncut_length),
                 SourceLocation{original.name(), e.uncut_line, 0});
-  if (e.max > tolerance) {
-    // As many digits as show the difference ("1.0004 um is more than 1.00 um", not 1.00).
-    int digits = 2;
-    while (digits < 6 && fmt::format("{:.{}f}", e.max * 1000.0, digits) == fmt::format("{:.{}f}", tolerance * 1000.0, digits))
-      ++digits;
-    throw Error(ErrorKind::safety,
-                fmt::format("the contour error left, {:.{}f} um, is more than the tolerance of {:.2f} um (--tolerance)",
-                            e.max * 1000.0, digits, tolerance * 1000.0),
+  if (v.over_tolerance())
+    throw Error(ErrorKind::safety, v.failures().front() + " (--tolerance)",
                 SourceLocation{compensated.name(), e.worst_line, 0});
-  }
   return 0;
 }
 

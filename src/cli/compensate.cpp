@@ -6,12 +6,18 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <memory>
 #include <mutex>
+#include <optional>
 #include <thread>
 
+#include <unistd.h>
+
 #include "ccomp/compensate/program_job.hpp"
+#include "ccomp/compensate/verdict.hpp"
 #include "ccomp/error.hpp"
+#include "ccomp/exit_codes.hpp"
 #include "ccomp/model/conditions.hpp"
 #include "ccomp/model/model_file.hpp"
 #include "ccomp/util/json.hpp"
@@ -73,18 +79,81 @@ struct Target {
   std::string output;  ///< "-" for stdout
 };
 
+/// A program compensated: the job's report and, where the output was judged, the verdict
+/// on it (its 'after' is the report's).
+struct Compensated {
+  compensate::JobReport report;
+  std::optional<compensate::Verdict> verdict;
+};
+
 /// One line per program for stderr: what the machine's error was and what is left (none
-/// with -q, or for the zero model).
-std::string summary_line(const Target& t, const model::MachineModel& model, const compensate::JobReport& r,
+/// with -q, or for the zero model), and whether the output passed.
+std::string summary_line(const Target& t, const model::MachineModel& model, const Compensated& c,
                          const CompensateArgs& args) {
   if (args.quiet || model.terms.empty()) return "";
+  const compensate::JobReport& r = c.report;
+  const bool failed = c.verdict && !c.verdict->passed();
   return fmt::format(
       "{}: {} moves compensated ({} lines added) for '{}' at {} um: error before {:.2f} um, after {:.2f} um; "
-      "largest correction {:.1f} um; orientation error left {:.1f} urad\n",
+      "largest correction {:.1f} um; orientation error left {:.1f} urad{}\n",
       t.input == "-" ? "<stdin>" : t.input, r.compensated_moves, r.added_lines, model.name, args.tolerance * 1000.0,
       r.max_error_before * 1000.0, r.max_error_after * 1000.0, r.max_correction * 1000.0,
-      r.max_orientation_error * 1e6);
+      r.max_orientation_error * 1e6,
+      failed ? fmt::format("\n  {}: written, but NOT PASSED (below); check it before cutting (exit {})",
+                           t.output == "-" ? "<stdout>" : t.output, kVerdictExitCode)
+             : "");
 }
+
+/// Whether the job's output is judged: a model without error terms leaves the program as it
+/// is, and verify() needs a chain to follow the tool through.
+bool judged(const model::MachineModel& model) {
+  return !model.terms.empty() && !(model.workpiece_chain.empty() && model.tool_chain.empty());
+}
+
+/// The job's share of a judged program's progress; verify() of its output takes the rest.
+constexpr double kJobShare = 0.5;
+
+/// An unnamed file the output goes to first when it goes to standard output: the verdict
+/// reads the whole output back, which a pipe cannot give. Removed from the folder as soon
+/// as made (read back through /proc/self/fd), so nothing is left behind, even on a kill.
+class Spool {
+ public:
+  Spool() {
+    std::error_code ec;
+    fs::path folder = fs::temp_directory_path(ec);
+    if (ec) folder = "/tmp";
+    std::string path = (folder / "ccomp-out-XXXXXX").string();
+    const int fd = ::mkstemp(path.data());
+    if (fd < 0) throw Error(ErrorKind::io, "cannot create a temporary file for the output (TMPDIR)");
+    ::unlink(path.c_str());
+    file_ = ::fdopen(fd, "w+b");
+    if (!file_) {
+      ::close(fd);
+      throw Error(ErrorKind::io, "cannot create a temporary file for the output (TMPDIR)");
+    }
+    path_ = fmt::format("/proc/self/fd/{}", fd);
+  }
+  Spool(const Spool&) = delete;
+  Spool& operator=(const Spool&) = delete;
+  ~Spool() { std::fclose(file_); }
+  [[nodiscard]] std::FILE* file() const { return file_; }
+  [[nodiscard]] const std::string& path() const { return path_; }
+  /// Flushed, so that path() reads all of it.
+  void flush() const {
+    if (std::fflush(file_) != 0 || std::ferror(file_))
+      throw Error(ErrorKind::io, "cannot write the output to a temporary file (TMPDIR full?)");
+  }
+  /// All of it onto `out` (write errors are the caller's to find: finish_standard_output()).
+  void copy_to(std::FILE* out) const {
+    std::rewind(file_);
+    char buffer[1 << 16];
+    for (std::size_t n; (n = std::fread(buffer, 1, sizeof buffer, file_)) > 0;) std::fwrite(buffer, 1, n, out);
+  }
+
+ private:
+  std::FILE* file_ = nullptr;
+  std::string path_;
+};
 
 /// Keeps a copy of `input` as `<input><suffix>`, else numbered `.1`, `.2`... (a backup already
 /// there is the user's: a second --in-place run with --force must not replace the original
@@ -122,19 +191,50 @@ auto name_the_output(const std::string& output, Write write) {
   }
 }
 
+/// The output at `written` judged as `ccomp verify` judges it (compensate/verdict.hpp): its
+/// 'after' becomes the report's, so the summary and verify of the output agree.
+std::optional<compensate::Verdict> judge_written(gcode::LineSource& input, const std::string& written,
+                                                 const model::MachineModel& model,
+                                                 const compensate::JobOptions& options, compensate::JobReport& r) {
+  if (!judged(model)) return std::nullopt;
+  gcode::LineSource original = input.another_reader();
+  gcode::LineSource output = gcode::LineSource::open(written);
+  std::function<void(double)> progress;
+  if (options.progress) progress = [&options](double f) { options.progress(kJobShare + (1.0 - kJobShare) * f); };
+  compensate::Verdict v = compensate::judge_job_output(original, output, model, options, r, progress);
+  r.max_error_after = v.after.max;
+  return v;
+}
+
 /// Writes through an OutputFile (a temporary beside the output, renamed into place only on
-/// success), so a failed or interrupted run leaves the previous output as it was.
-compensate::JobReport compensate_one(const Target& t, const model::MachineModel& model,
-                                     const compensate::JobOptions& options, const CompensateArgs& args) {
+/// success), so a failed or interrupted run leaves the previous output as it was. The output
+/// is judged before it gets its name.
+Compensated compensate_one(const Target& t, const model::MachineModel& model, const compensate::JobOptions& options,
+                           const CompensateArgs& args) {
   gcode::LineSource input = gcode::LineSource::open(t.input);
+  compensate::JobOptions job = options;
+  if (judged(model) && options.progress) job.progress = [&options](double f) { options.progress(kJobShare * f); };
+  Compensated c;
   if (t.output == "-") {
     buffer_standard_output();
-    return compensate::run_program_job(input, stdout, model, options);
+    if (!judged(model)) {
+      c.report = compensate::run_program_job(input, stdout, model, job);
+      return c;
+    }
+    const Spool spool;
+    c.report = compensate::run_program_job(input, spool.file(), model, job);
+    spool.flush();
+    c.verdict = judge_written(input, spool.path(), model, options, c.report);
+    spool.copy_to(stdout);
+    return c;
   }
   OutputFile out(t.output);
-  const compensate::JobReport r = name_the_output(t.output, [&] {
-    return compensate::run_program_job(input, out.file(), model, options);
+  c.report = name_the_output(t.output, [&] {
+    compensate::JobReport r = compensate::run_program_job(input, out.file(), model, job);
+    if (std::fflush(out.file()) != 0) throw Error(ErrorKind::io, "cannot write the output");
+    return r;
   });
+  c.verdict = judge_written(input, out.temporary(), model, options, c.report);
   if (args.in_place) keep_backup(t.input, args.backup_suffix);
   // Keep the input's permissions on the output (post processors may mark files executable).
   std::error_code ec;
@@ -143,15 +243,22 @@ compensate::JobReport compensate_one(const Target& t, const model::MachineModel&
     if (!ec) fs::permissions(out.temporary(), input_status.permissions(), ec);
   }
   out.commit();
-  return r;
+  return c;
 }
 
 /// What became of one program, for --json.
 struct Outcome {
   bool done = false;
-  compensate::JobReport report;
+  Compensated result;
   int exit_code = 0;
   std::string error;
+  /// Every warning printed for it: the file it names, the line, the message.
+  struct Warning {
+    std::string file;
+    std::uint32_t line = 0;
+    std::string message;
+  };
+  std::vector<Warning> warnings;
 };
 
 std::string outcomes_json(const std::vector<Target>& targets, const std::vector<Outcome>& outcomes,
@@ -161,7 +268,7 @@ std::string outcomes_json(const std::vector<Target>& targets, const std::vector<
   j.field("tolerance_um", args.tolerance * 1000.0).field("exit_code", exit_code).key("programs").begin_array();
   for (std::size_t i = 0; i < targets.size(); ++i) {
     const Outcome& o = outcomes[i];
-    const compensate::JobReport& r = o.report;
+    const compensate::JobReport& r = o.result.report;
     j.begin_object().field("input", targets[i].input).field("output", targets[i].output);
     j.field("exit_code", o.exit_code);
     if (o.error.empty())
@@ -173,7 +280,15 @@ std::string outcomes_json(const std::vector<Target>& targets, const std::vector<
       j.field("error_before_um", r.max_error_before * 1000.0).field("error_after_um", r.max_error_after * 1000.0);
       j.field("largest_correction_um", r.max_correction * 1000.0);
       j.field("orientation_error_urad", r.max_orientation_error * 1e6);
+      if (o.result.verdict)
+        j.field("passed", o.result.verdict->passed());
+      else
+        j.key("passed").null();
     }
+    j.key("warnings").begin_array();
+    for (const Outcome::Warning& w : o.warnings)
+      j.begin_object().field("file", w.file).field("line", w.line).field("message", w.message).end_object();
+    j.end_array();
     j.end_object();
   }
   j.end_array().end_object();
@@ -219,7 +334,7 @@ int run_compensate(const CompensateArgs& args) {
   options.exact = args.exact;
   options.decimals = args.decimals;
   options.rotary_decimals = args.rotary_decimals;
-  options.time = args.time.value_or(0.0);
+  options.time = args.time;
   options.sensors = model::parse_sensor_readings(args.sensors);
 
   // Nothing of the user's is overwritten: no output is an input, the model or the tool
@@ -256,7 +371,7 @@ int run_compensate(const CompensateArgs& args) {
   }
   check_distinct_outputs(outputs);
 
-  std::mutex report;
+  std::mutex report, warned;
   std::vector<Outcome> outcomes(targets.size());
   std::atomic<int> worst{0};
   std::atomic<std::size_t> next{0};
@@ -276,18 +391,38 @@ int run_compensate(const CompensateArgs& args) {
     for (std::size_t i = next++; i < targets.size(); i = next++) {
       compensate::JobOptions mine = options;
       const std::string name = targets[i].input == "-" ? "<stdin>" : targets[i].input;
-      mine.warning = [&bar, name](const std::string& message, std::uint32_t line) {
-        bar.print_above(fmt::format("{}:{}: warning: {}\n", name, line, message));
+      auto warn = [&bar, &warned, &outcomes, i](const std::string& file, std::uint32_t line,
+                                                 const std::string& message) {
+        bar.print_above(fmt::format("{}:{}: warning: {}\n", file, line, message));
+        std::lock_guard lock(warned);
+        outcomes[i].warnings.push_back({file, line, message});
       };
+      mine.warning = [&warn, name](const std::string& message, std::uint32_t line) { warn(name, line, message); };
       if (args.progress)
         mine.progress = [&filter, i](double fraction) { filter[i]->update(fraction); };
       else
         mine.progress = [&bar, &whole, i](double fraction) { bar.update(whole.update(i, fraction)); };
       try {
-        const compensate::JobReport r = compensate_one(targets[i], model, mine, args);
+        const Compensated c = compensate_one(targets[i], model, mine, args);
+        int code = 0;
+        {
+          std::lock_guard lock(report);
+          outcomes[i].done = true, outcomes[i].result = c;
+          if (!args.json) bar.print_above(summary_line(targets[i], model, c, args));
+        }
+        // Written, but short of what was asked: said at the output's worst line, and exit 1.
+        if (c.verdict && !c.verdict->passed()) {
+          code = kVerdictExitCode;
+          const std::string output = targets[i].output == "-" ? "<stdout>" : targets[i].output;
+          for (const std::string& failure : c.verdict->failures())
+            warn(output, c.verdict->after.worst_line,
+                 failure + fmt::format("; the output is written: check it before cutting (exit {})", code));
+        }
         std::lock_guard lock(report);
-        outcomes[i].done = true, outcomes[i].report = r;
-        if (!args.json) bar.print_above(summary_line(targets[i], model, r, args));
+        outcomes[i].exit_code = code;
+        int seen = worst.load();
+        while (code > seen && !worst.compare_exchange_weak(seen, code)) {
+        }
       } catch (const std::exception& caught) {
         // Anything but a ccomp::Error is a bug in ccomp; it must not end the other programs.
         const auto* known = dynamic_cast<const Error*>(&caught);

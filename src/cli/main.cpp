@@ -18,8 +18,10 @@ namespace {
 
 constexpr const char* kExitCodes = R"(Exit codes:
   0   success (warnings, if any, are on stderr)
-  2   usage: bad command line, or an output that would replace an input, a link, a
-      device or another output
+  1   the main job wrote its output, but verify's measure of it is over the tolerance,
+      worse than the program as written, or leaves a cut out (said in the summary)
+  2   usage: bad command line (a reading or --time the model needs included), or an
+      output that would replace an input, a link, a device or another output
   3   program error: the G-code is wrong (file:line:column on stderr)
   4   unsupported: valid G-code that ccomp does not handle
   5   model error: the machine model file is wrong

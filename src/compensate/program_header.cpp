@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <charconv>
 #include <system_error>
 
@@ -12,7 +13,7 @@ namespace ccomp::compensate {
 namespace {
 
 constexpr std::string_view kHeaderPrefix = "(ccomp ";
-constexpr std::string_view kWorkOffsets = "work offsets ";
+constexpr std::string_view kWorkOffsets = "work offsets ", kSensors = "sensors ", kTime = "time ";
 
 /// "G54 X0 Y0 Z-400, G55 X100 Y0 Z0" (or "none") as header_line() writes it.
 std::optional<model::WorkOffsets> read_work_offsets(std::string_view text) {
@@ -33,6 +34,54 @@ std::optional<model::WorkOffsets> read_work_offsets(std::string_view text) {
   return offsets;
 }
 
+/// "bed=20, column=21.5" as header_line() writes it (nullopt: not that).
+std::optional<std::vector<model::SensorReading>> read_sensors(std::string_view text) {
+  std::vector<model::SensorReading> readings;
+  while (!text.empty()) {
+    const auto comma = text.find(", ");
+    try {
+      readings.push_back(model::parse_sensor_reading(std::string(text.substr(0, comma))));
+    } catch (const Error&) {
+      return std::nullopt;
+    }
+    if (comma == std::string_view::npos) break;
+    text.remove_prefix(comma + 2);
+  }
+  return readings;
+}
+
+/// "3600 s" as header_line() writes it.
+std::optional<double> read_time(std::string_view text) {
+  double s = 0.0;
+  const auto [p, ec] = std::from_chars(text.data(), text.data() + text.size(), s);
+  if (ec != std::errc() || std::string_view(p, text.data() + text.size()) != " s") return std::nullopt;
+  return s;
+}
+
+/// A sensor's name the header can carry and give back: none of the characters that end a
+/// comment, a reading or the list.
+bool fits_header(const std::string& name) {
+  return name.find_first_of("()=;,\n\r") == std::string::npos;
+}
+
+/// "; sensors bed=20, column=21.5" in the model's sensor order (nothing when none was given,
+/// or a name the header could not give back: a check then needs --sensor, as before).
+std::string sensors_part(const model::MachineModel& model, const std::vector<model::SensorReading>& readings) {
+  if (readings.empty()) return "";
+  std::vector<const model::SensorReading*> ordered;
+  for (const std::string& sensor : model.sensors)
+    for (const model::SensorReading& r : readings)
+      if (r.first == sensor) ordered.push_back(&r);
+  for (const model::SensorReading& r : readings)  // a name the model lacks (the job refuses it) last
+    if (std::find(model.sensors.begin(), model.sensors.end(), r.first) == model.sensors.end()) ordered.push_back(&r);
+  std::string out = fmt::format("; {}", kSensors);
+  for (std::size_t i = 0; i < ordered.size(); ++i) {
+    if (!fits_header(ordered[i]->first)) return "";
+    out += fmt::format("{}{}={}", i ? ", " : "", ordered[i]->first, ordered[i]->second);
+  }
+  return out;
+}
+
 /// The model's name inside a comment: no parenthesis or line end may close it early.
 std::string sanitize(std::string_view s) {
   std::string out;
@@ -42,10 +91,12 @@ std::string sanitize(std::string_view s) {
 
 }  // namespace
 
-std::string header_line(const model::MachineModel& model, double tolerance, const model::WorkOffsets& work_offsets) {
-  return fmt::format("{}{} compensated for machine '{}' model sha256:{} at {:g} um; {}{})", kHeaderPrefix, kVersion,
+std::string header_line(const model::MachineModel& model, double tolerance, const RunConditions& conditions) {
+  // Shortest round-trip numbers ({}): a check reads back the very readings and time.
+  return fmt::format("{}{} compensated for machine '{}' model sha256:{} at {:g} um; {}{}{}{})", kHeaderPrefix, kVersion,
                      sanitize(model.name), model.sha256, tolerance * 1000.0, kWorkOffsets,
-                     model::describe_work_offsets(work_offsets));
+                     model::describe_work_offsets(conditions.work_offsets), sensors_part(model, conditions.sensors),
+                     conditions.time ? fmt::format("; {}{} s", kTime, *conditions.time) : std::string());
 }
 
 std::optional<HeaderFacts> read_header(std::string_view line) {
@@ -65,10 +116,20 @@ std::optional<HeaderFacts> read_header(std::string_view line) {
         facts.tolerance = um / 1000.0;
     }
   }
-  if (const auto at = line.find(kWorkOffsets); at != std::string_view::npos) {
-    const auto begin = at + kWorkOffsets.size();
-    const auto end = line.find(')', begin);
-    if (end != std::string_view::npos) facts.work_offsets = read_work_offsets(line.substr(begin, end - begin));
+  // What the run assumed: "; "-separated parts after the tolerance, up to the closing ')'.
+  const auto sha = line.rfind(kSha);
+  const auto tail = line.find(" um; ", sha == std::string_view::npos ? 0 : sha);
+  const auto close = line.rfind(')');
+  if (tail == std::string_view::npos || close == std::string_view::npos || close < tail) return facts;
+  std::string_view parts = line.substr(tail + 5, close - tail - 5);
+  while (!parts.empty()) {
+    const auto semicolon = parts.find("; ");
+    const std::string_view part = parts.substr(0, semicolon);
+    if (part.starts_with(kWorkOffsets)) facts.work_offsets = read_work_offsets(part.substr(kWorkOffsets.size()));
+    if (part.starts_with(kSensors)) facts.sensors = read_sensors(part.substr(kSensors.size()));
+    if (part.starts_with(kTime)) facts.time = read_time(part.substr(kTime.size()));
+    if (semicolon == std::string_view::npos) break;
+    parts.remove_prefix(semicolon + 2);
   }
   return facts;
 }

@@ -34,8 +34,8 @@ void validate(const JobOptions& options) {
                   fmt::format("{} must be 0 to 9 (or -1: the program's own), not {}", name, decimals));
   if (options.threads != 1 && options.threads != 2)
     throw Error(ErrorKind::usage, fmt::format("threads must be 1 or 2, not {}", options.threads));
-  if (!std::isfinite(options.time))
-    throw Error(ErrorKind::usage, fmt::format("the time must be finite, not {}", options.time));
+  if (options.time && !std::isfinite(*options.time))
+    throw Error(ErrorKind::usage, fmt::format("the time must be finite, not {}", *options.time));
   for (const auto& [name, value] : options.sensors)
     if (!std::isfinite(value))
       throw Error(ErrorKind::usage, fmt::format("sensor '{}' must read a finite temperature, not {}", name, value));
@@ -106,7 +106,9 @@ JobReport run_program_job(gcode::LineSource& input, std::FILE* out, const model:
                     SourceLocation{input.name(), line.number, 1}, std::string(line.text));
     }
   }
-  gcode::ProgramWriter writer(input.another_reader(), out, header_line(model, options.tolerance, starting_work_offsets(options.interpreter)));
+  // What the run assumes goes into the header, so that verify and predict assume the same.
+  const RunConditions assumed{starting_work_offsets(options.interpreter), options.sensors, options.time};
+  gcode::ProgramWriter writer(input.another_reader(), out, header_line(model, options.tolerance, assumed));
   JobSink sink(writer, model, options, input, report);
   // The program's G41/G42 stay for the control (the job rewrites the programmed path), or
   // the offset path is written instead.

@@ -22,10 +22,11 @@ struct JobOptions {
   gcode::InterpreterOptions interpreter;
   /// mm: the largest distance the executed path may keep from the nominal one.
   double tolerance = 0.001;
-  /// Temperature sensor readings (degC) by name, and the time since the start (s), for
-  /// the model's thermal terms.
+  /// Temperature sensor readings (degC) by name, and the time since the warm-up started
+  /// (s), for the model's thermal terms; a term over the time without one is refused. Both
+  /// go into the output's header.
   std::vector<std::pair<std::string, double>> sensors;
-  double time = 0.0;
+  std::optional<double> time;
   /// Compensate even when the input already carries ccomp's header (double compensation).
   bool force = false;
   /// Write each canned cycle (G73 G81 G83 G85) as the G0/G1 moves it makes, each one
