@@ -6,14 +6,22 @@
 # file, 7 refused as unsafe), see `ccomp --help`. A refused program's earlier output, if one
 # is in OUT_DIR, is left as it was and named in its line: do not send it.
 #
-#   ccomp-batch.sh IN_DIR OUT_DIR MODEL.yaml [TOOL_TABLE]
+#   ccomp-batch.sh IN_DIR OUT_DIR MODEL.yaml [TOOL_TABLE] [--] [CCOMP_OPTION...]
 #
+# Every argument after the model (and the tool table, when the first is not an option) goes
+# to each ccomp as it is: --sensor bed=21 --dialect fanuc --work-offset G54=X0,Y0,Z-400 ...
 # Environment: CCOMP (the ccomp binary, default: ccomp on PATH), JOBS (default: all cores).
 set -uo pipefail
-in_dir=${1:?usage: ccomp-batch.sh IN_DIR OUT_DIR MODEL.yaml [TOOL_TABLE]}
-out_dir=${2:?usage: ccomp-batch.sh IN_DIR OUT_DIR MODEL.yaml [TOOL_TABLE]}
-model=${3:?usage: ccomp-batch.sh IN_DIR OUT_DIR MODEL.yaml [TOOL_TABLE]}
-tools=${4:-}
+usage="usage: ccomp-batch.sh IN_DIR OUT_DIR MODEL.yaml [TOOL_TABLE] [--] [CCOMP_OPTION...]"
+in_dir=${1:?$usage}
+out_dir=${2:?$usage}
+model=${3:?$usage}
+shift 3
+tools=
+# A fourth argument that is not an option is the tool table (the script's first form).
+if [ $# -gt 0 ] && [ "${1#-}" = "$1" ]; then tools=$1; shift; fi
+[ "${1:-}" = "--" ] && shift
+options=("$@")  # for every ccomp, after the script's own
 ccomp=${CCOMP:-ccomp}
 jobs=${JOBS:-$(nproc)}
 
@@ -30,15 +38,18 @@ trap 'rm -rf "$status_dir"' EXIT
 
 # One ccomp per program, JOBS at once, each leaving its exit code in status_dir/<index>: the
 # count comes from what ccomp said of each program, not from which outputs exist (a refused
-# program leaves an earlier run's output, if any, as it was).
+# program leaves an earlier run's output, if any, as it was). The options go to the worker
+# as its first arguments (an array does not pass through the environment); xargs appends
+# each program's index and path after them.
 export CCOMP_BATCH_BIN=$ccomp CCOMP_BATCH_MODEL=$model CCOMP_BATCH_TOOLS=$tools CCOMP_BATCH_OUT=$out_dir \
   CCOMP_BATCH_STATUS=$status_dir
 for i in "${!programs[@]}"; do printf '%s\0%s\0' "$i" "${programs[$i]}"; done |
   xargs -0 -n 2 -P "$jobs" bash -c '
+    index=${@: -2:1} program=${@: -1}
     args=(-m "$CCOMP_BATCH_MODEL" --out-dir "$CCOMP_BATCH_OUT")
     [ -n "$CCOMP_BATCH_TOOLS" ] && args+=(--tool-table "$CCOMP_BATCH_TOOLS")
-    "$CCOMP_BATCH_BIN" "$2" "${args[@]}"
-    echo $? >"$CCOMP_BATCH_STATUS/$1"' _ 2>&1 | tee "$log" >&2
+    "$CCOMP_BATCH_BIN" "$program" "${args[@]}" "${@:1:$#-2}"
+    echo $? >"$CCOMP_BATCH_STATUS/$index"' _ ${options[@]+"${options[@]}"} 2>&1 | tee "$log" >&2
 
 status=0
 done_count=0

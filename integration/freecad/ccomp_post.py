@@ -11,8 +11,11 @@ and hands the rest, unchanged, to the base post:
   --ccomp-tools PATH   the tool table (optional); else $CCOMP_TOOLS
   --ccomp PATH         the ccomp binary; else $CCOMP, else ccomp on PATH
   --ccomp-base NAME    the post processor it wraps; else BASE_POST below
+  --ccomp-args=TEXT    any more ccomp options, as on a command line (repeatable); else
+                       $CCOMP_ARGS: --sensor bed=21 --dialect fanuc --work-offset G54=X0,Y0,Z-400
 
 e.g. Arguments: --no-show-editor --ccomp-model /etc/ccomp/machine.yaml
+                --ccomp-args="--sensor bed=21 --sensor spindle=30"
 
 FreeCAD up to 0.21 passes the output file's name: the base post writes it and this wrapper
 compensates it in place (keeping name.orig). FreeCAD 1.0 passes "-" and writes the text
@@ -37,6 +40,9 @@ parser.add_argument("--ccomp-model", help="machine model (YAML); default $CCOMP_
 parser.add_argument("--ccomp-tools", help="tool table (optional); default $CCOMP_TOOLS")
 parser.add_argument("--ccomp", help="the ccomp binary; default $CCOMP, else ccomp on PATH")
 parser.add_argument("--ccomp-base", help="the post processor to wrap; default %s" % BASE_POST)
+# Written --ccomp-args=TEXT: argparse would take a TEXT starting with '-' for an option.
+parser.add_argument("--ccomp-args", action="append",
+                    help="more ccomp options as on a command line (repeatable); default $CCOMP_ARGS")
 
 TOOLTIP_ARGS = parser.format_help() + "Other arguments go to the wrapped post processor."
 
@@ -52,8 +58,14 @@ def settings(argstring=""):
         ours, rest = parser.parse_known_args(shlex.split(argstring or ""))
     except (ValueError, SystemExit) as e:  # an unbalanced quote; a flag without its value
         raise CcompError("ccomp_post: cannot read the post processor arguments %r: %s" % (argstring, e))
+    texts = ours.ccomp_args or [os.environ.get("CCOMP_ARGS", "")]  # given at all, they replace $CCOMP_ARGS
+    try:
+        options = [a for text in texts for a in shlex.split(text)]
+    except ValueError as e:
+        raise CcompError("ccomp_post: cannot read the ccomp options %r: %s" % (" ".join(texts), e))
     s = {
         "ccomp": ours.ccomp or os.environ.get("CCOMP") or "ccomp",
+        "options": options,
         "model": ours.ccomp_model or os.environ.get("CCOMP_MODEL"),
         "tools": ours.ccomp_tools or os.environ.get("CCOMP_TOOLS"),
         "base": ours.ccomp_base or BASE_POST,
@@ -70,6 +82,7 @@ def _run(s, arguments, text=None):
     command = [s["ccomp"]] + arguments + ["-m", s["model"]]
     if s["tools"]:
         command += ["--tool-table", s["tools"]]
+    command += s.get("options", [])
     try:
         return subprocess.run(command, input=text, capture_output=True, text=True)
     except OSError as e:  # no such binary, not executable
@@ -118,7 +131,7 @@ def export(objectslist, filename, argstring):
 if __name__ == "__main__":
     import sys
 
-    # python3 ccomp_post.py [--ccomp-model M] [--ccomp-tools T] [--ccomp BIN] part.nc ...
+    # python3 ccomp_post.py [--ccomp-model M] [--ccomp-tools T] [--ccomp BIN] [--ccomp-args=..] part.nc ...
     try:
         s, rest = settings(" ".join(shlex.quote(a) for a in sys.argv[1:]))
         for program in shlex.split(rest):

@@ -8,6 +8,7 @@
 #include <string_view>
 
 #include "ccomp/controller/control_tables.hpp"
+#include "ccomp/controller/table_checks.hpp"
 #include "ccomp/error.hpp"
 #include "ccomp/model/conditions.hpp"
 #include "ccomp/model/model_file.hpp"
@@ -105,6 +106,25 @@ const model::LinkSpec* link_of(const model::MachineModel& m, const std::string& 
     for (const model::LinkSpec& l : *chain)
       if (l.name == name) return &l;
   return nullptr;
+}
+
+/// What makes the table worse than it looks: periodic errors its step cannot hold, and a
+/// table that leaves more than none, along its line (its own axis, the whole error) or over
+/// the workspace with every axis' table.
+std::vector<std::string> table_warnings(const model::MachineModel& m, const controller::AxisTable& table, double step,
+                                        const controller::Residual& own, const controller::Residual& along,
+                                        const controller::Residual& workspace) {
+  std::vector<std::string> out;
+  const char* unit = table.rotary ? "deg" : "mm";
+  for (const controller::ShortPeriod& s : controller::short_periods(m, table.axis_index, step))
+    out.push_back(controller::describe(m, s, unit));
+  const auto add = [&](std::vector<std::string> more) { out.insert(out.end(), more.begin(), more.end()); };
+  add(controller::worse_than_none(own, fmt::format("along the line, for {}'s own error{}", table.axis,
+                                                   table.rotary ? " (its turn)" : ""),
+                                  table.rotary ? "arcsec" : "um"));
+  add(controller::worse_than_none(along, "along the line, for the whole error"));
+  add(controller::worse_than_none(workspace, "over the workspace, with every axis' table made so"));
+  return out;
 }
 
 }  // namespace
@@ -247,6 +267,7 @@ int run_export(const ExportArgs& args) {
   const controller::Residual linear_workspace = controller::table_residual(
       forward, all, controller::workspace_points(m, o.line, 5, false), reference, o.conditions);
   const Uncarried u = uncarried_terms(m, controller::control_limits(control).cross);
+  const std::vector<std::string> warnings = table_warnings(m, table, o.step, own, along, workspace);
   write_output(args.output, text);
   if (args.json) {
     util::JsonWriter j;
@@ -266,6 +287,7 @@ int run_export(const ExportArgs& args) {
     json_names(j, "rotary_terms", u.rotary);
     json_names(j, "cross_terms", u.straightness);
     json_names(j, "angular_terms", u.off_line);
+    json_names(j, "warnings", warnings);
     j.end_object();
     fmt::print("{}", j.text());
     return 0;
@@ -311,6 +333,7 @@ int run_export(const ExportArgs& args) {
   if (!u.off_line.empty())
     fmt::print(stderr, "    carried on this line only (angular errors act through offsets that change elsewhere): {}\n",
                joined(u.off_line));
+  for (const std::string& warning : warnings) fmt::print(stderr, "warning: {}\n", warning);
   return 0;
 }
 

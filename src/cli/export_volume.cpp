@@ -12,6 +12,7 @@
 #include <sstream>
 
 #include "ccomp/controller/isg_volume.hpp"
+#include "ccomp/controller/table_checks.hpp"
 #include "ccomp/controller/volume_table.hpp"
 #include "ccomp/error.hpp"
 #include "ccomp/model/conditions.hpp"
@@ -62,10 +63,12 @@ std::optional<controller::VolumeOptions::LeftOut> short_harmonics(const model::M
   const model::ErrorTermSpec& t = m.terms[term];
   if (t.primary.kind != model::VariableKind::axis || t.primary.index > 2 || t.shape.form != model::TermForm::periodic)
     return std::nullopt;
-  const double period = std::abs(t.parameters[0]), step = grids[t.primary.index].step;
-  const int first = static_cast<int>(std::floor(period / (4 * step))) + 1;  // period / k < 4 step
-  if (first > t.shape.order) return std::nullopt;
-  return controller::VolumeOptions::LeftOut{term, first};
+  // The same bound as every export's (controller/table_checks.hpp); here the harmonics are
+  // left out of the table rather than sampled into it.
+  const std::optional<int> first =
+      controller::first_short_harmonic(t.parameters[0], t.shape.order, grids[t.primary.index].step);
+  if (!first) return std::nullopt;
+  return controller::VolumeOptions::LeftOut{term, *first};
 }
 
 /// Other terms whose shape changes within a few of the grid's steps along their axis, which
@@ -187,6 +190,7 @@ void print_json(const Summary& s) {
   json_names(j, "reversal_terms", s.partial.reversals);
   json_names(j, "left_out_terms", s.partial.left_out);
   json_names(j, "cut_terms", s.partial.cut);
+  json_names(j, "warnings", controller::worse_than_none(s.workspace, "over the workspace"));
   j.end_object();
   fmt::print("{}", j.text());
 }
@@ -228,6 +232,8 @@ void print_text(const Summary& s) {
   names("held at this export's temperatures and time only", s.uncarried.thermal);
   names("held at these rotary positions only", s.uncarried.rotary);
   fmt::print(stderr, "  set vol_comp[0].max_records to at least {} in the start-up list\n", s.table.nodes());
+  for (const std::string& warning : controller::worse_than_none(s.workspace, "over the workspace"))
+    fmt::print(stderr, "warning: {}\n", warning);
 }
 
 }  // namespace

@@ -15,6 +15,7 @@
 #include "ccomp/identify/positioning.hpp"
 #include "ccomp/identify/simulate.hpp"
 #include "ccomp/model/model_file.hpp"
+#include "ccomp/model/parameter_units.hpp"
 #include "ccomp/model/term_span.hpp"
 #include "ccomp/report/html_report.hpp"
 #include "commands.hpp"
@@ -109,6 +110,18 @@ void check_outputs(const IdentifyArgs& args) {
 std::string readable(const model::ErrorTermSpec& t, std::size_t k, double v) {
   const double unit = t.parameter_unit[k];
   return fmt::format("{:.6g}", v / unit);
+}
+
+/// A parameter's unit as the model file writes it, and its uncertainty in that unit.
+std::string unit_of(const model::ErrorTermSpec& t, std::size_t k) {
+  const std::string unit = model::parameter_unit_name(t, k);
+  return unit.empty() ? "(file units)" : unit;
+}
+/// A parameter the data do not determine, with no uncertainty beyond rounding, has none to give.
+std::string uncertainty(const model::ErrorTermSpec& t, std::size_t k, const identify::FittedParameter& p) {
+  const double magnitude = std::max(std::abs(p.before), std::abs(p.after));
+  if (!p.identified && model::within_rounding(p.uncertainty, magnitude)) return "n/a";
+  return model::uncertainty_text(p.uncertainty / t.parameter_unit[k], magnitude / t.parameter_unit[k]);
 }
 
 }  // namespace
@@ -264,8 +277,9 @@ int run_fit(const IdentifyArgs& args) {
   for (const identify::FittedParameter& p : r.parameters) {
     const model::ErrorTermSpec& t = m.terms[p.term];
     const std::size_t k = p.index - forward.parameter_offset(p.term);
-    fmt::print("  {:<18} {:>12} -> {:>12} +- {:<10} {}\n", p.label, readable(t, k, p.before), readable(t, k, p.after),
-               readable(t, k, p.uncertainty), p.identified ? "" : "(not separable: see below)");
+    fmt::print("  {:<18} {:>12} -> {:>12} {:<9} +- {:<10} {}\n", p.label, readable(t, k, p.before),
+               readable(t, k, p.after), unit_of(t, k), uncertainty(t, k, p),
+               p.identified ? "" : "(not separable: see below)");
   }
   if (r.singular_values.size() > 0 && r.singular_values[0] > 0) {
     fmt::print("  singular values (relative to the largest, columns in physical scales):");
@@ -445,8 +459,8 @@ int run_nine_line(const IdentifyArgs& args) {
   for (const identify::FittedParameter& p : r.fit.parameters) {
     const model::ErrorTermSpec& t = m.terms[p.term];
     const std::size_t k = p.index - forward.parameter_offset(p.term);
-    fmt::print("  {:<14} {:>12} +- {:<10} {}\n", p.label, readable(t, k, p.after), readable(t, k, p.uncertainty),
-               p.identified ? "" : "(not determined by nine lines alone)");
+    fmt::print("  {:<14} {:>12} {:<9} +- {:<10} {}\n", p.label, readable(t, k, p.after), unit_of(t, k),
+               uncertainty(t, k, p), p.identified ? "" : "(not determined by nine lines alone)");
   }
   if (!r.squareness.empty()) {
     fmt::print("squareness between the lines (straightness against its least-squares line, [Ref 4]):\n");
@@ -463,7 +477,8 @@ int run_nine_line(const IdentifyArgs& args) {
     std::size_t k = 0;
     for (const identify::FittedParameter& p : r.fit.parameters)
       if (p.label == s.parameter) k = p.index - forward.parameter_offset(p.term);
-    fmt::print("  {:<14} {:>12} per mm  (most by {})\n", s.parameter, readable(t, k, s.per_mm), s.line);
+    fmt::print("  {:<14} {:>12} {} per mm  (most by {})\n", s.parameter, readable(t, k, s.per_mm), unit_of(t, k),
+               s.line);
   }
   fmt::print("placement of lines 1 and 3 (fraction of the workspace from its edges) against overall sensitivity:\n");
   for (const auto& [inset, value] : r.placements) fmt::print("  {:4.2f}  {:.4g}\n", inset, value);

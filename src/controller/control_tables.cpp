@@ -14,6 +14,14 @@ namespace {
 
 constexpr std::array<std::string_view, 4> kNames{"linuxcnc", "fanuc", "siemens", "heidenhain"};
 
+/// `v` rounded to `decimals` as the file writes it, a zero without its sign: a correction
+/// of -0.000001 mm written "-0.00000" reads as a sign error to whoever checks the file.
+double written(double v, int decimals) {
+  const double scale = std::pow(10.0, decimals);
+  const double r = std::round(v * scale) / scale;
+  return r == 0.0 ? 0.0 : r;
+}
+
 std::size_t points_of(const AxisTable& t) {
   return t.positions.size();
 }
@@ -55,9 +63,10 @@ std::string write_linuxcnc(const AxisTable& t, const WriteOptions& o) {
   for (std::size_t k = 0; k < points_of(t); ++k) {
     const double p = t.positions[k];
     if (o.linuxcnc_file_type == 0)
-      text += fmt::format("{:.6f} {:.6f} {:.6f}\n", p, p - t.forward[k], p - t.reverse[k]);
+      text += fmt::format("{:.6f} {:.6f} {:.6f}\n", written(p, 6), written(p - t.forward[k], 6),
+                          written(p - t.reverse[k], 6));
     else
-      text += fmt::format("{:.6f} {:.6f} {:.6f}\n", p, t.forward[k], t.reverse[k]);
+      text += fmt::format("{:.6f} {:.6f} {:.6f}\n", written(p, 6), written(t.forward[k], 6), written(t.reverse[k], 6));
   }
   return text;
 }
@@ -148,7 +157,7 @@ std::string write_fanuc(const AxisTable& t, const WriteOptions& o) {
 std::string siemens_cec(int index, const std::string& input, const std::string& output, const AxisTable& t,
                         const std::vector<double>& values, int direction) {
   std::string text;
-  for (std::size_t k = 0; k < values.size(); ++k) text += fmt::format("$AN_CEC[{},{}]={:.6f}\n", index, k, values[k]);
+  for (std::size_t k = 0; k < values.size(); ++k) text += fmt::format("$AN_CEC[{},{}]={:.6f}\n", index, k, written(values[k], 6));
   text += fmt::format(
       "$AN_CEC_INPUT_AXIS[{0}]={1}\n$AN_CEC_OUTPUT_AXIS[{0}]={2}\n$AN_CEC_STEP[{0}]={3:.4f}\n$AN_CEC_MIN[{0}]={4:."
       "4f}\n$AN_CEC_MAX[{0}]={5:.4f}\n$AN_CEC_DIRECTION[{0}]={6}\n$AN_CEC_MULT_BY_TABLE[{0}]=0\n$AN_CEC_IS_MODULO[{0}]="
@@ -169,7 +178,7 @@ std::string write_siemens(const AxisTable& t, const WriteOptions& o) {
   // The leadscrew table: the error travelling up (0 at the reference point); a table that
   // acts travelling down only adds what differs then (position-dependent backlash).
   for (std::size_t k = 0; k < points_of(t); ++k)
-    text += fmt::format("$AA_ENC_COMP[0,{},{}]={:.6f}\n", k, ax, -t.forward[k]);
+    text += fmt::format("$AA_ENC_COMP[0,{},{}]={:.6f}\n", k, ax, written(-t.forward[k], 6));
   text += fmt::format(
       "$AA_ENC_COMP_STEP[0,{0}]={1:.4f}\n$AA_ENC_COMP_MIN[0,{0}]={2:.4f}\n$AA_ENC_COMP_MAX[0,{0}]={3:.4f}\n$AA_ENC_"
       "COMP_"
@@ -195,9 +204,9 @@ std::string write_heidenhain(const AxisTable& t, const WriteOptions&) {
   for (const AxisTable::Cross& c : t.cross) text += fmt::format("{:<14}", std::string(1, c.axis));
   text += "BACKLASH\n";
   for (std::size_t k = 0; k < points_of(t); ++k) {
-    text += fmt::format("{:<6}{:<+14.4f}{:<+14.5f}", k, t.positions[k], t.forward[k]);
-    for (const AxisTable::Cross& c : t.cross) text += fmt::format("{:<+14.5f}", c.correction[k]);
-    text += fmt::format("{:+.5f}\n", t.reverse[k]);
+    text += fmt::format("{:<6}{:<+14.4f}{:<+14.5f}", k, written(t.positions[k], 4), written(t.forward[k], 5));
+    for (const AxisTable::Cross& c : t.cross) text += fmt::format("{:<+14.5f}", written(c.correction[k], 5));
+    text += fmt::format("{:+.5f}\n", written(t.reverse[k], 5));
   }
   return text + "[END]\n";
 }

@@ -11,6 +11,7 @@
 
 #include "ccomp/error.hpp"
 #include "ccomp/identify/check.hpp"
+#include "ccomp/identify/next_measurement.hpp"
 #include "ccomp/identify/physical_scale.hpp"
 #include "ccomp/util/parallel.hpp"
 
@@ -674,10 +675,26 @@ FitReport fit(const model::ForwardModel& model, const MeasurementSet& data, cons
     for (const auto& [w, j] : members)
       combination += fmt::format("{}{:+.2f} {}", combination.empty() ? "" : " ", V(static_cast<Eigen::Index>(j), k),
                                  report.parameters[j].label);
+    // What would separate them: the two heaviest members of different terms.
+    const auto parameter_of = [&](std::size_t j) {
+      const FittedParameter& fp = report.parameters[j];
+      return TermParameter{fp.term, fp.index - model.parameter_offset(fp.term)};
+    };
+    std::string measure;
+    const TermParameter first = parameter_of(members.front().second);
+    for (const auto& [w, j] : members)
+      if (report.parameters[j].term != first.term) {
+        measure = separating_parameters(mm, first, parameter_of(j));
+        break;
+      }
+    if (measure.empty())
+      measure = fmt::format("readings over more of the range its variable spans, or closer together, which show "
+                            "the shape of {}'s error",
+                            mm.terms[first.term].name);
     report.unidentifiable.push_back(
         fmt::format("{}: the data cannot separate these (relative singular value {:.1e}); "
-                    "this combination is left as it was",
-                    combination, sigma[0] > 0 ? sigma[k] / sigma[0] : 0.0));
+                    "this combination is left as it was; to separate them: {}",
+                    combination, sigma[0] > 0 ? sigma[k] / sigma[0] : 0.0, measure));
   }
   if (options.progress) options.progress(1.0);
   return report;

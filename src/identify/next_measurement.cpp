@@ -67,6 +67,62 @@ std::string separating_measurement(const std::string& a, const std::string& b) {
       *fewer.begin(), more, more);
 }
 
+namespace {
+
+/// A term's variables as the candidates name them ("x", "x,z", "T_spindle"); "" for a constant.
+std::string variables_text(const model::ErrorTermSpec& t) {
+  std::string out;
+  for (const model::Variable* v : {&t.primary, &t.secondary})
+    if (v->kind != model::VariableKind::none && !v->text.empty()) out += (out.empty() ? "" : ",") + v->text;
+  return out;
+}
+
+/// Whether parameter k of t moves the tool by the same everywhere: a constant term, or a
+/// polynomial's constant coefficient.
+bool constant(const model::ErrorTermSpec& t, std::size_t k) {
+  return t.primary.kind == model::VariableKind::none || t.shape.form == model::TermForm::constant ||
+         (t.shape.form == model::TermForm::polynomial && k == 0);
+}
+
+}  // namespace
+
+std::string separating_parameters(const model::MachineModel& model, TermParameter a, TermParameter b) {
+  const model::ErrorTermSpec &ta = model.terms.at(a.term), &tb = model.terms.at(b.term);
+  const bool angle_a = ta.component >= 3, angle_b = tb.component >= 3;
+  const std::string va = constant(ta, a.k) ? "" : variables_text(ta), vb = constant(tb, b.k) ? "" : variables_text(tb);
+  if (va.empty() && vb.empty()) {
+    if (!angle_a && !angle_b)
+      return fmt::format(
+          "nothing: {} and {} are constant offsets of the tool's position, which no reading tells apart; "
+          "a work offset probed on the part takes their sum",
+          ta.name, tb.name);
+    if (angle_a != angle_b)
+      return fmt::format(
+          "readings at two or more tool lengths L (a short and a long tool, or the optics further out) "
+          "separate the angle {} (its effect grows with the arm) from the offset {} (it does not)",
+          angle_a ? ta.name : tb.name, angle_a ? tb.name : ta.name);
+    return fmt::format(
+        "readings with the tool tip at other places around the rotations (other tool lengths L, other "
+        "positions along the lines, the rotary axes turned) separate the angles {} and {}",
+        ta.name, tb.name);
+  }
+  if (va.empty() || vb.empty()) {
+    const std::string& v = va.empty() ? vb : va;
+    return fmt::format(
+        "readings at several {0} (over more of its range, where these did not vary it enough) separate {1}, which "
+        "changes with {0}, from the constant {2}",
+        v, va.empty() ? tb.name : ta.name, va.empty() ? ta.name : tb.name);
+  }
+  if (va == vb && ta.component != tb.component)
+    // The same variable, errors in other directions: what the data lack is not the shape
+    // along the variable but places where the two move the tool differently.
+    return fmt::format(
+        "readings with the tool tip at other places (other tool lengths L, other points on the table, other "
+        "directions read) as {} varies, where {} and {} move it differently",
+        va, ta.name, tb.name);
+  return separating_measurement(va, vb);
+}
+
 std::vector<Tie> find_ties(const std::vector<Suggestion>& suggestions, const Eigen::VectorXd& residual) {
   std::vector<Tie> out;
   if (suggestions.size() < 2) return out;

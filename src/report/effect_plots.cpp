@@ -82,13 +82,15 @@ std::vector<Figure> effect_figures(const CheckReportInput& in, FigureIds& ids) {
     f.id = ids.next("effect");
     f.traces = fmt::format("[{}]", traces);
     f.layout = fmt::format(
-        R"j({{"title":{{"text":{}}},"xaxis":{{"title":{{"text":"{} position ({})"}}}},"yaxis":{{"title":{{"text":"residual along {} (µm)"}}}}}})j",
-        json_string(fmt::format("{}. {} {} on {}", g.rank, g.term, g.form, source)), axis_letter(axis),
-        is_rotary(axis) ? "deg" : "mm", along);
+        R"j({{"title":{{"text":{}}},"xaxis":{{"title":{{"text":{}}}}},"yaxis":{{"title":{{"text":"residual along {} (µm)"}}}}}})j",
+        json_string(fmt::format("{}. {} {} on {}", g.rank, g.term, g.form, source)),
+        json_string(position_title(axis)), along);
     f.caption = fmt::format(
         "{}. {}: on {} (readings along {}), what the refitted model leaves (open) and what is left with the effect "
-        "added (filled). Over all readings: rms {:.3f} &rarr; {:.3f} &micro;m.",
-        g.rank, html_escape(g.effect), html_escape(source), html_escape(along), g.rms_before * kUm, g.rms_after * kUm);
+        "added (filled). Over all readings: rms {:.3f} &rarr; {:.3f} &micro;m. {} A place the suggestion names "
+        "(<code>at:</code>, a period's phase) is in these axis positions.",
+        g.rank, html_escape(g.effect), html_escape(source), html_escape(along), g.rms_before * kUm, g.rms_after * kUm,
+        frame_note(in.data, best->readings.front()));
     f.height = 340;
     out.push_back(std::move(f));
   }

@@ -3,82 +3,13 @@
 // (the model file's), with their uncertainty and identifiability.
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <cmath>
-#include <numbers>
 
+#include "ccomp/model/parameter_units.hpp"
 #include "report/figures.hpp"
 
 namespace ccomp::report {
-namespace {
-
-/// A unit's name from its scale in internal units (mm, rad, s, degC); empty when not a
-/// common one.
-std::string unit_name(double scale, bool angle) {
-  const double s = std::abs(scale);
-  const auto is = [&](double v) { return std::abs(s / v - 1.0) < 1e-9; };
-  if (angle) {
-    if (is(1.0)) return "rad";
-    if (is(1e-3)) return "mrad";
-    if (is(1e-6)) return "µrad";
-    if (is(std::numbers::pi / 180)) return "deg";
-    if (is(std::numbers::pi / 180 / 3600)) return "arcsec";
-    return "";
-  }
-  if (is(1.0)) return "mm";
-  if (is(1e-3)) return "µm";
-  if (is(1e-6)) return "nm";
-  return "";
-}
-
-/// The unit of a variable as model files write it by default (mm, deg, s, degC) and its
-/// scale in internal units.
-std::pair<std::string, double> variable_unit(const model::MachineModel& m, const model::Variable& v) {
-  switch (v.kind) {
-    case model::VariableKind::axis:
-      return v.index >= 3 && v.index <= 5 ? std::pair<std::string, double>{"deg", std::numbers::pi / 180}
-                                          : std::pair<std::string, double>{"mm", 1.0};
-    case model::VariableKind::tool_length:
-      return {"mm", 1.0};
-    case model::VariableKind::time:
-      return {"s", 1.0};
-    case model::VariableKind::temperature:
-      return {"°C", 1.0};
-    default:
-      (void)m;
-      return {"", 1.0};
-  }
-}
-
-/// The unit `fit` prints a parameter in (the model file's): "µm", "µrad/mm", "mm" (a period).
-std::string parameter_unit_name(const model::MachineModel& m, const model::ErrorTermSpec& t, std::size_t k) {
-  const bool angle = t.component >= 3;
-  const auto [var, var_scale] = variable_unit(m, t.primary);
-  const double scale = t.parameter_unit[k];
-  switch (t.shape.form) {
-    case model::TermForm::polynomial: {
-      const std::string base = unit_name(scale * std::pow(var_scale, static_cast<double>(k)), angle);
-      if (base.empty()) return "";
-      return k == 0 ? base : k == 1 ? base + "/" + var : fmt::format("{}/{}^{}", base, var, k);
-    }
-    case model::TermForm::periodic:
-      return k == 0 ? var : unit_name(scale, angle);
-    case model::TermForm::thermal_linear: {
-      const std::string base = unit_name(scale, angle);
-      return base.empty() ? "" : base + "/°C";
-    }
-    case model::TermForm::thermal_warmup:
-      return k == 1 ? "s" : unit_name(scale, angle);
-    case model::TermForm::bump:
-      return k == 0 ? unit_name(scale, angle) : var;
-    case model::TermForm::scale_expansion:
-    case model::TermForm::cross_axis:
-      return "";
-    default:
-      return unit_name(scale, angle);
-  }
-}
-
-}  // namespace
 
 Section effects_section(const CheckReportInput& in, FigureIds& ids) {
   Section s{"effects", "Missing effects", "", {}, ""};
@@ -119,8 +50,9 @@ Section effects_section(const CheckReportInput& in, FigureIds& ids) {
   if (!d.unexplained.empty()) s.html += "<p>" + html_escape(d.unexplained) + "</p>\n";
   if (!d.regions.empty()) {
     s.html +=
-        "<h3>Where the residual concentrates</h3>\n<table><tr><th>variable</th><th>from</th><th>to</th><th>rms "
-        "(&micro;m)</th><th>times the overall</th></tr>\n";
+        "<h3>Where the residual concentrates</h3>\n<p class=\"note\">Axis variables are machine axis positions "
+        "(mm, deg), z the Z axis less the tool length L.</p>\n<table><tr><th>variable</th><th>from</th><th>to</th>"
+        "<th>rms (&micro;m)</th><th>times the overall</th></tr>\n";
     for (const identify::Region& r : d.regions)
       s.html += fmt::format(
           "<tr><td>{}</td><td class=\"num\">{:.4g}</td><td class=\"num\">{:.4g}</td><td class=\"num\">{:.3f}</td><td "
@@ -156,6 +88,7 @@ Section parameters_section(const CheckReportInput& in, FigureIds& ids) {
       return offset;
     }();
     const double unit = t.parameter_unit[k];
+    const double magnitude = std::max(std::abs(p.before), std::abs(p.after));
     // A parameter the data do not determine alone moves with the combinations it is in:
     // its change against its own uncertainty says nothing.
     const double ratio = p.identified && p.uncertainty > 0 ? (p.after - p.before) / p.uncertainty : std::nan("");
@@ -163,9 +96,11 @@ Section parameters_section(const CheckReportInput& in, FigureIds& ids) {
     s.html += fmt::format(
         "<tr><td>{}</td><td>{}</td><td class=\"num\">{:.6g}</td><td class=\"num\">{}{:.6g}{}</td><td "
         "class=\"num\">{}</td><td class=\"num\">{}</td><td>{}</td></tr>\n",
-        html_escape(p.label), html_escape(parameter_unit_name(in.model, t, k)), p.before / unit, moved ? "<b>" : "",
+        html_escape(p.label), html_escape(model::parameter_unit_name(t, k, model::MicroSign::micro)), p.before / unit, moved ? "<b>" : "",
         p.after / unit, moved ? "</b>" : "",
-        p.uncertainty > 0 ? fmt::format("{:.3g}", std::abs(p.uncertainty / unit)) : "&ndash;",
+        p.uncertainty > 0 && !(!p.identified && model::within_rounding(p.uncertainty, magnitude))
+            ? html_escape(model::uncertainty_text(p.uncertainty / unit, magnitude / unit))
+            : "&ndash;",
         std::isfinite(ratio) ? fmt::format("{:+.1f}", ratio) : "&ndash;",
         p.identified ? "yes" : "not alone (see below)");
   }

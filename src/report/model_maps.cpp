@@ -25,12 +25,13 @@ class ErrorProbe {
   explicit ErrorProbe(const model::ForwardModel& model) : model_(model), data_(model) {
     conditions_.temperatures.assign(model.machine().sensors.size(), 20.0);
   }
-  /// mm, machine directions: program X Y Z (mm), a rotary axis' angle (deg), tool length L.
+  /// mm, machine directions: the axes X Y Z at machine positions (mm; what the maps' axes
+  /// and the model's terms read), a rotary axis' angle (deg), tool length L.
   Eigen::Vector3d at(const Eigen::VectorXd& parameters, const std::array<double, 3>& xyz, std::size_t rotary,
                      double angle, double tool, double approach) {
     data_.set_parameters(parameters);
     model::ChainQ q = model::ChainQ::Zero();
-    q[0] = xyz[0], q[1] = xyz[1], q[2] = xyz[2] + tool;  // program Z carries the tool length
+    q[0] = xyz[0], q[1] = xyz[1], q[2] = xyz[2];
     if (rotary < 9) q[static_cast<Eigen::Index>(rotary)] = angle * std::numbers::pi / 180.0;
     q[static_cast<Eigen::Index>(model::kToolLengthIndex)] = tool;
     conditions_.directions.fill(approach);
@@ -115,25 +116,30 @@ std::string term_label(const model::ErrorTermSpec& t) {
   return t.iso;
 }
 
+double largest(const std::vector<std::vector<double>>& z) {
+  double top = 0;
+  for (const std::vector<double>& row : z)
+    for (double value : row) top = std::max(top, value);
+  return top;
+}
+
+/// A map of |e| over a plane, coloured from 0 to `top` (um): a before and after pair share it.
 Figure map_figure(const std::string& id, const std::string& title, const std::vector<double>& u,
                   const std::vector<double>& v, const std::vector<std::vector<double>>& z, char u_axis, char v_axis,
-                  const std::string& colour_title, double least_top) {
+                  const std::string& colour_title, double top) {
   std::string rows = "[";
-  double top = 0;
   for (std::size_t j = 0; j < z.size(); ++j) {
     if (j > 0) rows += ',';
     rows += json_numbers(z[j]);
-    for (double value : z[j]) top = std::max(top, value);
   }
   rows += "]";
   Figure f;
   f.id = id;
   f.traces = fmt::format(
       R"j([{{"type":"contour","x":{},"y":{},"z":{},"colorscale":"Viridis","zmin":0,"zmax":{},"ncontours":12,"contours":{{"coloring":"heatmap","showlabels":true,"labelfont":{{"size":9,"color":"#fff"}}}},"line":{{"width":0.5,"color":"rgba(255,255,255,0.6)"}},"colorbar":{{"title":{{"text":{},"side":"right"}},"ticks":"outside","thickness":14,"len":0.9}},"hovertemplate":"{} %{{x:.0f}} mm<br>{} %{{y:.0f}} mm<br>%{{z:.2f}} µm<extra></extra>"}}])j",
-      json_numbers(u), json_numbers(v), rows, json_number(std::max(top, least_top)), json_string(colour_title), u_axis,
-      v_axis);
+      json_numbers(u), json_numbers(v), rows, json_number(top), json_string(colour_title), u_axis, v_axis);
   f.layout = fmt::format(
-      R"j({{"title":{{"text":{}}},"xaxis":{{"title":{{"text":"{} (mm)"}},"constrain":"domain"}},"yaxis":{{"title":{{"text":"{} (mm)"}},"scaleanchor":"x","constrain":"domain"}},"margin":{{"r":10}}}})j",
+      R"j({{"title":{{"text":{}}},"xaxis":{{"title":{{"text":"{} axis position, machine (mm)"}},"constrain":"domain"}},"yaxis":{{"title":{{"text":"{} axis position, machine (mm)"}},"scaleanchor":"x","constrain":"domain"}},"margin":{{"r":10}}}})j",
       json_string(title), u_axis, v_axis);
   f.height = 380;
   return f;
@@ -157,8 +163,9 @@ std::vector<Section> model_sections(const CheckReportInput& in, FigureIds& ids) 
       "<b>After compensation</b>: what compensating with the model checked (<code>{}</code>) would leave of that "
       "error, to first order the refitted model's error minus the checked model's; it shows where the model "
       "checked is out of date{}. Errors the model cannot describe at all are not in either map: they are the "
-      "residual (the summary's rms refitted). Each map has its own colour scale; the after maps' reaches at least "
-      "the noise floor, so that an error below it shows dark.</p>\n",
+      "residual (the summary's rms refitted). A plane's before and after maps share one colour scale (a colour is "
+      "the same error in both), reaching at least the noise floor. Positions are the machine's axis positions "
+      "(G53, as the control shows them and the model's terms read them), the planes through each axis' travel.</p>\n",
       w.rotary < 9 ? fmt::format("{} 0&deg;", axis_letter(w.rotary)) : "", w.rotary < 9 ? "" : "no rotary axis", w.tool,
       html_escape(in.model.path.empty() ? in.model.name : in.model.path),
       in.command == "fit" ? " (for a model just fitted to the same data, close to zero)" : "");
@@ -182,11 +189,15 @@ std::vector<Section> model_sections(const CheckReportInput& in, FigureIds& ids) 
         after[static_cast<std::size_t>(j)][static_cast<std::size_t>(i)] = left.norm() * kUm;
       }
     const std::string plane =
-        fmt::format("{}{} plane at {} = {:g} mm", axis_letter(a), axis_letter(b), axis_letter(fixed), middle);
+        fmt::format("{}{} plane at {} axis position {:g} mm", axis_letter(a), axis_letter(b), axis_letter(fixed), middle);
+    // One colour scale for the pair, so that the same colour is the same error in both: the
+    // larger map's top, at least the noise floor (an after map near zero shows dark, not as
+    // magnified noise).
+    const double top = std::max({largest(before), largest(after), in.check.noise_floor * kUm, 1e-3});
     maps.figures.push_back(map_figure(ids.next("map"), fmt::format("Before compensation: {}", plane), u, v, before,
-                                      axis_letter(a), axis_letter(b), "|e| before (µm)", 1e-3));
+                                      axis_letter(a), axis_letter(b), "|e| before (µm)", top));
     maps.figures.push_back(map_figure(ids.next("map"), fmt::format("After compensation: {}", plane), u, v, after,
-                                      axis_letter(a), axis_letter(b), "|e| after (µm)", in.check.noise_floor * kUm));
+                                      axis_letter(a), axis_letter(b), "|e| after (µm)", top));
   }
 
   // Shares: each term's error alone (the model with the term's amplitudes zeroed, subtracted

@@ -89,7 +89,6 @@ Figure line_figure(const CheckReportInput& in, const SourceShape& shape, const R
   // A browser draws some thousands of points per plot smoothly; beyond, every stride-th.
   constexpr std::size_t kMostPoints = 6000;
   const std::size_t stride = (read.readings.size() + kMostPoints - 1) / kMostPoints;
-  bool legend_shown = false;
   for (Run& run : runs) {
     if (run.points.empty()) continue;
     std::sort(run.points.begin(), run.points.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
@@ -101,24 +100,22 @@ Figure line_figure(const CheckReportInput& in, const SourceShape& shape, const R
       if (curve_x.empty() || p - curve_x.back() > 1e-6)
         curve_x.push_back(p), refitted.push_back(v.refitted), as_is.push_back(v.as_is);
     }
-    // One legend entry per kind of trace: the colour says the direction (as the markers do).
-    const std::string first = legend_shown ? R"("showlegend":false,)" : "";
-    legend_shown = true;
+    // Every trace drawn has its own legend entry, in its own colour and dash: a curve of the
+    // down run is named as the down run's, not hidden behind the up run's entry.
+    const auto rank = &run - runs.data() + 1;
     add(xy_trace(
         "measured, " + run.name, x, measured, "markers",
         fmt::format(
             R"("legendrank":{0},"legendgroup":"measured {0}","marker":{{"color":"{1}","size":5,"symbol":"{2}","opacity":0.75}})",
-            &run - runs.data() + 1, run.colour, run.symbol)));
-    add(xy_trace("model refitted", curve_x, refitted, "lines",
-                 fmt::format(R"({}"legendrank":10,"legendgroup":"refitted","line":{{"color":"{}","width":1.8}})", first,
+            rank, run.colour, run.symbol)));
+    add(xy_trace("model refitted, " + run.name, curve_x, refitted, "lines",
+                 fmt::format(R"("legendrank":{},"line":{{"color":"{}","width":1.8}})", 10 + rank, run.colour)));
+    add(xy_trace("model as it is, " + run.name, curve_x, as_is, "lines",
+                 fmt::format(R"("legendrank":{},"line":{{"color":"{}","width":1.2,"dash":"dot"}})", 20 + rank,
                              run.colour)));
-    add(xy_trace(
-        "model as it is", curve_x, as_is, "lines",
-        fmt::format(R"({}"legendrank":11,"legendgroup":"as-is","line":{{"color":"{}","width":1.2,"dash":"dot"}})",
-                    first, run.colour)));
   }
   std::string caption =
-      fmt::format("Line at {}; {} readings ({} up, {} down{}){}.",
+      fmt::format("Line at {} (machine axis positions); {} readings ({} up, {} down{}){}.",
                   line_place(in.data.observations[read.readings.front()], in.model, shape.axis), read.readings.size(),
                   runs[0].points.size(), runs[1].points.size(),
                   runs[2].points.empty() ? "" : fmt::format(", {} unknown", runs[2].points.size()),
@@ -138,24 +135,26 @@ Figure line_figure(const CheckReportInput& in, const SourceShape& shape, const R
       const std::string fill = way == 0 ? "rgba(31,95,168,0.15)" : "rgba(194,65,12,0.15)";
       add_band(
           xy_trace("mean + 2s, " + name, x, upper, "lines",
-                   fmt::format(R"("legendgroup":"iso","showlegend":false,"line":{{"width":0,"color":"{}"}})", colour)));
+                   fmt::format(R"("legendgroup":"iso {}","showlegend":false,"line":{{"width":0,"color":"{}"}})", name,
+                               colour)));
+      // The band of each way its own entry in its own fill (the edge above is invisible).
       add_band(xy_trace(
-          "ISO 230-2: mean ± 2s", x, lower, "lines",
+          "ISO 230-2: mean ± 2s, " + name, x, lower, "lines",
           fmt::format(
-              R"({}"legendrank":12,"legendgroup":"iso","fill":"tonexty","fillcolor":"{}","line":{{"width":0,"color":"{}"}})",
-              way == 0 ? "" : R"("showlegend":false,)", fill, colour)));
+              R"("legendrank":{},"legendgroup":"iso {}","fill":"tonexty","fillcolor":"{}","line":{{"width":0,"color":"{}"}})",
+              31 + way, name, fill, colour)));
     }
     traces = bands + traces;
     caption += fmt::format(" Bands: mean &plusmn; 2s of {} runs each way (ISO 230-2).", iso->runs);
   }
-  const std::string axis_unit = is_rotary(shape.axis) ? "deg" : "mm";
   Figure f;
   f.id = ids.next("line");
   f.traces = "[" + traces + "]";
   f.layout = fmt::format(
-      R"j({{"title":{{"text":{}}},"xaxis":{{"title":{{"text":"{} position ({})"}}}},"yaxis":{{"title":{{"text":"deviation along {} (µm)"}}}}}})j",
-      json_string(source + ": " + line_quantity(read, shape.axis)), axis_letter(shape.axis), axis_unit, read.label);
-  f.caption = caption;
+      R"j({{"title":{{"text":{}}},"xaxis":{{"title":{{"text":{}}}}},"yaxis":{{"title":{{"text":"deviation along {} (µm)"}}}}}})j",
+      json_string(source + ": " + line_quantity(read, shape.axis)), json_string(position_title(shape.axis)),
+      read.label);
+  f.caption = caption + " " + frame_note(in.data, read.readings.front());
   f.height = 360;
   return f;
 }
@@ -173,7 +172,7 @@ Figure volumetric_figure(const CheckReportInput& in, const ReadingDirection& rea
     const Values v = values(in, read.readings[k], read.sign[k]);
     n.push_back(timed ? o.time : static_cast<double>(k + 1)), measured.push_back(v.measured),
         refitted.push_back(v.refitted), as_is.push_back(v.as_is);
-    where.push_back(fmt::format("X {:g}, Y {:g}, Z {:g}, L {:g}, t {:g} s", axis_value(o, 0), axis_value(o, 1),
+    where.push_back(fmt::format("axes (machine) X {:g}, Y {:g}, Z {:g} mm, L {:g} mm, t {:g} s", axis_value(o, 0), axis_value(o, 1),
                                 axis_value(o, 2), o.q[static_cast<Eigen::Index>(model::kToolLengthIndex)], o.time));
   }
   const std::string hover = R"("text":)" + json_strings(where) + R"(,"hovertemplate":"%{text}<br>%{y:.3f} µm")";
@@ -196,8 +195,8 @@ Figure volumetric_figure(const CheckReportInput& in, const ReadingDirection& rea
       R"j({{"title":{{"text":{}}},"xaxis":{{"title":{{"text":"{}"}}}},"yaxis":{{"title":{{"text":"deviation along {} (µm)"}}}}}})j",
       json_string(fmt::format("{}: deviation along {}", source, read.label)), timed ? "time (s)" : "point (file order)",
       read.label);
-  f.caption =
-      fmt::format("{} points spread over the workspace; hover for each point's position.", read.readings.size());
+  f.caption = fmt::format("{} points spread over the workspace; hover for each point's position. {}",
+                          read.readings.size(), frame_note(in.data, read.readings.front()));
   return f;
 }
 
@@ -223,10 +222,6 @@ std::vector<Figure> rotary_figures(const CheckReportInput& in, const SourceShape
     probes = std::max(probes, probe_of[k] + 1);
   }
   std::vector<Figure> out;
-  const std::size_t plane_a = shape.axis == 3 ? 1 : 0, plane_b = shape.axis == 5 ? 1 : 2,
-                    axial = shape.axis == 3   ? 0
-                            : shape.axis == 4 ? 1
-                                              : 2;
   for (std::size_t p = 0; p < probes && out.size() < 12; ++p) {
     std::string traces, place;
     double lo = 0, hi = 0;
@@ -234,9 +229,9 @@ std::vector<Figure> rotary_figures(const CheckReportInput& in, const SourceShape
     for (std::size_t k = 0; k < shape.readings.size(); ++k)
       if (probe_of[k] == p) rows.push_back(shape.readings[k]);
     const identify::Observation& first = in.data.observations[rows.front()];
-    place = fmt::format("radius {:.4g} mm, {} {:g} mm, L {:g} mm",
-                        std::hypot(axis_value(first, plane_a), axis_value(first, plane_b)), axis_letter(axial),
-                        axis_value(first, axial), first.q[static_cast<Eigen::Index>(model::kToolLengthIndex)]);
+    place = fmt::format("machine axis positions X {:g}, Y {:g}, Z {:g} mm, L {:g} mm", axis_value(first, 0),
+                        axis_value(first, 1), axis_value(first, 2),
+                        first.q[static_cast<Eigen::Index>(model::kToolLengthIndex)]);
     for (const ReadingDirection& read : reading_directions(in.data, rows)) {
       std::vector<std::pair<double, Values>> points;
       for (std::size_t k = 0; k < read.readings.size(); ++k)
@@ -280,8 +275,8 @@ std::vector<Figure> rotary_figures(const CheckReportInput& in, const SourceShape
         json_number(lo - pad), json_number(hi + pad));
     f.caption = fmt::format(
         "Probe {} ({} at the first angle). Radius: deviation in &micro;m along X, Y, Z (the dashed circle is zero; "
-        "inside it, negative); angle: {} in degrees, 0&deg; to the right, counter-clockwise.",
-        p + 1, place, axis_letter(shape.axis));
+        "inside it, negative); angle: {} in degrees, 0&deg; to the right, counter-clockwise. {}",
+        p + 1, place, axis_letter(shape.axis), frame_note(in.data, rows.front()));
     f.height = 430;
     out.push_back(std::move(f));
   }

@@ -4,6 +4,7 @@
 
 #include <cmath>
 #include <map>
+#include <numbers>
 
 #include "ccomp/util/interval.hpp"
 
@@ -17,7 +18,32 @@ char axis_letter(std::size_t axis) {
 }
 
 double axis_value(const identify::Observation& o, std::size_t axis) {
-  return identify::file_axis_value(o, axis, is_rotary(axis));
+  // The chain's own variable, as the model's terms read it: Z with the tool length in it.
+  const double q = o.q[static_cast<Eigen::Index>(axis)];
+  return is_rotary(axis) ? q * 180.0 / std::numbers::pi : q;
+}
+
+std::string position_title(std::size_t axis) {
+  return fmt::format("{} axis position, machine ({})", axis_letter(axis), is_rotary(axis) ? "deg" : "mm");
+}
+
+std::string frame_note(const identify::MeasurementSet& data, std::size_t reading) {
+  const identify::Observation& o = data.observations[reading];
+  const std::string positions =
+      "Positions are the machine's axis positions (G53, as the control shows them and the model's terms read them)";
+  if (o.file >= data.frames.size()) return positions + ".";
+  const identify::ResolvedFrame& f = data.frames[o.file];
+  const std::string file = o.file < data.files.size() ? data.files[o.file] : std::string("the file");
+  const double tool = o.q[static_cast<Eigen::Index>(model::kToolLengthIndex)];
+  if (f.frame.kind == identify::FrameKind::machine)
+    return fmt::format("{}; {} is in machine coordinates too.", positions, file);
+  std::string origin;
+  for (std::size_t i = 0; i < 3; ++i) origin += fmt::format("{}{} {:g}", i == 0 ? "" : ", ", axis_letter(i), f.origin[i]);
+  return fmt::format(
+      "{}; {} gives program coordinates of {} (origin {} mm{}): its x = X &minus; {:g}, y = Y &minus; {:g}, "
+      "z = Z &minus; {:g} &minus; L (L {:g} mm).",
+      positions, file, model::coordinate_system_name(f.frame.system), origin, f.unknown ? ", which nobody gave" : "",
+      f.origin[0], f.origin[1], f.origin[2], tool);
 }
 
 std::string kind_name(SourceKind kind) {

@@ -32,8 +32,14 @@ struct ReadingDirection {
                                                      const model::MachineModel& model);
 [[nodiscard]] std::vector<ReadingDirection> reading_directions(const identify::MeasurementSet& data,
                                                                const std::vector<std::size_t>& readings);
-/// A program axis' value of a reading, as files write it (mm, deg).
+/// An axis' position at a reading in the machine's frame, as the model's terms read it (mm,
+/// deg): Z is the axis itself (the tool length in it), not the tool tip a program commands.
 [[nodiscard]] double axis_value(const identify::Observation& o, std::size_t axis);
+/// The title of a plot's position axis: "Z axis position, machine (mm)".
+[[nodiscard]] std::string position_title(std::size_t axis);
+/// A sentence saying which frame the plots' positions are in, and how the file of `reading`
+/// writes them (its frame, its origin, the tool length).
+[[nodiscard]] std::string frame_note(const identify::MeasurementSet& data, std::size_t reading);
 [[nodiscard]] bool is_rotary(std::size_t axis);
 [[nodiscard]] char axis_letter(std::size_t axis);
 [[nodiscard]] std::string kind_name(SourceKind kind);

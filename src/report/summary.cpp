@@ -142,7 +142,10 @@ Section provenance_section(const CheckReportInput& in) {
         html_escape(in.data.files[f]), digest, rows.size(), readings);
   }
   s.html +=
-      "</table>\n<h3>Ranges the data span</h3>\n<table><tr><th>variable</th><th>min</th><th>max</th>"
+      "</table>\n<h3>Ranges the data span</h3>\n<p class=\"note\">Positions as the files write them, each in its "
+      "own frame (its <code># frame:</code> line: program coordinates of a work offset, the tool length applied, or "
+      "machine coordinates); the plots show machine axis positions.</p>\n<table><tr><th>variable</th><th>min</th>"
+      "<th>max</th>"
       "<th>unit</th></tr>\n";
   bool temperatures = false;
   for (const identify::VariableRange& r : in.data.ranges) {

@@ -3,8 +3,10 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cctype>
 #include <filesystem>
 #include <regex>
+#include <sstream>
 #include <utility>
 
 #include "short_runs.hpp"
@@ -50,6 +52,36 @@ TEST(IdentifyCli, SimulateCheckFitCheck) {
   r = run_command(ccomp() + " fit " + meas + " -m " + shell_quote(dir + "/start.yaml") + " -o " + fitted);
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_NE(r.out.find("singular values"), std::string::npos);
+  {
+    // Every parameter in the model file's unit, its uncertainty in that unit to the digits it
+    // has: no bare numbers, no "+- 1.5e-14".
+    const std::regex line(
+        R"(^  (E\S+)\s+(\S+) -> +(\S+) (\S+)\s+\+- (\S+|0 \(to rounding\))\s*(\(not separable: see below\))?$)");
+    const std::regex unit(R"(^(um|urad|mm|deg|s|um/mm|urad/mm|um/mm\^\d|urad/mm\^\d|um/degC|urad/degC)$)");
+    const std::regex uncertainty(R"(^(n/a|0 \(to rounding\)|\d+(\.\d+)?|\d(\.\d)?e[-+]\d\d)$)");
+    std::istringstream out(r.out);
+    std::size_t parameters = 0;
+    for (std::string text; std::getline(out, text);) {
+      if (!text.starts_with("  E")) continue;
+      std::smatch p;
+      ASSERT_TRUE(std::regex_match(text, p, line)) << text;
+      ++parameters;
+      EXPECT_TRUE(std::regex_match(p[4].str(), unit)) << text;
+      EXPECT_TRUE(std::regex_match(p[5].str(), uncertainty)) << text;
+      // Two significant digits at most: "0.059", "0.00016", "2.1e-07".
+      if (std::isdigit(static_cast<unsigned char>(p[5].str()[0])) && p[5] != "0 (to rounding)") {
+        std::string digits = p[5].str().substr(0, p[5].str().find('e'));
+        const bool whole = digits.find('.') == std::string::npos;  // "150": its zeros only place
+        digits.erase(std::remove(digits.begin(), digits.end(), '.'), digits.end());
+        digits.erase(0, digits.find_first_not_of('0'));
+        if (whole) digits.erase(digits.find_last_not_of('0') + 1);
+        EXPECT_LE(digits.size(), 2U) << text;
+      }
+      if (p[1] == "EXX.a1") EXPECT_EQ(p[4], "um/mm") << text;
+      if (p[1] == "EC0X") EXPECT_EQ(p[4], "urad") << text;
+    }
+    EXPECT_GE(parameters, 10U) << r.out;
+  }
   EXPECT_NE(read_file(dir + "/fitted.yaml").find("fitted:"), std::string::npos) << "the file records the fit";
   r = run_command(ccomp() + " check " + meas + " -m " + fitted + " --json");
   ASSERT_EQ(r.exit_code, 0) << r.err;

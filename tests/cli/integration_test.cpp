@@ -168,6 +168,52 @@ TEST(Integration, BatchScriptCountsWhatCcompCompensated) {
   EXPECT_NE(one.out.find("2 of 3 programs compensated"), std::string::npos) << one.out;
 }
 
+TEST(Integration, BatchScriptPassesAnyCcompOption) {
+  // The full sample HMC has thermal terms: without its sensors every program is refused; the
+  // options after the model (with or without `--`, after the tool table or in its place)
+  // reach every ccomp, and each output is what ccomp gives with them by hand.
+  const std::string dir = temp_dir("batch_options");
+  fs::create_directories(dir + "/in");
+  const std::string hmc = source_dir() + "/samples/machines/hmc-xyzb.yaml";
+  const std::string tools = source_dir() + "/samples/tools.tbl";
+  const std::string tool_program = "G21 G90 G54\nT1 M6\nG43 H1\nG0 X10 Y20 Z50\nG1 X60 F300\nG1 Y80\nM2\n";
+  for (const char* name : {"a.ngc", "b.ngc", "c.nc", "d.tap"}) write_file(dir + "/in/" + name, kProgram);
+  write_file(dir + "/in/tool.ngc", tool_program);  // G43 H1: needs the tool table
+  const std::string script = "CCOMP=" + shell_quote(ccomp_binary()) + " JOBS=2 bash " +
+                             shell_quote(source_dir() + "/integration/batch/ccomp-batch.sh") + " " + dir + "/in " +
+                             dir + "/out " + shell_quote(hmc);
+  const std::string sensors = "--sensor bed=24 --sensor column=23 --sensor spindle=31 --time 3600";
+
+  const CommandResult bare = run_command(script);
+  EXPECT_NE(bare.exit_code, 0) << bare.out << bare.err;
+  EXPECT_NE(bare.out.find("0 of 5 programs compensated"), std::string::npos) << bare.out;
+  EXPECT_NE(read_file(dir + "/out/ccomp-batch.log").find("bed"), std::string::npos) << "the missing sensor named";
+
+  for (const std::string& options : {" -- " + sensors + " --tool-table " + shell_quote(tools),
+                                     " " + shell_quote(tools) + " " + sensors + " --dialect linuxcnc",
+                                     " " + shell_quote(tools) + " -- " + sensors}) {
+    SCOPED_TRACE(options);
+    fs::remove_all(dir + "/out");
+    const CommandResult r = run_command(script + options);
+    EXPECT_EQ(r.exit_code, 0) << r.out << r.err;
+    EXPECT_NE(r.out.find("5 of 5 programs compensated"), std::string::npos) << r.out;
+    for (const char* name : {"a.ngc", "tool.ngc"}) {
+      const CommandResult direct =
+          run_command(shell_quote(ccomp_binary()) + " " + shell_quote(dir + "/in/" + name) + " -m " + shell_quote(hmc) +
+                      " --tool-table " + shell_quote(tools) + " " + sensors + " -o -");
+      ASSERT_EQ(direct.exit_code, 0) << direct.err;
+      EXPECT_EQ(read_file(dir + "/out/" + name), direct.out) << name;
+    }
+  }
+  // The thermal terms moved the points: the options were not dropped on the way.
+  EXPECT_NE(strip_header(read_file(dir + "/out/tool.ngc")), tool_program);
+
+  // A bad option reaches every ccomp, which refuses it as usage (exit 2).
+  const CommandResult bad = run_command(script + " -- --dialect klingon");
+  EXPECT_EQ(bad.exit_code, 2) << bad.out;
+  EXPECT_NE(bad.out.find("0 of 5 programs compensated"), std::string::npos) << bad.out;
+}
+
 TEST(Integration, FreecadPostRunsAsFreecadRunsIt) {
   // tests/cli/freecad/freecad_post_test.py imports the wrapper by name with stubs of the
   // FreeCAD modules a post imports, and calls export(objects, filename, argstring) as FreeCAD

@@ -101,6 +101,17 @@ TEST(Fit, SaysWhatTheDataCannotSeeAndLeavesItAlone) {
   for (const std::string& u : r.unidentifiable)
     unseen = unseen || (u.find("EBB.b1") != std::string::npos && u.find("no effect") != std::string::npos);
   EXPECT_TRUE(unseen) << "EBB.b1 should be named as invisible";
+  // Each combination the lines cannot separate says what would: here readings with B turned.
+  std::size_t combinations = 0;
+  for (const std::string& u : r.unidentifiable) {
+    if (u.find("cannot separate") == std::string::npos) continue;
+    ++combinations;
+    EXPECT_NE(u.find("; to separate them: "), std::string::npos) << u;
+  }
+  EXPECT_GE(combinations, 1U);
+  bool turn_b = false;
+  for (const std::string& u : r.unidentifiable) turn_b = turn_b || u.find("at several b") != std::string::npos;
+  EXPECT_TRUE(turn_b) << "the table's cosine term against constant offsets: readings at several B";
   for (const FittedParameter& p : r.parameters) {
     if (p.label == "EBB.b1") {
       EXPECT_EQ(p.after, 0.0);

@@ -21,6 +21,31 @@ TEST(NextMeasurement, SaysWhatSeparatesEachKindOfPair) {
   EXPECT_NE(separating_measurement("x", "x").find("more of its range"), std::string::npos);
 }
 
+TEST(NextMeasurement, SaysWhatSeparatesTwoParametersAFitCouldNot) {
+  const model::MachineModel m = model::parse_machine_model(
+      test::read_file(test::source_dir() + "/samples/machines/hmc-xyzb-geometric.yaml"), "hmc.yaml");
+  const auto term = [&](const std::string& name) {
+    for (std::size_t t = 0; t < m.terms.size(); ++t)
+      if (m.terms[t].name == name) return t;
+    ADD_FAILURE() << "no term " << name;
+    return std::size_t{0};
+  };
+  // Constant offsets of the position: nothing separates them, a work offset takes them.
+  const std::string offsets = separating_parameters(m, {term("EXX"), 0}, {term("EXZ"), 0});
+  EXPECT_NE(offsets.find("nothing"), std::string::npos) << offsets;
+  EXPECT_NE(offsets.find("work offset"), std::string::npos) << offsets;
+  // An angle against an offset: another arm (tool length) tells them apart.
+  const std::string arm = separating_parameters(m, {term("EC0X"), 0}, {term("EYY"), 0});
+  EXPECT_NE(arm.find("tool lengths L"), std::string::npos) << arm;
+  EXPECT_NE(arm.find("angle EC0X"), std::string::npos) << arm;
+  // A slope along x against a constant: readings at several x.
+  const std::string slope = separating_parameters(m, {term("EXX"), 1}, {term("EYY"), 0});
+  EXPECT_NE(slope.find("at several x"), std::string::npos) << slope;
+  // Two variables: the candidates' wording.
+  const std::string two = separating_parameters(m, {term("EXX"), 1}, {term("EYZ"), 1});
+  EXPECT_NE(two.find("readings along"), std::string::npos) << two;
+}
+
 TEST(NextMeasurement, AWarmUpRunCannotTellTheSpindlesTemperatureFromTheTime) {
   const std::string base = test::read_file(test::source_dir() + "/samples/machines/hmc-xyzb-geometric.yaml");
   std::string truth = base + "sensors: [spindle]\n";

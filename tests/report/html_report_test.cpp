@@ -222,6 +222,83 @@ TEST(HtmlReport, IsSelfContainedAndRendersInChromium) {
   EXPECT_GT(image.size(), 150000U);
 }
 
+/// The findings tests/report/look_check.js wrote into the rendered page, one a line.
+std::vector<std::string> look_findings(const std::string& dom) {
+  std::vector<std::string> out;
+  const std::size_t open = dom.rfind("<pre id=\"ccomp-look\">");
+  if (open == std::string::npos) return out;
+  const std::size_t start = dom.find('>', open) + 1, end = dom.find("</pre>", start);
+  std::istringstream lines(dom.substr(start, end - start));
+  for (std::string line; std::getline(lines, line);) out.push_back(line);
+  return out;
+}
+
+TEST(HtmlReport, LegendsMatchTheirCurvesAndMapPairsShareOneColourScale) {
+  // What a reader sees, read back from what Chromium drew: each legend entry's symbol in its
+  // curve's colours and every drawn curve with an entry (the down run's refitted curve was
+  // drawn orange under a blue "model refitted" entry); a before/after pair of error maps on
+  // one colour range with the same colour-bar labels (they were 0-30 and 0-6 um); a unit on
+  // every axis.
+  const Simulated& data = simulated();
+  const std::string html = data.dir + "/look.html";
+  CommandResult r = run_command(shell_quote(ccomp_binary()) + " check " + shell_quote(data.csv) + " -m " +
+                                shell_quote(source_dir() + kModel) + " --report " + shell_quote(html));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const std::string page = read_file(html);
+  // In the figures' data: each run's curves named as that run's.
+  for (const char* name : {"model refitted, up", "model refitted, down", "model as it is, up", "model as it is, down",
+                           "ISO 230-2: mean ± 2s, down"})
+    EXPECT_NE(page.find(std::string("\"name\":\"") + name + "\""), std::string::npos) << name;
+  // Positions name their frame.
+  EXPECT_NE(page.find("\"text\":\"X axis position, machine (mm)\""), std::string::npos);
+  EXPECT_NE(page.find("program coordinates of G54"), std::string::npos) << "the file's frame, in the captions";
+
+  const std::string chromium = "/usr/bin/chromium";
+  if (!std::filesystem::exists(chromium))
+    GTEST_FAIL() << "Debian's chromium is not installed at " << chromium << " (tools/install-deps.sh installs it)";
+  std::string checked = page;
+  const std::size_t body = checked.rfind("</body>");
+  ASSERT_NE(body, std::string::npos);
+  checked.insert(body, "<script>" + read_file(source_dir() + "/tests/report/look_check.js") + "</script>\n");
+  const std::string checked_html = data.dir + "/look-checked.html";
+  write_file(checked_html, checked);
+  r = run_command("timeout 120 " + chromium + chromium_flags(temp_dir("html_look_profile")) +
+                  "--enable-logging=stderr --v=0 --window-size=1280,2400 --dump-dom " +
+                  shell_quote("file://" + checked_html));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(count(r.err, "Uncaught"), 0U) << r.err;
+  const std::vector<std::string> findings = look_findings(r.out);
+  ASSERT_FALSE(findings.empty()) << "the check script did not run";
+  std::smatch m;
+  ASSERT_TRUE(std::regex_match(findings.back(), m,
+                               std::regex(R"(CHECKED legends (\d+) entries (\d+) pairs (\d+) axes (\d+))")))
+      << findings.back();
+  EXPECT_GE(std::stoul(m[1]), count(page, "id=\"fig-line-")) << "every line plot has its legend";
+  EXPECT_GE(std::stoul(m[2]), 4 * count(page, "id=\"fig-line-")) << "measured, refitted, as it is: up and down";
+  EXPECT_EQ(std::stoul(m[3]), 3U) << "XY, XZ and YZ: before and after";
+  EXPECT_GE(std::stoul(m[4]), 2 * count(page, "id=\"fig-line-"));
+  for (std::size_t k = 0; k + 1 < findings.size(); ++k) ADD_FAILURE() << findings[k];
+
+  // As a reader sees them: a screenshot of the laser lines (their legends) and one of the maps
+  // (each pair's colour bars), each section alone on the page, not blank and not alike.
+  std::vector<std::string> images;
+  for (const char* section : {"lines", "maps"}) {
+    std::string alone = page;
+    alone.insert(alone.find("</head>"),
+                 std::string("<style>section:not(#") + section + "),nav{display:none}</style>");
+    const std::string file = data.dir + "/" + section + ".html", png = data.dir + "/" + section + ".png";
+    write_file(file, alone);
+    r = run_command("timeout 120 " + chromium + chromium_flags(temp_dir("html_look_png")) +
+                    "--window-size=1200,1400 --screenshot=" + shell_quote(png) + " " + shell_quote("file://" + file));
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    images.push_back(read_file(png));
+    ASSERT_GT(images.back().size(), 24U);
+    EXPECT_EQ(images.back().substr(1, 3), "PNG");
+    EXPECT_GT(images.back().size(), 100000U) << section << ": drawn plots, not a blank page";
+  }
+  EXPECT_NE(images[0], images[1]);
+}
+
 TEST(HtmlReport, FitWritesTheCheckOfTheFittedModel) {
   const Simulated& data = simulated();
   const std::string fitted = data.dir + "/fitted.yaml", html = data.dir + "/fit.html";

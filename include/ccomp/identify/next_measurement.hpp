@@ -18,4 +18,13 @@ namespace ccomp::identify {
 /// ("T_spindle" and "t", "x,z" and "x"...), and why.
 [[nodiscard]] std::string separating_measurement(const std::string& a, const std::string& b);
 
+/// A parameter of a model: its term, and its place among the term's parameters.
+struct TermParameter {
+  std::size_t term = 0, k = 0;
+};
+/// In words, what to measure to tell apart parameters `a` and `b` of `model` that a fit
+/// could not separate (by the variables they change with, an angle from an offset), or
+/// that no measurement can (constant offsets of the position: a work offset's business).
+[[nodiscard]] std::string separating_parameters(const model::MachineModel& model, TermParameter a, TermParameter b);
+
 }  // namespace ccomp::identify

@@ -8,6 +8,7 @@ export() returns). The FreeCAD modules a post imports are stubs (stubs/).
 import importlib
 import os
 import shutil
+import subprocess
 import sys
 import tempfile
 import unittest
@@ -50,7 +51,7 @@ class FreecadPost(unittest.TestCase):
     def setUp(self):
         self.dir = tempfile.mkdtemp(prefix="ccomp_post_")
         self.addCleanup(shutil.rmtree, self.dir)
-        for name in ("CCOMP", "CCOMP_MODEL", "CCOMP_TOOLS"):
+        for name in ("CCOMP", "CCOMP_MODEL", "CCOMP_TOOLS", "CCOMP_ARGS"):
             os.environ.pop(name, None)
         # A machine whose X stops at 100 mm: a program going further is refused (exit 7).
         self.small = os.path.join(self.dir, "small.yaml")
@@ -114,6 +115,44 @@ class FreecadPost(unittest.TestCase):
         with open(out) as f:
             self.assertNotIn("(ccomp ", f.read())  # the posted file left uncompensated
         self.assertFalse(os.path.exists(out + ".orig"))
+
+    def test_any_ccomp_option_passes_through(self):
+        # The full sample HMC has thermal terms: refused without its sensors (the missing one
+        # named), compensated with them, given as --ccomp-args (repeatable) or $CCOMP_ARGS, the
+        # same as ccomp by hand.
+        hmc = os.path.join(SOURCE, "samples", "machines", "hmc-xyzb.yaml")
+        with self.assertRaises(self.post.CcompError) as caught:
+            self.post.export(profile(), "-", self.args(hmc))
+        self.assertRegex(str(caught.exception), r"sensor.*bed|bed.*sensor")
+        sensors = ["--sensor", "bed=24", "--sensor", "column=23", "--sensor", "spindle=31", "--time", "3600"]
+        posted = self.base.export(profile(), "-", "--no-show-editor")
+        by_hand = subprocess.run([BINARY, "-", "-o", "-", "-q", "-m", hmc] + sensors + ["--tolerance", "0.002"],
+                                 input=posted, capture_output=True, text=True)
+        self.assertEqual(by_hand.returncode, 0, by_hand.stderr)
+        self.assertNotEqual(without_header(by_hand.stdout), posted, "the thermal model moves the points")
+        arguments = self.args(hmc) + ' --ccomp-args="%s" --ccomp-args="--tolerance 0.002"' % " ".join(sensors)
+        self.base.received.clear()
+        self.assertEqual(self.post.export(profile(), "-", arguments), by_hand.stdout)
+        self.assertEqual(self.base.received, ["--no-show-editor"])  # ours taken out
+        # A single option written with '=' (argparse would take a bare '--exact' for an option).
+        self.assertTrue(self.post.export(profile(), "-", arguments + " --ccomp-args=--exact").startswith("(ccomp "))
+        # From the environment when the arguments give none; the arguments win.
+        os.environ["CCOMP_ARGS"] = " ".join(sensors) + " --tolerance 0.002"
+        self.assertEqual(self.post.export(profile(), "-", self.args(hmc)), by_hand.stdout)
+        with self.assertRaises(self.post.CcompError) as caught:
+            self.post.export(profile(), "-", self.args(hmc) + " --ccomp-args=--dialect=klingon")
+        self.assertIn("exit 2", str(caught.exception))
+        os.environ.pop("CCOMP_ARGS")
+        # The file form (FreeCAD 0.21): compensated in place with the options.
+        out = os.path.join(self.dir, "hmc.ngc")
+        self.post.export(profile(), out, arguments)
+        with open(out) as f:
+            self.assertEqual(f.read(), by_hand.stdout)
+
+    def test_unbalanced_quote_in_the_ccomp_options_is_a_clear_error(self):
+        with self.assertRaises(self.post.CcompError) as caught:
+            self.post.export(profile(), "-", self.args(ZERO) + " --ccomp-args='--sensor \"bed=2'")
+        self.assertIn("cannot read the ccomp options", str(caught.exception))
 
     def test_base_post_refusing_its_arguments_returns_none(self):
         self.assertIsNone(self.post.export(profile(), "-", self.args(ZERO, "--no-such-option")))
