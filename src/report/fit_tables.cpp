@@ -70,6 +70,13 @@ std::string parameter_unit_name(const model::MachineModel& m, const model::Error
       return k == 1 ? "s" : unit_name(scale, angle);
     case model::TermForm::bump:
       return k == 0 ? unit_name(scale, angle) : var;
+    case model::TermForm::reversal: {  // r_k of w^k along its axis
+      const std::string base = unit_name(scale * std::pow(variable_unit(m, t.secondary).second, static_cast<double>(k)),
+                                         angle);
+      if (base.empty() || k == 0) return base;
+      const std::string along = variable_unit(m, t.secondary).first;
+      return k == 1 ? base + "/" + along : fmt::format("{}/{}^{}", base, along, k);
+    }
     case model::TermForm::scale_expansion:
     case model::TermForm::cross_axis:
       return "";
