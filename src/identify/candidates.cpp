@@ -80,29 +80,45 @@ void add_reversals(const MeasurementSet& data, const AxisInfo& a, const std::str
 }
 
 /// A smooth error of axis `a`'s carriage in `component` (a translation) over its own
-/// position u and another axis' w, beyond linear: sum c_ij u^i w^j, i <= 2, 1 <= j <= 2 (a
-/// table overhang sagging with x^2 the further it reaches, a guideway bending under a load).
-Candidate smooth_two_variable(const AxisInfo& a, const AxisInfo& w, int component, std::size_t probe) {
+/// position u and another axis' w, beyond linear (a table overhang sagging with x^2 the
+/// further it reaches, a guideway bending under a load), as two tensor-product polynomials
+/// of low order: quadratic in u and linear in w (sum c_i1 u^i w, i <= 2), or linear in u and
+/// quadratic in w (sum c_ij u^i w^j, i <= 1, j <= 2). (One of both orders at once would have
+/// columns the data barely tell apart, and values no machine has.) The model file's term is
+/// the whole polynomial; the fit takes its linear part where the data determine it.
+Candidate smooth_two_variable(const AxisInfo& a, const AxisInfo& w, int component, std::size_t probe,
+                              bool quadratic_in_own) {
   const std::string term = term_name(component, a.link, false);
   Candidate x;
   x.effect = fmt::format(
-      "{} of the {} carriage that changes smoothly with the {} position beyond linear (an overhang sagging, a "
-      "guideway bending under a load)",
-      component == a.own ? "positioning" : "straightness", kAxisLetters[a.index], kAxisLetters[w.index]);
+      "{} of the {} carriage that changes with the {} position and {} (an overhang sagging, a guideway bending "
+      "under a load)",
+      component == a.own ? "positioning" : "straightness", kAxisLetters[a.index], kAxisLetters[w.index],
+      quadratic_in_own ? std::string("with the square of its own") : fmt::format("with the square of the {}'s", kAxisLetters[w.index]));
   x.error = term, x.term = term, x.variable = axis_name(a.index) + "," + axis_name(w.index);
   x.form = "interaction";
   x.probe = probe;
-  x.basis_count = 6;
   const auto ai = static_cast<Eigen::Index>(a.index), wi = static_cast<Eigen::Index>(w.index);
-  x.basis = [ai, wi](const Observation& o, int k, double) {  // row i = k / 2, column j = k % 2 + 1
-    return std::pow(o.q[ai], k / 2) * std::pow(o.q[wi], k % 2 + 1);
-  };
-  x.yaml = [term, other = axis_name(w.index)](const Eigen::VectorXd& c, double) {
-    return fmt::format(
-        "{{name: {}, form: cross_axis, other: {}, unit: um, coefficients: [[{:.4g}, {:.4g}], [{:.4g}, {:.4g}], "
-        "[{:.4g}, {:.4g}]], fit: true}}",
-        term, other, 1e3 * c[0], 1e3 * c[1], 1e3 * c[2], 1e3 * c[3], 1e3 * c[4], 1e3 * c[5]);
-  };
+  // Only the columns beyond linear: the linear cross-axis candidate has the others, and a
+  // base's squareness takes w alone, which would leave its coefficient to the noise.
+  if (quadratic_in_own) {
+    x.basis = [ai, wi](const Observation& o, int, double) { return o.q[ai] * o.q[ai] * o.q[wi]; };
+    x.yaml = [term, other = axis_name(w.index)](const Eigen::VectorXd& c, double) {
+      return fmt::format(
+          "{{name: {}, form: cross_axis, other: {}, unit: um, coefficients: [[0], [0], [{:.4g}]], fit: true}}", term,
+          other, 1e3 * c[0]);
+    };
+  } else {
+    x.basis_count = 2;
+    x.basis = [ai, wi](const Observation& o, int k, double) {
+      return (k == 0 ? 1.0 : o.q[ai]) * o.q[wi] * o.q[wi];
+    };
+    x.yaml = [term, other = axis_name(w.index)](const Eigen::VectorXd& c, double) {
+      return fmt::format(
+          "{{name: {}, form: cross_axis, other: {}, unit: um, coefficients: [[0, {:.4g}], [0, {:.4g}]], fit: true}}",
+          term, other, 1e3 * c[0], 1e3 * c[1]);
+    };
+  }
   return x;
 }
 }  // namespace
@@ -376,7 +392,8 @@ std::vector<Candidate> candidate_library(const model::MachineModel& mm, const Me
           candidates.push_back(x);
         }
         for (int component = 0; component < 3; ++component)
-          candidates.push_back(smooth_two_variable(a, w, component, probe(a.link, component)));
+          for (const bool quadratic_in_own : {true, false})
+            candidates.push_back(smooth_two_variable(a, w, component, probe(a.link, component), quadratic_in_own));
       }
     } else {
       // The table: harmonics of its error motions, its worm wheel, tilt and eccentricity.
