@@ -7,6 +7,7 @@
 // its parameters).
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <functional>
 #include <string>
 #include <vector>
@@ -17,6 +18,7 @@
 #include "ccomp/model/forward.hpp"
 #include "ccomp/model/machine.hpp"
 #include "ccomp/model/model_file.hpp"
+#include "ccomp/model/term_forms.hpp"
 #include "random_chain.hpp"
 #include "sample_models.hpp"
 #include "term_shapes.hpp"
@@ -246,6 +248,9 @@ const model::ForwardModel& forward_model() {
   - {name: EZ0B, value: -4, fit: true}
   - {name: EA0Y, value: 6, fit: true}
   - {name: EB0X, value: -7, fit: true}
+  - {name: EXX, variable: vx, form: reversal, along: x, reversal: [3, 0.005], fit: true}
+  - {name: EBB, variable: vb, form: reversal, reversal: 9, fit: true}
+  - {name: EYY, form: cross_axis, other: x, coefficients: [[0, 3.0e-6], [0, 1.0e-9]], fit: true}
 )",
                                                                         "m.yaml");
   static const model::ForwardModel m(machine);
@@ -261,6 +266,7 @@ model::ChainQ forward_point() {
 model::Conditions forward_conditions() {
   model::Conditions c;
   c.temperatures = {20.0, 27.0};  // bed, spindle
+  c.directions[0] = -1.0, c.directions[4] = 1.0;  // X approached downward, B upward: the reversals switched
   return c;
 }
 
@@ -341,23 +347,29 @@ std::pair<Matrix, Matrix> term_derivatives(const FormCase& c) {
   return {analytic, numeric};
 }
 
-std::vector<JacobianCase> model_cases() {
-  std::vector<JacobianCase> cases{{"forward_axes", forward_axes, 1e-7, true, 1.0},
-                                  {"forward_parameters", forward_parameters, 1e-6, true, 1e-2}};
-  const FormCase forms[] = {
+/// A case of every shape of every form (model/term_forms.hpp lists the forms).
+std::vector<FormCase> form_cases() {
+  return {
       {"constant", shape(TermForm::constant), vec({0.004}), {123.0, 0.0}},
       {"polynomial", shape(TermForm::polynomial, 3), vec({1e-3, 2e-5, -3e-8, 4e-11}), {157.0, 0.0}},
       {"table_linear", table(Interpolation::linear), vec({0.001, -0.002, 0.0, 0.003, 0.001, -0.004}), {87.0, 0.0}},
       {"table_cubic", table(Interpolation::cubic), vec({0.001, -0.002, 0.0, 0.003, 0.001, -0.004}), {87.0, 0.0}},
       {"periodic", shape(TermForm::periodic, 2), vec({10.0, 0.003, -0.001, 0.0005, 0.0002}), {37.3, 0.0}},
       {"reversal", shape(TermForm::reversal), vec({0.006}), {-1.0, 0.0}},
+      {"reversal_along", reversal_along(), vec({0.003, 6e-6, -4e-9}), {0.4, 215.0}},
       {"thermal_linear", shape(TermForm::thermal_linear), vec({0.0011}), {27.5, 0.0}},
       {"thermal_warmup", shape(TermForm::thermal_warmup), vec({0.015, 1800.0}), {900.0, 0.0}},
       {"scale_expansion", shape(TermForm::scale_expansion), vec({11.5e-6}), {250.0, 24.0}},
       {"cross_axis", cross(), vec({1e-5, 2e-8, -3e-8, 4e-11}), {120.0, -80.0}},
+      {"cross_axis_quadratic", cross_quadratic(), vec({1e-5, 2e-8, -3e-8, 4e-11, 5e-11, -2e-13}), {120.0, -80.0}},
       {"bump", shape(TermForm::bump), vec({0.006, 110.0, 12.5}), {118.0, 0.0}},
   };
-  for (const FormCase& form : forms) {
+}
+
+std::vector<JacobianCase> model_cases() {
+  std::vector<JacobianCase> cases{{"forward_axes", forward_axes, 1e-7, true, 1.0},
+                                  {"forward_parameters", forward_parameters, 1e-6, true, 1e-2}};
+  for (const FormCase& form : form_cases()) {
     cases.push_back({std::string("term_") + form.name, [form] { return term_derivatives(form); }, 1e-6, true, 1e-3});
   }
   return cases;
@@ -390,6 +402,16 @@ TEST_P(Jacobians, MatchFiniteDifferences) {
         << analytic << "\nnumeric\n"
         << numeric;
   }
+}
+
+// The suite holds every form the registry lists: a new form without a case here fails.
+TEST(JacobianForms, EveryRegisteredFormHasACase) {
+  const std::vector<FormCase> cases = form_cases();
+  for (const model::TermFormInfo& f : model::term_forms())
+    EXPECT_TRUE(std::any_of(cases.begin(), cases.end(), [&f](const FormCase& c) { return c.shape.form == f.form; }))
+        << "no Jacobian case of form " << f.names.front();
+  EXPECT_EQ(model::term_forms().size(), static_cast<std::size_t>(model::TermForm::bump) + 1)
+      << "a form of TermForm the registry lacks";
 }
 
 INSTANTIATE_TEST_SUITE_P(All, Jacobians, ::testing::ValuesIn(all_cases()),

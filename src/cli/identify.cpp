@@ -374,6 +374,7 @@ int run_check(const IdentifyArgs& args) {
     if (s.period > 0)
       fmt::print(", {} {:.6g} +- {:.2g}", s.form == "exponential" ? "time constant" : "period", s.period,
                  s.period_uncertainty);
+    if (!s.aliasing.empty()) fmt::print("\n   {}", s.aliasing);
     fmt::print(
         "\n   rms {:.3f} -> {:.3f} um{}, BIC {:+.1f}; on readings left out (by {}) it predicts {:.0f}% of what it "
         "explains\n   add to the model:\n{}\n   or: ccomp fit ... --add '{}'\n",

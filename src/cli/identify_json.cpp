@@ -148,6 +148,9 @@ std::string check_json(const model::MachineModel& m, const identify::CheckReport
     j.field("variable", s.variable).field("form", s.form);
     j.field("period", s.period > 0 ? s.period : std::nan(""));
     j.field("period_uncertainty", s.period > 0 ? s.period_uncertainty : std::nan(""));
+    j.key("aliases").begin_array();
+    for (const double a : s.aliases) j.value(a);
+    j.end_array().field("aliasing", s.aliasing);
     j.field("spec", s.spec).field("rms_before_um", s.rms_before * 1e3).field("rms_after_um", s.rms_after * 1e3);
     j.field("bic_delta", s.bic_delta).field("significance", s.significance).field("held_out", s.held_out);
     j.field("held_out_by", s.held_out_by).field("refitted", s.refitted).end_object();

@@ -1,5 +1,7 @@
 #include "candidates.hpp"
 
+#include "aliasing.hpp"
+
 #include <fmt/format.h>
 
 #include <algorithm>
@@ -24,6 +26,101 @@ void periodic_in(Candidate& c, std::function<double(const Observation&)> variabl
   c.phase_variable = std::move(variable);
 }
 
+
+/// Reversal candidates of axis `a` where the data approach it both ways: its positioning
+/// (or, on a rotary axis, its angle) depends on the direction it came from (backlash, lost
+/// motion); and the same varying along the axis (a screw or a worm worn more where it works
+/// most: 1 um at one end, 6 um at the other).
+void add_reversals(const MeasurementSet& data, const AxisInfo& a, const std::string& own, std::vector<Candidate>& out,
+                   std::size_t probe) {
+  const std::size_t vi = a.index;
+  const auto first = data.observations.empty() ? 0 : data.observations.front().directions[vi];
+  if (std::all_of(data.observations.begin(), data.observations.end(),
+                  [vi, first](const Observation& o) { return o.directions[vi] == first; }))
+    return;
+  const char letter = kAxisLetters[vi];
+  const std::string v = axis_name(vi);
+  const bool rotary = a.rotary;
+  const std::string unit = rotary ? "urad" : "um";
+  const double file = rotary ? 1e6 : 1e3;  // internal per file unit of the reversal
+  Candidate r;
+  r.effect = rotary ? fmt::format(
+                          "reversal of the {} axis: its angle depends on the direction it turned to (backlash of "
+                          "the worm and wheel, a clamp's lost motion)",
+                          letter)
+                    : fmt::format(
+                          "reversal of the {} axis: its position depends on the approach direction (backlash, "
+                          "lost motion)",
+                          letter);
+  r.error = own, r.term = own, r.variable = "v" + v, r.form = "reversal";
+  r.probe = probe;
+  r.basis = [vi](const Observation& o, int, double) { return 0.5 * o.directions[vi]; };
+  r.yaml = [own, v, file, unit](const Eigen::VectorXd& x, double) {
+    return fmt::format("{{name: {}, variable: v{}, form: reversal, unit: {}, reversal: {:.4g}, fit: true}}", own, v,
+                       unit, file * x[0]);
+  };
+  out.push_back(r);
+  // Varying along the axis: r(u) = r0 + r1 u, u the axis' position (mm, or deg on a rotary axis).
+  Candidate g = r;
+  g.effect = fmt::format("reversal of the {} axis that changes along its travel (a {} worn more where it works most)",
+                         letter, rotary ? "worm" : "screw");
+  g.variable = "v" + v + "," + v;
+  g.basis_count = 2;
+  const double per = rotary ? kRadPerDeg : 1.0;  // internal units of the position per file unit
+  g.basis = [vi, per](const Observation& o, int k, double) {
+    return 0.5 * o.directions[vi] * (k == 0 ? 1.0 : o.q[static_cast<Eigen::Index>(vi)] / per);
+  };
+  // (x[1] is per mm, or per deg, of the position, as the model file's r1.)
+  g.yaml = [own, v, file, unit](const Eigen::VectorXd& x, double) {
+    return fmt::format(
+        "{{name: {}, variable: v{}, form: reversal, along: {}, unit: {}, reversal: [{:.4g}, {:.4g}], fit: true}}", own,
+        v, v, unit, file * x[0], file * x[1]);
+  };
+  out.push_back(g);
+}
+
+/// A smooth error of axis `a`'s carriage in `component` (a translation) over its own
+/// position u and another axis' w, beyond linear (a table overhang sagging with x^2 the
+/// further it reaches, a guideway bending under a load), as two tensor-product polynomials
+/// of low order: quadratic in u and linear in w (sum c_i1 u^i w, i <= 2), or linear in u and
+/// quadratic in w (sum c_ij u^i w^j, i <= 1, j <= 2). (One of both orders at once would have
+/// columns the data barely tell apart, and values no machine has.) The model file's term is
+/// the whole polynomial; the fit takes its linear part where the data determine it.
+Candidate smooth_two_variable(const AxisInfo& a, const AxisInfo& w, int component, std::size_t probe,
+                              bool quadratic_in_own) {
+  const std::string term = term_name(component, a.link, false);
+  Candidate x;
+  x.effect = fmt::format(
+      "{} of the {} carriage that changes with the {} position and {} (an overhang sagging, a guideway bending "
+      "under a load)",
+      component == a.own ? "positioning" : "straightness", kAxisLetters[a.index], kAxisLetters[w.index],
+      quadratic_in_own ? std::string("with the square of its own") : fmt::format("with the square of the {}'s", kAxisLetters[w.index]));
+  x.error = term, x.term = term, x.variable = axis_name(a.index) + "," + axis_name(w.index);
+  x.form = "interaction";
+  x.probe = probe;
+  const auto ai = static_cast<Eigen::Index>(a.index), wi = static_cast<Eigen::Index>(w.index);
+  // Only the columns beyond linear: the linear cross-axis candidate has the others, and a
+  // base's squareness takes w alone, which would leave its coefficient to the noise.
+  if (quadratic_in_own) {
+    x.basis = [ai, wi](const Observation& o, int, double) { return o.q[ai] * o.q[ai] * o.q[wi]; };
+    x.yaml = [term, other = axis_name(w.index)](const Eigen::VectorXd& c, double) {
+      return fmt::format(
+          "{{name: {}, form: cross_axis, other: {}, unit: um, coefficients: [[0], [0], [{:.4g}]], fit: true}}", term,
+          other, 1e3 * c[0]);
+    };
+  } else {
+    x.basis_count = 2;
+    x.basis = [ai, wi](const Observation& o, int k, double) {
+      return (k == 0 ? 1.0 : o.q[ai]) * o.q[wi] * o.q[wi];
+    };
+    x.yaml = [term, other = axis_name(w.index)](const Eigen::VectorXd& c, double) {
+      return fmt::format(
+          "{{name: {}, form: cross_axis, other: {}, unit: um, coefficients: [[0, {:.4g}], [0, {:.4g}]], fit: true}}",
+          term, other, 1e3 * c[0], 1e3 * c[1]);
+    };
+  }
+  return x;
+}
 }  // namespace
 
 /// A candidate's columns at a scanned value (a period, a time constant): its probe's
@@ -66,12 +163,15 @@ std::vector<AxisInfo> axes_of(const model::MachineModel& mm, const MeasurementSe
       for (const Observation& o : data.observations) reach.add(axis_value(o, a));
       a.from = reach.lo, a.to = reach.hi;
       // The median spacing between consecutive readings that differ along this axis only.
-      std::vector<double> steps;
+      std::vector<double> steps, positions;  // and the positions such moves visit
       for (std::size_t i = 1; i < data.observations.size(); ++i) {
         const model::ChainQ d = data.observations[i].q - data.observations[i - 1].q;
         const double travel = std::abs(d[qi]);
-        if (travel > 1e-9 && d.norm() - travel < 1e-9 * (1.0 + travel))
+        if (travel > 1e-9 && d.norm() - travel < 1e-9 * (1.0 + travel)) {
           steps.push_back(a.rotary ? travel / kRadPerDeg : travel);
+          positions.push_back(axis_value(data.observations[i - 1], a));
+          positions.push_back(axis_value(data.observations[i], a));
+        }
       }
       if (steps.empty()) {
         // No reading moves along this axis alone (a sphere probed as B turns moves X and Z
@@ -80,12 +180,15 @@ std::vector<AxisInfo> axes_of(const model::MachineModel& mm, const MeasurementSe
         for (const Observation& o : data.observations) visited.push_back(axis_value(o, a));
         std::sort(visited.begin(), visited.end());
         for (std::size_t i = 1; i < visited.size(); ++i)
-          if (visited[i] - visited[i - 1] > 1e-9 * (1.0 + std::abs(visited[i])))
+          if (visited[i] - visited[i - 1] > 1e-9 * (1.0 + std::abs(visited[i]))) {
             steps.push_back(visited[i] - visited[i - 1]);
+            positions.push_back(visited[i]);
+          }
       }
       if (!steps.empty()) {
         std::nth_element(steps.begin(), steps.begin() + static_cast<std::ptrdiff_t>(steps.size() / 2), steps.end());
         a.step = steps[steps.size() / 2];
+        a.on_lattice = on_lattice(positions, a.step);
       }
       axes.push_back(a);
     }
@@ -148,10 +251,17 @@ std::vector<Candidate> candidate_library(const model::MachineModel& mm, const Me
       c.error = own, c.term = own, c.variable = v, c.form = "periodic";
       c.probe = probe(a.link, a.own);
       periodic_in(c, [&a, position](const Observation& o) { return position(o, a); });
-      // Periods below 2.5 steps of the data along the axis would alias.
+      // Readings every step s along the axis (on a lattice) cannot tell a period from its
+      // aliases 1 / (k / s +- 1 / P): the scan covers two steps (Nyquist) and up, and what it
+      // finds is said to be possibly aliased (aliasing.hpp). With ISO 230-2's irregular
+      // targets no period aliases another: it goes on down to a quarter of the spacing.
       // A period is named only where the data cover enough of its cycles to tell it from a
       // slow curve (a shape the library lacks, a thermal drift seen along a line): four.
-      c.scan_from = std::max(2.0, 2.5 * a.step), c.scan_to = span / kCyclesForAPeriod;
+      c.scan_from = std::max(2.0, (a.on_lattice ? 2.0 : 0.25) * a.step), c.scan_to = span / kCyclesForAPeriod;
+      if (a.on_lattice) {
+        c.lattice_step = a.step, c.shortest_period = 2.0, c.period_unit = "mm";
+        c.settling_run = fmt::format("a laser line along {}", kAxisLetters[a.index]);
+      }
       // Two frequencies per peak width (1 / span): a peak is seen at 80% of its height or
       // better, and refined between its neighbours.
       c.scan_points = static_cast<int>(std::clamp(2.0 * span / c.scan_from, 50.0, 6000.0));
@@ -162,23 +272,7 @@ std::vector<Candidate> candidate_library(const model::MachineModel& mm, const Me
             own, period, file_value(component, x[0]), file_value(component, x[1]));
       };
       candidates.push_back(c);
-      // Reversal: the axis' positioning differs with the approach direction (backlash).
-      const std::size_t vi = a.index;
-      if (varies([vi](const Observation& o) { return static_cast<double>(o.directions[vi]); })) {
-        Candidate r;
-        r.effect = fmt::format(
-            "reversal of the {} axis: its position depends on the approach direction (backlash, "
-            "lost motion)",
-            kAxisLetters[a.index]);
-        r.error = own, r.term = own, r.variable = "v" + v, r.form = "reversal";
-        r.probe = probe(a.link, a.own);
-        r.basis = [vi](const Observation& o, int, double) { return 0.5 * o.directions[vi]; };
-        r.yaml = [own, v, file_value, component = a.own](const Eigen::VectorXd& x, double) {
-          return fmt::format("{{name: {}, variable: v{}, form: reversal, unit: um, reversal: {:.4g}, fit: true}}", own,
-                             v, file_value(component, x[0]));
-        };
-        candidates.push_back(r);
-      }
+      add_reversals(data, a, own, candidates, probe(a.link, a.own));
       // Higher order: positioning and straightness, one degree above what the model has.
       for (int component = 0; component < 3; ++component) {
         const std::string term = name(component, a.link, false);
@@ -297,6 +391,9 @@ std::vector<Candidate> candidate_library(const model::MachineModel& mm, const Me
           };
           candidates.push_back(x);
         }
+        for (int component = 0; component < 3; ++component)
+          for (const bool quadratic_in_own : {true, false})
+            candidates.push_back(smooth_two_variable(a, w, component, probe(a.link, component), quadratic_in_own));
       }
     } else {
       // The table: harmonics of its error motions, its worm wheel, tilt and eccentricity.
@@ -329,7 +426,12 @@ std::vector<Candidate> candidate_library(const model::MachineModel& mm, const Me
       w.error = own, w.term = own, w.variable = v, w.form = "periodic";
       w.probe = probe(a.link, a.own);
       periodic_in(w, [&a, position](const Observation& o) { return position(o, a) / kRadPerDeg; });
-      w.scan_from = std::max(1.0, 2.5 * a.step), w.scan_to = std::min(90.0, span / kCyclesForAPeriod);
+      w.scan_from = std::max(1.0, (a.on_lattice ? 2.0 : 0.25) * a.step);
+      w.scan_to = std::min(90.0, span / kCyclesForAPeriod);
+      if (a.on_lattice) {
+        w.lattice_step = a.step, w.shortest_period = 1.0, w.period_unit = "deg";
+        w.settling_run = fmt::format("the table probed as {} turns", kAxisLetters[a.index]);
+      }
       w.scan_points = static_cast<int>(std::clamp(2.0 * span / w.scan_from, 50.0, 6000.0));
       w.yaml = [own, file_value, component = a.own](const Eigen::VectorXd& x, double period) {
         return fmt::format(
@@ -338,6 +440,7 @@ std::vector<Candidate> candidate_library(const model::MachineModel& mm, const Me
             own, period, file_value(component, x[0]), file_value(component, x[1]));
       };
       candidates.push_back(w);
+      add_reversals(data, a, own, candidates, probe(a.link, a.own));
       for (int component = 0; component < 6; ++component) {
         // Along or about its own line a rotary axis' location changes nothing.
         if (component == a.own || component == a.own - 3) continue;

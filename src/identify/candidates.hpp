@@ -52,6 +52,11 @@ struct Candidate {
   /// Local candidates: how far from the scanned place a row still counts (its basis is
   /// below 4e-6 beyond: 5 standard deviations of a bell).
   double reach = 0.0;
+  /// Periodic candidates whose readings sample the variable on a lattice: its step (mm,
+  /// deg; 0 where the targets are irregular), the shortest period a mechanism of the kind
+  /// has, and the run that would tell a period from its aliases.
+  double lattice_step = 0.0, shortest_period = 0.0;
+  std::string settling_run, period_unit;
   /// The YAML term with coefficients (internal units) and the scanned value.
   std::function<std::string(const Eigen::VectorXd&, double)> yaml;
 };
@@ -64,6 +69,7 @@ struct AxisInfo {
   int own = 0;              // the component along (or about) the axis
   double from = 0, to = 0;  // range in the data (mm, deg)
   double step = 0;          // the typical spacing of the data along it (mm, deg)
+  bool on_lattice = false;  // the readings' positions along it lie every `step` (aliasing.hpp)
 };
 
 /// The lower-case letter of axis `i` (0 = x).

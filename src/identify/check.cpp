@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 #include <map>
+#include <optional>
+#include <utility>
 #include <tuple>
 
 #include "ccomp/identify/fit.hpp"
@@ -43,6 +45,35 @@ CheckReport check(const model::ForwardModel& model, const MeasurementSet& data) 
   return report;
 }
 
+namespace {
+
+/// Readings a, b, c along one run: a line (the steps along one direction, one way), or the
+/// rotary axes stepping one way with the linear axes following smoothly (a point on the
+/// table kept under the probe as it turns: its positions lie on a circle), the time moving
+/// with them. Their steps h1, h2 along it (mm, rad), or none. ISO 230-2's irregular targets
+/// space them unevenly; the combination below cancels a straight line whatever the steps.
+std::optional<std::pair<double, double>> run_steps(const Observation& a, const Observation& b, const Observation& c) {
+  const model::ChainQ step1 = b.q - a.q, step2 = c.q - b.q;
+  const auto turn1 = step1.segment<3>(3), turn2 = step2.segment<3>(3);
+  const bool turning = turn1.norm() > 0 || turn2.norm() > 0;
+  model::ChainQ travel1 = step1, travel2 = step2;
+  if (turning) travel1.segment<3>(3).setZero(), travel2.segment<3>(3).setZero();
+  const double h1 = turning ? turn1.norm() : step1.norm(), h2 = turning ? turn2.norm() : step2.norm();
+  if (!(h1 > 0 && h2 > 0) || h2 > 3 * h1 || h1 > 3 * h2) return std::nullopt;
+  if (std::abs((c.time - b.time) * h1 - (b.time - a.time) * h2) > 1e-6 * (1.0 + std::abs(c.time)) * (h1 + h2))
+    return std::nullopt;
+  if (!turning) {
+    if ((step2 / h2 - step1 / h1).norm() > 1e-6) return std::nullopt;
+  } else {
+    if ((turn2 / h2 - turn1 / h1).norm() > 1e-6) return std::nullopt;
+    // On a circle turned by d, the steps' directions differ by d (up to 0.5 rad).
+    if ((travel2 / h2 - travel1 / h1).norm() > 0.5 * travel1.norm() / h1 + 1e-6) return std::nullopt;
+  }
+  return std::pair{h1, h2};
+}
+
+}  // namespace
+
 NoiseFloor noise_floor(const MeasurementSet& data, const Eigen::VectorXd& r) {
   NoiseFloor report;
   // Repeated points: the same position (to 1 um), direction, approach and conditions.
@@ -76,41 +107,41 @@ NoiseFloor noise_floor(const MeasurementSet& data, const Eigen::VectorXd& r) {
     report.method = "repeated points";
     return report;
   }
-  // Second differences of residuals at evenly spaced points along a line (a laser run, a
-  // row of a grid): a smooth model error nearly cancels in them, independent noise of
-  // sigma leaves sigma * sqrt(6). Each source's readings along one direction and one
-  // approach are a series of their own.
-  struct Series {
-    std::vector<std::size_t> last;  // up to the two previous observations
-  };
-  std::map<std::tuple<std::uint32_t, long long, long long>, Series> series;
+  // Second differences of residuals at evenly spaced points along a run (a laser line, a
+  // row of a grid, a sphere probed at even angles of a rotary axis): a smooth model error
+  // nearly cancels in them, independent noise of sigma leaves sigma * sqrt(6). Each
+  // source's readings along one direction and one approach are a series of their own; in
+  // it, a reading's run is the nearest lag (readings of several points interleaved, as
+  // spheres probed in turn at each angle) whose steps are even.
+  constexpr std::size_t kLags = 8;
+  std::map<std::tuple<std::uint32_t, long long, long long>, std::vector<std::size_t>> series;
   std::vector<double> seconds;
   for (std::size_t i = 0; i < data.observations.size(); ++i) {
     const Observation& o = data.observations[i];
     const long long direction = std::llround((o.direction.x() + 3 * o.direction.y() + 9 * o.direction.z()) * 1e6);
-    const long long approach =
-        std::llround(o.directions[0] + 3 * o.directions[1] + 9 * o.directions[2] + 27 * o.directions[4]);
-    Series& s = series[{o.source, direction, approach}];
-    if (s.last.size() == 2) {
-      const Observation& a = data.observations[s.last[0]];
-      const Observation& b = data.observations[s.last[1]];
-      const model::ChainQ step1 = b.q - a.q, step2 = o.q - b.q;
-      const bool even = step1.norm() > 0 && (step2 - step1).norm() <= 1e-6 * (1.0 + step1.norm()) &&
-                        std::abs(o.time - 2 * b.time + a.time) <= 1e-6 * (1.0 + std::abs(o.time));
-      if (even) {
-        const double second = r[static_cast<Eigen::Index>(s.last[0])] - 2 * r[static_cast<Eigen::Index>(s.last[1])] +
-                              r[static_cast<Eigen::Index>(i)];
-        seconds.push_back(std::abs(second));
-      }
-      s.last.erase(s.last.begin());
+    long long approach = 0;
+    for (std::size_t a = 0, weight = 1; a < 6; ++a, weight *= 3) approach += o.directions[a] * static_cast<long long>(weight);
+    std::vector<std::size_t>& last = series[{o.source, direction, approach}];  // up to 2 kLags previous readings
+    for (std::size_t lag = 1; lag <= kLags && 2 * lag <= last.size(); ++lag) {
+      const std::size_t a = last[last.size() - 2 * lag], b = last[last.size() - lag];
+      const auto h = run_steps(data.observations[a], data.observations[b], o);
+      if (!h) continue;
+      // h2 r_a - (h1 + h2) r_b + h1 r_c: zero on a straight line, sigma times the norm of
+      // its weights for noise (sqrt(6) h for even steps).
+      const auto [h1, h2] = *h;
+      const double second = h2 * r[static_cast<Eigen::Index>(a)] - (h1 + h2) * r[static_cast<Eigen::Index>(b)] +
+                            h1 * r[static_cast<Eigen::Index>(i)];
+      seconds.push_back(std::abs(second) / std::sqrt(h1 * h1 + h2 * h2 + (h1 + h2) * (h1 + h2)));
+      break;
     }
-    s.last.push_back(i);
+    if (last.size() == 2 * kLags) last.erase(last.begin());
+    last.push_back(i);
   }
   // The median, not the mean: where the error bends sharply (a table turning) the second
   // difference is not noise, and those few places must not set the floor.
   if (seconds.size() >= 10) {
     std::nth_element(seconds.begin(), seconds.begin() + static_cast<std::ptrdiff_t>(seconds.size() / 2), seconds.end());
-    report.value = 1.4826 * seconds[seconds.size() / 2] / std::sqrt(6.0);
+    report.value = 1.4826 * seconds[seconds.size() / 2];
     report.method = "second differences along lines";
   } else {
     report.method = "none: no repeated points and no evenly spaced lines in the data";

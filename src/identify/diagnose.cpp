@@ -13,6 +13,7 @@
 #include <numbers>
 #include <optional>
 
+#include "aliasing.hpp"
 #include "candidates.hpp"
 #include "ccomp/error.hpp"
 #include "ccomp/identify/check.hpp"
@@ -437,6 +438,11 @@ Diagnosis diagnose(const model::ForwardModel& model, const MeasurementSet& data,
     s.significance = gain / sigma2 - k - 2.0 * std::log(trials);
     s.yaml = "  - " + c.yaml(x, value);
     s.spec = c.yaml(x, value);
+    if (c.lattice_step > 0 && s.period > 0) {
+      s.aliases = detail::aliases_of(s.period, c.lattice_step, c.shortest_period);
+      if (!s.aliases.empty())
+        s.aliasing = detail::aliasing_text(s.period, c.lattice_step, s.aliases, c.period_unit, c.settling_run);
+    }
     return Scored{std::move(s), value, x, gain};
   };
 

@@ -31,7 +31,7 @@ std::string parameter_label(const model::ErrorTermSpec& t, std::size_t k) {
     case TermForm::periodic:
       return k == 0 ? n + ".period" : fmt::format("{}.{}{}", n, k % 2 ? 'a' : 'b', (k + 1) / 2);
     case TermForm::reversal:
-      return n + ".reversal";
+      return t.shape.order_primary == 0 ? n + ".reversal" : fmt::format("{}.reversal{}", n, k);
     case TermForm::thermal_linear:
       return fmt::format("{}.k_{}", n, t.primary.text);
     case TermForm::thermal_warmup:

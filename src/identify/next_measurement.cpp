@@ -132,7 +132,11 @@ std::vector<Tie> find_ties(const std::vector<Suggestion>& suggestions, const Eig
   const double gain = first.rms_before - first.rms_after;
   for (std::size_t k = 1; k < suggestions.size(); ++k) {
     const Suggestion& s = suggestions[k];
-    if (s.residual.size() != residual.size() || (s.term == first.term && s.variable == first.variable)) continue;
+    // (A reversal and the same reversal varying along its axis are one effect, the second
+    // a shape of the first: what tells them apart is the data's own spread along the axis.)
+    const bool one_reversal = s.term == first.term && s.form == "reversal" && first.form == "reversal";
+    if (s.residual.size() != residual.size() || (s.term == first.term && s.variable == first.variable) || one_reversal)
+      continue;
     const Eigen::VectorXd explained = residual - s.residual;
     const double norms = explained.norm() * explained_first.norm();
     const double correlation = norms > 0 ? explained.dot(explained_first) / norms : 0.0;

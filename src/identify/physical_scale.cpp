@@ -64,8 +64,9 @@ double term_scale(const model::ErrorTermSpec& t, std::size_t k, Reaches& reach) 
   switch (t.shape.form) {
     case TermForm::constant:
     case TermForm::table:
-    case TermForm::reversal:
       return out;
+    case TermForm::reversal:  // r_k of w^k along its axis
+      return k == 0 ? out : out / std::pow(reach(t.secondary), static_cast<double>(k));
     case TermForm::polynomial:
       return out / std::pow(reach(t.primary), static_cast<double>(k));
     case TermForm::periodic:

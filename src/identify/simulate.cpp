@@ -179,6 +179,20 @@ bool within_limits(const model::MachineModel& m, const model::ChainQ& q) {
 
 }  // namespace
 
+std::vector<double> iso230_targets(double from, double to, double step) {
+  const int count = std::max(2, static_cast<int>(std::floor((to - from) / step)) + 1);
+  const double p = (to - from) / (count - 1);
+  std::vector<double> targets(static_cast<std::size_t>(count));
+  for (int i = 0; i < count; ++i) {
+    // The golden ratio's multiples modulo 1: offsets that never repeat a pattern, spread
+    // evenly over +-p/4 (a random draw would differ from build to build of the library).
+    const double u = std::fmod(0.5 + 0.6180339887498949 * i, 1.0);
+    const double r = i == 0 || i == count - 1 ? 0.0 : 0.25 * p * (2.0 * u - 1.0);
+    targets[static_cast<std::size_t>(i)] = from + i * p + r;
+  }
+  return targets;
+}
+
 std::vector<model::ChainQ> sphere_poses(const model::ForwardModel& truth, const SimulateOptions& options) {
   const model::MachineModel& m = truth.machine();
   const model::WorkOrigin& o = options.origin;
@@ -259,12 +273,11 @@ MeasurementSet simulate(const model::ForwardModel& truth, const SimulateOptions&
             for (int pass = 0; pass < 2 * std::max(1, options.runs); ++pass) {  // out and back, each run
               std::array<double, 9> dirs{};
               dirs[static_cast<std::size_t>(a)] = pass % 2 == 0 ? 1.0 : -1.0;
-              const int count =
-                  std::max(2, static_cast<int>(std::floor((s[a].second - s[a].first) / options.step)) + 1);
-              for (int k = 0; k < count; ++k) {
-                const double f = static_cast<double>(pass % 2 == 0 ? k : count - 1 - k) / (count - 1);
+              const std::vector<double> targets = iso230_targets(s[a].first, s[a].second, options.step);
+              const auto count = targets.size();
+              for (std::size_t k = 0; k < count; ++k) {
                 double p[3];
-                p[a] = s[a].first + f * (s[a].second - s[a].first);
+                p[a] = targets[pass % 2 == 0 ? k : count - 1 - k];
                 p[u] = offsets[line][0];
                 p[w] = offsets[line][1];
                 if (line == 0)

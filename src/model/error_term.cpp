@@ -52,10 +52,11 @@ double periodic_value(const double* p, int harmonics, double v, TermValue& cache
 std::size_t parameter_count(const TermShape& s) {
   switch (s.form) {
     case TermForm::constant:
-    case TermForm::reversal:
     case TermForm::thermal_linear:
     case TermForm::scale_expansion:
       return 1;
+    case TermForm::reversal:
+      return static_cast<std::size_t>(std::max(0, s.order_primary)) + 1;
     case TermForm::polynomial:
       return static_cast<std::size_t>(s.order) + 1;
     case TermForm::table:
@@ -136,6 +137,25 @@ void evaluate_bump(const Eigen::Ref<const Eigen::VectorXd>& p, double v, bool gr
   }
 }
 
+/// Half the reversal on each side: the two approach directions differ by r(w), a
+/// polynomial along the axis (a screw worn more at one end plays more there): r_k of w^k,
+/// k = 0..order_primary (0: a constant reversal, its only parameter), w the term's
+/// secondary variable (`along:` in the model file).
+void evaluate_reversal(const TermShape& s, const Eigen::Ref<const Eigen::VectorXd>& p, double v, double w, bool grad,
+                       TermValue& r) {
+  double reversal = 0.0, slope = 0.0, power = 1.0, previous = 0.0;  // w^k and w^(k-1)
+  for (int k = 0; k <= s.order_primary; ++k) {
+    reversal += p[k] * power;
+    slope += k * p[k] * previous;
+    if (grad) r.d_parameters[k] = 0.5 * v * power;
+    previous = power;
+    power *= w;
+  }
+  r.value = 0.5 * reversal * v;
+  r.d_primary = 0.5 * reversal;
+  r.d_secondary = 0.5 * slope * v;
+}
+
 void evaluate_cross_axis(const TermShape& s, const Eigen::Ref<const Eigen::VectorXd>& p, double v, double w, bool grad,
                          TermValue& r) {
   Eigen::Index index = 0;
@@ -186,10 +206,7 @@ void evaluate(const TermShape& s, const Eigen::Ref<const Eigen::VectorXd>& p, co
       evaluate_periodic(s, p, v, grad, r);
       break;
     case TermForm::reversal:
-      // Half the reversal on each side: the two approach directions differ by r.
-      r.value = 0.5 * p[0] * v;
-      r.d_primary = 0.5 * p[0];
-      if (grad) r.d_parameters[0] = 0.5 * v;
+      evaluate_reversal(s, p, v, in.secondary, grad, r);
       break;
     case TermForm::thermal_linear:
       r.value = p[0] * (v - s.reference);

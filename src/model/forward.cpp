@@ -9,6 +9,7 @@
 #include <limits>
 #include <tuple>
 
+#include "ccomp/constants.hpp"
 #include "ccomp/error.hpp"
 #include "ccomp/model/cubic_spline.hpp"
 
@@ -172,25 +173,39 @@ struct Reversals {
 };
 
 /// How much term t (its variable an approach, in which it is linear: the model file refuses
-/// others) changes from the approach -1 to +1: a reversal's value.
-double switch_of(const ErrorTermSpec& t) {
-  if (t.shape.form == TermForm::reversal) return t.parameters[0];
-  TermValue up, down;
-  evaluate(t.shape, t.parameters, TermInputs{1.0, 0.0}, false, up);
-  evaluate(t.shape, t.parameters, TermInputs{-1.0, 0.0}, false, down);
-  return up.value - down.value;
+/// others) changes from the approach -1 to +1: a reversal's value. One that varies along an
+/// axis (a worn screw) is taken where it is largest over that axis' limits (or its span, or
+/// 1 m either side where neither bounds it): the switch no travel outgrows.
+double switch_of(const MachineModel& m, const ErrorTermSpec& t) {
+  auto at = [&t](double along) {
+    TermValue up, down;
+    evaluate(t.shape, t.parameters, TermInputs{1.0, along}, false, up);
+    evaluate(t.shape, t.parameters, TermInputs{-1.0, along}, false, down);
+    return up.value - down.value;
+  };
+  if (t.shape.form != TermForm::reversal || t.shape.order_primary == 0 || t.secondary.kind != VariableKind::axis)
+    return at(0.0);
+  double lo = -1000.0, hi = 1000.0;
+  const AxisSpec* axis = m.axis("XYZABCUVW"[t.secondary.index]);
+  const double unit = axis && axis->type == AxisType::rotary ? kRadPerDeg : 1.0;
+  if (axis && std::isfinite(axis->min) && std::isfinite(axis->max)) lo = axis->min * unit, hi = axis->max * unit;
+  double largest = 0.0;
+  for (int k = 0; k <= 16; ++k)
+    if (const double r = at(lo + (hi - lo) * k / 16.0); std::abs(r) > std::abs(largest)) largest = r;
+  return largest;
 }
 
 /// An axis' lost motion is its own positioning reversal: a term on the axis' link, along
 /// (or about) the axis' direction, switched by that axis' approach.
-Reversals reversals_of(const std::vector<ErrorTermSpec>& terms, const std::vector<ForwardModel::Site>& sites,
+Reversals reversals_of(const MachineModel& m, const std::vector<ForwardModel::Site>& sites,
                        const kinematics::ChainModel& chain) {
+  const std::vector<ErrorTermSpec>& terms = m.terms;
   Reversals r;
   std::array<double, 9> own_reversal{};
   for (std::size_t i = 0; i < terms.size(); ++i) {
     const ErrorTermSpec& t = terms[i];
     if (t.primary.kind != VariableKind::direction) continue;
-    const double switched = switch_of(t);
+    const double switched = switch_of(m, t);
     r.size[t.primary.index] += std::abs(switched) * (t.component >= 3 ? kSwitchLever : 1.0);
     const auto& joints = sites[i].side == 0 ? chain.workpiece.joints : chain.tool.joints;
     const Joint& j = joints[sites[i].joint];
@@ -224,6 +239,10 @@ ForwardModel::ForwardModel(const MachineModel& model) : machine_(model) {
         throw Error(ErrorKind::model, fmt::format("term {}: a location error is a constant, not a function of an axis",
                                                   t.name));
       add_link_term(link_terms_[slot.error_index / kLinkErrorSize], slot, slots_.size());
+      // (A reversal varying along an axis reads an approach too: its link is summed again
+      // when a play is taken up, as for those off the axes; off_axes_approach means "a term
+      // on its error motion reads an approach state".)
+      if (slot.on_approach) link_terms_[slot.error_index / kLinkErrorSize].off_axes_approach = true;
     } else {
       off_axes_terms_[slot.on_approach ? 1 : 0].push_back(slots_.size());
       const bool on_motion = slot.error_index % kLinkErrorSize < kMotionComponents;
@@ -242,7 +261,7 @@ ForwardModel::ForwardModel(const MachineModel& model) : machine_(model) {
       group_coefficient_count_ += kMotionComponents * static_cast<std::size_t>(group.degree + 1);
     }
   feature_ = shortest_features(machine_.terms);
-  const Reversals reversals = reversals_of(machine_.terms, sites_, chain_);
+  const Reversals reversals = reversals_of(machine_, sites_, chain_);
   reversal_size_ = reversals.size;
   lost_motion_ = reversals.lost_motion;
 }
@@ -327,9 +346,12 @@ bool inline_value(const ErrorTermSpec& t, const double* p, const TermInputs& in,
       value = p[t.shape.order];
       for (int k = t.shape.order - 1; k >= 0; --k) value = value * v + p[k];
       return true;
-    case TermForm::reversal:
-      value = 0.5 * p[0] * v;
+    case TermForm::reversal: {
+      double reversal = p[t.shape.order_primary];  // along its axis by Horner (r_0 alone without one)
+      for (int k = t.shape.order_primary - 1; k >= 0; --k) reversal = reversal * in.secondary + p[k];
+      value = 0.5 * reversal * v;
       return true;
+    }
     case TermForm::thermal_linear:
       value = p[0] * (v - t.shape.reference);
       return true;

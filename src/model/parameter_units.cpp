@@ -71,6 +71,12 @@ std::string parameter_unit_name(const ErrorTermSpec& t, std::size_t k, MicroSign
       return k == 1 ? "s" : unit_name(scale, angle, micro);
     case TermForm::bump:
       return k == 0 ? unit_name(scale, angle, micro) : var;
+    case TermForm::reversal: {  // r_k of w^k along its axis
+      const auto [along, along_scale] = variable_unit(t.secondary, micro);
+      const std::string base = unit_name(scale * std::pow(along_scale, static_cast<double>(k)), angle, micro);
+      if (base.empty() || k == 0) return base;
+      return k == 1 ? base + "/" + along : fmt::format("{}/{}^{}", base, along, k);
+    }
     case TermForm::scale_expansion:
     case TermForm::cross_axis:
       return "";

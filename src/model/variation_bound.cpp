@@ -167,9 +167,21 @@ TermBound term_bound(const ErrorTermSpec& t, const Range& u, const Range& w) {
     case TermForm::periodic:
       periodic_bound(t.shape, p, b);
       break;
-    case TermForm::reversal:
-      b.value = b.slope_p = 0.5 * std::abs(p[0]) * std::max(1.0, U);
+    case TermForm::reversal: {
+      // |r(w)| / 2 |s|, r(w) = sum_k r_k w^k along its axis: bounded term by term.
+      double reversal = 0.0, slope = 0.0, curvature = 0.0;
+      for (int k = 0; k <= t.shape.order_primary; ++k) {
+        reversal += power_bound(p[k], W, k);
+        if (k >= 1) slope += k * power_bound(p[k], W, k - 1);
+        if (k >= 2) curvature += k * (k - 1) * power_bound(p[k], W, k - 2);
+      }
+      const double S = std::max(1.0, U);
+      b.value = b.slope_p = 0.5 * reversal * S;
+      b.slope_s = 0.5 * slope * S;
+      b.curvature_ps = 0.5 * slope;
+      b.curvature_ss = 0.5 * curvature * S;
       break;
+    }
     case TermForm::thermal_linear:
       b.value = power_bound(p[0], std::max(std::abs(u.lo - t.shape.reference), std::abs(u.hi - t.shape.reference)), 1);
       b.slope_p = std::abs(p[0]);

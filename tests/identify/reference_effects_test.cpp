@@ -34,6 +34,7 @@ struct Hidden {
   } near{};
   bool spikes = false;      ///< a reading 50 um off now and then (a laser beam cut)
   double sphere_step = 15;  ///< deg: a worm wheel's teeth need finer probing of the table
+  bool sphere_both_ways = false;  ///< the spheres probed turning B up, then down
 };
 
 void PrintTo(const Hidden& h, std::ostream* os) {
@@ -102,6 +103,25 @@ const Hidden kCases[] = {
      // straightness along y growing with y z, less Z's yaw: rigid-body equivalents.)
      .named = {"name: EYX, form: cross_axis, other: z"},
      .alternatives = {"form: cross_axis"}},
+    // The table's worm plays 12 urad against its wheel (2.3 um at the spheres' 190 mm),
+    // seen on spheres probed turning B up, then down.
+    {.name = "table_backlash",
+     .hide = [](ReferenceHmc& m) { m.b_reversal = 1.2e-5; },
+     .named = {"name: EBB, variable: vb, form: reversal"},
+     .sphere_both_ways = true},
+    // Y's screw is worn at its top: its reversal is 1 um at y = -300 and 6 um at y = +300.
+    {.name = "worn_screw",
+     .hide = [](ReferenceHmc& m) { m.reversal_along[1] = [](double y) { return 0.0035 + 0.0025 * y / 300.0; }; },
+     .named = {"name: EYY, variable: vy, form: reversal, along: y"}},
+    // The table overhangs its saddle: it sags along Y with the square of X, the more the
+    // further Z has it out (2 um at the workspace's corner).
+    {.name = "table_sag",
+     .hide =
+         [](ReferenceHmc& m) {
+           m.table_load = [](double x, double, double z) { return Eigen::Vector3d(0, 4e-11 * x * x * z, 0); };
+         },
+     .named = {"form: cross_axis, other: z"},
+     .alternatives = {"form: cross_axis"}},
     // X's glass scale grows 2 um/m per degC more than the bed it measures.
     {.name = "scale_expansion",
      .hide = [](ReferenceHmc& m) { m.x_scale_expansion = 2e-6; },
@@ -117,7 +137,7 @@ TEST_P(ReferenceEffects, TheLoopNamesWhatIsHiddenEndsAtTheNoiseAndWritesNothingA
   h.hide(machine);
   ReferencePlans plans;
   plans.noise = kNoise, plans.seed = 21, plans.line_step = 2.5, plans.thermal = h.thermal;
-  plans.sphere_step = h.sphere_step;
+  plans.sphere_step = h.sphere_step, plans.sphere_both_ways = h.sphere_both_ways;
   identify::MeasurementSet data = reference_measurements(machine, measure_reference(machine, plans));
   std::vector<std::uint32_t> spiked;  // rows
   if (h.spikes) {

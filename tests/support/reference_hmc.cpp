@@ -47,7 +47,7 @@ Eigen::Vector3d ReferenceHmc::deviation(double x, double y, double z, double b_d
   // along `line` (the table's own sense of turning, the opposite of B's direction).
   const Vec3 line_point(-EX0B, 0, -EZ0B);
   const Vec3 line = -Vec3(-EC0B, 1, EA0B).normalized();
-  const Mat3 turn = rotation(line, b + value_of(EBB, b_deg));
+  const Mat3 turn = rotation(line, b + value_of(EBB, b_deg) + 0.5 * b_reversal * state.b_approach);
   // Where the tool tip is on the table, and where it should be.
   const Vec3 actual = line_point + turn.transpose() * (tool - centre - line_point);
   const Mat3 nominal_turn = nominal_table_turn(b);
@@ -55,8 +55,9 @@ Eigen::Vector3d ReferenceHmc::deviation(double x, double y, double z, double b_d
   // Translations of the tool against the work that no line turns: the play each carriage
   // leaves behind by its approach, the spindle's growth.
   Vec3 shift = Vec3::Zero();
-  for (int i = 0; i < 3; ++i)
-    shift[i] = 0.5 * reversal[static_cast<std::size_t>(i)] * state.approach[static_cast<std::size_t>(i)];
+  const double position[3] = {x, y, z};
+  for (std::size_t i = 0; i < 3; ++i)
+    shift[static_cast<Eigen::Index>(i)] = 0.5 * (reversal[i] + value_of(reversal_along[i], position[i])) * state.approach[i];
   shift.z() += spindle_growth * (state.spindle_T - 20.0) + 0.5 * x_rides * state.approach[0];
   return nominal_turn * (actual - nominal) + shift;
 }
@@ -119,16 +120,23 @@ std::vector<ReferenceReading> measure_reference(const ReferenceHmc& machine, con
   if (plans.nine_lines) {
     // docs/error-model.md Ref 4: three lines per axis, lines 1 and 3 near opposite edges, line 2 between.
     const double offsets[3][2] = {{-0.8, -0.8}, {0.0, 0.8}, {0.8, 0.0}};
+    // Irregular targets: each interior target moved by its own draw within a quarter step.
+    std::mt19937 target_rng(plans.seed + 1000);
+    std::uniform_real_distribution<double> quarter(-0.25 * plans.line_step, 0.25 * plans.line_step);
     for (int axis = 0; axis < 3; ++axis) {
       const int u = (axis + 1) % 3, w = (axis + 2) % 3;
       for (int line = 0; line < 3; ++line) {
         const std::string source = std::string(1, "xyz"[axis]) + "-line" + std::to_string(line + 1);
         const int count = static_cast<int>(std::floor(2 * half[axis] / plans.line_step + 1e-9)) + 1;
+        std::vector<double> targets;
+        for (int k = 0; k < count; ++k)
+          targets.push_back(-half[axis] + plans.line_step * k +
+                            (plans.irregular_targets && k > 0 && k + 1 < count ? quarter(target_rng) : 0.0));
         for (int pass = 0; pass < 2; ++pass) {  // out (approaching upward), then back
           state.approach = {};
           state.approach[static_cast<std::size_t>(axis)] = pass == 0 ? 1.0 : -1.0;
           for (int k = 0; k < count; ++k) {
-            const double t = -half[axis] + plans.line_step * (pass == 0 ? k : count - 1 - k);
+            const double t = targets[static_cast<std::size_t>(pass == 0 ? k : count - 1 - k)];
             double p[3];
             p[axis] = t, p[u] = offsets[line][0] * half[u], p[w] = offsets[line][1] * half[w];
             read(p[0], p[1], p[2], 0, 100, Vec3::Unit(axis), source);
@@ -148,12 +156,20 @@ std::vector<ReferenceReading> measure_reference(const ReferenceHmc& machine, con
             const double x = -half[0] + i * half[0] / 2, y = -half[1] + j * half[1] / 2, z = -half[2] + k * half[2] / 2;
             for (int c = 0; c < 3; ++c) read(x, y, z, 0, L, Vec3::Unit(c), "grid");
           }
-  if (plans.sphere)
-    for (const Vec3& s : {Vec3(150, 100, 120), Vec3(-100, -50, -150)})
-      for (double b = 0; b < 360 - 1e-9; b += plans.sphere_step) {
-        const Vec3 q = machine.axes_for_table_point(s, b, 100);
-        for (int c = 0; c < 3; ++c) read(q.x(), q.y(), q.z(), b, 100, Vec3::Unit(c), "sphere");
-      }
+  if (plans.sphere) {
+    std::vector<double> angles;
+    for (double b = 0; b < 360 - 1e-9; b += plans.sphere_step) angles.push_back(b);
+    for (int turn = 0; turn < (plans.sphere_both_ways ? 2 : 1); ++turn) {  // up, then down
+      state.b_approach = plans.sphere_both_ways ? (turn == 0 ? 1.0 : -1.0) : 0.0;
+      for (const Vec3& s : {Vec3(150, 100, 120), Vec3(-100, -50, -150)})
+        for (std::size_t k = 0; k < angles.size(); ++k) {
+          const double b = angles[turn == 0 ? k : angles.size() - 1 - k];
+          const Vec3 q = machine.axes_for_table_point(s, b, 100);
+          for (int c = 0; c < 3; ++c) read(q.x(), q.y(), q.z(), b, 100, Vec3::Unit(c), "sphere");
+        }
+    }
+    state.b_approach = 0.0;
+  }
   if (plans.thermal)
     for (int k = 0; k <= 24; ++k) {  // every 10 minutes for 4 hours
       time = 600.0 * k;

@@ -20,6 +20,7 @@ namespace ccomp::test {
 /// (+1 after travelling up, -1 down, 0 unknown) and the spindle's temperature (degC).
 struct ReferenceState {
   std::array<double, 3> approach{};
+  double b_approach = 0.0;  ///< the table's: +1 after turning B up, -1 down, 0 unknown
   double spindle_T = 20.0;
   double bed_T = 20.0;  ///< the bed, where X's scale is
 };
@@ -47,6 +48,12 @@ struct ReferenceHmc {
   /// Reversal of X, Y, Z's positioning (mm), as ISO 230-2 gives it: the upward error less
   /// the downward one. The tool is off along the axis by half of it times the approach.
   std::array<double, 3> reversal{};
+  /// What each axis' reversal adds where it is (mm, of the axis' position in mm): a screw
+  /// worn more at one end plays more there. Empty: the same everywhere.
+  std::array<std::function<double(double)>, 3> reversal_along{};
+  /// The table's reversal (rad): turned up to an angle it stands at b + b_reversal / 2,
+  /// turned down at b - b_reversal / 2 (the worm's backlash against the wheel).
+  double b_reversal = 0.0;
   /// X's carriage rides on one flank of its guide or the other: the tool is off along Z by
   /// half of this (mm) times X's approach.
   double x_rides = 0.0;
@@ -104,6 +111,11 @@ struct ReferencePlans {
   bool thermal = false;
   double bed_rise = 4.0;    ///< degC
   double sphere_step = 15;  ///< deg of B between the spheres' probings
+  /// The spheres probed turning B up over the turn, then again turning it down.
+  bool sphere_both_ways = false;
+  /// The laser lines' targets displaced irregularly within +-line_step/4 (ISO 230-2's
+  /// irregular spacing), the same on every pass; false: every line_step exactly.
+  bool irregular_targets = false;
   double line_step = 20.0;  ///< mm between a laser line's readings (a lead screw's pitch needs a few per period)
   std::vector<double> grid_tool_lengths{0.0, 200.0};
 };

@@ -14,13 +14,13 @@ std::string reference_csv(const ReferenceHmc& machine, const std::vector<Referen
   const Eigen::Vector3d& o = machine.work_origin;
   if (how == FrameGiven::in_file) out += fmt::format("# frame: program G54 X{} Y{} Z{}\n", o.x(), o.y(), o.z());
   if (how == FrameGiven::by_option) out += "# frame: program G54\n";
-  out += "x,y,z,b,L,t,T_spindle,T_bed,vx,vy,vz,nx,ny,nz,d,source\n";
+  out += "x,y,z,b,L,t,T_spindle,T_bed,vx,vy,vz,vb,nx,ny,nz,d,source\n";
   for (const ReferenceReading& r : readings) {
     const Eigen::Vector3d p = machine.program_of_axes(Eigen::Vector3d(r.x, r.y, r.z), r.L);
     out += fmt::format(
-        "{:.9f},{:.9f},{:.9f},{:.9f},{:.9f},{:.3f},{:.9f},{:.9f},{:g},{:g},{:g},{:.17g},{:.17g},{:.17g},{:.17g},{}\n",
+        "{:.9f},{:.9f},{:.9f},{:.9f},{:.9f},{:.3f},{:.9f},{:.9f},{:g},{:g},{:g},{:g},{:.17g},{:.17g},{:.17g},{:.17g},{}\n",
         p.x(), p.y(), p.z(), r.b_deg, r.L, r.time, r.state.spindle_T, r.state.bed_T, r.state.approach[0],
-        r.state.approach[1], r.state.approach[2], r.direction.x(), r.direction.y(), r.direction.z(), r.value, r.source);
+        r.state.approach[1], r.state.approach[2], r.state.b_approach, r.direction.x(), r.direction.y(), r.direction.z(), r.value, r.source);
   }
   return out;
 }

@@ -40,4 +40,21 @@ inline TermShape cross() {
   return s;
 }
 
+/// A reversal varying along its axis (a worn screw): quadratic in the position.
+inline TermShape reversal_along() {
+  TermShape s;
+  s.form = TermForm::reversal;
+  s.order_primary = 2;
+  return s;
+}
+
+/// A cross-axis term beyond linear in the other axis (a table sagging with x^2).
+inline TermShape cross_quadratic() {
+  TermShape s;
+  s.form = TermForm::cross_axis;
+  s.order = 2;
+  s.order_primary = 2;
+  return s;
+}
+
 }  // namespace ccomp::test

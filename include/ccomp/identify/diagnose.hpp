@@ -39,6 +39,11 @@ struct Suggestion {
   /// The rms after comes from fitting the model with the spec (as `fit --add` does), not
   /// only from the linear projection (where the model has many free parameters for the data).
   bool refitted = false;
+  /// Periodic forms whose readings are evenly spaced along the variable: the periods (in
+  /// its unit) those readings cannot tell from `period`, and the sentence saying so with the
+  /// run that settles it. Empty where the targets are irregular (ISO 230-2) or none alias.
+  std::vector<double> aliases;
+  std::string aliasing;
   std::string yaml;  ///< the term to add, with the values the data suggest
   std::string spec;  ///< the same, one line, for `ccomp fit --add`
   /// mm, per reading: the refitted residual with the effect added (the linear fit of the

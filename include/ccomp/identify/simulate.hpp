@@ -41,6 +41,12 @@ struct SimulateOptions {
   model::WorkOrigin origin{};
 };
 
+/// A laser line's targets from `from` to `to` about every `step` (mm), as ISO 230-2 (sect.
+/// 5.3.2) asks: P_i = (i - 1) p + r_i, p the interval that fits the travel, r_i an irregular
+/// offset within +-p/4 (0 at the ends, which are the travel's), the same for every run, so
+/// that a periodic error (a screw's pitch) is read at different phases and aliases no other.
+[[nodiscard]] std::vector<double> iso230_targets(double from, double to, double step);
+
 /// The sphere plan's axis positions (mm, rad, the tool length last) on a machine turning other
 /// than a B table alone: two spheres on the part, at different radii and heights from program
 /// zero, each probed at every combination of the rotary axes' angles (a full turn in

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <set>
 
+#include "ccomp/model/term_forms.hpp"
 #include "yaml_node.hpp"
 
 namespace ccomp::model::io {
@@ -18,17 +19,8 @@ const std::vector<std::string_view> kTermKeys{"name", "link",     "component", "
                                               "unit", "form",     "variable",  "variable_unit", "span"};
 
 std::vector<std::string_view> form_keys(std::string_view form) {
-  if (form == "constant") return {"value"};
-  if (form == "polynomial") return {"coefficients"};
-  if (form == "table") return {"at", "values", "interpolation"};
-  if (form == "periodic") return {"period", "harmonics"};
-  if (form == "reversal") return {"reversal"};
-  if (form == "thermal" || form == "thermal_linear") return {"coefficient", "reference"};
-  if (form == "warmup") return {"amplitude", "time_constant"};
-  if (form == "scale_expansion") return {"temperature", "coefficient", "reference"};
-  if (form == "bump") return {"at", "width", "amplitude"};
-  if (form == "cross_axis") return {"other", "coefficients"};
-  return {};
+  const TermFormInfo* info = term_form(form);
+  return info ? info->keys : std::vector<std::string_view>{};
 }
 
 namespace {

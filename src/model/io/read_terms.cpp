@@ -11,6 +11,7 @@
 #include <utility>
 
 #include "ccomp/constants.hpp"
+#include "ccomp/model/term_forms.hpp"
 #include "model_schema.hpp"
 #include "yaml_node.hpp"
 
@@ -278,7 +279,26 @@ Parameters read_reversal(const TermReading& r, ErrorTermSpec& t) {
   }
   if (t.primary.kind != VariableKind::direction)
     bad(r.file, r.node, r.what + ": a reversal depends on a direction (vx..vw)");
-  return {{amount(r, require(r, "reversal"), "reversal")}, {r.out}};
+  const YAML::Node value = require(r, "reversal");
+  if (!r.node["along"]) {
+    if (!value.IsScalar()) bad(r.file, value, r.what + ": reversal is one amount (a list needs 'along: <axis>')");
+    return {{amount(r, value, "reversal")}, {r.out}};
+  }
+  // A reversal varying along an axis (a screw worn more at one end): r(w) = r_0 + r_1 w + ...
+  const YAML::Node along = r.node["along"];
+  t.secondary = read_variable(r.file, along, text(r.file, along, r.what + " along"), r.model, r.what);
+  if (t.secondary.kind != VariableKind::axis) bad(r.file, along, r.what + ": 'along' is an axis (x..w)");
+  if (!value.IsSequence() || value.size() == 0 || value.size() > 4)
+    bad(r.file, value, r.what + ": with 'along', reversal is a list [r0, r1, ...] (1 to 4 coefficients)");
+  const double along_unit = variable_unit(t.secondary, r.model).first == kAngle ? kRadPerDeg : 1.0;
+  t.shape.order_primary = static_cast<int>(value.size()) - 1;
+  Parameters p;
+  for (std::size_t k = 0; k < value.size(); ++k) {
+    const double s = r.out / std::pow(along_unit, static_cast<double>(k));
+    p.values.push_back(finite_number(r, value[k], fmt::format("reversal[{}]", k)) * s);
+    p.scale.push_back(s);
+  }
+  return p;
 }
 
 /// The term's reference temperature, when the file gives one.
@@ -372,10 +392,9 @@ Parameters read_form(const TermReading& r, ErrorTermSpec& t) {
                                                                  {"cross_axis", read_cross_axis}};
   for (const auto& [form, reader] : kReaders)
     if (r.form == form) return reader(r, t);
-  bad(r.file, r.node["form"],
-      fmt::format("{}: unknown form '{}' (constant, polynomial, table, periodic, reversal, "
-                  "thermal, warmup, scale_expansion, cross_axis, bump)",
-                  r.what, r.form));
+  std::string known;
+  for (const TermFormInfo& f : term_forms()) known += (known.empty() ? "" : ", ") + std::string(f.names.front());
+  bad(r.file, r.node["form"], fmt::format("{}: unknown form '{}' ({})", r.what, r.form, known));
 }
 
 /// A symbol of Ref 1 of the opposite sign flips the term's amounts, not its shape (a period,

@@ -53,7 +53,11 @@ void write_parameters(YAML::Node n, const ErrorTermSpec& t, const Eigen::VectorX
         put(n["harmonics"][static_cast<std::size_t>((k - 1) / 2)][static_cast<std::size_t>((k - 1) % 2)], k);
       break;
     case TermForm::reversal:
-      put(n["reversal"], 0);
+      if (t.shape.order_primary == 0 && !n["reversal"].IsSequence()) {
+        put(n["reversal"], 0);
+        break;
+      }
+      for (Eigen::Index k = 0; k < p.size(); ++k) put(n["reversal"][static_cast<std::size_t>(k)], k);
       break;
     case TermForm::thermal_linear:
     case TermForm::scale_expansion:
