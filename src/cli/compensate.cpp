@@ -19,6 +19,7 @@
 #include "commands.hpp"
 #include "output_file.hpp"
 #include "progress.hpp"
+#include "trust.hpp"
 
 namespace ccomp::cli {
 namespace fs = std::filesystem;
@@ -86,6 +87,44 @@ std::string summary_line(const Target& t, const model::MachineModel& model, cons
       r.max_orientation_error * 1e6);
 }
 
+/// The trust on a program (compensate/trust.hpp), gathered by a pass of predict over it
+/// before the job; none, and `why` says so, for standard input (read once, by the job) or
+/// a program predict cannot run (the job then says what is wrong with it).
+std::optional<compensate::ProgramTrust> gather_trust(const std::string& input, const model::MachineModel& model,
+                                                     const std::optional<model::FitInformation>& info,
+                                                     const compensate::JobOptions& job, const CompensateArgs& args,
+                                                     std::string& why) {
+  if (!info) return compensate::ProgramTrust{};
+  if (input == "-") {
+    why = "not gathered: the program came on standard input, which the job reads once";
+    return std::nullopt;
+  }
+  try {
+    compensate::CheckOptions o;
+    o.interpreter = job.interpreter;
+    o.conditions = model::conditions_for(model, job.sensors, args.time);
+    const model::ForwardModel forward(model);
+    return trust_on_file(input, forward, info, o);
+  } catch (const Error& e) {
+    why = "not gathered: " + e.message();
+    return std::nullopt;
+  }
+}
+
+/// The summary's second line: the trust on the program, the job's own residual against the
+/// model (its "after") added to the model's uncertainty.
+std::string trust_line(const model::MachineModel& model, const compensate::JobReport& r,
+                       const std::optional<compensate::ProgramTrust>& trust, const std::string& why,
+                       const CompensateArgs& args) {
+  if (args.quiet || model.terms.empty()) return "";
+  if (!trust) return fmt::format("  trust: {}\n", why);
+  if (!trust->known) return fmt::format("  trust: {}\n", compensate::trust_text(*trust));
+  compensate::ProgramTrust with_job = *trust;
+  with_job.expected_after += r.max_error_after;
+  with_job.after_bound += r.max_error_after;
+  return fmt::format("  trust: {}\n", compensate::trust_text(with_job));
+}
+
 /// Keeps a copy of `input` as `<input><suffix>`, else numbered `.1`, `.2`... (a backup already
 /// there is the user's: a second --in-place run with --force must not replace the original
 /// with the compensated text). Written whole and synced before it gets its name, so a backup
@@ -150,6 +189,8 @@ compensate::JobReport compensate_one(const Target& t, const model::MachineModel&
 struct Outcome {
   bool done = false;
   compensate::JobReport report;
+  std::optional<compensate::ProgramTrust> trust;  ///< none: not gathered (standard input, or it failed)
+  std::string no_trust;                            ///< why not
   int exit_code = 0;
   std::string error;
 };
@@ -173,6 +214,7 @@ std::string outcomes_json(const std::vector<Target>& targets, const std::vector<
       j.field("error_before_um", r.max_error_before * 1000.0).field("error_after_um", r.max_error_after * 1000.0);
       j.field("largest_correction_um", r.max_correction * 1000.0);
       j.field("orientation_error_urad", r.max_orientation_error * 1e6);
+      trust_fields(j, o.trust, r.max_error_after, o.no_trust);
     }
     j.end_object();
   }
@@ -209,6 +251,7 @@ int run_compensate(const CompensateArgs& args) {
     throw Error(ErrorKind::usage, "--in-place cannot replace standard input");
 
   const model::MachineModel model = model::load_machine_model(args.model);
+  const std::optional<model::FitInformation> fit_information = model::load_fit_information(model);
   compensate::JobOptions options;
   options.interpreter = interpreter_options(args.program, model.dialect, model.work_offsets);
   options.force = args.force;
@@ -284,10 +327,14 @@ int run_compensate(const CompensateArgs& args) {
       else
         mine.progress = [&bar, &whole, i](double fraction) { bar.update(whole.update(i, fraction)); };
       try {
+        // Before the job: --in-place replaces the program.
+        std::string no_trust;
+        const std::optional<compensate::ProgramTrust> trust = gather_trust(targets[i].input, model, fit_information, options, args, no_trust);
         const compensate::JobReport r = compensate_one(targets[i], model, mine, args);
         std::lock_guard lock(report);
         outcomes[i].done = true, outcomes[i].report = r;
-        if (!args.json) bar.print_above(summary_line(targets[i], model, r, args));
+        outcomes[i].trust = trust, outcomes[i].no_trust = no_trust;
+        if (!args.json) bar.print_above(summary_line(targets[i], model, r, args) + trust_line(model, r, trust, no_trust, args));
       } catch (const std::exception& caught) {
         // Anything but a ccomp::Error is a bug in ccomp; it must not end the other programs.
         const auto* known = dynamic_cast<const Error*>(&caught);
