@@ -15,6 +15,7 @@
 #include "commands.hpp"
 #include "header_conditions.hpp"
 #include "progress.hpp"
+#include "trust.hpp"
 
 namespace ccomp::cli {
 
@@ -43,7 +44,8 @@ compensate::CheckOptions check_options(const CheckArgs& args, const model::Machi
 
 /// The figures as JSON: `what` is "predict" or "verify" (with `verdict`).
 std::string path_error_json(const char* what, const CheckArgs& args, const model::MachineModel& m,
-                            const compensate::PathError& e, const compensate::Verdict* verdict = nullptr) {
+                            const compensate::PathError& e, const compensate::Verdict* verdict = nullptr,
+                            const compensate::ProgramTrust* trust = nullptr) {
   util::JsonWriter j;
   j.begin_object().field("command", what).field("program", args.input);
   if (!args.compensated.empty()) j.field("compensated", args.compensated);
@@ -59,6 +61,7 @@ std::string path_error_json(const char* what, const CheckArgs& args, const model
       j.key("uncut_line").null();
     j.field("passed", verdict->passed());
   }
+  if (trust) trust_fields(j, *trust, 0.0, "");
   return j.end_object().text();
 }
 
@@ -121,12 +124,18 @@ int run_predict(const CheckArgs& args) {
     bar.clear();
     fmt::print(stderr, "{}:{}: warning: {}\n", program.name(), line, message);
   };
+  // The trust on the program (how far the model's own values may be off on it) in the same pass.
+  compensate::TrustGauge gauge(forward, model::load_fit_information(m));
+  o.pose = [&gauge](const model::ChainQ& q, const model::Conditions& c, std::uint32_t line) { gauge.add(q, c, line); };
   const compensate::PathError e = compensate::predict(program, forward, o);
   bar.clear();
-  if (args.json)
-    fmt::print("{}", path_error_json("predict", args, m, e));
-  else
+  const compensate::ProgramTrust trust = gauge.result();
+  if (args.json) {
+    fmt::print("{}", path_error_json("predict", args, m, e, nullptr, &trust));
+  } else {
     print("machine error", program.name(), e);
+    fmt::print("{}: compensated with this model: {}\n", program.name(), compensate::trust_text(trust));
+  }
   return 0;
 }
 

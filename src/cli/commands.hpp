@@ -141,6 +141,18 @@ CLI::App* add_nine_line(CLI::App& app, IdentifyArgs& args);
 int run_nine_line(const IdentifyArgs& args);
 int run_positioning(const IdentifyArgs& args);
 
+/// plan: the next measurement for programs (identify/plan.hpp).
+struct PlanArgs {
+  IdentifyArgs identify;  ///< the measurements, the model, -o, --json, --tool-length, --frame
+  std::vector<std::string> programs;
+  std::size_t budget = 300;
+  std::vector<std::string> sensors;  ///< NAME=VALUE (degC)
+  std::optional<double> time;
+  ProgramArgs program;
+};
+CLI::App* add_plan(CLI::App& app, PlanArgs& args);
+int run_plan(const PlanArgs& args);
+
 /// export: a model as a control's compensation tables.
 struct ExportArgs {
   std::string model;

@@ -25,6 +25,7 @@
 #include "commands.hpp"
 #include "output_file.hpp"
 #include "progress.hpp"
+#include "trust.hpp"
 
 namespace ccomp::cli {
 namespace fs = std::filesystem;
@@ -155,6 +156,44 @@ class Spool {
   std::string path_;
 };
 
+/// The trust on a program (compensate/trust.hpp), gathered by a pass of predict over it
+/// before the job; none, and `why` says so, for standard input (read once, by the job) or
+/// a program predict cannot run (the job then says what is wrong with it).
+std::optional<compensate::ProgramTrust> gather_trust(const std::string& input, const model::MachineModel& model,
+                                                     const std::optional<model::FitInformation>& info,
+                                                     const compensate::JobOptions& job, const CompensateArgs& args,
+                                                     std::string& why) {
+  if (!info) return compensate::ProgramTrust{};
+  if (input == "-") {
+    why = "not gathered: the program came on standard input, which the job reads once";
+    return std::nullopt;
+  }
+  try {
+    compensate::CheckOptions o;
+    o.interpreter = job.interpreter;
+    o.conditions = model::conditions_for(model, job.sensors, args.time);
+    const model::ForwardModel forward(model);
+    return trust_on_file(input, forward, info, o);
+  } catch (const Error& e) {
+    why = "not gathered: " + e.message();
+    return std::nullopt;
+  }
+}
+
+/// The summary's second line: the trust on the program, the job's own residual against the
+/// model (its "after") added to the model's uncertainty.
+std::string trust_line(const model::MachineModel& model, const compensate::JobReport& r,
+                       const std::optional<compensate::ProgramTrust>& trust, const std::string& why,
+                       const CompensateArgs& args) {
+  if (args.quiet || model.terms.empty()) return "";
+  if (!trust) return fmt::format("  trust: {}\n", why);
+  if (!trust->known) return fmt::format("  trust: {}\n", compensate::trust_text(*trust));
+  compensate::ProgramTrust with_job = *trust;
+  with_job.expected_after += r.max_error_after;
+  with_job.after_bound += r.max_error_after;
+  return fmt::format("  trust: {}\n", compensate::trust_text(with_job));
+}
+
 /// Keeps a copy of `input` as `<input><suffix>`, else numbered `.1`, `.2`... (a backup already
 /// there is the user's: a second --in-place run with --force must not replace the original
 /// with the compensated text). Written whole and synced before it gets its name, so a backup
@@ -250,6 +289,8 @@ Compensated compensate_one(const Target& t, const model::MachineModel& model, co
 struct Outcome {
   bool done = false;
   Compensated result;
+  std::optional<compensate::ProgramTrust> trust;  ///< none: not gathered (standard input, or it failed)
+  std::string no_trust;                            ///< why not
   int exit_code = 0;
   std::string error;
   /// Every warning printed for it: the file it names, the line, the message.
@@ -284,6 +325,7 @@ std::string outcomes_json(const std::vector<Target>& targets, const std::vector<
         j.field("passed", o.result.verdict->passed());
       else
         j.key("passed").null();
+      trust_fields(j, o.trust, r.max_error_after, o.no_trust);
     }
     j.key("warnings").begin_array();
     for (const Outcome::Warning& w : o.warnings)
@@ -324,6 +366,7 @@ int run_compensate(const CompensateArgs& args) {
     throw Error(ErrorKind::usage, "--in-place cannot replace standard input");
 
   const model::MachineModel model = model::load_machine_model(args.model);
+  const std::optional<model::FitInformation> fit_information = model::load_fit_information(model);
   compensate::JobOptions options;
   options.interpreter = interpreter_options(args.program, model.dialect, model.work_offsets);
   options.force = args.force;
@@ -403,12 +446,18 @@ int run_compensate(const CompensateArgs& args) {
       else
         mine.progress = [&bar, &whole, i](double fraction) { bar.update(whole.update(i, fraction)); };
       try {
+        // Before the job: --in-place replaces the program.
+        std::string no_trust;
+        const std::optional<compensate::ProgramTrust> trust =
+            gather_trust(targets[i].input, model, fit_information, options, args, no_trust);
         const Compensated c = compensate_one(targets[i], model, mine, args);
         int code = 0;
         {
           std::lock_guard lock(report);
           outcomes[i].done = true, outcomes[i].result = c;
-          if (!args.json) bar.print_above(summary_line(targets[i], model, c, args));
+          outcomes[i].trust = trust, outcomes[i].no_trust = no_trust;
+          if (!args.json)
+            bar.print_above(summary_line(targets[i], model, c, args) + trust_line(model, c.report, trust, no_trust, args));
         }
         // Written, but short of what was asked: said at the output's worst line, and exit 1.
         if (c.verdict && !c.verdict->passed()) {

@@ -11,9 +11,12 @@
 #include "ccomp/identify/check.hpp"
 #include "ccomp/identify/diagnose.hpp"
 #include "ccomp/identify/fit.hpp"
+#include "ccomp/identify/fit_information.hpp"
 #include "ccomp/identify/nine_line.hpp"
+#include "ccomp/identify/plan.hpp"
 #include "ccomp/identify/positioning.hpp"
 #include "ccomp/identify/simulate.hpp"
+#include "ccomp/model/fit_information.hpp"
 #include "ccomp/model/model_file.hpp"
 #include "ccomp/model/parameter_units.hpp"
 #include "ccomp/model/term_span.hpp"
@@ -155,7 +158,9 @@ CLI::App* add_simulate(CLI::App& app, IdentifyArgs& args) {
   CLI::App* cmd = app.add_subcommand("simulate", "measures a truth model along a plan, with noise: a measurement CSV");
   add_common(*cmd, args);
   cmd->add_option("-o,--output", args.output, "measurement file to write (- for stdout)")->required();
-  cmd->add_option("--plan", args.plans, "nine_lines (default), grid, sphere, thermal; repeat for several");
+  cmd->add_option("--plan", args.plans,
+                  "nine_lines (default), grid, sphere, thermal, or a file ccomp plan wrote (PLAN.csv: its readings); "
+                  "repeat for several");
   cmd->add_option("--noise", args.noise_um, "um, standard deviation of each reading (0.2)")
       ->check(CLI::NonNegativeNumber);
   cmd->add_option("--seed", args.seed, "random seed (1)");
@@ -186,7 +191,10 @@ std::string write_fitted(const std::string& text, const model::MachineModel& m, 
       "], observations: {}, free_parameters: {}, identified: {}, significant: {}, rms_before_um: {:.4f}, rms_after_um: "
       "{:.4f}}}",
       data.observations.size(), r.parameters.size(), r.rank, r.significant, r.rms_before * 1e3, r.rms_after * 1e3);
-  std::string fitted = model::rewrite_parameters(text, m, per_term, record, identify::fitted_spans(m, data));
+  // With what the fit knew of its values: how far a program may trust them (predict).
+  std::string fitted = model::with_fit_information(
+      model::rewrite_parameters(text, m, per_term, record, identify::fitted_spans(m, data)),
+      identify::fit_information(forward, data, r));
   write_output(output, fitted);
   return fitted;
 }
@@ -500,7 +508,13 @@ int run_simulate(const IdentifyArgs& args) {
   const model::ForwardModel forward(m);
   identify::SimulateOptions o;
   o.plans.clear();
-  for (const std::string& p : args.plans) o.plans.push_back(identify::plan_from_name(p));
+  // A plan that is a file (`ccomp plan`'s): its rows measured, after the named plans'.
+  std::vector<std::string> plan_files;
+  for (const std::string& p : args.plans)
+    if (p.ends_with(".csv") || p.find('/') != std::string::npos)
+      plan_files.push_back(p);
+    else
+      o.plans.push_back(identify::plan_from_name(p));
   o.noise = args.noise_um * 1e-3;
   o.seed = args.seed;
   o.tool_length = args.tool_length;
@@ -510,7 +524,23 @@ int run_simulate(const IdentifyArgs& args) {
   // The file says its frame, its origin written out: the model's (or the user's) G54.
   const identify::ResolvedFrame frame = identify::resolve_frame(std::nullopt, frame_of(args), m, args.output);
   o.origin = frame.origin;
-  const identify::MeasurementSet set = identify::simulate(forward, o);
+  identify::MeasurementSet set;
+  if (!o.plans.empty() || plan_files.empty()) set = identify::simulate(forward, o);
+  if (!plan_files.empty()) {
+    identify::MeasurementSet planned;
+    identify::ReadOptions reading = reading_options(args);
+    reading.frame = frame_of(args);
+    for (const std::string& path : plan_files) identify::read_plan(path, m, reading, planned);
+    identify::measure_on(forward, planned, o.noise, o.seed + 1);
+    for (identify::Observation ob : planned.observations) {
+      const auto source = static_cast<std::uint32_t>(
+          std::find(set.sources.begin(), set.sources.end(), planned.sources[ob.source]) - set.sources.begin());
+      if (source == set.sources.size()) set.sources.push_back(planned.sources[ob.source]);
+      ob.source = source;
+      ob.temperatures.resize(m.sensors.size(), 20.0);
+      set.observations.push_back(std::move(ob));
+    }
+  }
   write_output(args.output, identify::to_csv(set, m, frame));
   if (args.json)
     fmt::print("{}", simulate_json(m, set, args.output));

@@ -75,6 +75,8 @@ int main(int argc, char** argv) {
   CLI::App* positioning_cmd = ccomp::cli::add_positioning(app, positioning);
   CLI::App* nine_line_cmd = ccomp::cli::add_nine_line(app, nine_line);
   CLI::App* import_cmd = ccomp::cli::add_import(app, import);
+  ccomp::cli::PlanArgs plan;
+  CLI::App* plan_cmd = ccomp::cli::add_plan(app, plan);
   ccomp::cli::ExportArgs export_args;
   CLI::App* export_cmd = ccomp::cli::add_export(app, export_args);
   one_value_per_occurrence(app);
@@ -110,6 +112,7 @@ int main(int argc, char** argv) {
     if (positioning_cmd->parsed()) return finished(ccomp::cli::run_positioning(positioning));
     if (nine_line_cmd->parsed()) return finished(ccomp::cli::run_nine_line(nine_line));
     if (import_cmd->parsed()) return finished(ccomp::cli::run_import(import));
+    if (plan_cmd->parsed()) return finished(ccomp::cli::run_plan(plan));
     if (export_cmd->parsed()) return finished(ccomp::cli::run_export(export_args));
     return finished(ccomp::cli::run_compensate(compensate));
   } catch (const ccomp::Error& e) {

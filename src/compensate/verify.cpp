@@ -302,6 +302,7 @@ PathError predict(gcode::LineSource& program, const model::ForwardModel& model, 
       for (int k = 0; k <= steps; ++k) {
         const double t = static_cast<double>(k) / steps;
         Eigen::Vector3d actual, nominal;
+        if (options.pose) options.pose(path.at(t), ev.conditions, m.line);
         if (tip.on_chord()) {  // within a nanometre (executed_tip.hpp)
           actual = tip.on_chord(t), nominal = tip.nominal_on_chord(t);
         } else {

@@ -631,6 +631,12 @@ FitReport fit(const model::ForwardModel& model, const MeasurementSet& data, cons
     fp.uncertainty = std::sqrt(s2 * var) / scale[j];
     fp.identified = unseen <= 1e-4;
   }
+  report.covariance_factor.setZero(m, m);
+  for (Eigen::Index k = 0; k < m; ++k) {
+    const bool seen = identified_direction[static_cast<std::size_t>(k)];
+    const double sd = seen ? std::sqrt(s2) / sigma[k] : 1.0;  // in physical scales
+    report.covariance_factor.row(k) = (sd * V.col(k).cwiseQuotient(scale)).transpose();
+  }
   // A value far beyond what a machine plausibly has is what the data cannot say (a blind
   // direction, a wrong unit, a diverging fit), never a measurement: refused, named.
   for (const FittedParameter& fp : report.parameters) {

@@ -61,7 +61,9 @@ INSTANTIATE_TEST_SUITE_P(
         JsonCase{"positioning", "positioning" + kData + kGeometric + " --axis x --json"},
         JsonCase{"nine-line", "nine-line {s}/samples/measurements/hmc-laser-grid-sphere.csv " + kGeometric + " --json"},
         JsonCase{"export", "export " + kGeometric + " --control siemens --axis X -o {out}/x.spf --json"},
-        JsonCase{"export-volume", "export " + kGeometric + " --control isg --step 100 -o {out}/v.csv --json"}),
+        JsonCase{"export-volume", "export " + kGeometric + " --control isg --step 100 -o {out}/v.csv --json"},
+        JsonCase{"plan", "plan" + kData + kGeometric + kTools +
+                             " --program {s}/samples/programs/pocket-xy.ngc --budget 200 -o {out}/plan.csv --json"}),
     [](const ::testing::TestParamInfo<JsonCase>& param) {
       std::string name = param.param.schema;
       std::replace(name.begin(), name.end(), '-', '_');

@@ -17,7 +17,7 @@
 #include "ccomp/model/model_file.hpp"
 #include "job_runner.hpp"
 #include "metrology_loop.hpp"
-#include "reference_cut.hpp"
+#include "reference_contour.hpp"
 #include "reference_hmc.hpp"
 #include "reference_measurements.hpp"
 #include "trace_capture.hpp"
@@ -52,62 +52,12 @@ std::string contour_program(const test::ReferenceHmc& machine) {
   return p + "M30\n";
 }
 
-struct Segment {
-  Eigen::Vector3d a, b;
-};
-
-/// The largest distance from the programmed path of what the reference machine cuts
-/// running `program`, sampled every millimetre or so along each feed move.
-double contour_error(const test::ReferenceHmc& machine, const std::vector<Segment>& path, const std::string& program) {
-  gcode::InterpreterOptions with_tool;
-  with_tool.tools.tools[1] = test::kTool1;
-  const test::RunResult run = test::run_program(program, with_tool);
-  EXPECT_FALSE(run.error.has_value());
-  double worst = 0.0;
-  for (const test::RecordedMotion& m : run.motions) {
-    if (m.motion.kind != gcode::MotionKind::feed) continue;
-    const test::ReferenceAxes a = test::reference_axes(machine, m.motion.start, m.offsets);
-    const test::ReferenceAxes b = test::reference_axes(machine, m.motion.end, m.offsets);
-    const Eigen::Vector3d from(a.x, a.y, a.z), to(b.x, b.y, b.z);
-    const int steps = std::max(1, static_cast<int>((to - from).norm()));
-    for (int k = 0; k <= steps; ++k) {
-      const double f = static_cast<double>(k) / steps;
-      const Eigen::Vector3d q = from + (to - from) * f;
-      const Eigen::Vector3d cut = machine.actual_table_point(q.x(), q.y(), q.z(), a.b + (b.b - a.b) * f, b.L);
-      double nearest = std::numeric_limits<double>::infinity();
-      for (const Segment& s : path) {
-        const Eigen::Vector3d d = s.b - s.a;
-        const double t = std::clamp((cut - s.a).dot(d) / d.squaredNorm(), 0.0, 1.0);
-        nearest = std::min(nearest, (cut - (s.a + t * d)).norm());
-      }
-      worst = std::max(worst, nearest);
-    }
-  }
-  return worst;
-}
-
-/// The path the program means, on the reference's table.
-std::vector<Segment> nominal_path(const test::ReferenceHmc& machine, const std::string& program) {
-  gcode::InterpreterOptions with_tool;
-  with_tool.tools.tools[1] = test::kTool1;
-  std::vector<Segment> path;
-  for (const test::RecordedMotion& r : test::run_program(program, with_tool).motions) {
-    if (r.motion.kind != gcode::MotionKind::feed) continue;
-    auto nominal = [&](const gcode::Axes& axes) {
-      const test::ReferenceAxes q = test::reference_axes(machine, axes, r.offsets);
-      return machine.nominal_table_point(q.x, q.y, q.z, q.b, q.L);
-    };
-    path.push_back({nominal(r.motion.start), nominal(r.motion.end)});
-  }
-  return path;
-}
-
 /// The program compensated with the model `text`, told where the reference's program zero
 /// is in each documented way: the model's work_offsets, --work-offset, the program's own
 /// G10 L2, and the control's parameters (--param 5221...). Each output, judged on the
 /// reference, by way.
 std::vector<std::pair<std::string, double>> compensated_each_way(const test::ReferenceHmc& machine,
-                                                                 const std::vector<Segment>& path,
+                                                                 const std::vector<test::ContourSegment>& path,
                                                                  const std::string& text, const std::string& program) {
   const Eigen::Vector3d o = machine.work_origin;
   std::vector<std::pair<std::string, double>> judged;
@@ -118,18 +68,18 @@ std::vector<std::pair<std::string, double>> compensated_each_way(const test::Ref
     EXPECT_NE(at, std::string::npos) << "the sample's work offset, to replace";
     if (at != std::string::npos) with_offsets.replace(at, g54.size(), fmt::format("G54: {{X: {}, Y: {}, Z: {}}}", o.x(), o.y(), o.z()));
     const model::MachineModel m = model::parse_machine_model(with_offsets, "fitted.yaml");
-    judged.emplace_back("model", contour_error(machine, path, test::compensate(program, m, 0.001)));
+    judged.emplace_back("model", test::contour_error(machine, path, test::compensate(program, m, 0.001)));
   }
   const model::MachineModel m = model::parse_machine_model(text, "fitted.yaml");
   compensate::JobOptions option;
   option.interpreter.work_offsets[0] = gcode::Axes{o.x(), o.y(), o.z()};
-  judged.emplace_back("--work-offset", contour_error(machine, path, test::compensate(program, m, option)));
+  judged.emplace_back("--work-offset", test::contour_error(machine, path, test::compensate(program, m, option)));
   std::string set_by_program = program;
   set_by_program.insert(set_by_program.find('\n') + 1, fmt::format("G10 L2 P1 X{} Y{} Z{}\n", o.x(), o.y(), o.z()));
-  judged.emplace_back("G10 L2", contour_error(machine, path, test::compensate(set_by_program, m, 0.001)));
+  judged.emplace_back("G10 L2", test::contour_error(machine, path, test::compensate(set_by_program, m, 0.001)));
   compensate::JobOptions params;
   params.interpreter.parameters = {{"5221", o.x()}, {"5222", o.y()}, {"5223", o.z()}};
-  judged.emplace_back("--param", contour_error(machine, path, test::compensate(program, m, params)));
+  judged.emplace_back("--param", test::contour_error(machine, path, test::compensate(program, m, params)));
   return judged;
 }
 
@@ -151,8 +101,8 @@ TEST(ReferenceLoop, FollowingTheSuggestionsThenCompensatingLeavesUnderFivePercen
   EXPECT_LE(loop.last.rms_after, 1.3 * kNoise);
   // Compensate with the model the loop ended with; judge on the reference machine.
   const std::string program = contour_program(machine);
-  const std::vector<Segment> path = nominal_path(machine, program);
-  const double before = contour_error(machine, path, program);
+  const std::vector<test::ContourSegment> path = test::nominal_contour(machine, program);
+  const double before = test::contour_error(machine, path, program);
   EXPECT_GT(before, 0.015) << "the machine as it is misses the contour by tens of um";
   const auto judged = compensated_each_way(machine, path, loop.text, program);
   for (const auto& [way, after] : judged) {

@@ -38,6 +38,9 @@ struct CheckOptions {
   /// predict: called once a term, at the first line that uses it beyond where it was fitted
   /// (its span: model/term_span.hpp), with what it holds there.
   std::function<void(const std::string& message, std::uint32_t line)> warning;
+  /// predict: called at every point it checks, with the command's chain values, the
+  /// conditions there and the line (the trust on the program gathers them: trust.hpp).
+  std::function<void(const model::ChainQ& q, const model::Conditions& conditions, std::uint32_t line)> pose;
 };
 
 /// The uncompensated machine's error along the program: |actual - nominal| at each point.

@@ -66,6 +66,13 @@ struct FitReport {
   int iterations = 0;
   bool converged = false;
   std::size_t observations = 0;
+  /// How far each free parameter may be from the truth, as rows u_k (one per direction of the
+  /// column-scaled design matrix, internal units, free parameters in `parameters` order) whose
+  /// sum of outer products is the covariance: a direction the data determine with its least-
+  /// squares variance (s^2 / sigma_k^2), one the fit left as it was with one physical scale
+  /// (what it plausibly is on a machine: the data did not narrow it). What `predict` carries
+  /// to a program's poses (model/fit_information.hpp).
+  Eigen::MatrixXd covariance_factor;
 };
 
 /// Residuals (measured - predicted, mm) and the design matrix (d prediction / d free

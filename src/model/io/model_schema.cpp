@@ -11,7 +11,8 @@
 namespace ccomp::model::io {
 
 const Section kTopLevel{
-    "the model", {"name", "description", "dialect", "axes", "chain", "sensors", "max_correction", "work_offsets", "terms", "fitted"}};
+    "the model", {"name", "description", "dialect", "axes", "chain", "sensors", "max_correction", "work_offsets", "terms", "fitted",
+                  "fit_information"}};
 const Section kAxis{"an axis", {"type", "min", "max"}};
 const Section kChain{"chain", {"workpiece", "tool"}};
 const Section kLink{"a link", {"link", "axis", "direction", "offset", "tool_length"}};

@@ -17,6 +17,7 @@
 #include "ccomp/gcode/dialect.hpp"
 #include "ccomp/model/model_file.hpp"
 #include "ccomp/util/sha256.hpp"
+#include "fit_information_io.hpp"
 #include "model_schema.hpp"
 #include "read_chain.hpp"
 #include "read_terms.hpp"
@@ -139,6 +140,7 @@ MachineModel read_model(const YAML::Node& root, const std::string& name, const s
   read_max_correction(name, root["max_correction"], m);
   read_work_offsets(name, root["work_offsets"], m);
   io::read_terms(name, root["terms"], m);
+  (void)io::read_fit_information(name, root["fit_information"], m);  // checked here; read by those who need it
   validate(m);
   return m;
 }

@@ -121,6 +121,8 @@ std::string rewrite_parameters(const std::string& text, const MachineModel& mode
     terms[i]["span"] = span;
   }
   if (!record.empty()) root["fitted"] = YAML::Load(record);
+  // New values: what an earlier fit knew of the old ones no longer describes them.
+  root.remove("fit_information");
   return emit(root, "writing the model");
 }
 
