@@ -41,9 +41,20 @@ compensate::CheckOptions check_options(const CheckArgs& args, const model::Machi
   return o;
 }
 
-/// The figures as JSON: `what` is "predict" or "verify".
+/// mm: verify's angular tolerance, unless given, is its tolerance over this reach up the
+/// tool's flank (1 um: 100 urad), the tilt that moves a point 10 mm up a side-cutting
+/// tool's flank by the tolerance.
+constexpr double kFlankReachMm = 10.0;
+
+/// Both tolerances verify judges by: mm, and rad.
+struct Tolerances {
+  double position = 0.0;
+  double angle = 0.0;
+};
+
+/// The figures as JSON: `what` is "predict" or "verify" (which has its tolerances).
 std::string path_error_json(const char* what, const CheckArgs& args, const model::MachineModel& m,
-                            const compensate::PathError& e, double tolerance) {
+                            const compensate::PathError& e, const std::optional<Tolerances>& judged) {
   util::JsonWriter j;
   j.begin_object().field("command", what).field("program", args.input);
   if (!args.compensated.empty()) j.field("compensated", args.compensated);
@@ -51,22 +62,33 @@ std::string path_error_json(const char* what, const CheckArgs& args, const model
   j.field("max_um", e.max * 1000.0).field("rms_um", e.rms * 1000.0).field("worst_line", e.worst_line);
   j.key("worst_point_mm").begin_array().value(e.worst_point.x()).value(e.worst_point.y()).value(e.worst_point.z());
   j.end_array();
-  if (tolerance > 0) {
-    j.field("tolerance_um", tolerance * 1000.0).field("uncut_mm", e.uncut_length);
+  j.field("orientation_max_urad", e.orientation_max * 1e6).field("orientation_rms_urad", e.orientation_rms * 1e6);
+  j.field("orientation_worst_line", e.orientation_worst_line);
+  if (judged) {
+    j.field("tolerance_um", judged->position * 1000.0).field("angular_tolerance_urad", judged->angle * 1e6);
+    j.field("uncut_mm", e.uncut_length);
     if (e.uncut_length > 0)
       j.field("uncut_line", e.uncut_line);
     else
       j.key("uncut_line").null();
-    j.field("passed", e.uncut_length <= 0.0 && e.max <= tolerance);
+    j.field("passed", e.uncut_length <= 0.0 && e.max <= judged->position && e.orientation_max <= judged->angle);
   }
   return j.end_object().text();
 }
 
 void print(const char* what, const std::string& file, const compensate::PathError& e) {
   fmt::print(
-      "{}: {} over {} moves ({} points): max {:.2f} um at line {} (table point {:.3f} {:.3f} {:.3f}), rms {:.2f} um\n",
+      "{}: {} over {} moves ({} points): max {:.2f} um at line {} (table point {:.3f} {:.3f} {:.3f}), rms {:.2f} um; "
+      "tool direction off by {:.1f} urad at most, at line {}, rms {:.1f} urad\n",
       file, what, e.moves, e.points, e.max * 1000.0, e.worst_line, e.worst_point.x(), e.worst_point.y(),
-      e.worst_point.z(), e.rms * 1000.0);
+      e.worst_point.z(), e.rms * 1000.0, e.orientation_max * 1e6, e.orientation_worst_line, e.orientation_rms * 1e6);
+}
+
+/// "1.0004 um is more than 1.00 um", not 1.00: as many digits as show the difference.
+int digits_apart(double value, double limit) {
+  int digits = 2;
+  while (digits < 6 && fmt::format("{:.{}f}", value, digits) == fmt::format("{:.{}f}", limit, digits)) ++digits;
+  return digits;
 }
 
 }  // namespace
@@ -87,6 +109,10 @@ CLI::App* add_verify(CLI::App& app, CheckArgs& args) {
                   "mm: the contour error allowed; more, or a cut of the original left out, exits with 7 (default: "
                   "the tolerance in the output's ccomp header, else 0.001)")
       ->check(tolerance_in_mm());
+  cmd->add_option("--angular-tolerance", args.angular_tolerance_urad,
+                  "urad: how far the tool's direction may be off the program's; more exits with 7 (default: the "
+                  "tolerance over 10 mm, 100 urad at 1 um)")
+      ->check(angle_in_urad());
   add_model_options(*cmd, args);
   return cmd;
 }
@@ -122,7 +148,7 @@ int run_predict(const CheckArgs& args) {
   const compensate::PathError e = compensate::predict(program, forward, o);
   bar.clear();
   if (args.json)
-    fmt::print("{}", path_error_json("predict", args, m, e, 0.0));
+    fmt::print("{}", path_error_json("predict", args, m, e, std::nullopt));
   else
     print("machine error", program.name(), e);
   return 0;
@@ -170,8 +196,10 @@ int run_verify(const CheckArgs& args) {
   o.progress = [&bar](double done) { bar.update(done); };
   const compensate::PathError e = compensate::verify(original, compensated, forward, o);
   bar.clear();
+  const Tolerances judged{tolerance, args.angular_tolerance_urad > 0.0 ? args.angular_tolerance_urad * 1e-6
+                                                                         : tolerance / kFlankReachMm};
   if (args.json)
-    fmt::print("{}", path_error_json("verify", args, m, e, tolerance));
+    fmt::print("{}", path_error_json("verify", args, m, e, judged));
   else
     print("contour error left", compensated.name(), e);
   if (e.uncut_length > 0.0)
@@ -179,16 +207,18 @@ int run_verify(const CheckArgs& args) {
                 fmt::format("{} leaves {:.3f} mm of the original's cuts uncut, the first at this line of the original",
                             compensated.name(), e.uncut_length),
                 SourceLocation{original.name(), e.uncut_line, 0});
-  if (e.max > tolerance) {
-    // As many digits as show the difference ("1.0004 um is more than 1.00 um", not 1.00).
-    int digits = 2;
-    while (digits < 6 && fmt::format("{:.{}f}", e.max * 1000.0, digits) == fmt::format("{:.{}f}", tolerance * 1000.0, digits))
-      ++digits;
+  if (e.max > tolerance)
     throw Error(ErrorKind::safety,
                 fmt::format("the contour error left, {:.{}f} um, is more than the tolerance of {:.2f} um (--tolerance)",
-                            e.max * 1000.0, digits, tolerance * 1000.0),
+                            e.max * 1000.0, digits_apart(e.max * 1000.0, tolerance * 1000.0), tolerance * 1000.0),
                 SourceLocation{compensated.name(), e.worst_line, 0});
-  }
+  if (e.orientation_max > judged.angle)
+    throw Error(ErrorKind::safety,
+                fmt::format("the tool's direction is off by {:.{}f} urad, more than the angular tolerance of {:.2f} urad "
+                            "(--angular-tolerance)",
+                            e.orientation_max * 1e6, digits_apart(e.orientation_max * 1e6, judged.angle * 1e6),
+                            judged.angle * 1e6),
+                SourceLocation{compensated.name(), e.orientation_worst_line, 0});
   return 0;
 }
 
