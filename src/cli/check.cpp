@@ -196,8 +196,8 @@ int run_verify(const CheckArgs& args) {
   o.progress = [&bar](double done) { bar.update(done); };
   const compensate::PathError e = compensate::verify(original, compensated, forward, o);
   bar.clear();
-  const Tolerances judged{tolerance, args.angular_tolerance_urad > 0.0 ? args.angular_tolerance_urad * 1e-6
-                                                                         : tolerance / kFlankReachMm};
+  const Tolerances judged{
+      tolerance, args.angular_tolerance_urad > 0.0 ? args.angular_tolerance_urad * 1e-6 : tolerance / kFlankReachMm};
   if (args.json)
     fmt::print("{}", path_error_json("verify", args, m, e, judged));
   else
@@ -213,12 +213,13 @@ int run_verify(const CheckArgs& args) {
                             e.max * 1000.0, digits_apart(e.max * 1000.0, tolerance * 1000.0), tolerance * 1000.0),
                 SourceLocation{compensated.name(), e.worst_line, 0});
   if (e.orientation_max > judged.angle)
-    throw Error(ErrorKind::safety,
-                fmt::format("the tool's direction is off by {:.{}f} urad, more than the angular tolerance of {:.2f} urad "
-                            "(--angular-tolerance)",
-                            e.orientation_max * 1e6, digits_apart(e.orientation_max * 1e6, judged.angle * 1e6),
-                            judged.angle * 1e6),
-                SourceLocation{compensated.name(), e.orientation_worst_line, 0});
+    throw Error(
+        ErrorKind::safety,
+        fmt::format("the tool's direction is off by {:.{}f} urad, more than the angular tolerance of {:.2f} urad "
+                    "(--angular-tolerance)",
+                    e.orientation_max * 1e6, digits_apart(e.orientation_max * 1e6, judged.angle * 1e6),
+                    judged.angle * 1e6),
+        SourceLocation{compensated.name(), e.orientation_worst_line, 0});
   return 0;
 }
 

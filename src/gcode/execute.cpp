@@ -7,8 +7,8 @@
 #include <numbers>
 
 #include "ccomp/constants.hpp"
-#include "g_codes.hpp"
 #include "ccomp/gcode/tcp_mode.hpp"
+#include "g_codes.hpp"
 #include "interpreter_impl.hpp"
 
 namespace ccomp::gcode {

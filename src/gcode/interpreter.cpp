@@ -70,7 +70,8 @@ void Interpreter::Impl::fail(const Block& b, const Word* where, const std::strin
 }
 
 void Interpreter::Impl::unsupported_at(const Block& b, Span span, const std::string& message) const {
-  throw Error(ErrorKind::unsupported, message, SourceLocation{file_name(), b.line, span.begin + 1}, std::string(b.text));
+  throw Error(ErrorKind::unsupported, message, SourceLocation{file_name(), b.line, span.begin + 1},
+              std::string(b.text));
 }
 
 void Interpreter::Impl::fail_at(const Block& b, Span span, const std::string& message) const {

@@ -20,7 +20,8 @@ std::optional<std::string_view> tcp_m_code(const Dialect& dialect, int code) {
     if (code == 430) return "LinuxCNC's switchable kinematics: the user kinematics (kinstype 2)";
     return std::nullopt;
   }
-  if (dialect.name == "fanuc" && code == 128) return "Heidenhain's TCPM (the tool tip kept in the part as the rotary axes turn)";
+  if (dialect.name == "fanuc" && code == 128)
+    return "Heidenhain's TCPM (the tool tip kept in the part as the rotary axes turn)";
   return std::nullopt;
 }
 

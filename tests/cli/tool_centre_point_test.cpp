@@ -56,34 +56,33 @@ TEST_P(ToolCentrePoint, IsRefusedAtTheCodeThatSwitchesItOn) {
   EXPECT_NE(verified.err.find(where), std::string::npos) << verified.err;
 }
 
-INSTANTIATE_TEST_SUITE_P(
-    Modes, ToolCentrePoint,
-    testing::Values(TcpCase{"LinuxcncSwitchkinsM428", "linuxcnc", "M428 ;TCP:xyzac", "M428", 1},
-                    TcpCase{"LinuxcncUserKinematicsM430", "linuxcnc", "G54 M430", "M430", 5},
-                    TcpCase{"FanucG43_4", "fanuc", "G43.4 H1", "G43.4", 1},
-                    TcpCase{"FanucG43_5", "fanuc", "T1 M6 G43.5 H1", "G43.5", 7},
-                    TcpCase{"LinuxcncG43_4", "linuxcnc", "G43.4 H1", "G43.4", 1},
-                    TcpCase{"HeidenhainM128InIso", "fanuc", "M128", "M128", 1}),
-    [](const auto& param_info) { return std::string(param_info.param.name); });
+INSTANTIATE_TEST_SUITE_P(Modes, ToolCentrePoint,
+                         testing::Values(TcpCase{"LinuxcncSwitchkinsM428", "linuxcnc", "M428 ;TCP:xyzac", "M428", 1},
+                                         TcpCase{"LinuxcncUserKinematicsM430", "linuxcnc", "G54 M430", "M430", 5},
+                                         TcpCase{"FanucG43_4", "fanuc", "G43.4 H1", "G43.4", 1},
+                                         TcpCase{"FanucG43_5", "fanuc", "T1 M6 G43.5 H1", "G43.5", 7},
+                                         TcpCase{"LinuxcncG43_4", "linuxcnc", "G43.4 H1", "G43.4", 1},
+                                         TcpCase{"HeidenhainM128InIso", "fanuc", "M128", "M128", 1}),
+                         [](const auto& param_info) { return std::string(param_info.param.name); });
 
 TEST(ToolCentrePoint, TheSwitchBackAndATraceAreNotRefused) {
   const std::string dir = temp_dir("tcp_read");
   const std::string program = dir + "/switch.ngc";
   // M429 is LinuxCNC's switch back to identity kinematics: joint coordinates, as ccomp reads.
   write_file(program, "G21 G90 G94\nM429\nG0 X10 Y5 Z20 A10 C30\nG1 X20 F500\nM2\n");
-  EXPECT_EQ(run_command(shell_quote(ccomp_binary()) + " " + program + " -m " + five_axis_model() + " -o " + dir +
-                        "/out.ngc")
-                .exit_code,
-            0);
+  EXPECT_EQ(
+      run_command(shell_quote(ccomp_binary()) + " " + program + " -m " + five_axis_model() + " -o " + dir + "/out.ngc")
+          .exit_code,
+      0);
   // The LinuxCNC corpus' TCP program: a trace shows what the interpreter reads...
   const std::string boat = source_dir() + "/tests/data/corpus/programs/boat-xyzbc.ngc";
-  const CommandResult trace =
-      run_command(shell_quote(ccomp_binary()) + " trace " + boat + " --tool-table " + source_dir() + "/samples/tools.tbl");
+  const CommandResult trace = run_command(shell_quote(ccomp_binary()) + " trace " + boat + " --tool-table " +
+                                          source_dir() + "/samples/tools.tbl");
   EXPECT_EQ(trace.exit_code, 0) << trace.err;
   // ... and compensating it on a machine with errors is refused at its M428, where it was
   // read as joint coordinates before.
-  const CommandResult job = run_command(shell_quote(ccomp_binary()) + " " + boat + " -m " + five_axis_model() +
-                                        " -o " + dir + "/boat.ngc");
+  const CommandResult job =
+      run_command(shell_quote(ccomp_binary()) + " " + boat + " -m " + five_axis_model() + " -o " + dir + "/boat.ngc");
   EXPECT_EQ(job.exit_code, 4) << job.err;
   EXPECT_NE(job.err.find("boat-xyzbc.ngc:2:1: error: M428 switches to LinuxCNC's switchable kinematics"),
             std::string::npos)
@@ -99,8 +98,8 @@ TEST(ToolDirection, VerifyReportsAndJudgesIt) {
                         out + " -q")
                 .exit_code,
             0);
-  const std::string verify = shell_quote(ccomp_binary()) + " verify " + program + " " + out + " -m " +
-                             five_axis_model() + tools;
+  const std::string verify =
+      shell_quote(ccomp_binary()) + " verify " + program + " " + out + " -m " + five_axis_model() + tools;
   const CommandResult json = run_command(verify + " --json");
   ASSERT_EQ(json.exit_code, 0) << json.err;
   auto number = [&](const std::string& field) {
@@ -123,8 +122,8 @@ TEST(ToolDirection, VerifyReportsAndJudgesIt) {
   EXPECT_EQ(refused_json.exit_code, 7);
   EXPECT_NE(refused_json.out.find("\"passed\": false"), std::string::npos) << refused_json.out;
   // The uncompensated program tilts the tool further than the output leaves it.
-  const CommandResult before = run_command(shell_quote(ccomp_binary()) + " predict " + program + " -m " +
-                                           five_axis_model() + tools + " --json");
+  const CommandResult before =
+      run_command(shell_quote(ccomp_binary()) + " predict " + program + " -m " + five_axis_model() + tools + " --json");
   ASSERT_EQ(before.exit_code, 0) << before.err;
   const auto at = before.out.find("\"orientation_max_urad\": ");
   ASSERT_NE(at, std::string::npos);

@@ -6,6 +6,7 @@
 // ones through the work offset); a program tilting the tool through the singular pose (A 0,
 // B 0: the tool along C's line) as C turns is compensated point by point as the job does, and
 // each corrected pose is run on the reference.
+#include <fmt/format.h>
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -14,8 +15,6 @@
 #include <sstream>
 #include <string>
 #include <vector>
-
-#include <fmt/format.h>
 
 #include "ccomp/compensate/inverse.hpp"
 #include "ccomp/compensate/program_job.hpp"
