@@ -19,7 +19,8 @@ for model in samples/machines/*.yaml; do
     before=$("$ccomp" predict "$program" -m "$model" --tool-table samples/tools.tbl "${extra[@]}")
     # verify exits 7 when the output is off by more than the tolerance: the row says by how much.
     after=$("$ccomp" verify "$program" "$out/$name/$p" -m "$model" --tool-table samples/tools.tbl "${extra[@]}" 2>/dev/null) || true
-    pick() { sed -E 's/.*max ([0-9.]+) um.*rms ([0-9.]+) um/\1 \/ \2 um/' <<< "$1"; }
+    # (the tip's figures: the tool direction's follow them on the line)
+    pick() { sed -E 's/.*max ([0-9.]+) um.*rms ([0-9.]+) um;.*/\1 \/ \2 um/' <<< "$1"; }
     added=$(( $(wc -l < "$out/$name/$p") - $(wc -l < "$program") - 1 ))
     echo "| $name | $p | $(pick "$before") | $(pick "$after") | $added |"
   done

@@ -53,8 +53,11 @@ std::string path_error_json(const char* what, const CheckArgs& args, const model
   j.field("max_um", e.max * 1000.0).field("rms_um", e.rms * 1000.0).field("worst_line", e.worst_line);
   j.key("worst_point_mm").begin_array().value(e.worst_point.x()).value(e.worst_point.y()).value(e.worst_point.z());
   j.end_array();
+  j.field("orientation_max_urad", e.orientation_max * 1e6).field("orientation_rms_urad", e.orientation_rms * 1e6);
+  j.field("orientation_worst_line", e.orientation_worst_line);
   if (verdict) {
-    j.field("tolerance_um", verdict->tolerance * 1000.0).field("uncut_mm", e.uncut_length);
+    j.field("tolerance_um", verdict->tolerance * 1000.0).field("angular_tolerance_urad", verdict->angular_tolerance * 1e6);
+    j.field("uncut_mm", e.uncut_length);
     if (e.uncut_length > 0)
       j.field("uncut_line", e.uncut_line);
     else
@@ -67,9 +70,10 @@ std::string path_error_json(const char* what, const CheckArgs& args, const model
 
 void print(const char* what, const std::string& file, const compensate::PathError& e) {
   fmt::print(
-      "{}: {} over {} moves ({} points): max {:.2f} um at line {} (table point {:.3f} {:.3f} {:.3f}), rms {:.2f} um\n",
+      "{}: {} over {} moves ({} points): max {:.2f} um at line {} (table point {:.3f} {:.3f} {:.3f}), rms {:.2f} um; "
+      "tool direction off by {:.1f} urad at most, at line {}, rms {:.1f} urad\n",
       file, what, e.moves, e.points, e.max * 1000.0, e.worst_line, e.worst_point.x(), e.worst_point.y(),
-      e.worst_point.z(), e.rms * 1000.0);
+      e.worst_point.z(), e.rms * 1000.0, e.orientation_max * 1e6, e.orientation_worst_line, e.orientation_rms * 1e6);
 }
 
 }  // namespace
@@ -90,6 +94,10 @@ CLI::App* add_verify(CLI::App& app, CheckArgs& args) {
                   "mm: the contour error allowed; more, or a cut of the original left out, exits with 7 (default: "
                   "the tolerance in the output's ccomp header, else 0.001)")
       ->check(tolerance_in_mm());
+  cmd->add_option("--angular-tolerance", args.angular_tolerance_urad,
+                  "urad: how far the tool's direction may be off the program's; more exits with 7 (default: the "
+                  "tolerance over 10 mm, 100 urad at 1 um)")
+      ->check(angle_in_urad());
   add_model_options(*cmd, args);
   return cmd;
 }
@@ -155,7 +163,9 @@ int run_verify(const CheckArgs& args) {
   compensate::CheckOptions o = check_options(args, m, assumed);
   o.progress = [&bar](double done) { bar.update(done); };
   // The main job judges its output with the same function (compensate/verdict.hpp).
-  const compensate::Verdict v = compensate::judge(original, compensated, forward, o, tolerance);
+  const double angular_tolerance = args.angular_tolerance_urad > 0.0 ? args.angular_tolerance_urad * 1e-6
+                                                                      : compensate::default_angular_tolerance(tolerance);
+  const compensate::Verdict v = compensate::judge(original, compensated, forward, o, tolerance, angular_tolerance);
   const compensate::PathError& e = v.after;
   bar.clear();
   if (args.json)
@@ -170,6 +180,9 @@ int run_verify(const CheckArgs& args) {
   if (v.over_tolerance())
     throw Error(ErrorKind::safety, v.failures().front() + " (--tolerance)",
                 SourceLocation{compensated.name(), e.worst_line, 0});
+  if (v.over_angular_tolerance())
+    throw Error(ErrorKind::safety, v.failures().front() + " (--angular-tolerance)",
+                SourceLocation{compensated.name(), e.orientation_worst_line, 0});
   return 0;
 }
 

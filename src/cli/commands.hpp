@@ -28,6 +28,8 @@ void add_program_options(CLI::App& cmd, ProgramArgs& args);
 /// --tolerance's check: a positive, finite number of mm. CLI11's PositiveNumber answers '1um'
 /// with its range printed as a 300-digit double; this names the value and the unit.
 [[nodiscard]] CLI::Validator tolerance_in_mm();
+/// --angular-tolerance: a finite number of microradians above 0.
+[[nodiscard]] CLI::Validator angle_in_urad();
 /// --time: a finite number of seconds, 0 or more (a warm-up does not run backwards).
 [[nodiscard]] CLI::Validator seconds_since_warm_up();
 /// --work-offset's systems (usage errors name the option).
@@ -73,6 +75,8 @@ struct CheckArgs {
   std::optional<double> time;  ///< --time, s; none given: a warm-up term is refused
   int samples = 8;
   double tolerance = 0.0;  ///< verify: mm; 0: the one in the output's header, else 0.001
+  /// verify: urad the tool's direction may be off; 0: the tolerance over kFlankReachMm.
+  double angular_tolerance_urad = 0.0;
   bool json = false;
   ProgramArgs program;
 };

@@ -23,11 +23,13 @@ constexpr const char* kExitCodes = R"(Exit codes:
   2   usage: bad command line (a reading or --time the model needs included), or an
       output that would replace an input, a link, a device or another output
   3   program error: the G-code is wrong (file:line:column on stderr)
-  4   unsupported: valid G-code that ccomp does not handle
+  4   unsupported: valid G-code that ccomp does not handle (a tool-centre-point
+      program: G43.4, M428, M128)
   5   model error: the machine model file is wrong
   6   I/O error: a file could not be read or written (standard output included)
   7   refused: compensating would be unsafe (see the message); verify: the output is
-      off the path by more than the tolerance, or leaves a cut out
+      off the path by more than the tolerance (the tool's direction by more than the
+      angular tolerance), or leaves a cut out
   8   data error: a measurement file is wrong (file:row:column on stderr), or the data
       cannot support the fit (too few readings, a value far beyond its scale: not written)
   70  internal error: a bug in ccomp, please report it

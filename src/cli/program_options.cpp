@@ -39,6 +39,17 @@ CLI::Validator tolerance_in_mm() {
       "MM > 0");
 }
 
+CLI::Validator angle_in_urad() {
+  return CLI::Validator(
+      [](std::string& text) -> std::string {
+        double v = 0.0;
+        const auto [ptr, ec] = std::from_chars(text.data(), text.data() + text.size(), v);
+        if (ec == std::errc() && ptr == text.data() + text.size() && std::isfinite(v) && v > 0.0) return {};
+        return "'" + text + "' is not an angle in urad (0 < tolerance; 10 arcsec is 48.5)";
+      },
+      "URAD > 0");
+}
+
 CLI::Validator seconds_since_warm_up() {
   return CLI::Validator(
       [](std::string& text) -> std::string {

@@ -12,6 +12,7 @@
 
 #include "ccomp/model/forward.hpp"
 #include "ccomp/model/variation_bound.hpp"
+#include "tool_direction.hpp"
 
 namespace ccomp::compensate {
 
@@ -41,6 +42,18 @@ class ExecutedTip {
   /// The chord's ends (the move's tips there), for a caller that makes the points itself.
   [[nodiscard]] const Eigen::Vector3d& chord_start() const { return start_; }
   [[nodiscard]] const Eigen::Vector3d& chord_end() const { return end_; }
+  /// The tool's actual direction at the chord's ends (tool_direction.hpp), and at fraction
+  /// t between them: the rotary axes stand still along a move on its chord (a turn bends
+  /// the tip's path beyond the bound), so the direction moves by the linear axes' angular
+  /// errors alone, microradians, and is interpolated between its ends.
+  [[nodiscard]] const Eigen::Vector3d& chord_start_direction() const { return start_direction_; }
+  [[nodiscard]] const Eigen::Vector3d& chord_end_direction() const { return end_direction_; }
+  [[nodiscard]] Eigen::Vector3d direction_on_chord(double t) const {
+    return direction_between(start_direction_, end_direction_, t);
+  }
+  /// The direction the program means along the move, after start_move(..., true): the
+  /// nominal chain's turns only with the rotary axes, which stand still on it.
+  [[nodiscard]] const Eigen::Vector3d& nominal_direction() const { return nominal_direction_; }
 
   /// The point at fraction t of the chord from a to b, its ends exactly a and b: what
   /// on_chord() gives, for whoever holds the ends.
@@ -50,8 +63,10 @@ class ExecutedTip {
   }
 
  private:
-  /// The actual tip at q (and the nominal one into `nominal`, when given).
-  Eigen::Vector3d tip_at(const model::ChainQ& q, const model::Conditions& conditions, Eigen::Vector3d* nominal);
+  /// The actual tip at q and the tool's direction there into `direction` (and the nominal
+  /// tip into `nominal`, when given, its direction into nominal_direction_).
+  Eigen::Vector3d tip_at(const model::ChainQ& q, const model::Conditions& conditions, Eigen::Vector3d& direction,
+                         Eigen::Vector3d* nominal);
   /// Whether a and b are alike in every approach a term reads (ForwardModel::reads_approach;
   /// the others change nothing).
   [[nodiscard]] bool same_approach(const std::array<double, 9>& a, const std::array<double, 9>& b) const;
@@ -62,10 +77,14 @@ class ExecutedTip {
   bool on_chord_ = false;
   Eigen::Vector3d start_ = Eigen::Vector3d::Zero(), end_ = Eigen::Vector3d::Zero();
   Eigen::Vector3d nominal_start_ = Eigen::Vector3d::Zero(), nominal_end_ = Eigen::Vector3d::Zero();
+  Eigen::Vector3d tool_axis_;
+  Eigen::Vector3d start_direction_ = Eigen::Vector3d::Zero(), end_direction_ = Eigen::Vector3d::Zero();
+  Eigen::Vector3d nominal_direction_ = Eigen::Vector3d::Zero();
   // The last end evaluated: the next move's start.
   model::ChainQ last_q_ = model::ChainQ::Constant(std::nan(""));
   std::array<double, 9> last_directions_{};
   Eigen::Vector3d last_tip_ = Eigen::Vector3d::Zero(), last_nominal_ = Eigen::Vector3d::Zero();
+  Eigen::Vector3d last_direction_ = Eigen::Vector3d::Zero(), last_nominal_direction_ = Eigen::Vector3d::Zero();
   bool last_has_nominal_ = false;
 };
 

@@ -21,6 +21,7 @@
 #include <utility>
 #include <vector>
 
+#include "ccomp/model/forward.hpp"
 #include "sliding_vector.hpp"
 
 namespace ccomp::compensate {
@@ -43,6 +44,28 @@ struct Piece {
   /// A canned cycle's: the block's words move its pecks with the hole's correction, so
   /// they need not meet the original's piece for piece (what is uncut does not count them).
   bool cycle = false;
+  /// The original's axes at the piece's ends (chain variables: an arc's at its start and
+  /// end), and the tool's direction it means along the piece where its rotary axes stand
+  /// still (`rotary_turns` false: the nominal chain turns the tool only with them). Where they
+  /// turn, verify finds the direction at the point (verify.cpp, MeantDirection).
+  model::ChainQ q0 = model::ChainQ::Zero(), q1 = model::ChainQ::Zero();
+  Eigen::Vector3d direction = Eigen::Vector3d::Zero();
+  bool rotary_turns = false;
+
+  /// An arc's fraction (0 to 1, its first turn where it makes several) at p's angle about
+  /// its axis; a segment's, p projected on it.
+  [[nodiscard]] double fraction_at(const Eigen::Vector3d& p) const {
+    if (!arc) {
+      const Eigen::Vector3d ab = b - a;
+      const double len2 = ab.squaredNorm();
+      return len2 > 0 ? std::clamp((p - a).dot(ab) / len2, 0.0, 1.0) : 0.0;
+    }
+    const Eigen::Vector3d v = p - centre;
+    double phi = std::atan2(v.dot(e2), v.dot(e1)) - a0;
+    if (!ccw) phi = -phi;
+    phi -= 2 * std::numbers::pi * std::floor(phi / (2 * std::numbers::pi));
+    return sweep > 0 ? std::clamp(phi / sweep, 0.0, 1.0) : 0.0;
+  }
 
   [[nodiscard]] double length() const { return arc ? std::hypot(sweep * 0.5 * (r0 + r1), dw) : (b - a).norm(); }
 
@@ -241,6 +264,9 @@ class PathSearch {
     window().drop_before(behind());
     return best;
   }
+
+  /// The piece the last point was found at (the cursor), after distance() gave a value.
+  [[nodiscard]] const Piece& at_piece() { return window()[cursor_]; }
 
   /// The length (mm) of the original's cuts never come to, and the line of the first.
   std::pair<double, std::uint32_t> uncut() {

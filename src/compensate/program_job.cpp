@@ -90,6 +90,10 @@ JobReport run_program_job(gcode::LineSource& input, std::FILE* out, const model:
   JobOptions options = given;  // the machine's own work offsets under the caller's
   options.interpreter = with_model_offsets(given.interpreter, model);
   options.interpreter.origin_matters = !model.terms.empty();  // a machine without error has no lever
+  // A TCP program's words are not the joints' positions: corrected as if they were, the
+  // tool would go elsewhere. Without an error term nothing is corrected and the program is
+  // written back as it is, whichever its coordinates.
+  options.interpreter.joint_coordinates_only = !model.terms.empty();
   check_work_offsets(options.interpreter, model);
   if (options.flatten) return run_flattened_job(input, out, model, options);
   JobReport report;

@@ -25,6 +25,10 @@ std::vector<std::string> Verdict::failures() const {
   if (over_tolerance())
     out.push_back(fmt::format("the contour error left, {:.{}f} um, is more than the tolerance of {:.2f} um",
                               after_um, digits_apart(after_um, tolerance_um), tolerance_um));
+  if (over_angular_tolerance())
+    out.push_back(fmt::format("the tool's direction is off by {:.{}f} urad, more than the angular tolerance of {:.2f} urad",
+                              after.orientation_max * 1e6,
+                              digits_apart(after.orientation_max * 1e6, angular_tolerance * 1e6), angular_tolerance * 1e6));
   if (worse_than_written())
     out.push_back(fmt::format("the contour error left, {:.2f} um, is worse than the program as written ({:.2f} um)",
                               after_um, before_um));
@@ -32,10 +36,11 @@ std::vector<std::string> Verdict::failures() const {
 }
 
 Verdict judge(gcode::LineSource& original, gcode::LineSource& compensated, const model::ForwardModel& model,
-              const CheckOptions& options, double tolerance, double before) {
+              const CheckOptions& options, double tolerance, double angular_tolerance, double before) {
   Verdict v;
   v.after = verify(original, compensated, model, options);
   v.tolerance = tolerance;
+  v.angular_tolerance = angular_tolerance;
   v.before = before;
   return v;
 }
@@ -47,7 +52,8 @@ Verdict judge_job_output(gcode::LineSource& original, gcode::LineSource& written
   options.conditions = model::conditions_for(model, job.sensors, job.time);
   options.progress = std::move(progress);
   const model::ForwardModel forward(model);
-  return judge(original, written, forward, options, job.tolerance, report.max_error_before);
+  return judge(original, written, forward, options, job.tolerance, default_angular_tolerance(job.tolerance),
+               report.max_error_before);
 }
 
 }  // namespace ccomp::compensate

@@ -17,6 +17,7 @@
 #include "ccomp/util/parallel.hpp"
 #include "executed_tip.hpp"
 #include "path_search.hpp"
+#include "tool_direction.hpp"
 
 namespace ccomp::compensate {
 
@@ -39,7 +40,8 @@ template <typename OnMotion>
 void each_motion(gcode::LineSource& program, const model::MachineModel& model, const CheckOptions& options,
                  OnMotion on) {
   MotionSink<OnMotion> sink(std::move(on));
-  const gcode::InterpreterOptions interpreting = with_model_offsets(options.interpreter, model);
+  gcode::InterpreterOptions interpreting = with_model_offsets(options.interpreter, model);
+  interpreting.joint_coordinates_only = true;  // the tip is followed through the joints
   check_work_offsets(interpreting, model);
   gcode::Interpreter interpreter(interpreting);
   interpreter.run(program, sink);
@@ -61,6 +63,18 @@ struct Evaluator {
     model::forward(model, data, q, conditions, false, model::Evaluate::nominal);
     return data.nominal;
   }
+  /// The tool's direction the nominal chain gives at q. It turns the tool with the rotary
+  /// axes alone, so the last one serves until they move.
+  const Eigen::Vector3d& nominal_direction(const model::ChainQ& q) {
+    if (q.segment<3>(3) != directed_at) {
+      nominal(q);
+      directed = data.R_nominal * tool_axis, directed_at = q.segment<3>(3);
+    }
+    return directed;
+  }
+  Eigen::Vector3d tool_axis = tool_axis_of(model);
+  Eigen::Vector3d directed = Eigen::Vector3d::Zero();
+  Eigen::Vector3d directed_at = Eigen::Vector3d::Constant(std::nan(""));
 };
 
 /// The command along one motion, as the control interpolates it: straight in the axes, or
@@ -94,12 +108,36 @@ class MotionPath {
   std::optional<gcode::ArcGeometry> arc_;
 };
 
+/// The orientation error's figures as the points come.
+struct OrientationFigures {
+  double max = 0.0, sum2 = 0.0;
+  std::uint64_t points = 0;
+  std::uint32_t worst_line = 0;
+  void add(double angle, std::uint32_t line) {
+    sum2 += angle * angle;
+    ++points;
+    if (angle > max) max = angle, worst_line = line;
+  }
+  void into(PathError& e) const {
+    e.orientation_max = max;
+    e.orientation_rms = points ? std::sqrt(sum2 / static_cast<double>(points)) : 0.0;
+    e.orientation_worst_line = worst_line;
+  }
+};
+
 /// However a motion's callback returns, the command has gone to its end.
 struct FollowPlay {
   Evaluator& ev;
   const model::ChainQ& end;
   ~FollowPlay() { ev.advance(end); }
 };
+
+/// A piece's axes at its ends and the direction it means while its rotary axes stand.
+void orient(Piece& p, const model::ChainQ& q0, const model::ChainQ& q1, Evaluator& ev) {
+  p.q0 = q0, p.q1 = q1;
+  p.rotary_turns = q0.segment<3>(3) != q1.segment<3>(3);
+  p.direction = ev.nominal_direction(q0);
+}
 
 /// The nominal pieces of one motion: an arc, or a straight move sampled (a move of the
 /// rotary axes curves in the table frame).
@@ -129,6 +167,7 @@ void nominal_pieces(const gcode::Motion& m, Evaluator& ev, std::vector<Piece>& o
     p.b = ev.nominal(chain_of(m.end, o));
     p.line = m.line;
     p.cycle = m.source == gcode::MotionSource::canned_cycle;
+    orient(p, chain_of(m.start, o), chain_of(m.end, o), ev);
     out.push_back(p);
     return;
   }
@@ -155,6 +194,7 @@ void nominal_pieces(const gcode::Motion& m, Evaluator& ev, std::vector<Piece>& o
         p.b = p1;
         p.line = m.line;
         p.cycle = m.source == gcode::MotionSource::canned_cycle;
+        orient(p, a + (b - a) * t0, a + (b - a) * t1, ev);
         out.push_back(p);
       };
   add(0.0, 1.0, ev.nominal(a), ev.nominal(b), 0);
@@ -276,6 +316,8 @@ void warn_beyond_spans(const MotionPath& path, int steps, const model::Condition
 
 PathError predict(gcode::LineSource& program, const model::ForwardModel& model, const CheckOptions& options) {
   PathError e;
+  const Eigen::Vector3d tool_axis = tool_axis_of(model);
+  OrientationFigures orientation;
   Evaluator ev{model, model::ForwardData(model), options.conditions};
   ExecutedTip tip(model, options.conditions);
   model::SpanWatch spans(model.machine());
@@ -301,28 +343,88 @@ PathError predict(gcode::LineSource& program, const model::ForwardModel& model, 
         tip.other_move();
       for (int k = 0; k <= steps; ++k) {
         const double t = static_cast<double>(k) / steps;
-        Eigen::Vector3d actual, nominal;
+        Eigen::Vector3d actual, nominal, direction, meant;
         if (options.pose) options.pose(path.at(t), ev.conditions, m.line);
         if (tip.on_chord()) {  // within a nanometre (executed_tip.hpp)
           actual = tip.on_chord(t), nominal = tip.nominal_on_chord(t);
+          direction = tip.direction_on_chord(t), meant = tip.nominal_direction();
         } else {
           const model::ChainQ q = path.at(t);
           model::forward(model, ev.data, q, ev.advance(q));
           actual = ev.data.actual, nominal = ev.data.nominal;
+          direction = ev.data.R_actual * tool_axis, meant = ev.data.R_nominal * tool_axis;
         }
         const double d = (actual - nominal).norm();
         sum2 += d * d;
         ++e.points;
         if (d > e.max) e.max = d, e.worst_line = m.line, e.worst_point = nominal;
+        orientation.add(angle_between(direction, meant), m.line);
       }
     }
   }
   e.rms = e.points ? std::sqrt(sum2 / static_cast<double>(e.points)) : 0.0;
+  orientation.into(e);
   if (options.progress) options.progress(1.0);
   return e;
 }
 
 namespace {
+
+/// The tool's direction the original means at the point of a piece an executed point was
+/// found at. Along a piece whose rotary axes stand still it is the piece's own. Along one
+/// where they turn, the original's axes run straight from the piece's q0 to q1 (an arc's
+/// rotary axes with its angle): the direction is the nominal chain's at the fraction whose
+/// nominal tip is nearest the point, found by Gauss-Newton from the point's place on the
+/// chord, to 1e-12 of the fraction.
+/// Where the piece's tip stands still while the tool turns about it, the tip says nothing of
+/// where along the turn the point is: the fraction whose direction is nearest the executed
+/// one is taken, as the tip's distance is to the nearest point of the path.
+class MeantDirection {
+ public:
+  explicit MeantDirection(const model::ForwardModel& model)
+      : model_(model), data_(model), tool_axis_(tool_axis_of(model)) {}
+
+  Eigen::Vector3d at(const Piece& piece, const Eigen::Vector3d& p, const Eigen::Vector3d& executed) {
+    if (!piece.rotary_turns) return piece.direction;
+    const double s = piece.arc ? piece.fraction_at(p)
+                               : nearest_fraction(piece.fraction_at(p), p, [&](double f) { return tip(piece, f); });
+    if (s >= 0) return direction(piece, s);
+    const double turned = nearest_fraction(0.5, executed, [&](double f) { return direction(piece, f); });
+    return direction(piece, std::max(turned, 0.0));  // (neither moves: the direction is the same all along)
+  }
+
+ private:
+  [[nodiscard]] static model::ChainQ q_at(const Piece& piece, double f) { return piece.q0 + (piece.q1 - piece.q0) * f; }
+  Eigen::Vector3d tip(const Piece& piece, double f) {
+    model::forward(model_, data_, q_at(piece, f), conditions_, false, model::Evaluate::nominal);
+    return data_.nominal;
+  }
+  Eigen::Vector3d direction(const Piece& piece, double f) {
+    model::forward(model_, data_, q_at(piece, f), conditions_, false, model::Evaluate::nominal);
+    return data_.R_nominal * tool_axis_;
+  }
+  /// The fraction in [0, 1] where g comes nearest `target` (Gauss-Newton on |g - target|^2,
+  /// the slope by central differences); -1 where g does not move.
+  template <class G>
+  static double nearest_fraction(double f, const Eigen::Vector3d& target, G g) {
+    constexpr double h = 1e-5;
+    for (int k = 0; k < 12; ++k) {
+      const Eigen::Vector3d slope = (g(f + h) - g(f - h)) / (2 * h);
+      const double slope2 = slope.squaredNorm();
+      if (!(slope2 > 1e-24)) return k == 0 ? -1.0 : f;
+      const double next = std::clamp(f - (g(f) - target).dot(slope) / slope2, 0.0, 1.0);
+      const bool settled = std::abs(next - f) < 1e-12;
+      f = next;
+      if (settled) break;
+    }
+    return f;
+  }
+
+  const model::ForwardModel& model_;
+  model::ForwardData data_;
+  model::Conditions conditions_;  ///< the nominal chain reads none
+  Eigen::Vector3d tool_axis_;
+};
 
 /// What the compensated program makes the machine do, as verify measures it, in order: a
 /// rapid (the search is told), the start of a cut, and the tool tip at each point checked.
@@ -336,6 +438,8 @@ struct ExecutedEvent {
   Eigen::Vector3d tip = Eigen::Vector3d::Zero();
   Eigen::Vector3d end = Eigen::Vector3d::Zero();  ///< a chord's
   int steps = 0;                                  ///< a chord's
+  /// The tool's actual direction at the tip (a chord's at its start), and at a chord's end.
+  Eigen::Vector3d direction = Eigen::Vector3d::Zero(), end_direction = Eigen::Vector3d::Zero();
 };
 
 /// The tool tip at each point a cut is checked at, finer than the job checks.
@@ -346,12 +450,14 @@ void executed_tips(const gcode::Motion& m, const MotionPath& path, const model::
     // the play stands still: ev's conditions stay as they are
     ExecutedEvent& e = out.emplace_back();
     e.kind = ExecutedEvent::Kind::chord, e.tip = tip.chord_start(), e.end = tip.chord_end(), e.steps = steps;
+    e.direction = tip.chord_start_direction(), e.end_direction = tip.chord_end_direction();
     return;
   }
   for (int k = 0; k <= steps; ++k) {
     const model::ChainQ q = path.at(static_cast<double>(k) / steps);
     model::forward(model, ev.data, q, ev.advance(q), false, model::Evaluate::actual);
-    out.emplace_back().tip = ev.data.actual;
+    ExecutedEvent& e = out.emplace_back();
+    e.tip = ev.data.actual, e.direction = ev.data.R_actual * ev.tool_axis;
   }
 }
 
@@ -390,12 +496,15 @@ PathError verify(gcode::LineSource& original, gcode::LineSource& compensated, co
   PathError e;
   double sum2 = 0.0;
   std::uint32_t line = 0;
-  auto measure = [&](const Eigen::Vector3d& p) {
+  MeantDirection meant(model);
+  OrientationFigures orientation;
+  auto measure = [&](const Eigen::Vector3d& p, const Eigen::Vector3d& direction) {
     const std::optional<double> off = search.distance(p);
     if (!off) return;
     sum2 += *off * *off;
     ++e.points;
     if (*off > e.max) e.max = *off, e.worst_line = line, e.worst_point = p;
+    orientation.add(angle_between(direction, meant.at(search.at_piece(), p, direction)), line);
   };
   std::vector<ExecutedEvent> events;
   while (executed.pop(events)) {
@@ -408,16 +517,19 @@ PathError verify(gcode::LineSource& original, gcode::LineSource& compensated, co
           if (x.kind == ExecutedEvent::Kind::cut) ++e.moves, line = x.line;
           break;
         case ExecutedEvent::Kind::tip:
-          measure(x.tip);
+          measure(x.tip, x.direction);
           break;
         case ExecutedEvent::Kind::chord:
-          for (int k = 0; k <= x.steps; ++k)
-            measure(ExecutedTip::between(x.tip, x.end, static_cast<double>(k) / x.steps));
+          for (int k = 0; k <= x.steps; ++k) {
+            const double t = static_cast<double>(k) / x.steps;
+            measure(ExecutedTip::between(x.tip, x.end, t), direction_between(x.direction, x.end_direction, t));
+          }
           break;
       }
     }
   }
   e.rms = e.points ? std::sqrt(sum2 / static_cast<double>(e.points)) : 0.0;
+  orientation.into(e);
   std::tie(e.uncut_length, e.uncut_line) = search.uncut();
   if (options.progress) options.progress(1.0);
   return e;

@@ -7,6 +7,7 @@
 #include <numbers>
 
 #include "ccomp/constants.hpp"
+#include "ccomp/gcode/tcp_mode.hpp"
 #include "g_codes.hpp"
 #include "interpreter_impl.hpp"
 
@@ -78,6 +79,7 @@ void Interpreter::Impl::decode(const Block& b) {
     const Word* w = words.g_word[static_cast<std::size_t>(i)];
     int group = g_group(code);
     if (group < 0) {
+      if (const auto mode = tcp_g_code(code)) unsupported_at(b, w->span, tcp_refusal(g_name(code), *mode));
       const auto& pass = options.dialect.passthrough_g_codes;
       const auto& moving = options.dialect.passthrough_moving_g_codes;
       if (std::find(pass.begin(), pass.end(), code) != pass.end() ||
@@ -99,6 +101,9 @@ void Interpreter::Impl::decode(const Block& b) {
   for (int i = 0; i < words.m_count; ++i) {
     const int code = words.m[static_cast<std::size_t>(i)];
     const Word* w = words.m_word[static_cast<std::size_t>(i)];
+    if (options.joint_coordinates_only)
+      if (const auto mode = tcp_m_code(options.dialect, code))
+        unsupported_at(b, w->span, tcp_refusal(fmt::format("M{}", code), *mode));
     const int group = m_group(code);
     if (group < 0) {
       if (options.dialect.strict_m_codes) fail(b, w, fmt::format("unknown M code M{}", code));

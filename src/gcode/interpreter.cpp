@@ -69,6 +69,11 @@ void Interpreter::Impl::fail(const Block& b, const Word* where, const std::strin
   fail_at(b, where ? where->span : Span{}, message);
 }
 
+void Interpreter::Impl::unsupported_at(const Block& b, Span span, const std::string& message) const {
+  throw Error(ErrorKind::unsupported, message, SourceLocation{file_name(), b.line, span.begin + 1},
+              std::string(b.text));
+}
+
 void Interpreter::Impl::fail_at(const Block& b, Span span, const std::string& message) const {
   // Without a word to point at (an unknown subroutine, a radius that does not fit, a
   // division by zero), the block itself: where its text starts.

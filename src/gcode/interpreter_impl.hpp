@@ -196,6 +196,8 @@ struct Interpreter::Impl {
   // --- helpers
   [[noreturn]] void fail(const Block& b, const Word* where, const std::string& message) const;
   [[noreturn]] void fail_at(const Block& b, Span span, const std::string& message) const;
+  /// Valid G-code ccomp does not handle (exit 4), at the span.
+  [[noreturn]] void unsupported_at(const Block& b, Span span, const std::string& message) const;
   void warn(const std::string& message, std::uint32_t line_no) const;
   void emit(std::string_view name, std::string args);
   /// Tells the sink a block is about to run (or holds it behind moves the offset keeps).

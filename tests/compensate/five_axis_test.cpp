@@ -6,6 +6,7 @@
 // ones through the work offset); a program tilting the tool through the singular pose (A 0,
 // B 0: the tool along C's line) as C turns is compensated point by point as the job does, and
 // each corrected pose is run on the reference.
+#include <fmt/format.h>
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -16,7 +17,10 @@
 #include <vector>
 
 #include "ccomp/compensate/inverse.hpp"
+#include "ccomp/compensate/program_job.hpp"
+#include "ccomp/compensate/verify.hpp"
 #include "ccomp/model/model_file.hpp"
+#include "job_runner.hpp"
 #include "reference_five_axis.hpp"
 
 namespace ccomp::compensate {
@@ -324,6 +328,106 @@ TEST(FiveAxis, WhatTheSingularPoseLeavesIsThere) {
   // up to 180 degrees could answer: it stays, and the check above holds it to what is reported.
   EXPECT_GT(compensate_on(case_of("TrunnionAll", trunnion_errors())).near_singular, 10e-6);
   EXPECT_GT(compensate_on(case_of("HeadsAll", head_errors())).near_singular, 10e-6);
+}
+
+// ----------------------------------------------------------------------------------------
+// predict and verify measure the tool's direction beside its tip: the sweep above as a
+// program, run through ccomp's commands, against the reference.
+
+/// The sweep's words as a program writes them (to 1e-6 mm and degree), so the reference
+/// runs what the program says.
+std::vector<FiveAxisWords> written(const std::vector<FiveAxisWords>& points) {
+  auto r = [](double v) { return std::round(v * 1e6) / 1e6; };
+  std::vector<FiveAxisWords> out;
+  for (const FiveAxisWords& w : points) out.push_back({r(w.x), r(w.y), r(w.z), r(w.a), r(w.b), r(w.c)});
+  return out;
+}
+
+/// The sweep as a program: the test's tool as H2, a rapid to the first point, a feed move to
+/// each of the others.
+std::string program_of(const std::vector<FiveAxisWords>& points, bool head) {
+  std::string text = "G21 G90 G94 G17\nG43 H2\n";
+  for (std::size_t k = 0; k < points.size(); ++k) {
+    const FiveAxisWords& w = points[k];
+    text += fmt::format("{} X{:.6f} Y{:.6f} Z{:.6f} {}{:.6f} C{:.6f}{}\n", k == 0 ? "G0" : "G1", w.x, w.y, w.z,
+                        head ? 'B' : 'A', head ? w.b : w.a, w.c, k == 0 ? "" : " F1000");
+  }
+  return text + "M2\n";
+}
+
+gcode::InterpreterOptions with_test_tool() {
+  gcode::InterpreterOptions o;
+  o.tools.tools[2] = gcode::ToolEntry{2, 2, {0, 0, kToolLength}, 10, ""};
+  return o;
+}
+
+FiveAxisWords between(const FiveAxisWords& a, const FiveAxisWords& b, double t) {
+  auto at = [t](double u, double v) { return u + (v - u) * t; };
+  return {at(a.x, b.x), at(a.y, b.y), at(a.z, b.z), at(a.a, b.a), at(a.b, b.b), at(a.c, b.c)};
+}
+
+// predict's tool direction is the reference's: the angle between the axis the reference's
+// errors give the tool and the one its perfect machine would, at least its largest at the
+// moves' ends (which predict checks) and at most its largest at 64 points inside each
+// move (more than predict checks), within 10 nrad (the model's small-angle terms).
+TEST_P(FiveAxis, PredictTellsTheToolDirectionTheReferenceHas) {
+  const FiveAxisCase& c = GetParam();
+  const std::vector<FiveAxisWords> points = written(sweep(c.head));
+  const model::ForwardModel m(model::parse_machine_model(c.model, c.name + ".yaml"));
+  CheckOptions o;
+  o.interpreter = with_test_tool();
+  gcode::LineSource program = gcode::LineSource::from_string(program_of(points, c.head), "sweep.ngc");
+  const PathError e = predict(program, m, o);
+  double at_ends = 0.0, inside = 0.0;
+  for (std::size_t k = 1; k < points.size(); ++k)
+    for (int j = 0; j <= 64; ++j) {
+      const FiveAxisWords w = between(points[k - 1], points[k], j / 64.0);
+      const double angle = angle_between(c.pose(w, true).axis, c.pose(w, false).axis);
+      inside = std::max(inside, angle);
+      if (j == 0 || j == 64) at_ends = std::max(at_ends, angle);
+    }
+  EXPECT_EQ(e.moves, points.size() - 1);
+  EXPECT_GE(e.orientation_max, at_ends - 1e-8);
+  EXPECT_LE(e.orientation_max, inside + 1e-8);
+  if (at_ends > 0.0) {
+    EXPECT_GT(e.orientation_rms, 0.0);
+    EXPECT_GE(e.orientation_worst_line, 4U) << "a feed move's line";
+    EXPECT_LE(e.orientation_worst_line, points.size() + 2);
+  }
+}
+
+// verify finds on the compensated sweep what the reference finds: the solve's points, the
+// ends of the output's moves, land with the tool's direction the reference measures there
+// (the test above holds it to what the solve reports, within 0.1 urad); verify reports at
+// least the largest of those. Between them it takes the direction meant where the tip is,
+// so a tip off the path along it by up to the tolerance shows the direction's turn over
+// that stretch too (docs/compensation.md): no more than the solve's largest with that turn
+// at the sweep's fastest (the reference's turn per mm of the tip's path) and 1 urad.
+TEST_P(FiveAxis, VerifyTellsTheToolDirectionTheCompensatedSweepLeaves) {
+  const FiveAxisCase& c = GetParam();
+  const std::vector<FiveAxisWords> points = written(sweep(c.head));
+  const model::MachineModel mm = model::parse_machine_model(c.model, c.name + ".yaml");
+  const model::ForwardModel m(mm);
+  const std::string original = program_of(points, c.head);
+  JobOptions job;
+  job.interpreter = with_test_tool();
+  JobReport report;
+  const std::string compensated = test::compensate(original, mm, job, &report);
+  CheckOptions o;
+  o.interpreter = with_test_tool();
+  gcode::LineSource a = gcode::LineSource::from_string(original, "sweep.ngc");
+  gcode::LineSource b = gcode::LineSource::from_string(compensated, "out.ngc");
+  const PathError e = verify(a, b, m, o);
+  EXPECT_LT(e.max, 1e-3);
+  EXPECT_EQ(e.uncut_length, 0.0);
+  double turn_per_mm = 0.0;
+  for (std::size_t k = 1; k < points.size(); ++k) {
+    const PartPose from = c.pose(points[k - 1], false), to = c.pose(points[k], false);
+    turn_per_mm = std::max(turn_per_mm, angle_between(from.axis, to.axis) / (to.tip - from.tip).norm());
+  }
+  EXPECT_GE(e.orientation_max, report.max_orientation_error - 0.1e-6);
+  EXPECT_LE(e.orientation_max, report.max_orientation_error + job.tolerance * turn_per_mm + 1e-6)
+      << turn_per_mm << " rad/mm";
 }
 
 }  // namespace

@@ -2,7 +2,8 @@
 // Proving a program before cutting: predict() runs a program through the machine model as
 // it is (the error the machine would make), verify() runs a compensated program through it
 // and measures how far the executed tool tip strays from the path the original meant.
-// Both sample every feed move and arc; rapids are the control's path, not cuts.
+// Both sample every feed move and arc; rapids are the control's path, not cuts. Each
+// point's tool direction is measured beside its tip.
 #include <Eigen/Core>
 #include <cstdint>
 #include <functional>
@@ -27,6 +28,12 @@ struct PathError {
   /// and the original's line of the first of them (0: none).
   double uncut_length = 0.0;
   std::uint32_t uncut_line = 0;
+  /// The tool's direction at the same points: the angle (rad) between the axis the tool
+  /// has and the one the program meant there (its turn about its own axis, which an
+  /// axisymmetric tool does not cut with, left out): the largest, its block, the rms.
+  double orientation_max = 0.0;
+  double orientation_rms = 0.0;
+  std::uint32_t orientation_worst_line = 0;
 };
 
 struct CheckOptions {

@@ -60,6 +60,10 @@ struct InterpreterOptions {
   std::uint64_t max_blocks = 100'000'000;
   std::uint64_t max_blocks_without_motion = 1'000'000;
   CutterPath cutter_path = CutterPath::tool_centre;
+  /// Refuse the M codes that switch the control into tool-centre-point kinematics
+  /// (gcode/tcp_mode.hpp; exit 4 at the code): set where the program's axis words are
+  /// taken as the joints' positions (compensation, verify, predict), not for a trace.
+  bool joint_coordinates_only = false;
 };
 
 /// The modal state an observer may read between blocks (G codes times ten).
