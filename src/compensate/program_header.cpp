@@ -2,7 +2,9 @@
 
 #include <fmt/format.h>
 
+#include <cctype>
 #include <charconv>
+#include <string>
 #include <system_error>
 
 #include "ccomp/error.hpp"
@@ -52,6 +54,11 @@ std::optional<HeaderFacts> read_header(std::string_view line) {
   if (!is_header_line(line)) return std::nullopt;
   HeaderFacts facts;
   constexpr std::string_view kSha = "model sha256:", kAt = " at ";
+  // (The hash and the tolerance read in any case: an upper-cased header is still ours.)
+  std::string lower(line);
+  for (char& c : lower) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  const std::string_view original = line;
+  line = lower;
   if (const auto sha = line.rfind(kSha); sha != std::string_view::npos) {
     const auto begin = sha + kSha.size();
     const auto end = line.find_first_not_of("0123456789abcdef", begin);
@@ -68,16 +75,27 @@ std::optional<HeaderFacts> read_header(std::string_view line) {
   if (const auto at = line.find(kWorkOffsets); at != std::string_view::npos) {
     const auto begin = at + kWorkOffsets.size();
     const auto end = line.find(')', begin);
-    if (end != std::string_view::npos) facts.work_offsets = read_work_offsets(line.substr(begin, end - begin));
+    if (end != std::string_view::npos) facts.work_offsets = read_work_offsets(original.substr(begin, end - begin));
   }
   return facts;
 }
 
-bool is_header_line(std::string_view line) {
+/// A line that is one comment, `( ... )` or `; ...`: its text lower-cased with every blank
+/// taken out (a Fanuc control or a DNC transfer stores comments upper-cased, an editor may
+/// respace them); empty for any other line.
+std::string comment_letters(std::string_view line) {
   if (line.starts_with("\xEF\xBB\xBF")) line.remove_prefix(3);  // a byte-order mark before it
   const auto first = line.find_first_not_of(" \t");
-  return first != std::string_view::npos && line.substr(first).starts_with(kHeaderPrefix) &&
-         line.find("compensated for machine") != std::string_view::npos;
+  if (first == std::string_view::npos || (line[first] != '(' && line[first] != ';')) return {};
+  std::string letters;
+  for (const char c : line.substr(first + 1))
+    if (c != ' ' && c != '\t' && c != '\r') letters.push_back(static_cast<char>(std::tolower(static_cast<unsigned char>(c))));
+  return letters;
+}
+
+bool is_header_line(std::string_view line) {
+  const std::string letters = comment_letters(line);
+  return letters.starts_with("ccomp") && letters.find("compensatedformachine") != std::string::npos;
 }
 
 }  // namespace ccomp::compensate
