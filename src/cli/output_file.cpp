@@ -1,6 +1,7 @@
 #include "output_file.hpp"
 
 #include <fcntl.h>
+#include <pthread.h>
 #include <fmt/format.h>
 #include <sys/stat.h>
 #include <unistd.h>
@@ -11,7 +12,11 @@
 #include <csignal>
 #include <cstring>
 #include <filesystem>
+#include <mutex>
 #include <set>
+#include <system_error>
+#include <thread>
+#include <vector>
 
 #include "ccomp/error.hpp"
 
@@ -19,21 +24,39 @@ namespace ccomp::cli {
 namespace fs = std::filesystem;
 namespace {
 
-/// The temporary files being written, for the interrupt handler: it may only read what is
-/// already there and call unlink(), so the names are fixed pointers in a fixed table.
+/// The temporary files being written. A signal is taken on a thread of its own (sigwait),
+/// which holds the lock while it removes them and ends the process: no thread makes one
+/// meanwhile, however many run (a `-j 1100` batch left up to 81 behind: more outputs than
+/// the handler's table held, and files made while the handler ran). The lock and the list
+/// are never destroyed: a signal may come while the process exits.
+std::mutex& registry_lock() {
+  static auto* lock = new std::mutex;
+  return *lock;
+}
+std::vector<const char*>& registry() {
+  static auto* names = new std::vector<const char*>;
+  return *names;
+}
+
+/// The same names for a handler run on a signal, where the thread above could not be had:
+/// it may only read what is already there and call unlink(), so they are fixed pointers in
+/// a fixed table (more outputs at once than slots: the next run's clean-up, by process id,
+/// takes those).
 constexpr std::size_t kSlots = 1024;
 std::array<std::atomic<const char*>, kSlots> g_temporaries{};
 
+/// (Under the registry's lock.)
 void hold(const char* path) {
+  registry().push_back(path);
   for (auto& slot : g_temporaries) {
     const char* empty = nullptr;
     if (slot.compare_exchange_strong(empty, path)) return;
   }
-  // More outputs at once than slots: this one is not removed on an interrupt, and the next
-  // run's clean-up (by process id) takes it.
 }
 
+/// (Under the registry's lock.)
 void release(const char* path) {
+  std::erase(registry(), path);
   for (auto& slot : g_temporaries) {
     const char* mine = path;
     if (slot.compare_exchange_strong(mine, nullptr)) return;
@@ -45,6 +68,23 @@ extern "C" void remove_temporaries_and_stop(int signal) {
     if (const char* path = slot.load()) ::unlink(path);
   std::signal(signal, SIG_DFL);
   std::raise(signal);
+}
+
+/// The signal thread: waits for one of `signals`, removes every temporary and ends the
+/// process by that signal (exit 128+N, as the shell reports it), the lock held to the end.
+void watch_signals(sigset_t signals) {
+  int signal = 0;
+  while (::sigwait(&signals, &signal) != 0) {
+  }
+  registry_lock().lock();  // never unlocked: no temporary is made or released after this
+  for (const char* path : registry()) ::unlink(path);
+  std::signal(signal, SIG_DFL);
+  sigset_t one;
+  sigemptyset(&one);
+  sigaddset(&one, signal);
+  ::pthread_sigmask(SIG_UNBLOCK, &one, nullptr);
+  std::raise(signal);
+  ::_exit(128 + signal);  // (not reached: the signal's default action ends the process)
 }
 
 /// "<output>.ccomp-": what the temporary files for `output` start with, "<pid>-XXXXXX"
@@ -161,22 +201,24 @@ OutputFile::OutputFile(std::string path, std::optional<unsigned> mode)
   temporary_ = ((out.parent_path().empty() ? fs::path(".") : out.parent_path()) /
                 (temporary_prefix(out) + std::to_string(::getpid()) + "-XXXXXX"))
                    .string();
-  // Held for the interrupt handler before it exists: a signal, on whichever thread, that
-  // comes while mkstemp makes it then removes it too (a name not yet made is no file).
-  hold(temporary_.c_str());
-  const int fd = ::mkstemp(temporary_.data());
-  if (fd < 0) {
-    const int made = errno;
-    release(temporary_.c_str());
+  // Made and held under the lock: the signal thread sees it, or it is not made. (Held for a
+  // handler before it exists: one that comes while mkstemp makes it removes it too.)
+  int fd = -1, made = 0;
+  {
+    const std::lock_guard lock(registry_lock());
+    hold(temporary_.c_str());
+    fd = ::mkstemp(temporary_.data());
+    made = errno;
+    if (fd < 0) release(temporary_.c_str());
+  }
+  if (fd < 0)
     throw Error(ErrorKind::io,
                 fmt::format("cannot create a temporary file beside '{}': {}", path_, std::strerror(made)));
-  }
   (void)::fchmod(fd, mode ? static_cast<mode_t>(*mode) : output_mode(path_));  // mkstemp makes 0600
   file_ = ::fdopen(fd, "wb");
   if (!file_) {
     ::close(fd);
-    ::unlink(temporary_.c_str());
-    release(temporary_.c_str());
+    remove_temporary();
     throw Error(ErrorKind::io, fmt::format("cannot write '{}'", path_));
   }
   std::setvbuf(file_, buffer_.get(), _IOFBF, kOutputBuffer);
@@ -184,10 +226,13 @@ OutputFile::OutputFile(std::string path, std::optional<unsigned> mode)
 
 OutputFile::~OutputFile() {
   if (file_) std::fclose(file_);
-  if (!temporary_.empty()) {
-    ::unlink(temporary_.c_str());
-    release(temporary_.c_str());
-  }
+  if (!temporary_.empty()) remove_temporary();
+}
+
+void OutputFile::remove_temporary() {
+  const std::lock_guard lock(registry_lock());
+  ::unlink(temporary_.c_str());
+  release(temporary_.c_str());
 }
 
 void OutputFile::commit() {
@@ -196,7 +241,10 @@ void OutputFile::commit() {
   if (std::rename(temporary_.c_str(), path_.c_str()) != 0)
     throw Error(ErrorKind::io,
                 fmt::format("cannot move the result into place as '{}': {}", path_, std::strerror(errno)));
-  release(temporary_.c_str());
+  {
+    const std::lock_guard lock(registry_lock());
+    release(temporary_.c_str());
+  }
   temporary_.clear();
   // The rename itself survives a power cut once the folder is synced.
   const fs::path folder = fs::path(path_).parent_path().empty() ? fs::path(".") : fs::path(path_).parent_path();
@@ -251,11 +299,24 @@ void finish_standard_output() {
 void remove_temporaries_on_interrupt() {
   g_umask = ::umask(0);
   ::umask(g_umask);
+  sigset_t taken;
+  sigemptyset(&taken);
   for (const int signal : {SIGINT, SIGTERM, SIGHUP}) {
     struct sigaction old {};
     // A signal the caller ignores (nohup, a background job) stays ignored.
     if (::sigaction(signal, nullptr, &old) == 0 && old.sa_handler == SIG_IGN) continue;
-    std::signal(signal, remove_temporaries_and_stop);
+    sigaddset(&taken, signal);
+  }
+  // Blocked here, before any other thread is made (they inherit the mask), and taken by the
+  // signal thread alone; without that thread, by a handler on whichever thread it comes to.
+  sigset_t before;
+  ::pthread_sigmask(SIG_BLOCK, &taken, &before);
+  try {
+    std::thread(watch_signals, taken).detach();
+  } catch (const std::system_error&) {
+    ::pthread_sigmask(SIG_SETMASK, &before, nullptr);
+    for (const int signal : {SIGINT, SIGTERM, SIGHUP})
+      if (sigismember(&taken, signal) == 1) std::signal(signal, remove_temporaries_and_stop);
   }
   // A closed pipe is a write error (exit 6), not a silent death by SIGPIPE; so is a file
   // past `ulimit -f` (EFBIG), which would otherwise end the run by SIGXFSZ and leave the

@@ -58,6 +58,7 @@ class OutputFile {
   [[nodiscard]] bool link_as(const std::string& path);
 
  private:
+  void remove_temporary();
   std::string path_, temporary_;
   std::unique_ptr<char[]> buffer_;  ///< file_'s stdio buffer (freed after the destructor closes file_)
   std::FILE* file_ = nullptr;
@@ -70,8 +71,9 @@ void write_output(const std::string& path, const std::string& text);
 /// (a full disk, a closed pipe).
 void finish_standard_output();
 
-/// Installs the SIGINT/SIGTERM/SIGHUP handler that removes the temporary files being
-/// written (not over a signal the caller ignores), ignores SIGPIPE and SIGXFSZ (a closed
+/// Takes SIGINT/SIGTERM/SIGHUP on a thread of its own that removes the temporary files being
+/// written and ends the process by the signal (not a signal the caller ignores; a handler
+/// where that thread cannot be had; call it before any other thread is made), ignores SIGPIPE and SIGXFSZ (a closed
 /// pipe, a file past `ulimit -f`: then a write error, exit 6) and reads the umask the outputs' modes follow. Call it first.
 void remove_temporaries_on_interrupt();
 

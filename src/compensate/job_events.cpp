@@ -237,9 +237,19 @@ void JobSink::follow_machine_move(const gcode::Motion& m) {
   stages_->solver.compensator.moved(chain_of(m.end, *m.offsets));
 }
 
+/// An arc's chords, at half the tolerance (as the solver takes them); a count beyond the
+/// cap refused at the arc's block.
+std::size_t JobSink::chord_count(const gcode::Motion& m) const {
+  try {
+    return arc_chord_count(gcode::arc_geometry(m), options_.tolerance / 2.0);
+  } catch (const Error& e) {
+    refuse(e.kind(), e.message());
+  }
+}
+
 void JobSink::queue_move(const gcode::Motion& m) {
   if (m.kind == gcode::MotionKind::arc && !m.radius_compensation) {
-    const std::size_t n = arc_chord_count(gcode::arc_geometry(m), options_.tolerance / 2.0);
+    const std::size_t n = chord_count(m);
     if (n > MovePipeline::kPartChords) {
       for (std::size_t begin = 0; begin < n; begin += MovePipeline::kPartChords)
         queue_task(m, ChordRange{begin, std::min(n, begin + MovePipeline::kPartChords), n});
@@ -278,7 +288,7 @@ void JobSink::queue_task(const gcode::Motion& m, const ChordRange& chords) {
   std::size_t points = chords.end - chords.begin;
   if (chords.whole())
     points = m.kind == gcode::MotionKind::arc && !m.radius_compensation
-                 ? arc_chord_count(gcode::arc_geometry(m), options_.tolerance / 2.0)
+                 ? chord_count(m)
                  : static_cast<std::size_t>(stages_->forward.check_points(chain_of(m.start, t.offsets), end, 1));
   stages_->pipeline.queued(points);
 }

@@ -50,6 +50,7 @@ class JobSink : public gcode::CanonSink {
   void follow_machine_move(const gcode::Motion& m);
   void queue_move(const gcode::Motion& m);
   void queue_task(const gcode::Motion& m, const ChordRange& chords);
+  [[nodiscard]] std::size_t chord_count(const gcode::Motion& m) const;
   void write_move(MoveTask& t);
   void finish_cycle();
   [[noreturn]] void refuse(ErrorKind kind, const std::string& message) const;

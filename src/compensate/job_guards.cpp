@@ -60,14 +60,50 @@ void check_limits(const gcode::Motion& m, const model::MachineModel& model, std:
   }
 }
 
+double rotary_lever(const model::MachineModel& model) {
+  double lever = 100.0;
+  for (const model::AxisSpec& a : model.axes)
+    if (a.type == model::AxisType::linear && std::isfinite(a.min) && std::isfinite(a.max))
+      lever = std::max({lever, std::abs(a.min), std::abs(a.max)});
+  return lever;
+}
+
+namespace {
+
+/// The fewest decimals whose half place, times `mm_per_place_unit` (mm the unit place moves
+/// the tool by), is at most a quarter of the tolerance.
+int decimals_for(double tolerance, double mm_per_place_unit) {
+  // (A tolerance of 1e-320 makes the ratio infinite: 99 says "too many" without overflow.)
+  const double places = std::ceil(std::log10(2.0 * mm_per_place_unit / tolerance) - 1e-9);
+  return places <= 99.0 ? static_cast<int>(places) : 99;
+}
+
+}  // namespace
+
+void raise_digits_for_tolerance(JobOptions& options, const model::MachineModel& model) {
+  int linear = 0, rotary = 0;
+  for (const model::AxisSpec& a : model.axes) (a.type == model::AxisType::linear ? linear : rotary) += 1;
+  const double tol = options.tolerance;
+  const double across = std::sqrt(static_cast<double>(std::max(linear, 1)));
+  // (Once raised, enough for inches too, whose place is 25.4 times coarser: a program may
+  // switch units. Not raised for inches alone: their 5 decimals are warned of, as before.)
+  if (options.decimals < 0 && linear > 0 && decimals_for(tol, across) > kDefaultDecimals)
+    options.decimals = std::max(decimals_for(tol, across), decimals_for(tol, kMmPerInch * across));
+  if (options.rotary_decimals < 0 && rotary > 0 &&
+      decimals_for(tol, kRadPerDeg * rotary_lever(model)) > kDefaultRotaryDecimals)
+    options.rotary_decimals = decimals_for(tol, kRadPerDeg * rotary_lever(model));
+  for (const auto& [name, decimals] : {std::pair{"--decimals", options.decimals}, {"--rotary-decimals", options.rotary_decimals}})
+    if (decimals > 9)
+      throw Error(ErrorKind::usage,
+                  fmt::format("a tolerance of {:.3g} um needs {} {} for the digits alone to stay within a quarter "
+                              "of it: more than the 9 a coordinate may be written with (a larger --tolerance)",
+                              tol * 1000.0, decimals, name == std::string_view("--decimals") ? "decimals" : "decimals in degrees"));
+}
+
 JobGuards::JobGuards(const model::MachineModel& model, const JobOptions& options, JobReport& report,
                      std::string_view file)
-    : model_(model), options_(options), report_(report), file_(file) {
-  for (const model::AxisSpec& a : model.axes) {
-    linear_axes_ += a.type == model::AxisType::linear ? 1 : 0;
-    if (a.type == model::AxisType::linear && std::isfinite(a.min) && std::isfinite(a.max))
-      rotary_lever_ = std::max({rotary_lever_, std::abs(a.min), std::abs(a.max)});
-  }
+    : model_(model), options_(options), report_(report), file_(file), rotary_lever_(rotary_lever(model)) {
+  for (const model::AxisSpec& a : model.axes) linear_axes_ += a.type == model::AxisType::linear ? 1 : 0;
 }
 
 void JobGuards::account(const MoveReport& move, gcode::Units units, std::uint32_t line, const std::string& text,

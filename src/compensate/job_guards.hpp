@@ -24,6 +24,17 @@ void motion_extent(const gcode::Motion& m, gcode::Axes& low, gcode::Axes& high);
 void check_limits(const gcode::Motion& m, const model::MachineModel& model, std::string_view file,
                   std::string_view text = {});
 
+/// mm: how far the tool may be from a rotary axis, for its rounding: the farthest linear
+/// axis limit (100 mm at least, for a model without limits).
+[[nodiscard]] double rotary_lever(const model::MachineModel& model);
+
+/// The program's own digits (decimals -1) round by up to half their last place, at least 4
+/// decimals in mm, 5 in degrees; where the tolerance is too fine for those to take at most a
+/// quarter of it (in mm below 0.35 um on three axes), `options` gets the fewest decimals that
+/// do, in inches too (then written for every word, as --decimals does), so the digits alone
+/// never make an output verify rejects. Throws Error(usage) where even 9 cannot.
+void raise_digits_for_tolerance(JobOptions& options, const model::MachineModel& model);
+
 class JobGuards {
  public:
   JobGuards(const model::MachineModel& model, const JobOptions& options, JobReport& report, std::string_view file);

@@ -164,6 +164,26 @@ void MoveRewriter::point_words(const gcode::Motion& m, const gcode::Block& b, co
   }
 }
 
+/// A piece's inverse-time F word: the block's F over the piece's share of its length, with
+/// the digits its duration needs (at least 4 decimals, and 7 significant digits: F0.00004 is
+/// 25,000 minutes, which 4 decimals wrote as F0.0000). A share of nothing (a piece of no
+/// length) still takes no less than a millionth of the block's time.
+std::string MoveRewriter::inverse_time_feed(double feed, double share, const gcode::Block& b) const {
+  const double f = feed / std::max(share, 1e-6);
+  if (!std::isfinite(f) || !(f >= 0.0))
+    throw Error(ErrorKind::program,
+                fmt::format("under G93 this piece's feed (F{:g} over {:.3g} of the move) is not a usable number", feed,
+                            share),
+                SourceLocation{std::string(file_), b.line, 0}, std::string(b.text));
+  const int magnitude = f > 0.0 ? static_cast<int>(std::floor(std::log10(f))) : 0;  // 10^magnitude <= f
+  const int decimals = std::clamp(6 - magnitude, 4, 340);
+  std::string text = fmt::format("{:.{}f}", f, decimals);
+  // (zeros past the fourth decimal say nothing)
+  const std::size_t point = text.find('.');
+  while (text.size() > point + 5 && text.back() == '0') text.pop_back();
+  return text;
+}
+
 void MoveRewriter::rewrite(const gcode::Motion& m, const gcode::Block& b, const std::vector<CompensatedPoint>& points,
                            std::uint64_t offset, std::string_view terminator, const ChordRange& part,
                            std::span<const gcode::Axes> arc_starts, bool adds_lines_only) {
@@ -194,7 +214,7 @@ void MoveRewriter::rewrite(const gcode::Motion& m, const gcode::Block& b, const 
     // of a few micrometres gets a thousandth of it.
     if (m.feed_mode == gcode::FeedMode::inverse_time && m.kind != gcode::MotionKind::traverse) {
       const double share = points[k].take_up ? 1e-3 : points[k].s - previous_s;
-      const std::string f = fmt::format("{:.4f}", m.feed / share);
+      const std::string f = inverse_time_feed(m.feed, share, b);
       if (!line.own)
         line.segment += " F" + f;
       else if (const gcode::Word* fw = b.find('F'))
@@ -205,7 +225,12 @@ void MoveRewriter::rewrite(const gcode::Motion& m, const gcode::Block& b, const 
     position_.commanded = controlled_of(points[k].q, *m.offsets);
     if (!line.own) {
       appended += std::string(terminator.empty() ? "\n" : terminator) + line.segment;
-      ++report_.added_lines;
+      if (++report_.added_lines > kMostAddedLines)
+        throw Error(ErrorKind::program,
+                    fmt::format("the compensated program would be more than {} lines longer than the program (arcs "
+                                "written as chords, moves split): a larger --tolerance, or fewer turns",
+                                kMostAddedLines),
+                    SourceLocation{std::string(file_), b.line, 0}, std::string(b.text));
     }
     if (points[k].take_up) ++report_.take_up_moves;
   }

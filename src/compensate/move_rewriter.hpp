@@ -24,6 +24,11 @@
 namespace ccomp::compensate {
 
 /// The decimals the user asked for (-1: the program's own style).
+/// The most lines the job adds to a program (chords and splits, some 4 GB): beyond, the
+/// block that would pass it is refused (exit 3), an output bounded whatever loops --flatten
+/// unrolls or turns an arc makes.
+inline constexpr std::uint64_t kMostAddedLines = 100'000'000;
+
 struct DecimalsOption {
   int linear = -1;  ///< in the program's units
   int rotary = -1;  ///< in degrees
@@ -75,6 +80,7 @@ class MoveRewriter {
   struct PointLine;
   void point_words(const gcode::Motion& m, const gcode::Block& b, const CompensatedPoint& point, PointLine& line);
   /// The centre words of an arc piece from `start` (the programmed, nominal point).
+  [[nodiscard]] std::string inverse_time_feed(double feed, double share, const gcode::Block& b) const;
   [[nodiscard]] std::string centre_words(const gcode::Motion& m, const gcode::Block& b, const gcode::Axes& start);
   void centre_by_words(const gcode::Motion& m, const gcode::Block& b, const gcode::Axes& start);
   void finish_lines(const gcode::Motion& m, const gcode::Block& b, std::uint64_t offset, const ChordRange& part,

@@ -1,5 +1,7 @@
 #include "move_solver.hpp"
 
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -7,14 +9,25 @@
 #include <utility>
 
 #include "ccomp/compensate/machine_coordinates.hpp"
+#include "ccomp/error.hpp"
 
 namespace ccomp::compensate {
 
 
 std::size_t arc_chord_count(const gcode::ArcGeometry& g, double tolerance) {
   const double r = std::max(g.r_start, g.r_end);
-  const double step = r > tolerance ? 2.0 * std::acos(1.0 - tolerance / r) : 2.0 * std::numbers::pi;
-  return static_cast<std::size_t>(std::max(1.0, std::ceil(g.sweep / step)));
+  // r (1 - cos(step / 2)) = 2 r sin^2(step / 4): the cosine's form rounds 1 - tolerance / r
+  // to 1 once the ratio is below the double's epsilon (a 1e13 mm circle at 1 um), a step of
+  // 0, a count of infinity converted to an integer (0: the circle vanished).
+  const double step = r > tolerance ? 4.0 * std::asin(std::sqrt(tolerance / (2.0 * r))) : 2.0 * std::numbers::pi;
+  const double count = std::max(1.0, std::ceil(g.sweep / step));
+  if (!(count <= kMostArcChords))  // (NaN too)
+    throw Error(ErrorKind::program,
+                fmt::format("this arc (radius {:.6g} mm, {:.6g} turns) needs {:.3g} chords to stay within {:.3g} um "
+                            "of its path, more than the {:.0f} an arc may be written as: a larger --tolerance, or "
+                            "the arc in smaller pieces",
+                            r, g.sweep / (2.0 * std::numbers::pi), count, tolerance * 1000.0, kMostArcChords));
+  return static_cast<std::size_t>(count);
 }
 
 namespace {
@@ -26,8 +39,15 @@ void arc_chords(const gcode::Motion& m, double tolerance, const ChordRange& rang
   const std::size_t n = range.whole() ? arc_chord_count(g, tolerance) : range.count;
   const std::size_t begin = range.whole() ? 0 : range.begin, end = range.whole() ? n : range.end;
   out.resize(end - begin + 1);
-  for (std::size_t k = begin; k <= end; ++k)
+  for (std::size_t k = begin; k <= end; ++k) {
     out[k - begin] = gcode::arc_point(m, g, static_cast<double>(k) / static_cast<double>(n));
+    // A point that is not a number would be written as a move to wherever its digits say.
+    for (const double v : out[k - begin])
+      if (!std::isfinite(v))
+        throw Error(ErrorKind::program, fmt::format("this arc's point {} of {} is not a finite number: the arc's "
+                                                    "numbers are beyond what can be computed with",
+                                                    k, n));
+  }
 }
 
 gcode::Axes linear_point(const gcode::Motion& m, double s) {

@@ -13,7 +13,14 @@
 
 namespace ccomp::compensate {
 
+/// The most chords one arc is written as: beyond, the arc is refused (exit 3) rather than
+/// written as millions of lines (some 40 MB) or, where the count overflows, as nothing (a huge
+/// radius, a tolerance of 1e-320 mm: docs/input-limits.md).
+inline constexpr double kMostArcChords = 1'000'000;
+
 /// How many chords an arc takes to stay within `tolerance` of it (sagitta r (1 - cos(step / 2))).
+/// Throws ccomp::Error (program, no position: the caller's block gives it) for a count that
+/// is not finite or above kMostArcChords.
 [[nodiscard]] std::size_t arc_chord_count(const gcode::ArcGeometry& g, double tolerance);
 
 /// On cache lines of its own: the interpreter's thread goes on writing its own state while

@@ -98,6 +98,14 @@ struct Piece {
     return best;
   }
 
+  /// An arc's angle at p (rad), counted from its start in its own sense, in [0, 2 pi).
+  [[nodiscard]] double turned_to(const Eigen::Vector3d& p) const {
+    const Eigen::Vector3d v = p - centre;
+    double phi = std::atan2(v.dot(e2), v.dot(e1)) - a0;
+    if (!ccw) phi = -phi;
+    return phi - 2 * std::numbers::pi * std::floor(phi / (2 * std::numbers::pi));
+  }
+
   /// An arc's chord of the helix (from its frame, not a and b) and how far the helix strays
   /// from it, for arc_lower_distance(); set by prepare_bounds() (strays < 0: none).
   Eigen::Vector3d chord_from = Eigen::Vector3d::Zero(), chord_to = Eigen::Vector3d::Zero();
@@ -257,9 +265,13 @@ class PathSearch {
     move_cursor(p);
     // A piece is cut once a point near it is past its start (a point where one piece ends
     // and the next begins has cut only the first), and the search has come to it (a closed
-    // contour's last piece ends where its first begins).
+    // contour's last piece ends where its first begins). Past: beyond the slack of its start,
+    // or nearer its end (a piece shorter than the machine's error, as a table turning near
+    // its axis makes, was never past its start: its last 17 um were said to be uncut).
     for (const auto& [i, d] : near_)
-      if (i <= cursor_ && i >= uncut_from_ && (p - window()[i].a).norm() > slack(best)) uncut_from_ = i + 1;
+      if (i <= cursor_ && i >= uncut_from_ &&
+          ((p - window()[i].a).norm() > slack(best) || (p - window()[i].b).norm() < (p - window()[i].a).norm()))
+        uncut_from_ = i + 1;
     note_passed_over(p, best);
     window().drop_before(behind());
     return best;
@@ -412,10 +424,53 @@ class PathSearch {
     // (Within where points fall of the junction, kUncutMm: a corner written short of the
     // nominal one along a path that runs back over its line is still at it.)
     const double at_most = std::max(slack(near_[at].second), kUncutMm);
+    follow_turning(p, near_[at].first);
     while (at + 1 < near_.size() && near_[at + 1].first == near_[at].first + 1 &&
-           (p - window()[near_[at].first].b).norm() <= at_most && (p - window()[near_[at + 1].first].a).norm() <= at_most)
+           (p - window()[near_[at].first].b).norm() <= at_most &&
+           (p - window()[near_[at + 1].first].a).norm() <= at_most && turned_round(p, near_[at].first, at_most))
       ++at;
+    if (near_[at].first != cursor_) {
+      if (near_[at].first > cursor_) note_left_round(p, at_most);
+      turned_ = 0.0, turned_at_ = -1.0;
+    }
     cursor_ = near_[at].first;
+    follow_turning(p, cursor_);
+  }
+
+  /// The cursor leaves its closed arc for a piece ahead: what the points did not go round of
+  /// it is not cut (a circle of two turns cut once). (Left at its start, the whole arc is
+  /// passed over, which note_passed_over() counts.)
+  void note_left_round(const Eigen::Vector3d& p, double at_most) {
+    const Piece& piece = window()[cursor_];
+    if (!piece.arc || (piece.b - piece.a).norm() > at_most || next_piece_ <= cursor_) return;
+    const double left = (piece.sweep - turned_) * 0.5 * (piece.r0 + piece.r1);
+    if (left <= passable(p)) return;
+    skipped_length_ += left;
+    if (skipped_line_ == 0) skipped_line_ = piece.line;
+  }
+
+  /// A closed arc (a full circle, its ends one point) is passed at its end only once the
+  /// points have gone round it: its end is its start, where a point that never cut it
+  /// stands too (an output with the circle deleted). What it has gone round is the angle the
+  /// points near it turned, in its sense, while the cursor was on it.
+  [[nodiscard]] bool turned_round(const Eigen::Vector3d& p, std::size_t i, double at_most) {
+    const Piece& piece = window()[i];
+    if (!piece.arc || (piece.b - piece.a).norm() > at_most) return true;
+    if (i != cursor_) return false;  // just come to: at its start
+    const double r = 0.5 * (piece.r0 + piece.r1);
+    return (piece.sweep - turned_) * r <= passable(p);
+  }
+
+  /// The angle turned on the cursor's arc, with point p on piece i.
+  void follow_turning(const Eigen::Vector3d& p, std::size_t i) {
+    if (i != cursor_ || !window()[i].arc) return;
+    const double phi = window()[i].turned_to(p);
+    if (turned_at_ >= 0.0) {
+      double step = phi - turned_at_;  // the shorter way, in (-pi, pi]
+      step -= 2 * std::numbers::pi * std::ceil((step - std::numbers::pi) / (2 * std::numbers::pi));
+      turned_ += std::max(step, 0.0);
+    }
+    turned_at_ = phi;
   }
 
   /// The first near piece (its place in near_) from piece `first` on with no more of the
@@ -435,9 +490,14 @@ class PathSearch {
     return near_.size();
   }
 
-  /// mm: the length of cuts a point may pass over from the last (a rapid passes over none).
+  /// mm: the length of cuts a point may pass over since the search was last at its frontier
+  /// (a rapid passes over none): the executed path since then, not only from the last point.
+  /// A path that turns back over itself leaves the executed points, off the nominal one by
+  /// the machine's error, nearer the way out than the way back for a few points; the way
+  /// back they went along meanwhile is not passed over (at 100 mm from B's axis a table
+  /// turning back was said to leave 1.3 mm uncut on the program against itself).
   [[nodiscard]] double passable(const Eigen::Vector3d& p) const {
-    return (after_rapid_ ? 0.0 : 1.01 * (p - last_point_).norm()) + kUncutMm;
+    return (after_rapid_ ? 0.0 : 1.01 * (travelled_ + (p - last_point_).norm())) + kUncutMm;
   }
 
   /// Pieces passed over between one point and the next must be no longer than the path
@@ -455,6 +515,9 @@ class PathSearch {
     }
     // The cursor's piece is cut once the point is past its start.
     if (next_piece_ <= cursor_) next_piece_ = cursor_ + ((p - window()[cursor_].a).norm() <= slack(best) ? 0 : 1);
+    // At the frontier (the cursor on the last piece come to) the travel starts again; behind
+    // it, it goes on adding up.
+    travelled_ = after_rapid_ || cursor_ + 1 >= next_piece_ ? 0.0 : travelled_ + (p - last_point_).norm();
     last_point_ = p;
     after_rapid_ = false;
   }
@@ -483,7 +546,10 @@ class PathSearch {
   std::size_t certified_from_ = 0, certified_to_ = 0;
   std::vector<std::size_t> candidates_;
   std::size_t next_piece_ = 0;  ///< the piece after the last point's
+  double turned_ = 0.0;         ///< rad the points went round the cursor's arc
+  double turned_at_ = -1.0;     ///< the last point's angle on it (< 0: none yet)
   Eigen::Vector3d last_point_ = Eigen::Vector3d::Zero();
+  double travelled_ = 0.0;  ///< mm the executed points went since the search was at its frontier
   bool after_rapid_ = true;
   double skipped_length_ = 0.0;
   std::uint32_t skipped_line_ = 0;

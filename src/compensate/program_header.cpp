@@ -3,7 +3,9 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <cctype>
 #include <charconv>
+#include <string>
 #include <system_error>
 
 #include "ccomp/error.hpp"
@@ -103,6 +105,11 @@ std::optional<HeaderFacts> read_header(std::string_view line) {
   if (!is_header_line(line)) return std::nullopt;
   HeaderFacts facts;
   constexpr std::string_view kSha = "model sha256:", kAt = " at ";
+  // (The hash and the tolerance read in any case: an upper-cased header is still ours.)
+  std::string lower(line);
+  for (char& c : lower) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  const std::string_view original = line;
+  line = lower;
   if (const auto sha = line.rfind(kSha); sha != std::string_view::npos) {
     const auto begin = sha + kSha.size();
     const auto end = line.find_first_not_of("0123456789abcdef", begin);
@@ -116,29 +123,42 @@ std::optional<HeaderFacts> read_header(std::string_view line) {
         facts.tolerance = um / 1000.0;
     }
   }
-  // What the run assumed: "; "-separated parts after the tolerance, up to the closing ')'.
+  // What the run assumed: "; "-separated parts after the tolerance, up to the closing ')';
+  // found in the lower-cased line, their values read from the line as written (sensor names
+  // keep their case).
   const auto sha = line.rfind(kSha);
   const auto tail = line.find(" um; ", sha == std::string_view::npos ? 0 : sha);
-  const auto close = line.rfind(')');
-  if (tail == std::string_view::npos || close == std::string_view::npos || close < tail) return facts;
-  std::string_view parts = line.substr(tail + 5, close - tail - 5);
-  while (!parts.empty()) {
-    const auto semicolon = parts.find("; ");
-    const std::string_view part = parts.substr(0, semicolon);
-    if (part.starts_with(kWorkOffsets)) facts.work_offsets = read_work_offsets(part.substr(kWorkOffsets.size()));
-    if (part.starts_with(kSensors)) facts.sensors = read_sensors(part.substr(kSensors.size()));
-    if (part.starts_with(kTime)) facts.time = read_time(part.substr(kTime.size()));
-    if (semicolon == std::string_view::npos) break;
-    parts.remove_prefix(semicolon + 2);
+  auto close = line.rfind(')');
+  if (close == std::string_view::npos || close < tail) close = line.size();  // the `; ccomp ...` form
+  if (tail == std::string_view::npos) return facts;
+  std::size_t at = tail + 5;
+  while (at < close) {
+    const auto semicolon = std::min(line.find("; ", at), close);
+    const std::string_view part = line.substr(at, semicolon - at), as_written = original.substr(at, semicolon - at);
+    if (part.starts_with(kWorkOffsets)) facts.work_offsets = read_work_offsets(as_written.substr(kWorkOffsets.size()));
+    if (part.starts_with(kSensors)) facts.sensors = read_sensors(as_written.substr(kSensors.size()));
+    if (part.starts_with(kTime)) facts.time = read_time(as_written.substr(kTime.size()));
+    at = semicolon + 2;
   }
   return facts;
 }
 
-bool is_header_line(std::string_view line) {
+/// A line that is one comment, `( ... )` or `; ...`: its text lower-cased with every blank
+/// taken out (a Fanuc control or a DNC transfer stores comments upper-cased, an editor may
+/// respace them); empty for any other line.
+std::string comment_letters(std::string_view line) {
   if (line.starts_with("\xEF\xBB\xBF")) line.remove_prefix(3);  // a byte-order mark before it
   const auto first = line.find_first_not_of(" \t");
-  return first != std::string_view::npos && line.substr(first).starts_with(kHeaderPrefix) &&
-         line.find("compensated for machine") != std::string_view::npos;
+  if (first == std::string_view::npos || (line[first] != '(' && line[first] != ';')) return {};
+  std::string letters;
+  for (const char c : line.substr(first + 1))
+    if (c != ' ' && c != '\t' && c != '\r') letters.push_back(static_cast<char>(std::tolower(static_cast<unsigned char>(c))));
+  return letters;
+}
+
+bool is_header_line(std::string_view line) {
+  const std::string letters = comment_letters(line);
+  return letters.starts_with("ccomp") && letters.find("compensatedformachine") != std::string::npos;
 }
 
 }  // namespace ccomp::compensate

@@ -12,6 +12,7 @@
 #include "ccomp/gcode/flatten.hpp"
 #include "ccomp/gcode/writer.hpp"
 #include "job_events.hpp"
+#include "job_guards.hpp"
 
 // The main job wires its stages; a move passes them in this order (docs/main-job.md):
 //   job_events      the interpreter's events read into moves (and refusals)
@@ -88,6 +89,7 @@ JobReport run_program_job(gcode::LineSource& input, std::FILE* out, const model:
                           const JobOptions& given) {
   validate(given);
   JobOptions options = given;  // the machine's own work offsets under the caller's
+  raise_digits_for_tolerance(options, model);
   options.interpreter = with_model_offsets(given.interpreter, model);
   options.interpreter.origin_matters = !model.terms.empty();  // a machine without error has no lever
   // A TCP program's words are not the joints' positions: corrected as if they were, the
@@ -99,10 +101,11 @@ JobReport run_program_job(gcode::LineSource& input, std::FILE* out, const model:
   JobReport report;
   report.bytes = input.size();
   {
-    // Double compensation would apply the correction twice: look at the first lines.
+    // Double compensation would apply the correction twice: look at the first lines (a
+    // transfer or a control may put a `%`, a program number and comments of its own first).
     gcode::LineSource peek = input.another_reader();
     gcode::SourceLine line;
-    for (int i = 0; i < 3 && peek.next(line); ++i) {
+    for (int i = 0; i < kHeaderSearchLines && peek.next(line); ++i) {
       if (is_header_line(line.text) && !options.force)
         throw Error(ErrorKind::safety,
                     "the program is already compensated by ccomp (its header is on this line); "

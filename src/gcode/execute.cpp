@@ -275,6 +275,7 @@ void Interpreter::Impl::send(Motion& m, const Axes& target) {
   const bool leaving = leaving_offset;
   position = target;
   blocks_since_motion = 0;
+  jumped_since_motion = false;
   leaving_offset = false;
   // Under G41/G42 the offset path went out through the offset's queue, or the programmed
   // move goes with it, once the next move settles where the tool centre ends.

@@ -48,8 +48,8 @@ namespace {
 
 class FlattenSink : public CanonSink {
  public:
-  FlattenSink(std::FILE* out, LineOrigins& origins, std::string main_file)
-      : out_(out), origins_(origins), main_file_(std::move(main_file)) {}
+  FlattenSink(std::FILE* out, LineOrigins& origins, std::string main_file, std::uint64_t max_bytes)
+      : out_(out), origins_(origins), main_file_(std::move(main_file)), max_bytes_(max_bytes) {}
 
   [[nodiscard]] bool wants_values() const override { return true; }
 
@@ -101,8 +101,18 @@ class FlattenSink : public CanonSink {
  private:
   void write(std::string_view text, std::string_view terminator, const std::string& file, std::uint32_t line) {
     if (!terminator.empty() && eol_.empty()) eol_ = terminator;
-    std::fwrite(text.data(), 1, text.size(), out_);
     const std::string_view eol = terminator.empty() ? (eol_.empty() ? std::string_view("\n") : eol_) : terminator;
+    bytes_ += text.size() + eol.size();
+    if (bytes_ > max_bytes_)
+      throw Error(ErrorKind::program,
+                  fmt::format("the program as it runs, loops unrolled, is more than {} of G-code here (line {} "
+                              "of it): taken for a runaway loop",
+                              max_bytes_ >= (1U << 20)   ? fmt::format("{} MiB", max_bytes_ >> 20)
+                              : max_bytes_ >= (1U << 10) ? fmt::format("{} kB", max_bytes_ >> 10)
+                                                         : fmt::format("{} bytes", max_bytes_),
+                              written_ + 1),
+                  SourceLocation{file, line, 0}, std::string(text));
+    std::fwrite(text.data(), 1, text.size(), out_);
     std::fwrite(eol.data(), 1, eol.size(), out_);
     origins_.add(++written_, file, line);
   }
@@ -112,6 +122,8 @@ class FlattenSink : public CanonSink {
   std::string main_file_;
   std::string eol_;  ///< the program's line terminator, for a last line that had none
   std::uint32_t written_ = 0;
+  std::uint64_t max_bytes_;
+  std::uint64_t bytes_ = 0;  ///< written so far
   std::vector<Edit> edits_;
   std::vector<Span> removed_;
   std::string text_;
@@ -119,9 +131,9 @@ class FlattenSink : public CanonSink {
 
 }  // namespace
 
-LineOrigins flatten(LineSource& program, std::FILE* out, const InterpreterOptions& options) {
+LineOrigins flatten(LineSource& program, std::FILE* out, const InterpreterOptions& options, std::uint64_t max_bytes) {
   LineOrigins origins;
-  FlattenSink sink(out, origins, program.name());
+  FlattenSink sink(out, origins, program.name(), max_bytes);
   InterpreterOptions bounded = options;
   bounded.max_blocks = std::min(options.max_blocks, kFlattenMaxBlocks);
   Interpreter interpreter(bounded);

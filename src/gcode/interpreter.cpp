@@ -430,6 +430,20 @@ bool Interpreter::Impl::next_block() {
   }
 }
 
+void Interpreter::Impl::count_blocks(std::uint64_t n) {
+  blocks_executed += n;
+  blocks_since_motion += n;
+  if (blocks_executed > options.max_blocks)
+    fail(block, nullptr,
+         fmt::format("more than {} blocks executed or skipped: an endless loop? (--max-blocks raises the limit)",
+                     options.max_blocks));
+  if (blocks_since_motion > options.max_blocks_without_motion && jumped_since_motion)
+    fail(block, nullptr,
+         fmt::format("{} blocks executed or skipped without a move: an endless loop (a while that never ends, a "
+                     "subroutine that calls itself)?",
+                     options.max_blocks_without_motion));
+}
+
 void Interpreter::Impl::run(LineSource& source, CanonSink& out) {
   sink = &out;
   sources.assign(1, &source);
@@ -442,15 +456,9 @@ void Interpreter::Impl::run(LineSource& source, CanonSink& out) {
   emit("ON_RESET", "");
   bool first_line = true;
   while (!ended && next_block()) {
-    if (++blocks_executed > options.max_blocks)
-      fail(block, nullptr,
-           fmt::format("more than {} blocks executed: an endless loop? (--max-blocks raises the limit)",
-                       options.max_blocks));
-    if (++blocks_since_motion > options.max_blocks_without_motion)
-      fail(block, nullptr,
-           fmt::format("{} blocks executed without a move: an endless loop (a while that never ends, a "
-                       "subroutine that calls itself)?",
-                       options.max_blocks_without_motion));
+    if (current_source != last_source || line.offset <= last_offset) jumped_since_motion = true;
+    last_source = current_source, last_offset = line.offset;
+    count_blocks(1);
     if (block.program_delimiter) {
       if (first_line || !percent_seen) {
         percent_seen = true;
@@ -526,14 +534,34 @@ void Interpreter::Impl::define_sub(const Block& b, bool fanuc) {
 void Interpreter::Impl::skip_to(const std::string& label, std::initializer_list<OKeyword> stops,
                                 bool /*fanuc_sub_end*/) {
   const std::uint32_t start_line = block.line;
+  LineSource& src = *sources[current_source];
+  std::string key = fmt::format("{}:{}:{}:", current_source, src.tell().offset, label);
+  for (OKeyword k : stops) key += std::to_string(static_cast<int>(k)) + ",";
+  // Skipped before from here: the same lines end it (the file does not change). The lines
+  // between were announced the first time; the line it stops at is read again.
+  if (const auto known = skip_ends.find(key); known != skip_ends.end()) {
+    src.seek(known->second.target);
+    if (!src.next(line)) throw Error(ErrorKind::internal, "a skipped stretch's end is no longer there");
+    parser.parse(line.text, line.number, file_name(), block);
+    count_blocks(known->second.scanned);
+    if (sink) announce(block, line);
+    return;
+  }
+  std::uint64_t scanned = 0;
   for (;;) {
-    if (!sources[current_source]->next(line))
+    const SourcePosition before = src.tell();
+    if (!src.next(line))
       throw Error(ErrorKind::program, "no matching end for O" + label, SourceLocation{file_name(), start_line, 0});
     parser.parse(line.text, line.number, file_name(), block);
+    ++scanned;
+    count_blocks(1);  // a skipped line is read as a run one is: it counts towards the limits
     if (sink) announce(block, line);
     if (!block.o.present || label_of(block.o) != label) continue;
     for (OKeyword k : stops)
-      if (block.o.keyword == k) return;
+      if (block.o.keyword == k) {
+        skip_ends.emplace(std::move(key), SkipEnd{before, scanned});
+        return;
+      }
   }
 }
 

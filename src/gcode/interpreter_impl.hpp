@@ -118,6 +118,19 @@ struct Interpreter::Impl {
   bool has_value_returned = false;
   std::uint64_t blocks_executed = 0;
   std::uint64_t blocks_since_motion = 0;  ///< a loop that never moves is endless
+  /// The program went back (a loop, a call, a return) since its last move: without that, a
+  /// run of lines without a move is only a long file (a million blank lines), not a loop.
+  bool jumped_since_motion = false;
+  std::size_t last_source = 0;
+  std::uint64_t last_offset = 0;
+  /// Where each stretch skipped so far ended: a loop that skips the same false `if` on every
+  /// pass reads it once (it rescanned it each time: quadratic in the file). Keyed by the
+  /// source, the offset the skip started after, the label and the stopping keywords.
+  struct SkipEnd {
+    SourcePosition target;      ///< the line the skip stopped at (read again from here)
+    std::uint64_t scanned = 0;  ///< lines passed over, the target included
+  };
+  std::unordered_map<std::string, SkipEnd> skip_ends;
   CutterCompensation comp;                ///< G41/G42's offset path and its waiting moves
   bool leaving_offset = false;            ///< G40 took an offset off: the next move leaves it
   CanonSink discard;                      ///< where output goes without a sink
@@ -131,6 +144,9 @@ struct Interpreter::Impl {
   // --- run loop and control flow (interpreter.cpp)
   void run(LineSource& source, CanonSink& out);
   bool next_block();
+  /// Counts `n` blocks run or scanned against the limits (an endless loop; a loop without a
+  /// move), refusing at the current block.
+  void count_blocks(std::uint64_t n);
   void execute_o(const Block& b);
   void skip_to(const std::string& label, std::initializer_list<OKeyword> stops, bool fanuc_sub_end = false);
   void call_sub(const std::string& label, bool fanuc, const Block& b, const Word* where, int repeats);

@@ -31,8 +31,12 @@ struct RunConditions {
 /// "; work offsets G54 X0 Y0 Z-400; sensors bed=20, column=21.5; time 3600 s".
 [[nodiscard]] std::string header_line(const model::MachineModel& model, double tolerance,
                                       const RunConditions& conditions = {});
-/// True when `line` is a header that header_line() wrote.
+/// True when `line` is a header that header_line() wrote, as a transfer or a control may
+/// have kept it: in any case, respaced, `( ccomp ...)` or `; ccomp ...` (a whole-line comment
+/// starting with "ccomp" that says "compensated for machine").
 [[nodiscard]] bool is_header_line(std::string_view line);
+/// How many of a program's first lines the job looks through for a header.
+inline constexpr int kHeaderSearchLines = 10;
 /// What a header line says: the model's SHA-256 (hex) and the tolerance in mm (NaN when
 /// the header is older than the tolerance in it).
 struct HeaderFacts {

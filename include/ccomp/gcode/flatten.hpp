@@ -46,8 +46,13 @@ class LineOrigins {
 /// written line is as it was. Throws what the interpreter throws, at the original's lines;
 /// a program that runs more than kFlattenMaxBlocks blocks (or options.max_blocks, if fewer)
 /// is taken for an endless loop, before its spool fills a disk.
+/// The written program is bounded by its size too: more than `max_bytes` (kFlattenMaxBytes)
+/// is refused (exit 3) at the line that would pass it, before a loop of long lines (a line may
+/// be 1 MiB) fills a disk within the block limit.
 inline constexpr std::uint64_t kFlattenMaxBlocks = 20'000'000;
-[[nodiscard]] LineOrigins flatten(LineSource& program, std::FILE* out, const InterpreterOptions& options);
+inline constexpr std::uint64_t kFlattenMaxBytes = std::uint64_t{1} << 30;
+[[nodiscard]] LineOrigins flatten(LineSource& program, std::FILE* out, const InterpreterOptions& options,
+                                  std::uint64_t max_bytes = kFlattenMaxBytes);
 
 /// How flatten() writes a computed value: a code (G, M, T, H, D, N, O, P, L, S) that is a
 /// whole number without decimals, anything else with a decimal point and up to 6 decimals
