@@ -11,6 +11,7 @@
 #include "ccomp/identify/check.hpp"
 #include "ccomp/identify/diagnose.hpp"
 #include "ccomp/identify/fit.hpp"
+#include "ccomp/identify/fit_caveats.hpp"
 #include "ccomp/identify/nine_line.hpp"
 #include "ccomp/identify/simulate.hpp"
 #include "ccomp/model/model_file.hpp"
@@ -242,6 +243,7 @@ int run_fit(const IdentifyArgs& args) {
   options.progress = [&bar](double done) { bar.update(done); };
   const identify::FitReport r = identify::fit(forward, data, options);
   bar.clear();
+  for (const std::string& caveat : identify::thin_polynomials(forward, data)) fmt::print(stderr, "warning: {}\n", caveat);
   if (args.json) {
     fmt::print("{}", fit_json(forward, data, r, args.output, r.refusals.empty()));
     if (!r.refusals.empty())
