@@ -1,7 +1,7 @@
 #pragma once
 // What scoring the candidates without a scan needs of the readings, summed a block of rows at
-// a time: the n x F matrix of all their columns is never formed (at some 2.4 kB a reading,
-// it was most of check's memory on a large file: bench/check-memory.sh).
+// a time: the n x F matrix of all their columns is never formed (it was much of check's
+// memory on a large file: bench/check-memory.sh).
 #include <Eigen/Core>
 #include <vector>
 
