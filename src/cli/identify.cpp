@@ -11,6 +11,7 @@
 #include "ccomp/identify/check.hpp"
 #include "ccomp/identify/diagnose.hpp"
 #include "ccomp/identify/fit.hpp"
+#include "ccomp/identify/fit_caveats.hpp"
 #include "ccomp/identify/fit_information.hpp"
 #include "ccomp/identify/nine_line.hpp"
 #include "ccomp/identify/plan.hpp"
@@ -264,6 +265,7 @@ int run_fit(const IdentifyArgs& args) {
   options.progress = [&bar](double done) { bar.update(done); };
   const identify::FitReport r = identify::fit(forward, data, options);
   bar.clear();
+  for (const std::string& caveat : identify::thin_polynomials(forward, data)) fmt::print(stderr, "warning: {}\n", caveat);
   if (args.json) {
     fmt::print("{}", fit_json(forward, data, r, args.output, r.refusals.empty()));
     if (!r.refusals.empty())
@@ -392,48 +394,6 @@ int run_check(const IdentifyArgs& args) {
   for (const identify::Tie& t : d.ties)
     fmt::print("the data cannot tell {} from {} (what they explain correlates {:.2f}): measure next: {}\n",
                d.suggestions[t.first].spec, d.suggestions[t.second].spec, t.correlation, t.measurement);
-  return 0;
-}
-
-CLI::App* add_positioning(CLI::App& app, IdentifyArgs& args) {
-  CLI::App* cmd =
-      app.add_subcommand("positioning", "ISO 230-2 positioning figures of a linear axis from bidirectional runs");
-  cmd->add_option("measurements", args.measurements, "measurement files (the CSV contract, or an instrument's: docs/identification.md)")->required();
-  add_common(*cmd, args);
-  cmd->add_option("--axis", args.axis, "x, y or z")->required()->check(CLI::IsMember({"x", "y", "z"}));
-  cmd->add_option("--source", args.source, "only the rows of this source (a laser line)");
-  cmd->add_flag("--json", args.json, "the figures as JSON on stdout");
-  add_reading_options(*cmd, args, false);  // its --axis names a one-axis file's axis too
-  return cmd;
-}
-
-int run_positioning(const IdentifyArgs& args) {
-  const model::MachineModel m = model::load_machine_model(args.model);
-  identify::MeasurementSet data;
-  identify::ReadOptions o = reading_options(args);
-  o.frame = frame_of(args);
-  for (const std::string& path : args.measurements) identify::read_measurements(path, m, o, data);
-  for (const std::string& notice : data.notices) fmt::print(stderr, "notice: {}\n", notice);
-  const auto axis = static_cast<std::size_t>(args.axis[0] - 'x');
-  const identify::PositioningReport r = identify::analyse_positioning(data, axis, args.source);
-  const double um = 1e3;
-  if (args.json) {
-    fmt::print("{}", positioning_json(args.axis, r));
-    return 0;
-  }
-  fmt::print("ISO 230-2, axis {}: {} targets, {} run(s) each way{}\n", static_cast<char>(std::toupper(args.axis[0])),
-             r.targets.size(), r.runs, r.runs < 5 ? " (the standard asks for 5; repeatability needs 2 or more)" : "");
-  fmt::print("  accuracy            A  {:8.3f} um  (up {:.3f}, down {:.3f})\n", r.A * um, r.A_up * um, r.A_down * um);
-  fmt::print("  reversal            B  {:8.3f} um  (mean {:+.3f})\n", r.B * um, r.B_mean * um);
-  fmt::print("  systematic          E  {:8.3f} um  (up {:.3f}, down {:.3f})\n", r.E * um, r.E_up * um, r.E_down * um);
-  fmt::print("  mean bidirectional  M  {:8.3f} um\n", r.M * um);
-  fmt::print("  repeatability       R  {:8.3f} um  (up {:.3f}, down {:.3f})\n", r.R * um, r.R_up * um, r.R_down * um);
-  fmt::print(
-      "parts of the mean deviation (docs/error-model.md [Ref 3]): cumulative cubic [{:.4g}, {:.4g}, {:.4g}, {:.4g}] "
-      "um/mm^k",
-      r.cumulative[0] * um, r.cumulative[1] * um, r.cumulative[2] * um, r.cumulative[3] * um);
-  if (r.period > 0) fmt::print("; periodic {:.4g} mm, {:.3f} um", r.period, r.periodic_amplitude * um);
-  fmt::print("; reversal {:+.3f} um; {:.3f} um left\n", r.B_mean * um, r.rms_left * um);
   return 0;
 }
 

@@ -173,24 +173,4 @@ std::string check_json(const model::MachineModel& m, const identify::CheckReport
   return j.end_object().text();
 }
 
-std::string positioning_json(const std::string& axis, const identify::PositioningReport& r) {
-  const double um = 1e3;
-  util::JsonWriter j;
-  j.begin_object().field("command", "positioning").field("axis", axis).field("runs", r.runs);
-  j.field("A_um", r.A * um).field("A_up_um", r.A_up * um).field("A_down_um", r.A_down * um);
-  j.field("B_um", r.B * um).field("B_mean_um", r.B_mean * um);
-  j.field("E_um", r.E * um).field("E_up_um", r.E_up * um).field("E_down_um", r.E_down * um);
-  j.field("M_um", r.M * um).field("R_um", r.R * um).field("R_up_um", r.R_up * um).field("R_down_um", r.R_down * um);
-  j.field("period_mm", r.period).field("periodic_amplitude_um", r.periodic_amplitude * um);
-  j.field("rms_left_um", r.rms_left * um).key("targets").begin_array();
-  for (const identify::PositioningTarget& t : r.targets) {
-    j.begin_object().field("position_mm", t.position).field("runs_up", t.runs_up).field("runs_down", t.runs_down);
-    j.field("mean_up_um", t.mean_up * um).field("mean_down_um", t.mean_down * um);
-    j.field("s_up_um", t.s_up * um).field("s_down_um", t.s_down * um);
-    j.field("reversal_um", t.reversal * um).field("repeatability_um", t.repeatability * um).end_object();
-  }
-  j.end_array();
-  return j.end_object().text();
-}
-
 }  // namespace ccomp::cli

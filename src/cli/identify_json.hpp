@@ -21,6 +21,8 @@ namespace ccomp::cli {
                                         const std::string& output);
 [[nodiscard]] std::string check_json(const model::MachineModel& m, const identify::CheckReport& r,
                                      const identify::Diagnosis& d);
-[[nodiscard]] std::string positioning_json(const std::string& axis, const identify::PositioningReport& r);
+/// `angle_unit`: a rotary axis' deviations in "arcsec" or "urad" (src/cli/positioning.cpp).
+[[nodiscard]] std::string positioning_json(const std::string& axis, const identify::PositioningReport& r,
+                                           const std::string& angle_unit);
 
 }  // namespace ccomp::cli

@@ -211,7 +211,7 @@ std::vector<Candidate> candidate_library(const model::MachineModel& mm, const Me
                    model::ErrorPlacement placement = model::ErrorPlacement::motion) {
     for (std::size_t i = 0; i < probes.size(); ++i)
       if (probes[i].link == link && probes[i].component == component && probes[i].placement == placement) return i;
-    probes.push_back(Probe{link, component, placement, {}, {}, {}, {}});
+    probes.push_back(Probe{link, component, placement, {}, {}, {}});
     return probes.size() - 1;
   };
   const auto location = model::ErrorPlacement::location;

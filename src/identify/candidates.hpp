@@ -25,8 +25,7 @@ struct Probe {
   model::ErrorPlacement placement = model::ErrorPlacement::motion;
   Eigen::VectorXd g;               // per observation
   std::vector<Eigen::Index> rows;  // where g is not zero
-  Eigen::MatrixXd A_rows;          // the base's columns on those rows (empty when they are all rows)
-  Eigen::VectorXd r_rows;          // the residual there
+  Eigen::VectorXd r_rows;          // the residual there (empty when they are all rows)
 };
 
 /// How many of its cycles the data must cover for a periodic effect to be named.

@@ -12,6 +12,7 @@
 #include <map>
 #include <numbers>
 #include <optional>
+#include <utility>
 
 #include "aliasing.hpp"
 #include "candidates.hpp"
@@ -24,6 +25,7 @@
 #include "ccomp/model/model_file.hpp"
 #include "ccomp/util/interval.hpp"
 #include "ccomp/util/parallel.hpp"
+#include "fixed_sums.hpp"
 #include "held_out.hpp"
 #include "origin_shift.hpp"
 
@@ -107,10 +109,23 @@ struct Projector {
   Eigen::MatrixXd A;  // the base's columns (the refit's design matrix), scaled to unit length: n x m
   Eigen::MatrixXd W;  // m x k: A W is an orthonormal basis of the combinations the data identify
 
-  /// The fall in the sum of squares when columns C join the base fit, and their
-  /// coefficients. C is given on some rows (a probe's), `r_rows` is the residual there
-  /// and `AtC` is A^T C over the same rows (m x C.cols()). U = A W is never formed: what
-  /// the base absorbs of C is W^T (A^T C), and A^T C is one product for many candidates.
+  /// A^T C over some rows (C has a row per one of them): the base's rows gathered a block at
+  /// a time, never a copy of A on each probe's rows (rows x m per probe was much of check's
+  /// memory on a large file).
+  [[nodiscard]] Eigen::MatrixXd At_on_rows(const std::vector<Eigen::Index>& rows, const Eigen::MatrixXd& C) const {
+    constexpr Eigen::Index kBlock = 256;
+    Eigen::MatrixXd AtC = Eigen::MatrixXd::Zero(A.cols(), C.cols());
+    if (A.cols() == 0) return AtC;
+    Eigen::MatrixXd gathered(kBlock, A.cols());
+    const auto n = static_cast<Eigen::Index>(rows.size());
+    for (Eigen::Index first = 0; first < n; first += kBlock) {
+      const Eigen::Index count = std::min(kBlock, n - first);
+      for (Eigen::Index i = 0; i < count; ++i) gathered.row(i) = A.row(rows[static_cast<std::size_t>(first + i)]);
+      AtC.noalias() += gathered.topRows(count).transpose() * C.middleRows(first, count);
+    }
+    return AtC;
+  }
+
   /// The sum of squares of column c (A^T c given) that the base cannot absorb.
   [[nodiscard]] double left_over(const Eigen::Ref<const Eigen::VectorXd>& c,
                                  const Eigen::Ref<const Eigen::VectorXd>& Atc) const {
@@ -118,11 +133,19 @@ struct Projector {
     return c.squaredNorm() - Utc.squaredNorm();
   }
 
+  /// The fall in the sum of squares when columns C join the base fit, and their
+  /// coefficients. C is given on some rows (a probe's), `r_rows` is the residual there
+  /// and `AtC` is A^T C over the same rows (m x C.cols()). U = A W is never formed: what
+  /// the base absorbs of C is W^T (A^T C), and A^T C is one product for many candidates.
   double gain(const Eigen::Ref<const Eigen::MatrixXd>& C, const Eigen::Ref<const Eigen::VectorXd>& r_rows,
               const Eigen::Ref<const Eigen::MatrixXd>& AtC, Eigen::VectorXd* coefficients) const {
-    const Eigen::Index k = C.cols();
-    const Eigen::VectorXd b = C.transpose() * r_rows;
-    const Eigen::MatrixXd CtC = C.transpose() * C;
+    return gain_of_sums(C.transpose() * C, C.transpose() * r_rows, AtC, coefficients);
+  }
+
+  /// The same from the sums over the rows: C^T C, C^T r and A^T C (fixed_sums.hpp).
+  double gain_of_sums(const Eigen::MatrixXd& CtC, const Eigen::VectorXd& b,
+                      const Eigen::Ref<const Eigen::MatrixXd>& AtC, Eigen::VectorXd* coefficients) const {
+    const Eigen::Index k = CtC.cols();
     const Eigen::MatrixXd UtC = W.transpose() * AtC;
     const Eigen::MatrixXd N = CtC - UtC.transpose() * UtC;
     // Columns scaled to unit diagonal; a column the base already spans gains nothing.
@@ -170,7 +193,10 @@ Projector refitted_base(const model::ForwardModel& model, const MeasurementSet& 
     Eigen::MatrixXd J;
     design_matrix(f, parameters, data, columns, base.r, &J);
     for (std::size_t k = 0; k < probes.size(); ++k) probes[k].g = J.col(m + static_cast<Eigen::Index>(k));
-    base.A = J.leftCols(m);
+    // The base's columns are J's first m: dropping the probes' in place (a shrinking realloc
+    // of the column-major storage) rather than copying, which held J and A at once.
+    J.conservativeResize(Eigen::NoChange, m);
+    base.A = std::move(J);
   }
   if (base.A.cols() > 0) {
     // What the base absorbs is what its fit could determine: columns in physical scales,
@@ -207,12 +233,8 @@ void probe_rows(const Projector& base, Eigen::Index n, std::vector<Probe>& probe
     for (Eigen::Index i = 0; i < n; ++i)
       if (std::abs(p.g[i]) > 1e-9 * largest) p.rows.push_back(i);
     if (static_cast<Eigen::Index>(p.rows.size()) == n) continue;  // every row: the base's own A and r serve
-    p.A_rows.resize(static_cast<Eigen::Index>(p.rows.size()), base.A.cols());
     p.r_rows.resize(static_cast<Eigen::Index>(p.rows.size()));
-    for (std::size_t i = 0; i < p.rows.size(); ++i) {
-      if (base.A.cols() > 0) p.A_rows.row(static_cast<Eigen::Index>(i)) = base.A.row(p.rows[i]);
-      p.r_rows[static_cast<Eigen::Index>(i)] = base.r[p.rows[i]];
-    }
+    for (std::size_t i = 0; i < p.rows.size(); ++i) p.r_rows[static_cast<Eigen::Index>(i)] = base.r[p.rows[i]];
   }
 }
 
@@ -446,26 +468,21 @@ Diagnosis diagnose(const model::ForwardModel& model, const MeasurementSet& data,
     return Scored{std::move(s), value, x, gain};
   };
 
-  // Candidates without a scan: all their columns (over every row, zero off their probe's
-  // rows) in one matrix, and what the base absorbs of them in one product over the data,
+  // Candidates without a scan: what the base absorbs of all their columns in one pass over
+  // the data, a block of rows at a time (their columns over every row would be n x F),
   // instead of a pass over the base's columns per candidate.
   std::vector<Eigen::Index> fixed_column(candidates.size(), -1);
   Eigen::Index fixed_columns = 0;
   for (std::size_t i = 0; i < candidates.size(); ++i)
     if (candidates[i].scan_points == 0 && !probes[candidates[i].probe].rows.empty())
       fixed_column[i] = fixed_columns, fixed_columns += candidates[i].basis_count;
-  Eigen::MatrixXd C_fixed = Eigen::MatrixXd::Zero(n, fixed_columns);
-  util::for_each_index(candidates.size(), options.threads, [&](std::size_t i) {
-    if (fixed_column[i] < 0) return;
-    const Candidate& c = candidates[i];
-    candidate_columns(c, probes[c.probe], data, c.period, true, C_fixed.middleCols(fixed_column[i], c.basis_count));
-  });
-  const Eigen::MatrixXd AtC_fixed = transpose_product(base.A, C_fixed);
+  const detail::FixedSums fixed =
+      detail::fixed_sums(candidates, probes, fixed_column, fixed_columns, data, base.A, base.r, options.threads);
   auto score_fixed = [&](std::size_t i) {
     const Candidate& c = candidates[i];
     Eigen::VectorXd x;
-    const double gain = base.gain(C_fixed.middleCols(fixed_column[i], c.basis_count), base.r,
-                                  AtC_fixed.middleCols(fixed_column[i], c.basis_count), &x);
+    const double gain = base.gain_of_sums(fixed.CtC[i], fixed.Ctr.segment(fixed_column[i], c.basis_count),
+                                          fixed.AtC.middleCols(fixed_column[i], c.basis_count), &x);
     return suggestion(c, c.period, gain, x, 0.0, 1.0);
   };
 
@@ -475,7 +492,6 @@ Diagnosis diagnose(const model::ForwardModel& model, const MeasurementSet& data,
     const Probe& p = probes[c.probe];
     if (p.rows.empty()) return std::nullopt;
     const bool all_rows = static_cast<Eigen::Index>(p.rows.size()) == n;
-    const Eigen::MatrixXd& A_rows = all_rows ? base.A : p.A_rows;
     const Eigen::VectorXd& r_rows = all_rows ? base.r : p.r_rows;
     // The exact gains at `values`; the coefficients at the first of them into `x`.
     auto exact_gains = [&](const std::vector<double>& values, Eigen::VectorXd* x) {
@@ -483,7 +499,7 @@ Diagnosis diagnose(const model::ForwardModel& model, const MeasurementSet& data,
       Eigen::MatrixXd C(static_cast<Eigen::Index>(p.rows.size()), static_cast<Eigen::Index>(values.size()) * bc);
       for (std::size_t v = 0; v < values.size(); ++v)
         candidate_columns(c, p, data, values[v], false, C.middleCols(static_cast<Eigen::Index>(v) * bc, bc));
-      const Eigen::MatrixXd AtC = A_rows.transpose() * C;
+      const Eigen::MatrixXd AtC = all_rows ? Eigen::MatrixXd(base.A.transpose() * C) : base.At_on_rows(p.rows, C);
       std::vector<double> gains(values.size());
       for (std::size_t v = 0; v < values.size(); ++v) {
         const Eigen::Index first = static_cast<Eigen::Index>(v) * bc;

@@ -1,4 +1,5 @@
 #include "ccomp/identify/fit.hpp"
+#include "ccomp/identify/fit_caveats.hpp"
 
 #include <fmt/format.h>
 
@@ -258,8 +259,9 @@ bool grows_beyond_its_data(TermForm form) {
          form == TermForm::scale_expansion;
 }
 
-/// A reading's value of a term variable (mm, rad, degC, s); none for an approach.
-std::optional<double> variable_of(const model::Variable& v, const Observation& o) {
+}  // namespace
+
+std::optional<double> variable_value(const model::Variable& v, const Observation& o) {
   switch (v.kind) {
     case model::VariableKind::axis:
       return o.q[static_cast<Eigen::Index>(v.index)];
@@ -276,8 +278,6 @@ std::optional<double> variable_of(const model::Variable& v, const Observation& o
   return std::nullopt;
 }
 
-}  // namespace
-
 std::vector<std::optional<model::TermSpan>> fitted_spans(const model::MachineModel& machine,
                                                          const MeasurementSet& data) {
   std::vector<std::optional<model::TermSpan>> spans(machine.terms.size());
@@ -286,7 +286,7 @@ std::vector<std::optional<model::TermSpan>> fitted_spans(const model::MachineMod
     if (!term.free || !grows_beyond_its_data(term.shape.form)) continue;
     double low = std::numeric_limits<double>::infinity(), high = -low;
     for (const Observation& o : data.observations)
-      if (const std::optional<double> v = variable_of(term.primary, o)) low = std::min(low, *v), high = std::max(high, *v);
+      if (const std::optional<double> v = variable_value(term.primary, o)) low = std::min(low, *v), high = std::max(high, *v);
     if (low < high) spans[t] = model::TermSpan{low, high};
   }
   return spans;

@@ -4,185 +4,215 @@
 
 #include <Eigen/Dense>
 #include <algorithm>
+#include <cctype>
 #include <cmath>
-#include <complex>
-#include <limits>
 #include <map>
-#include <numbers>
+#include <optional>
+#include <tuple>
 
+#include "ccomp/constants.hpp"
 #include "ccomp/error.hpp"
+#include "ccomp/model/forward.hpp"
 #include "ccomp/util/interval.hpp"
 
 namespace ccomp::identify {
+namespace {
 
-PositioningReport analyse_positioning(const MeasurementSet& data, std::size_t axis, const std::string& source) {
-  PositioningReport report;
-  report.axis = axis;
-  const char letter = "XYZ"[axis];
-  // Deviations by target (integer um) and direction.
-  std::map<long long, std::pair<std::vector<double>, std::vector<double>>> at;
+constexpr std::string_view kLetters = "XYZABC";
+
+/// The deviations read at one target, by approach.
+struct Approaches {
+  std::vector<double> up, down;
+};
+
+double mean_of(const std::vector<double>& v) {
+  double s = 0;
+  for (double x : v) s += x;
+  return s / static_cast<double>(v.size());
+}
+
+/// ISO 230-2's estimator of the standard uncertainty: n - 1 in the denominator, so one run
+/// gives none (not 0, which would state a perfect repeatability nobody measured).
+std::optional<double> spread_of(const std::vector<double>& v) {
+  if (v.size() < 2) return std::nullopt;
+  const double m = mean_of(v);
+  double s = 0;
+  for (double x : v) s += (x - m) * (x - m);
+  return std::sqrt(s / static_cast<double>(v.size() - 1));
+}
+
+/// A position as the reading's file gives it: program coordinates in its frame.
+double file_position(const MeasurementSet& data, const Observation& o, std::size_t axis, bool rotary) {
+  const double machine = file_axis_value(o, axis, rotary);
+  if (o.file >= data.frames.size()) return machine;
+  const ResolvedFrame& f = data.frames[o.file];
+  const bool machine_z = f.frame.kind == FrameKind::machine && axis == 2;
+  return machine - f.origin[axis] + (machine_z ? o.q[static_cast<Eigen::Index>(model::kToolLengthIndex)] : 0.0);
+}
+
+/// The readings of the axis, by target (to 0.001 of the position's unit) and approach: a
+/// linear axis' deviation along it; a rotary axis' turn, the reading over the lever its
+/// point has from the axis' line (the inverse of what the one-axis reader does with a
+/// calibrator's angle), for readings along the path the turn moves the point.
+std::map<long long, Approaches> readings_by_target(const MeasurementSet& data, std::size_t axis, bool rotary,
+                                                   const std::string& source, const model::ForwardModel* forward) {
+  std::map<long long, Approaches> at;
+  std::optional<model::ForwardData> scratch;
+  if (rotary) scratch.emplace(*forward);
+  const auto column = static_cast<Eigen::Index>(axis);
   for (const Observation& o : data.observations) {
     if (!source.empty() && data.sources[o.source] != source) continue;
-    const double along = o.direction[static_cast<Eigen::Index>(axis)];
-    if (std::abs(std::abs(along) - 1.0) > 1e-6 || o.directions[axis] == 0.0) continue;
-    const double target = file_axis_value(o, axis, false);
-    auto& runs = at[std::llround(target * 1000.0)];
-    (o.directions[axis] > 0 ? runs.first : runs.second).push_back(o.value * along);
+    if (o.directions[axis] == 0) continue;
+    double deviation = 0.0;
+    if (!rotary) {
+      const double along = o.direction[column];
+      if (std::abs(std::abs(along) - 1.0) > 1e-6) continue;
+      deviation = o.value * along;
+    } else {
+      model::forward(*forward, *scratch, o.q, MeasurementSet::conditions(o), true);
+      const Eigen::Vector3d path = scratch->nominal_chain.oMp.R * scratch->J_q.col(column);
+      const double lever = path.norm();
+      if (lever < 1.0) continue;  // on the axis' line: no turn to read
+      const double along = o.direction.dot(path / lever);
+      if (std::abs(std::abs(along) - 1.0) > 1e-6) continue;
+      deviation = o.value * along / lever;
+    }
+    const double target = file_position(data, o, axis, rotary);
+    Approaches& a = at[std::llround(target * 1000.0)];
+    (o.directions[axis] > 0 ? a.up : a.down).push_back(deviation);
   }
+  return at;
+}
+
+PositioningTarget target_figures(double position, const Approaches& a) {
+  PositioningTarget t;
+  t.position = position;
+  t.runs_up = static_cast<int>(a.up.size()), t.runs_down = static_cast<int>(a.down.size());
+  if (!a.up.empty()) t.mean_up = mean_of(a.up), t.s_up = spread_of(a.up);
+  if (!a.down.empty()) t.mean_down = mean_of(a.down), t.s_down = spread_of(a.down);
+  if (t.s_up) t.repeatability_up = 4 * *t.s_up;
+  if (t.s_down) t.repeatability_down = 4 * *t.s_down;
+  if (t.mean_up && t.mean_down) {
+    t.mean = 0.5 * (*t.mean_up + *t.mean_down);
+    t.reversal = *t.mean_up - *t.mean_down;
+    if (t.s_up && t.s_down)
+      t.repeatability = std::max({2 * *t.s_up + 2 * *t.s_down + std::abs(*t.reversal), *t.repeatability_up,
+                                  *t.repeatability_down});
+  }
+  return t;
+}
+
+/// One direction's figures over the targets approached that way: E (range of the means), A
+/// (range of mean +- 2s) and R (largest 4s), the last two where every such target has two runs.
+struct OneWay {
+  std::optional<double> E, A, R;
+  int runs = 0;  ///< fewest at a target
+};
+
+OneWay one_way(const std::vector<PositioningTarget>& targets, bool up) {
+  OneWay w;
+  util::Interval means, band;
+  bool spread = true;
+  double largest = 0.0;
+  int fewest = 0;
+  for (const PositioningTarget& t : targets) {
+    const std::optional<double>& m = up ? t.mean_up : t.mean_down;
+    if (!m) continue;
+    const int runs = up ? t.runs_up : t.runs_down;
+    fewest = fewest == 0 ? runs : std::min(fewest, runs);
+    means.add(*m);
+    const std::optional<double>& s = up ? t.s_up : t.s_down;
+    if (!s) {
+      spread = false;
+      continue;
+    }
+    band.add(*m + 2 * *s), band.add(*m - 2 * *s);
+    largest = std::max(largest, 4 * *s);
+  }
+  w.runs = fewest;
+  if (means.empty()) return w;
+  w.E = means.width();
+  if (spread) w.A = band.width(), w.R = largest;
+  return w;
+}
+
+/// The bidirectional figures over the targets approached both ways.
+void bidirectional(PositioningReport& r) {
+  util::Interval means, bidirectional_means, band;
+  bool spread = true;
+  double b_sum = 0.0, largest_r = 0.0;
+  std::size_t both = 0;
+  for (const PositioningTarget& t : r.targets) {
+    if (!t.reversal) continue;
+    ++both;
+    means.add(*t.mean_up), means.add(*t.mean_down);
+    bidirectional_means.add(*t.mean);
+    b_sum += *t.reversal;
+    if (!r.B || std::abs(*t.reversal) > *r.B) r.B = std::abs(*t.reversal), r.B_signed = *t.reversal, r.B_at = t.position;
+    if (!t.repeatability) {
+      spread = false;
+      continue;
+    }
+    band.add(*t.mean_up + 2 * *t.s_up), band.add(*t.mean_up - 2 * *t.s_up);
+    band.add(*t.mean_down + 2 * *t.s_down), band.add(*t.mean_down - 2 * *t.s_down);
+    largest_r = std::max(largest_r, *t.repeatability);
+  }
+  r.one_way_targets = r.targets.size() - both;
+  if (both == 0) return;
+  r.E = means.width();
+  r.M = bidirectional_means.width();
+  r.B_mean = b_sum / static_cast<double>(both);
+  if (spread) r.A = band.width(), r.R = largest_r;
+}
+
+/// Why each missing figure is missing, in the words of the runs it needs.
+void say_what_is_not_stated(PositioningReport& r) {
+  for (const auto& [up, E, A] : {std::tuple{true, r.E_up, r.A_up}, std::tuple{false, r.E_down, r.A_down}}) {
+    const char* way = up ? "up" : "down";
+    if (!E)
+      r.not_stated.push_back(fmt::format("E, A and R {0}: no target is approached {0}", way));
+    else if (!A)
+      r.not_stated.push_back(fmt::format(
+          "A and R {0}: a target approached {0} once has no spread (s needs 2 runs; the standard asks for 5)", way));
+  }
+  if (!r.M)
+    r.not_stated.push_back("E, M, A, R and B bidirectional: no target is approached both ways");
+  else if (!r.A)
+    r.not_stated.push_back(
+        "A and R bidirectional: a target approached once in a direction has no spread (s needs 2 runs each way)");
+}
+
+}  // namespace
+
+PositioningReport analyse_positioning(const MeasurementSet& data, std::size_t axis, const std::string& source,
+                                      const model::ForwardModel* forward) {
+  if (axis >= kLetters.size()) throw Error(ErrorKind::usage, fmt::format("axis {}: not X Y Z A B or C", axis));
+  const char letter = kLetters[axis];
+  PositioningReport report;
+  report.axis = axis;
+  report.rotary = axis >= 3;
+  if (report.rotary && forward == nullptr)
+    throw Error(ErrorKind::usage, fmt::format("rotary axis {}: the machine's kinematics are needed to read its turns", letter));
+  const std::map<long long, Approaches> at = readings_by_target(data, axis, report.rotary, source, forward);
   if (at.empty())
-    throw Error(ErrorKind::data, fmt::format("no readings along {} with an approach direction (v{}){}", letter,
+    throw Error(ErrorKind::data, fmt::format("no readings {} {} with an approach direction (v{}){}",
+                                             report.rotary ? "of the turn of" : "along", letter,
                                              static_cast<char>(std::tolower(letter)),
                                              source.empty() ? "" : " in source '" + source + "'"));
-  auto mean = [](const std::vector<double>& v) {
-    double s = 0;
-    for (double x : v) s += x;
-    return s / static_cast<double>(v.size());
-  };
-  auto deviation = [&](const std::vector<double>& v) {
-    if (v.size() < 2) return 0.0;
-    const double m = mean(v);
-    double s = 0;
-    for (double x : v) s += (x - m) * (x - m);
-    return std::sqrt(s / static_cast<double>(v.size() - 1));
-  };
-  report.runs = 1 << 30;
-  for (const auto& [key, runs] : at) {
-    if (runs.first.empty() || runs.second.empty()) continue;
-    PositioningTarget t;
-    t.position = static_cast<double>(key) / 1000.0;
-    t.runs_up = static_cast<int>(runs.first.size()), t.runs_down = static_cast<int>(runs.second.size());
-    t.mean_up = mean(runs.first), t.mean_down = mean(runs.second);
-    t.s_up = deviation(runs.first), t.s_down = deviation(runs.second);
-    t.reversal = t.mean_up - t.mean_down;
-    t.repeatability = std::max({2 * t.s_up + 2 * t.s_down + std::abs(t.reversal), 4 * t.s_up, 4 * t.s_down});
-    report.runs = std::min({report.runs, t.runs_up, t.runs_down});
-    report.targets.push_back(t);
-  }
-  if (report.targets.empty())
-    throw Error(ErrorKind::data, fmt::format("no target along {} is approached from both sides: ISO 230-2 needs "
-                                             "bidirectional runs",
-                                             letter));
-  // The axis' figures (ISO 230-2 sect. 3).
-  util::Interval up, down, bidirectional, a_up, a_down;
-  double b_sum = 0;
-  for (const PositioningTarget& t : report.targets) {
-    up.add(t.mean_up);
-    down.add(t.mean_down);
-    bidirectional.add(0.5 * (t.mean_up + t.mean_down));
-    a_up.add(t.mean_up + 2 * t.s_up), a_up.add(t.mean_up - 2 * t.s_up);
-    a_down.add(t.mean_down + 2 * t.s_down), a_down.add(t.mean_down - 2 * t.s_down);
-    report.B = std::max(report.B, std::abs(t.reversal));
-    b_sum += t.reversal;
-    report.R_up = std::max(report.R_up, 4 * t.s_up), report.R_down = std::max(report.R_down, 4 * t.s_down);
-    report.R = std::max(report.R, t.repeatability);
-  }
-  report.B_mean = b_sum / static_cast<double>(report.targets.size());
-  util::Interval both = up, a_both = a_up;
-  both.add(down);
-  a_both.add(a_down);
-  report.E_up = up.width(), report.E_down = down.width(), report.E = both.width();
-  report.M = bidirectional.width();
-  report.A_up = a_up.width(), report.A_down = a_down.width(), report.A = a_both.width();
-
-  // docs/error-model.md Ref 3: the mean deviation is cumulative (a smooth curve: a cubic here) plus periodic
-  // (the pitch); the reversal is B_mean. The period is the best of a scan from 2.5 target
-  // spacings to a quarter of the travel (four cycles seen, as `check` asks: fewer are a
-  // cubic's wiggle, not a pitch), kept when it takes a third of what the cubic leaves.
-  const auto n = static_cast<Eigen::Index>(report.targets.size());
-  Eigen::VectorXd x(n), y(n);
-  for (Eigen::Index i = 0; i < n; ++i) {
-    const PositioningTarget& t = report.targets[static_cast<std::size_t>(i)];
-    x[i] = t.position;
-    y[i] = 0.5 * (t.mean_up + t.mean_down);
-  }
-  const double centre = 0.5 * (x.maxCoeff() + x.minCoeff()), half = std::max(0.5 * (x.maxCoeff() - x.minCoeff()), 1e-9);
-  auto design = [&](double period) {
-    Eigen::MatrixXd D(n, period > 0 ? 6 : 4);
-    for (Eigen::Index i = 0; i < n; ++i) {
-      const double u = (x[i] - centre) / half;
-      D(i, 0) = 1, D(i, 1) = u, D(i, 2) = u * u, D(i, 3) = u * u * u;
-      if (period > 0)
-        D(i, 4) = std::cos(2 * std::numbers::pi * x[i] / period),
-             D(i, 5) = std::sin(2 * std::numbers::pi * x[i] / period);
-    }
-    return D;
-  };
-  // The sum of squares left by the fit (no fit: fewer targets than coefficients, infinite).
-  auto solve = [&](double period, Eigen::VectorXd& c) {
-    const Eigen::MatrixXd D = design(period);
-    if (n <= D.cols()) return std::numeric_limits<double>::infinity();
-    c = D.colPivHouseholderQr().solve(y);
-    return (y - D * c).squaredNorm();
-  };
-  report.cumulative.assign(4, 0.0);
-  if (n < 5) {  // too few targets for a cubic: the mean deviation is the cumulative part
-    report.cumulative[0] = y.mean();
-    report.rms_left = std::sqrt((y.array() - y.mean()).square().mean());
-    return report;
-  }
-  Eigen::VectorXd cubic, with_period;
-  const double sse_cubic = solve(0.0, cubic);
-  double best_sse = sse_cubic, best_period = 0.0;
-  const double spacing = (x.maxCoeff() - x.minCoeff()) / std::max<double>(1.0, static_cast<double>(n - 1));
-  const double from = 2.5 * spacing, to = 0.5 * half;
-  if (n > 8 && to > from) {
-    // Each period's fit is the cubic's plus what its cosine and sine explain of the cubic's
-    // residual once the cubic's part of them is taken out: an n x 2 projection per period
-    // instead of a QR of the n x 6 design (the same sum of squares; 4000 periods of 4000
-    // targets took seconds).
-    const Eigen::MatrixXd D0 = design(0.0);
-    const Eigen::HouseholderQR<Eigen::MatrixXd> qr(D0);
-    const Eigen::MatrixXd Q = qr.householderQ() * Eigen::MatrixXd::Identity(n, 4);
-    const Eigen::VectorXd r0 = y - D0 * cubic;
-    Eigen::MatrixXd C(n, 2);
-    const int points = static_cast<int>(std::clamp(4.0 * (2 * half) / from, 20.0, 4000.0));
-    const double f0 = 1.0 / from, df = (1.0 / to - 1.0 / from) / (points - 1);
-    // Each target's cos and sin over the frequencies by rotation (one complex product per
-    // step, not two calls to the trigonometric functions), set afresh every 64 steps.
-    std::vector<std::complex<double>> phase(static_cast<std::size_t>(n)), turn(static_cast<std::size_t>(n));
-    for (Eigen::Index i = 0; i < n; ++i)
-      turn[static_cast<std::size_t>(i)] = std::polar(1.0, 2 * std::numbers::pi * x[i] * df);
-    Eigen::MatrixXd QtC(4, 2);
-    for (int k = 0; k < points; ++k) {
-      const double f = f0 + df * k;
-      for (Eigen::Index i = 0; i < n; ++i) {
-        std::complex<double>& z = phase[static_cast<std::size_t>(i)];
-        if (k % 64 == 0) {
-          z = std::polar(1.0, 2 * std::numbers::pi * x[i] * f);
-        } else {  // by hand: the library's product checks for infinities at every call
-          const std::complex<double> w = turn[static_cast<std::size_t>(i)];
-          z = {z.real() * w.real() - z.imag() * w.imag(), z.real() * w.imag() + z.imag() * w.real()};
-        }
-        C(i, 0) = z.real(), C(i, 1) = z.imag();
-      }
-      QtC.noalias() = Q.transpose() * C;
-      C.noalias() -= Q * QtC;
-      const Eigen::Matrix2d gram = C.transpose() * C;
-      const Eigen::Vector2d b = C.transpose() * r0;
-      const Eigen::LDLT<Eigen::Matrix2d> ldlt(gram);
-      if (ldlt.info() != Eigen::Success || !(gram.determinant() > 1e-12 * gram.trace() * gram.trace())) continue;
-      const double sse = sse_cubic - b.dot(ldlt.solve(b));
-      if (sse < best_sse) best_sse = sse, best_period = 1.0 / f;
-    }
-  }
-  if (best_period > 0 && best_sse < sse_cubic / 3.0) {
-    solve(best_period, with_period);
-    report.period = best_period;
-    report.periodic_amplitude = std::hypot(with_period[4], with_period[5]);
-    cubic = with_period.head(4);
-  } else {
-    best_sse = sse_cubic;
-  }
-  // The cubic back in mm per mm^k (from the centred, scaled position).
-  for (int k = 0; k < 4; ++k) {
-    // sum_k c_k ((x - centre) / half)^k, expanded in powers of x
-    for (int j = 0; j <= k; ++j) {
-      const double binomial = k == 3 ? (j == 0 || j == 3 ? 1 : 3) : k == 2 ? (j == 1 ? 2 : 1) : 1;
-      report.cumulative[static_cast<std::size_t>(j)] +=
-          cubic[k] * binomial * std::pow(-centre, k - j) / std::pow(half, k);
-    }
-  }
-  report.rms_left = std::sqrt(best_sse / static_cast<double>(n));
+  for (const auto& [key, approaches] : at)
+    report.targets.push_back(target_figures(static_cast<double>(key) / 1000.0, approaches));
+  if (report.targets.size() < 2)
+    throw Error(ErrorKind::data, fmt::format("readings {} {} at one target only ({:g}): ISO 230-2's figures are ranges "
+                                             "over the targets, which needs two or more",
+                                             report.rotary ? "of the turn of" : "along", letter,
+                                             report.targets.front().position));
+  const OneWay up = one_way(report.targets, true), down = one_way(report.targets, false);
+  report.runs_up = up.runs, report.runs_down = down.runs;
+  report.E_up = up.E, report.A_up = up.A, report.R_up = up.R;
+  report.E_down = down.E, report.A_down = down.A, report.R_down = down.R;
+  bidirectional(report);
+  say_what_is_not_stated(report);
+  split_mean_deviation(report);
   return report;
 }
 

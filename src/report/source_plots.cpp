@@ -62,7 +62,7 @@ std::optional<identify::PositioningReport> positioning(const CheckReportInput& i
   try {
     return identify::analyse_positioning(in.data, axis, source);
   } catch (const Error&) {
-    return std::nullopt;  // no target approached from both sides
+    return std::nullopt;  // no readings along it with an approach, or at one target only
   }
 }
 
@@ -121,14 +121,17 @@ Figure line_figure(const CheckReportInput& in, const SourceShape& shape, const R
                   runs[2].points.empty() ? "" : fmt::format(", {} unknown", runs[2].points.size()),
                   stride > 1 ? fmt::format(", one reading in {} shown (the curves use all)", stride) : "");
   // ISO 230-2's bands: the mean deviation at each target, each way, +- 2 s.
-  if (iso != nullptr && iso->runs >= 2) {
+  if (iso != nullptr && (iso->A_up || iso->A_down)) {
     std::string bands;  // drawn first, under the points
     const auto add_band = [&](const std::string& trace) { bands += trace, bands += ","; };
     for (int way = 0; way < 2; ++way) {
+      if (!(way == 0 ? iso->A_up : iso->A_down)) continue;  // no spread that way: one run
       std::vector<double> x, upper, lower;
       for (const identify::PositioningTarget& t : iso->targets) {
-        const double m = way == 0 ? t.mean_up : t.mean_down, s = way == 0 ? t.s_up : t.s_down;
-        x.push_back(t.position), upper.push_back((m + 2 * s) * kUm), lower.push_back((m - 2 * s) * kUm);
+        const std::optional<double>& m = way == 0 ? t.mean_up : t.mean_down;
+        const std::optional<double>& s = way == 0 ? t.s_up : t.s_down;
+        if (!m || !s) continue;
+        x.push_back(t.position), upper.push_back((*m + 2 * *s) * kUm), lower.push_back((*m - 2 * *s) * kUm);
       }
       const std::string_view colour = way == 0 ? kUp : kDown;
       const std::string name = way == 0 ? "up" : "down";
@@ -145,7 +148,7 @@ Figure line_figure(const CheckReportInput& in, const SourceShape& shape, const R
               31 + way, name, fill, colour)));
     }
     traces = bands + traces;
-    caption += fmt::format(" Bands: mean &plusmn; 2s of {} runs each way (ISO 230-2).", iso->runs);
+    caption += fmt::format(" Bands: mean &plusmn; 2s of {} runs up, {} down (ISO 230-2).", iso->runs_up, iso->runs_down);
   }
   Figure f;
   f.id = ids.next("line");
@@ -286,29 +289,31 @@ std::vector<Figure> rotary_figures(const CheckReportInput& in, const SourceShape
 std::string iso_table(const std::vector<std::pair<std::string, identify::PositioningReport>>& reports) {
   if (reports.empty()) return "";
   std::string html =
-      "<h3>ISO 230-2 positioning figures</h3>\n<table><tr><th>source</th><th>axis</th><th>targets</th><th>runs each "
-      "way</th><th>A (&micro;m)</th><th>A&uarr; / A&darr;</th><th>B (&micro;m)</th><th>mean B</th><th>E "
+      "<h3>ISO 230-2 positioning figures</h3>\n<table><tr><th>source</th><th>axis</th><th>targets</th><th>runs "
+      "up / down</th><th>A (&micro;m)</th><th>A&uarr; / A&darr;</th><th>B (&micro;m)</th><th>mean B</th><th>E "
       "(&micro;m)</th><th>M (&micro;m)</th><th>R (&micro;m)</th><th>R&uarr; / R&darr;</th></tr>\n";
-  bool single = false;
+  bool missing = false;
+  const auto shown = [&](const std::optional<double>& v) {
+    missing = missing || !v;
+    return v ? fmt::format("{:.3f}", *v * kUm) : std::string("&ndash;");
+  };
   for (const auto& [source, r] : reports) {
-    const bool spread = r.runs >= 2;  // repeatability and the 2s in A need repeated runs
-    single = single || !spread;
-    const auto dash = [&](double v) { return spread ? fmt::format("{:.3f}", v * kUm) : std::string("&ndash;"); };
     html += fmt::format(
-        "<tr><td>{}</td><td>{}</td><td class=\"num\">{}</td><td class=\"num\">{}</td><td class=\"num\">{}</td><td "
-        "class=\"num\">{} / {}</td><td class=\"num\">{:.3f}</td><td class=\"num\">{:+.3f}</td><td "
-        "class=\"num\">{:.3f}</td><td class=\"num\">{:.3f}</td><td class=\"num\">{}</td><td class=\"num\">{} / "
+        "<tr><td>{}</td><td>{}</td><td class=\"num\">{}</td><td class=\"num\">{} / {}</td><td class=\"num\">{}</td><td "
+        "class=\"num\">{} / {}</td><td class=\"num\">{}</td><td class=\"num\">{}</td><td "
+        "class=\"num\">{}</td><td class=\"num\">{}</td><td class=\"num\">{}</td><td class=\"num\">{} / "
         "{}</td></tr>\n",
-        html_escape(source), "XYZ"[r.axis], r.targets.size(), r.runs, dash(r.A), dash(r.A_up), dash(r.A_down),
-        r.B * kUm, r.B_mean * kUm, r.E * kUm, r.M * kUm, dash(r.R), dash(r.R_up), dash(r.R_down));
+        html_escape(source), "XYZ"[r.axis], r.targets.size(), r.runs_up, r.runs_down, shown(r.A), shown(r.A_up),
+        shown(r.A_down), shown(r.B), r.B_mean ? fmt::format("{:+.3f}", *r.B_mean * kUm) : std::string("&ndash;"),
+        shown(r.E), shown(r.M), shown(r.R), shown(r.R_up), shown(r.R_down));
   }
   html +=
       "</table>\n<p class=\"note\">A accuracy, B reversal (largest |B<sub>i</sub>|), E systematic deviation, M mean "
       "bidirectional deviation, R repeatability, all from the measured deviations (not the model).";
-  if (single)
+  if (missing)
     html +=
-        " &ndash;: one run each way gives no spread, so A and R (which include 2s and 4s) are not stated; "
-        "ISO 230-2 asks for 5 runs.";
+        " &ndash;: not stated: one run in a direction gives no spread, so A and R (which include 2s and 4s) are not "
+        "stated, and a line read one way only has no bidirectional figures; ISO 230-2 asks for 5 runs each way.";
   return html + "</p>\n";
 }
 

@@ -1,0 +1,87 @@
+// ccomp positioning as the standard's report: a rotary calibrator's runs in arcsec (or
+// urad), one run each way and one way only with the figures they cannot give "not stated"
+// (null in JSON, which its schema allows), never a number.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <regex>
+#include <string>
+
+#include "trace_capture.hpp"
+
+namespace ccomp::test {
+namespace {
+
+std::string ccomp() { return shell_quote(ccomp_binary()); }
+std::string sample(const std::string& path) { return shell_quote(source_dir() + "/samples/" + path); }
+
+CommandResult validate(const std::string& document) {
+  return run_command("/usr/bin/python3 " + shell_quote(source_dir() + "/tools/validate-json.py") + " " +
+                     shell_quote(source_dir() + "/docs/schemas/positioning.schema.json") + " " + shell_quote(document));
+}
+
+/// A figure of the JSON document: its number, or NaN when it is null.
+double json_number(const std::string& json, const std::string& key) {
+  std::smatch m;
+  if (!std::regex_search(json, m, std::regex("\"" + key + "\": (null|[-+0-9.eE]+)"))) return -1e300;
+  return m[1] == "null" ? std::nan("") : std::stod(m[1].str());
+}
+
+TEST(PositioningCli, ARotaryAxisInArcsecondsOrMicroradians) {
+  const std::string dir = temp_dir("positioning_rotary");
+  const std::string args = " positioning " + sample("measurements/b-rotary.txt") + " -m " +
+                           sample("machines/hmc-xyzb-geometric.yaml") + " --axis b";
+  const CommandResult text = run_command(ccomp() + args);
+  ASSERT_EQ(text.exit_code, 0) << text.err;
+  EXPECT_NE(text.out.find("axis B (rotary): 8 targets from 0 to 315 deg; runs 1 up, 1 down"), std::string::npos)
+      << text.out;
+  EXPECT_NE(text.out.find("deviations in arcsec"), std::string::npos);
+  // One run each way: no spread, so A and R are not stated; E, M and B are.
+  EXPECT_TRUE(std::regex_search(text.out, std::regex(R"(repeatability +R +not stated +not stated +not stated)")))
+      << text.out;
+  // The sample's deviations: up -2.6 .. 3.4, down -1.5 .. 4.6 arcsec: E up 6.0, down 6.1, both 7.2.
+  EXPECT_TRUE(std::regex_search(text.out, std::regex(R"(systematic deviation +E +6\.000 +6\.100 +7\.200)")))
+      << text.out;
+  EXPECT_NE(text.out.find("not stated: A and R up"), std::string::npos) << text.out;
+
+  const CommandResult json = run_command(ccomp() + args + " --json");
+  ASSERT_EQ(json.exit_code, 0) << json.err;
+  write_file(dir + "/arcsec.json", json.out);
+  const CommandResult v = validate(dir + "/arcsec.json");
+  EXPECT_EQ(v.exit_code, 0) << v.out << v.err << json.out;
+  EXPECT_NE(json.out.find("\"deviation_unit\": \"arcsec\""), std::string::npos);
+  EXPECT_TRUE(std::isnan(json_number(json.out, "A"))) << json.out;
+  EXPECT_NEAR(json_number(json.out, "E"), 7.2, 1e-9);
+
+  const CommandResult urad = run_command(ccomp() + args + " --json --angle-unit urad");
+  ASSERT_EQ(urad.exit_code, 0) << urad.err;
+  EXPECT_NE(urad.out.find("\"deviation_unit\": \"urad\""), std::string::npos);
+  EXPECT_NEAR(json_number(urad.out, "E"), 7.2 * 4.84813681109536, 1e-9);
+}
+
+TEST(PositioningCli, OneWayRunsGiveTheUnidirectionalFigures) {
+  const std::string dir = temp_dir("positioning_one_way");
+  write_file(dir + "/up.csv",
+             "# one way, two runs; um\ntarget,run,direction,deviation [um]\n"
+             "0,1,+,0\n50,1,+,2\n100,1,+,3\n0,2,+,0.4\n50,2,+,2.2\n100,2,+,3.6\n");
+  const std::string args = " positioning " + shell_quote(dir + "/up.csv") + " -m " +
+                           sample("machines/hmc-xyzb-geometric.yaml") + " --axis x --at y=0,z=0";
+  const CommandResult text = run_command(ccomp() + args);
+  ASSERT_EQ(text.exit_code, 0) << text.err;
+  EXPECT_TRUE(std::regex_search(text.out, std::regex(R"(systematic deviation +E +3\.100 +not stated +not stated)")))
+      << text.out;
+  EXPECT_NE(text.out.find("not stated: E, A and R down: no target is approached down"), std::string::npos);
+  EXPECT_NE(text.out.find("not stated: E, M, A, R and B bidirectional"), std::string::npos);
+
+  const CommandResult json = run_command(ccomp() + args + " --json");
+  ASSERT_EQ(json.exit_code, 0) << json.err;
+  write_file(dir + "/up.json", json.out);
+  EXPECT_EQ(validate(dir + "/up.json").exit_code, 0) << json.out;
+  EXPECT_NEAR(json_number(json.out, "E_up"), 3.1, 1e-9);  // means 0.2 2.1 3.3
+  EXPECT_TRUE(std::isnan(json_number(json.out, "E_down")));
+  EXPECT_TRUE(std::isnan(json_number(json.out, "B")));
+  EXPECT_TRUE(std::isnan(json_number(json.out, "M")));
+}
+
+}  // namespace
+}  // namespace ccomp::test
