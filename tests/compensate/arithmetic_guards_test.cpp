@@ -52,7 +52,12 @@ TEST(ArithmeticGuards, AChordCountBeyondTheCapIsRefusedNotConvertedToNothing) {
 }
 
 TEST(ArithmeticGuards, AHugeCircleInAProgramIsRefusedAtItsLine) {
-  const model::MachineModel mm = model::parse_machine_model(kVmcChain, "vmc.yaml");
+  // (A model with an error term, without limits: a model without terms rewrites nothing.)
+  const model::MachineModel mm = model::parse_machine_model(std::string(kVmcChain) + R"(
+terms:
+  - {name: EXX, form: polynomial, coefficients: [0, 0.2]}
+)",
+                                                            "vmc.yaml");
   const std::string program = "G21 G90 G17 F500\nG0 X0 Y0 Z0\nG2 X0 Y0 I10000000000000 J0\nM2\n";
   try {
     const std::string out = compensate(program, mm, 0.001);
