@@ -86,7 +86,7 @@ CLI::App* add_verify(CLI::App& app, CheckArgs& args) {
   cmd->add_option("--tolerance", args.tolerance,
                   "mm: the contour error allowed; more, or a cut of the original left out, exits with 7 (default: "
                   "the tolerance in the output's ccomp header, else 0.001)")
-      ->check(tolerance_in_mm());
+      ->transform(tolerance_in_mm());
   add_model_options(*cmd, args);
   return cmd;
 }

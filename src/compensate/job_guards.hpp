@@ -24,6 +24,11 @@ void motion_extent(const gcode::Motion& m, gcode::Axes& low, gcode::Axes& high);
 void check_limits(const gcode::Motion& m, const model::MachineModel& model, std::string_view file,
                   std::string_view text = {});
 
+/// Once the program is done: a tolerance as coarse as the error it is to take out (the
+/// error before) lets chords and digits leave the path as far off as the program as written,
+/// or further; said as a warning (line 0: the whole program).
+void warn_coarse_tolerance(const JobReport& report, const JobOptions& options);
+
 class JobGuards {
  public:
   JobGuards(const model::MachineModel& model, const JobOptions& options, JobReport& report, std::string_view file);

@@ -12,6 +12,7 @@
 #include "ccomp/gcode/flatten.hpp"
 #include "ccomp/gcode/writer.hpp"
 #include "job_events.hpp"
+#include "job_guards.hpp"
 
 // The main job wires its stages; a move passes them in this order (docs/main-job.md):
 //   job_events      the interpreter's events read into moves (and refusals)
@@ -122,6 +123,7 @@ JobReport run_program_job(gcode::LineSource& input, std::FILE* out, const model:
     throw;
   }
   writer.finish();
+  warn_coarse_tolerance(report, options);
   if (options.progress) options.progress(1.0);
   return report;
 }
