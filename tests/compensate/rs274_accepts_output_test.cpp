@@ -17,6 +17,7 @@
 #include <utility>
 
 #include "ccomp/error.hpp"
+#include "ccomp/exit_codes.hpp"
 #include "linuxcnc_suite.hpp"
 #include "rs274_oracle.hpp"
 #include "trace_capture.hpp"
@@ -81,7 +82,10 @@ TEST_P(Rs274AcceptsOutput, OnTheSampleMachinesAndWithCyclesExpanded) {
       refusals += machine + options + ": " + job.err.substr(0, job.err.find('\n')) + "\n";
       continue;  // what the machine is, or what ccomp does not do: nothing written
     }
-    ASSERT_EQ(job.exit_code, 0) << machine << options << " refuses what rs274 accepts:\n" << job.err;
+    // Exit 1: written, its verdict failed (over the tolerance under the control's G41/G42,
+    // say); what is written must still be what rs274 accepts.
+    ASSERT_TRUE(job.exit_code == 0 || job.exit_code == kVerdictExitCode)
+        << machine << options << " refuses what rs274 accepts:\n" << job.err;
     const TraceResult theirs = rs274_trace(out, tools);
     EXPECT_FALSE(theirs.error) << machine << options << ": " << theirs.error->what() << "\n" << read_file(out);
     compensated += zero ? 0 : 1;
