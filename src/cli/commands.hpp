@@ -128,6 +128,7 @@ struct IdentifyArgs {
   // positioning
   std::string axis;
   std::string source;
+  std::string angle_unit = "arcsec";  ///< a rotary axis' deviations: arcsec or urad
   // one-axis instrument files (import, and every command reading measurements)
   std::vector<std::string> at;  ///< AXIS=VALUE[,AXIS=VALUE]
   std::string unit;             ///< the deviations' unit where the file states none

@@ -89,13 +89,6 @@ void print_split(const identify::PositioningReport& r, const DeviationUnit& u) {
   if (!r.split_caveat.empty()) fmt::print("  caveat: {}\n", r.split_caveat);
 }
 
-/// --angle-unit, positioning's own option: kept here rather than among the arguments every
-/// identify command shares (commands.hpp), which only this command would read.
-std::string& angle_unit() {
-  static std::string unit = "arcsec";
-  return unit;
-}
-
 std::size_t axis_index(const std::string& axis) {
   const std::size_t i = std::string_view("xyzabc").find(static_cast<char>(std::tolower(axis.at(0))));
   if (axis.size() != 1 || i == std::string_view::npos)
@@ -162,7 +155,7 @@ CLI::App* add_positioning(CLI::App& app, IdentifyArgs& args) {
       ->required()
       ->check(CLI::IsMember({"x", "y", "z", "a", "b", "c", "X", "Y", "Z", "A", "B", "C"}));
   cmd->add_option("--source", args.source, "only the rows of this source (a laser line)");
-  cmd->add_option("--angle-unit", angle_unit(), "a rotary axis' deviations in arcsec (default) or urad")
+  cmd->add_option("--angle-unit", args.angle_unit, "a rotary axis' deviations in arcsec (default) or urad")
       ->check(CLI::IsMember({"arcsec", "urad"}));
   cmd->add_flag("--json", args.json, "the figures as JSON on stdout");
   add_reading_options(*cmd, args, false);  // its --axis names a one-axis file's axis too
@@ -183,10 +176,10 @@ int run_positioning(const IdentifyArgs& args) {
   const model::ForwardModel forward(m);
   const identify::PositioningReport r = identify::analyse_positioning(data, axis, args.source, &forward);
   if (args.json) {
-    fmt::print("{}", positioning_json(std::string(1, static_cast<char>(std::tolower(letter))), r, angle_unit()));
+    fmt::print("{}", positioning_json(std::string(1, static_cast<char>(std::tolower(letter))), r, args.angle_unit));
     return 0;
   }
-  const DeviationUnit u = unit_for(r, angle_unit());
+  const DeviationUnit u = unit_for(r, args.angle_unit);
   print_figures(r, u, letter);
   print_targets(r, u);
   print_split(r, u);
