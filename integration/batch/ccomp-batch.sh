@@ -2,8 +2,8 @@
 # Shop-floor batch: compensate every program in a folder into another folder, in parallel,
 # and say plainly what happened: one ccomp per program (JOBS at once), a line for each program
 # ccomp did not compensate, and a count of those it did, from ccomp's exit codes. Exit code:
-# 0 all done; otherwise the highest of ccomp's codes (3 a program is wrong, 5 the model, 6 a
-# file, 7 refused as unsafe), see `ccomp --help`. A refused program's earlier output, if one
+# 0 all done; otherwise the highest of ccomp's codes (1 written but not passed, 3 a program
+# is wrong, 5 the model, 6 a file, 7 refused as unsafe), see `ccomp --help`. A refused program's earlier output, if one
 # is in OUT_DIR, is left as it was and named in its line: do not send it.
 #
 #   ccomp-batch.sh IN_DIR OUT_DIR MODEL.yaml [TOOL_TABLE] [--] [CCOMP_OPTION...]
@@ -59,6 +59,9 @@ for i in "${!programs[@]}"; do
   [ -n "$code" ] || code=70  # no status: the worker did not run ccomp to its end
   if [ "$code" -eq 0 ]; then
     done_count=$((done_count + 1))
+  elif [ "$code" -eq 1 ]; then
+    # Written, but its verdict failed (over the tolerance, or worse than as written).
+    echo "ccomp-batch: $p compensated but NOT PASSED (exit 1): check it before cutting" | tee -a "$log"
   else
     out="$out_dir/$(basename "$p")"
     stale=""
@@ -67,5 +70,5 @@ for i in "${!programs[@]}"; do
   fi
   [ "$code" -gt "$status" ] && status=$code
 done
-echo "ccomp-batch: $done_count of ${#programs[@]} programs compensated into $out_dir (exit $status; messages in $log)"
+echo "ccomp-batch: $done_count of ${#programs[@]} programs compensated and passed into $out_dir (exit $status; messages in $log)"
 exit "$status"
