@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <map>
+#include <numbers>
 #include <optional>
 #include <utility>
 #include <tuple>
@@ -47,6 +48,10 @@ CheckReport check(const model::ForwardModel& model, const MeasurementSet& data) 
 
 namespace {
 
+/// rad: the longest rotary step a run's second differences take (30 degrees: a once- or
+/// twice-a-turn error then leaves under a quarter, resp. under its whole amplitude).
+constexpr double kLongestRotaryStep = 30.0 * std::numbers::pi / 180.0;
+
 /// Readings a, b, c along one run: a line (the steps along one direction, one way), or the
 /// rotary axes stepping one way with the linear axes following smoothly (a point on the
 /// table kept under the probe as it turns: its positions lie on a circle), the time moving
@@ -60,6 +65,9 @@ std::optional<std::pair<double, double>> run_steps(const Observation& a, const O
   if (turning) travel1.segment<3>(3).setZero(), travel2.segment<3>(3).setZero();
   const double h1 = turning ? turn1.norm() : step1.norm(), h2 = turning ? turn2.norm() : step2.norm();
   if (!(h1 > 0 && h2 > 0) || h2 > 3 * h1 || h1 > 3 * h2) return std::nullopt;
+  // A turn of a quarter of a revolution is no step a smooth error cancels over: the table's
+  // own once-a-turn error leaves twice its amplitude in the second difference at 90 degrees.
+  if (turning && std::max(h1, h2) > kLongestRotaryStep) return std::nullopt;
   if (std::abs((c.time - b.time) * h1 - (b.time - a.time) * h2) > 1e-6 * (1.0 + std::abs(c.time)) * (h1 + h2))
     return std::nullopt;
   if (!turning) {
