@@ -168,6 +168,26 @@ TEST(Integration, BatchScriptCountsWhatCcompCompensated) {
   EXPECT_NE(one.out.find("2 of 3 programs compensated"), std::string::npos) << one.out;
 }
 
+TEST(Integration, BatchScriptSaysAnOutputThatFailedItsVerdict) {
+  // The G41 profile on the full sample HMC keeps more than 1 um: ccomp writes it and exits 1.
+  // The batch must say it was written but not passed, not that it was not compensated.
+  const std::string dir = temp_dir("batch_verdict");
+  fs::create_directories(dir + "/in");
+  fs::copy_file(source_dir() + "/samples/programs/profile-g41.ngc", dir + "/in/profile-g41.ngc");
+  write_file(dir + "/in/a.ngc", kProgram);
+  const std::string script =
+      "CCOMP=" + shell_quote(ccomp_binary()) + " JOBS=2 bash " +
+      shell_quote(source_dir() + "/integration/batch/ccomp-batch.sh") + " " + dir + "/in " + dir + "/out " +
+      shell_quote(source_dir() + "/samples/machines/hmc-xyzb.yaml") + " " +
+      shell_quote(source_dir() + "/samples/tools.tbl") + " --sensor bed=20 --sensor column=20 --sensor spindle=20";
+  const CommandResult r = run_command(script);
+  EXPECT_EQ(r.exit_code, 1) << r.out << r.err;
+  EXPECT_NE(r.out.find("profile-g41.ngc compensated but NOT PASSED (exit 1)"), std::string::npos) << r.out;
+  EXPECT_EQ(r.out.find("not compensated"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("1 of 2 programs compensated and passed"), std::string::npos) << r.out;
+  EXPECT_TRUE(fs::exists(dir + "/out/profile-g41.ngc")) << "the output is written all the same";
+}
+
 TEST(Integration, BatchScriptPassesAnyCcompOption) {
   // The full sample HMC has thermal terms: without its sensors every program is refused; the
   // options after the model (with or without `--`, after the tool table or in its place)
