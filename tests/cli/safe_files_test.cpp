@@ -4,6 +4,8 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include <cstdlib>
+#include <stdexcept>
 #include <filesystem>
 
 #include "trace_capture.hpp"
@@ -30,6 +32,33 @@ std::string as_user() {
 void open_to_all(const std::string& dir) {
   ASSERT_EQ(::chmod(dir.c_str(), 0777), 0) << dir;
 }
+/// A folder that the user of as_user() can reach whatever the checkout's folders allow (a
+/// clone made in `mktemp -d` is 0700): the binary and the model copied in, the test's own
+/// files made there; removed at the end.
+class UserSpace {
+ public:
+  explicit UserSpace(const std::string& name) {
+    std::string pattern = (fs::temp_directory_path() / ("ccomp-" + name + "-XXXXXX")).string();
+    if (::mkdtemp(pattern.data()) == nullptr) throw std::runtime_error("mkdtemp " + pattern);
+    dir_ = pattern;
+    fs::permissions(dir_, fs::perms::all);
+    fs::copy_file(ccomp_binary(), dir_ + "/ccomp");
+    fs::copy_file(source_dir() + "/samples/machines/hmc-xyzb-geometric.yaml", dir_ + "/model.yaml");
+    fs::permissions(dir_ + "/model.yaml", fs::perms::owner_read | fs::perms::group_read | fs::perms::others_read);
+  }
+  UserSpace(const UserSpace&) = delete;
+  UserSpace& operator=(const UserSpace&) = delete;
+  ~UserSpace() {
+    std::error_code ec;
+    fs::remove_all(dir_, ec);
+  }
+  [[nodiscard]] const std::string& dir() const { return dir_; }
+  [[nodiscard]] std::string ccomp() const { return shell_quote(dir_ + "/ccomp"); }
+  [[nodiscard]] std::string model() const { return shell_quote(dir_ + "/model.yaml"); }
+
+ private:
+  std::string dir_;
+};
 bool has_temporary(const std::string& dir) {
   for (const auto& e : fs::directory_iterator(dir))
     if (e.path().filename().string().find(".ccomp-") != std::string::npos) return true;
@@ -120,7 +149,8 @@ INSTANTIATE_TEST_SUITE_P(Cli, TimeOption,
 TEST(SafeFiles, ThreadsTheSystemRefusesMeanFewerWorkersNotAnAbort) {
   // Under a process limit already reached, no thread can be made: the batch runs on the
   // main thread (before: `terminate called without an active exception`, exit 134).
-  const std::string dir = temp_dir("safe_threads");
+  const UserSpace space("safe_threads");
+  const std::string& dir = space.dir();
   std::string inputs;
   for (int i = 0; i < 4; ++i) {
     write_file(dir + "/p" + std::to_string(i) + ".nc", kProgram);
@@ -128,21 +158,22 @@ TEST(SafeFiles, ThreadsTheSystemRefusesMeanFewerWorkersNotAnAbort) {
   }
   fs::create_directories(dir + "/out");
   open_to_all(dir + "/out");
-  const CommandResult r = run_command("ulimit -u 1; " + as_user() + ccomp() + " -q -j 200 --threads 1" + inputs +
-                                      " -m " + model() + " --out-dir " + shell_quote(dir + "/out"));
+  const CommandResult r = run_command("ulimit -u 1; " + as_user() + space.ccomp() + " -q -j 200 --threads 1" +
+                                      inputs + " -m " + space.model() + " --out-dir " + shell_quote(dir + "/out"));
   EXPECT_EQ(r.exit_code, 0) << r.err;
   for (int i = 0; i < 4; ++i) EXPECT_EQ(read_file(dir + "/out/p" + std::to_string(i) + ".nc").empty(), false) << i;
   EXPECT_FALSE(has_temporary(dir + "/out"));
 }
 
 TEST(SafeFiles, SubPathFolderThatCannotBeSearchedIsAPositionedIoError) {
-  const std::string dir = temp_dir("safe_sub_denied");
+  const UserSpace space("safe_sub_denied");
+  const std::string& dir = space.dir();
   fs::create_directories(dir + "/subs");
   write_file(dir + "/part.ngc", "G21 G90\no<drill> call\nM2\n");
   write_file(dir + "/subs/drill.ngc", "o<drill> sub\nG1 X1 F100\no<drill> endsub\n");
   ASSERT_EQ(::chmod((dir + "/subs").c_str(), 0600), 0);  // readable, not searchable
-  const CommandResult r = run_command(as_user() + ccomp() + " " + shell_quote(dir + "/part.ngc") + " -m " + model() +
-                                      " --sub-path " + shell_quote(dir + "/subs") + " -o -");
+  const CommandResult r = run_command(as_user() + space.ccomp() + " " + shell_quote(dir + "/part.ngc") + " -m " +
+                                      space.model() + " --sub-path " + shell_quote(dir + "/subs") + " -o -");
   ::chmod((dir + "/subs").c_str(), 0755);
   EXPECT_EQ(r.exit_code, 6) << r.err;
   EXPECT_NE(r.err.find("part.ngc:2:"), std::string::npos) << r.err;
