@@ -261,7 +261,7 @@ class PathSearch {
     const std::size_t from = std::max(window().first(), behind());
     const std::size_t to = available(cursor_ + kAhead);
     if (from >= to) return std::nullopt;
-    const double best = gather_near(p, from, to);
+    const double best = search_near_then_ahead(p, from, to);
     move_cursor(p);
     // A piece is cut once a point near it is past its start (a point where one piece ends
     // and the next begins has cut only the first), and the search has come to it (a closed
@@ -269,12 +269,21 @@ class PathSearch {
     // or nearer its end (a piece shorter than the machine's error, as a table turning near
     // its axis makes, was never past its start: its last 17 um were said to be uncut).
     for (const auto& [i, d] : near_)
-      if (i <= cursor_ && i >= uncut_from_ &&
-          ((p - window()[i].a).norm() > slack(best) || (p - window()[i].b).norm() < (p - window()[i].a).norm()))
-        uncut_from_ = i + 1;
+      if (i <= cursor_ && i >= uncut_from_ && past_start(p, i, best)) uncut_from_ = i + 1;
     note_passed_over(p, best);
     window().drop_before(behind());
     return best;
+  }
+
+  /// Whether point p, on piece i, is past the piece's start: beyond the slack of it, or
+  /// nearer its end; on a closed arc (a full circle, its end its start), once the points
+  /// have turned on it.
+  [[nodiscard]] bool past_start(const Eigen::Vector3d& p, std::size_t i, double best) {
+    const Piece& piece = window()[i];
+    const double from_start = (p - piece.a).norm();
+    if (piece.arc && (piece.b - piece.a).norm() <= kUncutMm)
+      return i == cursor_ && turned_ * 0.5 * (piece.r0 + piece.r1) > slack(best);
+    return from_start > slack(best) || (p - piece.b).norm() < from_start;
   }
 
   /// The piece the last point was found at (the cursor), after distance() gave a value.
@@ -295,6 +304,12 @@ class PathSearch {
   /// moves a few micrometres from the last: one gathering serves tens of them.
   static constexpr double kCandidateRadius = 0.05;
   static constexpr std::size_t kMostCandidates = 1024;
+  /// Pieces past those reachable that the first search near the cursor takes too: the ones
+  /// just ahead, which move_cursor() follows across junctions.
+  static constexpr std::size_t kNearAhead = 8;
+  /// Pieces behind the cursor the first search takes: a point just past a junction, or one
+  /// that turned back a little.
+  static constexpr std::size_t kNearBehind = 4;
   [[nodiscard]] std::size_t behind() const { return cursor_ > kBehind ? cursor_ - kBehind : 0; }
   /// The path's available(end), asked again only when the end moved or fell short: the
   /// window's end only grows, so an end once reached stays reached (and the cursor stands
@@ -304,6 +319,34 @@ class PathSearch {
     return available_to_;
   }
   static double slack(double d) { return d + std::max(d, 0.5e-3); }
+
+  /// The pieces near the cursor first: the few behind it and those the point can have come
+  /// to from it without passing over a cut (and a few more). Where one of them is within
+  /// kCandidateRadius of p, that settles it; else the whole window ahead is searched (a cut
+  /// missing, or a point far off its path). A path that comes back to the same place
+  /// (repeated circles, a contour traced many times) would otherwise be searched piece by
+  /// piece along the whole window at every point. Near the cursor is also the truer answer:
+  /// a point measured against a later pass over the same place would be said nearer than it
+  /// is to the cut it makes.
+  double search_near_then_ahead(const Eigen::Vector3d& p, std::size_t from, std::size_t to) {
+    const std::size_t local_from = std::max(from, cursor_ > kNearBehind ? cursor_ - kNearBehind : 0);
+    const std::size_t local_to = reachable_end(p, to);
+    if (local_from > from || local_to < to) {
+      const double best = gather_near(p, local_from, local_to);
+      if (!near_.empty() && best <= kCandidateRadius) return best;
+    }
+    return gather_near(p, from, to);
+  }
+
+  /// One past the last piece the point can have come to without passing over more cut than
+  /// passable(), and kNearAhead more; at most `to`.
+  [[nodiscard]] std::size_t reachable_end(const Eigen::Vector3d& p, std::size_t to) {
+    const double reach = passable(p);
+    std::size_t end = std::max(cursor_, next_piece_) + 1;
+    for (double passed = 0.0; end < to && passed <= reach; ++end)
+      passed += window()[end].cycle ? 0.0 : window()[end].length();
+    return std::min(end + kNearAhead, to);
+  }
 
   /// The pieces (in program order) nearly as near p as the nearest (within the distance
   /// again, or 0.5 um), into near_; the nearest one's distance. Taken from the candidates
@@ -381,8 +424,10 @@ class PathSearch {
     const bool cursor_kept = cursor_ >= from && cursor_ < to && std::binary_search(candidates_.begin(), candidates_.end(), cursor_);
     if (cursor_kept) best = cursor_distance = window()[cursor_].distance(p);
     near_.clear();
-    for (const std::size_t i : candidates_) {
-      if (i < from || i >= to) continue;
+    const auto first = std::lower_bound(candidates_.begin(), candidates_.end(), from);
+    const auto last = std::lower_bound(first, candidates_.end(), to);
+    for (auto it = first; it != last; ++it) {
+      const std::size_t i = *it;
       if (i != cursor_ || !cursor_kept) {
         if (window()[i].farther_than(p, slack(best))) continue;
       }

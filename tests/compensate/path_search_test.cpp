@@ -8,6 +8,7 @@
 #include <gtest/gtest.h>
 
 #include <Eigen/Geometry>
+#include <array>
 #include <cmath>
 #include <limits>
 #include <numbers>
@@ -162,6 +163,57 @@ TEST(PathSearch, KeptCandidatesFindWhatTheFullSearchFindsOnASpringPassAsLongAsTh
         cut(steps, at(k, 10.0 - 3e-4), at(k + 1, 10.0 - 3e-4));
       }
     expect_as_full_search(pieces, steps);
+  }
+}
+
+TEST(PathSearch, APointIsMeasuredAgainstThePassItCutsNotALaterOneOverTheSamePlace) {
+  // A 10 mm square in 5 chords a side, traced twice, the second time 0.2 um further in;
+  // along the first pass's first side the executed point runs 0.15 um in: it is 0.15 um
+  // off the cut it makes, though 0.05 um from the later pass over the same place.
+  const auto corner = [](int k, double in) {
+    const std::array<Eigen::Vector3d, 4> c{Eigen::Vector3d(in, in, 0), Eigen::Vector3d(10 - in, in, 0),
+                                           Eigen::Vector3d(10 - in, 10 - in, 0), Eigen::Vector3d(in, 10 - in, 0)};
+    return c[static_cast<std::size_t>(k % 4)];
+  };
+  std::vector<Piece> pieces;
+  for (const double in : {0.0, 2e-4})
+    for (int side = 0; side < 4; ++side)
+      for (int k = 0; k < 5; ++k) {
+        const Eigen::Vector3d a = corner(side, in), b = corner(side + 1, in);
+        pieces.push_back(segment(a + (b - a) * (k / 5.0), a + (b - a) * ((k + 1) / 5.0),
+                                 static_cast<std::uint32_t>(pieces.size() + 3)));
+      }
+  ListPath path(pieces);
+  PathSearch<ListPath> search(path);
+  for (int k = 1; k < 50; ++k) {
+    const std::optional<double> d = search.distance({0.2 * k, 1.5e-4, 0});
+    ASSERT_TRUE(d.has_value());
+    EXPECT_NEAR(*d, 1.5e-4, 1e-12) << "point " << k;
+  }
+}
+
+TEST(PathSearch, ManyTurnsOfTheSameCircleAreEachFoundCutAndOneLeftOutIsNamed) {
+  // 2,000 full circles over one another, each one piece: every executed point is near every
+  // one of them. All cut: nothing uncut; the last one left out: its length, at its line.
+  std::vector<Piece> pieces;
+  for (std::uint32_t k = 0; k < 2000; ++k) pieces.push_back(arc({0, 0, 0}, 10.0, 10.0, 0.0, 2 * std::numbers::pi, 0.0, 5 + k));
+  for (const std::size_t cut_turns : {std::size_t{2000}, std::size_t{1999}}) {
+    ListPath path(pieces);
+    PathSearch<ListPath> search(path);
+    for (std::size_t turn = 0; turn < cut_turns; ++turn)
+      for (int k = turn == 0 ? 0 : 1; k <= 32; ++k) {
+        const double angle = 2 * std::numbers::pi * k / 32;
+        const std::optional<double> d = search.distance(10.0 * Eigen::Vector3d(std::cos(angle), std::sin(angle), 0));
+        ASSERT_TRUE(d.has_value());
+        ASSERT_LT(*d, 1e-9) << "turn " << turn << ", point " << k;
+      }
+    const auto [length, line] = search.uncut();
+    if (cut_turns == 2000) {
+      EXPECT_EQ(length, 0.0);
+    } else {
+      EXPECT_NEAR(length, 2 * std::numbers::pi * 10.0, 1e-6);
+      EXPECT_EQ(line, 5u + 1999u);
+    }
   }
 }
 
