@@ -25,5 +25,5 @@ TraceResult rs274_trace(const std::string& program, const std::string& tool_tabl
   do {                                                                                                          \
     if (!::ccomp::test::have_rs274())                                                                           \
       GTEST_FAIL() << "rs274 not found at " << ::ccomp::test::rs274()                                           \
-                   << ": run tools/rs274/fetch.sh build/rs274 (tools/test.sh does), or name it in CCOMP_RS274"; \
+                   << ": run tools/rs274/fetch.sh <build>/rs274 (tools/test.sh does), or name it in CCOMP_RS274"; \
   } while (false)
