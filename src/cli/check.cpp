@@ -93,7 +93,7 @@ CLI::App* add_verify(CLI::App& app, CheckArgs& args) {
   cmd->add_option("--tolerance", args.tolerance,
                   "mm: the contour error allowed; more, or a cut of the original left out, exits with 7 (default: "
                   "the tolerance in the output's ccomp header, else 0.001)")
-      ->check(tolerance_in_mm());
+      ->transform(tolerance_in_mm());
   cmd->add_option("--angular-tolerance", args.angular_tolerance_urad,
                   "urad: how far the tool's direction may be off the program's; more exits with 7 (default: the "
                   "tolerance over 10 mm, 100 urad at 1 um)")

@@ -9,6 +9,7 @@
 
 #include "ccomp/gcode/interpreter.hpp"
 #include "ccomp/identify/measurements.hpp"
+#include "ccomp/model/machine.hpp"
 #include "ccomp/model/work_offsets.hpp"
 
 namespace ccomp::cli {
@@ -25,8 +26,8 @@ struct ProgramArgs {
   std::vector<std::string> work_offsets;  ///< --work-offset G54=X-250,Y0,Z-300
 };
 void add_program_options(CLI::App& cmd, ProgramArgs& args);
-/// --tolerance's check: a positive, finite number of mm. CLI11's PositiveNumber answers '1um'
-/// with its range printed as a 300-digit double; this names the value and the unit.
+/// --tolerance's transform: mm, or a length with its unit ("1um"); a bare number beyond 0.1 mm
+/// is refused as the micrometres it likely means (model::rules::tolerance()).
 [[nodiscard]] CLI::Validator tolerance_in_mm();
 /// --angular-tolerance: a finite number of microradians above 0.
 [[nodiscard]] CLI::Validator angle_in_urad();
@@ -39,6 +40,13 @@ void add_program_options(CLI::App& cmd, ProgramArgs& args);
 /// header), with --work-offset's systems over them (and --param's numbers over those).
 [[nodiscard]] gcode::InterpreterOptions interpreter_options(const ProgramArgs& args, const std::string& model_dialect,
                                                             const model::WorkOffsets& base = {});
+
+/// --hold AXIS[=auto|clamped|free] (repeatable).
+void add_hold_option(CLI::App& cmd, std::vector<std::string>& holds);
+/// The model with --hold's axes set (usage errors for an axis that is not a rotary one).
+[[nodiscard]] model::MachineModel with_holds(model::MachineModel m, const std::vector<std::string>& specs);
+/// "B held (the program does not turn it)" for the axes `held` names (bit i: XYZABCUVW's i-th).
+[[nodiscard]] std::string held_axes_text(const model::MachineModel& m, unsigned held);
 
 struct CompensateArgs {
   std::vector<std::string> inputs;
@@ -60,6 +68,7 @@ struct CompensateArgs {
   int rotary_decimals = -1;          ///< -1: the program's own
   std::vector<std::string> sensors;  ///< NAME=VALUE (degC)
   std::optional<double> time;  ///< --time, s; none given: a warm-up term is refused
+  std::vector<std::string> holds;  ///< --hold AXIS[=MODE]
   bool quiet = false;
   bool json = false;
   ProgramArgs program;

@@ -54,7 +54,7 @@ void add_compensate(CLI::App& app, CompensateArgs& args) {
                "their values (a line that runs several times needs a correction for each run)");
   app.add_flag("--progress", args.progress, "print FILTER_PROGRESS=N lines on stderr (LinuxCNC filters)");
   app.add_option("--tolerance", args.tolerance, "mm: largest distance of the executed path from the nominal (0.001)")
-      ->check(tolerance_in_mm());
+      ->transform(tolerance_in_mm());
   app.add_flag("--exact", args.exact,
                "solve every point on the model to below 1 nm (slower); by default a point along a path may be "
                "placed where the model's error bound proves it within 8% of the tolerance");
@@ -68,6 +68,7 @@ void add_compensate(CLI::App& app, CompensateArgs& args) {
   app.add_option("--sensor", args.sensors, "a temperature reading for the model's thermal terms: NAME=DEGC");
   app.add_option("--time", args.time, "s since the machine's warm-up started, for warm-up terms")
       ->check(seconds_since_warm_up());
+  add_hold_option(app, args.holds);
   app.add_flag("-q,--quiet", args.quiet, "no summary line per program");
   app.add_flag("--json", args.json, "the summary of every program as JSON on stdout (docs/json.md)");
   add_program_options(app, args.program);
@@ -96,10 +97,10 @@ std::string summary_line(const Target& t, const model::MachineModel& model, cons
   const bool failed = c.verdict && !c.verdict->passed();
   return fmt::format(
       "{}: {} moves compensated ({} lines added) for '{}' at {} um: error before {:.2f} um, after {:.2f} um; "
-      "largest correction {:.1f} um; orientation error left {:.1f} urad{}\n",
+      "largest correction {:.1f} um; orientation error left {:.1f} urad{}{}\n",
       t.input == "-" ? "<stdin>" : t.input, r.compensated_moves, r.added_lines, model.name, args.tolerance * 1000.0,
       r.max_error_before * 1000.0, r.max_error_after * 1000.0, r.max_correction * 1000.0,
-      r.max_orientation_error * 1e6,
+      r.max_orientation_error * 1e6, r.held_axes == 0 ? "" : " (" + held_axes_text(model, r.held_axes) + ")",
       failed ? fmt::format("\n  {}: written, but NOT PASSED (below); check it before cutting (exit {})",
                            t.output == "-" ? "<stdout>" : t.output, kVerdictExitCode)
              : "");
@@ -326,6 +327,10 @@ std::string outcomes_json(const std::vector<Target>& targets, const std::vector<
       else
         j.key("passed").null();
       trust_fields(j, o.trust, r.max_error_after, o.no_trust);
+      j.key("held_axes").begin_array();
+      for (std::size_t a = 0; a < 9; ++a)
+        if (r.held_axes >> a & 1U) j.value(std::string(1, "XYZABCUVW"[a]));
+      j.end_array();
     }
     j.key("warnings").begin_array();
     for (const Outcome::Warning& w : o.warnings)
@@ -365,7 +370,7 @@ int run_compensate(const CompensateArgs& args) {
   if (args.in_place && std::count(args.inputs.begin(), args.inputs.end(), "-"))
     throw Error(ErrorKind::usage, "--in-place cannot replace standard input");
 
-  const model::MachineModel model = model::load_machine_model(args.model);
+  const model::MachineModel model = with_holds(model::load_machine_model(args.model), args.holds);
   const std::optional<model::FitInformation> fit_information = model::load_fit_information(model);
   compensate::JobOptions options;
   options.interpreter = interpreter_options(args.program, model.dialect, model.work_offsets);
@@ -436,7 +441,9 @@ int run_compensate(const CompensateArgs& args) {
       const std::string name = targets[i].input == "-" ? "<stdin>" : targets[i].input;
       auto warn = [&bar, &warned, &outcomes, i](const std::string& file, std::uint32_t line,
                                                  const std::string& message) {
-        bar.print_above(fmt::format("{}:{}: warning: {}\n", file, line, message));
+        // (line 0: the whole program, as a tolerance coarser than its error)
+        bar.print_above(line == 0 ? fmt::format("{}: warning: {}\n", file, message)
+                                  : fmt::format("{}:{}: warning: {}\n", file, line, message));
         std::lock_guard lock(warned);
         outcomes[i].warnings.push_back({file, line, message});
       };

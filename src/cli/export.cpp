@@ -15,6 +15,7 @@
 #include "ccomp/model/term_span.hpp"
 #include "ccomp/util/json.hpp"
 #include "ccomp/version.hpp"
+#include "command_line.hpp"
 #include "commands.hpp"
 #include "export_parts.hpp"
 #include "output_file.hpp"
@@ -43,13 +44,8 @@ model::ChainQ table_line(const model::MachineModel& m, const ExportArgs& args, c
                                                 "(--from, --to)",
                                                 at, letter));
     }
-    try {
-      std::size_t used = 0;
-      v = std::stod(at.substr(2), &used);
-      if (used != at.size() - 2 || !std::isfinite(v)) throw std::invalid_argument(at);
-    } catch (const std::exception&) {
-      throw Error(ErrorKind::usage, "--at " + at + ": '" + at.substr(2) + "' is not a number");
-    }
+    v = quantity_in(std::string_view(at).substr(2),
+                    spec->type == model::AxisType::rotary ? model::rules::angle() : model::rules::position(), "--at", at);
     if (v < spec->min || v > spec->max)
       throw Error(ErrorKind::usage,
                   fmt::format("--at {}: {} travels from {:g} to {:g}", at, letter, spec->min, spec->max));
@@ -202,7 +198,8 @@ CLI::App* add_export(CLI::App& app, ExportArgs& args) {
   cmd->add_option("--at", args.at,
                   "AXIS=VALUE: where the other axes stand on the table's line (mm, deg; default 0 or mid-travel)")
       ->take_all();
-  cmd->add_option("--tool-length", args.tool_length, "mm: the tool the table is for (100)");
+  cmd->add_option("--tool-length", args.tool_length, "mm: the tool the table is for (100)")
+      ->transform(quantity(model::rules::tool_length(), "--tool-length"));
   cmd->add_option("--sensor", args.sensors, "a temperature reading for the model's thermal terms: NAME=DEGC");
   cmd->add_option("--time", args.time, "s since the machine's warm-up started");
   cmd->add_option("--comp-file-type", args.comp_file_type, "LinuxCNC COMP_FILE_TYPE: 0 (actual positions) or 1 (trims)")

@@ -22,6 +22,7 @@
 #include "ccomp/model/parameter_units.hpp"
 #include "ccomp/model/term_span.hpp"
 #include "ccomp/report/html_report.hpp"
+#include "command_line.hpp"
 #include "commands.hpp"
 #include "identify_json.hpp"
 #include "output_file.hpp"
@@ -32,7 +33,8 @@ namespace {
 
 void add_common(CLI::App& cmd, IdentifyArgs& args) {
   cmd.add_option("-m,--model", args.model, "machine model (YAML)")->required();
-  cmd.add_option("--tool-length", args.tool_length, "mm: tool or optic length of rows without an L column (100)");
+  cmd.add_option("--tool-length", args.tool_length, "mm: tool or optic length of rows without an L column (100)")
+      ->transform(quantity(model::rules::tool_length(), "--tool-length"));
   add_frame_options(cmd, args);
 }
 
@@ -163,15 +165,15 @@ CLI::App* add_simulate(CLI::App& app, IdentifyArgs& args) {
                   "nine_lines (default), grid, sphere, thermal, or a file ccomp plan wrote (PLAN.csv: its readings); "
                   "repeat for several");
   cmd->add_option("--noise", args.noise_um, "um, standard deviation of each reading (0.2)")
-      ->check(CLI::NonNegativeNumber);
+      ->transform(quantity(model::rules::noise(), "--noise"));
   cmd->add_option("--seed", args.seed, "random seed (1)");
   cmd->add_option("--step", args.step,
                   "mm between points along a laser line (25; finer than half a screw's pitch to see it)")
-      ->check(CLI::PositiveNumber);
+      ->transform(quantity(model::rules::linear_step(), "--step"));
   cmd->add_option("--runs", args.runs, "out-and-back runs of each laser line (1; ISO 230-2 asks for 5)")
       ->check(CLI::PositiveNumber);
   cmd->add_option("--rotary-step", args.rotary_step, "deg between the sphere's probings (15)")
-      ->check(CLI::PositiveNumber);
+      ->transform(quantity(model::rules::rotary_step(), "--rotary-step"));
   cmd->add_flag("--json", args.json, "what was written as JSON on stdout (needs -o FILE; docs/json.md)");
   return cmd;
 }

@@ -10,6 +10,7 @@
 #include "ccomp/error.hpp"
 #include "ccomp/identify/measurement_formats.hpp"
 #include "ccomp/model/model_file.hpp"
+#include "command_line.hpp"
 #include "commands.hpp"
 #include "output_file.hpp"
 #include "ccomp/util/json.hpp"
@@ -36,13 +37,12 @@ std::vector<identify::AxisPosition> positions(const std::vector<std::string>& at
       const std::string item = option.substr(start, comma - start);
       start = comma + 1;
       const std::size_t eq = item.find('=');
-      double value = 0.0;
-      const char* end = item.data() + item.size();
-      if (eq == std::string::npos ||
-          std::from_chars(item.data() + eq + 1, end, value).ptr != end || !std::isfinite(value) ||
-          std::abs(value) > 1e7)
+      if (eq == std::string::npos)
         throw Error(ErrorKind::usage, fmt::format("--at {}: not AXIS=VALUE (mm, deg), as in --at y=-360,z=-400", item));
       const char letter = axis_letter(item.substr(0, eq), "--at");
+      const bool rotary = letter == 'A' || letter == 'B' || letter == 'C';
+      const double value = quantity_in(std::string_view(item).substr(eq + 1),
+                                       rotary ? model::rules::angle() : model::rules::position(), "--at", option);
       for (const identify::AxisPosition& p : out)
         if (p.axis == letter) throw Error(ErrorKind::usage, fmt::format("--at names axis {} twice", letter));
       out.push_back({letter, value});

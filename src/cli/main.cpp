@@ -7,10 +7,12 @@
 #include <cstdio>
 #include <cstring>
 #include <iostream>
+#include <optional>
 #include <system_error>
 
 #include "ccomp/error.hpp"
 #include "ccomp/version.hpp"
+#include "command_line.hpp"
 #include "commands.hpp"
 #include "output_file.hpp"
 
@@ -83,9 +85,17 @@ int main(int argc, char** argv) {
   CLI::App* export_cmd = ccomp::cli::add_export(app, export_args);
   one_value_per_occurrence(app);
   std::signal(SIGPIPE, SIG_IGN);  // a closed pipe is a write error (exit 6), --help's too
+  ccomp::cli::remember_command_line(argc, argv);
   try {
     app.parse(argc, argv);
+  } catch (const ccomp::Error& e) {  // a quantity refused at its place on the line
+    fmt::print(stderr, "{}\n", ccomp::format_error(e));
+    return ccomp::exit_code(e.kind());
   } catch (const CLI::ParseError& e) {
+    if (const auto mistake = e.get_exit_code() == 0 ? std::nullopt : ccomp::cli::mistyped(app, argc, argv)) {
+      fmt::print(stderr, "{}\n", ccomp::format_error(*mistake));
+      return ccomp::exit_code(ccomp::ErrorKind::usage);
+    }
     const int code = app.exit(e);
     if (code != 0) return ccomp::exit_code(ccomp::ErrorKind::usage);
     // --help and --version to a full disk or a closed pipe: lost text is an I/O error.
@@ -116,6 +126,7 @@ int main(int argc, char** argv) {
     if (import_cmd->parsed()) return finished(ccomp::cli::run_import(import));
     if (plan_cmd->parsed()) return finished(ccomp::cli::run_plan(plan));
     if (export_cmd->parsed()) return finished(ccomp::cli::run_export(export_args));
+    ccomp::cli::refuse_mistyped_command(app, compensate.inputs);
     return finished(ccomp::cli::run_compensate(compensate));
   } catch (const ccomp::Error& e) {
     fmt::print(stderr, "{}\n", ccomp::format_error(e));

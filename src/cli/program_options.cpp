@@ -5,6 +5,7 @@
 #include "ccomp/error.hpp"
 #include "ccomp/gcode/dialect.hpp"
 #include "ccomp/gcode/tool_table.hpp"
+#include "command_line.hpp"
 #include "commands.hpp"
 
 namespace ccomp::cli {
@@ -29,14 +30,7 @@ void add_program_options(CLI::App& cmd, ProgramArgs& args) {
 }
 
 CLI::Validator tolerance_in_mm() {
-  return CLI::Validator(
-      [](std::string& text) -> std::string {
-        double v = 0.0;
-        const auto [ptr, ec] = std::from_chars(text.data(), text.data() + text.size(), v);
-        if (ec == std::errc() && ptr == text.data() + text.size() && std::isfinite(v) && v > 0.0) return {};
-        return "'" + text + "' is not a number in mm (0 < tolerance; 1 um is 0.001)";
-      },
-      "MM > 0");
+  return quantity(model::rules::tolerance(), "--tolerance");
 }
 
 CLI::Validator angle_in_urad() {
@@ -64,7 +58,13 @@ CLI::Validator seconds_since_warm_up() {
 model::WorkOffsets work_offsets_of(const std::vector<std::string>& specs) {
   model::WorkOffsets offsets;
   for (const std::string& spec : specs) {
-    const model::WorkOffsetEntry e = model::parse_work_offset(spec, "--work-offset " + spec);
+    model::WorkOffsetEntry e;
+    try {
+      e = model::parse_work_offset(spec, "--work-offset " + spec);
+    } catch (const Error& refused) {  // shown at its place on the command line
+      if (refused.kind() != ErrorKind::usage) throw;
+      throw usage_error_at("--work-offset", spec, refused.message());
+    }
     if (offsets.of(e.system))
       throw Error(ErrorKind::usage,
                   "--work-offset gives " + model::coordinate_system_name(e.system) + " twice: give each system once");

@@ -145,6 +145,7 @@ HoleWords solve_hole(Compensator& compensator, const PendingCycle& c, const gcod
         move.max_correction = std::max(move.max_correction, scratch.max_correction);
         move.max_rotary_correction = std::max(move.max_rotary_correction, scratch.max_rotary_correction);
         move.max_orientation_error = std::max(move.max_orientation_error, scratch.max_orientation_error);
+        move.held_axes |= scratch.held_axes;
       }
       break;
     }

@@ -20,7 +20,11 @@ Compensator::Compensator(const model::ForwardModel& model, CompensationOptions o
       problem_(model),
       data_(model),
       check_(model),
-      bound_(model, options_.conditions) {}
+      bound_(model, options_.conditions) {
+  for (const int k : problem_.rotary_unknowns) rotary_axes_ |= 1U << k;
+  held_rotary_ = rotary_axes_to_hold();
+  if (held_rotary_ != 0) problem_ = InverseProblem(model_, held_rotary_);
+}
 
 ChainQ Compensator::point(const ChainQ& nominal, MoveReport& report, Shortcut shortcut) {
   return solve_point(nominal, report, shortcut).q;
@@ -33,6 +37,8 @@ Compensator::SolvedPoint Compensator::solve_point(const ChainQ& nominal, MoveRep
   // A point along a path may be accepted without evaluating the model where its residual
   // is bounded below this share of the tolerance: the point then lands within a tenth of
   // the tolerance of where an evaluated solve puts it.
+  follow_holds(nominal);
+  report.held_axes |= held_rotary_;
   InverseOptions inverse;
   inverse.bound = options_.exact || shortcut == Shortcut::none ? nullptr : &bound_;
   inverse.bounded_tolerance = kBoundedShare * options_.tolerance;
@@ -53,6 +59,44 @@ Compensator::SolvedPoint Compensator::solve_point(const ChainQ& nominal, MoveRep
       std::max(report.max_rotary_correction, (r.q - nominal).segment<3>(3).cwiseAbs().maxCoeff());
   report.max_orientation_error = std::max(report.max_orientation_error, r.orientation_error.norm());
   return {r.q, r.residual_bound};
+}
+
+unsigned Compensator::rotary_axes_to_hold() const {
+  unsigned axes = 0;
+  for (int k = 0; k < 9; ++k) {
+    if ((rotary_axes_ >> k & 1U) == 0) continue;
+    const model::AxisHold hold = options_.hold[static_cast<std::size_t>(k)];
+    if (hold == model::AxisHold::clamped || (hold == model::AxisHold::automatic && (turned_ >> k & 1U) == 0))
+      axes |= 1U << k;
+  }
+  return axes;
+}
+
+void Compensator::follow_holds(const ChainQ& nominal) {
+  if (held_rotary_ == 0) return;  // nothing held (an axis once free stays free)
+  if (!first_nominal_.allFinite()) first_nominal_ = nominal;
+  for (int k = 0; k < 9; ++k) {
+    const auto i = static_cast<std::size_t>(k);
+    if ((held_rotary_ >> k & 1U) != 0 && options_.hold[i] == model::AxisHold::automatic &&
+        std::abs(nominal[k] - first_nominal_[k]) > still(i))
+      turned_ |= 1U << k;
+  }
+  const unsigned axes = rotary_axes_to_hold();
+  if (axes == held_rotary_) return;
+  // Another set of unknowns: a fresh solve matrix and path, the last answer kept (a move
+  // starting where the last ended starts where the machine is).
+  problem_ = InverseProblem(model_, axes);
+  held_rotary_ = axes;
+  InverseWorkspace fresh;
+  fresh.last_solution = workspace_.last_solution;
+  fresh.last_answer = workspace_.last_answer;
+  fresh.last_answer_bound = workspace_.last_answer_bound;
+  fresh.last_nominal = workspace_.last_nominal;
+  fresh.last_target = workspace_.last_target;
+  fresh.last_directions = workspace_.last_directions;
+  fresh.jacobian_evaluations = workspace_.jacobian_evaluations;
+  fresh.bounded_points = workspace_.bounded_points;
+  workspace_ = std::move(fresh);
 }
 
 void Compensator::moved(const ChainQ& q) {
@@ -335,6 +379,7 @@ void take_solution(MoveReport& into, const MoveReport& from) {
   into.max_correction = std::max(into.max_correction, from.max_correction);
   into.max_rotary_correction = std::max(into.max_rotary_correction, from.max_rotary_correction);
   into.max_orientation_error = std::max(into.max_orientation_error, from.max_orientation_error);
+  into.held_axes |= from.held_axes;
 }
 }  // namespace
 

@@ -16,12 +16,16 @@ namespace ccomp::compensate {
 
 using model::ChainQ;
 
-InverseProblem::InverseProblem(const model::ForwardModel& model) {
+InverseProblem::InverseProblem(const model::ForwardModel& model, unsigned held_axes) {
   for (const auto* chain : {&model.chain().workpiece, &model.chain().tool}) {
     for (const kinematics::Joint& j : chain->joints) {
       if (j.type != kinematics::JointType::fixed && j.axis == model::kToolLengthIndex)
         tool_axis = j.direction.normalized();  // the tip's frame is this joint's, moved along it
       if (j.type == kinematics::JointType::fixed || j.axis == model::kToolLengthIndex) continue;
+      if ((held_axes >> j.axis & 1U) != 0) {
+        held.push_back(static_cast<int>(j.axis));
+        continue;
+      }
       unknowns.push_back(static_cast<int>(j.axis));
       if (j.type == kinematics::JointType::rotary) {
         rotary_unknowns.push_back(static_cast<int>(j.axis));
@@ -522,6 +526,7 @@ InverseResult solve_inverse(const model::ForwardModel& model, const InverseProbl
   InverseWorkspace& ws = *workspace;
   SolveStart s = start_of(problem, ws, q_nominal, conditions, guess, nominal ? nominal->tip : d.nominal,
                           nominal ? nominal->orientation : d.R_nominal);
+  for (const int k : problem.held) s.q[k] = s.first_order[k] = q_nominal[k];  // (a guess may have turned them)
   const bool bounded = options.bound && options.bounded_tolerance > 0.0;
   detail::LinePoint kept;  // the extrapolation to the prediction, for its node where it is evaluated
   if (Residual residual;

@@ -27,6 +27,9 @@ CompensationOptions compensation_options(const model::MachineModel& model, const
   c.tolerance = options.tolerance;
   c.exact = options.exact;
   c.conditions = model::conditions_for(model, options.sensors, options.time);
+  for (const model::AxisSpec& a : model.axes)
+    if (a.type == model::AxisType::rotary)
+      c.hold.at(std::string_view("XYZABCUVW").find(a.letter)) = a.hold;
   return c;
 }
 

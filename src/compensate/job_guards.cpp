@@ -126,6 +126,7 @@ void JobGuards::account(const MoveReport& move, gcode::Units units, std::uint32_
   report_.max_error_after = std::max(report_.max_error_after, move.max_deviation_after);
   report_.max_correction = std::max(report_.max_correction, move.max_correction);
   report_.max_orientation_error = std::max(report_.max_orientation_error, move.max_orientation_error);
+  report_.held_axes |= move.held_axes;
   warn_unhidden_reversals(move.unhidden_reversals, line);
   if (move.jogs_withheld)
     warn_once(warned_jogs_,
@@ -225,6 +226,18 @@ void JobGuards::warn_unhidden_reversals(unsigned axes, std::uint32_t line) {
                                    "or error motions switching with it act along it by more than its lost motion",
                                    gcode::kAxisLetters[i]),
                        line);
+}
+
+void warn_coarse_tolerance(const JobReport& report, const JobOptions& options) {
+  if (!options.warning || !(report.max_error_before > 0.0) || options.tolerance < report.max_error_before) return;
+  // A tolerance a quarter of the error (and no coarser than the usual 1 um) leaves it a
+  // quarter at most.
+  const double suggested_um = std::min(1.0, 0.25 * report.max_error_before * 1000.0);
+  options.warning(fmt::format("the tolerance of {:.3g} um is not below the machine's error on this program ({:.2f} um "
+                              "before): the chords and digits it allows may leave the path as far off as the program "
+                              "as written, or further; --tolerance {:.2g}um takes the error out",
+                              options.tolerance * 1000.0, report.max_error_before * 1000.0, suggested_um),
+                  0);
 }
 
 }  // namespace ccomp::compensate

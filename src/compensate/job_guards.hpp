@@ -35,6 +35,11 @@ void check_limits(const gcode::Motion& m, const model::MachineModel& model, std:
 /// never make an output verify rejects. Throws Error(usage) where even 9 cannot.
 void raise_digits_for_tolerance(JobOptions& options, const model::MachineModel& model);
 
+/// Once the program is done: a tolerance as coarse as the error it is to take out (the
+/// error before) lets chords and digits leave the path as far off as the program as written,
+/// or further; said as a warning (line 0: the whole program).
+void warn_coarse_tolerance(const JobReport& report, const JobOptions& options);
+
 class JobGuards {
  public:
   JobGuards(const model::MachineModel& model, const JobOptions& options, JobReport& report, std::string_view file);

@@ -131,6 +131,7 @@ JobReport run_program_job(gcode::LineSource& input, std::FILE* out, const model:
     throw;
   }
   writer.finish();
+  warn_coarse_tolerance(report, options);
   if (options.progress) options.progress(1.0);
   return report;
 }

@@ -53,4 +53,20 @@ void validate(const MachineModel& model) {
     fail(fmt::format("unknown dialect '{}' (known: linuxcnc, fanuc, mazak, wincnc)", model.dialect));
 }
 
+std::optional<AxisHold> axis_hold_named(std::string_view name) {
+  if (name == "auto") return AxisHold::automatic;
+  if (name == "clamped" || name == "indexing") return AxisHold::clamped;
+  if (name == "free") return AxisHold::free;
+  return std::nullopt;
+}
+
+std::string_view axis_hold_name(AxisHold hold) {
+  switch (hold) {
+    case AxisHold::automatic: return "auto";
+    case AxisHold::clamped: return "clamped";
+    case AxisHold::free: return "free";
+  }
+  return "auto";
+}
+
 }  // namespace ccomp::model

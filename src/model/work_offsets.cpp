@@ -9,6 +9,7 @@
 
 #include "ccomp/constants.hpp"
 #include "ccomp/error.hpp"
+#include "ccomp/model/quantity_reader.hpp"
 #include "ccomp/model/units.hpp"
 
 namespace ccomp::model {
@@ -30,29 +31,12 @@ std::string upper(std::string_view s) {
 
 /// "-250", "-300mm", "0.5 deg": the value in mm (linear) or degrees (rotary).
 double axis_value(std::string_view text, char letter, const std::string& what) {
-  double v = 0.0;
-  const char* begin = text.data();
-  const char* end = text.data() + text.size();
-  if (begin != end && *begin == '+') ++begin;
-  const auto [stop, ec] = std::from_chars(begin, end, v);
-  if (ec != std::errc() || stop == begin)
+  const std::string_view number = text.starts_with('+') ? text.substr(1) : text;
+  if (number.empty() || !(std::isdigit(static_cast<unsigned char>(number.front())) || number.front() == '-' ||
+                          number.front() == '.' || number.starts_with("nan") || number.starts_with("inf")))
     throw Error(ErrorKind::usage, fmt::format("{}: '{}{}' has no number after {}", what, letter, text, letter));
-  std::string_view unit(stop, static_cast<std::size_t>(end - stop));
-  while (!unit.empty() && unit.front() == ' ') unit.remove_prefix(1);
-  const bool rotary = is_rotary_letter(letter);
-  if (!unit.empty()) {
-    const std::optional<Unit> u = parse_unit(unit);
-    const Dimension expected = rotary ? kAngle : kLength;
-    if (!u || !(u->dimension == expected))
-      throw Error(ErrorKind::usage, fmt::format("{}: '{}' after {} is not a unit of {} (mm, um, in; deg, arcsec)",
-                                                what, unit, letter, rotary ? "angle" : "length"));
-    v *= u->scale;                   // mm or rad
-    if (rotary) v /= kRadPerDeg;     // degrees, as programs write angles
-  }
-  if (!std::isfinite(v))
-    throw Error(ErrorKind::usage, fmt::format("{}: {}{} is not a finite number", what, letter, text));
-  if (std::abs(v) > 1e7) throw Error(ErrorKind::usage, fmt::format("{}: {}{} is beyond any machine", what, letter, text));
-  return v;
+  return read_quantity(text, is_rotary_letter(letter) ? rules::angle() : rules::position(),
+                       fmt::format("{}: {}{}", what, letter, text));
 }
 
 }  // namespace

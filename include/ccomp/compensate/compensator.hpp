@@ -37,6 +37,13 @@ struct CompensationOptions {
   /// error field's bound proves it within kBoundedShare of the tolerance (InverseOptions::bound).
   bool exact = false;
   model::Conditions conditions;
+  /// Per chain axis (X Y Z A B C U V W), whether the solve may turn it (model::AxisHold;
+  /// only rotary axes are held). `free` everywhere unless given: the job sets the model's.
+  std::array<model::AxisHold, 9> hold = [] {
+    std::array<model::AxisHold, 9> all{};
+    all.fill(model::AxisHold::free);
+    return all;
+  }();
 };
 
 /// A point of a compensated move: the fraction s of the nominal move it ends, and the
@@ -83,6 +90,9 @@ struct MoveReport {
   /// The control offsets this move as one piece (G41/G42: the entry move, or an arc of
   /// several turns): it was not split, whatever the error field needs along it.
   bool kept_whole = false;
+  /// Bit k: rotary axis k (chain order X Y Z A B C ...) was held at the program's value in
+  /// a solve (CompensationOptions::hold): its share of the error is left (orientation error).
+  unsigned held_axes = 0;
 };
 
 class Compensator {
@@ -156,6 +166,8 @@ class Compensator {
   [[nodiscard]] double deviation_across(const model::ChainQ& a_nominal, const model::ChainQ& b_nominal,
                                         const model::ChainQ& a_comp, const model::ChainQ& b_comp, double t);
   [[nodiscard]] const model::ForwardModel& model() const { return model_; }
+  /// Rotary axes (bit k) the solve keeps at the program's values now.
+  [[nodiscard]] unsigned held_rotary() const { return held_rotary_; }
 
   model::Conditions& conditions() { return options_.conditions; }
   /// Where the machine was sent last (chain values; NaN before the first command).
@@ -287,6 +299,14 @@ class Compensator {
   std::vector<ErrorProbe>* deferred_probes_ = nullptr;
   model::ChainQ expected_ = model::ChainQ::Constant(std::nan(""));  ///< see expect()
   NominalPose expected_pose_;
+  /// The rotary axes held now (CompensationOptions::hold), the `automatic` ones the program
+  /// has turned (free from then on), and where the program had them first.
+  unsigned rotary_axes_ = 0, held_rotary_ = 0, turned_ = 0;
+  model::ChainQ first_nominal_ = model::ChainQ::Constant(std::nan(""));
+  /// Holds before solving at `nominal`: an `automatic` axis the program turns there is free
+  /// from then on; where the held axes change, the solve's problem does.
+  void follow_holds(const model::ChainQ& nominal);
+  [[nodiscard]] unsigned rotary_axes_to_hold() const;
   InverseProblem problem_;
   InverseWorkspace workspace_;  ///< the last point solved, its solution and the solve matrix
   model::ForwardData data_, check_;

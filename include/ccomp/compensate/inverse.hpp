@@ -59,10 +59,14 @@ enum class OrientationEquations : std::uint8_t {
   tool_direction,  ///< two or more: the tool's direction in the part (two equations)
 };
 
-/// The axes the solve may move: the chain's linear and rotary axes (not the tool length).
+/// The axes the solve may move: the chain's linear and rotary axes (not the tool length),
+/// but those `held` names (bit k: chain variable k), which keep the program's values: a
+/// rotary axis the compensation must not turn (model::AxisHold). The orientation equations
+/// are those the axes left can answer; what the held ones would have corrected is reported.
 struct InverseProblem {
-  explicit InverseProblem(const model::ForwardModel& model);
+  explicit InverseProblem(const model::ForwardModel& model, unsigned held = 0);
   std::vector<int> unknowns;                       ///< chain variable indices moved by the solve
+  std::vector<int> held;                           ///< chain axes the solve keeps at the program's values
   std::vector<Eigen::Vector3d> rotary_directions;  ///< for each rotary unknown: its axis in the table frame at q=0
   std::vector<int> rotary_unknowns;                ///< their indices into q
   /// Where the linear and the rotary unknowns are among `unknowns`.

@@ -7,6 +7,7 @@
 #include <limits>
 #include <optional>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "ccomp/model/error_term.hpp"
@@ -17,9 +18,26 @@ namespace ccomp::model {
 
 enum class AxisType : std::uint8_t { linear, rotary };
 
+/// Whether the compensation may turn a rotary axis the program does not turn
+/// (docs/machine-model.md, "Axes the compensation holds").
+enum class AxisHold : std::uint8_t {
+  /// Held at the program's value until the program first turns it, then corrected as `free`:
+  /// an axis a program never commands (a 3-axis job on a machine with a table) stays still.
+  automatic,
+  /// Never turned by the compensation: it stands where the program puts it, and the other
+  /// axes take what they can (an indexing table on its detents, a table clamped while cutting).
+  clamped,
+  /// Corrected on every move, as a servo axis that holds any angle it is given.
+  free,
+};
+/// "auto", "clamped" (or "indexing", the same), "free"; nullopt for another word.
+[[nodiscard]] std::optional<AxisHold> axis_hold_named(std::string_view name);
+[[nodiscard]] std::string_view axis_hold_name(AxisHold hold);
+
 struct AxisSpec {
   char letter = 'X';
   AxisType type = AxisType::linear;
+  AxisHold hold = AxisHold::automatic;  ///< a rotary axis': see AxisHold
   double min = -std::numeric_limits<double>::infinity();  ///< mm or deg
   double max = std::numeric_limits<double>::infinity();
 };

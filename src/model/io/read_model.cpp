@@ -60,6 +60,14 @@ void read_axis_spec(const std::string& file, const YAML::Node& spec, AxisSpec& a
   if (!(a.min < a.max))
     bad(file, spec["max"] ? spec["max"] : spec["min"],
         fmt::format("axis {}: min {} is not below max {}", a.letter, a.min, a.max));
+  if (const YAML::Node hold = spec["hold"]) {
+    const std::string name = io::text(file, hold, fmt::format("axis {} hold", a.letter));
+    const std::optional<AxisHold> h = axis_hold_named(name);
+    if (!h) bad(file, hold, fmt::format("axis {}: hold '{}' is none of auto, clamped (or indexing), free", a.letter, name));
+    if (a.type != AxisType::rotary)
+      bad(file, hold, fmt::format("axis {}: hold is for a rotary axis (a linear axis is never held)", a.letter));
+    a.hold = *h;
+  }
 }
 
 void read_axes(const std::string& file, const YAML::Node& root, MachineModel& m) {
