@@ -305,7 +305,7 @@ TEST(Cli, DecimalsAsToldAndRefusedWhenTooCoarseForTheTolerance) {
   EXPECT_NE(three.err.find("warning: coordinates written to 3 decimals in mm"), std::string::npos) << three.err;
   EXPECT_NE(three.err.find("more than the tolerance of 1.00 um; the output is written"), std::string::npos)
       << three.err;
-  EXPECT_TRUE(std::regex_search(read_file(dir + "/three.ngc"), std::regex(R"(\nG0 X-30\.\d{3} Y-19\.\d{3} Z5\.\d{3} )")))
+  EXPECT_TRUE(std::regex_search(read_file(dir + "/three.ngc"), std::regex(R"(\nG0 X-30\.\d{3} Y-19\.\d{3} Z5\.\d{3}\s)")))
       << read_file(dir + "/three.ngc");
   const CommandResult two = run_command(base + "/two.ngc --decimals 2");
   EXPECT_EQ(two.exit_code, 2);
@@ -383,7 +383,8 @@ TEST(Cli, ToleranceThatIsNotMillimetresSaysSo) {
   const std::pair<std::string, std::string> refused[] = {
       {"0", "the value must be more than 0 mm"},      {"-0.001", "the value must be more than 0 mm"},
       {"inf", "'inf' is not a finite number"},        {"0.001x", "unknown unit 'x'"},
-      {"1", "did you mean 1um?"},
+      {"1", "a number without a unit is mm here, and 1 mm is not a plausible compensation tolerance (up to 0.1 mm); "
+            "did you mean 1um?"},
   };
   for (const std::string& command : {compensate, verify}) {
     for (const auto& [value, says] : refused) {

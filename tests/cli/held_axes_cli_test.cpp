@@ -32,7 +32,7 @@ JobRun compensate(const std::string& dir, const std::string& program, const std:
   const std::string out = dir + "/" + name + ".ngc";
   JobRun run;
   run.result = run_command(ccomp() + " " + shell_quote(sample("programs/" + program)) + " -m " + shell_quote(model) +
-                           " -o " + shell_quote(out) + " --json " + options);
+                           " --tool-table " + shell_quote(sample("tools.tbl")) + " -o " + shell_quote(out) + " --json " + options);
   if (fs::exists(out)) run.output = read_file(out);
   return run;
 }
@@ -61,8 +61,9 @@ double json_number(const std::string& json, const std::string& key) {
 }
 
 TEST(HeldAxes, AnAxisTheProgramNeverTurnsStaysStill) {
+  // (hold: auto, a table clamped while the program does not turn it; free is the default.)
   const std::string dir = temp_dir("held_pocket");
-  const JobRun held = compensate(dir, "pocket-xy.ngc", kHmc, "", "held");
+  const JobRun held = compensate(dir, "pocket-xy.ngc", kHmc, "--hold B=auto", "held");
   ASSERT_EQ(held.result.exit_code, 0) << held.result.err;
   EXPECT_TRUE(b_words(held.output).empty()) << "the compensation turned B, which the program never names";
   EXPECT_NE(held.result.out.find("\"held_axes\": [\"B\"]"), std::string::npos) << held.result.out;
@@ -71,11 +72,12 @@ TEST(HeldAxes, AnAxisTheProgramNeverTurnsStaysStill) {
   EXPECT_LE(json_number(held.result.out, "error_after_um"), 1.0) << held.result.out;
   const double held_turn = json_number(held.result.out, "orientation_error_urad");
   const CommandResult verify = run_command(ccomp() + " verify " + shell_quote(sample("programs/pocket-xy.ngc")) + " " +
-                                           shell_quote(dir + "/held.ngc") + " -m " + shell_quote(kHmc));
+                                           shell_quote(dir + "/held.ngc") + " -m " + shell_quote(kHmc) +
+                                           " --tool-table " + shell_quote(sample("tools.tbl")));
   EXPECT_EQ(verify.exit_code, 0) << verify.err;
 
-  // --hold B=free turns it as before: B words on the lines, less orientation error left.
-  const JobRun free = compensate(dir, "pocket-xy.ngc", kHmc, "--hold B=free", "free");
+  // By default (free) B is turned: B words on the lines, less orientation error left.
+  const JobRun free = compensate(dir, "pocket-xy.ngc", kHmc, "", "free");
   ASSERT_EQ(free.result.exit_code, 0) << free.result.err;
   EXPECT_FALSE(b_words(free.output).empty());
   EXPECT_NE(free.result.out.find("\"held_axes\": []"), std::string::npos) << free.result.out;
@@ -86,8 +88,8 @@ TEST(HeldAxes, TheSummarySaysWhichAxisWasHeldAndWhy) {
   const std::string dir = temp_dir("held_summary");
   const std::string out = dir + "/out.ngc";
   const std::string command = ccomp() + " " + shell_quote(sample("programs/pocket-xy.ngc")) + " -m " +
-                              shell_quote(kHmc) + " -o " + shell_quote(out);
-  const CommandResult automatic = run_command(command);
+                              shell_quote(kHmc) + " --tool-table " + shell_quote(sample("tools.tbl")) + " -o " + shell_quote(out);
+  const CommandResult automatic = run_command(command + " --hold B=auto");
   ASSERT_EQ(automatic.exit_code, 0) << automatic.err;
   EXPECT_NE(automatic.err.find("orientation error left"), std::string::npos) << automatic.err;
   EXPECT_NE(automatic.err.find("(B held (the program does not turn it))"), std::string::npos) << automatic.err;
@@ -97,17 +99,17 @@ TEST(HeldAxes, TheSummarySaysWhichAxisWasHeldAndWhy) {
 }
 
 TEST(HeldAxes, AClampedTableStandsWhereTheProgramPutsIt) {
-  // Two faces at B0 and B90: by default B is corrected once the program turns it; clamped
+  // Two faces at B0 and B90: under auto B is corrected once the program turns it; clamped
   // (an indexing table on its detents), every B written is the program's own.
   const std::string dir = temp_dir("held_faces");
-  const JobRun automatic = compensate(dir, "face-b0-b90.ngc", kHmc, "", "auto");
+  const JobRun automatic = compensate(dir, "face-b0-b90.ngc", kHmc, "--hold B=auto", "auto");
   ASSERT_EQ(automatic.result.exit_code, 0) << automatic.result.err;
   std::set<double> programmed;
   for (const double b : b_words(read_file(sample("programs/face-b0-b90.ngc")))) programmed.insert(b);
   ASSERT_EQ(programmed, (std::set<double>{0.0, 90.0}));
   bool corrected = false;
   for (const double b : b_words(automatic.output)) corrected = corrected || !programmed.count(b);
-  EXPECT_TRUE(corrected) << "B turned by the program is corrected by default";
+  EXPECT_TRUE(corrected) << "B turned by the program is corrected under auto";
 
   const JobRun clamped = compensate(dir, "face-b0-b90.ngc", kHmc, "--hold B", "clamped");
   ASSERT_EQ(clamped.result.exit_code, 0) << clamped.result.err;
@@ -116,7 +118,8 @@ TEST(HeldAxes, AClampedTableStandsWhereTheProgramPutsIt) {
   for (const double b : written) EXPECT_TRUE(programmed.count(b)) << "B" << b << " is not the program's";
   EXPECT_LE(json_number(clamped.result.out, "error_after_um"), 1.0) << clamped.result.out;
   EXPECT_EQ(run_command(ccomp() + " verify " + shell_quote(sample("programs/face-b0-b90.ngc")) + " " +
-                        shell_quote(dir + "/clamped.ngc") + " -m " + shell_quote(kHmc))
+                        shell_quote(dir + "/clamped.ngc") + " -m " + shell_quote(kHmc) +
+                        " --tool-table " + shell_quote(sample("tools.tbl")))
                 .exit_code,
             0);
 

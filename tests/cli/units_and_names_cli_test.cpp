@@ -19,6 +19,7 @@ std::string sample(const std::string& path) {
   return shell_quote(source_dir() + "/samples/" + path);
 }
 const std::string kPocket = sample("programs/pocket-xy.ngc");
+const std::string kTools = sample("tools.tbl");
 const std::string kHmc = sample("machines/hmc-xyzb-geometric.yaml");
 const std::string kData = sample("measurements/hmc-laser-grid-sphere.csv");
 
@@ -72,7 +73,7 @@ INSTANTIATE_TEST_SUITE_P(
 /// The main job's output and stderr for `options`.
 CommandResult compensate(const std::string& dir, const std::string& name, const std::string& options) {
   const std::string out = dir + "/" + name + ".ngc";
-  CommandResult r = run_command(ccomp() + " " + kPocket + " -m " + kHmc + " -o " + shell_quote(out) + " " + options);
+  CommandResult r = run_command(ccomp() + " " + kPocket + " -m " + kHmc + " --tool-table " + kTools + " -o " + shell_quote(out) + " " + options);
   r.out = fs::exists(out) ? read_file(out) : "";
   return r;
 }
@@ -112,7 +113,7 @@ TEST(CliNames, HelpAndACorrectCommandAreNotTakenForMistakes) {
   const std::string dir = temp_dir("cli_names_file");
   fs::copy_file(source_dir() + "/samples/programs/pocket-xy.ngc", dir + "/chek");
   const CommandResult r =
-      run_command("cd " + shell_quote(dir) + " && " + ccomp() + " chek -m " + kHmc + " -o out.ngc -q");
+      run_command("cd " + shell_quote(dir) + " && " + ccomp() + " chek -m " + kHmc + " --tool-table " + kTools + " -o out.ngc -q");
   EXPECT_EQ(r.exit_code, 0) << r.err;
 }
 

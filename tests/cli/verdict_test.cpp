@@ -120,10 +120,11 @@ TEST(Verdict, AnOutputOverTheToleranceIsWrittenSaidSoAndExitsWithOne) {
   EXPECT_NE(piped.err.find("<stdout>"), std::string::npos) << piped.err;
 }
 
-// --tolerance 1 is a millimetre: the arcs become chords far off the path, within that
-// tolerance but far worse than the program as written. Written, said so, exit 1.
+// --tolerance 1mm (a bare 1 is refused as implausible): the arcs become chords far off the
+// path, within that tolerance but far worse than the program as written. Written, said so,
+// exit 1.
 TEST(Verdict, AnOutputWorseThanTheProgramAsWrittenExitsWithOne) {
-  const SampleRun r{"vmc-xyz", "pocket-xy.ngc", " --tolerance 1"};
+  const SampleRun r{"vmc-xyz", "pocket-xy.ngc", " --tolerance 1mm"};
   const std::string dir = temp_dir("verdict_worse");
   const CommandResult job = compensate(r, dir + "/p.ngc");
   EXPECT_EQ(job.exit_code, 1) << job.err;

@@ -35,7 +35,8 @@ TEST(WorkOffsets, RefusalsNameTheWord) {
   };
   for (const Case& c : {Case{"G53=X1", "'G53' is not a coordinate system"}, Case{"G54=Q1", "'Q' is not an axis"},
                         Case{"G54=X1,X2", "axis X is given twice"}, Case{"G54=Xabc", "has no number after X"},
-                        Case{"G54=X5deg", "not a unit of length"}, Case{"G54=B5mm", "not a unit of angle"},
+                        Case{"G54=X5deg", "'deg' measures angle, but length belongs here"},
+                        Case{"G54=B5mm", "'mm' measures length, but angle belongs here"},
                         Case{"G54=Xnan", "not a finite number"}, Case{"G54=", "gives no axis"}, Case{"G55", "gives no axis"}, Case{"G54=X1e300", "beyond any machine"}}) {
     const Error e = test::error_of([&] { (void)parse_work_offset(c.text, "--work-offset"); }, c.text);
     EXPECT_EQ(e.kind(), ErrorKind::usage) << c.text;

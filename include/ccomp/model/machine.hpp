@@ -37,7 +37,7 @@ enum class AxisHold : std::uint8_t {
 struct AxisSpec {
   char letter = 'X';
   AxisType type = AxisType::linear;
-  AxisHold hold = AxisHold::automatic;  ///< a rotary axis': see AxisHold
+  AxisHold hold = AxisHold::free;  ///< a rotary axis': see AxisHold
   double min = -std::numeric_limits<double>::infinity();  ///< mm or deg
   double max = std::numeric_limits<double>::infinity();
 };
