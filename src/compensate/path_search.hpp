@@ -280,9 +280,9 @@ class PathSearch {
   /// have turned on it.
   [[nodiscard]] bool past_start(const Eigen::Vector3d& p, std::size_t i, double best) {
     const Piece& piece = window()[i];
-    const double from_start = (p - piece.a).norm();
     if (piece.arc && (piece.b - piece.a).norm() <= kUncutMm)
       return i == cursor_ && turned_ * 0.5 * (piece.r0 + piece.r1) > slack(best);
+    const double from_start = (p - piece.a).norm();
     return from_start > slack(best) || (p - piece.b).norm() < from_start;
   }
 
@@ -307,9 +307,11 @@ class PathSearch {
   /// Pieces past those reachable that the first search near the cursor takes too: the ones
   /// just ahead, which move_cursor() follows across junctions.
   static constexpr std::size_t kNearAhead = 8;
-  /// Pieces behind the cursor the first search takes: a point just past a junction, or one
-  /// that turned back a little.
+  /// Pieces behind the cursor the first search takes at least: a point just past a
+  /// junction, or one that turned back a little.
   static constexpr std::size_t kNearBehind = 4;
+  /// mm: the least slack a nearest distance gives the pieces near with it (slack()).
+  static constexpr double kLeastSlack = 0.5e-3;
   [[nodiscard]] std::size_t behind() const { return cursor_ > kBehind ? cursor_ - kBehind : 0; }
   /// The path's available(end), asked again only when the end moved or fell short: the
   /// window's end only grows, so an end once reached stays reached (and the cursor stands
@@ -318,24 +320,40 @@ class PathSearch {
     if (end != asked_end_ || available_to_ < end) asked_end_ = end, available_to_ = path_.available(end);
     return available_to_;
   }
-  static double slack(double d) { return d + std::max(d, 0.5e-3); }
+  static double slack(double d) { return d + std::max(d, kLeastSlack); }
 
-  /// The pieces near the cursor first: the few behind it and those the point can have come
-  /// to from it without passing over a cut (and a few more). Where one of them is within
-  /// kCandidateRadius of p, that settles it; else the whole window ahead is searched (a cut
-  /// missing, or a point far off its path). A path that comes back to the same place
+  /// The pieces near the cursor first: those just behind it and those the point can have
+  /// come to from it without passing over a cut (and a few more). One of them within 0.5 um
+  /// (the least slack, kLeastSlack) settles it: a piece of the window nearer still would
+  /// find it near too, and where the cursor goes is decided among the pieces it can reach,
+  /// all of them here. Else the whole window is searched (a cut
+  /// missing, a point far off its path); where the piece near the cursor is within the slack
+  /// of the nearest it finds, the near one is kept, as the cut the point makes (a later pass
+  /// over the same place is not what it cuts). A path that comes back to the same place
   /// (repeated circles, a contour traced many times) would otherwise be searched piece by
-  /// piece along the whole window at every point. Near the cursor is also the truer answer:
-  /// a point measured against a later pass over the same place would be said nearer than it
-  /// is to the cut it makes.
+  /// piece along the whole window at every point.
   double search_near_then_ahead(const Eigen::Vector3d& p, std::size_t from, std::size_t to) {
-    const std::size_t local_from = std::max(from, cursor_ > kNearBehind ? cursor_ - kNearBehind : 0);
-    const std::size_t local_to = reachable_end(p, to);
-    if (local_from > from || local_to < to) {
-      const double best = gather_near(p, local_from, local_to);
-      if (!near_.empty() && best <= kCandidateRadius) return best;
+    const std::size_t local_from = behind_from(from), local_to = reachable_end(p, to);
+    if (local_from == from && local_to == to) return gather_near(p, from, to);
+    const double near = gather_near(p, local_from, local_to);
+    if (!near_.empty() && near <= kLeastSlack) return near;
+    local_near_.assign(near_.begin(), near_.end());
+    const double far = gather(p, from, to);
+    if (local_near_.empty() || near > slack(far)) return far;
+    near_.swap(local_near_);
+    return near;
+  }
+
+  /// The first piece the search near the cursor takes: kNearBehind pieces back, and on back
+  /// until they are kCandidateRadius long (a table turning near its axis makes pieces of
+  /// tenths of a micrometre); not before `from`.
+  [[nodiscard]] std::size_t behind_from(std::size_t from) {
+    std::size_t first = cursor_;
+    for (double length = 0.0; first > from && (cursor_ - first < kNearBehind || length < kCandidateRadius);) {
+      --first;
+      length += window()[first].length();
     }
-    return gather_near(p, from, to);
+    return first;
   }
 
   /// One past the last piece the point can have come to without passing over more cut than
@@ -584,6 +602,7 @@ class PathSearch {
   std::size_t asked_end_ = 0, available_to_ = 0;      ///< available()'s last question and answer
   std::size_t uncut_from_ = 0;                        ///< the first piece after the furthest the search has been
   std::vector<std::pair<std::size_t, double>> near_;  ///< pieces near the point, and their distances
+  std::vector<std::pair<std::size_t, double>> local_near_;  ///< near_ of the search near the cursor, kept
   // The last gathering: where, the window it searched (certified_to_ grows with the window),
   // and the pieces within kCandidateRadius of its point, in program order.
   bool gathered_ = false;

@@ -78,15 +78,15 @@ void split_mean_deviation(PositioningReport& report) {
     const Eigen::MatrixXd Q = qr.householderQ() * Eigen::MatrixXd::Identity(n, 4);
     const Eigen::VectorXd r0 = y - D0 * cubic;
     Eigen::MatrixXd C(n, 2);
-    const int points = static_cast<int>(std::clamp(4.0 * (2 * half) / from, 20.0, 4000.0));
-    const double f0 = 1.0 / from, df = (1.0 / to - 1.0 / from) / (points - 1);
+    const int frequencies = static_cast<int>(std::clamp(4.0 * (2 * half) / from, 20.0, 4000.0));
+    const double f0 = 1.0 / from, df = (1.0 / to - 1.0 / from) / (frequencies - 1);
     // Each target's cos and sin over the frequencies by rotation (one complex product per
     // step, not two calls to the trigonometric functions), set afresh every 64 steps.
     std::vector<std::complex<double>> phase(static_cast<std::size_t>(n)), turn(static_cast<std::size_t>(n));
     for (Eigen::Index i = 0; i < n; ++i)
       turn[static_cast<std::size_t>(i)] = std::polar(1.0, 2 * std::numbers::pi * x[i] * df);
     Eigen::MatrixXd QtC(4, 2);
-    for (int k = 0; k < points; ++k) {
+    for (int k = 0; k < frequencies; ++k) {
       const double f = f0 + df * k;
       for (Eigen::Index i = 0; i < n; ++i) {
         std::complex<double>& z = phase[static_cast<std::size_t>(i)];

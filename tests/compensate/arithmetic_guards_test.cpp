@@ -125,8 +125,8 @@ terms:
   try {
     (void)compensate(program, mm, o);
     ADD_FAILURE() << "a tolerance of 1e-320 mm was taken";
-  } catch (const Error& e) {
-    EXPECT_EQ(e.kind(), ErrorKind::usage) << e.what();
+  } catch (const Error& refusal) {
+    EXPECT_EQ(refusal.kind(), ErrorKind::usage) << refusal.what();
   }
 }
 

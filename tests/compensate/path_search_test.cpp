@@ -217,6 +217,30 @@ TEST(PathSearch, ManyTurnsOfTheSameCircleAreEachFoundCutAndOneLeftOutIsNamed) {
   }
 }
 
+TEST(PathSearch, APassLeftOutOfARasterCloserThanTheCandidateRadiusIsNamed) {
+  // A one-way raster: six passes of 10 mm, 20 um apart, each of ten pieces, a rapid back
+  // between them. The output leaves out the fourth: the point after the rapid lands on the
+  // fifth, 20 um from the fourth it is said to skip; that pass is named, by its first line.
+  std::vector<Piece> pieces;
+  for (int pass = 0; pass < 6; ++pass)
+    for (int k = 0; k < 10; ++k)
+      pieces.push_back(segment({k * 1.0, 0.02 * pass, 0}, {(k + 1) * 1.0, 0.02 * pass, 0},
+                               static_cast<std::uint32_t>(10 + 10 * pass + k)));
+  ListPath path(pieces);
+  PathSearch<ListPath> search(path);
+  for (const int pass : {0, 1, 2, 4, 5}) {
+    search.rapid();
+    for (int k = 0; k <= 40; ++k) {
+      const std::optional<double> d = search.distance({0.25 * k, 0.02 * pass, 0});
+      ASSERT_TRUE(d.has_value());
+      EXPECT_LT(*d, 1e-12) << "pass " << pass << ", point " << k;
+    }
+  }
+  const auto [length, line] = search.uncut();
+  EXPECT_NEAR(length, 10.0, 1e-9);
+  EXPECT_EQ(line, 40u);
+}
+
 TEST(PathSearch, ASegmentShownFartherByItsBallIsFarther) {
   // What skipping a piece on its ball rests on: where farther_than(p, d) says so, the
   // segment's distance from p is more than d, for segments of a micrometre to 100 mm far

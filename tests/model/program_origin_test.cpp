@@ -55,8 +55,8 @@ TEST_P(ProgramOrigin, ARotaryErrorsLeverIsTheArmFromProgramZero) {
 INSTANTIATE_TEST_SUITE_P(Samples, ProgramOrigin,
                          ::testing::Values(Sample{"hmc-xyzb.yaml", 'B'}, Sample{"hmc-xyzb-geometric.yaml", 'B'},
                                            Sample{"vmc-xyza-trunnion.yaml", 'A'}),
-                         [](const ::testing::TestParamInfo<Sample>& info) {
-                           std::string name = info.param.file;
+                         [](const ::testing::TestParamInfo<Sample>& sample) {
+                           std::string name = sample.param.file;
                            name = name.substr(0, name.find('.'));
                            for (char& c : name)
                              if (c == '-') c = '_';

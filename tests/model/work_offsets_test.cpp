@@ -107,7 +107,7 @@ TEST(WorkOffsets, TheHeaderCarriesThemToVerify) {
   WorkOffsets offsets;
   offsets.set(1, WorkOrigin{-35, 20, -330.25, 0, 0.5});
   offsets.set(7, WorkOrigin{1});
-  const std::string line = compensate::header_line(m, 0.001, {offsets});
+  const std::string line = compensate::header_line(m, 0.001, {offsets, {}, std::nullopt});
   EXPECT_NE(line.find("work offsets G54 X-35 Y20 Z-330.25 B0.5, G59.1 X1 Y0 Z0"), std::string::npos) << line;
   const auto facts = compensate::read_header(line);
   ASSERT_TRUE(facts.has_value());
