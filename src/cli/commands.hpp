@@ -129,6 +129,8 @@ struct IdentifyArgs {
   std::string axis;
   std::string source;
   std::string angle_unit = "arcsec";  ///< a rotary axis' deviations: arcsec or urad
+  std::string instrument, uncertainty;  ///< what the report states, over the files'
+  std::vector<std::string> temperatures;  ///< NAME=DEGC
   // one-axis instrument files (import, and every command reading measurements)
   std::vector<std::string> at;  ///< AXIS=VALUE[,AXIS=VALUE]
   std::string unit;             ///< the deviations' unit where the file states none

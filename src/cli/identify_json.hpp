@@ -9,6 +9,7 @@
 #include "ccomp/identify/measurements.hpp"
 #include "ccomp/identify/nine_line.hpp"
 #include "ccomp/identify/positioning.hpp"
+#include "ccomp/identify/stated_conditions.hpp"
 #include "ccomp/model/forward.hpp"
 
 namespace ccomp::cli {
@@ -23,6 +24,6 @@ namespace ccomp::cli {
                                      const identify::Diagnosis& d);
 /// `angle_unit`: a rotary axis' deviations in "arcsec" or "urad" (src/cli/positioning.cpp).
 [[nodiscard]] std::string positioning_json(const std::string& axis, const identify::PositioningReport& r,
-                                           const std::string& angle_unit);
+                                           const std::string& angle_unit, const identify::StatedConditions& stated);
 
 }  // namespace ccomp::cli

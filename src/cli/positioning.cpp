@@ -96,10 +96,51 @@ std::size_t axis_index(const std::string& axis) {
   return i;
 }
 
+/// What the files and the options state of the test: ISO 230-2's report gives the
+/// instrument, the temperatures and the uncertainty of measurement beside the figures.
+identify::StatedConditions stated_of(const identify::MeasurementSet& data, const IdentifyArgs& args) {
+  std::vector<identify::StatedField> fields = data.stated;
+  if (!args.instrument.empty()) fields.push_back({"Instrument", args.instrument, "--instrument"});
+  if (!args.uncertainty.empty()) fields.push_back({"Uncertainty", args.uncertainty, "--uncertainty"});
+  for (const std::string& t : args.temperatures) fields.push_back(identify::temperature_option(t));
+  return identify::sort_stated(fields);
+}
+
+constexpr std::string_view kNotStated = "not stated";
+
+void print_stated(const identify::StatedConditions& s) {
+  fmt::print("the test as stated (the report gives these beside the figures):\n");
+  fmt::print("  instrument     {}\n", s.instrument ? s.instrument->value : std::string(kNotStated) + " (--instrument)");
+  if (s.temperatures.empty()) fmt::print("  temperatures   {} (--temperature air=20.3, repeatable)\n", kNotStated);
+  for (const auto& t : s.temperatures) fmt::print("  temperature    {}: {:.2f} degC\n", t.name, t.degc);
+  fmt::print("  uncertainty    {}\n",
+             s.uncertainty ? s.uncertainty->value
+                           : std::string(kNotStated) + " (--uncertainty \"U = 1.2 um, k = 2, ISO 230-9\")");
+  for (const identify::StatedField& f : s.others) fmt::print("  {}: {}\n", f.key, f.value);
+}
+
+void write_stated(util::JsonWriter& j, const identify::StatedConditions& s) {
+  j.key("stated").begin_object();
+  const auto text = [&](std::string_view name, const std::optional<identify::StatedField>& f) {
+    if (f)
+      j.field(name, f->value);
+    else
+      j.key(name).null();
+  };
+  text("instrument", s.instrument);
+  text("uncertainty", s.uncertainty);
+  j.key("temperatures").begin_array();
+  for (const auto& t : s.temperatures) j.begin_object().field("name", t.name).field("degC", t.degc).field("source", t.source).end_object();
+  j.end_array().key("others").begin_array();
+  for (const identify::StatedField& f : s.others)
+    j.begin_object().field("key", f.key).field("value", f.value).field("source", f.source).end_object();
+  j.end_array().end_object();
+}
+
 }  // namespace
 
 std::string positioning_json(const std::string& axis, const identify::PositioningReport& r,
-                             const std::string& angle) {
+                             const std::string& angle, const identify::StatedConditions& stated) {
   const DeviationUnit u = unit_for(r, angle);
   const double k = u.per_internal;
   util::JsonWriter j;
@@ -139,6 +180,7 @@ std::string positioning_json(const std::string& axis, const identify::Positionin
     j.end_object();
   }
   j.end_array();
+  write_stated(j, stated);
   return j.end_object().text();
 }
 
@@ -158,6 +200,11 @@ CLI::App* add_positioning(CLI::App& app, IdentifyArgs& args) {
   cmd->add_option("--angle-unit", args.angle_unit, "a rotary axis' deviations in arcsec (default) or urad")
       ->check(CLI::IsMember({"arcsec", "urad"}));
   cmd->add_flag("--json", args.json, "the figures as JSON on stdout");
+  cmd->add_option("--instrument", args.instrument, "the instrument, for the report (over what the files state)");
+  cmd->add_option("--temperature", args.temperatures,
+                  "NAME=DEGC: a temperature during the test, for the report (air, material, machine; repeatable)");
+  cmd->add_option("--uncertainty", args.uncertainty,
+                  "the uncertainty of measurement, for the report (\"U = 1.2 um, k = 2, ISO 230-9\")");
   add_reading_options(*cmd, args, false);  // its --axis names a one-axis file's axis too
   return cmd;
 }
@@ -174,15 +221,18 @@ int run_positioning(const IdentifyArgs& args) {
   if (!m.axis(letter))
     throw Error(ErrorKind::usage, fmt::format("--axis {}: machine '{}' has no axis {}", args.axis, m.name, letter));
   const model::ForwardModel forward(m);
+  const identify::StatedConditions stated = stated_of(data, args);
   const identify::PositioningReport r = identify::analyse_positioning(data, axis, args.source, &forward);
   if (args.json) {
-    fmt::print("{}", positioning_json(std::string(1, static_cast<char>(std::tolower(letter))), r, args.angle_unit));
+    fmt::print("{}", positioning_json(std::string(1, static_cast<char>(std::tolower(letter))), r, args.angle_unit,
+                                      stated));
     return 0;
   }
   const DeviationUnit u = unit_for(r, args.angle_unit);
   print_figures(r, u, letter);
   print_targets(r, u);
   print_split(r, u);
+  print_stated(stated);
   return 0;
 }
 

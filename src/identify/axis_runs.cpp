@@ -284,6 +284,7 @@ void append_axis_runs(const AxisRuns& runs, const std::string& name, const model
   const std::size_t first_observation = into.observations.size();
   const auto file_index = static_cast<std::uint32_t>(into.files.size());
   into.files.push_back(name);
+  into.stated.insert(into.stated.end(), runs.stated.begin(), runs.stated.end());
   if (into.sensors.empty()) into.sensors = model.sensors;
   // The file's name without folder and extension: a laser line saved as x-line1.rtl is source x-line1.
   const std::string label = options.source.empty() ? std::filesystem::path(name).stem().string() : options.source;

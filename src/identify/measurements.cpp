@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <array>
+#include <cctype>
 #include <charconv>
 #include <cmath>
 #include <fstream>
@@ -18,6 +19,27 @@
 
 namespace ccomp::identify {
 namespace {
+
+std::string lower_ascii(std::string_view text) {
+  std::string out(text);
+  for (char& c : out) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return out;
+}
+
+/// A "# key: value" comment before the header ("# instrument: Renishaw XL-80", "# air
+/// temperature: 20.3"): what the file states beside its readings (the report's).
+std::optional<StatedField> stated_comment(std::string_view line, const std::string& name) {
+  if (line.empty() || line.front() != '#') return std::nullopt;
+  const std::size_t colon = line.find(':');
+  if (colon == std::string_view::npos) return std::nullopt;
+  auto trimmed = [](std::string_view t) {
+    const std::size_t a = t.find_first_not_of(" \t\r#"), b = t.find_last_not_of(" \t\r");
+    return a == std::string_view::npos ? std::string() : std::string(t.substr(a, b - a + 1));
+  };
+  std::string key = trimmed(line.substr(0, colon)), value = trimmed(line.substr(colon + 1));
+  if (key.empty() || value.empty() || key.size() > 60) return std::nullopt;
+  return StatedField{std::move(key), std::move(value), name};
+}
 
 /// The largest magnitude a reading's number may have (mm, deg, s, degC).
 constexpr double kLargestReading = 1e7;
@@ -180,6 +202,8 @@ void io::read_contract(std::istream& stream, const std::string& name, const mode
     if (is_frame_line(line)) {
       if (file_frame) fail(number, 1, "a second '# frame:' line: a file has one frame");
       file_frame = parse_frame_line(line, name, number);
+    } else if (std::optional<StatedField> stated = stated_comment(line, name)) {
+      into.stated.push_back(std::move(*stated));
     }
     if (line.find_first_not_of(" \t\r") == std::string::npos || line.front() == '#') continue;
     // A spreadsheet set to a decimal comma writes semicolons (or tabs) between fields.
@@ -425,7 +449,11 @@ double predict(const model::ForwardModel& model, model::ForwardData& data, const
 }
 
 std::string to_csv(const MeasurementSet& set, const model::MachineModel& model, const ResolvedFrame& frame) {
-  std::string out = frame_line(frame) + "\nx,y,z";
+  std::string out = frame_line(frame) + "\n";
+  // What the files state beside their readings, as the comments the reader takes back.
+  for (const StatedField& f : set.stated)
+    if (lower_ascii(f.key) != "frame" && f.key.size() <= 60) out += fmt::format("# {}: {}\n", f.key, f.value);
+  out += "x,y,z";
   std::vector<std::size_t> rotary;
   for (const model::AxisSpec& a : model.axes)
     if (a.type == model::AxisType::rotary) {

@@ -10,6 +10,7 @@
 
 #include "ccomp/error.hpp"
 #include "ccomp/identify/positioning.hpp"
+#include "ccomp/identify/stated_conditions.hpp"
 #include "ccomp/util/interval.hpp"
 #include "report/figures.hpp"
 #include "report/source_shape.hpp"
@@ -286,7 +287,23 @@ std::vector<Figure> rotary_figures(const CheckReportInput& in, const SourceShape
   return out;
 }
 
-std::string iso_table(const std::vector<std::pair<std::string, identify::PositioningReport>>& reports) {
+/// What the files state of the test (identify::StatedConditions), which ISO 230-2's report
+/// gives beside the figures: "not stated" where nothing does.
+std::string stated_note(const identify::MeasurementSet& data) {
+  const identify::StatedConditions s = identify::sort_stated(data.stated);
+  const std::string not_stated = "<em>not stated</em>";
+  std::string temperatures;
+  for (const auto& t : s.temperatures)
+    temperatures += fmt::format("{}{} {:.2f} &deg;C", temperatures.empty() ? "" : ", ", html_escape(t.name), t.degc);
+  return fmt::format(
+      "<p class=\"note\">The test as its files state it: instrument {}; temperatures {}; uncertainty of measurement "
+      "{}.</p>\n",
+      s.instrument ? html_escape(s.instrument->value) : not_stated, temperatures.empty() ? not_stated : temperatures,
+      s.uncertainty ? html_escape(s.uncertainty->value) : not_stated);
+}
+
+std::string iso_table(const std::vector<std::pair<std::string, identify::PositioningReport>>& reports,
+                      const identify::MeasurementSet& data) {
   if (reports.empty()) return "";
   std::string html =
       "<h3>ISO 230-2 positioning figures</h3>\n<table><tr><th>source</th><th>axis</th><th>targets</th><th>runs "
@@ -303,7 +320,7 @@ std::string iso_table(const std::vector<std::pair<std::string, identify::Positio
         "class=\"num\">{} / {}</td><td class=\"num\">{}</td><td class=\"num\">{}</td><td "
         "class=\"num\">{}</td><td class=\"num\">{}</td><td class=\"num\">{}</td><td class=\"num\">{} / "
         "{}</td></tr>\n",
-        html_escape(source), "XYZ"[r.axis], r.targets.size(), r.runs_up, r.runs_down, shown(r.A), shown(r.A_up),
+        html_escape(source), axis_letter(r.axis), r.targets.size(), r.runs_up, r.runs_down, shown(r.A), shown(r.A_up),
         shown(r.A_down), shown(r.B), r.B_mean ? fmt::format("{:+.3f}", *r.B_mean * kUm) : std::string("&ndash;"),
         shown(r.E), shown(r.M), shown(r.R), shown(r.R_up), shown(r.R_down));
   }
@@ -314,7 +331,7 @@ std::string iso_table(const std::vector<std::pair<std::string, identify::Positio
     html +=
         " &ndash;: not stated: one run in a direction gives no spread, so A and R (which include 2s and 4s) are not "
         "stated, and a line read one way only has no bidirectional figures; ISO 230-2 asks for 5 runs each way.";
-  return html + "</p>\n";
+  return html + "</p>\n" + stated_note(data);
 }
 
 }  // namespace
@@ -350,7 +367,7 @@ std::vector<Section> source_sections(const CheckReportInput& in, FigureIds& ids)
       "moving axis, runs moving up (&#9650;) and down (&#9660;) apart. Solid curves: the model's error motion "
       "refitted to these data; dotted: the model as it is. A gap between the up and down points that the curves do "
       "not follow is a reversal the model lacks.</p>\n" +
-      iso_table(iso_reports);
+      iso_table(iso_reports, in.data);
   grids.html =
       "<p>Points spread over the workspace (a grid, a test piece), one plot per direction read, points in file "
       "order: measured (&#9675;), the model refitted (&#9679;) and as it is (&times;).</p>\n";

@@ -200,8 +200,10 @@ TEST(IdentifyCli, InstrumentFilesAreImportedOrReadDirectly) {
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_NE(r.err.find("renishaw-rtl file, 24 observations"), std::string::npos) << r.err;
   const std::string converted_text = read_file(dir + "/x.csv");
-  EXPECT_EQ(std::count(converted_text.begin(), converted_text.end(), '\n'), 26) << "its frame, the header, 24 rows";
+  EXPECT_EQ(std::count(converted_text.begin(), converted_text.end(), '\n'), 30)
+      << "its frame, what it states (title, machine, two temperatures), the header, 24 rows";
   EXPECT_TRUE(converted_text.starts_with("# frame:")) << converted_text.substr(0, 80);
+  EXPECT_NE(converted_text.find("\n# Air temperature: 20.9\n"), std::string::npos) << converted_text.substr(0, 400);
   // The native file and its conversion give the same figures.
   const std::string model = " -m " + sample("hmc-xyzb-geometric.yaml");
   const CommandResult native = run_command(ccomp() + " positioning " + laser + model + " --axis x" + place);

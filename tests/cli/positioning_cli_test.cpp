@@ -83,5 +83,56 @@ TEST(PositioningCli, OneWayRunsGiveTheUnidirectionalFigures) {
   EXPECT_TRUE(std::isnan(json_number(json.out, "M")));
 }
 
+TEST(PositioningCli, TheReportStatesTheInstrumentTemperaturesAndUncertaintyOrSaysTheyAreNot) {
+  const std::string dir = temp_dir("positioning_stated");
+  const std::string args = " positioning " + sample("measurements/x-laser.rtl") + " -m " +
+                           sample("machines/hmc-xyzb-geometric.yaml") + " --axis x --at y=-360,z=-400";
+  // The laser file states two temperatures and its machine; nothing states the instrument
+  // or the uncertainty, and the report says so.
+  const CommandResult text = run_command(ccomp() + args);
+  ASSERT_EQ(text.exit_code, 0) << text.err;
+  EXPECT_NE(text.out.find("temperature    Material temperature: 20.40 degC"), std::string::npos) << text.out;
+  EXPECT_NE(text.out.find("temperature    Air temperature: 20.90 degC"), std::string::npos) << text.out;
+  EXPECT_NE(text.out.find("instrument     not stated (--instrument)"), std::string::npos) << text.out;
+  EXPECT_NE(text.out.find("uncertainty    not stated"), std::string::npos) << text.out;
+  EXPECT_NE(text.out.find("  Machine: HMC sample"), std::string::npos) << text.out;
+
+  const CommandResult json = run_command(ccomp() + args +
+                                         " --json --instrument 'Renishaw XL-80' --temperature machine=20.6"
+                                         " --uncertainty 'U = 1.2 um, k = 2'");
+  ASSERT_EQ(json.exit_code, 0) << json.err;
+  write_file(dir + "/stated.json", json.out);
+  const CommandResult v = validate(dir + "/stated.json");
+  EXPECT_EQ(v.exit_code, 0) << v.out << v.err << json.out;
+  EXPECT_NE(json.out.find("\"instrument\": \"Renishaw XL-80\""), std::string::npos) << json.out;
+  EXPECT_NE(json.out.find("\"uncertainty\": \"U = 1.2 um, k = 2\""), std::string::npos) << json.out;
+  EXPECT_NE(json.out.find("\"name\": \"machine temperature\""), std::string::npos) << json.out;
+  EXPECT_NEAR(json_number(json.out, "degC"), 20.4, 1e-12) << "the file's first temperature, as it states it";
+
+  // A contract CSV states them in '# key: value' lines before its header.
+  std::string csv = read_file(source_dir() + "/samples/measurements/x-axis-contract.csv");
+  csv = "# instrument: XL-80\n# air temperature: 20,7\n" + csv;
+  write_file(dir + "/x.csv", csv);
+  const CommandResult from_csv = run_command(ccomp() + " positioning " + shell_quote(dir + "/x.csv") + " -m " +
+                                             sample("machines/hmc-xyzb-geometric.yaml") + " --axis x");
+  ASSERT_EQ(from_csv.exit_code, 0) << from_csv.err;
+  EXPECT_NE(from_csv.out.find("instrument     XL-80"), std::string::npos) << from_csv.out;
+  EXPECT_NE(from_csv.out.find("air temperature: 20.70 degC"), std::string::npos) << from_csv.out;
+
+  // check's page gives them under its ISO 230-2 table.
+  const CommandResult page = run_command(ccomp() + " check " + sample("measurements/x-laser.rtl") + " -m " +
+                                         sample("machines/hmc-xyzb-geometric.yaml") + " --at y=-360,z=-400 --report " +
+                                         shell_quote(dir + "/check.html"));
+  ASSERT_EQ(page.exit_code, 0) << page.err;
+  const std::string html = read_file(dir + "/check.html");
+  EXPECT_NE(html.find("instrument <em>not stated</em>; temperatures Material temperature 20.40 &deg;C, Air "
+                      "temperature 20.90 &deg;C; uncertainty of measurement <em>not stated</em>"),
+            std::string::npos);
+
+  const CommandResult bad = run_command(ccomp() + args + " --temperature air");
+  EXPECT_EQ(bad.exit_code, 2) << bad.err;
+  EXPECT_NE(bad.err.find("--temperature air: give NAME=DEGC"), std::string::npos) << bad.err;
+}
+
 }  // namespace
 }  // namespace ccomp::test

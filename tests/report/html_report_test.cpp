@@ -108,6 +108,10 @@ TEST(HtmlReport, IsSelfContainedAndRendersInChromium) {
   EXPECT_NE(page.find("{\"text\":\"1. EYY reversal on y-line"), std::string::npos);
   // ISO 230-2 with the two runs the simulation made: its bands are drawn.
   EXPECT_NE(page.find("mean &plusmn; 2s of 2 runs up, 2 down"), std::string::npos);
+  // The simulation's file states neither its instrument nor its temperatures: said so.
+  EXPECT_NE(page.find("The test as its files state it: instrument <em>not stated</em>; temperatures <em>not "
+                      "stated</em>"),
+            std::string::npos);
   // Parameters in the model file's units, as fit prints them: EXX's slope is 0.012 um/mm in
   // the file (1.2e-05 in mm/mm).
   EXPECT_TRUE(std::regex_search(page, std::regex(R"re(<td>EXX\.a1</td><td>µm/mm</td><td class="num">0\.012</td>)re")))

@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "ccomp/identify/measurements.hpp"
+#include "ccomp/identify/stated_conditions.hpp"
 
 namespace ccomp::identify {
 
@@ -36,6 +37,7 @@ struct AxisRuns {
   std::uint32_t unit_line = 0;  ///< where the file states a unit (0: nowhere)
   std::optional<MeasurementFrame> frame;  ///< its own '# frame:' line, if it has one
   std::vector<AxisReading> readings;  ///< in the file's order
+  std::vector<StatedField> stated;    ///< the file's other settings (the report's)
 };
 
 /// Appends `runs` (read from the file `name`) to `into` as the contract's observations along

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "ccomp/identify/measurement_frame.hpp"
+#include "ccomp/identify/stated_conditions.hpp"
 #include "ccomp/model/forward.hpp"
 
 namespace ccomp::identify {
@@ -45,6 +46,9 @@ struct MeasurementSet {
   std::vector<std::string> sources;  ///< labels from the `source` column (or the file name)
   std::vector<Observation> observations;
   std::vector<std::string> notices;  ///< unknown columns, ignored
+  /// What the files state beside the readings (instrument, temperatures, uncertainty, title):
+  /// the report's, not the data's.
+  std::vector<StatedField> stated;
   std::vector<VariableRange> ranges;
 
   /// The conditions of an observation, for the forward model.

@@ -57,13 +57,16 @@ bool is_header(std::string_view line) {
 
 /// A line before the header saying "key: value" (or "key;value"): the axis or a unit.
 struct Setting {
-  std::string key, value;
+  std::string key, value, written;  ///< key folded, its value, the key as written
 };
 std::optional<Setting> setting_of(std::string_view line) {
   const std::size_t at = line.find_first_of(":;=\t");
   if (at == std::string_view::npos) return std::nullopt;
   std::vector<Field> value = split_fields(line.substr(at + 1), '\0');
-  return Setting{fold(line.substr(0, at)), value.front().text};
+  const std::vector<Field> key = split_blanks(line.substr(0, at));
+  std::string written;
+  for (const Field& w : key) written += (written.empty() ? "" : " ") + w.text;
+  return Setting{fold(line.substr(0, at)), value.front().text, written};
 }
 
 bool detect(std::string_view head) {
@@ -118,7 +121,9 @@ void read(std::istream& in, const std::string& name, const model::MachineModel& 
       set_unit(runs.deviation_unit, s->value, 1);
     } else if (s->key == "targetunit" || s->key == "positionunit") {
       set_unit(runs.target_unit, s->value, 1);
-    }  // other settings (title, machine, date, temperatures) are the report's, not the data's
+    } else if (!s->value.empty()) {  // title, machine, date, temperatures: the report's, not the data's
+      runs.stated.push_back({s->written, s->value, name});
+    }
   }
   if (header.empty()) throw Error(ErrorKind::data, "no header (target, deviation, ...) in the file", SourceLocation{name, 0, 0});
   const std::uint32_t header_line = lines.number();

@@ -18,7 +18,8 @@
 //       Units: mm | inch | deg       the targets' unit
 //       Error units: um | mm | arcsec | deg   the deviations' (errors') unit
 //       Target-Count: N  Run-count: M   checked against the targets and runs read
-//     any other key (Machine, Serial No, Date, Flags, temperatures) is the report's;
+//     any other key (Machine, Serial No, Date, temperatures) is the report's, kept as stated
+//     (identify/stated_conditions.hpp);
 //   - "Targets :" then the N targets (mm, inch or deg), on that line or the next ones, up to
 //     a word that is not a number ("Flags");
 //   - the readings, either as "Run Target Data:" above (passes there and back, run after run,
@@ -58,10 +59,16 @@ struct Value {
   std::uint32_t line = 0;
 };
 
+/// A "key: value" pair of a line, its key folded ("targetcount") and as written.
+struct KeyValue {
+  std::string key, written, value;
+};
+
 /// The key-value pairs of a line: "Target-Count: 6  Run-count: 4" -> {targetcount, 6},
-/// {runcount, 4}. The first key may be several words ("Error units: um"), the keys after it
-/// one word each.
-std::vector<std::pair<std::string, std::string>> pairs_of(std::string_view line) {
+/// {runcount, 4}. The first key may be several words ("Error units: um"); a later one is
+/// the words after the previous value's last number ("Material temperature: 20.4  Air
+/// temperature: 20.9"), or its last word where the value has no number.
+std::vector<KeyValue> pairs_of(std::string_view line) {
   std::vector<std::string_view> parts;
   for (std::size_t start = 0;;) {
     const std::size_t colon = line.find(':', start);
@@ -69,19 +76,26 @@ std::vector<std::pair<std::string, std::string>> pairs_of(std::string_view line)
     if (colon == std::string_view::npos) break;
     start = colon + 1;
   }
-  std::vector<std::pair<std::string, std::string>> pairs;
-  std::string key = fold(parts.front());
+  auto joined = [](const std::vector<Field>& words, std::size_t from, std::size_t to) {
+    std::string text;
+    for (std::size_t k = from; k < to; ++k) text += (text.empty() ? "" : " ") + words[k].text;
+    return text;
+  };
+  std::vector<KeyValue> pairs;
+  std::string written = joined(split_blanks(parts.front()), 0, split_blanks(parts.front()).size());
   for (std::size_t i = 1; i < parts.size(); ++i) {
-    std::vector<Field> words = split_blanks(parts[i]);
-    std::string next_key;
+    const std::vector<Field> words = split_blanks(parts[i]);
+    std::size_t value_end = words.size();
     if (i + 1 < parts.size() && !words.empty()) {
-      next_key = fold(words.back().text);
-      words.pop_back();
+      value_end = words.size() - 1;
+      for (std::size_t k = words.size() - 1; k-- > 0;)
+        if (parse_number(words[k].text, false)) {
+          value_end = k + 1;
+          break;
+        }
     }
-    std::string value;
-    for (const Field& w : words) value += (value.empty() ? "" : " ") + w.text;
-    pairs.emplace_back(key, value);
-    key = next_key;
+    pairs.push_back({fold(written), written, joined(words, 0, value_end)});
+    written = joined(words, value_end, words.size());
   }
   return pairs;
 }
@@ -97,7 +111,7 @@ class RtlReader {
         read_targets();
       } else if (folded.starts_with("runtargetdata")) {
         read_run_target_data();
-      } else if (const auto pairs = pairs_of(line_); !pairs.empty() && pairs.front().first == "run") {
+      } else if (const auto pairs = pairs_of(line_); !pairs.empty() && pairs.front().key == "run") {
         read_run();
       } else {
         settings();
@@ -122,7 +136,7 @@ class RtlReader {
   }
 
   void settings() {
-    for (const auto& [key, value] : pairs_of(line_)) {
+    for (const auto& [key, written, value] : pairs_of(line_)) {
       if (key == "axis") {
         const std::string v = fold(value);
         if (v.size() != 1 || std::string_view("xyzabc").find(v[0]) == std::string_view::npos)
@@ -137,6 +151,8 @@ class RtlReader {
         target_count_ = count(value, "Target-Count");
       } else if (key == "runcount") {
         run_count_ = count(value, "Run-count");
+      } else if (!key.empty() && !value.empty()) {
+        runs_.stated.push_back({written, value, name_});  // the report's: title, machine, temperatures, ...
       }
     }
   }
@@ -242,7 +258,7 @@ class RtlReader {
     if (targets_.empty()) fail_at(lines_.number(), "a run before the 'Targets:' block");
     const std::uint32_t line = lines_.number();
     int run = 0, direction = 0;
-    for (const auto& [key, value] : pairs_of(line_)) {
+    for (const auto& [key, written, value] : pairs_of(line_)) {
       if (key == "run") {
         const std::optional<double> v = parse_number(value, false);
         if (!v || *v != std::floor(*v) || *v < 0 || *v > 1e6) fail_at(line, fmt::format("Run: '{}' is not a run number", value));
