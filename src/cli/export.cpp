@@ -68,9 +68,20 @@ controller::TableOptions table_options(const model::MachineModel& m, const Expor
   // A rotary axis without limits, or turning more than once, gets a table over one turn.
   const bool turn = spec->type == model::AxisType::rotary &&
                     (!std::isfinite(spec->min) || !std::isfinite(spec->max) || spec->max - spec->min > 360.0);
-  const double lo = !std::isnan(args.from) ? args.from : turn ? 0.0 : spec->min;
-  const double hi = !std::isnan(args.to) ? args.to : turn ? 360.0 : spec->max;
+  double lo = !std::isnan(args.from) ? args.from : turn ? 0.0 : spec->min;
+  double hi = !std::isnan(args.to) ? args.to : turn ? 360.0 : spec->max;
   const controller::ControlLimits& limits = control.limits;
+  if (limits.from_zero && lo < 0 && hi > 0 && std::isnan(args.from) && std::isnan(args.to)) {
+    // A table that runs from machine home (0) one way cannot hold a travel on both sides
+    // of 0: the user says which side; another axis, for the workspace figure, gets its
+    // longer side (the control holds the end values beyond).
+    if (own_table)
+      throw Error(ErrorKind::usage,
+                  fmt::format("--control {}: its table runs from machine home (0) to one end of the travel, and {} "
+                              "travels from {:g} to {:g} in the model: give --from 0 or --to 0",
+                              control.name, axis, lo, hi));
+    (hi >= -lo ? lo : hi) = 0.0;
+  }
   // Finest step the control's points allow over the travel, unless told.
   const double wanted = args.step > 0 ? args.step : limits.granularity;
   const controller::Grid grid = controller::grid_for(lo, hi, wanted, limits.max_points, limits.granularity);
@@ -191,7 +202,7 @@ CLI::App* add_export(CLI::App& app, ExportArgs& args) {
   names.emplace_back("isg");
   CLI::App* cmd = app.add_subcommand(
       "export", "a fitted model as a control's compensation tables (LinuxCNC, Fanuc, Siemens 840D sl, Heidenhain, "
-                "Beckhoff TwinCAT CNC)");
+                "Centroid, Beckhoff TwinCAT CNC)");
   cmd->add_option("-m,--model", args.model, "machine model (YAML)")->required();
   cmd->add_option("--control", args.control,
                   listed + " (a table along --axis), isg (Beckhoff TwinCAT CNC: a volumetric table over X Y Z)")

@@ -15,6 +15,7 @@ extern const ControlTable kLinuxcncTable;
 extern const ControlTable kFanucTable;
 extern const ControlTable kSiemensTable;
 extern const ControlTable kHeidenhainTable;
+extern const ControlTable kCentroidTable;
 
 namespace {
 
@@ -43,7 +44,7 @@ const std::vector<const ControlTable*>& control_tables() {
   // The functions' statics, not namespace-scope copies: the descriptors live in other
   // files, whose initialisation order is not this one's.
   static const std::vector<const ControlTable*> tables{&kLinuxcncTable, &kFanucTable, &kSiemensTable,
-                                                       &kHeidenhainTable};
+                                                       &kHeidenhainTable, &kCentroidTable};
   return tables;
 }
 

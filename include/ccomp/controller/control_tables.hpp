@@ -1,9 +1,10 @@
 #pragma once
 // An AxisTable written as the compensation tables a control reads: LinuxCNC's
 // [JOINT_n]COMP_FILE (both COMP_FILE_TYPEs), Fanuc's pitch-error compensation data and
-// parameters, Siemens 840D sl's leadscrew (LEC) and sag/cross (CEC) tables, and a
-// Heidenhain TNC compensation-value table (*.COM). docs/controller-tables.md gives each
-// format's parameters, signs and references.
+// parameters, Siemens 840D sl's leadscrew (LEC) and sag/cross (CEC) tables, a
+// Heidenhain TNC compensation-value table (*.COM) and Centroid's ballscrew ("laser")
+// compensation table (cnc-x.tab). docs/controller-tables.md gives each format's
+// parameters, signs and references.
 #include <cstddef>
 #include <string>
 #include <string_view>
@@ -20,6 +21,9 @@ struct ControlLimits {
   std::size_t max_points = 256;
   double granularity = 0.5;  ///< mm
   bool cross = true;         ///< whether the format carries other axes' corrections
+  /// Whether the table runs from machine home (0) to one end of the travel only (Centroid's
+  /// starts at 0), so a span with 0 inside it cannot be one table.
+  bool from_zero = false;
 };
 
 struct WriteOptions;
