@@ -1,11 +1,13 @@
-// ccomp export: a machine model as the compensation tables a control reads (LinuxCNC,
-// Fanuc, Siemens, Heidenhain), with what the tables leave that only ccomp's rewriting
-// corrects.
+// ccomp export: a machine model as the compensation tables a control reads (those of
+// controller/control_tables.hpp's registry, and ISG's volumetric table), with what the
+// tables leave that only ccomp's rewriting corrects.
 #include <fmt/format.h>
 
 #include <algorithm>
 #include <cmath>
+#include <string>
 #include <string_view>
+#include <vector>
 
 #include "ccomp/controller/control_tables.hpp"
 #include "ccomp/controller/table_checks.hpp"
@@ -59,23 +61,34 @@ model::ChainQ table_line(const model::MachineModel& m, const ExportArgs& args, c
 namespace {
 
 controller::TableOptions table_options(const model::MachineModel& m, const ExportArgs& args, char axis,
-                                       controller::Control control, bool own_table = true) {
+                                       const controller::ControlTable& control, bool own_table = true) {
   const model::AxisSpec* spec = m.axis(axis);
   if (spec == nullptr)
     throw Error(ErrorKind::usage, fmt::format("--axis {}: the machine '{}' has no such axis", axis, m.name));
   // A rotary axis without limits, or turning more than once, gets a table over one turn.
   const bool turn = spec->type == model::AxisType::rotary &&
                     (!std::isfinite(spec->min) || !std::isfinite(spec->max) || spec->max - spec->min > 360.0);
-  const double lo = !std::isnan(args.from) ? args.from : turn ? 0.0 : spec->min;
-  const double hi = !std::isnan(args.to) ? args.to : turn ? 360.0 : spec->max;
-  const controller::ControlLimits limits = controller::control_limits(control);
+  double lo = !std::isnan(args.from) ? args.from : turn ? 0.0 : spec->min;
+  double hi = !std::isnan(args.to) ? args.to : turn ? 360.0 : spec->max;
+  const controller::ControlLimits& limits = control.limits;
+  if (limits.from_zero && lo < 0 && hi > 0 && std::isnan(args.from) && std::isnan(args.to)) {
+    // A table that runs from machine home (0) one way cannot hold a travel on both sides
+    // of 0: the user says which side; another axis, for the workspace figure, gets its
+    // longer side (the control holds the end values beyond).
+    if (own_table)
+      throw Error(ErrorKind::usage,
+                  fmt::format("--control {}: its table runs from machine home (0) to one end of the travel, and {} "
+                              "travels from {:g} to {:g} in the model: give --from 0 or --to 0",
+                              control.name, axis, lo, hi));
+    (hi >= -lo ? lo : hi) = 0.0;
+  }
   // Finest step the control's points allow over the travel, unless told.
   const double wanted = args.step > 0 ? args.step : limits.granularity;
   const controller::Grid grid = controller::grid_for(lo, hi, wanted, limits.max_points, limits.granularity);
   if (args.step > 0 && std::abs(grid.step - args.step) > 1e-9)
     throw Error(ErrorKind::usage,
                 fmt::format("--step {}: {} needs more than the {} points {} holds; {} fits", args.step, axis,
-                            limits.max_points, controller::control_name(control), grid.step));
+                            limits.max_points, control.name, grid.step));
   controller::TableOptions o;
   o.axis = axis;
   o.from = grid.from, o.to = grid.to, o.step = grid.step;
@@ -180,14 +193,21 @@ void json_residual(util::JsonWriter& j, std::string_view key, const controller::
 }
 
 CLI::App* add_export(CLI::App& app, ExportArgs& args) {
+  std::vector<std::string> names;
+  std::string listed;
+  for (const controller::ControlTable* t : controller::control_tables()) {
+    names.emplace_back(t->name);
+    listed += (listed.empty() ? "" : ", ") + std::string(t->name);
+  }
+  names.emplace_back("isg");
   CLI::App* cmd = app.add_subcommand(
-      "export", "a fitted model as a control's compensation tables (LinuxCNC, Fanuc, Siemens 840D sl, Heidenhain)");
+      "export", "a fitted model as a control's compensation tables (LinuxCNC, Fanuc, Siemens 840D sl, Heidenhain, "
+                "Centroid, Beckhoff TwinCAT CNC)");
   cmd->add_option("-m,--model", args.model, "machine model (YAML)")->required();
   cmd->add_option("--control", args.control,
-                  "linuxcnc, fanuc, siemens or heidenhain (a table along --axis), isg (Beckhoff TwinCAT CNC: a "
-                  "volumetric table over X Y Z)")
+                  listed + " (a table along --axis), isg (Beckhoff TwinCAT CNC: a volumetric table over X Y Z)")
       ->required()
-      ->check(CLI::IsMember({"linuxcnc", "fanuc", "siemens", "heidenhain", "isg"}));
+      ->check(CLI::IsMember(names));
   cmd->add_option("--axis", args.axis, "the axis the table is for (X, Y, Z, B ...; not for isg)");
   cmd->add_option("-o,--output", args.output, "the table file (- for stdout, the default)");
   cmd->add_option("--step", args.step,
@@ -224,7 +244,7 @@ int run_export(const ExportArgs& args) {
   if (args.axis.size() != 1) throw Error(ErrorKind::usage, "--axis takes one axis letter, not '" + args.axis + "'");
   if (args.output != "-") check_output(args.output, {{"the machine model", args.model}}, "-o");
   const char axis = static_cast<char>(std::toupper(args.axis[0]));
-  const controller::Control control = *controller::control_named(args.control);
+  const controller::ControlTable& control = *controller::control_named(args.control);
   const model::MachineModel m = model::load_machine_model(args.model);
   const model::ForwardModel forward(m);
   const controller::TableOptions o = table_options(m, args, axis, control);
@@ -263,7 +283,7 @@ int run_export(const ExportArgs& args) {
       controller::table_residual(forward, all, controller::workspace_points(m, o.line, 5), reference, o.conditions);
   const controller::Residual linear_workspace = controller::table_residual(
       forward, all, controller::workspace_points(m, o.line, 5, false), reference, o.conditions);
-  const Uncarried u = uncarried_terms(m, controller::control_limits(control).cross);
+  const Uncarried u = uncarried_terms(m, control.limits.cross);
   const std::vector<std::string> warnings = table_warnings(m, table, o.step, own, along, workspace);
   write_output(args.output, text);
   if (args.json) {

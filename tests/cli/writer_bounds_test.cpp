@@ -1,6 +1,6 @@
 // No writer puts a number that is not one, or a correction the main job would refuse, into
 // a file with exit 0 (issue 45 point 3, issue 49 point 5): every control's table (LinuxCNC
-// both types, Fanuc, Siemens, Heidenhain, the volumetric ISG) of a model with a coefficient
+// both types, Fanuc, Siemens, Heidenhain, Centroid, the volumetric ISG) of a model with a coefficient
 // of 1e308, and of the issue's cubic (fitted over +-20 mm, 15.9 m at X 1000, where export
 // wrote rows '-1000.000000 -nan -nan' and exit 0), is refused with exit 7 naming where;
 // simulate writes no NaN rows.
@@ -53,6 +53,7 @@ INSTANTIATE_TEST_SUITE_P(Controls, EveryWriter,
                                            Writer{"fanuc", "--control fanuc --axis X"},
                                            Writer{"siemens", "--control siemens --axis X"},
                                            Writer{"heidenhain", "--control heidenhain --axis X"},
+                                           Writer{"centroid", "--control centroid --axis X --to 0"},
                                            Writer{"isg", "--control isg --step 250"}),
                          [](const ::testing::TestParamInfo<Writer>& p) { return std::string(p.param.name); });
 
@@ -106,7 +107,8 @@ TEST(WriterBounds, AFittedCubicIsHeldBeyondWhereItWasFittedAndSaidSo) {
   const std::string said = "term EXX was fitted over x [-20, 20] mm; at x ";
   // Every writer: the held value (about 129 um at +-20 mm), not 15.9 m or NaN, and a warning.
   for (const char* control : {"linuxcnc --axis X", "linuxcnc --axis X --comp-file-type 1", "fanuc --axis X",
-                              "siemens --axis X", "heidenhain --axis X", "isg --step 250"}) {
+                              "siemens --axis X", "heidenhain --axis X", "centroid --axis X --to 0",
+                              "isg --step 250"}) {
     const std::string table = dir + "/table.txt";
     r = run_command(ccomp + " export -m " + fitted + " --control " + control + " -o " + shell_quote(table));
     ASSERT_EQ(r.exit_code, 0) << control << ": " << r.err;

@@ -188,6 +188,44 @@ Corrections load_heidenhain(const std::string& text, std::size_t axis) {
   };
 }
 
+// Centroid (version 3, cnc-x.tab): the lines "CNC10 TAB FILE VERSION 3", "AXIS x", "UNITS MM",
+// "INTERVAL n", "ENTRIES n", then a row a point from machine home outwards: position, the
+// correction travelling forward (up) and in reverse, in the units stated, interpolated
+// between points and held beyond them.
+Corrections load_centroid(const std::string& text, std::size_t axis) {
+  std::istringstream in(text);
+  std::string line, word, unit;
+  std::getline(in, line);
+  EXPECT_EQ(line, "CNC10 TAB FILE VERSION 3");
+  std::map<std::string, std::string> header;
+  for (int k = 0; k < 4 && std::getline(in, line); ++k) {
+    std::istringstream fields(line);
+    fields >> word;
+    fields >> header[word];
+  }
+  EXPECT_EQ(header["AXIS"], std::string(1, "XYZABCUVW"[axis]));
+  EXPECT_EQ(header["UNITS"], "MM");
+  struct Row {
+    double at, fwd, rev;
+  };
+  std::vector<Row> rows;
+  for (Row r{}; in >> r.at >> r.fwd >> r.rev;) rows.push_back(r);
+  EXPECT_EQ(rows.size(), std::stoul(header["ENTRIES"]));
+  EXPECT_EQ(rows.front().at, 0.0) << "from machine home";
+  for (std::size_t k = 1; k < rows.size(); ++k)
+    EXPECT_EQ(std::abs(rows[k].at - rows[k - 1].at), std::stod(header["INTERVAL"]));
+  std::sort(rows.begin(), rows.end(), [](const Row& a, const Row& b) { return a.at < b.at; });
+  std::vector<double> fwd, rev;
+  for (const Row& r : rows) fwd.push_back(r.fwd), rev.push_back(r.rev);
+  const double min = rows.front().at, step = std::stod(header["INTERVAL"]);
+  return [=](const Axes& p, int direction) {
+    Axes c = Axes::Zero();
+    c[static_cast<Eigen::Index>(axis)] =
+        equidistant(direction > 0 ? fwd : rev, min, step, p[static_cast<Eigen::Index>(axis)]);
+    return c;
+  };
+}
+
 /// The tool's miss with the axes commanded to q (chain units) plus the corrections (table
 /// units), against the perfect machine at q: the tip in machine-axis directions (mm) and the
 /// turn about rotary axis `axis` (rad; 0 for a linear one).
@@ -257,6 +295,7 @@ TEST_P(ControllerTables, ReadBackAsTheControlDoesReproducesTheModelAlongTheAxis)
   if (c.control == "fanuc") corrections = load_fanuc(text, axis, 0.001);
   if (c.control == "siemens") corrections = load_siemens(text);
   if (c.control == "heidenhain") corrections = load_heidenhain(text, axis);
+  if (c.control == "centroid") corrections = load_centroid(text, axis);
   const model::MachineModel machine = sample_machine(c.model);
   const model::ForwardModel f(machine);
   model::ForwardData d(f);
@@ -320,6 +359,9 @@ INSTANTIATE_TEST_SUITE_P(Controls, ControllerTables,
                                            ExportCase{"heidenhain", "hmc-xyzb-geometric", 'Z', 0.05, ""},
                                            ExportCase{"fanuc", "hmc-xyzb", 'Y', 4.0, kReadings},
                                            ExportCase{"fanuc", "hmc-xyzb-geometric", 'Z', 0.6, ""},
+                                           // Centroid's table runs from machine home (0) to one end
+                                           ExportCase{"centroid", "hmc-xyzb", 'X', 0.5, kReadings + " --to 0"},
+                                           ExportCase{"centroid", "hmc-xyzb-geometric", 'Y', 0.05, " --from 0"},
                                            // B's angular positioning (arcsec; EBB, 18 urad harmonics): the table
                                            // holds the turn at each point, between them the interpolation
                                            ExportCase{"linuxcnc", "hmc-xyzb-geometric", 'B', 0.05, ""},
@@ -371,6 +413,10 @@ INSTANTIATE_TEST_SUITE_P(
                       RefusedExport{"--control siemens --axis X --at Y=abc", 2, "is not a number"},
                       RefusedExport{"--control siemens --axis X --at Q=1", 2, "has no Q axis"},
                       RefusedExport{"--control heidenhain --axis X --from 5 --to 5", 2, "not a finite range"},
+                      RefusedExport{"--control centroid --axis X", 2, "give --from 0 or --to 0"},
+                      RefusedExport{"--control centroid --axis X --from -500 --to 500", 2, "starts at machine home"},
+                      RefusedExport{"--control centroid --axis X --to 0 --step 2.5", 2, "whole --step"},
+                      RefusedExport{"--control centroid --axis B --from 0 --to 360", 2, "linear axis only"},
                       RefusedExport{"--control okuma --axis X", 2, "okuma"}));
 
 TEST(ControllerTablesCli, JsonNeedsTheTableInAFile) {

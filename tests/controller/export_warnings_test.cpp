@@ -108,7 +108,9 @@ INSTANTIATE_TEST_SUITE_P(Controls, ExportAliasing,
                          ::testing::Values(AliasCase{"fanuc", "", true},             // every 8 mm: aliased
                                            AliasCase{"linuxcnc", "", true},          // every 4 mm: in part
                                            AliasCase{"siemens", " --step 2.5", false},
-                                           AliasCase{"heidenhain", " --step 2 --from -200 --to 200", false}));
+                                           AliasCase{"heidenhain", " --step 2 --from -200 --to 200", false},
+                                           AliasCase{"centroid", " --to 0 --step 4", true},  // in part
+                                           AliasCase{"centroid", " --to 0", false}));        // every 2 mm
 
 TEST(ExportWarnings, ATableWorseThanNoneIsSaidInTextAndJson) {
   // The sample HMC's B table corrects B's turn, but at the tool the turn had cancelled part of

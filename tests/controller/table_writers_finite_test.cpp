@@ -17,7 +17,8 @@ namespace {
 AxisTable table_with(double bad, std::size_t at) {
   AxisTable t;
   t.axis = 'X';
-  for (int k = 0; k <= 4; ++k) t.positions.push_back(-4.0 + 2.0 * k);
+  // From 0 (Centroid's table starts at machine home; the others take any span).
+  for (int k = 0; k <= 4; ++k) t.positions.push_back(2.0 * k);
   t.reference = 0.0;
   t.forward.assign(t.positions.size(), 0.001);
   t.reverse = t.forward;
@@ -25,21 +26,24 @@ AxisTable table_with(double bad, std::size_t at) {
   return t;
 }
 
-class FiniteTables : public ::testing::TestWithParam<Control> {};
+class FiniteTables : public ::testing::TestWithParam<const ControlTable*> {};
 
 TEST_P(FiniteTables, AValueThatIsNotANumberIsRefusedNamingItsPoint) {
   for (const double bad : {std::numeric_limits<double>::quiet_NaN(), -std::numeric_limits<double>::infinity()}) {
     WriteOptions o;
-    const std::string written = write_table(GetParam(), table_with(0.002, 1), o);  // the table itself is fine
+    const std::string written = write_table(*GetParam(), table_with(0.002, 3), o);  // the table itself is fine
     EXPECT_FALSE(written.empty());
-    const Error e = test::error_of([&] { (void)write_table(GetParam(), table_with(bad, 3), o); }, "written");
+    const Error e = test::error_of([&] { (void)write_table(*GetParam(), table_with(bad, 1), o); }, "written");
     EXPECT_EQ(e.kind(), ErrorKind::safety);
     EXPECT_NE(e.message().find("at X 2"), std::string::npos) << e.message();
   }
 }
 
-INSTANTIATE_TEST_SUITE_P(EveryControl, FiniteTables,
-                         ::testing::Values(Control::linuxcnc, Control::fanuc, Control::siemens, Control::heidenhain));
+// Every control of the registry, so a new one is tested without being named here.
+INSTANTIATE_TEST_SUITE_P(EveryControl, FiniteTables, ::testing::ValuesIn(control_tables()),
+                         [](const ::testing::TestParamInfo<const ControlTable*>& p) {
+                           return std::string(p.param->name);
+                         });
 
 TEST(FiniteTables, TheVolumetricTableRefusesAValueThatIsNotANumber) {
   VolumeTable t;
