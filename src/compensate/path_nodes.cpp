@@ -109,7 +109,9 @@ void record_node(const model::ForwardModel& model, const model::VariationBound& 
       turn_bend = (omega - point->omega) / (bend_s * (bend_s - 1.0));
     }
   }
-  const double old_length2 = (path.nodes[1].q - path.nodes[0].q).squaredNorm();
+  // (Only a line the nodes made: before two, the nodes are not one, and a fresh workspace's
+  // are not even set.)
+  const double old_length2 = path.count == 2 ? (path.nodes[1].q - path.nodes[0].q).squaredNorm() : 0.0;
   path.nodes[0] = path.nodes[1];
   path.nodes[1] = {q, d.actual, omega};
   path.count = std::min(path.count + 1, 2);
