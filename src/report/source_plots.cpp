@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cmath>
 #include <map>
+#include <numbers>
 
 #include "ccomp/error.hpp"
 #include "ccomp/identify/positioning.hpp"
@@ -59,8 +60,12 @@ std::string line_place(const identify::Observation& o, const model::MachineModel
 /// ISO 230-2 on one source's positioning readings, when they allow it.
 std::optional<identify::PositioningReport> positioning(const CheckReportInput& in, std::size_t axis,
                                                        const std::string& source) {
-  if (axis > 2) return std::nullopt;
+  if (axis > 5) return std::nullopt;
   try {
+    if (axis > 2) {  // a rotary axis' deviations are angles over the readings' lever: the chain's
+      const model::ForwardModel forward(in.model);
+      return identify::analyse_positioning(in.data, axis, source, &forward);
+    }
     return identify::analyse_positioning(in.data, axis, source);
   } catch (const Error&) {
     return std::nullopt;  // no readings along it with an approach, or at one target only
@@ -302,17 +307,22 @@ std::string stated_note(const identify::MeasurementSet& data) {
       s.uncertainty ? html_escape(s.uncertainty->value) : not_stated);
 }
 
+/// ISO 230-2's figures of the lines (linear axes, in um) or of the rotary axes' runs (in
+/// arcseconds, as the standard gives an angle's), one row a source.
 std::string iso_table(const std::vector<std::pair<std::string, identify::PositioningReport>>& reports,
-                      const identify::MeasurementSet& data) {
+                      const identify::MeasurementSet& data, bool rotary) {
   if (reports.empty()) return "";
-  std::string html =
-      "<h3>ISO 230-2 positioning figures</h3>\n<table><tr><th>source</th><th>axis</th><th>targets</th><th>runs "
-      "up / down</th><th>A (&micro;m)</th><th>A&uarr; / A&darr;</th><th>B (&micro;m)</th><th>mean B</th><th>E "
-      "(&micro;m)</th><th>M (&micro;m)</th><th>R (&micro;m)</th><th>R&uarr; / R&darr;</th></tr>\n";
+  const std::string unit = rotary ? "arcsec" : "&micro;m";
+  const double scale = rotary ? 180.0 * 3600.0 / std::numbers::pi : kUm;  // arcsec per rad, um per mm
+  std::string html = fmt::format(
+      "<h3>ISO 230-2 positioning figures{}</h3>\n<table><tr><th>source</th><th>axis</th><th>targets</th><th>runs "
+      "up / down</th><th>A ({})</th><th>A&uarr; / A&darr;</th><th>B ({})</th><th>mean B</th><th>E "
+      "({})</th><th>M ({})</th><th>R ({})</th><th>R&uarr; / R&darr;</th></tr>\n",
+      rotary ? " (rotary axes, in arcseconds)" : "", unit, unit, unit, unit, unit);
   bool missing = false;
   const auto shown = [&](const std::optional<double>& v) {
     missing = missing || !v;
-    return v ? fmt::format("{:.3f}", *v * kUm) : std::string("&ndash;");
+    return v ? fmt::format("{:.3f}", *v * scale) : std::string("&ndash;");
   };
   for (const auto& [source, r] : reports) {
     html += fmt::format(
@@ -321,7 +331,7 @@ std::string iso_table(const std::vector<std::pair<std::string, identify::Positio
         "class=\"num\">{}</td><td class=\"num\">{}</td><td class=\"num\">{}</td><td class=\"num\">{} / "
         "{}</td></tr>\n",
         html_escape(source), axis_letter(r.axis), r.targets.size(), r.runs_up, r.runs_down, shown(r.A), shown(r.A_up),
-        shown(r.A_down), shown(r.B), r.B_mean ? fmt::format("{:+.3f}", *r.B_mean * kUm) : std::string("&ndash;"),
+        shown(r.A_down), shown(r.B), r.B_mean ? fmt::format("{:+.3f}", *r.B_mean * scale) : std::string("&ndash;"),
         shown(r.E), shown(r.M), shown(r.R), shown(r.R_up), shown(r.R_down));
   }
   html +=
@@ -339,7 +349,7 @@ std::string iso_table(const std::vector<std::pair<std::string, identify::Positio
 std::vector<Section> source_sections(const CheckReportInput& in, FigureIds& ids) {
   Section lines{"lines", "Laser lines", "", {}, ""}, grids{"volumetric", "Volumetric measurements", "", {}, ""},
       rotary{"rotary", "Rotary axes", "", {}, ""};
-  std::vector<std::pair<std::string, identify::PositioningReport>> iso_reports;
+  std::vector<std::pair<std::string, identify::PositioningReport>> iso_reports, rotary_iso;
   const std::vector<SourceShape> shapes = source_shapes(in.data, in.model);
   for (std::size_t s = 0; s < shapes.size(); ++s) {
     const SourceShape& shape = shapes[s];
@@ -347,6 +357,8 @@ std::vector<Section> source_sections(const CheckReportInput& in, FigureIds& ids)
     if (shape.readings.empty()) continue;
     if (shape.kind == SourceKind::rotary) {
       for (Figure& f : rotary_figures(in, shape, source, ids)) rotary.figures.push_back(std::move(f));
+      if (std::optional<identify::PositioningReport> iso = positioning(in, shape.axis, source); iso && iso->rotary)
+        rotary_iso.emplace_back(source, *iso);
       continue;
     }
     std::optional<identify::PositioningReport> iso;
@@ -367,13 +379,14 @@ std::vector<Section> source_sections(const CheckReportInput& in, FigureIds& ids)
       "moving axis, runs moving up (&#9650;) and down (&#9660;) apart. Solid curves: the model's error motion "
       "refitted to these data; dotted: the model as it is. A gap between the up and down points that the curves do "
       "not follow is a reversal the model lacks.</p>\n" +
-      iso_table(iso_reports, in.data);
+      iso_table(iso_reports, in.data, false);
   grids.html =
       "<p>Points spread over the workspace (a grid, a test piece), one plot per direction read, points in file "
       "order: measured (&#9675;), the model refitted (&#9679;) and as it is (&times;).</p>\n";
   rotary.html =
       "<p>Readings as a rotary axis turns (a sphere probed on the table): per probed point, the deviation in each "
-      "direction against the angle, measured (points) and the model refitted (curves).</p>\n";
+      "direction against the angle, measured (points) and the model refitted (curves).</p>\n" +
+      iso_table(rotary_iso, in.data, true);
   std::vector<Section> out;
   for (Section* s : {&lines, &grids, &rotary})
     if (!s->figures.empty()) out.push_back(std::move(*s));

@@ -53,6 +53,19 @@ TEST(PositioningCli, ARotaryAxisInArcsecondsOrMicroradians) {
   EXPECT_TRUE(std::isnan(json_number(json.out, "A"))) << json.out;
   EXPECT_NEAR(json_number(json.out, "E"), 7.2, 1e-9);
 
+  // check's page gives the same figures for the rotary axis, in arcseconds.
+  const CommandResult page = run_command(ccomp() + " check " + sample("measurements/b-rotary.txt") + " -m " +
+                                         sample("machines/hmc-xyzb-geometric.yaml") + " --report " +
+                                         shell_quote(dir + "/b.html"));
+  ASSERT_EQ(page.exit_code, 0) << page.err;
+  const std::string html = read_file(dir + "/b.html");
+  EXPECT_NE(html.find("ISO 230-2 positioning figures (rotary axes, in arcseconds)"), std::string::npos);
+  EXPECT_TRUE(std::regex_search(
+      html, std::regex(R"(<td>b-rotary</td><td>B</td><td class="num">8</td><td class="num">1 / 1</td>.*)"
+                       R"(<td class="num">1\.300</td><td class="num">-1\.187</td><td class="num">7\.200</td>)"
+                       R"(<td class="num">6\.050</td>)")))
+      << "B, mean B, E and M as positioning gives them";
+
   const CommandResult urad = run_command(ccomp() + args + " --json --angle-unit urad");
   ASSERT_EQ(urad.exit_code, 0) << urad.err;
   EXPECT_NE(urad.out.find("\"deviation_unit\": \"urad\""), std::string::npos);
