@@ -307,6 +307,27 @@ std::string stated_note(const identify::MeasurementSet& data) {
       s.uncertainty ? html_escape(s.uncertainty->value) : not_stated);
 }
 
+/// ISO 230-2's figures at each target of one source, as the standard's report lists them,
+/// folded away under its summary.
+std::string target_table(const std::string& source, const identify::PositioningReport& r, const std::string& unit,
+                         double scale) {
+  const auto shown = [&](const std::optional<double>& v) {
+    return v ? fmt::format("<td class=\"num\">{:.3f}</td>", *v * scale) : std::string("<td class=\"num\">&ndash;</td>");
+  };
+  std::string html = fmt::format(
+      "<details><summary>{}: per target ({}; s the estimator of the standard uncertainty, R&uarr; and R&darr; = 4s, "
+      "R<sub>i</sub> = max(2s&uarr; + 2s&darr; + |B<sub>i</sub>|, R&uarr;, R&darr;))</summary>\n<table><tr><th>position "
+      "({})</th><th>runs &uarr; / &darr;</th><th>mean &uarr;</th><th>mean &darr;</th><th>mean</th><th>B<sub>i</sub></th>"
+      "<th>s&uarr;</th><th>s&darr;</th><th>R&uarr;</th><th>R&darr;</th><th>R<sub>i</sub></th></tr>\n",
+      html_escape(source), unit, r.rotary ? "deg" : "mm");
+  for (const identify::PositioningTarget& t : r.targets)
+    html += fmt::format("<tr><td class=\"num\">{:g}</td><td class=\"num\">{} / {}</td>{}{}{}{}{}{}{}{}{}</tr>\n",
+                        t.position, t.runs_up, t.runs_down, shown(t.mean_up), shown(t.mean_down), shown(t.mean),
+                        shown(t.reversal), shown(t.s_up), shown(t.s_down), shown(t.repeatability_up),
+                        shown(t.repeatability_down), shown(t.repeatability));
+  return html + "</table></details>\n";
+}
+
 /// ISO 230-2's figures of the lines (linear axes, in um) or of the rotary axes' runs (in
 /// arcseconds, as the standard gives an angle's), one row a source.
 std::string iso_table(const std::vector<std::pair<std::string, identify::PositioningReport>>& reports,
@@ -341,7 +362,9 @@ std::string iso_table(const std::vector<std::pair<std::string, identify::Positio
     html +=
         " &ndash;: not stated: one run in a direction gives no spread, so A and R (which include 2s and 4s) are not "
         "stated, and a line read one way only has no bidirectional figures; ISO 230-2 asks for 5 runs each way.";
-  return html + "</p>\n" + stated_note(data);
+  html += "</p>\n";
+  for (const auto& [source, r] : reports) html += target_table(source, r, unit, scale);
+  return html + stated_note(data);
 }
 
 }  // namespace

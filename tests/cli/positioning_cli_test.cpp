@@ -65,6 +65,9 @@ TEST(PositioningCli, ARotaryAxisInArcsecondsOrMicroradians) {
                        R"(<td class="num">1\.300</td><td class="num">-1\.187</td><td class="num">7\.200</td>)"
                        R"(<td class="num">6\.050</td>)")))
       << "B, mean B, E and M as positioning gives them";
+  EXPECT_TRUE(std::regex_search(html, std::regex(R"(<tr><td class="num">135</td><td class="num">1 / 1</td>)"
+                                                 R"((<td class="num">[-0-9.]+</td>){3}<td class="num">-1\.300</td>)")))
+      << "the per-target table: B_i -1.300 arcsec at 135 deg, as positioning says";
 
   const CommandResult urad = run_command(ccomp() + args + " --json --angle-unit urad");
   ASSERT_EQ(urad.exit_code, 0) << urad.err;
