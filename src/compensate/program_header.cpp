@@ -10,6 +10,7 @@
 
 #include "ccomp/error.hpp"
 #include "ccomp/version.hpp"
+#include "ccomp/util/ascii.hpp"
 
 namespace ccomp::compensate {
 namespace {
@@ -106,8 +107,7 @@ std::optional<HeaderFacts> read_header(std::string_view line) {
   HeaderFacts facts;
   constexpr std::string_view kSha = "model sha256:", kAt = " at ";
   // (The hash and the tolerance read in any case: an upper-cased header is still ours.)
-  std::string lower(line);
-  for (char& c : lower) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  const std::string lower = util::lower_ascii(line);
   const std::string_view original = line;
   line = lower;
   if (const auto sha = line.rfind(kSha); sha != std::string_view::npos) {

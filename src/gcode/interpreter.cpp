@@ -6,6 +6,7 @@
 #include <filesystem>
 
 #include "ccomp/constants.hpp"
+#include "ccomp/util/ascii.hpp"
 #include "interpreter_impl.hpp"
 
 namespace ccomp::gcode {
@@ -588,8 +589,7 @@ SubDefinition Interpreter::Impl::find_sub(const std::string& label, bool fanuc, 
   src.seek(here);
   // In a file of its own on the subroutine path.
   if (!fanuc && b.o.named) {
-    std::string lower = b.o.name;
-    for (char& c : lower) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+    const std::string lower = util::lower_ascii(b.o.name);
     for (const std::string& dir : options.subroutine_path) {
       for (const std::string& candidate : {lower, b.o.name}) {
         const std::filesystem::path p = std::filesystem::path(dir) / (candidate + ".ngc");

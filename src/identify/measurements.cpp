@@ -15,16 +15,11 @@
 #include "ccomp/constants.hpp"
 #include "ccomp/error.hpp"
 #include "ccomp/identify/measurement_formats.hpp"
+#include "ccomp/util/ascii.hpp"
 #include "io/line_reader.hpp"
 
 namespace ccomp::identify {
 namespace {
-
-std::string lower_ascii(std::string_view text) {
-  std::string out(text);
-  for (char& c : out) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-  return out;
-}
 
 /// A "# key: value" comment before the header ("# instrument: Renishaw XL-80", "# air
 /// temperature: 20.3"): what the file states beside its readings (the report's).
@@ -452,7 +447,7 @@ std::string to_csv(const MeasurementSet& set, const model::MachineModel& model, 
   std::string out = frame_line(frame) + "\n";
   // What the files state beside their readings, as the comments the reader takes back.
   for (const StatedField& f : set.stated)
-    if (lower_ascii(f.key) != "frame" && f.key.size() <= 60) out += fmt::format("# {}: {}\n", f.key, f.value);
+    if (util::lower_ascii(f.key) != "frame" && f.key.size() <= 60) out += fmt::format("# {}: {}\n", f.key, f.value);
   out += "x,y,z";
   std::vector<std::size_t> rotary;
   for (const model::AxisSpec& a : model.axes)

@@ -8,18 +8,13 @@
 #include <cstdlib>
 
 #include "ccomp/error.hpp"
+#include "ccomp/util/ascii.hpp"
 
 namespace ccomp::identify {
 namespace {
 
-std::string lowered(std::string_view text) {
-  std::string out(text);
-  std::transform(out.begin(), out.end(), out.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
-  return out;
-}
-
 bool names_any(std::string_view key, std::initializer_list<std::string_view> words) {
-  const std::string k = lowered(key);
+  const std::string k = util::lower_ascii(key);
   return std::any_of(words.begin(), words.end(), [&](std::string_view w) { return k.find(w) != std::string::npos; });
 }
 
@@ -32,7 +27,7 @@ std::optional<double> degc_of(std::string_view value) {
   char* end = nullptr;
   const double v = std::strtod(begin, &end);
   if (end == begin || !std::isfinite(v)) return std::nullopt;
-  std::string unit = lowered(std::string_view(end));
+  std::string unit = util::lower_ascii(std::string_view(end));
   unit.erase(std::remove_if(unit.begin(), unit.end(), [](unsigned char c) { return !std::isalpha(c); }), unit.end());
   const double c = unit == "f" || unit == "degf" ? (v - 32.0) * 5.0 / 9.0 : v;
   if (c < -50.0 || c > 150.0) return std::nullopt;
@@ -49,7 +44,9 @@ StatedConditions sort_stated(const std::vector<StatedField>& fields) {
     } else if (names_any(f.key, {"uncertainty"})) {
       out.uncertainty = f;
     } else if (const std::optional<double> c = names_any(f.key, {"temperature", "temp"}) ? degc_of(f.value) : std::nullopt) {
-      std::erase_if(out.temperatures, [&](const StatedConditions::Temperature& t) { return lowered(t.name) == lowered(f.key); });
+      std::erase_if(out.temperatures, [&](const StatedConditions::Temperature& t) {
+        return util::lower_ascii(t.name) == util::lower_ascii(f.key);
+      });
       out.temperatures.push_back({f.key, *c, f.source});
     } else {
       out.others.push_back(f);

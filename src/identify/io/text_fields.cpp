@@ -4,6 +4,8 @@
 #include <charconv>
 #include <cmath>
 
+#include "ccomp/util/ascii.hpp"
+
 namespace ccomp::identify::io {
 namespace {
 
@@ -60,9 +62,7 @@ std::optional<double> parse_number(std::string_view text, bool decimal_comma) {
 }
 
 std::string lower(std::string_view text) {
-  std::string s;
-  for (const char c : text) s += static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-  return s;
+  return util::lower_ascii(text);
 }
 
 std::string fold(std::string_view text) {
