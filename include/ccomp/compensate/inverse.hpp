@@ -98,7 +98,7 @@ inline constexpr double kSingularDamping = 0.02;
 /// field's bound allows (src/compensate/path_nodes.hpp).
 struct PathNodes {
   struct Node {
-    model::ChainQ q;
+    model::ChainQ q = model::ChainQ::Zero();
     Eigen::Vector3d tip = Eigen::Vector3d::Zero();
     Eigen::Vector3d omega = Eigen::Vector3d::Zero();
   };
