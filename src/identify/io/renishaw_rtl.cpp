@@ -82,7 +82,8 @@ std::vector<KeyValue> pairs_of(std::string_view line) {
     return text;
   };
   std::vector<KeyValue> pairs;
-  std::string written = joined(split_blanks(parts.front()), 0, split_blanks(parts.front()).size());
+  const std::vector<Field> first = split_blanks(parts.front());
+  std::string written = joined(first, 0, first.size());
   for (std::size_t i = 1; i < parts.size(); ++i) {
     const std::vector<Field> words = split_blanks(parts[i]);
     std::size_t value_end = words.size();
