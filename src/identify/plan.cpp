@@ -7,6 +7,7 @@
 #include <cmath>
 #include <fstream>
 #include <map>
+#include <optional>
 #include <random>
 #include <sstream>
 
@@ -16,6 +17,7 @@
 #include "ccomp/identify/fit.hpp"
 #include "ccomp/identify/fit_information.hpp"
 #include "ccomp/identify/physical_scale.hpp"
+#include "table_point.hpp"
 
 namespace ccomp::identify {
 namespace {
@@ -152,6 +154,98 @@ void candidates_at(const model::MachineModel& m, const ProgramBox& box, const st
   }
 }
 
+/// `q` moved so that the nominal tip is on `point` (table frame), where it has X, Y and Z
+/// and they stay within the axes' limits.
+std::optional<model::ChainQ> reaching(const model::ForwardModel& model, model::ForwardData& fd,
+                                      const ProgramBox& box, model::ChainQ q, const Eigen::Vector3d& point) {
+  for (std::size_t i = 0; i < 3; ++i)
+    if (std::find(box.linear.begin(), box.linear.end(), i) == box.linear.end()) return std::nullopt;
+  reach_table_point(model, fd, q, point, box.conditions.conditions);
+  model::forward(model, fd, q, box.conditions.conditions, false, model::Evaluate::nominal);
+  if (!q.allFinite() || (fd.nominal - point).norm() > 1e-6 || !within_limits(model.machine(), q)) return std::nullopt;
+  return q;
+}
+
+/// The rotary angles a sphere is probed at: over the range the programs turn each rotary
+/// axis through, evenly, at most 13 a turn and 25 in all (rad, per rotary axis of the model).
+std::vector<std::vector<double>> sweep_angles(const model::MachineModel& m, const ProgramBox& box) {
+  std::vector<std::vector<double>> per_axis;
+  for (const model::AxisSpec& a : m.axes) {
+    if (a.type != model::AxisType::rotary) continue;
+    const auto e = static_cast<Eigen::Index>(kLetters.find(a.letter));
+    const double low = box.low[e], high = box.high[e], range_deg = (high - low) / kRadPerDeg;
+    std::vector<double> angles;
+    const int count = range_deg < 1.0 ? 1 : std::clamp(static_cast<int>(std::ceil(range_deg / 15.0)) + 1, 3, 13);
+    for (int k = 0; k < count; ++k) angles.push_back(count == 1 ? low : low + (high - low) * k / (count - 1));
+    per_axis.push_back(angles);
+  }
+  std::vector<std::vector<double>> out{{}};
+  for (const std::vector<double>& axis : per_axis) {
+    std::vector<std::vector<double>> more;
+    for (const std::vector<double>& prefix : out)
+      for (const double a : axis) {
+        more.push_back(prefix);
+        more.back().push_back(a);
+      }
+    out = std::move(more);
+  }
+  // Two axes of 13: every other combination, as many as one axis alone.
+  while (out.size() > 25) {
+    std::vector<std::vector<double>> thinned;
+    for (std::size_t k = 0; k < out.size(); k += 2) thinned.push_back(out[k]);
+    out = std::move(thinned);
+  }
+  return out;
+}
+
+/// Spheres fixed on the table where the programs cut (their box's middle and two opposite
+/// corners, at the programs' most frequent rotary setting), each probed (its centre's full
+/// deviation: three readings) at every angle of the sweep the rotary axes can reach it at:
+/// what a rotary axis' location and wobble show (ISO 10791-6's probed sphere).
+void sphere_candidates(const model::ForwardModel& model, const ProgramBox& box, const std::vector<double>& usual,
+                       std::vector<Candidate>& out) {
+  const model::MachineModel& m = model.machine();
+  if (usual.empty()) return;
+  const std::vector<std::vector<double>> sweep = sweep_angles(m, box);
+  if (sweep.size() < 3) return;
+  model::ForwardData fd(model);
+  auto with_angles = [&](model::ChainQ q, const std::vector<double>& angles) {
+    std::size_t k = 0;
+    for (const model::AxisSpec& a : m.axes)
+      if (a.type == model::AxisType::rotary) q[static_cast<Eigen::Index>(kLetters.find(a.letter))] = angles[k++];
+    return q;
+  };
+  model::ChainQ low = box.middle, high = box.middle;
+  for (const std::size_t i : box.linear) {
+    const auto e = static_cast<Eigen::Index>(i);
+    low[e] = box.low[e] + 0.25 * (box.high[e] - box.low[e]);
+    high[e] = box.high[e] - 0.25 * (box.high[e] - box.low[e]);
+  }
+  int number = 0;
+  for (const model::ChainQ& place : {box.middle, low, high}) {
+    const model::ChainQ at = with_angles(place, usual);
+    model::forward(model, fd, at, box.conditions.conditions, false, model::Evaluate::nominal);
+    const Eigen::Vector3d centre = fd.nominal;
+    ++number;
+    Candidate sphere{fmt::format("plan-sphere-{}", number), "probed sphere",
+                     fmt::format(" at X{:.0f} Y{:.0f} Z{:.0f} of the table", centre.x(), centre.y(), centre.z()),
+                     {}, {}, false};
+    std::size_t reached = 0;
+    for (const std::vector<double>& angles : sweep) {
+      const std::optional<model::ChainQ> q = reaching(model, fd, box, with_angles(at, angles), centre);
+      if (!q) continue;
+      ++reached;
+      for (int c = 0; c < 3; ++c) {
+        Observation o = reading_at(box, *q, Eigen::Vector3d::Unit(c));
+        for (const model::AxisSpec& a : m.axes)  // the rotary axes turned one way through the sweep
+          if (a.type == model::AxisType::rotary) o.directions[kLetters.find(a.letter)] = 1;
+        sphere.readings.push_back(o);
+      }
+    }
+    if (reached >= 3) out.push_back(std::move(sphere));
+  }
+}
+
 /// Where the data were thin at a candidate's rotary setting: "the data had only sphere (24
 /// readings) at B 180" (empty where they were not).
 std::string thin_note(const model::MachineModel& m, const std::vector<model::AxisCoverage>& coverage,
@@ -225,8 +319,9 @@ MeasurementPlan plan_measurements(const model::ForwardModel& model, const Measur
   // The candidates, each with its scaled design matrix.
   const ProgramBox box = box_of(m, poses);
   std::vector<Candidate> candidates;
-  for (const std::vector<double>& angles : rotary_settings(m, poses)) candidates_at(m, box, angles, candidates);
-  std::vector<std::vector<double>> settings = rotary_settings(m, poses);
+  const std::vector<std::vector<double>> settings = rotary_settings(m, poses);
+  for (const std::vector<double>& angles : settings) candidates_at(m, box, angles, candidates);
+  if (!settings.empty()) sphere_candidates(model, box, settings.front(), candidates);
   std::map<std::string, std::string> notes;  // by the candidate's place
   const std::vector<model::AxisCoverage> coverage = coverage_of(m, data);
   for (const std::vector<double>& angles : settings) {

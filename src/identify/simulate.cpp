@@ -9,6 +9,7 @@
 
 #include "ccomp/constants.hpp"
 #include "ccomp/error.hpp"
+#include "table_point.hpp"
 
 namespace ccomp::identify {
 namespace {
@@ -145,36 +146,6 @@ std::vector<double> probe_angles(const model::MachineModel& m, char letter, doub
   const int count = std::max(3, static_cast<int>(std::lround(2.0 * half / 30.0)) + 1);
   for (int k = 0; k < count; ++k) out.push_back(middle - half + 2.0 * half * k / (count - 1));
   return out;
-}
-
-/// The linear axes (in `q`) that bring the nominal tool tip onto the table point `target`
-/// (table frame) with the rotary axes as `q` has them: the nominal chain is affine in the
-/// linear axes, so two Newton steps with a difference Jacobian land to rounding.
-void reach_table_point(const model::ForwardModel& truth, model::ForwardData& d, model::ChainQ& q,
-                       const Eigen::Vector3d& target) {
-  const model::Conditions none{};
-  for (int iteration = 0; iteration < 2; ++iteration) {
-    model::forward(truth, d, q, none, false, model::Evaluate::nominal);
-    const Eigen::Vector3d at = d.nominal;
-    Eigen::Matrix3d J;
-    for (int k = 0; k < 3; ++k) {
-      model::ChainQ moved = q;
-      moved[k] += 1.0;
-      model::forward(truth, d, moved, none, false, model::Evaluate::nominal);
-      J.col(k) = d.nominal - at;
-    }
-    q.head<3>() += J.colPivHouseholderQr().solve(target - at);
-  }
-}
-
-bool within_limits(const model::MachineModel& m, const model::ChainQ& q) {
-  for (const model::AxisSpec& a : m.axes) {
-    const auto j = static_cast<Eigen::Index>(std::string_view("XYZABCUVW").find(a.letter));
-    // Z with the tool length in it, as the axis stands.
-    const double v = a.type == model::AxisType::rotary ? q[j] / kRadPerDeg : q[j];
-    if (v < a.min - 1e-9 || v > a.max + 1e-9) return false;
-  }
-  return true;
 }
 
 }  // namespace

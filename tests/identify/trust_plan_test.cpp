@@ -8,16 +8,19 @@
 #include <fmt/format.h>
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <iostream>
 #include <numbers>
 #include <random>
+#include <string_view>
 
 #include "ccomp/compensate/trust.hpp"
 #include "ccomp/compensate/verify.hpp"
 #include "ccomp/identify/fit.hpp"
 #include "ccomp/identify/fit_information.hpp"
 #include "ccomp/identify/plan.hpp"
+#include "ccomp/identify/simulate.hpp"
 #include "ccomp/model/model_file.hpp"
 #include "job_runner.hpp"
 #include "metrology_loop.hpp"
@@ -218,6 +221,93 @@ TEST(TrustAndPlan, AThinCampaignTheLoopThenThePlanForThreeProgramsLeaveEachUnder
   EXPECT_GT(worst_thin, 0.05) << "the thin campaign alone leaves more than 5% on one program: the plan is what helps";
   std::cout << fmt::format("[ loop+plan ] loop added {} term(s); plan {} readings in {} groups ({:.3f} -> {:.3f} um)\n",
                            loop.added.size(), plan.readings, plan.groups.size(), plan.before * 1e3, plan.after * 1e3);
+}
+
+/// Every reading of `group` has the nominal tool tip on one point of the table, within the
+/// axes' limits; the angles of the rotary axes `rotary` it is probed at, in degrees.
+std::vector<double> probed_on_one_point(const model::ForwardModel& model, const PlannedGroup& group,
+                                        const std::vector<Eigen::Index>& rotary) {
+  model::ForwardData fd(model);
+  model::forward(model, fd, group.readings.front().q, {}, false, model::Evaluate::nominal);
+  const Eigen::Vector3d centre = fd.nominal;
+  std::vector<double> angles;
+  for (const Observation& o : group.readings) {
+    model::forward(model, fd, o.q, {}, false, model::Evaluate::nominal);
+    EXPECT_LT((fd.nominal - centre).norm(), 1e-6) << group.source << ": one point of the table";
+    for (const Eigen::Index r : rotary) angles.push_back(o.q[r] / (std::numbers::pi / 180));
+    for (const model::AxisSpec& axis : model.machine().axes) {  // where the machine reaches
+      const auto j = static_cast<Eigen::Index>(std::string_view("XYZABCUVW").find(axis.letter));
+      const double v = axis.type == model::AxisType::rotary ? o.q[j] * 180 / std::numbers::pi : o.q[j];
+      EXPECT_GE(v, axis.min - 1e-9) << axis.letter;
+      EXPECT_LE(v, axis.max + 1e-9) << axis.letter;
+    }
+  }
+  return angles;
+}
+
+// A program that turns the table through many angles is best served by a sphere probed as
+// the table turns (ISO 10791-6): 3 readings an angle against a grid's 81 or a line's 22 at
+// one. The plan offers it, on the table where the program cuts, over the program's turn.
+TEST(TrustAndPlan, AProgramTurningThroughManyAnglesIsPlannedASphereProbedAsTheTableTurns) {
+  const test::ReferenceHmc machine = test::geometric_reference();
+  test::ReferencePlans thin;
+  thin.noise = kNoise, thin.seed = 5, thin.sphere = false;  // lines and grids at B0 only
+  const MeasurementSet data = test::reference_measurements(machine, test::measure_reference(machine, thin));
+  const std::string first = fitted(sample_model(machine), data);
+  const model::MachineModel m = model::parse_machine_model(first, "fitted.yaml");
+  const model::ForwardModel f(m);
+  std::vector<ProgramPose> poses;
+  program_poses(program_at(machine, {0, 30, 60, 90, 120, 150, 180, 210, 240}), f, nullptr, &poses);
+  PlanOptions options;
+  options.budget = 90;
+  const MeasurementPlan plan = plan_measurements(f, data, poses, options);
+  ASSERT_FALSE(plan.groups.empty());
+  const PlannedGroup& sphere = plan.groups.front();
+  EXPECT_EQ(sphere.kind, "probed sphere") << sphere.why;
+  EXPECT_NE(sphere.why.find("of the table"), std::string::npos) << sphere.why;
+  const std::vector<double> angles = probed_on_one_point(f, sphere, {4});
+  ASSERT_FALSE(angles.empty());
+  // Over the program's turn (0-240), every 20 degrees, where the axes reach the sphere.
+  const auto [least, most] = std::minmax_element(angles.begin(), angles.end());
+  EXPECT_GE(*least, 0.0);
+  EXPECT_LE(*most, 240.0);
+  EXPECT_GE(*most - *least, 120.0);
+  EXPECT_GE(angles.size(), 27U) << "nine angles or more, three readings each";
+  EXPECT_LT(plan.after, 0.5 * plan.before);
+}
+
+// Two rotary axes: the sphere is probed at combinations of both over the programs' ranges,
+// each pose within the axes' limits (taken once the grids at the programs' settings are in).
+TEST(TrustAndPlan, OnATrunnionTheSphereIsProbedOverBothRotaryAxesWithinTheirLimits) {
+  const model::MachineModel m = model::parse_machine_model(
+      test::read_file(test::source_dir() + "/samples/machines/vmc-xyzac-trunnion.yaml"), "vmc.yaml");
+  const model::ForwardModel f(m);
+  SimulateOptions lines;
+  lines.plans = {Plan::nine_lines};
+  const MeasurementSet data = simulate(f, lines);
+  std::vector<ProgramPose> poses;
+  for (const double a : {-30.0, 0.0, 30.0, 60.0})
+    for (const double c : {0.0, 90.0, 180.0, 270.0}) {
+      ProgramPose pose;
+      pose.q = model::ChainQ::Zero();
+      pose.q << 20, -10, -150, a * std::numbers::pi / 180, 0, c * std::numbers::pi / 180, 0, 0, 0, 100;
+      for (const double x : {-40.0, 40.0}) {
+        pose.q[0] = x;
+        poses.push_back(pose);
+      }
+    }
+  PlanOptions options;
+  options.budget = 400;
+  const MeasurementPlan plan = plan_measurements(f, data, poses, options);
+  ASSERT_FALSE(plan.groups.empty());
+  const auto sphere = std::find_if(plan.groups.begin(), plan.groups.end(),
+                                   [](const PlannedGroup& g) { return g.kind == "probed sphere"; });
+  ASSERT_NE(sphere, plan.groups.end()) << plan.groups.front().why;
+  const std::vector<double> a = probed_on_one_point(f, *sphere, {3});
+  const std::vector<double> c = probed_on_one_point(f, *sphere, {5});
+  EXPECT_NEAR(*std::min_element(a.begin(), a.end()), -30.0, 1e-9);
+  EXPECT_NEAR(*std::max_element(a.begin(), a.end()), 60.0, 1e-9);
+  EXPECT_GT(*std::max_element(c.begin(), c.end()) - *std::min_element(c.begin(), c.end()), 180.0);
 }
 
 // The fit's information survives the model file: written by fit, read with the model, the
