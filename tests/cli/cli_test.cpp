@@ -16,9 +16,6 @@ namespace {
 
 namespace fs = std::filesystem;
 
-std::string ccomp() {
-  return shell_quote(ccomp_binary());
-}
 std::string zero() {
   return shell_quote(source_dir() + "/samples/machines/zero.yaml");
 }

@@ -14,13 +14,10 @@ namespace {
 
 namespace fs = std::filesystem;
 
-std::string ccomp() {
-  return shell_quote(ccomp_binary());
-}
-std::string sample(const std::string& path) {
+std::string sample_path(const std::string& path) {
   return source_dir() + "/samples/" + path;
 }
-const std::string kHmc = sample("machines/hmc-xyzb-geometric.yaml");
+const std::string kHmc = sample_path("machines/hmc-xyzb-geometric.yaml");
 
 struct JobRun {
   CommandResult result;
@@ -31,8 +28,8 @@ JobRun compensate(const std::string& dir, const std::string& program, const std:
                const std::string& options, const std::string& name) {
   const std::string out = dir + "/" + name + ".ngc";
   JobRun run;
-  run.result = run_command(ccomp() + " " + shell_quote(sample("programs/" + program)) + " -m " + shell_quote(model) +
-                           " --tool-table " + shell_quote(sample("tools.tbl")) + " -o " + shell_quote(out) + " --json " + options);
+  run.result = run_command(ccomp() + " " + sample("programs/" + program) + " -m " + shell_quote(model) +
+                           " --tool-table " + sample("tools.tbl") + " -o " + shell_quote(out) + " --json " + options);
   if (fs::exists(out)) run.output = read_file(out);
   return run;
 }
@@ -71,9 +68,9 @@ TEST(HeldAxes, AnAxisTheProgramNeverTurnsStaysStill) {
   // about B that B would have corrected is what is left, as orientation error.
   EXPECT_LE(json_number(held.result.out, "error_after_um"), 1.0) << held.result.out;
   const double held_turn = json_number(held.result.out, "orientation_error_urad");
-  const CommandResult verify = run_command(ccomp() + " verify " + shell_quote(sample("programs/pocket-xy.ngc")) + " " +
+  const CommandResult verify = run_command(ccomp() + " verify " + sample("programs/pocket-xy.ngc") + " " +
                                            shell_quote(dir + "/held.ngc") + " -m " + shell_quote(kHmc) +
-                                           " --tool-table " + shell_quote(sample("tools.tbl")));
+                                           " --tool-table " + sample("tools.tbl"));
   EXPECT_EQ(verify.exit_code, 0) << verify.err;
 
   // By default (free) B is turned: B words on the lines, less orientation error left.
@@ -87,8 +84,8 @@ TEST(HeldAxes, AnAxisTheProgramNeverTurnsStaysStill) {
 TEST(HeldAxes, TheSummarySaysWhichAxisWasHeldAndWhy) {
   const std::string dir = temp_dir("held_summary");
   const std::string out = dir + "/out.ngc";
-  const std::string command = ccomp() + " " + shell_quote(sample("programs/pocket-xy.ngc")) + " -m " +
-                              shell_quote(kHmc) + " --tool-table " + shell_quote(sample("tools.tbl")) + " -o " + shell_quote(out);
+  const std::string command = ccomp() + " " + sample("programs/pocket-xy.ngc") + " -m " +
+                              shell_quote(kHmc) + " --tool-table " + sample("tools.tbl") + " -o " + shell_quote(out);
   const CommandResult automatic = run_command(command + " --hold B=auto");
   ASSERT_EQ(automatic.exit_code, 0) << automatic.err;
   EXPECT_NE(automatic.err.find("orientation error left"), std::string::npos) << automatic.err;
@@ -105,7 +102,7 @@ TEST(HeldAxes, AClampedTableStandsWhereTheProgramPutsIt) {
   const JobRun automatic = compensate(dir, "face-b0-b90.ngc", kHmc, "--hold B=auto", "auto");
   ASSERT_EQ(automatic.result.exit_code, 0) << automatic.result.err;
   std::set<double> programmed;
-  for (const double b : b_words(read_file(sample("programs/face-b0-b90.ngc")))) programmed.insert(b);
+  for (const double b : b_words(read_file(sample_path("programs/face-b0-b90.ngc")))) programmed.insert(b);
   ASSERT_EQ(programmed, (std::set<double>{0.0, 90.0}));
   bool corrected = false;
   for (const double b : b_words(automatic.output)) corrected = corrected || !programmed.count(b);
@@ -117,9 +114,9 @@ TEST(HeldAxes, AClampedTableStandsWhereTheProgramPutsIt) {
   EXPECT_FALSE(written.empty());
   for (const double b : written) EXPECT_TRUE(programmed.count(b)) << "B" << b << " is not the program's";
   EXPECT_LE(json_number(clamped.result.out, "error_after_um"), 1.0) << clamped.result.out;
-  EXPECT_EQ(run_command(ccomp() + " verify " + shell_quote(sample("programs/face-b0-b90.ngc")) + " " +
+  EXPECT_EQ(run_command(ccomp() + " verify " + sample("programs/face-b0-b90.ngc") + " " +
                         shell_quote(dir + "/clamped.ngc") + " -m " + shell_quote(kHmc) +
-                        " --tool-table " + shell_quote(sample("tools.tbl")))
+                        " --tool-table " + sample("tools.tbl"))
                 .exit_code,
             0);
 

@@ -15,12 +15,6 @@
 namespace ccomp::test {
 namespace {
 
-std::string ccomp() {
-  return shell_quote(ccomp_binary());
-}
-std::string sample(const std::string& name) {
-  return shell_quote(source_dir() + "/samples/machines/" + name);
-}
 
 double rms_of(const std::string& check_output) {
   std::smatch m;
@@ -31,11 +25,11 @@ double rms_of(const std::string& check_output) {
 TEST(IdentifyCli, SimulateCheckFitCheck) {
   const std::string dir = temp_dir("identify_cli");
   const std::string meas = shell_quote(dir + "/meas.csv"), fitted = shell_quote(dir + "/fitted.yaml");
-  CommandResult r = run_command(ccomp() + " simulate -m " + sample("hmc-xyzb-geometric.yaml") +
+  CommandResult r = run_command(ccomp() + " simulate -m " + sample("machines/hmc-xyzb-geometric.yaml") +
                                 " --plan nine_lines --plan grid --noise 0.2 --seed 7 -o " + meas);
   ASSERT_EQ(r.exit_code, 0) << r.err;
   // The zero model misses the machine's errors; the fit brings it to the noise.
-  r = run_command(ccomp() + " check " + meas + " -m " + sample("zero.yaml"));
+  r = run_command(ccomp() + " check " + meas + " -m " + sample("machines/zero.yaml"));
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_GT(rms_of(r.out), 5.0) << r.out;
   // Fitting starts from the geometric model's layout with its values scaled away.
@@ -98,7 +92,7 @@ TEST(IdentifyCli, ABadMeasurementFileExitsWithItsCode) {
   const std::string dir = temp_dir("identify_cli_bad");
   write_file(dir + "/bad.csv", "x,y,z,nx,ny,nz,d\n1,2,3,1,0,0,0.001\n1,2,3,0,0,1,abc\n");
   const CommandResult r =
-      run_command(ccomp() + " check " + shell_quote(dir + "/bad.csv") + " -m " + sample("zero.yaml"));
+      run_command(ccomp() + " check " + shell_quote(dir + "/bad.csv") + " -m " + sample("machines/zero.yaml"));
   EXPECT_EQ(r.exit_code, 8);
   EXPECT_NE(r.err.find("bad.csv:3:"), std::string::npos) << r.err;
   EXPECT_NE(r.err.find("'abc' is not a number"), std::string::npos) << r.err;
@@ -132,7 +126,7 @@ TEST(IdentifyCli, AWrongTermToAddIsShownAtItsPlaceInItsArgument) {
   const std::string meas = shell_quote(source_dir() + "/samples/measurements/hmc-laser-grid-sphere.csv");
   for (const auto& [spec, place] : {std::pair{"{name: EXX, vlaue: 1}", ":1:13: "},
                                     std::pair{"{name: EXX, variable: vc, form: reversal, reversal: 1}", ":1:23: "}}) {
-    const CommandResult r = run_command(ccomp() + " fit " + meas + " -m " + sample("hmc-xyzb-geometric.yaml") +
+    const CommandResult r = run_command(ccomp() + " fit " + meas + " -m " + sample("machines/hmc-xyzb-geometric.yaml") +
                                         " --add '" + spec + "' -o " + shell_quote(fitted));
     EXPECT_EQ(r.exit_code, 5) << r.err;
     EXPECT_EQ(r.err.rfind(std::string("--add '") + spec + "'" + place, 0), 0U) << r.err;
@@ -149,7 +143,7 @@ TEST(IdentifyCli, AHeaderWithoutRowsOrTooFewRowsExitWithTheirCode) {
     for (const char* file : {"none.csv", "few.csv"}) {
       const std::string output = command == std::string("fit") ? " -o " + shell_quote(dir + "/fitted.yaml") : "";
       const CommandResult r = run_command(ccomp() + " " + command + " " + shell_quote(dir + "/" + file) + " -m " +
-                                          sample("hmc-xyzb-geometric.yaml") + output);
+                                          sample("machines/hmc-xyzb-geometric.yaml") + output);
       // check still shows the model against two readings, and says why it cannot refit.
       const bool shown = command == std::string("check") && file == std::string("few.csv");
       EXPECT_EQ(r.exit_code, shown ? 0 : 8) << command << " " << file << ": " << r.err;
@@ -205,7 +199,7 @@ TEST(IdentifyCli, InstrumentFilesAreImportedOrReadDirectly) {
   EXPECT_TRUE(converted_text.starts_with("# frame:")) << converted_text.substr(0, 80);
   EXPECT_NE(converted_text.find("\n# Air temperature: 20.9\n"), std::string::npos) << converted_text.substr(0, 400);
   // The native file and its conversion give the same figures.
-  const std::string model = " -m " + sample("hmc-xyzb-geometric.yaml");
+  const std::string model = " -m " + sample("machines/hmc-xyzb-geometric.yaml");
   const CommandResult native = run_command(ccomp() + " positioning " + laser + model + " --axis x" + place);
   const CommandResult converted = run_command(ccomp() + " positioning " + csv + model + " --axis x");
   ASSERT_EQ(native.exit_code, 0) << native.err;

@@ -12,8 +12,6 @@
 namespace ccomp::test {
 namespace {
 
-std::string ccomp() { return shell_quote(ccomp_binary()); }
-std::string sample(const std::string& path) { return shell_quote(source_dir() + "/samples/" + path); }
 
 CommandResult validate(const std::string& document) {
   return run_command("/usr/bin/python3 " + shell_quote(source_dir() + "/tools/validate-json.py") + " " +

@@ -12,9 +12,6 @@
 namespace ccomp::test {
 namespace {
 
-std::string ccomp() {
-  return shell_quote(ccomp_binary());
-}
 std::string model() {
   return shell_quote(source_dir() + "/samples/machines/hmc-xyzb-geometric.yaml");
 }

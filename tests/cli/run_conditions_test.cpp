@@ -14,12 +14,6 @@
 namespace ccomp::test {
 namespace {
 
-std::string sample(const std::string& path) {
-  return shell_quote(source_dir() + "/samples/" + path);
-}
-std::string ccomp() {
-  return shell_quote(ccomp_binary());
-}
 
 const std::string kHmc = " -m " + sample("machines/hmc-xyzb.yaml") + " --tool-table " + sample("tools.tbl");
 const std::string kPocket = sample("programs/pocket-xy.ngc");

@@ -17,9 +17,6 @@ namespace fs = std::filesystem;
 
 constexpr const char* kProgram = "G21 G90\nG0 X1 Y2\nG1 X3 F100\nM2\n";
 
-std::string ccomp() {
-  return shell_quote(ccomp_binary());
-}
 std::string model() {
   return shell_quote(source_dir() + "/samples/machines/hmc-xyzb-geometric.yaml");
 }

@@ -12,12 +12,6 @@ namespace {
 
 namespace fs = std::filesystem;
 
-std::string ccomp() {
-  return shell_quote(ccomp_binary());
-}
-std::string sample(const std::string& path) {
-  return shell_quote(source_dir() + "/samples/" + path);
-}
 const std::string kPocket = sample("programs/pocket-xy.ngc");
 const std::string kTools = sample("tools.tbl");
 const std::string kHmc = sample("machines/hmc-xyzb-geometric.yaml");

@@ -15,9 +15,6 @@ namespace {
 
 namespace fs = std::filesystem;
 
-std::string sample(const std::string& path) {
-  return shell_quote(source_dir() + "/samples/" + path);
-}
 
 /// A warm machine's readings for the full HMC's thermal and warm-up terms.
 const std::string kWarm = " --sensor bed=24 --sensor column=23 --sensor spindle=31 --time 3600";

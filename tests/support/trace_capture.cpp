@@ -259,6 +259,10 @@ std::string ccomp_binary() {
   return CCOMP_BINARY;
 }
 
+std::string ccomp() { return shell_quote(ccomp_binary()); }
+
+std::string sample(const std::string& path) { return shell_quote(source_dir() + "/samples/" + path); }
+
 std::string temp_dir(const std::string& name) {
   // Per process: ctest runs test cases as parallel processes that share the build tree.
   const auto dir = std::filesystem::path(CCOMP_TEST_TMP) / std::to_string(::getpid()) / name;

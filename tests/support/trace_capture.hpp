@@ -73,6 +73,10 @@ std::string source_dir();
 /// Real programs and LinuxCNC's test suite (tests/data/corpus, from ../shared/corpus).
 std::string corpus_dir();
 std::string ccomp_binary();
+/// The ccomp binary, quoted for a shell command.
+std::string ccomp();
+/// A file under samples/ (path relative to it), quoted for a shell command.
+std::string sample(const std::string& path);
 /// A fresh empty folder under the build's temp area, private to this test process.
 std::string temp_dir(const std::string& name);
 
