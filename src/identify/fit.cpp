@@ -196,6 +196,10 @@ constexpr std::size_t kRowBlocks = 8;
 /// A change the data support moves the predictions by more than this many noise sigmas:
 /// the test a fit's step directions and its final changes both pass.
 constexpr double kSignificant = 3.0;
+/// A direction the data determine: one physical scale along it moves the predictions by
+/// more than one noise sigma (its uncertainty is below one physical scale). Whether the
+/// change found along it is kept is the 3-sigma test above, at the end.
+constexpr double kDeterminable = 1.0;
 /// A fitted change beyond this many physical scales is refused (FitReport::refusals).
 Eigen::Index block_begin(Eigen::Index rows, std::size_t b) {
   return rows * static_cast<Eigen::Index>(b) / static_cast<Eigen::Index>(kRowBlocks);
@@ -429,7 +433,7 @@ FitReport fit(const model::ForwardModel& model, const MeasurementSet& data, cons
       identified_direction.assign(static_cast<std::size_t>(m), false);
       std::vector<Eigen::Index> kept;
       for (Eigen::Index k = 0; k < m; ++k)
-        if (sigma[k] > std::max(kSignificant * report.noise, options.rank_tolerance * largest) && sigma[k] > 0) {
+        if (sigma[k] > std::max(kDeterminable * report.noise, options.rank_tolerance * largest) && sigma[k] > 0) {
           identified_direction[static_cast<std::size_t>(k)] = true;
           kept.push_back(k);
         }
