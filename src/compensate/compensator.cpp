@@ -83,20 +83,9 @@ void Compensator::follow_holds(const ChainQ& nominal) {
   }
   const unsigned axes = rotary_axes_to_hold();
   if (axes == held_rotary_) return;
-  // Another set of unknowns: a fresh solve matrix and path, the last answer kept (a move
-  // starting where the last ended starts where the machine is).
   problem_ = InverseProblem(model_, axes);
   held_rotary_ = axes;
-  InverseWorkspace fresh;
-  fresh.last_solution = workspace_.last_solution;
-  fresh.last_answer = workspace_.last_answer;
-  fresh.last_answer_bound = workspace_.last_answer_bound;
-  fresh.last_nominal = workspace_.last_nominal;
-  fresh.last_target = workspace_.last_target;
-  fresh.last_directions = workspace_.last_directions;
-  fresh.jacobian_evaluations = workspace_.jacobian_evaluations;
-  fresh.bounded_points = workspace_.bounded_points;
-  workspace_ = std::move(fresh);
+  workspace_.forget_problem();
 }
 
 void Compensator::moved(const ChainQ& q) {

@@ -516,6 +516,17 @@ bool accept_on_bound(const InverseProblem& problem, const model::Conditions& con
 
 }  // namespace
 
+void InverseWorkspace::forget_problem() {
+  solve_matrix.resize(0, 0);
+  last_target_orientation.setZero();
+  last_miss.setZero();
+  last_shift.setZero();
+  approach_gain = {};
+  approach_gain_known = {};
+  path = PathNodes{};
+  last_bounded = false;
+}
+
 InverseResult solve_inverse(const model::ForwardModel& model, const InverseProblem& problem, model::ForwardData& d,
                             const ChainQ& q_nominal, const model::Conditions& conditions, const InverseOptions& options,
                             const ChainQ* guess, InverseWorkspace* workspace, const NominalPose* nominal) {

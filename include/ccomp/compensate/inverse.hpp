@@ -172,6 +172,12 @@ struct InverseWorkspace {
   PathNodes path;
   std::size_t bounded_points = 0;  ///< how many points were accepted on the bound
   bool last_bounded = false;       ///< the last solution was accepted on the bound
+
+  /// For another set of unknowns (a rotary axis held or freed): forgets what the problem
+  /// shaped (the solve matrix, the path and its predictions, the approach gains) and keeps
+  /// the last answer (a move starting where the last ended starts where the machine is)
+  /// and the counts.
+  void forget_problem();
 };
 
 /// The nominal tool pose at a point (table frame): what its solve aims at, when the caller
