@@ -638,7 +638,9 @@ FitReport fit(const model::ForwardModel& model, const MeasurementSet& data, cons
   report.covariance_factor.setZero(m, m);
   for (Eigen::Index k = 0; k < m; ++k) {
     const bool seen = identified_direction[static_cast<std::size_t>(k)];
-    const double sd = seen ? std::sqrt(s2) / sigma[k] : 1.0;  // in physical scales
+    // In physical scales; a direction the data know to about a scale no worse than one
+    // they do not know at all (the residual's rms may exceed the noise floor it was judged on).
+    const double sd = seen ? std::min(1.0, std::sqrt(s2) / sigma[k]) : 1.0;
     report.covariance_factor.row(k) = (sd * V.col(k).cwiseQuotient(scale)).transpose();
   }
   // A value far beyond what a machine plausibly has is what the data cannot say (a blind
@@ -671,7 +673,7 @@ FitReport fit(const model::ForwardModel& model, const MeasurementSet& data, cons
       unseen += (unseen.empty() ? "" : ", ") + report.parameters[static_cast<std::size_t>(j)].label;
   if (!unseen.empty())
     report.unidentifiable.push_back(
-        fmt::format("{}: no effect above the noise on these measurements; left as they were", unseen));
+        fmt::format("{}: no effect above 3 noise sigmas on these measurements; left as they were", unseen));
   for (Eigen::Index k = 0; k < m; ++k) {
     if (identified_direction[static_cast<std::size_t>(k)]) continue;
     std::vector<std::pair<double, std::size_t>> members;

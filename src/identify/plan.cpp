@@ -7,6 +7,7 @@
 #include <cmath>
 #include <fstream>
 #include <map>
+#include <numbers>
 #include <optional>
 #include <random>
 #include <sstream>
@@ -107,15 +108,20 @@ Observation reading_at(const ProgramBox& box, model::ChainQ q, const Eigen::Vect
   return o;
 }
 
+/// `q` with the model's rotary axes at `angles` (rad, in the model's order of axes).
+model::ChainQ at_setting(const model::MachineModel& m, model::ChainQ q, const std::vector<double>& angles) {
+  std::size_t k = 0;
+  for (const model::AxisSpec& a : m.axes)
+    if (a.type == model::AxisType::rotary) q[static_cast<Eigen::Index>(kLetters.find(a.letter))] = angles[k++];
+  return q;
+}
+
 /// At one rotary setting: a grid of 3 points a linear axis over the programs' box (full
 /// deviations: three readings a point), and a laser line along each linear axis through the
 /// box's middle, 11 targets out and back.
 void candidates_at(const model::MachineModel& m, const ProgramBox& box, const std::vector<double>& angles,
                    std::vector<Candidate>& out) {
-  model::ChainQ base = box.middle;
-  std::size_t k = 0;
-  for (const model::AxisSpec& a : m.axes)
-    if (a.type == model::AxisType::rotary) base[static_cast<Eigen::Index>(kLetters.find(a.letter))] = angles[k++];
+  const model::ChainQ base = at_setting(m, box.middle, angles);
   const std::string at = setting_name(m, angles);
   const std::string suffix = at.empty() ? "" : "-" + at;
   const std::string where = at.empty() ? "" : " at " + at;
@@ -167,33 +173,45 @@ std::optional<model::ChainQ> reaching(const model::ForwardModel& model, model::F
 }
 
 /// The rotary angles a sphere is probed at: over the range the programs turn each rotary
-/// axis through, evenly, at most 13 a turn and 25 in all (rad, per rotary axis of the model).
+/// axis through, evenly, about every 15 degrees (at least 3 angles where the axis turns a
+/// degree or more, at most 13), a full turn without its end again; with two axes every
+/// combination, each axis' count lowered until there are at most 25 (rad, per rotary axis
+/// of the model).
 std::vector<std::vector<double>> sweep_angles(const model::MachineModel& m, const ProgramBox& box) {
-  std::vector<std::vector<double>> per_axis;
+  struct Range {
+    double low, high;
+    bool full_turn;
+    int count;
+  };
+  std::vector<Range> ranges;
   for (const model::AxisSpec& a : m.axes) {
     if (a.type != model::AxisType::rotary) continue;
     const auto e = static_cast<Eigen::Index>(kLetters.find(a.letter));
     const double low = box.low[e], high = box.high[e], range_deg = (high - low) / kRadPerDeg;
-    std::vector<double> angles;
+    const bool full_turn = range_deg >= 360.0 - 1e-6;
     const int count = range_deg < 1.0 ? 1 : std::clamp(static_cast<int>(std::ceil(range_deg / 15.0)) + 1, 3, 13);
-    for (int k = 0; k < count; ++k) angles.push_back(count == 1 ? low : low + (high - low) * k / (count - 1));
-    per_axis.push_back(angles);
+    ranges.push_back({low, full_turn ? low + 2 * std::numbers::pi : high, full_turn, count});
+  }
+  auto combinations = [&] {
+    std::size_t n = 1;
+    for (const Range& r : ranges) n *= static_cast<std::size_t>(r.count);
+    return n;
+  };
+  while (combinations() > 25) {
+    Range& most = *std::max_element(ranges.begin(), ranges.end(),
+                                    [](const Range& a, const Range& b) { return a.count < b.count; });
+    --most.count;
   }
   std::vector<std::vector<double>> out{{}};
-  for (const std::vector<double>& axis : per_axis) {
+  for (const Range& r : ranges) {
     std::vector<std::vector<double>> more;
+    const int intervals = r.full_turn ? r.count : r.count - 1;
     for (const std::vector<double>& prefix : out)
-      for (const double a : axis) {
+      for (int k = 0; k < r.count; ++k) {
         more.push_back(prefix);
-        more.back().push_back(a);
+        more.back().push_back(r.count == 1 ? r.low : r.low + (r.high - r.low) * k / intervals);
       }
     out = std::move(more);
-  }
-  // Two axes of 13: every other combination, as many as one axis alone.
-  while (out.size() > 25) {
-    std::vector<std::vector<double>> thinned;
-    for (std::size_t k = 0; k < out.size(); k += 2) thinned.push_back(out[k]);
-    out = std::move(thinned);
   }
   return out;
 }
@@ -209,30 +227,26 @@ void sphere_candidates(const model::ForwardModel& model, const ProgramBox& box, 
   const std::vector<std::vector<double>> sweep = sweep_angles(m, box);
   if (sweep.size() < 3) return;
   model::ForwardData fd(model);
-  auto with_angles = [&](model::ChainQ q, const std::vector<double>& angles) {
-    std::size_t k = 0;
-    for (const model::AxisSpec& a : m.axes)
-      if (a.type == model::AxisType::rotary) q[static_cast<Eigen::Index>(kLetters.find(a.letter))] = angles[k++];
-    return q;
-  };
-  model::ChainQ low = box.middle, high = box.middle;
+  // The probe the readings are taken with (reading_at's tool length) is the one the tip is
+  // placed with.
+  model::ChainQ middle = box.middle;
+  middle[static_cast<Eigen::Index>(model::kToolLengthIndex)] = box.tool_length;
+  model::ChainQ low = middle, high = middle;
   for (const std::size_t i : box.linear) {
     const auto e = static_cast<Eigen::Index>(i);
     low[e] = box.low[e] + 0.25 * (box.high[e] - box.low[e]);
     high[e] = box.high[e] - 0.25 * (box.high[e] - box.low[e]);
   }
-  int number = 0;
-  for (const model::ChainQ& place : {box.middle, low, high}) {
-    const model::ChainQ at = with_angles(place, usual);
+  for (const model::ChainQ& place : {middle, low, high}) {
+    const model::ChainQ at = at_setting(m, place, usual);
     model::forward(model, fd, at, box.conditions.conditions, false, model::Evaluate::nominal);
     const Eigen::Vector3d centre = fd.nominal;
-    ++number;
-    Candidate sphere{fmt::format("plan-sphere-{}", number), "probed sphere",
-                     fmt::format(" at X{:.0f} Y{:.0f} Z{:.0f} of the table", centre.x(), centre.y(), centre.z()),
-                     {}, {}, false};
+    // Named by where it sits: a later plan's sphere at the same place is the same sphere.
+    Candidate sphere{fmt::format("plan-sphere-X{:.0f}-Y{:.0f}-Z{:.0f}", centre.x(), centre.y(), centre.z()),
+                     "probed sphere", " (fixed on the table)", {}, {}, false};
     std::size_t reached = 0;
     for (const std::vector<double>& angles : sweep) {
-      const std::optional<model::ChainQ> q = reaching(model, fd, box, with_angles(at, angles), centre);
+      const std::optional<model::ChainQ> q = reaching(model, fd, box, at_setting(m, at, angles), centre);
       if (!q) continue;
       ++reached;
       for (int c = 0; c < 3; ++c) {

@@ -25,7 +25,9 @@ struct FitOptions {
   Loss loss = Loss::least_squares;  ///< huber: rows beyond 1.345 robust sigmas count linearly
   int max_iterations = 30;
   /// A combination of parameters is determined when moving it by one physical scale
-  /// (physical_scale.hpp) changes the predictions by more than 3 noise sigmas; and, whatever
+  /// (physical_scale.hpp) changes the predictions by more than 1 noise sigma (a parameter
+  /// whose own effect is below 3 sigmas is held first; the change found along a determined
+  /// combination is kept where it is beyond 3 sigmas); and, whatever
   /// the noise, when its singular value (columns in physical scales) is above this fraction
   /// of the largest (numerically zero below).
   double rank_tolerance = 1e-9;
