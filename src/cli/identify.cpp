@@ -383,9 +383,7 @@ int run_check(const IdentifyArgs& args) {
   fmt::print("missing effects, best first ({} candidates tried):\n", d.candidates_tried);
   for (const identify::Suggestion& s : d.suggestions) {
     fmt::print("{}. {}\n   term {} ({}), variable {}, form {}", s.rank, s.effect, s.term, s.error, s.variable, s.form);
-    if (s.period > 0)
-      fmt::print(", {} {:.6g} +- {:.2g}", s.form == "exponential" ? "time constant" : "period", s.period,
-                 s.period_uncertainty);
+    if (const std::string scanned = identify::scanned_value_text(s); !scanned.empty()) fmt::print(", {}", scanned);
     if (!s.aliasing.empty()) fmt::print("\n   {}", s.aliasing);
     fmt::print(
         "\n   rms {:.3f} -> {:.3f} um{}, BIC {:+.1f}; on readings left out (by {}) it predicts {:.0f}% of what it "

@@ -409,6 +409,17 @@ std::optional<OriginMisfit> origin_misfit(const model::ForwardModel& model, cons
   return m;
 }
 
+std::string scanned_value_text(const Suggestion& s) {
+  if (!(s.period > 0) && s.form != "bump") return {};
+  const bool warm_up = s.form == "exponential";
+  const std::string unit = warm_up                                                  ? "s"
+                           : s.variable.find_first_of("abc") == 0 ? "deg"
+                                                                    : "mm";
+  const std::string what = warm_up ? "time constant" : s.form == "bump" ? "at" : "period";
+  if (s.form == "harmonic") return fmt::format("{} {:.6g} {}", what, s.period, unit);
+  return fmt::format("{} {:.6g} +- {:.2g} {}", what, s.period, s.period_uncertainty, unit);
+}
+
 Diagnosis diagnose(const model::ForwardModel& model, const MeasurementSet& data, const DiagnoseOptions& options) {
   const model::MachineModel& mm = model.machine();
   Diagnosis out;

@@ -27,8 +27,8 @@ Section effects_section(const CheckReportInput& in, FigureIds& ids) {
     s.html += "<p><b>None of the candidates is significant against the noise floor.</b></p>\n";
   } else {
     s.html +=
-        "<table><tr><th>rank</th><th>effect</th><th>term</th><th>variable</th><th>form</th><th>period / time "
-        "constant</th><th>rms before &rarr; after (&micro;m)</th><th>BIC</th><th>held out</th><th>add with "
+        "<table><tr><th>rank</th><th>effect</th><th>term</th><th>variable</th><th>form</th><th>period, time "
+        "constant or place</th><th>rms before &rarr; after (&micro;m)</th><th>BIC</th><th>held out</th><th>add with "
         "<code>ccomp fit --add</code></th></tr>\n";
     for (const identify::Suggestion& g : d.suggestions)
       s.html += fmt::format(
@@ -36,7 +36,7 @@ Section effects_section(const CheckReportInput& in, FigureIds& ids) {
           "class=\"num\">{:.3f} &rarr; {:.3f}</td><td class=\"num\">{:+.1f}</td><td class=\"num\">{:.0f}% (by "
           "{})</td><td><code>{}</code></td></tr>\n",
           g.rank, html_escape(g.effect), html_escape(g.term), html_escape(g.variable), html_escape(g.form),
-          g.period > 0 ? fmt::format("{:.6g} &plusmn; {:.2g}", g.period, g.period_uncertainty) : "", g.rms_before * kUm,
+          html_escape(identify::scanned_value_text(g)), g.rms_before * kUm,
           g.rms_after * kUm, g.bic_delta, 100 * g.held_out, html_escape(g.held_out_by), html_escape(g.spec));
     s.html += "</table>\n";
     s.figures = effect_figures(in, ids);

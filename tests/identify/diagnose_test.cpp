@@ -21,6 +21,24 @@
 namespace ccomp::identify {
 namespace {
 
+// What check prints of a suggestion's scanned value names it and its unit: a place is not a
+// period, a table's period is in degrees, a warm-up's time constant in seconds.
+TEST(ScannedValueText, NamesTheValueAndItsUnit) {
+  Suggestion s;
+  s.form = "periodic", s.variable = "x", s.period = 9.99973, s.period_uncertainty = 0.0002;
+  EXPECT_EQ(scanned_value_text(s), "period 9.99973 +- 0.0002 mm");
+  s.variable = "b", s.period = 7.5, s.period_uncertainty = 0.01;
+  EXPECT_EQ(scanned_value_text(s), "period 7.5 +- 0.01 deg");
+  s.form = "harmonic", s.period = 120.0, s.period_uncertainty = 0.0;
+  EXPECT_EQ(scanned_value_text(s), "period 120 deg") << "a harmonic's period is fixed";
+  s.form = "exponential", s.variable = "t", s.period = 2400.0, s.period_uncertainty = 52.0;
+  EXPECT_EQ(scanned_value_text(s), "time constant 2400 +- 52 s");
+  s.form = "bump", s.variable = "y", s.period = -50.0, s.period_uncertainty = 0.41;
+  EXPECT_EQ(scanned_value_text(s), "at -50 +- 0.41 mm") << "a local defect's place, wherever it is";
+  s.form = "reversal", s.variable = "vx", s.period = 0.0;
+  EXPECT_EQ(scanned_value_text(s), "");
+}
+
 constexpr double kNoise = 0.0002;  // 0.2 um
 
 struct Hidden {

@@ -113,4 +113,9 @@ struct Diagnosis {
 [[nodiscard]] Diagnosis diagnose(const model::ForwardModel& model, const MeasurementSet& data,
                                  const DiagnoseOptions& options = {});
 
+/// A suggestion's scanned value in words, with its unit: "period 9.99973 +- 0.0002 mm", "time
+/// constant 2400 +- 52 s", "at 125.3 +- 0.41 mm" (a local defect's place); a harmonic's
+/// fixed period without an uncertainty. Empty where it has none.
+[[nodiscard]] std::string scanned_value_text(const Suggestion& s);
+
 }  // namespace ccomp::identify
