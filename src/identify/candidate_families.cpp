@@ -126,37 +126,56 @@ Candidate smooth_two_variable(const AxisInfo& a, const AxisInfo& w, int componen
 }
 }  // namespace
 
-// Periodic positioning error: the lead screw's pitch, or the scale's.
-void screw_pitch(LibraryContext& ctx, const AxisInfo& a, std::span<const AxisInfo>, std::vector<Candidate>& out) {
+/// How a periodic error of an axis' own motion is scanned and written: in the axis' unit.
+struct PeriodicScan {
+  double per_unit = 1.0;          ///< internal units per file unit of the position (1 mm; rad per deg)
+  double shortest = 2.0;          ///< the shortest period a mechanism of the kind has (mm, deg)
+  double longest = 1e300;         ///< the longest scanned (deg: a quarter turn)
+  const char* unit = "mm";        ///< the position's unit
+  const char* value_unit = "um";  ///< the error's unit in the model file
+  std::string settling_run;       ///< the run that tells a period from its aliases
+};
+
+/// A periodic error of axis `a`'s own motion, its period scanned.
+Candidate scanned_period(LibraryContext& ctx, const AxisInfo& a, std::string effect, const PeriodicScan& scan) {
   const std::string own = term_name(a.own, a.link, false);
   const double span = a.to - a.from;
   Candidate c;
-  c.effect = fmt::format("periodic error of the {} axis' positioning (lead-screw pitch or scale pitch)",
-                         kAxisLetters[a.index]);
+  c.effect = std::move(effect);
   c.error = own, c.term = own, c.variable = axis_name(a.index), c.form = "periodic";
   c.probe = ctx.probe(a.link, a.own);
-  periodic_in(c, [&a](const Observation& o) { return position(o, a); });
+  periodic_in(c, [&a, per = scan.per_unit](const Observation& o) { return position(o, a) / per; });
   // Readings every step s along the axis (on a lattice) cannot tell a period from its
   // aliases 1 / (k / s +- 1 / P): the scan covers two steps (Nyquist) and up, and what it
   // finds is said to be possibly aliased (aliasing.hpp). With ISO 230-2's irregular
   // targets no period aliases another: it goes on down to a quarter of the spacing.
   // A period is named only where the data cover enough of its cycles to tell it from a
   // slow curve (a shape the library lacks, a thermal drift seen along a line): four.
-  c.scan_from = std::max(2.0, (a.on_lattice ? 2.0 : 0.25) * a.step), c.scan_to = span / kCyclesForAPeriod;
+  c.scan_from = std::max(scan.shortest, (a.on_lattice ? 2.0 : 0.25) * a.step);
+  c.scan_to = std::min(scan.longest, span / kCyclesForAPeriod);
   if (a.on_lattice) {
-    c.lattice_step = a.step, c.shortest_period = 2.0, c.period_unit = "mm";
-    c.settling_run = fmt::format("a laser line along {}", kAxisLetters[a.index]);
+    c.lattice_step = a.step, c.shortest_period = scan.shortest, c.period_unit = scan.unit;
+    c.settling_run = scan.settling_run;
   }
   // Two frequencies per peak width (1 / span): a peak is seen at 80% of its height or
   // better, and refined between its neighbours.
   c.scan_points = static_cast<int>(std::clamp(2.0 * span / c.scan_from, 50.0, 6000.0));
-  c.yaml = [own, component = a.own](const Eigen::VectorXd& x, double period) {
+  c.yaml = [own, component = a.own, unit = std::string(scan.unit), value_unit = std::string(scan.value_unit)](
+               const Eigen::VectorXd& x, double period) {
     return fmt::format(
-        "{{name: {}, form: periodic, period: {:.6g} mm, unit: um, harmonics: [[{:.4g}, "
+        "{{name: {}, form: periodic, period: {:.6g} {}, unit: {}, harmonics: [[{:.4g}, "
         "{:.4g}]], fit: true}}",
-        own, period, file_value(component, x[0]), file_value(component, x[1]));
+        own, period, unit, value_unit, file_value(component, x[0]), file_value(component, x[1]));
   };
-  out.push_back(c);
+  return c;
+}
+
+// Periodic positioning error: the lead screw's pitch, or the scale's.
+void screw_pitch(LibraryContext& ctx, const AxisInfo& a, std::span<const AxisInfo>, std::vector<Candidate>& out) {
+  out.push_back(scanned_period(
+      ctx, a,
+      fmt::format("periodic error of the {} axis' positioning (lead-screw pitch or scale pitch)", kAxisLetters[a.index]),
+      PeriodicScan{1.0, 2.0, 1e300, "mm", "um", fmt::format("a laser line along {}", kAxisLetters[a.index])}));
 }
 
 void reversal(LibraryContext& ctx, const AxisInfo& a, std::span<const AxisInfo>, std::vector<Candidate>& out) {
@@ -333,30 +352,13 @@ void table_harmonics(LibraryContext& ctx, const AxisInfo& a, std::span<const Axi
   }
 }
 
-// The table's indexing error of a scanned period (a worm wheel's tooth).
+// The table's indexing error of a scanned period (a worm wheel's tooth), up to a quarter turn.
 void worm_wheel(LibraryContext& ctx, const AxisInfo& a, std::span<const AxisInfo>, std::vector<Candidate>& out) {
-  const std::string own = term_name(a.own, a.link, false);
-  const double span = a.to - a.from;
-  Candidate w;
-  w.effect =
-      fmt::format("periodic indexing error of the {} table (a worm wheel's tooth period)", kAxisLetters[a.index]);
-  w.error = own, w.term = own, w.variable = axis_name(a.index), w.form = "periodic";
-  w.probe = ctx.probe(a.link, a.own);
-  periodic_in(w, [&a](const Observation& o) { return position(o, a) / kRadPerDeg; });
-  w.scan_from = std::max(1.0, (a.on_lattice ? 2.0 : 0.25) * a.step);
-  w.scan_to = std::min(90.0, span / kCyclesForAPeriod);
-  if (a.on_lattice) {
-    w.lattice_step = a.step, w.shortest_period = 1.0, w.period_unit = "deg";
-    w.settling_run = fmt::format("the table probed as {} turns", kAxisLetters[a.index]);
-  }
-  w.scan_points = static_cast<int>(std::clamp(2.0 * span / w.scan_from, 50.0, 6000.0));
-  w.yaml = [own, component = a.own](const Eigen::VectorXd& x, double period) {
-    return fmt::format(
-        "{{name: {}, form: periodic, period: {:.6g} deg, unit: urad, harmonics: [[{:.4g}, "
-        "{:.4g}]], fit: true}}",
-        own, period, file_value(component, x[0]), file_value(component, x[1]));
-  };
-  out.push_back(w);
+  out.push_back(scanned_period(
+      ctx, a,
+      fmt::format("periodic indexing error of the {} table (a worm wheel's tooth period)", kAxisLetters[a.index]),
+      PeriodicScan{kRadPerDeg, 1.0, 90.0, "deg", "urad",
+                   fmt::format("the table probed as {} turns", kAxisLetters[a.index])}));
 }
 
 // The rotary axis' line: its centre off (eccentricity) and its tilt (ISO 230-7's location
