@@ -18,7 +18,6 @@
 namespace ccomp::cli {
 namespace {
 
-constexpr double kArcsecPerRad = 180.0 * 3600.0 / std::numbers::pi;
 
 /// How the report writes deviations: um on a linear axis, arcsec (or urad) on a rotary one,
 /// as ISO 230-2 gives a rotary axis' figures in angle.
@@ -31,7 +30,7 @@ struct DeviationUnit {
 DeviationUnit unit_for(const identify::PositioningReport& r, const std::string& angle) {
   if (!r.rotary) return {"um", 1e3, "mm"};
   if (angle == "urad") return {"urad", 1e6, "deg"};
-  return {"arcsec", kArcsecPerRad, "deg"};
+  return {"arcsec", identify::kArcsecPerRad, "deg"};
 }
 
 std::string cell(const std::optional<double>& v, double scale, int width, const char* missing = "-") {

@@ -58,14 +58,12 @@ std::string line_place(const identify::Observation& o, const model::MachineModel
 }
 
 /// ISO 230-2 on one source's positioning readings, when they allow it.
+/// (`forward`: the model's chain, for a rotary axis' deviations, angles over the readings' lever.)
 std::optional<identify::PositioningReport> positioning(const CheckReportInput& in, std::size_t axis,
-                                                       const std::string& source) {
+                                                       const std::string& source, const model::ForwardModel& forward) {
   if (axis > 5) return std::nullopt;
   try {
-    if (axis > 2) {  // a rotary axis' deviations are angles over the readings' lever: the chain's
-      const model::ForwardModel forward(in.model);
-      return identify::analyse_positioning(in.data, axis, source, &forward);
-    }
+    if (axis > 2) return identify::analyse_positioning(in.data, axis, source, &forward);
     return identify::analyse_positioning(in.data, axis, source);
   } catch (const Error&) {
     return std::nullopt;  // no readings along it with an approach, or at one target only
@@ -334,7 +332,7 @@ std::string iso_table(const std::vector<std::pair<std::string, identify::Positio
                       const identify::MeasurementSet& data, bool rotary) {
   if (reports.empty()) return "";
   const std::string unit = rotary ? "arcsec" : "&micro;m";
-  const double scale = rotary ? 180.0 * 3600.0 / std::numbers::pi : kUm;  // arcsec per rad, um per mm
+  const double scale = rotary ? identify::kArcsecPerRad : kUm;
   std::string html = fmt::format(
       "<h3>ISO 230-2 positioning figures{}</h3>\n<table><tr><th>source</th><th>axis</th><th>targets</th><th>runs "
       "up / down</th><th>A ({})</th><th>A&uarr; / A&darr;</th><th>B ({})</th><th>mean B</th><th>E "
@@ -373,6 +371,7 @@ std::vector<Section> source_sections(const CheckReportInput& in, FigureIds& ids)
   Section lines{"lines", "Laser lines", "", {}, ""}, grids{"volumetric", "Volumetric measurements", "", {}, ""},
       rotary{"rotary", "Rotary axes", "", {}, ""};
   std::vector<std::pair<std::string, identify::PositioningReport>> iso_reports, rotary_iso;
+  const model::ForwardModel forward(in.model);  // once, for every rotary source's figures
   const std::vector<SourceShape> shapes = source_shapes(in.data, in.model);
   for (std::size_t s = 0; s < shapes.size(); ++s) {
     const SourceShape& shape = shapes[s];
@@ -380,13 +379,13 @@ std::vector<Section> source_sections(const CheckReportInput& in, FigureIds& ids)
     if (shape.readings.empty()) continue;
     if (shape.kind == SourceKind::rotary) {
       for (Figure& f : rotary_figures(in, shape, source, ids)) rotary.figures.push_back(std::move(f));
-      if (std::optional<identify::PositioningReport> iso = positioning(in, shape.axis, source); iso && iso->rotary)
+      if (std::optional<identify::PositioningReport> iso = positioning(in, shape.axis, source, forward); iso && iso->rotary)
         rotary_iso.emplace_back(source, *iso);
       continue;
     }
     std::optional<identify::PositioningReport> iso;
     if (shape.kind == SourceKind::line) {
-      iso = positioning(in, shape.axis, source);
+      iso = positioning(in, shape.axis, source, forward);
       if (iso) iso_reports.emplace_back(source, *iso);
     }
     for (const ReadingDirection& read : reading_directions(in.data, shape.readings)) {

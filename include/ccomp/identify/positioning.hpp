@@ -8,6 +8,7 @@
 // deviation into a cumulative part (a smooth curve), a periodic part (the screw's or scale's
 // pitch, a worm's tooth) and the reversal.
 #include <cstddef>
+#include <numbers>
 #include <optional>
 #include <string>
 #include <vector>
@@ -19,6 +20,9 @@ class ForwardModel;
 }
 
 namespace ccomp::identify {
+
+/// Arcseconds in a radian: ISO 230-2 gives a rotary axis' figures in arcseconds.
+inline constexpr double kArcsecPerRad = 180.0 * 3600.0 / std::numbers::pi;
 
 /// Deviations are in mm on a linear axis and in rad on a rotary one; positions in mm or deg,
 /// as the files give them (program coordinates in each file's frame).
