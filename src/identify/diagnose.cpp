@@ -28,6 +28,8 @@
 #include "fixed_sums.hpp"
 #include "held_out.hpp"
 #include "origin_shift.hpp"
+#include "projector.hpp"
+#include "scanners.hpp"
 
 namespace ccomp::identify {
 namespace {
@@ -40,60 +42,16 @@ using detail::Candidate;
 using detail::candidate_columns;
 using detail::candidate_library;
 using detail::Probe;
+using detail::kSignificance;
+using detail::Projector;
 using detail::term_name;
 
-/// A candidate is suggested when the chi-square falls by this much (five sigma) beyond
-/// what noise and its scan would give.
-constexpr double kSignificance = 25.0;
 /// The residual holds structure when its rms is above this many noise floors (the loop's
 /// own end: a model at the noise leaves at most this).
 constexpr double kStructure = 1.3;
 /// A variable the residual is uneven along: a bin's rms this many times the rms everywhere.
 constexpr double kUneven = 1.2;
 
-/// A sinusoid's gain (the fall in the sum of squares when its cos and sin columns g cos,
-/// g sin join, leaving out what the base absorbs) at `count` evenly spaced frequencies
-/// f0 + k df of `variable`, for the residual r. Each row's (cos, sin) turns by one
-/// rotation per frequency. Rows are taken a block at a time through all frequencies: the
-/// block stays in the first-level cache, the rows are read from memory once.
-std::vector<double> coarse_periodic_gains(const std::vector<double>& variable, const std::vector<double>& g,
-                                          const Eigen::VectorXd& r, double f0, double df, std::size_t count) {
-  const auto rows = static_cast<Eigen::Index>(variable.size());
-  Eigen::ArrayXd cs(rows), sn(rows), step_c(rows), step_s(rows), gr(rows), g2(rows);
-  for (Eigen::Index i = 0; i < rows; ++i) {
-    const double v = variable[static_cast<std::size_t>(i)], gi = g[static_cast<std::size_t>(i)];
-    cs[i] = std::cos(2 * std::numbers::pi * v * f0), sn[i] = std::sin(2 * std::numbers::pi * v * f0);
-    step_c[i] = std::cos(2 * std::numbers::pi * v * df), step_s[i] = std::sin(2 * std::numbers::pi * v * df);
-    gr[i] = gi * r[i];
-    g2[i] = gi * gi;
-  }
-  // Per frequency: g r cos, g r sin, g^2 cos^2, g^2 cos sin, g^2 sin^2, summed.
-  std::vector<std::array<double, 5>> sums(count, std::array<double, 5>{});
-  constexpr Eigen::Index kBlock = 256;
-  Eigen::ArrayXd turned(kBlock);
-  for (Eigen::Index begin = 0; begin < rows; begin += kBlock) {
-    const Eigen::Index size = std::min(kBlock, rows - begin);
-    auto c = cs.segment(begin, size), s = sn.segment(begin, size);
-    const auto sc = step_c.segment(begin, size), ss = step_s.segment(begin, size);
-    const auto w = gr.segment(begin, size), w2 = g2.segment(begin, size);
-    auto t = turned.head(size);
-    for (std::size_t k = 0; k < count; ++k) {
-      std::array<double, 5>& sum = sums[k];
-      sum[0] += (w * c).sum(), sum[1] += (w * s).sum();
-      sum[2] += (w2 * c.square()).sum(), sum[3] += (w2 * c * s).sum(), sum[4] += (w2 * s.square()).sum();
-      t = c * sc - s * ss;
-      s = s * sc + c * ss;
-      c = t;
-    }
-  }
-  std::vector<double> gains(count);
-  for (std::size_t k = 0; k < count; ++k) {
-    const auto& [b0, b1, n00, n01, n11] = sums[k];
-    const double det = n00 * n11 - n01 * n01;
-    gains[k] = det > 1e-12 * n00 * n11 ? (n11 * b0 * b0 - 2 * n01 * b0 * b1 + n00 * b1 * b1) / det : 0.0;
-  }
-  return gains;
-}
 
 /// A scored candidate: its suggestion, and the value and coefficients it was scored at.
 struct Scored {
@@ -103,140 +61,8 @@ struct Scored {
   double gain = 0.0;  // mm^2: the fall in the sum of squares where it was fitted
 };
 
-/// The refitted model's residual and what its free parameters can absorb.
-struct Projector {
-  Eigen::VectorXd r;  // residual, orthogonal to the base columns
-  Eigen::MatrixXd A;  // the base's columns (the refit's design matrix), scaled to unit length: n x m
-  Eigen::MatrixXd W;  // m x k: A W is an orthonormal basis of the combinations the data identify
 
-  /// A^T C over some rows (C has a row per one of them): the base's rows gathered a block at
-  /// a time, never a copy of A on each probe's rows (rows x m per probe was much of check's
-  /// memory on a large file).
-  [[nodiscard]] Eigen::MatrixXd At_on_rows(const std::vector<Eigen::Index>& rows, const Eigen::MatrixXd& C) const {
-    constexpr Eigen::Index kBlock = 256;
-    Eigen::MatrixXd AtC = Eigen::MatrixXd::Zero(A.cols(), C.cols());
-    if (A.cols() == 0) return AtC;
-    Eigen::MatrixXd gathered(kBlock, A.cols());
-    const auto n = static_cast<Eigen::Index>(rows.size());
-    for (Eigen::Index first = 0; first < n; first += kBlock) {
-      const Eigen::Index count = std::min(kBlock, n - first);
-      for (Eigen::Index i = 0; i < count; ++i) gathered.row(i) = A.row(rows[static_cast<std::size_t>(first + i)]);
-      AtC.noalias() += gathered.topRows(count).transpose() * C.middleRows(first, count);
-    }
-    return AtC;
-  }
 
-  /// The sum of squares of column c (A^T c given) that the base cannot absorb.
-  [[nodiscard]] double left_over(const Eigen::Ref<const Eigen::VectorXd>& c,
-                                 const Eigen::Ref<const Eigen::VectorXd>& Atc) const {
-    const Eigen::VectorXd Utc = W.transpose() * Atc;
-    return c.squaredNorm() - Utc.squaredNorm();
-  }
-
-  /// The fall in the sum of squares when columns C join the base fit, and their
-  /// coefficients. C is given on some rows (a probe's), `r_rows` is the residual there
-  /// and `AtC` is A^T C over the same rows (m x C.cols()). U = A W is never formed: what
-  /// the base absorbs of C is W^T (A^T C), and A^T C is one product for many candidates.
-  double gain(const Eigen::Ref<const Eigen::MatrixXd>& C, const Eigen::Ref<const Eigen::VectorXd>& r_rows,
-              const Eigen::Ref<const Eigen::MatrixXd>& AtC, Eigen::VectorXd* coefficients) const {
-    return gain_of_sums(C.transpose() * C, C.transpose() * r_rows, AtC, coefficients);
-  }
-
-  /// The same from the sums over the rows: C^T C, C^T r and A^T C (fixed_sums.hpp).
-  double gain_of_sums(const Eigen::MatrixXd& CtC, const Eigen::VectorXd& b,
-                      const Eigen::Ref<const Eigen::MatrixXd>& AtC, Eigen::VectorXd* coefficients) const {
-    const Eigen::Index k = CtC.cols();
-    const Eigen::MatrixXd UtC = W.transpose() * AtC;
-    const Eigen::MatrixXd N = CtC - UtC.transpose() * UtC;
-    // Columns scaled to unit diagonal; a column the base already spans gains nothing.
-    Eigen::VectorXd d = N.diagonal().cwiseMax(0.0).cwiseSqrt();
-    for (Eigen::Index j = 0; j < k; ++j)
-      if (!(d[j] > 1e-9 * std::sqrt(std::max(CtC(j, j), 1e-300)))) return 0.0;
-    const Eigen::MatrixXd Ns = d.cwiseInverse().asDiagonal() * N * d.cwiseInverse().asDiagonal();
-    const Eigen::VectorXd bs = b.cwiseQuotient(d);
-    Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(Ns);
-    // Columns that are nearly one another once the base is out: the candidate is not one effect.
-    if (eig.eigenvalues().minCoeff() < 1e-6) return 0.0;
-    const Eigen::VectorXd xs =
-        eig.eigenvectors() * (eig.eigenvectors().transpose() * bs).cwiseQuotient(eig.eigenvalues());
-    if (coefficients) *coefficients = xs.cwiseQuotient(d);
-    return bs.dot(xs);
-  }
-};
-
-/// The base model refitted to the data and what its free parameters can absorb, with the
-/// probes' columns: one pass over the data, with a model that has the probes as terms
-/// (zero: its predictions are the refit's), gives the base's columns and the probes' alike.
-Projector refitted_base(const model::ForwardModel& model, const MeasurementSet& data, std::vector<Probe>& probes,
-                        const FitOptions& fit_options, Diagnosis& out) {
-  out.refit = fit(model, data, fit_options);
-  model::MachineModel probing = model.machine();
-  const std::size_t first = probing.terms.size();
-  for (const Probe& p : probes) {
-    model::ErrorTermSpec t;
-    t.name = t.iso = term_name(p.component, p.link, true);
-    t.link = p.link;
-    t.component = p.component;
-    t.placement = p.placement;
-    t.parameters = Eigen::VectorXd::Zero(1);
-    t.parameter_unit = {1.0};
-    probing.terms.push_back(t);
-  }
-  const model::ForwardModel f(probing);
-  std::vector<std::size_t> columns = free_parameters(model);  // the base's terms keep their offsets in f
-  const auto m = static_cast<Eigen::Index>(columns.size());
-  for (std::size_t k = 0; k < probes.size(); ++k) columns.push_back(f.parameter_offset(first + k));
-  Eigen::VectorXd parameters = model_parameters(f);
-  parameters.head(out.refit.all_parameters.size()) = out.refit.all_parameters;
-  Projector base;
-  {
-    Eigen::MatrixXd J;
-    design_matrix(f, parameters, data, columns, base.r, &J);
-    for (std::size_t k = 0; k < probes.size(); ++k) probes[k].g = J.col(m + static_cast<Eigen::Index>(k));
-    // The base's columns are J's first m: dropping the probes' in place (a shrinking realloc
-    // of the column-major storage) rather than copying, which held J and A at once.
-    J.conservativeResize(Eigen::NoChange, m);
-    base.A = std::move(J);
-  }
-  if (base.A.cols() > 0) {
-    // What the base absorbs is what its fit could determine: columns in physical scales,
-    // directions whose effect at that size is above the noise (fit.hpp).
-    const Eigen::VectorXd physical = physical_scales(model, data);
-    for (Eigen::Index j = 0; j < base.A.cols(); ++j)
-      base.A.col(j) *= physical[static_cast<Eigen::Index>(columns[static_cast<std::size_t>(j)])];
-    Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(normal_matrix(base.A));
-    const double largest = std::sqrt(std::max(eig.eigenvalues().maxCoeff(), 0.0));
-    const double seen = std::max(3.0 * out.refit.noise, 1e-9 * largest);
-    std::vector<Eigen::Index> kept;
-    for (Eigen::Index k = 0; k < eig.eigenvalues().size(); ++k)
-      if (std::sqrt(std::max(eig.eigenvalues()[k], 0.0)) > seen) kept.push_back(k);
-    base.W.resize(base.A.cols(), static_cast<Eigen::Index>(kept.size()));
-    for (std::size_t c = 0; c < kept.size(); ++c)
-      base.W.col(static_cast<Eigen::Index>(c)) =
-          eig.eigenvectors().col(kept[c]) / std::sqrt(eig.eigenvalues()[kept[c]]);
-    // The refit's residual, made exactly orthogonal to what the base absorbs.
-    const Eigen::VectorXd absorbed = base.W * (base.W.transpose() * (base.A.transpose() * base.r));
-    base.r -= base.A * absorbed;
-  } else {
-    base.W.resize(0, 0);
-  }
-  // What the user sees is the refit's own rms (what `fit` reports), not the projection's:
-  // the fit holds changes the noise does not support, the projection takes them.
-  out.rms_refit = out.refit.rms_after;
-  return base;
-}
-
-/// Each probe's rows (where its column is not zero), and the base on them.
-void probe_rows(const Projector& base, Eigen::Index n, std::vector<Probe>& probes) {
-  for (Probe& p : probes) {
-    const double largest = p.g.cwiseAbs().maxCoeff();
-    for (Eigen::Index i = 0; i < n; ++i)
-      if (std::abs(p.g[i]) > 1e-9 * largest) p.rows.push_back(i);
-    if (static_cast<Eigen::Index>(p.rows.size()) == n) continue;  // every row: the base's own A and r serve
-    p.r_rows.resize(static_cast<Eigen::Index>(p.rows.size()));
-    for (std::size_t i = 0; i < p.rows.size(); ++i) p.r_rows[static_cast<Eigen::Index>(i)] = base.r[p.rows[i]];
-  }
-}
 
 /// The residual's rms in eight bins along every variable that varies (bins of ten readings
 /// or more), each with its ratio to the rms everywhere, largest ratio first.
@@ -442,8 +268,8 @@ Diagnosis diagnose(const model::ForwardModel& model, const MeasurementSet& data,
   out.candidates_tried = candidates.size();
   FitOptions refit_options = options.fit;
   if (options.progress) refit_options.progress = [&options](double done) { options.progress(0.3 * done); };
-  Projector base = refitted_base(model, data, probes, refit_options, out);
-  probe_rows(base, n, probes);
+  Projector base = detail::refitted_base(model, data, probes, refit_options, out);
+  detail::probe_rows(base, n, probes);
   const double sse0 = base.r.squaredNorm();
   const double rms_projected = std::sqrt(sse0 / static_cast<double>(n));
   // Without a noise floor from the data's structure, the refitted residual stands in for
@@ -497,133 +323,12 @@ Diagnosis diagnose(const model::ForwardModel& model, const MeasurementSet& data,
     return suggestion(c, c.period, gain, x, 0.0, 1.0);
   };
 
-  // Candidates with a scan (a period, a time constant): a coarse pass, then the best
-  // values weighed exactly, a few at a time in one product.
+  // Candidates with a scan (a period, a time constant, a place): scanned (scanners.hpp).
+  const detail::ScanContext scanning{base, probes, data, sigma2};
   auto score_scanned = [&](const Candidate& c) -> std::optional<Scored> {
-    const Probe& p = probes[c.probe];
-    if (p.rows.empty()) return std::nullopt;
-    const bool all_rows = static_cast<Eigen::Index>(p.rows.size()) == n;
-    const Eigen::VectorXd& r_rows = all_rows ? base.r : p.r_rows;
-    // The exact gains at `values`; the coefficients at the first of them into `x`.
-    auto exact_gains = [&](const std::vector<double>& values, Eigen::VectorXd* x) {
-      const int bc = c.basis_count;
-      Eigen::MatrixXd C(static_cast<Eigen::Index>(p.rows.size()), static_cast<Eigen::Index>(values.size()) * bc);
-      for (std::size_t v = 0; v < values.size(); ++v)
-        candidate_columns(c, p, data, values[v], false, C.middleCols(static_cast<Eigen::Index>(v) * bc, bc));
-      const Eigen::MatrixXd AtC = all_rows ? Eigen::MatrixXd(base.A.transpose() * C) : base.At_on_rows(p.rows, C);
-      std::vector<double> gains(values.size());
-      for (std::size_t v = 0; v < values.size(); ++v) {
-        const Eigen::Index first = static_cast<Eigen::Index>(v) * bc;
-        gains[v] = base.gain(C.middleCols(first, bc), r_rows, AtC.middleCols(first, bc), v == 0 ? x : nullptr);
-      }
-      return gains;
-    };
-    // The coarse gains' eight best local peaks weighed exactly; only they compete (the
-    // coarse gains elsewhere are not comparable).
-    auto keep_exact_peaks = [&](const std::vector<double>& values, std::vector<double>& gains) {
-      std::vector<std::pair<double, std::size_t>> peaks;
-      for (std::size_t k = 0; k < gains.size(); ++k)
-        if ((k == 0 || gains[k] >= gains[k - 1]) && (k + 1 == gains.size() || gains[k] >= gains[k + 1]))
-          peaks.emplace_back(-gains[k], k);
-      std::sort(peaks.begin(), peaks.end());
-      if (peaks.size() > 8) peaks.resize(8);
-      std::vector<double> peak_values;
-      for (const auto& peak : peaks) peak_values.push_back(values[peak.second]);
-      const std::vector<double> exact = exact_gains(peak_values, nullptr);
-      for (std::size_t i = 0; i < peaks.size(); ++i) gains[peaks[i].second] = exact[i];
-      for (std::size_t k = 0; k < gains.size(); ++k)
-        if (std::none_of(peaks.begin(), peaks.end(), [k](const auto& peak) { return peak.second == k; }))
-          gains[k] = -1.0;
-    };
-    // Evenly in frequency for periods (each step shifts the phase at the far end by the
-    // same amount), in log for time constants, in value for places.
-    std::vector<double> values(static_cast<std::size_t>(c.scan_points)), gains(values.size());
-    for (std::size_t k = 0; k < values.size(); ++k) {
-      const double f = static_cast<double>(k) / static_cast<double>(values.size() - 1);
-      switch (c.scan_spacing) {
-        case Candidate::Spacing::frequency:
-          values[k] = 1.0 / (1.0 / c.scan_from + f * (1.0 / c.scan_to - 1.0 / c.scan_from));
-          break;
-        case Candidate::Spacing::logarithmic:
-          values[k] = c.scan_from * std::pow(c.scan_to / c.scan_from, f);
-          break;
-        case Candidate::Spacing::linear:
-          values[k] = c.scan_from + f * (c.scan_to - c.scan_from);
-          break;
-      }
-    }
-    if (c.scan_spacing == Candidate::Spacing::frequency && c.phase_variable) {
-      // A long frequency scan's coarse pass leaves out what the base absorbs (cheap);
-      // its eight best local peaks are then weighed exactly. The frequencies are evenly
-      // spaced, so each row's (cos, sin) steps by one rotation per frequency.
-      std::vector<double> phase_variable(p.rows.size()), g(p.rows.size());
-      for (std::size_t i = 0; i < p.rows.size(); ++i) {
-        phase_variable[i] = c.phase_variable(data.observations[static_cast<std::size_t>(p.rows[i])]);
-        g[i] = p.g[p.rows[i]];
-      }
-      gains = coarse_periodic_gains(phase_variable, g, r_rows, 1.0 / values[0], 1.0 / values[1] - 1.0 / values[0],
-                                    values.size());
-      keep_exact_peaks(values, gains);
-    } else if (c.scan_spacing == Candidate::Spacing::linear) {
-      // A place along an axis (a local defect): the coarse pass weighs each place by its
-      // column's correlation with the residual alone (a bell is local: what the base
-      // absorbs of it is small), and its eight best local peaks are then weighed exactly.
-      // The rows by their place, so that each scanned place reads only the rows it reaches.
-      std::vector<std::pair<double, Eigen::Index>> by_place;
-      for (const Eigen::Index row : p.rows)
-        by_place.emplace_back(c.phase_variable(data.observations[static_cast<std::size_t>(row)]), row);
-      std::sort(by_place.begin(), by_place.end());
-      for (std::size_t k = 0; k < values.size(); ++k) {
-        double cr = 0.0, cc = 0.0;
-        auto it = std::lower_bound(by_place.begin(), by_place.end(), std::pair{values[k] - c.reach, Eigen::Index{-1}});
-        for (; it != by_place.end() && it->first <= values[k] + c.reach; ++it) {
-          const Eigen::Index row = it->second;
-          const double column = p.g[row] * c.basis(data.observations[static_cast<std::size_t>(row)], 0, values[k]);
-          cr += column * base.r[row];
-          cc += column * column;
-        }
-        gains[k] = cc > 0 ? cr * cr / cc : 0.0;
-      }
-      keep_exact_peaks(values, gains);
-    } else {
-      gains = exact_gains(values, nullptr);
-    }
-    const auto top = static_cast<std::size_t>(std::max_element(gains.begin(), gains.end()) - gains.begin());
-    // Refining moves the peak by less than half a step, which raises its gain by a
-    // quarter at most: a candidate that could not pass with twice its gain is not
-    // refined (it is not suggested either way).
-    const double trials = static_cast<double>(values.size());
-    const auto parameters = static_cast<double>(c.basis_count + 1);
-    if (2.0 * gains[top] / sigma2 - parameters - 2.0 * std::log(trials) <= kSignificance) return std::nullopt;
-    // Refine between the neighbours on a grid, three times narrower each round, and put
-    // the peak on the parabola through the best point and its neighbours.
-    double lo = values[top > 0 ? top - 1 : top], hi = values[top + 1 < values.size() ? top + 1 : top];
-    if (lo > hi) std::swap(lo, hi);
-    constexpr int kGrid = 12;
-    std::vector<double> grid(kGrid), grid_gains;
-    std::size_t best = 0;
-    for (int round = 0; round < 3; ++round) {
-      for (int j = 0; j < kGrid; ++j) grid[static_cast<std::size_t>(j)] = lo + (hi - lo) * j / (kGrid - 1);
-      grid_gains = exact_gains(grid, nullptr);
-      best = static_cast<std::size_t>(std::max_element(grid_gains.begin(), grid_gains.end()) - grid_gains.begin());
-      lo = grid[best > 0 ? best - 1 : best], hi = grid[std::min<std::size_t>(best + 1, kGrid - 1)];
-    }
-    double value = grid[best];
-    if (best > 0 && best + 1 < kGrid) {
-      const double bend = grid_gains[best - 1] - 2 * grid_gains[best] + grid_gains[best + 1];
-      if (bend < 0) value += 0.5 * (grid[1] - grid[0]) * (grid_gains[best - 1] - grid_gains[best + 1]) / bend;
-    }
-    // The gain and coefficients there, and the uncertainty from the curvature of the sum
-    // of squares (a chi-square rise of 1).
-    // A place along an axis is as precise at 0 as anywhere: its step is the scan's range's.
-    const double h = c.scan_spacing == Candidate::Spacing::linear || value == 0.0
-                         ? 1e-4 * std::abs(c.scan_to - c.scan_from)
-                         : 1e-4 * std::abs(value);
-    Eigen::VectorXd x;
-    const std::vector<double> last = exact_gains({value, value + h, value - h}, &x);
-    const double curvature = (2 * last[0] - last[1] - last[2]) / (h * h);
-    const double uncertainty = curvature > 0 ? std::sqrt(2.0 * sigma2 / curvature) : 0.0;
-    return suggestion(c, value, last[0], x, uncertainty, trials);
+    const std::optional<detail::ScanOutcome> o = detail::scan(c, scanning);
+    if (!o) return std::nullopt;
+    return suggestion(c, o->value, o->gain, o->coefficients, o->uncertainty, o->trials);
   };
 
   // Scanned candidates first: they are the long ones, and the threads take indices in order.
