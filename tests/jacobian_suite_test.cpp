@@ -8,8 +8,11 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
 #include <functional>
+#include <set>
 #include <string>
+#include <tuple>
 #include <vector>
 
 #include "ccomp/kinematics/chain.hpp"
@@ -412,6 +415,55 @@ TEST(JacobianForms, EveryRegisteredFormHasACase) {
         << "no Jacobian case of form " << f.names.front();
   EXPECT_EQ(model::term_forms().size(), static_cast<std::size_t>(model::TermForm::bump) + 1)
       << "a form of TermForm the registry lacks";
+}
+
+// Each descriptor sits at its form's index and answers every question asked of a form.
+TEST(TermFormRegistry, EachDescriptorAtItsFormAndComplete) {
+  const auto& forms = model::term_forms();
+  for (std::size_t i = 0; i < forms.size(); ++i) {
+    const model::TermFormInfo& f = forms[i];
+    EXPECT_EQ(static_cast<std::size_t>(f.form), i) << f.names.front();
+    EXPECT_FALSE(f.names.empty() || f.keys.empty() || f.physics.empty()) << "form " << i;
+    EXPECT_TRUE(f.parameter_count && f.evaluate && f.term_label && f.parameter_label && f.shapes_only && f.place &&
+                f.unit_name && f.physical_scale && f.bound && f.shortest_feature)
+        << f.names.front() << " lacks a part";
+    EXPECT_EQ(model::term_form(f.names.front()), &f);
+  }
+}
+
+// What a form says of its parameters holds for every case: as many as evaluate() gives
+// derivatives for, each with a label and a place of its own (two written to one place would
+// lose one in the model file), a place under one of the form's keys, a finite positive
+// physical scale, and a bound at least the value everywhere it was evaluated.
+TEST(TermFormRegistry, EachParameterHasItsOwnLabelAndPlace) {
+  for (const FormCase& c : form_cases()) {
+    const model::TermFormInfo& f = model::term_form(c.shape.form);
+    model::ErrorTermSpec t;
+    t.iso = "EXX";
+    t.shape = c.shape;
+    t.parameters = c.parameters;
+    t.primary = model::Variable{model::VariableKind::axis, 0, "x"};
+    t.secondary = model::Variable{model::VariableKind::axis, 2, "z"};
+    const std::size_t n = f.parameter_count(c.shape);
+    ASSERT_EQ(n, static_cast<std::size_t>(c.parameters.size())) << c.name;
+    std::set<std::string> labels;
+    std::set<std::tuple<std::string, int, int>> places;
+    const model::ReachOf reach = [](const model::Variable&, double) { return 500.0; };
+    for (std::size_t k = 0; k < n; ++k) {
+      labels.insert(f.parameter_label(t, k));
+      const model::ParameterPlace place = f.place(c.shape, k);
+      places.insert({std::string(place.key), place.index, place.sub});
+      EXPECT_TRUE(std::find(f.keys.begin(), f.keys.end(), place.key) != f.keys.end())
+          << c.name << " parameter " << k << " written under '" << place.key << "', not one of its keys";
+      const double scale = f.physical_scale(t, k, 0.01, reach);
+      EXPECT_TRUE(std::isfinite(scale) && scale > 0) << c.name << " parameter " << k << ": scale " << scale;
+    }
+    EXPECT_EQ(labels.size(), n) << c.name << ": two parameters share a label";
+    EXPECT_EQ(places.size(), n) << c.name << ": two parameters share a place";
+    const double v = std::abs(model::evaluate(c.shape, c.parameters, c.at).value);
+    const model::TermRange u{c.at.primary, c.at.primary}, w{c.at.secondary, c.at.secondary};
+    EXPECT_GE(f.bound(c.shape, c.parameters, u, w).value * (1 + 1e-12), v) << c.name;
+  }
 }
 
 INSTANTIATE_TEST_SUITE_P(All, Jacobians, ::testing::ValuesIn(all_cases()),

@@ -10,6 +10,7 @@
 #include <string_view>
 
 #include "ccomp/error.hpp"
+#include "ccomp/model/term_forms.hpp"
 #include "ccomp/util/parallel.hpp"
 #include "fit_stages.hpp"
 
@@ -18,32 +19,7 @@ namespace ccomp::identify {
 using model::TermForm;
 
 std::string parameter_label(const model::ErrorTermSpec& t, std::size_t k) {
-  const std::string& n = t.iso;
-  switch (t.shape.form) {
-    case TermForm::constant:
-      return n;
-    case TermForm::polynomial:
-      return fmt::format("{}.a{}", n, k);
-    case TermForm::table:
-      return fmt::format("{}.value[{}]", n, k);
-    case TermForm::periodic:
-      return k == 0 ? n + ".period" : fmt::format("{}.{}{}", n, k % 2 ? 'a' : 'b', (k + 1) / 2);
-    case TermForm::reversal:
-      return t.shape.order_primary == 0 ? n + ".reversal" : fmt::format("{}.reversal{}", n, k);
-    case TermForm::thermal_linear:
-      return fmt::format("{}.k_{}", n, t.primary.text);
-    case TermForm::thermal_warmup:
-      return k == 0 ? n + ".amplitude" : n + ".time_constant";
-    case TermForm::bump:
-      return n + (k == 0 ? ".amplitude" : k == 1 ? ".at" : ".width");
-    case TermForm::scale_expansion:
-      return n + ".alpha";
-    case TermForm::cross_axis: {
-      const auto order = static_cast<std::size_t>(t.shape.order);
-      return fmt::format("{}.c{}{}", n, k / order, k % order + 1);
-    }
-  }
-  return fmt::format("{}[{}]", n, k);
+  return model::term_form(t.shape.form).parameter_label(t, k);
 }
 
 namespace {
@@ -207,16 +183,6 @@ model::MachineModel without_free_spans(model::MachineModel machine) {
   return machine;
 }
 
-namespace {
-
-/// Whether a fitted term of this form is held beyond where it was fitted (see fitted_spans()).
-bool grows_beyond_its_data(TermForm form) {
-  return form == TermForm::polynomial || form == TermForm::cross_axis || form == TermForm::thermal_linear ||
-         form == TermForm::scale_expansion;
-}
-
-}  // namespace
-
 std::optional<double> variable_value(const model::Variable& v, const Observation& o) {
   switch (v.kind) {
     case model::VariableKind::axis:
@@ -239,7 +205,7 @@ std::vector<std::optional<model::TermSpan>> fitted_spans(const model::MachineMod
   std::vector<std::optional<model::TermSpan>> spans(machine.terms.size());
   for (std::size_t t = 0; t < machine.terms.size(); ++t) {
     const model::ErrorTermSpec& term = machine.terms[t];
-    if (!term.free || !grows_beyond_its_data(term.shape.form)) continue;
+    if (!term.free || !model::term_form(term.shape.form).grows_beyond_data) continue;
     double low = std::numeric_limits<double>::infinity(), high = -low;
     for (const Observation& o : data.observations)
       if (const std::optional<double> v = variable_value(term.primary, o)) low = std::min(low, *v), high = std::max(high, *v);

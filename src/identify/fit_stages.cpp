@@ -10,10 +10,9 @@
 #include "ccomp/identify/check.hpp"
 #include "ccomp/identify/next_measurement.hpp"
 #include "ccomp/identify/physical_scale.hpp"
+#include "ccomp/model/term_forms.hpp"
 
 namespace ccomp::identify::fit_stages {
-
-using model::TermForm;
 
 std::size_t Directions::rank() const {
   return static_cast<std::size_t>(std::count(identified.begin(), identified.end(), true));
@@ -58,12 +57,6 @@ std::vector<FitReport::Outlier> outliers_of(const Eigen::VectorXd& r, const Meas
   return out;
 }
 
-/// A period, a time constant, a bump's place and width: a term's shape, not an amplitude.
-bool is_shape_parameter(const model::ErrorTermSpec& t, std::size_t k) {
-  return (t.shape.form == TermForm::periodic && k == 0) || (t.shape.form == TermForm::thermal_warmup && k == 1) ||
-         (t.shape.form == TermForm::bump && k >= 1);
-}
-
 /// The term whose parameters hold the model's parameter `index`.
 std::size_t term_of_parameter(const model::ForwardModel& model, std::size_t index) {
   std::size_t t = 0;
@@ -89,7 +82,8 @@ Problem pose(const model::ForwardModel& model, const MeasurementSet& data, const
   problem.physical = physical_scales(model, data);
   for (const std::size_t index : problem.free) {
     const std::size_t t = term_of_parameter(model, index);
-    problem.shape.push_back(is_shape_parameter(model.machine().terms[t], index - model.parameter_offset(t)));
+    problem.shape.push_back(
+        model::term_form(model.machine().terms[t].shape.form).shapes_only(index - model.parameter_offset(t)));
   }
   return problem;
 }

@@ -1,4 +1,5 @@
 #include "ccomp/identify/physical_scale.hpp"
+#include "ccomp/model/term_forms.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -8,7 +9,6 @@
 namespace ccomp::identify {
 namespace {
 
-using model::TermForm;
 using model::Variable;
 using model::VariableKind;
 
@@ -58,34 +58,10 @@ class Reaches {
   std::map<std::tuple<int, std::size_t, double>, double> known_;
 };
 
-double term_scale(const model::ErrorTermSpec& t, std::size_t k, Reaches& reach) {
-  const double out = t.component < 3 ? kPlausibleTranslation : kPlausibleRotation;
-  const auto& p = t.parameters;
-  switch (t.shape.form) {
-    case TermForm::constant:
-    case TermForm::table:
-      return out;
-    case TermForm::reversal:  // r_k of w^k along its axis
-      return k == 0 ? out : out / std::pow(reach(t.secondary), static_cast<double>(k));
-    case TermForm::polynomial:
-      return out / std::pow(reach(t.primary), static_cast<double>(k));
-    case TermForm::periodic:
-      return k == 0 ? std::abs(p[0]) : out;
-    case TermForm::thermal_linear:
-      return out / reach(t.primary, t.shape.reference);
-    case TermForm::thermal_warmup:
-      return k == 0 ? out : std::abs(p[1]);
-    case TermForm::bump:  // its size; where it sits, on the axis' reach; its width
-      return k == 0 ? out : k == 1 ? reach(t.primary) : std::abs(p[2]);
-    case TermForm::scale_expansion:
-      return out / (reach(t.primary) * reach(t.secondary, t.shape.reference));
-    case TermForm::cross_axis: {
-      const auto order = static_cast<std::size_t>(std::max(1, t.shape.order));
-      const auto i = static_cast<double>(k / order), j = static_cast<double>(k % order + 1);
-      return out / (std::pow(reach(t.primary), i) * std::pow(reach(t.secondary), j));
-    }
-  }
-  return out;
+double term_scale(const model::ErrorTermSpec& t, std::size_t k, Reaches& reaches) {
+  const double plausible = t.component < 3 ? kPlausibleTranslation : kPlausibleRotation;
+  const model::ReachOf reach = [&reaches](const Variable& v, double reference) { return reaches(v, reference); };
+  return model::term_form(t.shape.form).physical_scale(t, k, plausible, reach);
 }
 
 }  // namespace

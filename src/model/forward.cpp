@@ -12,6 +12,7 @@
 #include "ccomp/constants.hpp"
 #include "ccomp/error.hpp"
 #include "ccomp/model/cubic_spline.hpp"
+#include "ccomp/model/term_forms.hpp"
 
 namespace ccomp::model {
 
@@ -154,13 +155,7 @@ ChainQ shortest_features(const std::vector<ErrorTermSpec>& terms) {
   ChainQ shortest = ChainQ::Constant(std::numeric_limits<double>::infinity());
   for (const ErrorTermSpec& t : terms) {
     if (t.primary.kind != VariableKind::axis) continue;
-    double feature = std::numeric_limits<double>::infinity();
-    if (t.shape.form == TermForm::periodic)
-      feature = t.parameters[0] / (8.0 * std::max(1, t.shape.order));  // the highest harmonic's period / 8
-    if (t.shape.form == TermForm::table)
-      for (std::size_t k = 1; k < t.shape.knots.size(); ++k)
-        feature = std::min(feature, (t.shape.knots[k] - t.shape.knots[k - 1]) / 4.0);
-    if (t.shape.form == TermForm::bump) feature = std::abs(t.parameters[2]) / 4.0;  // a quarter of its width
+    const double feature = term_form(t.shape.form).shortest_feature(t);
     auto& f = shortest[static_cast<Eigen::Index>(t.primary.index)];
     f = std::min(f, std::abs(feature));
   }

@@ -1,4 +1,5 @@
 #include "ccomp/model/parameter_units.hpp"
+#include "ccomp/model/term_forms.hpp"
 
 #include <fmt/format.h>
 
@@ -49,40 +50,13 @@ std::pair<std::string, double> variable_unit(const Variable& v, MicroSign micro)
 
 }  // namespace
 
+std::string UnitNames::value(double scale) const { return unit_name(scale, angle, micro); }
+
+std::pair<std::string, double> UnitNames::variable(const Variable& v) const { return variable_unit(v, micro); }
+
 std::string parameter_unit_name(const ErrorTermSpec& t, std::size_t k, MicroSign micro) {
   if (k >= t.parameter_unit.size()) return "";
-  const bool angle = t.component >= 3;
-  const auto [var, var_scale] = variable_unit(t.primary, micro);
-  const double scale = t.parameter_unit[k];
-  const std::string degc = micro == MicroSign::micro ? "°C" : "degC";
-  switch (t.shape.form) {
-    case TermForm::polynomial: {
-      const std::string base = unit_name(scale * std::pow(var_scale, static_cast<double>(k)), angle, micro);
-      if (base.empty()) return "";
-      return k == 0 ? base : k == 1 ? base + "/" + var : fmt::format("{}/{}^{}", base, var, k);
-    }
-    case TermForm::periodic:
-      return k == 0 ? var : unit_name(scale, angle, micro);
-    case TermForm::thermal_linear: {
-      const std::string base = unit_name(scale, angle, micro);
-      return base.empty() ? "" : base + "/" + degc;
-    }
-    case TermForm::thermal_warmup:
-      return k == 1 ? "s" : unit_name(scale, angle, micro);
-    case TermForm::bump:
-      return k == 0 ? unit_name(scale, angle, micro) : var;
-    case TermForm::reversal: {  // r_k of w^k along its axis
-      const auto [along, along_scale] = variable_unit(t.secondary, micro);
-      const std::string base = unit_name(scale * std::pow(along_scale, static_cast<double>(k)), angle, micro);
-      if (base.empty() || k == 0) return base;
-      return k == 1 ? base + "/" + along : fmt::format("{}/{}^{}", base, along, k);
-    }
-    case TermForm::scale_expansion:
-    case TermForm::cross_axis:
-      return "";
-    default:
-      return unit_name(scale, angle, micro);
-  }
+  return term_form(t.shape.form).unit_name(t, k, UnitNames{t.component >= 3, micro});
 }
 
 bool within_rounding(double uncertainty, double magnitude) {

@@ -5,7 +5,7 @@
 #include <limits>
 #include <numbers>
 
-#include "ccomp/model/cubic_spline.hpp"
+#include "ccomp/model/term_forms.hpp"
 
 namespace ccomp::model {
 namespace {
@@ -13,24 +13,7 @@ namespace {
 constexpr double kInf = std::numeric_limits<double>::infinity();
 constexpr double kTwoPi = 2.0 * std::numbers::pi;
 
-/// The bounds of one term over the ranges of its variables: value, slopes and curvatures
-/// in its primary (p) and secondary (s) variable, the largest slope jump (a linear table's
-/// knots, a table's ends) and the shortest knot spacing (0: no knots).
-struct TermBound {
-  double value = 0.0, slope_p = 0.0, slope_s = 0.0;
-  double curvature_pp = 0.0, curvature_ps = 0.0, curvature_ss = 0.0;
-  double kink = 0.0;
-  double knot_gap = 0.0;
-};
-
-/// The values a variable takes: an axis within its limits, a condition at its value.
-struct Range {
-  double lo = 0.0, hi = 0.0;
-  [[nodiscard]] double magnitude() const {
-    const double m = std::max(std::abs(lo), std::abs(hi));
-    return std::isnan(m) ? kInf : m;
-  }
-};
+using Range = TermRange;
 
 /// An axis' limits in chain units (mm, rad), widened by the largest correction: a nominal
 /// point may lie outside them by that much.
@@ -68,153 +51,8 @@ int chain_variable(const Variable& v) {
   return -1;
 }
 
-/// |c| x^k for |x| <= magnitude, without 0 * inf: a zero coefficient bounds nothing.
-double power_bound(double c, double magnitude, int k) {
-  if (c == 0.0) return 0.0;
-  return k == 0 ? std::abs(c) : std::abs(c) * std::pow(magnitude, k);
-}
-
-void table_bound(const TermShape& s, const Eigen::VectorXd& p, TermBound& b) {
-  const std::vector<double>& x = s.knots;
-  const std::size_t n = x.size();
-  b.value = p.cwiseAbs().maxCoeff();
-  if (n < 2) return;
-  b.knot_gap = kInf;
-  std::vector<double> slope(n - 1);
-  for (std::size_t k = 0; k + 1 < n; ++k) {
-    const double h = x[k + 1] - x[k];
-    slope[k] = (p[static_cast<Eigen::Index>(k + 1)] - p[static_cast<Eigen::Index>(k)]) / h;
-    b.knot_gap = std::min(b.knot_gap, h);
-  }
-  if (s.interpolation == Interpolation::linear) {
-    // Held constant outside: the ends are kinks too.
-    for (std::size_t k = 0; k + 1 < n; ++k) b.slope_p = std::max(b.slope_p, std::abs(slope[k]));
-    b.kink = std::max(std::abs(slope.front()), std::abs(slope.back()));
-    for (std::size_t k = 1; k + 1 < n; ++k) b.kink = std::max(b.kink, std::abs(slope[k] - slope[k - 1]));
-    return;
-  }
-  std::vector<double> m;
-  spline_moments(x, p.data(), m);
-  double largest = 0.0, widest = 0.0;
-  for (std::size_t k = 0; k + 1 < n; ++k) {
-    const double h = x[k + 1] - x[k];
-    // s' = slope - (3a^2 - 1) h M_k / 6 + (3b^2 - 1) h M_k+1 / 6, |3a^2 - 1| <= 2
-    b.slope_p = std::max(b.slope_p, std::abs(slope[k]) + h * (std::abs(m[k]) + std::abs(m[k + 1])) / 3.0);
-    largest = std::max({largest, std::abs(m[k]), std::abs(m[k + 1])});
-    widest = std::max(widest, h);
-  }
-  b.curvature_pp = largest;
-  b.value += widest * widest / 8.0 * largest;  // a spline leaves its chords by at most h^2 max|s''| / 8
-  b.kink = b.slope_p;                          // held constant outside: the ends' slopes
-}
-
-void polynomial_bound(const TermShape& s, const Eigen::VectorXd& p, double U, TermBound& b) {
-  for (int k = 0; k <= s.order; ++k) {
-    b.value += power_bound(p[k], U, k);
-    if (k >= 1) b.slope_p += k * power_bound(p[k], U, k - 1);
-    if (k >= 2) b.curvature_pp += k * (k - 1) * power_bound(p[k], U, k - 2);
-  }
-}
-
-void periodic_bound(const TermShape& s, const Eigen::VectorXd& p, TermBound& b) {
-  for (int k = 1; k <= s.order; ++k) {
-    const double amplitude = std::hypot(p[2 * k - 1], p[2 * k]);
-    const double omega = kTwoPi * k / std::abs(p[0]);
-    b.value += amplitude;
-    b.slope_p += omega * amplitude;
-    b.curvature_pp += omega * omega * amplitude;
-  }
-}
-
-/// |c| d^du/du d^dw/dw (u^i w^j) bounded, for |u| <= U and |w| <= W.
-double monomial_derivative_bound(double c, int i, int j, int du, int dw, double U, double W) {
-  if (du > i || dw > j) return 0.0;
-  double falling = 1.0;
-  for (int k = 0; k < du; ++k) falling *= i - k;
-  for (int k = 0; k < dw; ++k) falling *= j - k;
-  const double pu = power_bound(1.0, U, i - du), pw = power_bound(1.0, W, j - dw);
-  return c == 0.0 ? 0.0 : std::abs(c) * falling * pu * pw;
-}
-
-void cross_axis_bound(const TermShape& s, const Eigen::VectorXd& p, double U, double W, TermBound& b) {
-  Eigen::Index index = 0;
-  for (int i = 0; i <= s.order_primary; ++i)
-    for (int j = 1; j <= s.order; ++j, ++index) {
-      auto term = [&](int du, int dw) { return monomial_derivative_bound(p[index], i, j, du, dw, U, W); };
-      b.value += term(0, 0);
-      b.slope_p += term(1, 0);
-      b.slope_s += term(0, 1);
-      b.curvature_pp += term(2, 0);
-      b.curvature_ps += term(1, 1);
-      b.curvature_ss += term(0, 2);
-    }
-}
-
 TermBound term_bound(const ErrorTermSpec& t, const Range& u, const Range& w) {
-  TermBound b;
-  const Eigen::VectorXd& p = t.parameters;
-  const double U = u.magnitude(), W = w.magnitude();
-  switch (t.shape.form) {
-    case TermForm::constant:
-      b.value = std::abs(p[0]);
-      break;
-    case TermForm::polynomial:
-      polynomial_bound(t.shape, p, U, b);
-      break;
-    case TermForm::table:
-      table_bound(t.shape, p, b);
-      break;
-    case TermForm::periodic:
-      periodic_bound(t.shape, p, b);
-      break;
-    case TermForm::reversal: {
-      // |r(w)| / 2 |s|, r(w) = sum_k r_k w^k along its axis: bounded term by term.
-      double reversal = 0.0, slope = 0.0, curvature = 0.0;
-      for (int k = 0; k <= t.shape.order_primary; ++k) {
-        reversal += power_bound(p[k], W, k);
-        if (k >= 1) slope += k * power_bound(p[k], W, k - 1);
-        if (k >= 2) curvature += k * (k - 1) * power_bound(p[k], W, k - 2);
-      }
-      const double S = std::max(1.0, U);
-      b.value = b.slope_p = 0.5 * reversal * S;
-      b.slope_s = 0.5 * slope * S;
-      b.curvature_ps = 0.5 * slope;
-      b.curvature_ss = 0.5 * curvature * S;
-      break;
-    }
-    case TermForm::thermal_linear:
-      b.value = power_bound(p[0], std::max(std::abs(u.lo - t.shape.reference), std::abs(u.hi - t.shape.reference)), 1);
-      b.slope_p = std::abs(p[0]);
-      break;
-    case TermForm::thermal_warmup: {
-      const double amplitude = std::abs(p[0]), tau = std::abs(p[1]);
-      const double growth = std::exp(std::max(-u.lo, -u.hi) / tau);  // exp(-v / tau) at its largest
-      b.value = amplitude * std::max(1.0, growth);
-      b.slope_p = amplitude / tau * growth;
-      b.curvature_pp = b.slope_p / tau;
-      break;
-    }
-    case TermForm::bump: {
-      // |A g| <= |A|; |d/dv| <= |A| / w max|u g| = |A| / w e^-1/2; |d2/dv2| <= |A| / w^2.
-      const double amplitude = std::abs(p[0]), width = std::abs(p[2]);
-      b.value = amplitude;
-      b.slope_p = amplitude / width * std::exp(-0.5);
-      b.curvature_pp = amplitude / (width * width);
-      break;
-    }
-    case TermForm::scale_expansion: {
-      const double dT = std::max(std::abs(w.lo - t.shape.reference), std::abs(w.hi - t.shape.reference));
-      b.value = power_bound(p[0], U, 1) * dT;
-      b.slope_p = std::abs(p[0]) * dT;
-      b.slope_s = power_bound(p[0], U, 1);
-      b.curvature_ps = std::abs(p[0]);
-      break;
-    }
-    case TermForm::cross_axis:
-      cross_axis_bound(t.shape, p, U, W, b);
-      break;
-  }
-  return b;
+  return term_form(t.shape.form).bound(t.shape, t.parameters, u, w);
 }
 
 /// bound x travel, zero when nothing travels (an unbounded term on a still axis adds nothing).

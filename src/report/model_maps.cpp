@@ -12,6 +12,7 @@
 
 #include "ccomp/identify/fit.hpp"
 #include "ccomp/model/forward.hpp"
+#include "ccomp/model/term_forms.hpp"
 #include "ccomp/util/interval.hpp"
 #include "report/figures.hpp"
 #include "report/source_shape.hpp"
@@ -78,43 +79,10 @@ Workspace workspace(const CheckReportInput& in) {
 /// The term's parameters that scale its error (zeroing them removes the term); a period,
 /// a time constant, a bump's place and width only shape it.
 bool scales_error(const model::ErrorTermSpec& t, std::size_t k) {
-  switch (t.shape.form) {
-    case model::TermForm::periodic:
-      return k != 0;
-    case model::TermForm::thermal_warmup:
-      return k != 1;
-    case model::TermForm::bump:
-      return k == 0;
-    default:
-      return true;
-  }
+  return !model::term_form(t.shape.form).shapes_only(k);
 }
 
-std::string term_label(const model::ErrorTermSpec& t) {
-  switch (t.shape.form) {
-    case model::TermForm::constant:
-      return t.iso + (t.placement == model::ErrorPlacement::location ? " location" : " constant");
-    case model::TermForm::polynomial:
-      return t.iso + " polynomial";
-    case model::TermForm::table:
-      return t.iso + " table";
-    case model::TermForm::periodic:
-      return t.iso + " periodic";
-    case model::TermForm::reversal:
-      return t.iso + " reversal";
-    case model::TermForm::thermal_linear:
-      return t.iso + " thermal";
-    case model::TermForm::thermal_warmup:
-      return t.iso + " warm-up";
-    case model::TermForm::scale_expansion:
-      return t.iso + " scale expansion";
-    case model::TermForm::cross_axis:
-      return t.iso + " cross-axis";
-    case model::TermForm::bump:
-      return t.iso + " bump";
-  }
-  return t.iso;
-}
+std::string term_label(const model::ErrorTermSpec& t) { return model::term_form(t.shape.form).term_label(t); }
 
 double largest(const std::vector<std::vector<double>>& z) {
   double top = 0;

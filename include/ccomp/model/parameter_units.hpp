@@ -6,11 +6,9 @@
 #include <string>
 
 #include "ccomp/model/machine.hpp"
+#include "ccomp/model/term_forms.hpp"  // MicroSign
 
 namespace ccomp::model {
-
-/// How a unit's micro prefix is written: "u" in plain text, "µ" in the report.
-enum class MicroSign { ascii, micro };
 
 /// The unit of parameter `k` of term `t` as the model file writes it ("um", "urad/mm",
 /// "mm" for a period, "s" for a time constant); "" where the unit has no common name.

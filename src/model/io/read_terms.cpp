@@ -400,11 +400,9 @@ Parameters read_form(const TermReading& r, ErrorTermSpec& t) {
 /// A symbol of Ref 1 of the opposite sign flips the term's amounts, not its shape (a period,
 /// a time constant, a bump's place and width).
 void apply_sign(const ErrorTermSpec& t, double sign, Parameters& p) {
+  const TermFormInfo& form = term_form(t.shape.form);
   for (std::size_t k = 0; k < p.values.size(); ++k) {
-    const bool shape = (t.shape.form == TermForm::periodic && k == 0) ||
-                       (t.shape.form == TermForm::thermal_warmup && k == 1) ||
-                       (t.shape.form == TermForm::bump && k >= 1);
-    if (shape) continue;
+    if (form.shapes_only(k)) continue;
     p.values[k] *= sign;
     p.scale[k] *= sign;
   }

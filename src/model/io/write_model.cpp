@@ -6,6 +6,7 @@
 
 #include "ccomp/error.hpp"
 #include "ccomp/model/model_file.hpp"
+#include "ccomp/model/term_forms.hpp"
 #include "yaml_node.hpp"
 
 namespace ccomp::model {
@@ -32,53 +33,21 @@ void set(YAML::Node node, double after, double before, double unit) {
   node = number(after / unit);
 }
 
-/// Writes a term's parameters `p` into its node `n`, each under the key that holds it.
+/// The node of a term's node `n` that holds a parameter at `place`. (Returned, never
+/// assigned: assigning a yaml-cpp node to another rebinds what it refers to in the document.)
+YAML::Node node_at(YAML::Node n, const ParameterPlace& place) {
+  YAML::Node key = n[std::string(place.key)];
+  if (place.index < 0) return key.IsSequence() ? key[0] : key;  // a scalar as a sequence of one: `reversal: [r]`
+  YAML::Node item = key[static_cast<std::size_t>(place.index)];
+  return place.sub < 0 ? item : item[static_cast<std::size_t>(place.sub)];
+}
+
+/// Writes a term's parameters `p` into its node `n`, each where its form places it.
 void write_parameters(YAML::Node n, const ErrorTermSpec& t, const Eigen::VectorXd& p) {
-  auto put = [&](YAML::Node node, Eigen::Index k) {
-    set(node, p[k], t.parameters[k], t.parameter_unit[static_cast<std::size_t>(k)]);
-  };
-  switch (t.shape.form) {
-    case TermForm::constant:
-      put(n["value"], 0);
-      break;
-    case TermForm::polynomial:
-      for (Eigen::Index k = 0; k < p.size(); ++k) put(n["coefficients"][static_cast<std::size_t>(k)], k);
-      break;
-    case TermForm::table:
-      for (Eigen::Index k = 0; k < p.size(); ++k) put(n["values"][static_cast<std::size_t>(k)], k);
-      break;
-    case TermForm::periodic:
-      put(n["period"], 0);
-      for (Eigen::Index k = 1; k < p.size(); ++k)
-        put(n["harmonics"][static_cast<std::size_t>((k - 1) / 2)][static_cast<std::size_t>((k - 1) % 2)], k);
-      break;
-    case TermForm::reversal:
-      if (t.shape.order_primary == 0 && !n["reversal"].IsSequence()) {
-        put(n["reversal"], 0);
-        break;
-      }
-      for (Eigen::Index k = 0; k < p.size(); ++k) put(n["reversal"][static_cast<std::size_t>(k)], k);
-      break;
-    case TermForm::thermal_linear:
-    case TermForm::scale_expansion:
-      put(n["coefficient"], 0);
-      break;
-    case TermForm::thermal_warmup:
-      put(n["amplitude"], 0);
-      put(n["time_constant"], 1);
-      break;
-    case TermForm::bump:
-      put(n["amplitude"], 0);
-      put(n["at"], 1);
-      put(n["width"], 2);
-      break;
-    case TermForm::cross_axis: {
-      const auto order = static_cast<std::size_t>(t.shape.order);
-      for (Eigen::Index k = 0; k < p.size(); ++k)
-        put(n["coefficients"][static_cast<std::size_t>(k) / order][static_cast<std::size_t>(k) % order], k);
-      break;
-    }
-  }
+  const TermFormInfo& form = term_form(t.shape.form);
+  for (Eigen::Index k = 0; k < p.size(); ++k)
+    set(node_at(n, form.place(t.shape, static_cast<std::size_t>(k))), p[k], t.parameters[k],
+        t.parameter_unit[static_cast<std::size_t>(k)]);
 }
 
 /// A term on a sensor the model lacks (found in the measurements' T_<name> columns)
