@@ -32,7 +32,7 @@ ChainQ Compensator::point(const ChainQ& nominal, MoveReport& report, Shortcut sh
 
 Compensator::SolvedPoint Compensator::solve_point(const ChainQ& nominal, MoveReport& report, Shortcut shortcut) {
   // A move usually starts where the last one ended: that point is solved already.
-  if (nominal == workspace_.last_nominal && options_.conditions.directions == workspace_.last_directions)
+  if (nominal == workspace_.memory.last_nominal && options_.conditions.directions == workspace_.memory.last_directions)
     return {workspace_.last_answer, workspace_.last_answer_bound};
   // A point along a path may be accepted without evaluating the model where its residual
   // is bounded below this share of the tolerance: the point then lands within a tenth of

@@ -137,21 +137,14 @@ struct PathNodes {
   NominalSlopes slopes;
 };
 
-/// What one solve leaves for the next, when points come in a stream of neighbours: the
-/// solve matrix of the last Jacobian evaluated (its pseudo-inverse) and the last solution
-/// with its target. The error field changes slowly, so a Jacobian from a nearby point
-/// serves many solves (quasi-Newton: each step costs a forward evaluation without
-/// Jacobians), and the last solution predicts the next to first order. A fresh Jacobian is
-/// evaluated whenever a step fails to cut the residual tenfold; convergence is always
-/// judged on the exact model.
-struct InverseWorkspace {
-  Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, 9, 6> solve_matrix;  ///< n x m, empty until a Jacobian
+/// The solve matrix of the last Jacobian evaluated (its pseudo-inverse), n x m.
+using SolveMatrix = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, 9, 6>;
+
+/// What the path predictor remembers of the last solve: the solution with its target, the
+/// approach it was for, the last step's miss, and how the solution moves with each axis'
+/// approach.
+struct PathMemory {
   model::ChainQ last_solution = model::ChainQ::Constant(std::nan(""));
-  /// The last solution as given to the caller, and its residual bound: the same but where
-  /// a point was accepted on the bound or left standing (InverseOptions::bound), whose next
-  /// prediction starts from it moved by its known residual (last_solution).
-  model::ChainQ last_answer = model::ChainQ::Constant(std::nan(""));
-  double last_answer_bound = 0.0;
   model::ChainQ last_nominal = model::ChainQ::Constant(std::nan(""));  ///< the point it was solved for
   Eigen::Vector3d last_target = Eigen::Vector3d::Zero();
   Eigen::Matrix3d last_target_orientation = Eigen::Matrix3d::Zero();
@@ -166,12 +159,29 @@ struct InverseWorkspace {
   /// approach: a reversal term is linear in it, so the next change is predicted.
   std::array<model::ChainQ, 9> approach_gain{};
   std::array<bool, 9> approach_gain_known{};
+  bool last_bounded = false;  ///< the last solution was accepted on the bound
+};
+
+/// What one solve leaves for the next, when points come in a stream of neighbours, in the
+/// three parts of the solve (src/compensate/inverse_solve.hpp): Newton's solve matrix, the
+/// path predictor's memory, the bounded shortcut's nodes. The error field changes slowly, so
+/// a Jacobian from a nearby point serves many solves (quasi-Newton: each step costs a
+/// forward evaluation without Jacobians), and the last solution predicts the next to first
+/// order. A fresh Jacobian is evaluated whenever a step fails to cut the residual tenfold;
+/// convergence is always judged on the exact model.
+struct InverseWorkspace {
+  SolveMatrix solve_matrix;              ///< n x m, empty until a Jacobian
   std::size_t jacobian_evaluations = 0;  ///< how often the exact Jacobian was evaluated
+  PathMemory memory;
   /// The last two points evaluated along the path: what bounds a prediction without
   /// evaluating it (InverseOptions::bound).
   PathNodes path;
   std::size_t bounded_points = 0;  ///< how many points were accepted on the bound
-  bool last_bounded = false;       ///< the last solution was accepted on the bound
+  /// The last solution as given to the caller, and its residual bound: the same but where
+  /// a point was accepted on the bound or left standing (InverseOptions::bound), whose next
+  /// prediction starts from it moved by its known residual (memory.last_solution).
+  model::ChainQ last_answer = model::ChainQ::Constant(std::nan(""));
+  double last_answer_bound = 0.0;
 
   /// For another set of unknowns (a rotary axis held or freed): forgets what the problem
   /// shaped (the solve matrix, the path and its predictions, the approach gains) and keeps
