@@ -1,5 +1,6 @@
 // libFuzzer target: G-code programs, parsed and interpreted block by block as the main job
-// does (gcode::Interpreter, with a tool table of three tools), without writing anything. Arcs are
+// does (gcode::Interpreter, with a tool table of three tools, tool centre point codes
+// followed), without writing anything. Arcs are
 // taken apart into points as the job does before it compensates their chords.
 #include <array>
 #include <cstddef>
@@ -48,6 +49,9 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   // here: a block costs ~50 us under the fuzzer's instrumentation, and an input of 4 kB has
   // a few hundred lines, so 5000 blocks still runs every loop of the seeds to its end.
   options.max_blocks = 5'000;
+  // Tool centre point codes followed, as the main job takes them (their modal state and
+  // their refusals run too).
+  options.tcp = TcpCodes::follow;
   return ccomp::fuzz::read_or_refuse([&] {
     LineSource source = LineSource::from_string(std::string(reinterpret_cast<const char*>(data), size), "fuzz.ngc");
     ArcPoints sink;

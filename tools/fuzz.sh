@@ -38,7 +38,7 @@ case "$target" in
   gcode | job)
     # Programs are short lines; 4 kB holds most of the corpus' programs whole.
     # fuzz/seeds/programs: the shapes of issue 49 (arcs of huge radius, G93 feeds, skipped
-    # blocks in loops, arcs with P to flatten, full circles, blank lines, a changed header).
+    # blocks in loops, arcs with P to flatten, full circles, blank lines, a changed header, TCP on and off).
     max_len=4096
     seed tests/data/corpus samples/programs samples/test-piece fuzz/seeds/programs -name '*.ngc' ;;
   model)

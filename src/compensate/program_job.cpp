@@ -95,7 +95,7 @@ JobReport run_program_job(gcode::LineSource& input, std::FILE* out, const model:
   // A TCP program's words are not the joints' positions: corrected as if they were, the
   // tool would go elsewhere. Without an error term nothing is corrected and the program is
   // written back as it is, whichever its coordinates.
-  options.interpreter.joint_coordinates_only = !model.terms.empty();
+  options.interpreter.tcp = model.terms.empty() ? gcode::TcpCodes::pass : gcode::TcpCodes::refuse;
   check_work_offsets(options.interpreter, model);
   if (options.flatten) return run_flattened_job(input, out, model, options);
   JobReport report;

@@ -41,7 +41,7 @@ void each_motion(gcode::LineSource& program, const model::MachineModel& model, c
                  OnMotion on) {
   MotionSink<OnMotion> sink(std::move(on));
   gcode::InterpreterOptions interpreting = with_model_offsets(options.interpreter, model);
-  interpreting.joint_coordinates_only = true;  // the tip is followed through the joints
+  interpreting.tcp = gcode::TcpCodes::refuse;  // the tip is followed through the joints
   check_work_offsets(interpreting, model);
   gcode::Interpreter interpreter(interpreting);
   interpreter.run(program, sink);

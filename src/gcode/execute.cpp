@@ -78,7 +78,12 @@ void Interpreter::Impl::decode(const Block& b) {
     const int code = words.g[static_cast<std::size_t>(i)];
     const Word* w = words.g_word[static_cast<std::size_t>(i)];
     int group = g_group(code);
+    if (group < 0 && code == 434 && options.tcp == TcpCodes::follow) group = g_group(430);  // G43.4: G43's group
     if (group < 0) {
+      if (code == 435 && options.tcp == TcpCodes::follow)
+        unsupported_at(b, w->span,
+                       "G43.5 gives the tool's direction as I J K, which ccomp does not follow yet (G43.4, the "
+                       "rotary axes' angles given, it does)");
       if (const auto mode = tcp_g_code(code)) unsupported_at(b, w->span, tcp_refusal(g_name(code), *mode));
       const auto& pass = options.dialect.passthrough_g_codes;
       const auto& moving = options.dialect.passthrough_moving_g_codes;
@@ -101,9 +106,12 @@ void Interpreter::Impl::decode(const Block& b) {
   for (int i = 0; i < words.m_count; ++i) {
     const int code = words.m[static_cast<std::size_t>(i)];
     const Word* w = words.m_word[static_cast<std::size_t>(i)];
-    if (options.joint_coordinates_only)
-      if (const auto mode = tcp_m_code(options.dialect, code))
+    if (options.tcp != TcpCodes::pass) {
+      const auto mode = tcp_m_code(options.dialect, code);
+      if (mode && (options.tcp == TcpCodes::refuse || (options.dialect.name == "linuxcnc" && code == 430)))
         unsupported_at(b, w->span, tcp_refusal(fmt::format("M{}", code), *mode));
+      if (options.tcp == TcpCodes::follow && (mode || tcp_off_m_code(options.dialect, code))) continue;
+    }
     const int group = m_group(code);
     if (group < 0) {
       if (options.dialect.strict_m_codes) fail(b, w, fmt::format("unknown M code M{}", code));
@@ -237,6 +245,14 @@ Axes Interpreter::Impl::target_of(const Block& /*b*/, bool machine_coordinates) 
   return machine_coordinates ? offsets.from_machine(t) : t;
 }
 
+void Interpreter::Impl::switch_tcp_by_m_codes() {
+  for (int i = 0; i < words.m_count; ++i) {
+    const int code = words.m[static_cast<std::size_t>(i)];
+    if (tcp_m_code(options.dialect, code)) modal.tcp = code;
+    if (tcp_off_m_code(options.dialect, code) && modal.tcp == code - 1) modal.tcp = 0;  // M129 of M128, M429 of M428
+  }
+}
+
 Motion Interpreter::Impl::motion_to(MotionKind kind, MotionSource source, const Axes& target) const {
   Motion m;
   m.kind = kind;
@@ -249,6 +265,7 @@ Motion Interpreter::Impl::motion_to(MotionKind kind, MotionSource source, const 
   m.incremental = !modal.absolute;
   m.absolute_centre = modal.arc_absolute;
   m.radius_compensation = modal.cutter_compensation != 400;
+  m.tcp = modal.tcp != 0;
   m.offsets = &offsets;
   m.line = block.line;
   return m;
@@ -419,6 +436,7 @@ void Interpreter::Impl::execute(const Block& b) {
         fail(b, words.word['Q' - 'A'], fmt::format("bad tool number Q{} with M61", q));
       modal.tool = static_cast<int>(q);
     }
+    if (options.tcp == TcpCodes::follow) switch_tcp_by_m_codes();
     // 7. spindle
     if (words.has_m(3)) modal.spindle = 1, emit("START_SPINDLE_CLOCKWISE", "0");
     if (words.has_m(4)) modal.spindle = -1, emit("START_SPINDLE_COUNTERCLOCKWISE", "0");
@@ -448,7 +466,11 @@ void Interpreter::Impl::execute(const Block& b) {
       if (words.has_g(code)) cutter_compensation(b, code);
     // 14. tool length offset
     for (int code : {430, 431, 432, 490})
-      if (words.has_g(code)) tool_length(b, code);
+      if (words.has_g(code)) {
+        tool_length(b, code);
+        if (modal.tcp == 434) modal.tcp = 0;
+      }
+    if (words.has_g(434)) tool_length(b, 430), modal.tcp = 434;  // G43.4: G43's offset, and TCP
     // 15. coordinate system
     static constexpr int kSystems[] = {540, 550, 560, 570, 580, 590, 591, 592, 593};
     for (int s = 0; s < 9; ++s) {
@@ -558,7 +580,7 @@ void Interpreter::Impl::check_unused_words(const Block& b, int motion_code, int 
   const bool d_user = words.has_g(410) || words.has_g(420) || words.has_g(411) || words.has_g(421) ||
                       words.has_g(960) || words.has_g(432);
   if (!d_user) unused('D', "G41, G42, G96");
-  if (!(words.has_g(430) || words.has_g(432))) unused('H', "G43");
+  if (!(words.has_g(430) || words.has_g(432) || words.has_g(434))) unused('H', "G43");
   // LinuxCNC's E is G70/G76's taper and M66-M68's analog channel ("X1e999" is X1 and E999).
   if (!(motion_mode == 760 || words.has_g(700) || words.has_m(66) || words.has_m(67) || words.has_m(68)))
     unused('E', "G70, G76, M66, M67, M68");

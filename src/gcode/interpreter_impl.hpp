@@ -206,6 +206,8 @@ struct Interpreter::Impl {
   void set_g92(const Block& b, int code);
   void g10(const Block& b);
   void tool_length(const Block& b, int code);
+  /// TCP on or off by the block's M codes (M128/M129, M428/M429: TcpCodes::follow).
+  void switch_tcp_by_m_codes();
   void end_program(const Block& b);
   Axes target_of(const Block& b, bool machine_coordinates);
 

@@ -25,6 +25,10 @@ std::optional<std::string_view> tcp_m_code(const Dialect& dialect, int code) {
   return std::nullopt;
 }
 
+bool tcp_off_m_code(const Dialect& dialect, int code) {
+  return (dialect.name == "linuxcnc" && code == 429) || (dialect.name == "fanuc" && code == 129);
+}
+
 std::string tcp_refusal(std::string_view code, std::string_view mode) {
   return fmt::format(
       "{} switches to {}: the program's X Y Z would be the tool tip in the part, not the axes' positions, and "

@@ -82,6 +82,10 @@ struct Motion {
   bool absolute_centre = false;  ///< G90.1 in force: an arc's I J K are a point, not distances
   /// G41/G42 in force: the controller offsets the path by the tool's radius.
   bool radius_compensation = false;
+  /// Tool centre point control in force (InterpreterOptions::tcp, TcpCodes::follow): `start`
+  /// and `end` are the tool tip in the part and the rotary axes' angles, which the control's
+  /// kinematics turn into the axes' positions, and it moves them in a straight line.
+  bool tcp = false;
   /// With the programmed path reported (CutterPath::programmed): the move the tool centre
   /// makes under G41/G42 (and on the move after G40, from where the offset left it), as the
   /// control offsets it before the next move settles its corner; machine frame. Without an

@@ -15,6 +15,7 @@
 #include "ccomp/gcode/canon.hpp"
 #include "ccomp/gcode/dialect.hpp"
 #include "ccomp/gcode/source.hpp"
+#include "ccomp/gcode/tcp_mode.hpp"
 #include "ccomp/gcode/tool_table.hpp"
 
 namespace ccomp::gcode {
@@ -60,10 +61,9 @@ struct InterpreterOptions {
   std::uint64_t max_blocks = 100'000'000;
   std::uint64_t max_blocks_without_motion = 1'000'000;
   CutterPath cutter_path = CutterPath::tool_centre;
-  /// Refuse the M codes that switch the control into tool-centre-point kinematics
-  /// (gcode/tcp_mode.hpp; exit 4 at the code): set where the program's axis words are
-  /// taken as the joints' positions (compensation, verify, predict), not for a trace.
-  bool joint_coordinates_only = false;
+  /// How the codes that switch the control into tool-centre-point kinematics are taken
+  /// (gcode/tcp_mode.hpp).
+  TcpCodes tcp = TcpCodes::pass;
 };
 
 /// The modal state an observer may read between blocks (G codes times ten).
@@ -77,6 +77,11 @@ struct ModalState {
   FeedMode feed_mode = FeedMode::units_per_minute;
   int cutter_compensation = 400;  ///< G40, G41, G41.1, G42, G42.1
   int tool_length_mode = 490;     ///< G49, G43, G43.1, G43.2
+  /// The code tool centre point control is on by (TcpCodes::follow): 434 (G43.4, off again
+  /// with G43, G43.1, G43.2 or G49, its group's), 128 (M128, off with M129), 428 (M428, off
+  /// with M429: LinuxCNC's kinematics switch, which G43 and G49 leave as it is); 0 off. Under
+  /// it the axis words are the tool tip in the part and the rotary axes' angles (Motion::tcp).
+  int tcp = 0;
   bool retract_to_r = true;       ///< G99 (else G98: back to the initial level)
   int path_mode = 640;
   double feed = 0.0;  ///< mm/min (or inverse time, or mm/rev)

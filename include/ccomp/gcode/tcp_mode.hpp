@@ -1,11 +1,12 @@
 #pragma once
 // Programs written for tool-centre-point control (TCP): the control runs the machine's
-// kinematics, so the X Y Z words are the tool tip in the part and A B C the tool's
-// orientation, not each axis' own position. ccomp compensates joint-coordinate programs
-// (posted for the machine without TCP); a TCP program read as one would be corrected at
-// points the machine never goes to. The codes that switch a control into TCP are therefore
-// named here, and refused (exit 4, at the code) wherever a program is compensated or
-// measured: docs/compensation.md, "Tool-centre-point programs".
+// kinematics, so the X Y Z words are the tool tip in the part and A B C the rotary axes'
+// angles, not each axis' own position. Read as joint coordinates such a program would be
+// corrected at points the machine never goes to, so the codes that switch a control into
+// TCP are named here, and either followed (each motion says whether its words are the tip:
+// Motion::tcp) or refused (exit 4, at the code): docs/compensation.md, "Tool-centre-point
+// programs".
+#include <cstdint>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -13,6 +14,23 @@
 #include "ccomp/gcode/dialect.hpp"
 
 namespace ccomp::gcode {
+
+/// How an interpreter takes the codes that switch TCP on and off.
+enum class TcpCodes : std::uint8_t {
+  /// Read as any other M code (a trace, the zero model's rewrite: nothing is corrected, so
+  /// nothing is misread); G43.4 and G43.5, which the interpreter has no group for, refused.
+  pass,
+  /// Refused at the code (exit 4): where the axis words must be the joints'.
+  refuse,
+  /// Followed: G43.4 (with G43's H), M128 (Fanuc dialect) and M428 (LinuxCNC dialect) switch
+  /// TCP on; G43, G43.1, G43.2, G49, M129 and M429 off; each motion says which it is under.
+  /// G43.5 (the tool's direction as I J K) and M430 (user kinematics) are refused.
+  follow,
+};
+
+/// Whether M `code` switches TCP off again in the dialect (M129 of Fanuc-style dialects,
+/// M429 of LinuxCNC's).
+[[nodiscard]] bool tcp_off_m_code(const Dialect& dialect, int code);
 
 /// What a G code (times ten) switches on, when it is a TCP mode: G43.4 and G43.5 (Fanuc's
 /// tool centre point control, types 1 and 2; LinuxCNC has neither). nullopt otherwise.

@@ -1,0 +1,101 @@
+// Tool centre point codes as the interpreter takes them (gcode/tcp_mode.hpp): followed, each
+// motion says whether its words are the tip in the part; refused at the code; or read as any
+// code (a trace). G43.4 is G43's group: G43 and G49 end it, as they end each other; LinuxCNC's
+// M428 and Heidenhain's M128 are switches of their own, which only M429 and M129 undo.
+#include <gtest/gtest.h>
+
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "ccomp/error.hpp"
+#include "ccomp/gcode/interpreter.hpp"
+#include "ccomp/gcode/tool_table.hpp"
+
+namespace ccomp::gcode {
+namespace {
+
+class TcpFlags : public CanonSink {
+ public:
+  void motion(const Motion& m) override { tcp.push_back(m.tcp); }
+  std::vector<bool> tcp;
+};
+
+InterpreterOptions options_for(const char* dialect, TcpCodes tcp) {
+  InterpreterOptions o;
+  o.dialect = *dialect_named(dialect);
+  std::istringstream table("T1 P1 Z100.0 D10.0\n");
+  o.tools = read_tool_table(table, "t.tbl");
+  o.tcp = tcp;
+  return o;
+}
+
+std::vector<bool> flags(const std::string& program, const char* dialect) {
+  LineSource source = LineSource::from_string(program, "t.ngc");
+  TcpFlags sink;
+  Interpreter(options_for(dialect, TcpCodes::follow)).run(source, sink);
+  return sink.tcp;
+}
+
+TEST(TcpModes, G43_4IsOnUntilItsGroupSaysOtherwise) {
+  EXPECT_EQ(flags("G43.4 H1\nG0 X1 A5\nG1 X2 F100\nG43 H1\nG1 X3\nG43.4 H1\nG1 X4\nG49\nG1 X5\nM2\n", "fanuc"),
+            (std::vector<bool>{true, true, false, true, false}));
+}
+
+TEST(TcpModes, M128IsOnUntilM129AndG43LeavesIt) {
+  EXPECT_EQ(flags("M128\nG43 H1\nG0 X1 A5\nG49\nG1 X2 F100\nM129\nG1 X3\nM2\n", "fanuc"),
+            (std::vector<bool>{true, true, false}));
+}
+
+TEST(TcpModes, M428IsOnUntilM429AndG49LeavesIt) {
+  EXPECT_EQ(flags("M428\nG43 H1\nG0 X1 A5\nG49\nG1 X2 F100\nM429\nG1 X3\nM2\n", "linuxcnc"),
+            (std::vector<bool>{true, true, false}));
+}
+
+TEST(TcpModes, G43_4TakesG43sOffsetAndShareItsGroup) {
+  LineSource source = LineSource::from_string("G43.4 H1\nG0 Z0\nM2\n", "t.ngc");
+  Interpreter interpreter(options_for("fanuc", TcpCodes::follow));
+  TcpFlags sink;
+  interpreter.run(source, sink);
+  EXPECT_DOUBLE_EQ(interpreter.offsets().tool[2], 100.0);
+  LineSource both = LineSource::from_string("G43.4 G43 H1\nM2\n", "t.ngc");
+  try {
+    Interpreter(options_for("fanuc", TcpCodes::follow)).run(both, sink);
+    FAIL() << "two codes of one group accepted";
+  } catch (const Error& e) {
+    EXPECT_NE(e.message().find("same modal group"), std::string::npos) << e.message();
+  }
+}
+
+void expect_refused(const std::string& program, const char* dialect, TcpCodes tcp, const std::string& message,
+                    int column) {
+  LineSource source = LineSource::from_string(program, "t.ngc");
+  TcpFlags sink;
+  try {
+    Interpreter(options_for(dialect, tcp)).run(source, sink);
+    FAIL() << program << " accepted";
+  } catch (const Error& e) {
+    EXPECT_EQ(e.kind(), ErrorKind::unsupported) << e.message();
+    EXPECT_NE(e.message().find(message), std::string::npos) << e.message();
+    EXPECT_EQ(e.where().line, 1U);
+    EXPECT_EQ(e.where().column, static_cast<std::uint32_t>(column));
+  }
+}
+
+TEST(TcpModes, WhatIsNotFollowedIsRefusedAtTheCode) {
+  expect_refused("T1 M6 G43.5 H1\nM2\n", "fanuc", TcpCodes::follow, "G43.5 gives the tool's direction as I J K", 7);
+  expect_refused("G54 M430\nM2\n", "linuxcnc", TcpCodes::follow, "M430 switches to", 5);
+  // Refusing: every switch.
+  expect_refused("M428\nM2\n", "linuxcnc", TcpCodes::refuse, "M428 switches to", 1);
+  expect_refused("M128\nM2\n", "fanuc", TcpCodes::refuse, "M128 switches to", 1);
+  expect_refused("G43.4 H1\nM2\n", "fanuc", TcpCodes::refuse, "G43.4 switches to", 1);
+  // Read as any code (a trace): the M codes pass, G43.4 has no group there.
+  expect_refused("G43.4 H1\nM2\n", "fanuc", TcpCodes::pass, "G43.4 switches to", 1);
+  LineSource source = LineSource::from_string("M428\nG0 X1\nM429\nM2\n", "t.ngc");
+  TcpFlags sink;
+  Interpreter(options_for("linuxcnc", TcpCodes::pass)).run(source, sink);
+  EXPECT_EQ(sink.tcp, std::vector<bool>{false});
+}
+
+}  // namespace
+}  // namespace ccomp::gcode
