@@ -220,6 +220,7 @@ void CannedCycles::compensate_words(const PendingCycle& c, const gcode::Motion& 
     position.rounding[h.normal] = 0.0;
   }
   position.commanded = controlled_of_program(at, c.offsets, unit);
+  position.tcp = false;
   // The machine follows the cycle's motions, shifted by the hole's correction.
   const model::ChainQ shift = h.bottom_comp - h.bottom_nominal;
   for (const gcode::Motion& m : c.motions) compensator_.moved(chain_of(m.end, c.offsets) + shift);
@@ -255,6 +256,7 @@ void CannedCycles::expand(const PendingCycle& c) {
       if (!line.empty()) appended += eol + line, ++stages_.report.added_lines;
       if (point.take_up) ++stages_.report.take_up_moves;
       stages_.rewriter.position().commanded = controlled_of(point.q, c.offsets);
+      stages_.rewriter.position().tcp = false;
     }
   }
   if (c.incremental) appended += eol + "G91";

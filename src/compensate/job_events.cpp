@@ -4,10 +4,13 @@
 
 #include <algorithm>
 #include <cmath>
+#include <optional>
+#include <vector>
 
 #include "canned_cycles.hpp"
 #include "ccomp/error.hpp"
 #include "ccomp/compensate/machine_coordinates.hpp"
+#include "ccomp/compensate/tcp_kinematics.hpp"
 #include "ccomp/model/conditions.hpp"
 #include "job_guards.hpp"
 #include "move_pipeline.hpp"
@@ -52,6 +55,18 @@ struct CompensationStages {
 
   model::ForwardModel forward;
   model::ForwardData nominal;  ///< scratch for the moves' nominal ends, on the reading thread
+
+  /// The control's TCP kinematics, built at the first move under TCP (ccomp::Error,
+  /// unsupported, for a machine it does not apply to), shared with the rewriter: both
+  /// work on the reading thread.
+  TcpKinematics& tcp_kinematics() {
+    if (!tcp) {
+      tcp.emplace(forward);
+      rewriter.follow_tcp(&*tcp);
+    }
+    return *tcp;
+  }
+  std::optional<TcpKinematics> tcp;
   MoveSolver solver;
   /// The uncompensated machine's error, for the report, is taken by a compensator of its own
   /// on the writing side (it changes nothing the compensation decides), or by the worker's
@@ -149,6 +164,7 @@ void JobSink::report_progress(const gcode::SourceLine& line) {
 void JobSink::keep_offsets(const gcode::Block& block) {
   if (!sets_offset_from_position(block)) return;
   stages_->pipeline.drain();
+  if (live_offsets_) stages_->rewriter.position_in(false, *live_offsets_);  // (after moves under TCP)
   const OffsetContext at{*live_offsets_,
                          last_units_,
                          nominal_end_,
@@ -162,12 +178,36 @@ void JobSink::keep_offsets(const gcode::Block& block) {
 
 void JobSink::motion(const gcode::Motion& m) {
   ++report_.motions;
+  if (!m.tcp) return joint_motion(m);
+  // (Without an error term nothing is corrected: the program is written back as it is.)
+  if (stages_) tcp_motion(m);
+}
+
+void JobSink::joint_motion(const gcode::Motion& m) {
   live_offsets_ = m.offsets;
   nominal_end_ = m.end;
   last_units_ = m.units;
   if (has_limits_) check_limits(m, model_, input_.name(), block_ ? block_->text : std::string_view());
   if (!spans_.empty()) warn_beyond_spans(m);
   if (stages_) compensate(m);
+}
+
+
+/// A move under tool centre point control: the axes' positions the control's kinematics
+/// command (tcp_kinematics.hpp), in pieces the axes move straight along within half the
+/// tolerance of the control's line (a rapid's path is the control's: one piece), each a
+/// move of the block compensated within the other half and written as TCP words.
+void JobSink::tcp_motion(const gcode::Motion& m) {
+  try {
+    tcp_pieces(stages_->tcp_kinematics(), m, options_.tolerance / 2.0, tcp_pieces_);
+  } catch (const Error& e) {
+    refuse(e.kind(), e.message());
+  }
+  for (const TcpPiece& p : tcp_pieces_) {
+    piece_ = MovePiece{p.from, p.to, true, p.deviation};
+    joint_motion(p.motion);
+  }
+  piece_ = {};
 }
 
 /// A term used beyond where it was fitted holds its value there (forward.hpp): said once a
@@ -213,6 +253,7 @@ void JobSink::compensate(const gcode::Motion& m) {
   }
   // The rest is rare, and done here once every move before it is written.
   stages_->pipeline.drain();
+  stages_->rewriter.position_in(false, *m.offsets);  // (after moves under TCP)
   if (!started_) {  // the play is followed from where the program starts
     stages_->solver.compensator.moved(chain_of(m.start, *m.offsets));
     started_ = true;
@@ -236,6 +277,7 @@ void JobSink::compensate(const gcode::Motion& m) {
 void JobSink::follow_machine_move(const gcode::Motion& m) {
   WrittenPosition& position = stages_->rewriter.position();
   position.commanded = m.end;
+  position.tcp = false;
   position.rounding = {};  // the block's own words, as written
   stages_->solver.compensator.moved(chain_of(m.end, *m.offsets));
 }
@@ -278,6 +320,7 @@ void JobSink::queue_task(const gcode::Motion& m, const ChordRange& chords) {
   t.offset = line_.offset;
   t.terminator.assign(line_.terminator);
   t.chords = chords;
+  t.piece = piece_;
   t.adds_lines_only = moves_in_block_ > 0;
   // The nominal pose at its end, here or on the worker: whichever has time to spare.
   const model::ChainQ end = chain_of(m.end, t.offsets);
@@ -310,9 +353,10 @@ void JobSink::write_move(MoveTask& t) {
   writer_.advance_to(t.offset);
   // (None are left where the worker took them: MoveBatch::probes_on_worker.)
   take_error_before(stages_->error_before, report_.max_error_before, t.probes, t.report);
-  stages_->guards.account(t.report, t.motion.units, t.block.line, t.text, t.chords.last());
+  // (A move in parts, an arc's chords or the pieces of a move under TCP, counts at its last.)
+  stages_->guards.account(t.report, t.motion.units, t.block.line, t.text, t.chords.last() && t.piece.to == 1.0);
   stages_->rewriter.rewrite(t.motion, t.block, t.points, t.offset, t.terminator, t.chords, t.arc_starts,
-                            t.adds_lines_only);
+                            t.adds_lines_only, t.piece);
 }
 
 /// Compensates a cycle still waiting for its block's end, once every move before it is written.

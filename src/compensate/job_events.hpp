@@ -7,8 +7,10 @@
 #include <cstdint>
 #include <memory>
 #include <string>
+#include <vector>
 
 #include "ccomp/compensate/program_job.hpp"
+#include "ccomp/compensate/tcp_kinematics.hpp"
 #include "ccomp/error.hpp"
 #include "ccomp/gcode/canon.hpp"
 #include "ccomp/gcode/source.hpp"
@@ -45,6 +47,8 @@ class JobSink : public gcode::CanonSink {
   void take_out_offset(const gcode::Block& block);
   void report_progress(const gcode::SourceLine& line);
   void keep_offsets(const gcode::Block& block);
+  void joint_motion(const gcode::Motion& m);
+  void tcp_motion(const gcode::Motion& m);
   void compensate(const gcode::Motion& m);
   void warn_beyond_spans(const gcode::Motion& m);
   void follow_machine_move(const gcode::Motion& m);
@@ -68,6 +72,8 @@ class JobSink : public gcode::CanonSink {
   std::uint64_t furthest_ = 0;                    ///< the offset of the furthest line read
   bool repeated_ = false;                         ///< the current line is before it
   int moves_in_block_ = 0;                        ///< moves of the current block so far
+  MovePiece piece_;                               ///< the share of its move the motion queued is
+  std::vector<TcpPiece> tcp_pieces_;              ///< a move under TCP's, storage kept
   bool elsewhere_ = false;                        ///< the current line is in another file (a subroutine's)
   bool started_ = false;                          ///< a motion was compensated: the play is followed
   const gcode::Offsets* live_offsets_ = nullptr;  ///< the interpreter's, as it runs (from its motions)

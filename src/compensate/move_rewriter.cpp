@@ -131,12 +131,45 @@ WrittenValue MoveRewriter::take_up_word(double planned, double from, const TurnW
   return written;
 }
 
+namespace {
+
+/// A point in mm and deg in the program's units (`unit`: mm per unit).
+gcode::Axes in_program_units(gcode::Axes p, double unit) {
+  for (std::size_t i = 0; i < gcode::kAxisCount; ++i)
+    if (!gcode::is_rotary(i)) p[i] /= unit;
+  return p;
+}
+
+}  // namespace
+
+gcode::Axes MoveRewriter::commanded_of(const model::ChainQ& q, const gcode::Offsets& offsets, bool tcp) {
+  if (!tcp) return controlled_of(q, offsets);
+  return offsets.from_machine(offsets.to_machine(tcp_->world_of(q, offsets)));
+}
+
+void MoveRewriter::position_in(bool tcp, const gcode::Offsets& offsets) {
+  if (position_.tcp == tcp) return;
+  // The control switched kinematics where the machine stands: the same axes' positions in
+  // the other coordinates (as written: the rounding goes with them).
+  const model::ChainQ q = position_.tcp ? tcp_->joints_of(position_.commanded, offsets)
+                                        : chain_of(position_.commanded, offsets);
+  position_.commanded = commanded_of(q, offsets, tcp);
+  position_.rounding = {};
+  position_.tcp = tcp;
+}
+
 void MoveRewriter::point_words(const gcode::Motion& m, const gcode::Block& b, const CompensatedPoint& point,
-                               PointLine& line) {
+                               bool tcp, PointLine& line) {
   const bool inch = m.units == gcode::Units::inch;
   const double unit = mm_per_unit(m.units);
-  const gcode::Axes p = program_of(point.q, *m.offsets, unit);
-  const gcode::Axes last = program_of(chain_of(position_.commanded, *m.offsets), *m.offsets, unit);
+  gcode::Axes p, last;
+  if (!tcp) {
+    p = program_of(point.q, *m.offsets, unit);
+    last = program_of(chain_of(position_.commanded, *m.offsets), *m.offsets, unit);
+  } else {
+    p = in_program_units(m.offsets->program_of(commanded_of(point.q, *m.offsets, true)), unit);
+    last = in_program_units(m.offsets->program_of(position_.commanded), unit);
+  }
   // The block's first word of each axis, in one pass over its words (a lone letter, which
   // the interpreter ignores, is not one: a value written into it would be a second word).
   std::array<const gcode::Word*, gcode::kAxisCount> words{};
@@ -186,14 +219,16 @@ std::string MoveRewriter::inverse_time_feed(double feed, double share, const gco
 
 void MoveRewriter::rewrite(const gcode::Motion& m, const gcode::Block& b, const std::vector<CompensatedPoint>& points,
                            std::uint64_t offset, std::string_view terminator, const ChordRange& part,
-                           std::span<const gcode::Axes> arc_starts, bool adds_lines_only) {
+                           std::span<const gcode::Axes> arc_starts, bool adds_lines_only, const MovePiece& piece) {
   edits_.clear();
+  if (tcp_) position_in(piece.tcp, *m.offsets);
   const bool arc_pieces = arc_starts.size() == points.size() && points.size() > 1;
   if (arc_pieces) centre_by_words(m, b, arc_starts.front());
   std::string appended;
   // A part after the first adds lines only: its first point is not the block's own.
   const std::size_t own_line = part.first() && !adds_lines_only ? 0 : static_cast<std::size_t>(-1);
-  double previous_s = part.whole() ? 0.0 : static_cast<double>(part.begin) / static_cast<double>(part.count);
+  double previous_s = part.whole() ? piece.from : static_cast<double>(part.begin) / static_cast<double>(part.count);
+  const double piece_share = piece.to - piece.from;  // a point's s is of its piece: of the block's move, this
   const std::uint32_t insert_at = insertion_point(b);
   for (std::size_t k = 0; k < points.size(); ++k) {
     // (The block's own line, nearly every move's only point, makes no string of its own.)
@@ -206,23 +241,24 @@ void MoveRewriter::rewrite(const gcode::Motion& m, const gcode::Block& b, const 
     // Its centre words count from where the piece starts: the machine, before its words move it.
     std::string centre;
     if (arc_pieces && !own) centre = centre_words(m, b, arc_starts[k]);
-    point_words(m, b, points[k], line);
+    point_words(m, b, points[k], piece.tcp, line);
     if (!centre.empty()) line.segment += centre;
     // A take-up finer than the program's digits moves nothing: no line for it.
     if (!line.own && points[k].take_up && line.segment.size() == line.bare) continue;
     // Inverse time: each piece keeps its share of the block's duration; a take-up move
     // of a few micrometres gets a thousandth of it.
     if (m.feed_mode == gcode::FeedMode::inverse_time && m.kind != gcode::MotionKind::traverse) {
-      const double share = points[k].take_up ? 1e-3 : points[k].s - previous_s;
+      const double s = piece.from + points[k].s * piece_share;
+      const double share = points[k].take_up ? 1e-3 : s - previous_s;
       const std::string f = inverse_time_feed(m.feed, share, b);
       if (!line.own)
         line.segment += " F" + f;
       else if (const gcode::Word* fw = b.find('F'))
         edits_.push_back(gcode::Edit{fw->value_span, f});
     }
-    previous_s = points[k].s;
+    previous_s = piece.from + points[k].s * piece_share;
     // The machine is now at the compensated point: incremental words count from there.
-    position_.commanded = controlled_of(points[k].q, *m.offsets);
+    position_.commanded = commanded_of(points[k].q, *m.offsets, piece.tcp);
     if (!line.own) {
       appended += std::string(terminator.empty() ? "\n" : terminator) + line.segment;
       if (++report_.added_lines > kMostAddedLines)
@@ -234,7 +270,7 @@ void MoveRewriter::rewrite(const gcode::Motion& m, const gcode::Block& b, const 
     }
     if (points[k].take_up) ++report_.take_up_moves;
   }
-  if ((points.size() > 1 || !part.whole()) && has_stop_code(b))
+  if ((points.size() > 1 || !part.whole() || piece.from > 0.0 || piece.to < 1.0) && has_stop_code(b))
     throw Error(ErrorKind::unsupported,
                 "a move that must be split shares its block with a program stop (M0 M1 M2 M30 M60)",
                 SourceLocation{std::string(file_), b.line, 0}, std::string(b.text));

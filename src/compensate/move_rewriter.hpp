@@ -14,6 +14,7 @@
 
 #include "ccomp/compensate/compensator.hpp"
 #include "ccomp/compensate/program_job.hpp"
+#include "ccomp/compensate/tcp_kinematics.hpp"
 #include "ccomp/gcode/block.hpp"
 #include "ccomp/gcode/writer.hpp"
 #include "ccomp/model/machine.hpp"
@@ -53,9 +54,16 @@ class MoveRewriter {
   /// under the control's radius offset in pieces (`arc_starts`: each piece's programmed
   /// start) is written as arcs, each with its centre words. A block's move after its first
   /// (`adds_lines_only`: a corner's arc, then the move) adds lines only.
+  /// A piece of a move under tool centre point control (`piece`) is written as TCP words
+  /// (its points' tool tips in the part: follow_tcp()), its inverse-time feed as its share
+  /// of the block's.
   void rewrite(const gcode::Motion& m, const gcode::Block& b, const std::vector<CompensatedPoint>& points,
                std::uint64_t offset, std::string_view terminator, const ChordRange& part = {},
-               std::span<const gcode::Axes> arc_starts = {}, bool adds_lines_only = false);
+               std::span<const gcode::Axes> arc_starts = {}, bool adds_lines_only = false,
+               const MovePiece& piece = {});
+
+  /// The control's TCP kinematics, which the pieces of moves under TCP are written through.
+  void follow_tcp(TcpKinematics* kinematics) { tcp_ = kinematics; }
 
   /// The word for axis i at program value p (program units, degrees), or nothing for an
   /// axis the block did not name that need not move; written in the style of `styled` (the
@@ -74,11 +82,17 @@ class MoveRewriter {
                        const TurnWord& turn, std::string& text);
 
   [[nodiscard]] WrittenPosition& position() { return position_; }
+  /// The written position in the coordinates of the next move (`tcp`: a TCP program's
+  /// point; else the controlled point, what every stage but the TCP pieces reads).
+  void position_in(bool tcp, const gcode::Offsets& offsets);
   [[nodiscard]] const DecimalsOption& decimals() const { return decimals_; }
 
  private:
   struct PointLine;
-  void point_words(const gcode::Motion& m, const gcode::Block& b, const CompensatedPoint& point, PointLine& line);
+  void point_words(const gcode::Motion& m, const gcode::Block& b, const CompensatedPoint& point, bool tcp,
+                   PointLine& line);
+  /// Where q is, as the rewritten program says it: the controlled point, or the TCP point.
+  [[nodiscard]] gcode::Axes commanded_of(const model::ChainQ& q, const gcode::Offsets& offsets, bool tcp);
   /// The centre words of an arc piece from `start` (the programmed, nominal point).
   [[nodiscard]] std::string inverse_time_feed(double feed, double share, const gcode::Block& b) const;
   [[nodiscard]] std::string centre_words(const gcode::Motion& m, const gcode::Block& b, const gcode::Axes& start);
@@ -98,6 +112,7 @@ class MoveRewriter {
   JobReport& report_;
   std::string_view file_;
   WrittenPosition position_;
+  TcpKinematics* tcp_ = nullptr;
   std::vector<gcode::Edit> edits_;  ///< the move's line's edits, storage kept from move to move
   std::string word_text_;           ///< an added word's value, storage kept
   /// The machine's axes, in the order words are written (X Y Z A B C U V W).

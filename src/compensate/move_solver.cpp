@@ -135,7 +135,11 @@ void MoveSolver::solve_batch(MoveBatch& batch) {
         t.end_pose_known = true;
       }
       compensator.expect(end, t.end_pose);
-      solve(t.motion, t.offsets, t.report, t.points, t.chords, &t.arc_starts);
+      solve(t.motion, t.offsets, t.report, t.points, t.chords, &t.arc_starts, t.piece.tcp);
+      // A piece of a move under TCP: what the control's line is off the axes' straight move
+      // adds to what the compensation leaves of the latter (at most).
+      if (t.piece.tcp && t.motion.kind != gcode::MotionKind::traverse)
+        t.report.max_deviation_after += t.piece.deviation;
       if (batch.probes_on_worker) {
         if (!error_before_) error_before_.emplace(model_, options_);
         take_error_before(*error_before_, largest_before_, t.probes, t.report);
@@ -151,7 +155,7 @@ void MoveSolver::solve_batch(MoveBatch& batch) {
 
 void MoveSolver::solve(const gcode::Motion& m, const gcode::Offsets& offsets, MoveReport& move,
                        std::vector<CompensatedPoint>& points, const ChordRange& range,
-                       std::vector<gcode::Axes>* arc_starts) {
+                       std::vector<gcode::Axes>* arc_starts, bool tcp_piece) {
   if (arc_starts) arc_starts->clear();
   // A cut that starts where a held rapid left the machine starts that far off.
   if (const double left = std::exchange(held_off_, 0.0);
@@ -159,7 +163,7 @@ void MoveSolver::solve(const gcode::Motion& m, const gcode::Offsets& offsets, Mo
     move.max_deviation_after = std::max(move.max_deviation_after, left);
   if (!m.offset) {
     tool_end_.setConstant(std::nan(""));
-    solve_path(m, offsets, move, points, range);
+    solve_path(m, offsets, move, points, range, tcp_piece);
     return;
   }
   // The axes run the tool centre's path: its points are compensated (the compensator follows
@@ -177,11 +181,11 @@ void MoveSolver::solve(const gcode::Motion& m, const gcode::Offsets& offsets, Mo
   const unsigned still = compensator.commanded().allFinite() ? kept_still_by_offset(m, offsets) : 0U;
   compensator.hold(still);
   if (still == 0) {
-    solve_path(centre, offsets, move, points, range);
+    solve_path(centre, offsets, move, points, range, false);
   } else {  // (where the machine stands before the move: what the held axes keep)
     const model::ChainQ before = compensator.commanded();
     const std::array<double, 9> play_before = compensator.play();
-    solve_path(centre, offsets, move, points, range);
+    solve_path(centre, offsets, move, points, range, false);
     const double left = compensator.keep_still(before, play_before, start, chain_of(m.tool_end, offsets),
                                                m.kind == gcode::MotionKind::feed, points, move);
     if (m.kind == gcode::MotionKind::traverse) held_off_ = left;
@@ -205,7 +209,7 @@ void MoveSolver::solve(const gcode::Motion& m, const gcode::Offsets& offsets, Mo
 }
 
 void MoveSolver::solve_path(const gcode::Motion& m, const gcode::Offsets& offsets, MoveReport& move,
-                            std::vector<CompensatedPoint>& points, const ChordRange& range) {
+                            std::vector<CompensatedPoint>& points, const ChordRange& range, bool tcp_piece) {
   compensator.offset_by_control(m.radius_compensation);
   // The move that starts the control's offset must stay one line longer than the tool's
   // radius (LinuxCNC refuses a shorter one): its end is compensated, as a rapid's.
@@ -221,7 +225,8 @@ void MoveSolver::solve_path(const gcode::Motion& m, const gcode::Offsets& offset
   } else if (m.kind == gcode::MotionKind::arc) {
     solve_arc_chords(m, offsets, move, points, range);
   } else {
-    compensator.straight(chain_of(m.start, offsets), chain_of(m.end, offsets), points, move);
+    compensator.straight(chain_of(m.start, offsets), chain_of(m.end, offsets), points, move,
+                         tcp_piece ? options_.tolerance / 2.0 : -1.0);
   }
 }
 

@@ -42,16 +42,18 @@ class alignas(64) MoveSolver {
   /// puts it there.
   /// `arc_starts`: for an arc under the control's offset, the programmed start of each piece
   /// it is written in (machine frame), for their centre words.
+  /// A piece of a move under tool centre point control (`tcp_piece`) is compensated within
+  /// half the tolerance: the other half is the piece's own (tcp_split()).
   void solve(const gcode::Motion& m, const gcode::Offsets& offsets, MoveReport& move,
              std::vector<CompensatedPoint>& points, const ChordRange& range = {},
-             std::vector<gcode::Axes>* arc_starts = nullptr);
+             std::vector<gcode::Axes>* arc_starts = nullptr, bool tcp_piece = false);
 
   /// Its compensator: followed by the job's other stages only while no batch is in flight.
   Compensator compensator;
 
  private:
   void solve_path(const gcode::Motion& m, const gcode::Offsets& offsets, MoveReport& move,
-                  std::vector<CompensatedPoint>& points, const ChordRange& range);
+                  std::vector<CompensatedPoint>& points, const ChordRange& range, bool tcp_piece);
   void solve_arc_kept(const gcode::Motion& m, const gcode::Offsets& offsets, MoveReport& move,
                       std::vector<CompensatedPoint>& points);
   void solve_arc_chords(const gcode::Motion& m, const gcode::Offsets& offsets, MoveReport& move,

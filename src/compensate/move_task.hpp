@@ -23,6 +23,15 @@ struct ChordRange {
   [[nodiscard]] bool last() const { return whole() || end == count; }
 };
 
+/// The share of its block's move a task is, and how its points are written: a move under
+/// tool centre point control goes in pieces the axes move straight along
+/// (tcp_kinematics.hpp), each a task of the block whose points are written as TCP words.
+struct MovePiece {
+  double from = 0.0, to = 1.0;
+  bool tcp = false;
+  double deviation = 0.0;  ///< mm: how far the axes' straight move leaves the control's line
+};
+
 struct MoveTask {
   // what its block said
   gcode::Motion motion;  ///< its offsets point to `offsets`
@@ -32,6 +41,7 @@ struct MoveTask {
   gcode::Block block;  ///< the words, and the text (in `text`), for the writer
   std::uint64_t offset = 0;
   ChordRange chords;             ///< this task's part of the move's chords
+  MovePiece piece;               ///< this task's share of the block's move
   bool adds_lines_only = false;  ///< not the block's first move: its line is the first's
   /// The nominal tool pose at its end, where the reading thread took it (end_pose_known);
   /// else the worker takes it.

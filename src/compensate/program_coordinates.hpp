@@ -20,6 +20,8 @@ namespace ccomp::compensate {
 /// and what an offset set from the position reads.
 struct WrittenPosition {
   gcode::Axes commanded{};  ///< the controlled point the rewritten program commanded
+  /// `commanded` is a TCP program's point (tcp_kinematics.hpp), not the axes' positions.
+  bool tcp = false;
   /// Per axis, program units: where the written digits put the machine less `commanded`.
   gcode::Axes rounding{};
 };

@@ -92,10 +92,10 @@ JobReport run_program_job(gcode::LineSource& input, std::FILE* out, const model:
   raise_digits_for_tolerance(options, model);
   options.interpreter = with_model_offsets(given.interpreter, model);
   options.interpreter.origin_matters = !model.terms.empty();  // a machine without error has no lever
-  // A TCP program's words are not the joints' positions: corrected as if they were, the
-  // tool would go elsewhere. Without an error term nothing is corrected and the program is
-  // written back as it is, whichever its coordinates.
-  options.interpreter.tcp = model.terms.empty() ? gcode::TcpCodes::pass : gcode::TcpCodes::refuse;
+  // A TCP program's words are not the joints' positions: its moves are followed through the
+  // control's kinematics (tcp_kinematics.hpp). Without an error term nothing is corrected
+  // and the program is written back as it is, whichever its coordinates.
+  options.interpreter.tcp = gcode::TcpCodes::follow;
   check_work_offsets(options.interpreter, model);
   if (options.flatten) return run_flattened_job(input, out, model, options);
   JobReport report;

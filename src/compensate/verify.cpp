@@ -7,11 +7,15 @@
 #include <limits>
 #include <numbers>
 #include <optional>
+#include <string>
+#include <string_view>
 #include <tuple>
 #include <vector>
 
 #include "ccomp/compensate/machine_coordinates.hpp"
+#include "ccomp/compensate/tcp_kinematics.hpp"
 #include "ccomp/constants.hpp"
+#include "ccomp/error.hpp"
 #include "ccomp/model/term_span.hpp"
 #include "ccomp/util/handoff.hpp"
 #include "ccomp/util/parallel.hpp"
@@ -23,25 +27,46 @@ namespace ccomp::compensate {
 
 namespace {
 
-/// Collects what the interpreter does into a callback per motion (with its offsets).
+/// How closely verify and predict follow a move under TCP with the axes' straight moves.
+constexpr double kTcpFollowed = 1e-5;  // mm
+
+/// Collects what the interpreter does into a callback per motion (with its offsets); a move
+/// under tool centre point control as the moves of the axes that follow it (tcp_pieces()),
+/// each after the first said to continue it (it is no move of its own in the figures).
 template <typename OnMotion>
 class MotionSink : public gcode::CanonSink {
  public:
-  explicit MotionSink(OnMotion on) : on_(std::move(on)) {}
-  void motion(const gcode::Motion& m) override { on_(m); }
+  MotionSink(OnMotion on, const model::MachineModel& model, std::string_view file)
+      : on_(std::move(on)), model_(model), file_(file) {}
+  void motion(const gcode::Motion& m) override {
+    if (!m.tcp) return on_(m, false);
+    try {
+      if (!tcp_) tcp_.emplace(forward_.emplace(model_));
+      tcp_pieces(*tcp_, m, kTcpFollowed, pieces_);
+    } catch (const Error& e) {
+      if (!e.where().file.empty()) throw;
+      throw Error(e.kind(), e.message(), SourceLocation{std::string(file_), m.line, 0});
+    }
+    for (std::size_t k = 0; k < pieces_.size(); ++k) on_(pieces_[k].motion, k > 0);
+  }
 
  private:
   OnMotion on_;
+  const model::MachineModel& model_;
+  std::string_view file_;
+  std::optional<model::ForwardModel> forward_;
+  std::optional<TcpKinematics> tcp_;
+  std::vector<TcpPiece> pieces_;
 };
 
 /// Each motion of `program` as the interpreter runs it on `model`'s machine (its work
-/// offsets under the options').
+/// offsets under the options'), a move under TCP in the axes' moves that follow it.
 template <typename OnMotion>
 void each_motion(gcode::LineSource& program, const model::MachineModel& model, const CheckOptions& options,
                  OnMotion on) {
-  MotionSink<OnMotion> sink(std::move(on));
+  MotionSink<OnMotion> sink(std::move(on), model, program.name());
   gcode::InterpreterOptions interpreting = with_model_offsets(options.interpreter, model);
-  interpreting.tcp = gcode::TcpCodes::refuse;  // the tip is followed through the joints
+  interpreting.tcp = gcode::TcpCodes::follow;
   check_work_offsets(interpreting, model);
   gcode::Interpreter interpreter(interpreting);
   interpreter.run(program, sink);
@@ -251,7 +276,7 @@ class NominalPath {
                       util::Handoff<Piece>& out) {
     Evaluator ev{model, model::ForwardData(model), options.conditions};
     std::vector<Piece> batch;
-    each_motion(original, model.machine(), options, [&](const gcode::Motion& m) {
+    each_motion(original, model.machine(), options, [&](const gcode::Motion& m, bool /*continues*/) {
       if (m.kind == gcode::MotionKind::feed || m.kind == gcode::MotionKind::arc) nominal_pieces(m, ev, batch);
       if (batch.size() >= kBatch) out.push(batch);
     });
@@ -280,6 +305,7 @@ struct ReadMotion {
   gcode::Motion motion;
   gcode::Offsets offsets;
   double progress = -1;  ///< the share of the program read (-1: none to report)
+  bool continues = false;  ///< a piece after the first of a move under TCP
 };
 
 /// The program's motions, read on a thread of their own while the caller evaluates them.
@@ -289,8 +315,8 @@ void produce_motions(gcode::LineSource& program, const model::MachineModel& mach
   // time on the 1M-line finishing program by 8%, peak RSS 9 -> 13 MB.)
   constexpr std::size_t kBatch = 1024;
   std::vector<ReadMotion> batch;
-  each_motion(program, machine, options, [&](const gcode::Motion& m) {
-    batch.push_back({m, *m.offsets, progress_of(options, program)});
+  each_motion(program, machine, options, [&](const gcode::Motion& m, bool continues) {
+    batch.push_back({m, *m.offsets, progress_of(options, program), continues});
     if (batch.size() >= kBatch) out.push(batch);
   });
   if (!batch.empty()) out.push(batch);
@@ -334,7 +360,7 @@ PathError predict(gcode::LineSource& program, const model::ForwardModel& model, 
       ev.advance(path.start());
       const FollowPlay follow{ev, path.end()};
       if (m.kind == gcode::MotionKind::traverse || m.kind == gcode::MotionKind::probe) continue;
-      ++e.moves;
+      if (!read.continues) ++e.moves;
       const int steps = path.steps(model, options.samples);
       if (!spans.empty() && options.warning) warn_beyond_spans(path, steps, ev.conditions, m.line, spans, options);
       if (m.kind == gcode::MotionKind::feed)
@@ -470,13 +496,13 @@ void produce_executed(gcode::LineSource& compensated, const model::ForwardModel&
   Evaluator ev{model, model::ForwardData(model), options.conditions};
   ExecutedTip tip(model, options.conditions);
   std::vector<ExecutedEvent> batch;
-  each_motion(compensated, model.machine(), options, [&](const gcode::Motion& m) {
+  each_motion(compensated, model.machine(), options, [&](const gcode::Motion& m, bool continues) {
     const double progress = progress_of(options, compensated);
     const MotionPath path(m);
     ev.advance(path.start());
     const FollowPlay follow{ev, path.end()};
     const bool cut = m.kind == gcode::MotionKind::feed || m.kind == gcode::MotionKind::arc;
-    batch.push_back({cut ? ExecutedEvent::Kind::cut : ExecutedEvent::Kind::rapid, m.line, progress});
+    if (!continues) batch.push_back({cut ? ExecutedEvent::Kind::cut : ExecutedEvent::Kind::rapid, m.line, progress});
     if (cut) executed_tips(m, path, model, options, ev, tip, batch);
     if (batch.size() >= kBatch) out.push(batch);
   });

@@ -10,7 +10,9 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <algorithm>
 #include <functional>
+#include <limits>
 #include <numbers>
 #include <sstream>
 #include <string>
@@ -21,6 +23,7 @@
 #include "ccomp/compensate/verify.hpp"
 #include "ccomp/model/model_file.hpp"
 #include "job_runner.hpp"
+#include "parsed_block.hpp"
 #include "reference_five_axis.hpp"
 
 namespace ccomp::compensate {
@@ -33,13 +36,6 @@ using test::ReferenceTrunnion;
 
 constexpr double kRadPerDeg = std::numbers::pi / 180.0;
 constexpr double kToolLength = 120.0;
-
-std::string vec(const Eigen::Vector3d& v) {
-  std::ostringstream out;
-  out.precision(17);
-  out << "[" << v.x() << " mm, " << v.y() << " mm, " << v.z() << " mm]";
-  return out.str();
-}
 
 /// Positioning errors of the linear axes on the reference (mm, of the machine position):
 /// slope and curvature of each.
@@ -130,58 +126,6 @@ std::vector<MachineError<ReferenceHeads>> head_errors() {
   return errors;
 }
 
-/// The trunnion in ccomp's terms: the table base moved by X and Y, the trunnion and its table
-/// at their centres, the program origin a fixed link on the C table; the head's Z carries the
-/// tool from where its tip meets the program origin at machine zero.
-std::string chain_of(const ReferenceTrunnion& r) {
-  return R"(
-name: reference-trunnion
-axes: {X: {}, Y: {}, Z: {}, A: {type: rotary}, C: {type: rotary}}
-max_correction: 1 mm
-chain:
-  workpiece:
-    - {link: Y, axis: Y, direction: [0, -1, 0]}
-    - {link: X, axis: X, direction: [-1, 0, 0]}
-    - {link: A, axis: A, direction: [-1, 0, 0], offset: )" +
-         vec(r.a_centre) + R"(}
-    - {link: C, axis: C, direction: [0, 0, -1], offset: )" +
-         vec(r.c_from_a) + R"(}
-    - {link: part, offset: )" +
-         vec(r.origin_from_c) + R"(}
-  tool:
-    - {link: Z, axis: Z, direction: [0, 0, 1], offset: )" +
-         vec(r.a_centre + r.c_from_a + r.origin_from_c) + R"(}
-    - {link: tool, tool_length: [0, 0, -1]}
-terms:
-)";
-}
-
-/// The head-head machine in ccomp's terms: the table moved by X, the program origin where
-/// the tool tip is at machine zero; the head's Y and Z, C at its centre, B's fork from it, the
-/// tool from B's centre.
-std::string chain_of(const ReferenceHeads& r) {
-  return R"(
-name: reference-heads
-axes: {X: {}, Y: {}, Z: {}, B: {type: rotary}, C: {type: rotary}}
-max_correction: 1 mm
-chain:
-  workpiece:
-    - {link: X, axis: X, direction: [-1, 0, 0]}
-    - {link: part, offset: )" +
-         vec(r.c_centre + r.b_from_c + r.nose_from_b) + R"(}
-  tool:
-    - {link: Y, axis: Y, direction: [0, 1, 0]}
-    - {link: Z, axis: Z, direction: [0, 0, 1], offset: )" +
-         vec(r.c_centre) + R"(}
-    - {link: C, axis: C, direction: [0, 0, 1]}
-    - {link: B, axis: B, direction: [0, 1, 0], offset: )" +
-         vec(r.b_from_c) + R"(}
-    - {link: tool, tool_length: [0, 0, -1], offset: )" +
-         vec(r.nose_from_b) + R"(}
-terms:
-)";
-}
-
 /// A five-axis finishing pass: the tool tilts from -35 to 40 degrees through 0 (A on the
 /// trunnion, B on the head) while C turns 210 degrees and the tip runs over the part; then a
 /// stretch at the singular pose itself, C turning.
@@ -253,7 +197,7 @@ FiveAxisCase case_of(std::string name, const std::vector<MachineError<Reference>
     e.set(reference);
     terms += e.terms ? e.terms(reference) : e.term;
   }
-  return {std::move(name), std::is_same_v<Reference, ReferenceHeads>, chain_of(reference) + terms,
+  return {std::move(name), std::is_same_v<Reference, ReferenceHeads>, test::ccomp_model(reference) + terms,
           [reference](const FiveAxisWords& w, bool actual) {
             return actual ? reference.actual(w, kToolLength) : reference.nominal(w, kToolLength);
           }};
@@ -428,6 +372,162 @@ TEST_P(FiveAxis, VerifyTellsTheToolDirectionTheCompensatedSweepLeaves) {
   EXPECT_GE(e.orientation_max, report.max_orientation_error - 0.1e-6);
   EXPECT_LE(e.orientation_max, report.max_orientation_error + job.tolerance * turn_per_mm + 1e-6)
       << turn_per_mm << " rad/mm";
+}
+
+// ----------------------------------------------------------------------------------------
+// A tool-centre-point program (G43.4): its X Y Z are the tip in the part, A/B C the rotary
+// axes' angles, and the control's kinematics turn them into the axes' positions. Here the
+// control is the reference's perfect machine (its own inverse below, not ccomp's), and the
+// compensated program is run on the reference as such a control runs it: its words in a
+// straight line between its points, the axes wherever the perfect machine's inverse puts
+// them, the tool wherever the reference's errors take it.
+
+/// The reference control's TCP inverse: the linear axes that put the perfect machine's tip
+/// where the same X Y Z put it with the rotary axes at zero, at the words' angles (Newton on
+/// the reference's own pose, affine in the linear axes).
+FiveAxisWords reference_joints(const FiveAxisCase& c, const FiveAxisWords& tcp) {
+  const Eigen::Vector3d target = c.pose({tcp.x, tcp.y, tcp.z, 0, 0, 0}, false).tip;
+  FiveAxisWords j = tcp;
+  for (int step = 0; step < 3; ++step) {
+    const Eigen::Vector3d at = c.pose(j, false).tip;
+    Eigen::Matrix3d columns;
+    for (int k = 0; k < 3; ++k) {
+      FiveAxisWords moved = j;
+      (k == 0 ? moved.x : k == 1 ? moved.y : moved.z) += 1.0;
+      columns.col(k) = c.pose(moved, false).tip - at;
+    }
+    const Eigen::Vector3d d = columns.partialPivLu().solve(target - at);
+    j.x += d.x(), j.y += d.y(), j.z += d.z();
+  }
+  return j;
+}
+
+/// A TCP pass over the part: the tip runs a curve while the tool tilts from -35 to 40 degrees
+/// through the singular pose and C turns 210 degrees, in moves of 3 mm and a few degrees.
+std::vector<FiveAxisWords> tcp_sweep(bool head) {
+  std::vector<FiveAxisWords> points;
+  const int n = 60;
+  for (int k = 0; k <= n; ++k) {
+    const double s = static_cast<double>(k) / n;
+    FiveAxisWords w{-40 + 90 * s, 30 * std::sin(3 * s), 25 - 20 * s, 0, 0, -60 + 210 * s};
+    (head ? w.b : w.a) = -35 + 75 * s;
+    points.push_back(w);
+  }
+  return written(points);
+}
+
+std::string tcp_program_of(const std::vector<FiveAxisWords>& points, bool head) {
+  std::string text = "G21 G90 G94 G17\nG43.4 H2\n";
+  for (std::size_t k = 0; k < points.size(); ++k) {
+    const FiveAxisWords& w = points[k];
+    text += fmt::format("{} X{:.6f} Y{:.6f} Z{:.6f} {}{:.6f} C{:.6f}{}\n", k == 0 ? "G0" : "G1", w.x, w.y, w.z,
+                        head ? 'B' : 'A', head ? w.b : w.a, w.c, k == 0 ? "" : " F1000");
+  }
+  return text + "G49\nM2\n";
+}
+
+/// The feed moves' points of a program as its words say (absolute, modal): each G1 line's
+/// point, after the rapid's.
+std::vector<FiveAxisWords> points_of(const std::string& program) {
+  std::vector<FiveAxisWords> points;
+  FiveAxisWords at;
+  std::istringstream lines(program);
+  std::string line;
+  bool moving = false;
+  while (std::getline(lines, line)) {
+    const test::ParsedBlock parsed(line);
+    bool axis = false;
+    for (const gcode::Word& w : parsed.block.words) {
+      if (!w.has_value || !w.value.is_literal()) continue;
+      const double v = w.value.literal;
+      switch (w.letter) {
+        case 'X': at.x = v, axis = true; break;
+        case 'Y': at.y = v, axis = true; break;
+        case 'Z': at.z = v, axis = true; break;
+        case 'A': at.a = v, axis = true; break;
+        case 'B': at.b = v, axis = true; break;
+        case 'C': at.c = v, axis = true; break;
+        case 'G': moving = moving || v == 0.0 || v == 1.0; break;
+        default: break;
+      }
+    }
+    if (axis && moving) points.push_back(at);
+  }
+  return points;
+}
+
+/// How far the tool ends up from where the TCP program means, run on the reference's control
+/// in 16 steps a move: the tip from the program's path (the meant tips' polyline), the tool's
+/// direction from the program's where the tip is nearest it (beyond kAwayFromSingular of the
+/// singular pose).
+struct TcpLanding {
+  double tip = 0.0, direction = 0.0;
+};
+
+TcpLanding run_on_reference(const FiveAxisCase& c, const std::vector<FiveAxisWords>& meant,
+                            const std::vector<FiveAxisWords>& run) {
+  std::vector<Eigen::Vector3d> path;
+  for (const FiveAxisWords& w : meant) path.push_back(c.pose({w.x, w.y, w.z, 0, 0, 0}, false).tip);
+  TcpLanding l;
+  for (std::size_t k = 1; k < run.size(); ++k)
+    for (int j = 0; j <= 16; ++j) {
+      const FiveAxisWords words = between(run[k - 1], run[k], j / 16.0);
+      const PartPose actual = c.pose(reference_joints(c, words), true);
+      double nearest = std::numeric_limits<double>::infinity();
+      FiveAxisWords there;
+      for (std::size_t m = 1; m < path.size(); ++m) {
+        const Eigen::Vector3d d = path[m] - path[m - 1];
+        const double f = std::clamp((actual.tip - path[m - 1]).dot(d) / d.squaredNorm(), 0.0, 1.0);
+        const double off = (actual.tip - (path[m - 1] + f * d)).norm();
+        if (off < nearest) nearest = off, there = between(meant[m - 1], meant[m], f);
+      }
+      l.tip = std::max(l.tip, nearest);
+      if (std::abs(c.head ? there.b : there.a) > kAwayFromSingular)
+        l.direction = std::max(l.direction, angle_between(actual.axis, c.pose({0, 0, 0, there.a, there.b, there.c}, false).axis));
+    }
+  return l;
+}
+
+TEST_P(FiveAxis, ATcpProgramCutsOnTheReferenceWhereItMeans) {
+  const FiveAxisCase& c = GetParam();
+  const std::vector<FiveAxisWords> points = tcp_sweep(c.head);
+  const model::MachineModel mm = model::parse_machine_model(c.model, c.name + ".yaml");
+  const std::string original = tcp_program_of(points, c.head);
+  JobOptions job;
+  job.interpreter = with_test_tool();
+  JobReport report;
+  const std::string compensated = test::compensate(original, mm, job, &report);
+  const std::vector<FiveAxisWords> run = points_of(compensated);
+  ASSERT_GE(run.size(), points.size()) << compensated;
+  const TcpLanding after = run_on_reference(c, points, run);
+  EXPECT_LT(after.tip, job.tolerance) << c.name;
+  EXPECT_LT(after.direction, 10e-6) << c.name;
+  // Uncompensated, the reference's errors turn the tool by 1 to 700 urad (the compensated
+  // direction is at least 5 times closer), and all of them take the tip 25 to 35 um off.
+  const TcpLanding before = run_on_reference(c, points, points);
+  EXPECT_LT(after.direction, before.direction / 5) << c.name;
+  if (c.name.ends_with("All")) EXPECT_GT(before.tip, 10 * job.tolerance) << c.name;
+  // verify, following the TCP moves through ccomp's kinematics on the model, agrees.
+  CheckOptions o;
+  o.interpreter = with_test_tool();
+  gcode::LineSource a = gcode::LineSource::from_string(original, "sweep.ngc");
+  gcode::LineSource b = gcode::LineSource::from_string(compensated, "out.ngc");
+  const PathError e = verify(a, b, model::ForwardModel(mm), o);
+  EXPECT_LT(e.max, job.tolerance) << c.name;
+  EXPECT_EQ(e.uncut_length, 0.0) << c.name;
+}
+
+// The zero model writes a TCP program back as it is, bar ccomp's header line: nothing is
+// corrected, nothing misread.
+TEST(FiveAxisTcp, TheZeroModelWritesATcpProgramBackByteForByte) {
+  const std::string original = tcp_program_of(tcp_sweep(false), false);
+  const model::MachineModel zero = model::parse_machine_model(
+      test::ccomp_model(ReferenceTrunnion{}) + "  []\n", "reference-trunnion.yaml");
+  JobOptions job;
+  job.interpreter = with_test_tool();
+  const std::string written = test::compensate(original, zero, job);
+  ASSERT_TRUE(written.starts_with("(ccomp ")) << written;
+  EXPECT_EQ(written.substr(written.find('\n') + 1), original);
 }
 
 }  // namespace

@@ -2,6 +2,8 @@
 
 #include <Eigen/Geometry>
 #include <numbers>
+#include <sstream>
+#include <string>
 
 namespace ccomp::test {
 
@@ -86,6 +88,65 @@ PartPose ReferenceHeads::pose(const FiveAxisWords& w, double L, bool with_errors
   // The head's carriages (Y, Z) and the table's X: the tool relative to the table base.
   tip += c_centre + machine + e * linear_errors(EXX, EYY, EZZ, machine);
   return {tip - program_origin, axis.normalized()};
+}
+
+std::string yaml_mm(const Eigen::Vector3d& v) {
+  std::ostringstream out;
+  out.precision(17);
+  out << "[" << v.x() << " mm, " << v.y() << " mm, " << v.z() << " mm]";
+  return out.str();
+}
+
+/// The trunnion in ccomp's terms: the table base moved by X and Y, the trunnion and its table
+/// at their centres, the program origin a fixed link on the C table; the head's Z carries the
+/// tool from where its tip meets the program origin at machine zero.
+std::string ccomp_model(const ReferenceTrunnion& r) {
+  return R"(
+name: reference-trunnion
+axes: {X: {}, Y: {}, Z: {}, A: {type: rotary}, C: {type: rotary}}
+max_correction: 1 mm
+chain:
+  workpiece:
+    - {link: Y, axis: Y, direction: [0, -1, 0]}
+    - {link: X, axis: X, direction: [-1, 0, 0]}
+    - {link: A, axis: A, direction: [-1, 0, 0], offset: )" +
+         yaml_mm(r.a_centre) + R"(}
+    - {link: C, axis: C, direction: [0, 0, -1], offset: )" +
+         yaml_mm(r.c_from_a) + R"(}
+    - {link: part, offset: )" +
+         yaml_mm(r.origin_from_c) + R"(}
+  tool:
+    - {link: Z, axis: Z, direction: [0, 0, 1], offset: )" +
+         yaml_mm(r.a_centre + r.c_from_a + r.origin_from_c) + R"(}
+    - {link: tool, tool_length: [0, 0, -1]}
+terms:
+)";
+}
+
+/// The head-head machine in ccomp's terms: the table moved by X, the program origin where
+/// the tool tip is at machine zero; the head's Y and Z, C at its centre, B's fork from it, the
+/// tool from B's centre.
+std::string ccomp_model(const ReferenceHeads& r) {
+  return R"(
+name: reference-heads
+axes: {X: {}, Y: {}, Z: {}, B: {type: rotary}, C: {type: rotary}}
+max_correction: 1 mm
+chain:
+  workpiece:
+    - {link: X, axis: X, direction: [-1, 0, 0]}
+    - {link: part, offset: )" +
+         yaml_mm(r.c_centre + r.b_from_c + r.nose_from_b) + R"(}
+  tool:
+    - {link: Y, axis: Y, direction: [0, 1, 0]}
+    - {link: Z, axis: Z, direction: [0, 0, 1], offset: )" +
+         yaml_mm(r.c_centre) + R"(}
+    - {link: C, axis: C, direction: [0, 0, 1]}
+    - {link: B, axis: B, direction: [0, 1, 0], offset: )" +
+         yaml_mm(r.b_from_c) + R"(}
+    - {link: tool, tool_length: [0, 0, -1], offset: )" +
+         yaml_mm(r.nose_from_b) + R"(}
+terms:
+)";
 }
 
 }  // namespace ccomp::test

@@ -13,6 +13,7 @@
 // linear axes' errors are functions of the machine position, not of the program's.
 #include <Eigen/Core>
 #include <functional>
+#include <string>
 
 namespace ccomp::test {
 
@@ -97,5 +98,17 @@ struct ReferenceHeads : ReferenceFiveAxis {
  protected:
   [[nodiscard]] PartPose pose(const FiveAxisWords& w, double L, bool with_errors) const override;
 };
+
+/// A point as a model file writes it: "[x mm, y mm, z mm]", to the last digit.
+[[nodiscard]] std::string yaml_mm(const Eigen::Vector3d& v);
+
+/// The references in ccomp's terms, without error terms (a `terms:` key last, to append
+/// them to). The trunnion: the table base moved by X and Y, the trunnion and its table at
+/// their centres, the program origin a fixed link on the C table; the head's Z carries the
+/// tool from where its tip meets the program origin at machine zero. The head-head machine:
+/// the table moved by X, the program origin where the tool tip is at machine zero; the
+/// head's Y and Z, C at its centre, B's fork from it, the tool from B's centre.
+[[nodiscard]] std::string ccomp_model(const ReferenceTrunnion& r);
+[[nodiscard]] std::string ccomp_model(const ReferenceHeads& r);
 
 }  // namespace ccomp::test

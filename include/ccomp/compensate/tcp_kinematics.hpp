@@ -1,0 +1,81 @@
+#pragma once
+// The control's tool-centre-point kinematics, as ccomp takes them: the perfect machine of
+// the model. Under TCP (G43.4, M128, M428: gcode/tcp_mode.hpp) a program's X Y Z are the
+// tool tip in the part and its A B C the rotary axes' angles; the control works out the
+// axes' positions that put the perfect machine's tip there, and moves the words in a
+// straight line.
+//
+// "The tip in the part" is the point of the part, fixed to the table, that the tip would be
+// at with these X Y Z in a joint-coordinate program with every rotary axis at zero: the
+// two kinds of program agree where the rotary axes are at zero, and the work offsets and
+// the program's zero mean the same in both. The rotary axes' lines are the model's, so
+// whatever offsets of the pivots the control holds must be the model's (what compensation
+// assumes of a joint-coordinate program too).
+//
+// Both maps are one affine solve each: with the rotary axes at given angles the perfect
+// machine's tip is affine in the linear axes' positions.
+#include <Eigen/Core>
+#include <vector>
+
+#include "ccomp/gcode/canon.hpp"
+#include "ccomp/model/forward.hpp"
+
+namespace ccomp::compensate {
+
+class TcpKinematics {
+ public:
+  /// Throws ccomp::Error (unsupported) where the model's chain has rotary axes and other than
+  /// three linear axes moving the tip in three independent directions. Without a rotary axis
+  /// the kinematics are the identity: the tip in the part is where the axes put it.
+  explicit TcpKinematics(const model::ForwardModel& model);
+
+  /// No rotary axis: a TCP program's points are the axes' positions.
+  [[nodiscard]] bool identity() const { return rotary_.empty(); }
+
+  /// The chain values (mm, rad, the tool length) the control commands for a point of a TCP
+  /// program (machine frame, mm and deg, the tool's offsets apart), under its offsets.
+  [[nodiscard]] model::ChainQ joints_of(const gcode::Axes& world, const gcode::Offsets& offsets);
+  /// joints_of()'s inverse: the TCP program's point for chain values.
+  [[nodiscard]] gcode::Axes world_of(const model::ChainQ& q, const gcode::Offsets& offsets);
+
+  /// The point of the part (table frame, mm) a TCP program's point puts the tip at.
+  [[nodiscard]] Eigen::Vector3d part_point(const gcode::Axes& world, const gcode::Offsets& offsets);
+  /// The perfect machine's tool tip in the table frame at q.
+  [[nodiscard]] Eigen::Vector3d tip(const model::ChainQ& q);
+
+ private:
+  /// The linear axes' values that put the tip at `target` with the rest of q as given.
+  [[nodiscard]] model::ChainQ solve_linear(model::ChainQ q, const Eigen::Vector3d& target);
+
+  const model::ForwardModel& model_;
+  model::ForwardData data_;
+  model::Conditions conditions_;
+  std::vector<int> linear_, rotary_;  ///< the chain's linear and rotary axes (chain variables)
+};
+
+/// The points (fractions of the move, 0 and 1 included, increasing) at which a straight TCP
+/// move from `start` to `end` is split so that, between two of them, the axes moving in a
+/// straight line (as a joint-coordinate move) keep the perfect machine's tip within
+/// `tolerance` (mm) of the straight line the control draws: none inside where no rotary
+/// axis turns. At most `most` pieces (ccomp::Error, program, beyond: the caller names the line).
+/// `deviations`, when given, gets each piece's largest distance found between the two (mm).
+[[nodiscard]] std::vector<double> tcp_split(TcpKinematics& kinematics, const gcode::Axes& start,
+                                            const gcode::Axes& end, const gcode::Offsets& offsets, double tolerance,
+                                            std::size_t most = 100000, std::vector<double>* deviations = nullptr);
+
+/// A piece of a move under TCP: a move of the axes (`motion`, joint coordinates, `tcp` off)
+/// and the share of the TCP move it makes.
+struct TcpPiece {
+  gcode::Motion motion;
+  double from = 0.0, to = 1.0;
+  double deviation = 0.0;  ///< mm: how far its straight move leaves the control's line (tcp_split())
+};
+
+/// A move under TCP as the axes' moves that follow it: a feed move in pieces within
+/// `tolerance` (tcp_split()), a rapid in one (its path is the control's). Throws
+/// ccomp::Error (unsupported, no position: the caller's line gives it) for what is not
+/// followed under TCP: arcs, probes, canned cycles, G28/G30/G53, cutter radius compensation.
+/// On a machine without rotary axes the move is its own piece, whatever it is.
+void tcp_pieces(TcpKinematics& kinematics, const gcode::Motion& m, double tolerance, std::vector<TcpPiece>& out);
+
+}  // namespace ccomp::compensate

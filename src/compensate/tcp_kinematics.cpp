@@ -1,0 +1,179 @@
+#include "ccomp/compensate/tcp_kinematics.hpp"
+
+#include <fmt/format.h>
+
+#include <Eigen/LU>
+#include <algorithm>
+#include <cmath>
+
+#include "ccomp/compensate/machine_coordinates.hpp"
+#include "ccomp/error.hpp"
+
+namespace ccomp::compensate {
+
+TcpKinematics::TcpKinematics(const model::ForwardModel& model) : model_(model), data_(model) {
+  for (const auto* chain : {&model.chain().workpiece, &model.chain().tool})
+    for (const kinematics::Joint& j : chain->joints) {
+      if (j.type == kinematics::JointType::fixed || j.axis == model::kToolLengthIndex) continue;
+      (j.type == kinematics::JointType::rotary ? rotary_ : linear_).push_back(static_cast<int>(j.axis));
+    }
+  if (rotary_.empty()) return;  // the tip in the part is where the axes are: nothing to turn
+  if (linear_.size() != 3)
+    throw Error(ErrorKind::unsupported,
+                fmt::format("model '{}' has {} linear axes: ccomp follows tool-centre-point programs on machines "
+                            "with three",
+                            model.machine().name, linear_.size()));
+  // Three directions of the tip: refused below by the solve's rank otherwise.
+  model::ChainQ q = model::ChainQ::Zero();
+  Eigen::Matrix3d columns;
+  const Eigen::Vector3d at_zero = tip(q);
+  for (int c = 0; c < 3; ++c) {
+    model::ChainQ moved = q;
+    moved[linear_[static_cast<std::size_t>(c)]] += 1.0;
+    columns.col(c) = tip(moved) - at_zero;
+  }
+  if (!(std::abs(columns.determinant()) > 1e-9))
+    throw Error(ErrorKind::unsupported,
+                fmt::format("model '{}': its linear axes do not move the tip in three directions", model.machine().name));
+}
+
+Eigen::Vector3d TcpKinematics::tip(const model::ChainQ& q) {
+  model::forward(model_, data_, q, conditions_, false, model::Evaluate::nominal);
+  return data_.nominal;
+}
+
+model::ChainQ TcpKinematics::solve_linear(model::ChainQ q, const Eigen::Vector3d& target) {
+  // Affine in the linear axes with the rest held: the columns by unit steps are exact (up to
+  // rounding), and a second step takes up the rounding of the first.
+  const Eigen::Vector3d at = tip(q);
+  Eigen::Matrix3d columns;
+  for (int c = 0; c < 3; ++c) {
+    model::ChainQ moved = q;
+    moved[linear_[static_cast<std::size_t>(c)]] += 1.0;
+    columns.col(c) = tip(moved) - at;
+  }
+  const Eigen::PartialPivLU<Eigen::Matrix3d> lu(columns);
+  Eigen::Vector3d residual = target - at;
+  for (int step = 0; step < 2; ++step) {
+    const Eigen::Vector3d dq = lu.solve(residual);
+    for (int c = 0; c < 3; ++c) q[linear_[static_cast<std::size_t>(c)]] += dq[c];
+    residual = target - tip(q);
+  }
+  return q;
+}
+
+Eigen::Vector3d TcpKinematics::part_point(const gcode::Axes& world, const gcode::Offsets& offsets) {
+  gcode::Axes level = world;  // the same X Y Z with the rotary axes at zero
+  for (const int k : rotary_) level[static_cast<std::size_t>(k)] = 0.0;
+  return tip(chain_of(level, offsets));
+}
+
+model::ChainQ TcpKinematics::joints_of(const gcode::Axes& world, const gcode::Offsets& offsets) {
+  if (identity()) return chain_of(world, offsets);
+  return solve_linear(chain_of(world, offsets), part_point(world, offsets));
+}
+
+gcode::Axes TcpKinematics::world_of(const model::ChainQ& q, const gcode::Offsets& offsets) {
+  if (identity()) return controlled_of_chain(q, offsets);
+  const Eigen::Vector3d target = tip(q);
+  const gcode::Axes turned = controlled_of_chain(q, offsets);
+  gcode::Axes level = turned;
+  for (const int k : rotary_) level[static_cast<std::size_t>(k)] = 0.0;
+  gcode::Axes world = controlled_of_chain(solve_linear(chain_of(level, offsets), target), offsets);
+  for (const int k : rotary_) world[static_cast<std::size_t>(k)] = turned[static_cast<std::size_t>(k)];
+  return world;
+}
+
+namespace {
+
+gcode::Axes lerp(const gcode::Axes& a, const gcode::Axes& b, double s) {
+  gcode::Axes out;
+  for (std::size_t i = 0; i < a.size(); ++i) out[i] = a[i] + s * (b[i] - a[i]);
+  return out;
+}
+
+}  // namespace
+
+std::vector<double> tcp_split(TcpKinematics& kinematics, const gcode::Axes& start, const gcode::Axes& end,
+                              const gcode::Offsets& offsets, double tolerance, std::size_t most,
+                              std::vector<double>* deviations) {
+  if (deviations) deviations->clear();
+  if (kinematics.identity()) {
+    if (deviations) deviations->push_back(0.0);
+    return {0.0, 1.0};
+  }
+  const model::ChainQ q_start = kinematics.joints_of(start, offsets), q_end = kinematics.joints_of(end, offsets);
+  std::vector<double> cuts{0.0};
+  // Depth first over [a, b], the left half first: the cuts come out in order.
+  struct Piece {
+    double a, b;
+    model::ChainQ qa, qb;
+  };
+  std::vector<Piece> stack{{0.0, 1.0, q_start, q_end}};
+  while (!stack.empty()) {
+    const Piece p = stack.back();
+    stack.pop_back();
+    bool within = true;
+    double largest = 0.0;
+    for (const double f : {0.25, 0.5, 0.75}) {
+      const model::ChainQ straight = p.qa + f * (p.qb - p.qa);
+      const Eigen::Vector3d drawn = kinematics.part_point(lerp(start, end, p.a + f * (p.b - p.a)), offsets);
+      const double off = (kinematics.tip(straight) - drawn).norm();
+      if (!(off <= tolerance)) {
+        within = false;
+        break;
+      }
+      largest = std::max(largest, off);
+    }
+    if (within) {
+      cuts.push_back(p.b);
+      if (deviations) deviations->push_back(largest);
+      if (cuts.size() > most + 1)
+        throw Error(ErrorKind::program,
+                    fmt::format("a tool-centre-point move that needs more than {} pieces to follow within {} mm", most,
+                                tolerance));
+      continue;
+    }
+    const double mid = 0.5 * (p.a + p.b);
+    const model::ChainQ q_mid = kinematics.joints_of(lerp(start, end, mid), offsets);
+    stack.push_back({mid, p.b, q_mid, p.qb});  // the right half after the left
+    stack.push_back({p.a, mid, p.qa, q_mid});
+  }
+  return cuts;
+}
+
+void tcp_pieces(TcpKinematics& kinematics, const gcode::Motion& m, double tolerance, std::vector<TcpPiece>& out) {
+  using gcode::MotionKind;
+  out.clear();
+  if (kinematics.identity()) {  // a machine without rotary axes: the program's points are the axes'
+    gcode::Motion joints = m;
+    joints.tcp = false;
+    out.push_back({joints, 0.0, 1.0});
+    return;
+  }
+  if (m.kind == MotionKind::arc)
+    throw Error(ErrorKind::unsupported,
+                "an arc under tool centre point control: ccomp follows straight moves under TCP (G0, G1)");
+  if (m.kind == MotionKind::probe) throw Error(ErrorKind::unsupported, "a probe move (G38.x) cannot be compensated");
+  if (m.source != gcode::MotionSource::program)
+    throw Error(ErrorKind::unsupported,
+                "a canned cycle, G28/G30 or G53 under tool centre point control: ccomp follows the program's own "
+                "straight moves under TCP");
+  if (m.radius_compensation || m.offset)
+    throw Error(ErrorKind::unsupported, "cutter radius compensation (G41/G42) under tool centre point control");
+  const gcode::Offsets& offsets = *m.offsets;
+  std::vector<double> deviations{0.0};
+  const std::vector<double> cuts = m.kind == MotionKind::traverse
+                                       ? std::vector<double>{0.0, 1.0}
+                                       : tcp_split(kinematics, m.start, m.end, offsets, tolerance, 100000, &deviations);
+  gcode::Motion piece = m;
+  piece.tcp = false;
+  piece.end = controlled_of_chain(kinematics.joints_of(m.start, offsets), offsets);
+  for (std::size_t c = 1; c < cuts.size(); ++c) {
+    piece.start = piece.end;
+    piece.end = controlled_of_chain(kinematics.joints_of(lerp(m.start, m.end, cuts[c]), offsets), offsets);
+    out.push_back({piece, cuts[c - 1], cuts[c], deviations[c - 1]});
+  }
+}
+
+}  // namespace ccomp::compensate

@@ -1,0 +1,168 @@
+// The control's tool-centre-point kinematics (compensate/tcp_kinematics.hpp) held to the
+// reference five-axis machines (tests/support/reference_five_axis.hpp), written apart from
+// ccomp's model code: a TCP program's point, turned into the axes' positions, puts the
+// reference's perfect tip where the same X Y Z put it with the rotary axes at zero, with the
+// tool along the reference's axis for the angles; and a TCP move split by tcp_split() keeps
+// the reference's tip, moving the axes in straight lines between the cuts, within the
+// tolerance of the control's straight line.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "ccomp/compensate/machine_coordinates.hpp"
+#include "ccomp/compensate/tcp_kinematics.hpp"
+#include "ccomp/model/model_file.hpp"
+#include "reference_five_axis.hpp"
+
+namespace ccomp {
+namespace {
+
+using test::FiveAxisWords;
+using test::ReferenceFiveAxis;
+
+constexpr double kToolLength = 120.0;
+
+struct Machine {
+  std::string name;
+  bool head = false;  ///< B on the head (else A on the trunnion)
+  std::string model;
+  std::shared_ptr<ReferenceFiveAxis> reference;
+};
+
+std::vector<Machine> machines() {
+  auto trunnion = std::make_shared<test::ReferenceTrunnion>();
+  auto heads = std::make_shared<test::ReferenceHeads>();
+  return {{"trunnion", false, test::ccomp_model(*trunnion) + "  []\n", trunnion},
+          {"heads", true, test::ccomp_model(*heads) + "  []\n", heads}};
+}
+
+gcode::Offsets tool_offsets() {
+  gcode::Offsets o;
+  o.tool[2] = kToolLength;
+  return o;
+}
+
+gcode::Axes axes_of(const FiveAxisWords& w) {
+  return {w.x, w.y, w.z, w.a, w.b, w.c, 0, 0, 0};
+}
+
+FiveAxisWords words_of(const gcode::Axes& a) {
+  return {a[0], a[1], a[2], a[3], a[4], a[5]};
+}
+
+/// TCP points over the part: tilts from -40 to 35 degrees, C over a turn and more.
+std::vector<FiveAxisWords> tcp_points(bool head) {
+  std::vector<FiveAxisWords> points;
+  for (int k = 0; k <= 24; ++k) {
+    const double s = k / 24.0;
+    FiveAxisWords w{-45 + 80 * s, 20 * std::sin(5 * s), 30 - 25 * s, 0, 0, -170 + 400 * s};
+    (head ? w.b : w.a) = -40 + 75 * s;
+    points.push_back(w);
+  }
+  return points;
+}
+
+class TcpKinematicsTest : public ::testing::TestWithParam<Machine> {};
+
+TEST_P(TcpKinematicsTest, APointPutsTheReferenceTipOnThePartAndTheToolAlongTheAngles) {
+  const Machine& m = GetParam();
+  const model::ForwardModel model(model::parse_machine_model(m.model, m.name + ".yaml"));
+  compensate::TcpKinematics tcp(model);
+  const gcode::Offsets offsets = tool_offsets();
+  for (const FiveAxisWords& w : tcp_points(m.head)) {
+    const model::ChainQ q = tcp.joints_of(axes_of(w), offsets);
+    const FiveAxisWords joints = words_of(compensate::controlled_of_chain(q, offsets));
+    const test::PartPose at = m.reference->nominal(joints, kToolLength);
+    const test::PartPose level = m.reference->nominal({w.x, w.y, w.z, 0, 0, 0}, kToolLength);
+    const test::PartPose turned = m.reference->nominal({0, 0, 0, w.a, w.b, w.c}, kToolLength);
+    EXPECT_LT((at.tip - level.tip).norm(), 1e-9) << m.name << " at x " << w.x << " c " << w.c;
+    EXPECT_LT((at.axis - turned.axis).norm(), 1e-12) << m.name << " at x " << w.x << " c " << w.c;
+    EXPECT_DOUBLE_EQ(joints.c, w.c);
+    // And back: the same point.
+    const gcode::Axes back = tcp.world_of(q, offsets);
+    for (std::size_t i = 0; i < 6; ++i) EXPECT_NEAR(back[i], axes_of(w)[i], 1e-9) << m.name << " axis " << i;
+  }
+}
+
+TEST_P(TcpKinematicsTest, AMoveSplitKeepsTheReferenceTipOnTheControlsLine) {
+  const Machine& m = GetParam();
+  const model::ForwardModel model(model::parse_machine_model(m.model, m.name + ".yaml"));
+  compensate::TcpKinematics tcp(model);
+  const gcode::Offsets offsets = tool_offsets();
+  const std::vector<FiveAxisWords> points = tcp_points(m.head);
+  constexpr double kTolerance = 0.5e-3;
+  std::size_t pieces = 0;
+  for (std::size_t k = 1; k < points.size(); ++k) {
+    const gcode::Axes a = axes_of(points[k - 1]), b = axes_of(points[k]);
+    const std::vector<double> cuts = compensate::tcp_split(tcp, a, b, offsets, kTolerance);
+    ASSERT_GE(cuts.size(), 2U);
+    EXPECT_EQ(cuts.front(), 0.0);
+    EXPECT_EQ(cuts.back(), 1.0);
+    pieces += cuts.size() - 1;
+    // Between two cuts the axes move in a straight line; the reference's tip stays within the
+    // tolerance of the control's line (the part points of the words in a straight line).
+    double worst = 0.0;
+    for (std::size_t c = 1; c < cuts.size(); ++c) {
+      auto world = [&](double s) {
+        gcode::Axes p;
+        for (std::size_t i = 0; i < p.size(); ++i) p[i] = a[i] + s * (b[i] - a[i]);
+        return p;
+      };
+      const model::ChainQ qa = tcp.joints_of(world(cuts[c - 1]), offsets), qb = tcp.joints_of(world(cuts[c]), offsets);
+      for (int j = 1; j < 16; ++j) {
+        const double f = j / 16.0;
+        const FiveAxisWords joints = words_of(compensate::controlled_of_chain(qa + f * (qb - qa), offsets));
+        const gcode::Axes line = world(cuts[c - 1] + f * (cuts[c] - cuts[c - 1]));
+        const test::PartPose drawn = m.reference->nominal({line[0], line[1], line[2], 0, 0, 0}, kToolLength);
+        worst = std::max(worst, (m.reference->nominal(joints, kToolLength).tip - drawn.tip).norm());
+      }
+    }
+    EXPECT_LE(worst, kTolerance * 1.05) << m.name << " move " << k;
+  }
+  // Turning 3 degrees of tilt and 17 of C a move at some 100 mm from the lines, the axes'
+  // straight lines leave the tip's by tenths of a millimetre: the moves are split.
+  EXPECT_GT(pieces, 4 * (points.size() - 1)) << m.name;
+}
+
+TEST_P(TcpKinematicsTest, AMoveWithoutTurningIsOnePiece) {
+  const Machine& m = GetParam();
+  const model::ForwardModel model(model::parse_machine_model(m.model, m.name + ".yaml"));
+  compensate::TcpKinematics tcp(model);
+  FiveAxisWords a{-30, 10, 5, 0, 0, 40}, b{60, -25, 20, 0, 0, 40};
+  (m.head ? a.b : a.a) = 25, (m.head ? b.b : b.a) = 25;
+  EXPECT_EQ(compensate::tcp_split(tcp, axes_of(a), axes_of(b), tool_offsets(), 1e-4), (std::vector<double>{0.0, 1.0}));
+}
+
+INSTANTIATE_TEST_SUITE_P(References, TcpKinematicsTest, ::testing::ValuesIn(machines()),
+                         [](const ::testing::TestParamInfo<Machine>& p) { return p.param.name; });
+
+// Without a rotary axis the tip in the part is where the axes put it: a TCP move is its own
+// piece, arcs included, its points the axes'.
+TEST(TcpKinematics, WithoutRotaryAxesAPointIsTheAxes) {
+  const model::ForwardModel model(model::load_machine_model(CCOMP_SOURCE_DIR "/samples/machines/vmc-xyz.yaml"));
+  compensate::TcpKinematics tcp(model);
+  EXPECT_TRUE(tcp.identity());
+  const gcode::Offsets offsets = tool_offsets();
+  const gcode::Axes world{12.5, -40, 7, 0, 0, 0, 0, 0, 0};
+  const model::ChainQ q = tcp.joints_of(world, offsets);
+  EXPECT_EQ(q, compensate::chain_of(world, offsets));
+  EXPECT_EQ(tcp.world_of(q, offsets), compensate::controlled_of_chain(q, offsets));
+  gcode::Motion arc;
+  arc.kind = gcode::MotionKind::arc;
+  arc.tcp = true;
+  arc.start = world;
+  arc.end = {30, -40, 7, 0, 0, 0, 0, 0, 0};
+  arc.offsets = &offsets;
+  std::vector<compensate::TcpPiece> pieces;
+  compensate::tcp_pieces(tcp, arc, 1e-4, pieces);
+  ASSERT_EQ(pieces.size(), 1U);
+  EXPECT_FALSE(pieces[0].motion.tcp);
+  EXPECT_EQ(pieces[0].motion.kind, gcode::MotionKind::arc);
+  EXPECT_EQ(pieces[0].motion.end, arc.end);
+}
+
+}  // namespace
+}  // namespace ccomp
