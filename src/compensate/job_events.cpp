@@ -163,6 +163,10 @@ void JobSink::report_progress(const gcode::SourceLine& line) {
 
 void JobSink::keep_offsets(const gcode::Block& block) {
   if (!sets_offset_from_position(block)) return;
+  if (last_tcp_)
+    refuse(ErrorKind::unsupported,
+           "an offset set from the position (G92, G10 L20) under tool centre point control: the control sets it in "
+           "the tip's coordinates, which ccomp does not follow yet");
   stages_->pipeline.drain();
   if (live_offsets_) stages_->rewriter.position_in(false, *live_offsets_);  // (after moves under TCP)
   const OffsetContext at{*live_offsets_,
@@ -178,6 +182,7 @@ void JobSink::keep_offsets(const gcode::Block& block) {
 
 void JobSink::motion(const gcode::Motion& m) {
   ++report_.motions;
+  last_tcp_ = m.tcp;
   if (!m.tcp) return joint_motion(m);
   // (Without an error term nothing is corrected: the program is written back as it is.)
   if (stages_) tcp_motion(m);
@@ -197,6 +202,17 @@ void JobSink::joint_motion(const gcode::Motion& m) {
 /// command (tcp_kinematics.hpp), in pieces the axes move straight along within half the
 /// tolerance of the control's line (a rapid's path is the control's: one piece), each a
 /// move of the block compensated within the other half and written as TCP words.
+gcode::Axes JobSink::tcp_switch(const gcode::Axes& position, const gcode::Offsets& offsets, bool to_tcp) {
+  if (!stages_) return position;  // nothing is corrected: the numbers as they are
+  try {
+    TcpKinematics& k = stages_->tcp_kinematics();
+    return to_tcp ? k.world_of(chain_of(position, offsets), offsets)
+                  : controlled_of_chain(k.joints_of(position, offsets), offsets);
+  } catch (const Error& e) {
+    refuse(e.kind(), e.message());
+  }
+}
+
 void JobSink::tcp_motion(const gcode::Motion& m) {
   try {
     tcp_pieces(stages_->tcp_kinematics(), m, options_.tolerance / 2.0, tcp_pieces_);

@@ -35,6 +35,10 @@ class JobSink : public gcode::CanonSink {
   void motion(const gcode::Motion& m) override;
   void warning(const std::string& message, std::uint32_t line) override;
 
+  /// Where the machine is in the other coordinates when TCP switches (the interpreter's
+  /// InterpreterOptions::tcp_switch): through the control's kinematics.
+  [[nodiscard]] gcode::Axes tcp_switch(const gcode::Axes& position, const gcode::Offsets& offsets, bool to_tcp);
+
   /// Finishes the program: the moves still queued, then a cycle still open.
   void finish();
   /// The job stopped with an error: a move queued before it may have failed first (its
@@ -74,6 +78,7 @@ class JobSink : public gcode::CanonSink {
   int moves_in_block_ = 0;                        ///< moves of the current block so far
   MovePiece piece_;                               ///< the share of its move the motion queued is
   std::vector<TcpPiece> tcp_pieces_;              ///< a move under TCP's, storage kept
+  bool last_tcp_ = false;                         ///< the last motion was under TCP
   bool elsewhere_ = false;                        ///< the current line is in another file (a subroutine's)
   bool started_ = false;                          ///< a motion was compensated: the play is followed
   const gcode::Offsets* live_offsets_ = nullptr;  ///< the interpreter's, as it runs (from its motions)

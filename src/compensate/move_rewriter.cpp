@@ -149,9 +149,11 @@ gcode::Axes MoveRewriter::commanded_of(const model::ChainQ& q, const gcode::Offs
 
 void MoveRewriter::position_in(bool tcp, const gcode::Offsets& offsets) {
   if (position_.tcp == tcp) return;
-  // The control switched kinematics where the machine stands: the same axes' positions in
-  // the other coordinates (as written: the rounding goes with them).
-  const model::ChainQ q = position_.tcp ? tcp_->joints_of(position_.commanded, offsets)
+  // The control switched kinematics where the machine stands: the axes' positions as the
+  // move that left them commanded them (its offsets: a G49 that ends TCP has taken the
+  // tool's length away since), in the other coordinates under the offsets now. The written
+  // digits' rounding, per axis of the old coordinates, starts anew (at most half a digit).
+  const model::ChainQ q = position_.tcp ? tcp_->joints_of(position_.commanded, position_offsets_)
                                         : chain_of(position_.commanded, offsets);
   position_.commanded = commanded_of(q, offsets, tcp);
   position_.rounding = {};
@@ -183,7 +185,8 @@ void MoveRewriter::point_words(const gcode::Motion& m, const gcode::Block& b, co
     const gcode::Word* word = line.own ? own : nullptr;
     const bool rotary = gcode::is_rotary(i);
     const NumberStyle style = style_of(own, b.text, inch && !rotary, rotary, decimals_.for_axis(rotary));
-    const TurnWord turn = turn_word(point, *m.offsets, i, unit);
+    // (Under TCP a linear axis' word is the tip's, not the axis': no way to turn it.)
+    const TurnWord turn = tcp && !rotary ? TurnWord{} : turn_word(point, *m.offsets, i, unit);
     if (word) {  // the block's own word: its value replaced, the text made in the edit
       gcode::Edit& edit = edits_.emplace_back(gcode::Edit{word->value_span, {}});
       if (!write_axis_word(i, p[i], last[i], m.incremental, true, style, turn, edit.text)) edits_.pop_back();
@@ -259,6 +262,7 @@ void MoveRewriter::rewrite(const gcode::Motion& m, const gcode::Block& b, const 
     previous_s = piece.from + points[k].s * piece_share;
     // The machine is now at the compensated point: incremental words count from there.
     position_.commanded = commanded_of(points[k].q, *m.offsets, piece.tcp);
+    position_.tcp = piece.tcp;
     if (!line.own) {
       appended += std::string(terminator.empty() ? "\n" : terminator) + line.segment;
       if (++report_.added_lines > kMostAddedLines)
@@ -270,6 +274,7 @@ void MoveRewriter::rewrite(const gcode::Motion& m, const gcode::Block& b, const 
     }
     if (points[k].take_up) ++report_.take_up_moves;
   }
+  if (piece.tcp) position_offsets_ = *m.offsets;
   if ((points.size() > 1 || !part.whole() || piece.from > 0.0 || piece.to < 1.0) && has_stop_code(b))
     throw Error(ErrorKind::unsupported,
                 "a move that must be split shares its block with a program stop (M0 M1 M2 M30 M60)",

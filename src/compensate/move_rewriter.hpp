@@ -113,6 +113,7 @@ class MoveRewriter {
   std::string_view file_;
   WrittenPosition position_;
   TcpKinematics* tcp_ = nullptr;
+  gcode::Offsets position_offsets_;  ///< the offsets of the move that left the position (under TCP)
   std::vector<gcode::Edit> edits_;  ///< the move's line's edits, storage kept from move to move
   std::string word_text_;           ///< an added word's value, storage kept
   /// The machine's axes, in the order words are written (X Y Z A B C U V W).

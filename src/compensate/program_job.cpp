@@ -122,6 +122,9 @@ JobReport run_program_job(gcode::LineSource& input, std::FILE* out, const model:
   gcode::InterpreterOptions interpreting = options.interpreter;
   interpreting.cutter_path =
       options.resolve_cutter_comp ? gcode::CutterPath::tool_centre_by_block : gcode::CutterPath::programmed;
+  interpreting.tcp_switch = [&sink](const gcode::Axes& p, const gcode::Offsets& o, bool to_tcp) {
+    return sink.tcp_switch(p, o, to_tcp);
+  };
   gcode::Interpreter interpreter(interpreting);
   try {
     interpreter.run(input, sink);

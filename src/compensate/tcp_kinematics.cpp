@@ -119,6 +119,10 @@ std::vector<double> tcp_split(TcpKinematics& kinematics, const gcode::Axes& star
       const model::ChainQ straight = p.qa + f * (p.qb - p.qa);
       const Eigen::Vector3d drawn = kinematics.part_point(lerp(start, end, p.a + f * (p.b - p.a)), offsets);
       const double off = (kinematics.tip(straight) - drawn).norm();
+      if (!std::isfinite(off))
+        throw Error(ErrorKind::program,
+                    "a tool-centre-point move whose axes' positions are not finite numbers (a point far beyond "
+                    "the machine?)");
       if (!(off <= tolerance)) {
         within = false;
         break;
@@ -134,6 +138,11 @@ std::vector<double> tcp_split(TcpKinematics& kinematics, const gcode::Axes& star
                                 tolerance));
       continue;
     }
+    if (!(p.b - p.a > 1e-9))  // the rounding of the points, not the path, is what is left
+      throw Error(ErrorKind::program,
+                  fmt::format("a tool-centre-point move that cannot be followed within {} mm by the axes' straight "
+                              "moves (a point far beyond the machine, or a tolerance below the arithmetic's)",
+                              tolerance));
     const double mid = 0.5 * (p.a + p.b);
     const model::ChainQ q_mid = kinematics.joints_of(lerp(start, end, mid), offsets);
     stack.push_back({mid, p.b, q_mid, p.qb});  // the right half after the left
@@ -142,7 +151,8 @@ std::vector<double> tcp_split(TcpKinematics& kinematics, const gcode::Axes& star
   return cuts;
 }
 
-void tcp_pieces(TcpKinematics& kinematics, const gcode::Motion& m, double tolerance, std::vector<TcpPiece>& out) {
+void tcp_pieces(TcpKinematics& kinematics, const gcode::Motion& m, double tolerance, std::vector<TcpPiece>& out,
+                std::size_t most) {
   using gcode::MotionKind;
   out.clear();
   if (kinematics.identity()) {  // a machine without rotary axes: the program's points are the axes'
@@ -165,7 +175,7 @@ void tcp_pieces(TcpKinematics& kinematics, const gcode::Motion& m, double tolera
   std::vector<double> deviations{0.0};
   const std::vector<double> cuts = m.kind == MotionKind::traverse
                                        ? std::vector<double>{0.0, 1.0}
-                                       : tcp_split(kinematics, m.start, m.end, offsets, tolerance, 100000, &deviations);
+                                       : tcp_split(kinematics, m.start, m.end, offsets, tolerance, most, &deviations);
   gcode::Motion piece = m;
   piece.tcp = false;
   piece.end = controlled_of_chain(kinematics.joints_of(m.start, offsets), offsets);

@@ -27,8 +27,11 @@ namespace ccomp::compensate {
 
 namespace {
 
-/// How closely verify and predict follow a move under TCP with the axes' straight moves.
+/// How closely verify and predict follow a move under TCP with the axes' straight moves,
+/// and in how many pieces at most (the job's, at half its tolerance, are fewer by the
+/// square root of the ratio: 7 at the default 1 um).
 constexpr double kTcpFollowed = 1e-5;  // mm
+constexpr std::size_t kMostTcpPieces = 1'000'000;
 
 /// Collects what the interpreter does into a callback per motion (with its offsets); a move
 /// under tool centre point control as the moves of the axes that follow it (tcp_pieces()),
@@ -41,16 +44,26 @@ class MotionSink : public gcode::CanonSink {
   void motion(const gcode::Motion& m) override {
     if (!m.tcp) return on_(m, false);
     try {
-      if (!tcp_) tcp_.emplace(forward_.emplace(model_));
-      tcp_pieces(*tcp_, m, kTcpFollowed, pieces_);
+      tcp_pieces(kinematics(), m, kTcpFollowed, pieces_, kMostTcpPieces);
     } catch (const Error& e) {
       if (!e.where().file.empty()) throw;
       throw Error(e.kind(), e.message(), SourceLocation{std::string(file_), m.line, 0});
     }
     for (std::size_t k = 0; k < pieces_.size(); ++k) on_(pieces_[k].motion, k > 0);
   }
+  /// InterpreterOptions::tcp_switch.
+  gcode::Axes tcp_switch(const gcode::Axes& position, const gcode::Offsets& offsets, bool to_tcp) {
+    TcpKinematics& k = kinematics();
+    return to_tcp ? k.world_of(chain_of(position, offsets), offsets)
+                  : controlled_of_chain(k.joints_of(position, offsets), offsets);
+  }
 
  private:
+  TcpKinematics& kinematics() {
+    if (!tcp_) tcp_.emplace(forward_.emplace(model_));
+    return *tcp_;
+  }
+
   OnMotion on_;
   const model::MachineModel& model_;
   std::string_view file_;
@@ -67,6 +80,9 @@ void each_motion(gcode::LineSource& program, const model::MachineModel& model, c
   MotionSink<OnMotion> sink(std::move(on), model, program.name());
   gcode::InterpreterOptions interpreting = with_model_offsets(options.interpreter, model);
   interpreting.tcp = gcode::TcpCodes::follow;
+  interpreting.tcp_switch = [&sink](const gcode::Axes& p, const gcode::Offsets& o, bool to_tcp) {
+    return sink.tcp_switch(p, o, to_tcp);
+  };
   check_work_offsets(interpreting, model);
   gcode::Interpreter interpreter(interpreting);
   interpreter.run(program, sink);

@@ -245,12 +245,23 @@ Axes Interpreter::Impl::target_of(const Block& /*b*/, bool machine_coordinates) 
   return machine_coordinates ? offsets.from_machine(t) : t;
 }
 
-void Interpreter::Impl::switch_tcp_by_m_codes() {
+void Interpreter::Impl::switch_tcp_by_m_codes(const Block& b) {
+  const Word* seen = nullptr;
   for (int i = 0; i < words.m_count; ++i) {
     const int code = words.m[static_cast<std::size_t>(i)];
-    if (tcp_m_code(options.dialect, code)) modal.tcp = code;
-    if (tcp_off_m_code(options.dialect, code) && modal.tcp == code - 1) modal.tcp = 0;  // M129 of M128, M429 of M428
+    const bool on = tcp_m_code(options.dialect, code).has_value(), off = tcp_off_m_code(options.dialect, code);
+    if (!on && !off) continue;
+    if (seen) fail(b, words.m_word[static_cast<std::size_t>(i)], "two tool-centre-point switches on one line");
+    seen = words.m_word[static_cast<std::size_t>(i)];
+    if (on) set_tcp(code);
+    if (off && modal.tcp == code - 1) set_tcp(0);  // M129 of M128, M429 of M428
   }
+}
+
+void Interpreter::Impl::set_tcp(int code) {
+  const bool was = modal.tcp != 0;
+  modal.tcp = code;
+  if (was != (code != 0) && options.tcp_switch) position = options.tcp_switch(position, offsets, code != 0);
 }
 
 Motion Interpreter::Impl::motion_to(MotionKind kind, MotionSource source, const Axes& target) const {
@@ -436,7 +447,7 @@ void Interpreter::Impl::execute(const Block& b) {
         fail(b, words.word['Q' - 'A'], fmt::format("bad tool number Q{} with M61", q));
       modal.tool = static_cast<int>(q);
     }
-    if (options.tcp == TcpCodes::follow) switch_tcp_by_m_codes();
+    if (options.tcp == TcpCodes::follow) switch_tcp_by_m_codes(b);
     // 7. spindle
     if (words.has_m(3)) modal.spindle = 1, emit("START_SPINDLE_CLOCKWISE", "0");
     if (words.has_m(4)) modal.spindle = -1, emit("START_SPINDLE_COUNTERCLOCKWISE", "0");
@@ -465,12 +476,13 @@ void Interpreter::Impl::execute(const Block& b) {
     for (int code : {400, 410, 411, 420, 421})
       if (words.has_g(code)) cutter_compensation(b, code);
     // 14. tool length offset
+    // Off under the offset it was on with, on under the offset it takes.
     for (int code : {430, 431, 432, 490})
       if (words.has_g(code)) {
+        if (modal.tcp == 434) set_tcp(0);
         tool_length(b, code);
-        if (modal.tcp == 434) modal.tcp = 0;
       }
-    if (words.has_g(434)) tool_length(b, 430), modal.tcp = 434;  // G43.4: G43's offset, and TCP
+    if (words.has_g(434)) tool_length(b, 430), set_tcp(434);  // G43.4: G43's offset, and TCP
     // 15. coordinate system
     static constexpr int kSystems[] = {540, 550, 560, 570, 580, 590, 591, 592, 593};
     for (int s = 0; s < 9; ++s) {

@@ -207,7 +207,10 @@ struct Interpreter::Impl {
   void g10(const Block& b);
   void tool_length(const Block& b, int code);
   /// TCP on or off by the block's M codes (M128/M129, M428/M429: TcpCodes::follow).
-  void switch_tcp_by_m_codes();
+  void switch_tcp_by_m_codes(const Block& b);
+  /// TCP by `code` (0: off), the position carried into the other coordinates where it
+  /// switches (InterpreterOptions::tcp_switch).
+  void set_tcp(int code);
   void end_program(const Block& b);
   Axes target_of(const Block& b, bool machine_coordinates);
 

@@ -95,6 +95,8 @@ INSTANTIATE_TEST_SUITE_P(
                    "2:7: error: G43.5 gives the tool's direction as I J K"},
         Unfollowed{"AnArc", "fanuc", "G21 G90 G17\nG43.4 H1\nG0 X10 Y0 Z20 A10\nG2 X20 Y10 I10 J0 F500\nM2\n",
                    "4:1: error: an arc under tool centre point control"},
+        Unfollowed{"AnOffsetFromThePosition", "fanuc", "G21 G90 G17\nG43.4 H1\nG0 X10 Y0 Z20 A10\nG92 X0\nM2\n",
+                   "4:1: error: an offset set from the position (G92, G10 L20) under tool centre point control"},
         Unfollowed{"ACannedCycle", "fanuc", "G21 G90 G17\nG43.4 H1\nG0 X10 Y0 Z20\nG81 X20 Y5 Z-5 R2 F100\nG80\nM2\n",
                    "4:1: error: a canned cycle, G28/G30 or G53 under tool centre point control"}),
     [](const auto& param_info) { return std::string(param_info.param.name); });
@@ -118,6 +120,42 @@ TEST(ToolCentrePoint, TheSwitchBackAndATraceAreNotRefused) {
       run_command(shell_quote(ccomp_binary()) + " " + boat + " -m " + five_axis_model() + kTools + " -o " + dir + "/boat.ngc");
   EXPECT_EQ(job.exit_code, 7) << job.err;
   EXPECT_NE(job.err.find("boat-xyzbc.ngc:11:21: refused: the program uses axis B"), std::string::npos) << job.err;
+}
+
+// A move under TCP to a point far beyond the machine: a positioned refusal, not a split
+// without end (the split itself is bounded: tcp_kinematics_test.cpp).
+TEST(ToolCentrePoint, AMoveToAHugePointIsRefusedAtItsLine) {
+  const std::string dir = temp_dir("tcp_huge");
+  const std::string program = dir + "/huge.ngc";
+  write_file(program, "G21 G90\nG43.4 H1\nG0 X0 Y0 Z20 A0 C0\nG1 X100000000000000 A10 F100\nM2\n");
+  const CommandResult job = run_command(shell_quote(ccomp_binary()) + " " + program + " -m " + five_axis_model() +
+                                        " --dialect fanuc" + kTools + " -o " + dir + "/out.ngc");
+  EXPECT_EQ(job.exit_code, 7) << job.err;
+  EXPECT_NE(job.err.find("huge.ngc:4:1: refused: axis X would go to"), std::string::npos) << job.err;
+}
+
+// TCP switched off where the rotary axes stand at A30 C270: the retract after G49 names Z
+// alone and moves Z alone (the axes stay where the TCP pass left them, not at the TCP
+// point's numbers read as the axes', some 40 mm away).
+TEST(ToolCentrePoint, ASwitchOffAtAnAngleKeepsTheAxesWhereTheyAre) {
+  const std::string dir = temp_dir("tcp_switch_off");
+  std::string text = read_file(source_dir() + "/samples/programs/five-axis-tcp-xyzac.ngc");
+  const auto g49 = text.find("G49\n");
+  ASSERT_NE(g49, std::string::npos);
+  text.insert(g49 + 4, "G0 Z100\n");
+  const std::string program = dir + "/switch.ngc", out = dir + "/out.ngc";
+  write_file(program, text);
+  const std::string options = " -m " + five_axis_model() + " --dialect fanuc" + kTools;
+  const CommandResult job = run_command(shell_quote(ccomp_binary()) + " " + program + options + " -o " + out + " -q");
+  ASSERT_EQ(job.exit_code, 0) << job.err;
+  const std::string written = read_file(out);
+  const auto retract = written.find("\nG0 Z100");
+  ASSERT_NE(retract, std::string::npos) << written;
+  const std::string line = written.substr(retract + 1, written.find('\n', retract + 1) - retract - 1);
+  EXPECT_EQ(line.find('X'), std::string::npos) << line;
+  EXPECT_EQ(line.find('Y'), std::string::npos) << line;
+  const CommandResult verified = run_command(shell_quote(ccomp_binary()) + " verify " + program + " " + out + options);
+  EXPECT_EQ(verified.exit_code, 0) << verified.err << verified.out;
 }
 
 TEST(ToolDirection, VerifyReportsAndJudgesIt) {

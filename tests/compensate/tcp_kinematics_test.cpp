@@ -14,6 +14,7 @@
 
 #include "ccomp/compensate/machine_coordinates.hpp"
 #include "ccomp/compensate/tcp_kinematics.hpp"
+#include "ccomp/error.hpp"
 #include "ccomp/model/model_file.hpp"
 #include "reference_five_axis.hpp"
 
@@ -134,6 +135,23 @@ TEST_P(TcpKinematicsTest, AMoveWithoutTurningIsOnePiece) {
   FiveAxisWords a{-30, 10, 5, 0, 0, 40}, b{60, -25, 20, 0, 0, 40};
   (m.head ? a.b : a.a) = 25, (m.head ? b.b : b.a) = 25;
   EXPECT_EQ(compensate::tcp_split(tcp, axes_of(a), axes_of(b), tool_offsets(), 1e-4), (std::vector<double>{0.0, 1.0}));
+}
+
+// A move no machine makes (1e14 mm while the table tilts): refused (ccomp::Error, program)
+// within the cap, not split without end.
+TEST_P(TcpKinematicsTest, AMoveFarBeyondTheMachineIsRefusedNotSplitForever) {
+  const Machine& m = GetParam();
+  const model::ForwardModel model(model::parse_machine_model(m.model, m.name + ".yaml"));
+  compensate::TcpKinematics tcp(model);
+  FiveAxisWords a{0, 0, 20, 0, 0, 0}, b{1e14, 1e14, 20, 0, 0, 0};
+  (m.head ? b.b : b.a) = 10;
+  try {
+    (void)compensate::tcp_split(tcp, axes_of(a), axes_of(b), tool_offsets(), 1e-4, 1000);
+    FAIL() << "split";
+  } catch (const Error& e) {
+    EXPECT_EQ(e.kind(), ErrorKind::program) << e.message();
+    EXPECT_NE(e.message().find("a tool-centre-point move"), std::string::npos) << e.message();
+  }
 }
 
 INSTANTIATE_TEST_SUITE_P(References, TcpKinematicsTest, ::testing::ValuesIn(machines()),

@@ -6,6 +6,7 @@
 
 #include <sstream>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "ccomp/error.hpp"
@@ -95,6 +96,43 @@ TEST(TcpModes, WhatIsNotFollowedIsRefusedAtTheCode) {
   TcpFlags sink;
   Interpreter(options_for("linuxcnc", TcpCodes::pass)).run(source, sink);
   EXPECT_EQ(sink.tcp, std::vector<bool>{false});
+}
+
+// Where TCP switches, the interpreter goes on from where the machine is in the other
+// coordinates, as the caller's kinematics give it: an axis a block does not name stays there.
+TEST(TcpModes, ASwitchCarriesThePositionIntoTheOtherCoordinates) {
+  InterpreterOptions o = options_for("fanuc", TcpCodes::follow);
+  std::vector<bool> switches;
+  o.tcp_switch = [&switches](const Axes& p, const Offsets&, bool to_tcp) {
+    switches.push_back(to_tcp);
+    Axes q = p;
+    q[0] += to_tcp ? 1000.0 : -1000.0;  // a TCP point's X: 1000 beyond the axis'
+    return q;
+  };
+  struct Starts : CanonSink {
+    void motion(const Motion& m) override { x.push_back({m.start[0], m.end[0]}); }
+    std::vector<std::pair<double, double>> x;
+  } sink;
+  LineSource source =
+      LineSource::from_string("G0 X5 Z10 A30\nG43.4 H1\nG1 Z20 F100\nG49\nG0 Z50\nM128\nG0 Y1\nM2\n", "t.ngc");
+  Interpreter(o).run(source, sink);
+  EXPECT_EQ(switches, (std::vector<bool>{true, false, true}));
+  ASSERT_EQ(sink.x.size(), 4U);
+  EXPECT_EQ(sink.x[1], (std::pair<double, double>{1005.0, 1005.0})) << "under TCP from the converted point";
+  EXPECT_EQ(sink.x[2], (std::pair<double, double>{5.0, 5.0})) << "back where the axis was";
+  EXPECT_EQ(sink.x[3], (std::pair<double, double>{1005.0, 1005.0}));
+}
+
+TEST(TcpModes, TwoSwitchesOnOneLineAreRefused) {
+  LineSource source = LineSource::from_string("M428 M429\nM2\n", "t.ngc");
+  TcpFlags sink;
+  try {
+    Interpreter(options_for("linuxcnc", TcpCodes::follow)).run(source, sink);
+    FAIL() << "accepted";
+  } catch (const Error& e) {
+    EXPECT_NE(e.message().find("two tool-centre-point switches on one line"), std::string::npos) << e.message();
+    EXPECT_EQ(e.where().column, 6U);
+  }
 }
 
 }  // namespace

@@ -57,7 +57,9 @@ class TcpKinematics {
 /// move from `start` to `end` is split so that, between two of them, the axes moving in a
 /// straight line (as a joint-coordinate move) keep the perfect machine's tip within
 /// `tolerance` (mm) of the straight line the control draws: none inside where no rotary
-/// axis turns. At most `most` pieces (ccomp::Error, program, beyond: the caller names the line).
+/// axis turns. At most `most` pieces, and none shorter than a billionth of the move
+/// (ccomp::Error, program, beyond, or where the tip is not a finite number: the caller names
+/// the line).
 /// `deviations`, when given, gets each piece's largest distance found between the two (mm).
 [[nodiscard]] std::vector<double> tcp_split(TcpKinematics& kinematics, const gcode::Axes& start,
                                             const gcode::Axes& end, const gcode::Offsets& offsets, double tolerance,
@@ -76,6 +78,7 @@ struct TcpPiece {
 /// ccomp::Error (unsupported, no position: the caller's line gives it) for what is not
 /// followed under TCP: arcs, probes, canned cycles, G28/G30/G53, cutter radius compensation.
 /// On a machine without rotary axes the move is its own piece, whatever it is.
-void tcp_pieces(TcpKinematics& kinematics, const gcode::Motion& m, double tolerance, std::vector<TcpPiece>& out);
+void tcp_pieces(TcpKinematics& kinematics, const gcode::Motion& m, double tolerance, std::vector<TcpPiece>& out,
+                std::size_t most = 100000);
 
 }  // namespace ccomp::compensate

@@ -6,6 +6,7 @@
 // side by side.
 #include <array>
 #include <cstdint>
+#include <functional>
 #include <optional>
 #include <memory>
 #include <string>
@@ -64,6 +65,12 @@ struct InterpreterOptions {
   /// How the codes that switch the control into tool-centre-point kinematics are taken
   /// (gcode/tcp_mode.hpp).
   TcpCodes tcp = TcpCodes::pass;
+  /// Under TcpCodes::follow: where the machine is in the other coordinates when TCP switches
+  /// on (`to_tcp`: the controlled point, machine frame, as a TCP point) or off, as the
+  /// control's kinematics have it under `offsets`, which the interpreter then goes on from
+  /// (a block after the switch that names some axes keeps the others where the machine is).
+  /// Without it the numbers stay as they are.
+  std::function<Axes(const Axes& position, const Offsets& offsets, bool to_tcp)> tcp_switch;
 };
 
 /// The modal state an observer may read between blocks (G codes times ten).
