@@ -287,16 +287,17 @@ std::vector<FiveAxisWords> written(const std::vector<FiveAxisWords>& points) {
   return out;
 }
 
-/// The sweep as a program: the test's tool as H2, a rapid to the first point, a feed move to
-/// each of the others.
-std::string program_of(const std::vector<FiveAxisWords>& points, bool head) {
-  std::string text = "G21 G90 G94 G17\nG43 H2\n";
+/// The sweep as a program: the test's tool as H2 (under G43, or under G43.4 for a
+/// tool-centre-point program, ended by G49), a rapid to the first point, a feed move to each
+/// of the others.
+std::string program_of(const std::vector<FiveAxisWords>& points, bool head, bool tcp = false) {
+  std::string text = tcp ? "G21 G90 G94 G17\nG43.4 H2\n" : "G21 G90 G94 G17\nG43 H2\n";
   for (std::size_t k = 0; k < points.size(); ++k) {
     const FiveAxisWords& w = points[k];
     text += fmt::format("{} X{:.6f} Y{:.6f} Z{:.6f} {}{:.6f} C{:.6f}{}\n", k == 0 ? "G0" : "G1", w.x, w.y, w.z,
                         head ? 'B' : 'A', head ? w.b : w.a, w.c, k == 0 ? "" : " F1000");
   }
-  return text + "M2\n";
+  return text + (tcp ? "G49\nM2\n" : "M2\n");
 }
 
 gcode::InterpreterOptions with_test_tool() {
@@ -416,16 +417,6 @@ std::vector<FiveAxisWords> tcp_sweep(bool head) {
   return written(points);
 }
 
-std::string tcp_program_of(const std::vector<FiveAxisWords>& points, bool head) {
-  std::string text = "G21 G90 G94 G17\nG43.4 H2\n";
-  for (std::size_t k = 0; k < points.size(); ++k) {
-    const FiveAxisWords& w = points[k];
-    text += fmt::format("{} X{:.6f} Y{:.6f} Z{:.6f} {}{:.6f} C{:.6f}{}\n", k == 0 ? "G0" : "G1", w.x, w.y, w.z,
-                        head ? 'B' : 'A', head ? w.b : w.a, w.c, k == 0 ? "" : " F1000");
-  }
-  return text + "G49\nM2\n";
-}
-
 /// The feed moves' points of a program as its words say (absolute, modal): each G1 line's
 /// point, after the rapid's.
 std::vector<FiveAxisWords> points_of(const std::string& program) {
@@ -492,7 +483,7 @@ TEST_P(FiveAxis, ATcpProgramCutsOnTheReferenceWhereItMeans) {
   const FiveAxisCase& c = GetParam();
   const std::vector<FiveAxisWords> points = tcp_sweep(c.head);
   const model::MachineModel mm = model::parse_machine_model(c.model, c.name + ".yaml");
-  const std::string original = tcp_program_of(points, c.head);
+  const std::string original = program_of(points, c.head, true);
   JobOptions job;
   job.interpreter = with_test_tool();
   JobReport report;
@@ -520,7 +511,7 @@ TEST_P(FiveAxis, ATcpProgramCutsOnTheReferenceWhereItMeans) {
 // The zero model writes a TCP program back as it is, bar ccomp's header line: nothing is
 // corrected, nothing misread.
 TEST(FiveAxisTcp, TheZeroModelWritesATcpProgramBackByteForByte) {
-  const std::string original = tcp_program_of(tcp_sweep(false), false);
+  const std::string original = program_of(tcp_sweep(false), false, true);
   const model::MachineModel zero = model::parse_machine_model(
       test::ccomp_model(ReferenceTrunnion{}) + "  []\n", "reference-trunnion.yaml");
   JobOptions job;

@@ -32,13 +32,6 @@ using test::ReferenceTrunnion;
 constexpr double kNoise = 0.0002;  // mm
 constexpr double kProbeLength = 100.0;
 
-std::string vec(const Eigen::Vector3d& v) {
-  std::ostringstream out;
-  out.precision(17);
-  out << "[" << v.x() << " mm, " << v.y() << " mm, " << v.z() << " mm]";
-  return out.str();
-}
-
 /// The trunnion in ccomp's terms, in machine coordinates: the base frame is the reference's
 /// table base, the gauge point at the spindle nose; no work offset (the file gives it).
 std::string machine_model(const ReferenceTrunnion& r) {
@@ -51,12 +44,12 @@ chain:
     - {link: Y, axis: Y, direction: [0, -1, 0]}
     - {link: X, axis: X, direction: [-1, 0, 0]}
     - {link: A, axis: A, direction: [-1, 0, 0], offset: )" +
-         vec(r.a_centre) + R"(}
+         test::yaml_mm(r.a_centre) + R"(}
     - {link: C, axis: C, direction: [0, 0, -1], offset: )" +
-         vec(r.c_from_a) + R"(}
+         test::yaml_mm(r.c_from_a) + R"(}
   tool:
     - {link: Z, axis: Z, direction: [0, 0, 1], offset: )" +
-         vec(r.spindle_nose) + R"(}
+         test::yaml_mm(r.spindle_nose) + R"(}
     - {link: tool, tool_length: [0, 0, -1]}
 terms:
 )";
@@ -75,12 +68,12 @@ chain:
   tool:
     - {link: Y, axis: Y, direction: [0, 1, 0]}
     - {link: Z, axis: Z, direction: [0, 0, 1], offset: )" +
-         vec(r.c_centre) + R"(}
+         test::yaml_mm(r.c_centre) + R"(}
     - {link: C, axis: C, direction: [0, 0, 1]}
     - {link: B, axis: B, direction: [0, 1, 0], offset: )" +
-         vec(r.b_from_c) + R"(}
+         test::yaml_mm(r.b_from_c) + R"(}
     - {link: tool, tool_length: [0, 0, -1], offset: )" +
-         vec(r.nose_from_b) + R"(}
+         test::yaml_mm(r.nose_from_b) + R"(}
 terms:
 )";
 }
