@@ -30,11 +30,15 @@ bool tcp_off_m_code(const Dialect& dialect, int code) {
 }
 
 std::string tcp_refusal(std::string_view code, std::string_view mode) {
+  // M430's coordinates are whatever the user's kinematics make them: nothing can follow them.
+  const std::string_view why = code == "M430"
+                                   ? "whose coordinates ccomp cannot know"
+                                   : "which this command does not follow (the main job, verify and predict follow "
+                                     "G43.4, M128 and M428)";
   return fmt::format(
-      "{} switches to {}: the program's X Y Z would be the tool tip in the part, not the axes' positions, and "
-      "ccomp compensates joint-coordinate programs only (post the program for the machine without TCP; "
-      "docs/compensation.md, \"Tool-centre-point programs\")",
-      code, mode);
+      "{} switches to {}: the program's X Y Z would be the tool tip in the part, not the axes' positions, {} "
+      "(docs/compensation.md, \"Tool-centre-point programs\")",
+      code, mode, why);
 }
 
 }  // namespace ccomp::gcode
