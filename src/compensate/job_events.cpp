@@ -197,22 +197,19 @@ void JobSink::joint_motion(const gcode::Motion& m) {
   if (stages_) compensate(m);
 }
 
-
-/// A move under tool centre point control: the axes' positions the control's kinematics
-/// command (tcp_kinematics.hpp), in pieces the axes move straight along within half the
-/// tolerance of the control's line (a rapid's path is the control's: one piece), each a
-/// move of the block compensated within the other half and written as TCP words.
 gcode::Axes JobSink::tcp_switch(const gcode::Axes& position, const gcode::Offsets& offsets, bool to_tcp) {
   if (!stages_) return position;  // nothing is corrected: the numbers as they are
   try {
-    TcpKinematics& k = stages_->tcp_kinematics();
-    return to_tcp ? k.world_of(chain_of(position, offsets), offsets)
-                  : controlled_of_chain(k.joints_of(position, offsets), offsets);
+    return stages_->tcp_kinematics().switched(position, offsets, to_tcp);
   } catch (const Error& e) {
     refuse(e.kind(), e.message());
   }
 }
 
+/// A move under tool centre point control: the axes' positions the control's kinematics
+/// command (tcp_kinematics.hpp), in pieces the axes move straight along within half the
+/// tolerance of the control's line (a rapid's path is the control's: one piece), each a
+/// move of the block compensated within the other half and written as TCP words.
 void JobSink::tcp_motion(const gcode::Motion& m) {
   try {
     tcp_pieces(stages_->tcp_kinematics(), m, options_.tolerance / 2.0, tcp_pieces_);

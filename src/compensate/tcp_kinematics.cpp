@@ -23,16 +23,8 @@ TcpKinematics::TcpKinematics(const model::ForwardModel& model) : model_(model), 
                 fmt::format("model '{}' has {} linear axes: ccomp follows tool-centre-point programs on machines "
                             "with three",
                             model.machine().name, linear_.size()));
-  // Three directions of the tip: refused below by the solve's rank otherwise.
-  model::ChainQ q = model::ChainQ::Zero();
-  Eigen::Matrix3d columns;
-  const Eigen::Vector3d at_zero = tip(q);
-  for (int c = 0; c < 3; ++c) {
-    model::ChainQ moved = q;
-    moved[linear_[static_cast<std::size_t>(c)]] += 1.0;
-    columns.col(c) = tip(moved) - at_zero;
-  }
-  if (!(std::abs(columns.determinant()) > 1e-9))
+  const model::ChainQ zero = model::ChainQ::Zero();
+  if (!(std::abs(linear_columns(zero, tip(zero)).determinant()) > 1e-9))
     throw Error(ErrorKind::unsupported,
                 fmt::format("model '{}': its linear axes do not move the tip in three directions", model.machine().name));
 }
@@ -42,17 +34,22 @@ Eigen::Vector3d TcpKinematics::tip(const model::ChainQ& q) {
   return data_.nominal;
 }
 
-model::ChainQ TcpKinematics::solve_linear(model::ChainQ q, const Eigen::Vector3d& target) {
+Eigen::Matrix3d TcpKinematics::linear_columns(const model::ChainQ& q, const Eigen::Vector3d& at) {
   // Affine in the linear axes with the rest held: the columns by unit steps are exact (up to
-  // rounding), and a second step takes up the rounding of the first.
-  const Eigen::Vector3d at = tip(q);
+  // rounding).
   Eigen::Matrix3d columns;
   for (int c = 0; c < 3; ++c) {
     model::ChainQ moved = q;
     moved[linear_[static_cast<std::size_t>(c)]] += 1.0;
     columns.col(c) = tip(moved) - at;
   }
-  const Eigen::PartialPivLU<Eigen::Matrix3d> lu(columns);
+  return columns;
+}
+
+model::ChainQ TcpKinematics::solve_linear(model::ChainQ q, const Eigen::Vector3d& target) {
+  // A second step takes up the rounding of the first.
+  const Eigen::Vector3d at = tip(q);
+  const Eigen::PartialPivLU<Eigen::Matrix3d> lu(linear_columns(q, at));
   Eigen::Vector3d residual = target - at;
   for (int step = 0; step < 2; ++step) {
     const Eigen::Vector3d dq = lu.solve(residual);
@@ -82,6 +79,11 @@ gcode::Axes TcpKinematics::world_of(const model::ChainQ& q, const gcode::Offsets
   gcode::Axes world = controlled_of_chain(solve_linear(chain_of(level, offsets), target), offsets);
   for (const int k : rotary_) world[static_cast<std::size_t>(k)] = turned[static_cast<std::size_t>(k)];
   return world;
+}
+
+gcode::Axes TcpKinematics::switched(const gcode::Axes& position, const gcode::Offsets& offsets, bool to_tcp) {
+  return to_tcp ? world_of(chain_of(position, offsets), offsets)
+                : controlled_of_chain(joints_of(position, offsets), offsets);
 }
 
 namespace {

@@ -53,9 +53,7 @@ class MotionSink : public gcode::CanonSink {
   }
   /// InterpreterOptions::tcp_switch.
   gcode::Axes tcp_switch(const gcode::Axes& position, const gcode::Offsets& offsets, bool to_tcp) {
-    TcpKinematics& k = kinematics();
-    return to_tcp ? k.world_of(chain_of(position, offsets), offsets)
-                  : controlled_of_chain(k.joints_of(position, offsets), offsets);
+    return kinematics().switched(position, offsets, to_tcp);
   }
 
  private:

@@ -38,12 +38,18 @@ class TcpKinematics {
   /// joints_of()'s inverse: the TCP program's point for chain values.
   [[nodiscard]] gcode::Axes world_of(const model::ChainQ& q, const gcode::Offsets& offsets);
 
+  /// Where the machine is in the other coordinates when TCP switches on (`to_tcp`: the
+  /// controlled point as a TCP point) or off (gcode::InterpreterOptions::tcp_switch).
+  [[nodiscard]] gcode::Axes switched(const gcode::Axes& position, const gcode::Offsets& offsets, bool to_tcp);
+
   /// The point of the part (table frame, mm) a TCP program's point puts the tip at.
   [[nodiscard]] Eigen::Vector3d part_point(const gcode::Axes& world, const gcode::Offsets& offsets);
   /// The perfect machine's tool tip in the table frame at q.
   [[nodiscard]] Eigen::Vector3d tip(const model::ChainQ& q);
 
  private:
+  /// The tip's move per unit of each linear axis at q (`at`: the tip there).
+  [[nodiscard]] Eigen::Matrix3d linear_columns(const model::ChainQ& q, const Eigen::Vector3d& at);
   /// The linear axes' values that put the tip at `target` with the rest of q as given.
   [[nodiscard]] model::ChainQ solve_linear(model::ChainQ q, const Eigen::Vector3d& target);
 

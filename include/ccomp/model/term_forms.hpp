@@ -116,6 +116,14 @@ struct TermFormInfo {
 [[nodiscard]] inline double no_feature(const ErrorTermSpec&) { return std::numeric_limits<double>::infinity(); }
 /// A form whose every parameter scales its error.
 [[nodiscard]] inline bool scales_all(std::size_t) { return false; }
+/// A form whose parameters are amounts of the term's value: in its unit...
+[[nodiscard]] inline std::string value_unit(const ErrorTermSpec& t, std::size_t k, const UnitNames& u) {
+  return u.value(t.parameter_unit[k]);
+}
+/// ... and a machine's plausible error their scale.
+[[nodiscard]] inline double plausible_scale(const ErrorTermSpec&, std::size_t, double plausible, const ReachOf&) {
+  return plausible;
+}
 
 /// Every form, in TermForm's order.
 [[nodiscard]] const std::vector<TermFormInfo>& term_forms();

@@ -28,10 +28,8 @@ TermFormInfo constant() {
   f.parameter_label = [](const ErrorTermSpec& t, std::size_t) { return t.iso; };
   f.shapes_only = scales_all;
   f.place = [](const TermShape&, std::size_t) { return ParameterPlace{"value"}; };
-  f.unit_name = [](const ErrorTermSpec& t, std::size_t k, const UnitNames& u) {
-    return u.value(t.parameter_unit[k]);
-  };
-  f.physical_scale = [](const ErrorTermSpec&, std::size_t, double plausible, const ReachOf&) { return plausible; };
+  f.unit_name = value_unit;
+  f.physical_scale = plausible_scale;
   f.bound = [](const TermShape&, const Eigen::VectorXd& p, const TermRange&, const TermRange&) {
     TermBound b;
     b.value = std::abs(p[0]);

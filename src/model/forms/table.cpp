@@ -97,10 +97,8 @@ TermFormInfo table() {
   f.parameter_label = [](const ErrorTermSpec& t, std::size_t k) { return fmt::format("{}.value[{}]", t.iso, k); };
   f.shapes_only = scales_all;
   f.place = [](const TermShape&, std::size_t k) { return ParameterPlace{"values", static_cast<int>(k)}; };
-  f.unit_name = [](const ErrorTermSpec& t, std::size_t k, const UnitNames& u) {
-    return u.value(t.parameter_unit[k]);
-  };
-  f.physical_scale = [](const ErrorTermSpec&, std::size_t, double plausible, const ReachOf&) { return plausible; };
+  f.unit_name = value_unit;
+  f.physical_scale = plausible_scale;
   f.bound = bound;
   f.shortest_feature = shortest_feature;
   return f;
