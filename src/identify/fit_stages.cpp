@@ -2,7 +2,7 @@
 
 #include <fmt/format.h>
 
-#include <Eigen/Eigenvalues>
+#include <Eigen/Core>
 #include <algorithm>
 #include <cmath>
 
@@ -11,6 +11,7 @@
 #include "ccomp/identify/next_measurement.hpp"
 #include "ccomp/identify/physical_scale.hpp"
 #include "ccomp/model/term_forms.hpp"
+#include "symmetric_eigen.hpp"
 
 namespace ccomp::identify::fit_stages {
 
@@ -150,9 +151,9 @@ void robust_weights(const Problem& problem, Workspace& ws) {
 Directions determined_directions(const Problem& problem, double noise, const Eigen::MatrixXd& N) {
   const Eigen::Index m = problem.unknowns();
   Directions d;
-  Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(N);
-  d.sigma = eig.eigenvalues().cwiseMax(0.0).cwiseSqrt().reverse();
-  d.V = eig.eigenvectors().rowwise().reverse();
+  const SymmetricEigen eig = symmetric_eigen(N);
+  d.sigma = eig.values.cwiseMax(0.0).cwiseSqrt().reverse();
+  d.V = eig.vectors.rowwise().reverse();
   const double largest = d.sigma.size() ? d.sigma[0] : 0.0;
   d.identified.assign(static_cast<std::size_t>(m), false);
   std::vector<Eigen::Index> kept;
@@ -201,9 +202,9 @@ StepOutcome step(const Problem& problem, double noise, int iteration, Workspace&
   // Levenberg-Marquardt within the identified subspace: where the cost does not fall, the
   // weak directions are damped first (lambda), not the whole step (a period far from its
   // start is not quadratic).
-  Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> reduced(subspace.transpose() * N * subspace);
-  const Eigen::VectorXd mu = reduced.eigenvalues().cwiseMax(0.0);
-  const Eigen::MatrixXd Q = subspace * reduced.eigenvectors();
+  const SymmetricEigen reduced = symmetric_eigen(subspace.transpose() * N * subspace);
+  const Eigen::VectorXd mu = reduced.values.cwiseMax(0.0);
+  const Eigen::MatrixXd Q = subspace * reduced.vectors;
   const Eigen::VectorXd Qg = Q.transpose() * g;
   const double largest = mu.size() ? mu.maxCoeff() : 0.0;
   const double before = ws.cost(ws.r);

@@ -1,8 +1,10 @@
 #include "held_out.hpp"
 
-#include <Eigen/Eigenvalues>
+#include <Eigen/Core>
 #include <algorithm>
 #include <vector>
+
+#include "symmetric_eigen.hpp"
 
 namespace ccomp::identify::detail {
 namespace {
@@ -48,12 +50,12 @@ std::vector<int> groups_of(const Eigen::MatrixXd& columns, const MeasurementSet&
 /// The least-squares coefficients for the normal equations N x = b, in the directions N
 /// determines (a group that held all of a coefficient's information leaves it at zero).
 Eigen::VectorXd solve(const Eigen::MatrixXd& N, const Eigen::VectorXd& b) {
-  Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(N);
-  const Eigen::VectorXd& mu = eig.eigenvalues();
+  const SymmetricEigen eig = symmetric_eigen(N);
+  const Eigen::VectorXd& mu = eig.values;
   const double floor = 1e-9 * std::max(mu.maxCoeff(), 0.0);
-  Eigen::VectorXd y = eig.eigenvectors().transpose() * b;
+  Eigen::VectorXd y = eig.vectors.transpose() * b;
   for (Eigen::Index k = 0; k < y.size(); ++k) y[k] = mu[k] > floor && mu[k] > 0 ? y[k] / mu[k] : 0.0;
-  return eig.eigenvectors() * y;
+  return eig.vectors * y;
 }
 
 }  // namespace

@@ -1,12 +1,13 @@
 #include "ccomp/identify/nine_line.hpp"
 
-#include <Eigen/Eigenvalues>
+#include <Eigen/Core>
 #include <Eigen/QR>
 #include <algorithm>
 #include <cmath>
 #include <limits>
 
 #include "ccomp/identify/simulate.hpp"
+#include "symmetric_eigen.hpp"
 
 namespace ccomp::identify {
 namespace {
@@ -32,14 +33,14 @@ Sensitivity sensitivity(const model::ForwardModel& model, const Eigen::VectorXd&
   out.scale.resize(m);
   for (Eigen::Index j = 0; j < m; ++j) out.scale[j] = std::max(J.col(j).norm(), 1e-300);
   const Eigen::MatrixXd A = J * out.scale.cwiseInverse().asDiagonal();
-  Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(normal_matrix(A));
-  const double largest = eig.eigenvalues().maxCoeff();
+  const SymmetricEigen eig = symmetric_eigen(normal_matrix(A));
+  const double largest = eig.values.maxCoeff();
   Eigen::MatrixXd pinv = Eigen::MatrixXd::Zero(m, m);  // (A^T A)^+ on the identified directions
   Eigen::VectorXd unseen = Eigen::VectorXd::Zero(m);
   for (Eigen::Index k = 0; k < m; ++k) {
-    const Eigen::VectorXd v = eig.eigenvectors().col(k);
-    if (eig.eigenvalues()[k] > 1e-8 * largest)
-      pinv += v * v.transpose() / eig.eigenvalues()[k];
+    const Eigen::VectorXd v = eig.vectors.col(k);
+    if (eig.values[k] > 1e-8 * largest)
+      pinv += v * v.transpose() / eig.values[k];
     else
       unseen += v.cwiseProduct(v);
   }

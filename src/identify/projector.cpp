@@ -1,10 +1,11 @@
 #include "projector.hpp"
 
-#include <Eigen/Eigenvalues>
+#include <Eigen/Core>
 #include <algorithm>
 #include <cmath>
 
 #include "ccomp/identify/physical_scale.hpp"
+#include "symmetric_eigen.hpp"
 
 namespace ccomp::identify::detail {
 
@@ -44,11 +45,11 @@ double Projector::gain_of_sums(const Eigen::MatrixXd& CtC, const Eigen::VectorXd
     if (!(d[j] > 1e-9 * std::sqrt(std::max(CtC(j, j), 1e-300)))) return 0.0;
   const Eigen::MatrixXd Ns = d.cwiseInverse().asDiagonal() * N * d.cwiseInverse().asDiagonal();
   const Eigen::VectorXd bs = b.cwiseQuotient(d);
-  Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(Ns);
+  const SymmetricEigen eig = symmetric_eigen(Ns);
   // Columns that are nearly one another once the base is out: the candidate is not one effect.
-  if (eig.eigenvalues().minCoeff() < 1e-6) return 0.0;
+  if (eig.values.minCoeff() < 1e-6) return 0.0;
   const Eigen::VectorXd xs =
-      eig.eigenvectors() * (eig.eigenvectors().transpose() * bs).cwiseQuotient(eig.eigenvalues());
+      eig.vectors * (eig.vectors.transpose() * bs).cwiseQuotient(eig.values);
   if (coefficients) *coefficients = xs.cwiseQuotient(d);
   return bs.dot(xs);
 }
@@ -90,16 +91,16 @@ Projector refitted_base(const model::ForwardModel& model, const MeasurementSet& 
     const Eigen::VectorXd physical = physical_scales(model, data);
     for (Eigen::Index j = 0; j < base.A.cols(); ++j)
       base.A.col(j) *= physical[static_cast<Eigen::Index>(columns[static_cast<std::size_t>(j)])];
-    Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(normal_matrix(base.A));
-    const double largest = std::sqrt(std::max(eig.eigenvalues().maxCoeff(), 0.0));
+    const SymmetricEigen eig = symmetric_eigen(normal_matrix(base.A));
+    const double largest = std::sqrt(std::max(eig.values.maxCoeff(), 0.0));
     const double seen = std::max(3.0 * out.refit.noise, 1e-9 * largest);
     std::vector<Eigen::Index> kept;
-    for (Eigen::Index k = 0; k < eig.eigenvalues().size(); ++k)
-      if (std::sqrt(std::max(eig.eigenvalues()[k], 0.0)) > seen) kept.push_back(k);
+    for (Eigen::Index k = 0; k < eig.values.size(); ++k)
+      if (std::sqrt(std::max(eig.values[k], 0.0)) > seen) kept.push_back(k);
     base.W.resize(base.A.cols(), static_cast<Eigen::Index>(kept.size()));
     for (std::size_t c = 0; c < kept.size(); ++c)
       base.W.col(static_cast<Eigen::Index>(c)) =
-          eig.eigenvectors().col(kept[c]) / std::sqrt(eig.eigenvalues()[kept[c]]);
+          eig.vectors.col(kept[c]) / std::sqrt(eig.values[kept[c]]);
     // The refit's residual, made exactly orthogonal to what the base absorbs.
     const Eigen::VectorXd absorbed = base.W * (base.W.transpose() * (base.A.transpose() * base.r));
     base.r -= base.A * absorbed;
