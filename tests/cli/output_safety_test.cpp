@@ -159,10 +159,10 @@ bool writing(const std::string& dir) {
   return false;
 }
 
-/// A program long enough to be caught in the middle of its compensation.
-std::string long_program() {
+/// A program long enough to be caught in the middle of its compensation (`moves` G1 blocks).
+std::string long_program(int moves = 400000) {
   std::string text = "G21 G90 G0 X0 Y0 Z0\nF1000\n";
-  for (int i = 0; i < 400000; ++i) text += "G1 X" + std::to_string(i % 400) + ".5 Y" + std::to_string(i % 300) + "\n";
+  for (int i = 0; i < moves; ++i) text += "G1 X" + std::to_string(i % 400) + ".5 Y" + std::to_string(i % 300) + "\n";
   return text + "M2\n";
 }
 
@@ -211,13 +211,15 @@ TEST(OutputSafety, AKilledRunsTemporaryIsRemovedByTheNextRun) {
 
 TEST(OutputSafety, AnIgnoredHangupStaysIgnoredAsUnderNohup) {
   const std::string dir = temp_dir("nohup");
-  write_file(dir + "/part.nc", long_program());
+  // Long enough to be caught writing, short enough to run to its end quickly under ASan.
+  write_file(dir + "/part.nc", long_program(40000));
   // The shell ignores SIGHUP and starts ccomp, which must keep it ignored; the signal is sent
   // while ccomp writes. (A ccomp that ends before it writes fails the test, not hangs it.)
   const CommandResult r = run_command(
       "cd " + shell_quote(dir) + " && trap '' HUP && (" + ccomp() + " part.nc -m " + shell_quote(sample_model()) +
       " -q -o out.nc & pid=$!; while kill -0 $pid 2>/dev/null && ! ls out.nc.ccomp-* >/dev/null 2>&1; do sleep 0.01; "
-      "done; kill -HUP $pid; wait $pid; echo status=$?)");
+      "done; kill -HUP $pid && echo signalled; wait $pid; echo status=$?)");
+  EXPECT_NE(r.out.find("signalled"), std::string::npos) << "ccomp ended before it was caught writing: " << r.out;
   EXPECT_NE(r.out.find("status=0"), std::string::npos) << r.out << r.err;
   EXPECT_NE(read_file(dir + "/out.nc").find("(ccomp "), std::string::npos);
 }
