@@ -7,6 +7,7 @@
 #include <utility>
 #include <vector>
 
+#include "ccomp/axis.hpp"
 #include "ccomp/gcode/interpreter.hpp"
 #include "ccomp/identify/measurements.hpp"
 #include "ccomp/model/machine.hpp"
@@ -45,8 +46,8 @@ void add_program_options(CLI::App& cmd, ProgramArgs& args);
 void add_hold_option(CLI::App& cmd, std::vector<std::string>& holds);
 /// The model with --hold's axes set (usage errors for an axis that is not a rotary one).
 [[nodiscard]] model::MachineModel with_holds(model::MachineModel m, const std::vector<std::string>& specs);
-/// "B held (the program does not turn it)" for the axes `held` names (bit i: XYZABCUVW's i-th).
-[[nodiscard]] std::string held_axes_text(const model::MachineModel& m, unsigned held);
+/// "B held (the program does not turn it)" for the axes `held` names.
+[[nodiscard]] std::string held_axes_text(const model::MachineModel& m, AxisSet held);
 
 struct CompensateArgs {
   std::vector<std::string> inputs;

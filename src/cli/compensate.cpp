@@ -100,7 +100,7 @@ std::string summary_line(const Target& t, const model::MachineModel& model, cons
       "largest correction {:.1f} um; orientation error left {:.1f} urad{}{}\n",
       t.input == "-" ? "<stdin>" : t.input, r.compensated_moves, r.added_lines, model.name, args.tolerance * 1000.0,
       r.max_error_before * 1000.0, r.max_error_after * 1000.0, r.max_correction * 1000.0,
-      r.max_orientation_error * 1e6, r.held_axes == 0 ? "" : " (" + held_axes_text(model, r.held_axes) + ")",
+      r.max_orientation_error * 1e6, r.held_axes.empty() ? "" : " (" + held_axes_text(model, r.held_axes) + ")",
       failed ? fmt::format("\n  {}: written, but NOT PASSED (below); check it before cutting (exit {})",
                            t.output == "-" ? "<stdout>" : t.output, kVerdictExitCode)
              : "");
@@ -328,8 +328,7 @@ std::string outcomes_json(const std::vector<Target>& targets, const std::vector<
         j.key("passed").null();
       trust_fields(j, o.trust, r.max_error_after, o.no_trust);
       j.key("held_axes").begin_array();
-      for (std::size_t a = 0; a < 9; ++a)
-        if (r.held_axes >> a & 1U) j.value(std::string(1, "XYZABCUVW"[a]));
+      for (const Axis a : r.held_axes) j.value(std::string(1, letter(a)));
       j.end_array();
     }
     j.key("warnings").begin_array();

@@ -9,6 +9,7 @@
 #include <string_view>
 #include <vector>
 
+#include "ccomp/axis.hpp"
 #include "ccomp/controller/control_tables.hpp"
 #include "ccomp/controller/table_checks.hpp"
 #include "ccomp/error.hpp"
@@ -27,7 +28,7 @@ namespace ccomp::cli {
 model::ChainQ table_line(const model::MachineModel& m, const ExportArgs& args, char axis, bool own_table) {
   model::ChainQ q = model::ChainQ::Zero();
   for (const model::AxisSpec& a : m.axes) {
-    const auto j = static_cast<Eigen::Index>(kChainAxisLetters.find(a.letter));
+    const auto j = static_cast<Eigen::Index>(a.index());
     if (a.type == model::AxisType::linear && !(a.min <= 0 && a.max >= 0) && std::isfinite(a.min) &&
         std::isfinite(a.max))
       q[j] = 0.5 * (a.min + a.max);
@@ -51,7 +52,7 @@ model::ChainQ table_line(const model::MachineModel& m, const ExportArgs& args, c
     if (v < spec->min || v > spec->max)
       throw Error(ErrorKind::usage,
                   fmt::format("--at {}: {} travels from {:g} to {:g}", at, letter, spec->min, spec->max));
-    q[static_cast<Eigen::Index>(kChainAxisLetters.find(letter))] =
+    q[static_cast<Eigen::Index>(kAxisLetters.find(letter))] =
         spec->type == model::AxisType::rotary ? v * M_PI / 180.0 : v;
   }
   q[static_cast<Eigen::Index>(model::kToolLengthIndex)] = args.tool_length;
@@ -149,7 +150,7 @@ Uncarried uncarried_terms(const model::MachineModel& m, bool cross) {
         t.primary.kind == model::VariableKind::temperature || t.primary.kind == model::VariableKind::time ||
         t.secondary.kind == model::VariableKind::temperature || t.secondary.kind == model::VariableKind::time;
     const bool linear = spec != nullptr && spec->type == model::AxisType::linear;
-    const auto own = linear ? static_cast<int>(kChainAxisLetters.find(spec->letter)) : -1;
+    const auto own = linear ? static_cast<int>(spec->index()) : -1;
     const bool location = t.placement == model::ErrorPlacement::location;
     std::vector<std::string>* list = nullptr;
     if (thermal)
@@ -251,7 +252,7 @@ int run_export(const ExportArgs& args) {
   const controller::WriteOptions w = write_options(args, m, o);
   {
     model::ChainQ low = o.line, high = o.line;
-    const auto a = static_cast<Eigen::Index>(kChainAxisLetters.find(axis));
+    const auto a = static_cast<Eigen::Index>(kAxisLetters.find(axis));
     const double scale = m.axis(axis)->type == model::AxisType::rotary ? M_PI / 180.0 : 1.0;
     low[a] = o.from * scale, high[a] = o.to * scale;
     warn_beyond_spans(m, low, high, o.conditions);
@@ -314,7 +315,7 @@ int run_export(const ExportArgs& args) {
   std::string on_line;
   for (const model::AxisSpec& a : m.axes)
     if (a.letter != axis) {
-      const double v = o.line[static_cast<Eigen::Index>(kChainAxisLetters.find(a.letter))];
+      const double v = o.line[static_cast<Eigen::Index>(a.index())];
       on_line += fmt::format(" {}={:g}", a.letter, a.type == model::AxisType::rotary ? v * 180.0 / M_PI : v);
     }
   fmt::print(stderr,

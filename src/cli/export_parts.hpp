@@ -6,6 +6,7 @@
 #include <string_view>
 #include <vector>
 
+#include "ccomp/axis.hpp"
 #include "ccomp/controller/axis_table.hpp"
 #include "ccomp/model/machine.hpp"
 #include "ccomp/util/json.hpp"
@@ -14,7 +15,6 @@
 namespace ccomp::cli {
 
 /// The chain's axes in order: a letter's index into model::ChainQ.
-inline constexpr std::string_view kChainAxisLetters = "XYZABCUVW";
 
 /// The line the tables are taken along: each other axis at --at's value, else at 0 when
 /// its travel holds 0, else mid-travel; rotary axes at 0; the tool length of

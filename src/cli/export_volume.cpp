@@ -11,6 +11,7 @@
 #include <optional>
 #include <sstream>
 
+#include "ccomp/axis.hpp"
 #include "ccomp/controller/isg_volume.hpp"
 #include "ccomp/controller/table_checks.hpp"
 #include "ccomp/controller/volume_table.hpp"
@@ -200,7 +201,7 @@ void print_text(const Summary& s) {
   for (const model::AxisSpec& a : s.m.axes)
     if (a.type == model::AxisType::rotary)
       at += fmt::format(" {}={:g}", a.letter,
-                        s.o.line[static_cast<Eigen::Index>(kChainAxisLetters.find(a.letter))] * 180.0 / M_PI);
+                        s.o.line[static_cast<Eigen::Index>(a.index())] * 180.0 / M_PI);
   fmt::print(stderr, "{} and {}: volumetric table of '{}' for Beckhoff TwinCAT CNC (#VOLCOMP), {} nodes:\n",
              s.args.output, s.list, s.m.name, s.table.nodes());
   for (std::size_t a = 0; a < 3; ++a)

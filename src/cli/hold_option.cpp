@@ -43,11 +43,10 @@ model::MachineModel with_holds(model::MachineModel m, const std::vector<std::str
   return m;
 }
 
-std::string held_axes_text(const model::MachineModel& m, unsigned held) {
+std::string held_axes_text(const model::MachineModel& m, AxisSet held) {
   std::string text;
   for (const model::AxisSpec& a : m.axes) {
-    const auto i = std::string_view("XYZABCUVW").find(a.letter);
-    if ((held >> i & 1U) == 0) continue;
+    if (!held.contains(a.axis())) continue;
     text += fmt::format("{}{} held ({})", text.empty() ? "" : ", ", a.letter,
                         a.hold == model::AxisHold::clamped ? "hold: clamped" : "the program does not turn it");
   }

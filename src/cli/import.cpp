@@ -7,6 +7,7 @@
 #include <charconv>
 #include <fstream>
 
+#include "ccomp/axis.hpp"
 #include "ccomp/error.hpp"
 #include "ccomp/identify/measurement_formats.hpp"
 #include "ccomp/model/model_file.hpp"
@@ -18,7 +19,6 @@
 namespace ccomp::cli {
 namespace {
 
-constexpr std::string_view kAxisLetters = "XYZABCUVW";
 
 char axis_letter(const std::string& text, std::string_view option) {
   if (text.size() != 1 || kAxisLetters.find(static_cast<char>(std::toupper(static_cast<unsigned char>(text[0])))) ==

@@ -216,7 +216,7 @@ int run_positioning(const IdentifyArgs& args) {
   for (const std::string& path : args.measurements) identify::read_measurements(path, m, o, data);
   for (const std::string& notice : data.notices) fmt::print(stderr, "notice: {}\n", notice);
   const std::size_t axis = axis_index(args.axis);
-  const char letter = "XYZABC"[axis];
+  const char letter = kAxisLetters[axis];
   if (!m.axis(letter))
     throw Error(ErrorKind::usage, fmt::format("--axis {}: machine '{}' has no axis {}", args.axis, m.name, letter));
   const model::ForwardModel forward(m);

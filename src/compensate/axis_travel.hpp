@@ -3,13 +3,14 @@
 // still, and a point part of the way along a move.
 #include <cstddef>
 
+#include "ccomp/axis.hpp"
 #include "ccomp/model/forward.hpp"
 
 namespace ccomp::compensate {
 
 /// Below these an axis is taken as not moving: a nanometre, 1e-8 rad.
 [[nodiscard]] inline double still(std::size_t axis) {
-  return axis >= 3 && axis <= 5 ? 1e-8 : 1e-6;
+  return angular_at(axis) ? 1e-8 : 1e-6;
 }
 
 /// The chain values at fraction s of the move from start to end (its ends exactly).

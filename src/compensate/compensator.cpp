@@ -1,3 +1,4 @@
+#include "ccomp/axis.hpp"
 #include "ccomp/compensate/compensator.hpp"
 
 #include <fmt/format.h>
@@ -21,9 +22,9 @@ Compensator::Compensator(const model::ForwardModel& model, CompensationOptions o
       data_(model),
       check_(model),
       bound_(model, options_.conditions) {
-  for (const int k : problem_.rotary_unknowns) rotary_axes_ |= 1U << k;
+  for (const int k : problem_.rotary_unknowns) rotary_axes_.insert_at(static_cast<std::size_t>(k));
   held_rotary_ = rotary_axes_to_hold();
-  if (held_rotary_ != 0) problem_ = InverseProblem(model_, held_rotary_);
+  if (!held_rotary_.empty()) problem_ = InverseProblem(model_, held_rotary_);
 }
 
 ChainQ Compensator::point(const ChainQ& nominal, MoveReport& report, Shortcut shortcut) {
@@ -61,27 +62,26 @@ Compensator::SolvedPoint Compensator::solve_point(const ChainQ& nominal, MoveRep
   return {r.q, r.residual_bound};
 }
 
-unsigned Compensator::rotary_axes_to_hold() const {
-  unsigned axes = 0;
-  for (int k = 0; k < 9; ++k) {
-    if ((rotary_axes_ >> k & 1U) == 0) continue;
-    const model::AxisHold hold = options_.hold[static_cast<std::size_t>(k)];
-    if (hold == model::AxisHold::clamped || (hold == model::AxisHold::automatic && (turned_ >> k & 1U) == 0))
-      axes |= 1U << k;
+AxisSet Compensator::rotary_axes_to_hold() const {
+  AxisSet axes;
+  for (const Axis a : rotary_axes_) {
+    const model::AxisHold hold = options_.hold[index(a)];
+    if (hold == model::AxisHold::clamped || (hold == model::AxisHold::automatic && !turned_.contains(a)))
+      axes.insert(a);
   }
   return axes;
 }
 
 void Compensator::follow_holds(const ChainQ& nominal) {
-  if (held_rotary_ == 0) return;  // nothing held (an axis once free stays free)
+  if (held_rotary_.empty()) return;  // nothing held (an axis once free stays free)
   if (!first_nominal_.allFinite()) first_nominal_ = nominal;
-  for (int k = 0; k < 9; ++k) {
-    const auto i = static_cast<std::size_t>(k);
-    if ((held_rotary_ >> k & 1U) != 0 && options_.hold[i] == model::AxisHold::automatic &&
-        std::abs(nominal[k] - first_nominal_[k]) > still(i))
-      turned_ |= 1U << k;
+  for (const Axis a : held_rotary_) {
+    const std::size_t i = index(a);
+    const auto k = static_cast<Eigen::Index>(i);
+    if (options_.hold[i] == model::AxisHold::automatic && std::abs(nominal[k] - first_nominal_[k]) > still(i))
+      turned_.insert(a);
   }
-  const unsigned axes = rotary_axes_to_hold();
+  const AxisSet axes = rotary_axes_to_hold();
   if (axes == held_rotary_) return;
   problem_ = InverseProblem(model_, axes);
   held_rotary_ = axes;
@@ -179,13 +179,13 @@ void Compensator::carried(const ChainQ& by, MoveReport& report) {
   }
 }
 
-unsigned Compensator::unhidden(const std::array<double, 9>& target) const {
+AxisSet Compensator::unhidden(const std::array<double, 9>& target) const {
   // What a play left short of its target costs: the switch of the axis' terms (mm at the
   // tool) times the shortfall. Worth a warning at a quarter of the tolerance.
-  unsigned axes = 0;
+  AxisSet axes;
   for (std::size_t i = 0; i < target.size(); ++i) {
     if (0.5 * model_.reversal_size()[i] * std::abs(play_[i] - target[i]) > 0.25 * options_.tolerance)
-      axes |= 1U << i;
+      axes.insert_at(i);
   }
   return axes;
 }
@@ -197,7 +197,7 @@ double Compensator::keep_still(const ChainQ& at, const std::array<double, 9>& pl
   // Still, they approach as their play before the move has them, and turn nowhere.
   for (std::size_t i = 0; i < play_before.size(); ++i)
     if (held(i)) options_.conditions.directions[i] = play_before[i];
-  report.unhidden_reversals &= ~held_axes_;
+  report.unhidden_reversals -= held_axes_;
   ChainQ from_nominal = start, from = at;
   for (CompensatedPoint& point : points) {
     for (Eigen::Index k = 0; k < point.q.size(); ++k)
@@ -215,7 +215,7 @@ double Compensator::keep_still(const ChainQ& at, const std::array<double, 9>& pl
     if (static_cast<std::size_t>(k) < play_.size())
       play_[static_cast<std::size_t>(k)] = play_before[static_cast<std::size_t>(k)];
   }
-  held_axes_ = 0;
+  held_axes_ = {};
   // Where the move leaves the machine: a cut after it starts there, as its plan does not know.
   return points.empty() ? 0.0 : executed_deviation(end, end, points.back().q, points.back().q, 1.0);
 }
@@ -411,7 +411,7 @@ void Compensator::stretch(const StraightMove& move, double s0, double s1, int tu
       return;
     }
     // Past the turns a move is cut at, what the play leaves is said.
-    report.unhidden_reversals |= 1U << turn->axis;
+    report.unhidden_reversals.insert_at(turn->axis);
     solved.max_deviation_after = std::max(solved.max_deviation_after, turn->left);
   }
   take_solution(report, solved);
@@ -423,13 +423,13 @@ void Compensator::stretch(const StraightMove& move, double s0, double s1, int tu
   for (std::size_t k = first + lead_.size(); k < out.size(); ++k) command(out[k].q);
 }
 
-unsigned Compensator::unsettled_axes() const {
+AxisSet Compensator::unsettled_axes() const {
   // Settled within 1% of the play: the take-up's travel differs from the lost motion by
   // what the rest of the error field changes with the approach.
   const auto& need = options_.conditions.directions;
-  unsigned axes = 0;
+  AxisSet axes;
   for (std::size_t i = 0; i < need.size(); ++i)
-    if (model_.reads_approach(i) && std::abs(play_[i] - need[i]) > 0.02) axes |= 1U << i;
+    if (model_.reads_approach(i) && std::abs(play_[i] - need[i]) > 0.02) axes.insert_at(i);
   return axes;
 }
 
@@ -439,7 +439,7 @@ void Compensator::lead_in(const ChainQ& start, ChainQ& a, double tolerance, std:
     commanded_ = a;
     return;
   }
-  const bool unsettled = unsettled_axes() != 0;
+  const bool unsettled = !unsettled_axes().empty();
   if (unsettled && offset_by_control_) {
     // No take-ups where the control offsets the path: the move starts where the last one
     // left the machine, its play as it is, and what that leaves is in the report.
@@ -486,7 +486,7 @@ void Compensator::take_up(const ChainQ& start, const ChainQ& a, std::vector<Comp
   // not as a reversal's.
   const bool planned = !uncompensated_;
   double stray = 0.0;
-  unsigned strayed = 0;
+  AxisSet strayed;
   auto go = [&](const ChainQ& q, std::size_t turning, double way) {
     if ((q - commanded_).cwiseAbs().maxCoeff() <= 1e-9) return;  // a zero move takes nothing up
     stray = std::max(stray, take_up_stray(start, q, need, strayed));
@@ -514,12 +514,12 @@ void Compensator::take_up(const ChainQ& start, const ChainQ& a, std::vector<Comp
   for (std::size_t i : turning) switch_to(i, target[i]);
   for (std::size_t i : re_approach) switch_to(i, target[i]);
   go(a, need.size(), 0.0);
-  if (strayed != 0) {
+  if (!strayed.empty()) {
     // The error switched faster than the take-up could follow: part of the turn shows.
     if (planned) report.unhidden_reversals |= strayed;
     report.max_deviation_after = std::max(report.max_deviation_after, stray);
   }
-  if (const unsigned short_of = unhidden(target); short_of != 0) {
+  if (const AxisSet short_of = unhidden(target); !short_of.empty()) {
     report.unhidden_reversals |= short_of;
     // What is left shows where the move starts, the play still short of its target.
     report.max_deviation_after = std::max(report.max_deviation_after, deviation_at_play(start, a));
@@ -541,7 +541,7 @@ namespace {
 double reach_after(const ChainQ& delta, double t) {
   double reach = 0.0;
   for (std::size_t i = 0; i < model::kToolLengthIndex; ++i)
-    reach += std::abs(delta[static_cast<Eigen::Index>(i)]) * (i >= 3 && i <= 5 ? model::kSwitchLever : 1.0);
+    reach += std::abs(delta[static_cast<Eigen::Index>(i)]) * (angular_at(i) ? model::kSwitchLever : 1.0);
   return (1.0 - t) * reach;
 }
 }  // namespace
@@ -554,7 +554,7 @@ double Compensator::switch_reach(const std::array<double, 9>& from, const std::a
 }
 
 double Compensator::take_up_stray(const ChainQ& start, const ChainQ& q, const std::array<double, 9>& solved_for,
-                                  unsigned& axes) {
+                                  AxisSet& axes) {
   // Terms linear in the approach switch linearly while an axis travels its play, so the
   // tool's course bends only where a play runs out, where an axis without lost motion
   // switches (as it starts), and at the step's end: the tool is checked there, where what
@@ -562,11 +562,11 @@ double Compensator::take_up_stray(const ChainQ& start, const ChainQ& q, const st
   const double worth = 0.125 * options_.tolerance;
   struct Bend {
     double t;
-    unsigned axes;  ///< whose switch it shows
+    AxisSet axes;  ///< whose switch it shows
   };
   std::array<Bend, 11> bends{};
   std::size_t n = 0;
-  unsigned at_once = 0, switching = 0;
+  AxisSet at_once, switching;
   std::array<double, 9> started = play_;  // an instant after the step starts
   const ChainQ delta = q - commanded_;
   for (std::size_t i = 0; i < play_.size(); ++i) {
@@ -575,15 +575,15 @@ double Compensator::take_up_stray(const ChainQ& start, const ChainQ& q, const st
     if (!model_.reads_approach(i) || std::abs(delta[k]) <= still(i) || play_[i] == 0.0) continue;
     const double travel = delta[k] > 0 ? 1.0 : -1.0, w = model_.lost_motion()[i];
     if (play_[i] == travel) continue;  // settled: its terms do not switch here
-    switching |= 1U << i;
+    switching.insert_at(i);
     if (w <= 0) {
-      at_once |= 1U << i, started[i] = travel;
+      at_once.insert_at(i), started[i] = travel;
     } else if (const double t = (travel - play_[i]) * w / (2.0 * delta[k]); reach_after(delta, t) > worth) {
-      bends[n++] = {t, 1U << i};  // where its play runs out, the carriage moving on from there
+      bends[n++] = {t, AxisSet{*axis_at(i)}};  // where its play runs out, the carriage moving on from there
     }
   }
-  if (switching == 0) return 0.0;
-  if (at_once != 0 && switch_reach(play_, started) > worth) bends[n++] = {0.0, at_once};
+  if (switching.empty()) return 0.0;
+  if (!at_once.empty() && switch_reach(play_, started) > worth) bends[n++] = {0.0, at_once};
   // At the end the tool is at q's solution, unless the play ends off what it was solved for.
   model::Conditions end = options_.conditions;
   end.directions = play_;
@@ -598,7 +598,7 @@ double Compensator::take_up_stray(const ChainQ& start, const ChainQ& q, const st
     const ChainQ where = commanded_ + bends[b].t * delta;
     model::take_up_play(model_, at, commanded_, where);
     for (std::size_t i = 0; i < play_.size(); ++i)  // switched the instant they start
-      if (at_once >> i & 1U) at.directions[i] = started[i];
+      if (at_once.contains_at(i)) at.directions[i] = started[i];
     model::forward(model_, check_, where, at, false, model::Evaluate::actual);
     const double d = (check_.actual - corner).norm();
     stray = std::max(stray, d);

@@ -6,13 +6,13 @@ namespace ccomp::compensate {
 
 using model::ChainQ;
 
-InverseProblem::InverseProblem(const model::ForwardModel& model, unsigned held_axes) {
+InverseProblem::InverseProblem(const model::ForwardModel& model, AxisSet held_axes) {
   for (const auto* chain : {&model.chain().workpiece, &model.chain().tool}) {
     for (const kinematics::Joint& j : chain->joints) {
       if (j.type != kinematics::JointType::fixed && j.axis == model::kToolLengthIndex)
         tool_axis = j.direction.normalized();  // the tip's frame is this joint's, moved along it
       if (j.type == kinematics::JointType::fixed || j.axis == model::kToolLengthIndex) continue;
-      if ((held_axes >> j.axis & 1U) != 0) {
+      if (held_axes.contains_at(j.axis)) {
         held.push_back(static_cast<int>(j.axis));
         continue;
       }

@@ -214,17 +214,17 @@ void JobGuards::check_rotary_rounding(std::uint32_t line) {
 }
 
 /// Once per axis: a reversal the take-up cannot hide stays in the output.
-void JobGuards::warn_unhidden_reversals(unsigned axes, std::uint32_t line) {
-  axes &= ~warned_reversals_;
-  if (axes == 0) return;  // (nearly every move: nothing new to say)
+void JobGuards::warn_unhidden_reversals(AxisSet axes, std::uint32_t line) {
+  axes -= warned_reversals_;
+  if (axes.empty()) return;  // (nearly every move: nothing new to say)
   warned_reversals_ |= axes;
-  for (std::size_t i = 0; i < gcode::kAxisCount && options_.warning; ++i)
-    if (axes >> i & 1U)
+  for (const Axis a : axes)
+    if (options_.warning)
       options_.warning(fmt::format("axis {}'s reversal cannot be fully taken up, so part of each turn's error "
                                    "stays in the output: the reversal leads the command (a lag, backlash, is "
                                    "negative), or the axis has no positioning reversal (lost motion) of its own, "
                                    "or error motions switching with it act along it by more than its lost motion",
-                                   gcode::kAxisLetters[i]),
+                                   letter(a)),
                        line);
 }
 

@@ -7,6 +7,7 @@
 #include <string>
 #include <string_view>
 
+#include "ccomp/axis.hpp"
 #include "ccomp/compensate/compensator.hpp"
 #include "ccomp/compensate/program_job.hpp"
 #include "ccomp/gcode/canon.hpp"
@@ -53,7 +54,7 @@ class JobGuards {
  private:
   void check_rounding(gcode::Units units, std::uint32_t line, const std::string& text);
   void check_rotary_rounding(std::uint32_t line);
-  void warn_unhidden_reversals(unsigned axes, std::uint32_t line);
+  void warn_unhidden_reversals(AxisSet axes, std::uint32_t line);
   void warn_once(bool& said, const std::string& message, std::uint32_t line);
   void warn_kept_whole(const MoveReport& move, std::uint32_t line);
 
@@ -64,7 +65,7 @@ class JobGuards {
   int linear_axes_ = 0;
   /// mm: how far the tool may be from a rotary axis, for its rounding (the farthest limit).
   double rotary_lever_ = 100.0;
-  unsigned warned_reversals_ = 0;  ///< bit i: axis i's reversal was warned of
+  AxisSet warned_reversals_;  ///< the axes whose reversal was warned of
   bool warned_start_error_ = false;
   bool warned_jogs_ = false;
   int kept_whole_over_ = 0;                 ///< blocks the control's radius offset leaves over the tolerance

@@ -53,7 +53,7 @@ MoveRewriter::MoveRewriter(gcode::ProgramWriter& writer, const model::MachineMod
     if (model.axis(gcode::kAxisLetters[i]) != nullptr)
       machine_axes_[machine_axis_count_++] = static_cast<std::uint8_t>(i);
   for (const model::ErrorTermSpec& t : model.terms)
-    if (t.primary.kind == model::VariableKind::direction) approach_axes_ |= 1U << t.primary.index;
+    if (t.primary.kind == model::VariableKind::direction) approach_axes_.insert_at(t.primary.index);
 }
 
 std::optional<std::string> MoveRewriter::axis_word(std::size_t i, double p, double last, bool incremental, bool named,
@@ -82,7 +82,7 @@ bool MoveRewriter::write_axis_word(std::size_t i, double p, double last, bool in
   const double value = incremental ? p - last - rounding[i] : p;
   // The digits would send an axis whose approach a term reads back against its travel (a
   // take-up rounded out before it), and so open its play again: it stays where it is.
-  const bool approach = approach_axes_ >> i & 1U;
+  const bool approach = approach_axes_.contains_at(i);
   auto against = [&](double written_value) {
     return approach && (planned >= 0.0 ? written_value < from : written_value > from);
   };

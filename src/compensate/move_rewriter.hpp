@@ -12,6 +12,7 @@
 #include <string_view>
 #include <vector>
 
+#include "ccomp/axis.hpp"
 #include "ccomp/compensate/compensator.hpp"
 #include "ccomp/compensate/program_job.hpp"
 #include "ccomp/compensate/tcp_kinematics.hpp"
@@ -119,7 +120,7 @@ class MoveRewriter {
   /// The machine's axes, in the order words are written (X Y Z A B C U V W).
   std::array<std::uint8_t, gcode::kAxisCount> machine_axes_{};
   std::size_t machine_axis_count_ = 0;
-  unsigned approach_axes_ = 0;  ///< bit i: a term reads axis i's approach
+  AxisSet approach_axes_;  ///< the axes whose approach a term reads
 };
 
 /// How axis i of a take-up point turns, in program units (`unit`: mm per program unit): no

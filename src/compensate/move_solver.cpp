@@ -94,18 +94,19 @@ gcode::Axes programmed_under(const gcode::Motion& m, const gcode::Axes& tool) {
   return p;
 }
 
-/// The chain values the control keeps still through a move under its radius offset (bit k:
-/// chain value k; 0: none). A straight move with no travel in the offset's plane (a plunge,
+/// The axes the control keeps still through a move under its radius offset. A straight move with no travel in the offset's plane (a plunge,
 /// a retract under G41/G42) keeps the plane's axes still: the control offsets any step in
 /// the plane across the step's own direction, a radius from where the correction meant it,
 /// and refuses one that turns back as a gouging corner (LinuxCNC does).
-unsigned kept_still_by_offset(const gcode::Motion& m, const gcode::Offsets& offsets) {
-  if (!m.radius_compensation || (m.kind != gcode::MotionKind::feed && m.kind != gcode::MotionKind::traverse)) return 0;
+AxisSet kept_still_by_offset(const gcode::Motion& m, const gcode::Offsets& offsets) {
+  if (!m.radius_compensation || (m.kind != gcode::MotionKind::feed && m.kind != gcode::MotionKind::traverse)) return {};
   // (A rotated frame turns about Z: its XY plane is the machine's, its other planes are not.)
-  if (offsets.rotation != 0.0 && m.arc.plane != gcode::Plane::xy) return 0;
+  if (offsets.rotation != 0.0 && m.arc.plane != gcode::Plane::xy) return {};
   const gcode::PlaneAxes pa = gcode::plane_axes(m.arc.plane);
-  if (m.end[pa.first] != m.start[pa.first] || m.end[pa.second] != m.start[pa.second]) return 0;
-  return 1U << pa.first | 1U << pa.second;
+  if (m.end[pa.first] != m.start[pa.first] || m.end[pa.second] != m.start[pa.second]) return {};
+  AxisSet still;
+  still.insert_at(pa.first), still.insert_at(pa.second);
+  return still;
 }
 
 }  // namespace
@@ -178,9 +179,9 @@ void MoveSolver::solve(const gcode::Motion& m, const gcode::Offsets& offsets, Mo
   const model::ChainQ start = chain_of(m.tool_start, offsets);
   if (tool_end_.allFinite() && compensator.commanded().allFinite()) compensator.carried(start - tool_end_, move);
   tool_end_ = m.radius_compensation ? chain_of(m.tool_end, offsets) : model::ChainQ::Constant(std::nan(""));
-  const unsigned still = compensator.commanded().allFinite() ? kept_still_by_offset(m, offsets) : 0U;
+  const AxisSet still = compensator.commanded().allFinite() ? kept_still_by_offset(m, offsets) : AxisSet{};
   compensator.hold(still);
-  if (still == 0) {
+  if (still.empty()) {
     solve_path(centre, offsets, move, points, range, false);
   } else {  // (where the machine stands before the move: what the held axes keep)
     const model::ChainQ before = compensator.commanded();

@@ -1,3 +1,4 @@
+#include "ccomp/axis.hpp"
 #include "ccomp/compensate/trust.hpp"
 
 #include <fmt/format.h>
@@ -14,10 +15,9 @@
 namespace ccomp::compensate {
 namespace {
 
-constexpr std::string_view kLetters = "XYZABCUVW";
 
 std::size_t chain_index(char axis) {
-  return axis == 'L' ? model::kToolLengthIndex : kLetters.find(axis);
+  return axis == 'L' ? model::kToolLengthIndex : kAxisLetters.find(axis);
 }
 
 /// A pose's value of a coverage axis as the file writes it (mm, deg; a whole turn's modulo 360).

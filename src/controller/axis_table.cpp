@@ -1,3 +1,4 @@
+#include "ccomp/axis.hpp"
 #include "ccomp/controller/axis_table.hpp"
 
 #include <fmt/format.h>
@@ -14,7 +15,6 @@
 namespace ccomp::controller {
 namespace {
 
-constexpr std::string_view kAxisLetters = "XYZABCUVW";
 
 /// Linear interpolation in `values` over the table's points, constant beyond its ends.
 double interpolate(const std::vector<double>& positions, const std::vector<double>& values, double p) {
@@ -78,7 +78,7 @@ AxisTable sample_axis_table(const model::ForwardModel& model, const TableOptions
   const Eigen::Vector3d turn_axis =
       table.rotary ? miss.turn_axis(options.line, table.axis_index) : Eigen::Vector3d::Zero();
   for (const model::AxisSpec& other : machine.axes) {
-    const std::size_t j = kAxisLetters.find(other.letter);
+    const std::size_t j = other.index();
     if (!table.rotary && other.type == model::AxisType::linear && j < 3 && j != table.axis_index)
       table.cross.push_back({other.letter, j, {}});
   }
@@ -221,7 +221,7 @@ std::vector<model::ChainQ> workspace_points(const model::MachineModel& machine, 
                                             std::size_t per_axis, bool rotaries) {
   std::vector<model::ChainQ> points{line};
   for (const model::AxisSpec& spec : machine.axes) {
-    const auto j = static_cast<Eigen::Index>(kAxisLetters.find(spec.letter));
+    const auto j = static_cast<Eigen::Index>(spec.index());
     const bool rotary = spec.type == model::AxisType::rotary;
     if (rotary && !rotaries) continue;
     double lo = spec.min, hi = spec.max;

@@ -24,7 +24,7 @@ double alias_period(double period, double step) {
 
 std::vector<ShortPeriod> short_periods(const model::MachineModel& model, std::size_t axis_index, double step) {
   std::vector<ShortPeriod> out;
-  const char letter = "XYZABCUVW"[axis_index];
+  const char letter = kAxisLetters[axis_index];
   const model::AxisSpec* spec = model.axis(letter);
   // A rotary axis' period is held in radians; its table's step in degrees.
   const double per_unit = spec != nullptr && spec->type == model::AxisType::rotary ? std::numbers::pi / 180.0 : 1.0;

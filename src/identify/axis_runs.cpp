@@ -1,3 +1,4 @@
+#include "ccomp/axis.hpp"
 #include "ccomp/identify/axis_runs.hpp"
 
 #include <fmt/format.h>
@@ -18,7 +19,6 @@
 namespace ccomp::identify {
 namespace {
 
-constexpr std::string_view kAxisLetters = "XYZABCUVW";
 constexpr double kRadPerArcsec = kRadPerDeg / 3600.0;
 
 // The plausibility of deviations read in the contract's units (mm, deg) where the file states
@@ -150,8 +150,8 @@ std::string conversion_summary(const AxisRuns& runs, const std::vector<AxisReadi
   }
   std::string at;
   for (const model::AxisSpec& a : model.axes) {
-    const std::size_t i = kAxisLetters.find(a.letter);
-    if (a.letter == axis || i == std::string_view::npos) continue;
+    const std::size_t i = a.index();
+    if (a.letter == axis) continue;
     const double v = base[static_cast<Eigen::Index>(i)];
     at += fmt::format(" {}={:g}", static_cast<char>(std::tolower(a.letter)),
                       a.type == model::AxisType::rotary ? v / kRadPerDeg : v);

@@ -9,13 +9,13 @@
 #include <string_view>
 #include <vector>
 
+#include "ccomp/axis.hpp"
 #include "ccomp/identify/measurements.hpp"
 #include "ccomp/model/machine.hpp"
 
 namespace ccomp::identify::detail {
 
 inline constexpr std::string_view kComponents = "XYZABC";
-inline constexpr std::string_view kAxisLetters = "XYZABCUVW";
 
 /// Where a candidate term enters: a link and a component. Its column for an observation
 /// is g (d prediction / d term value) times the candidate's basis function there.

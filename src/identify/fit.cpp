@@ -38,7 +38,7 @@ bool slope_is_a_location(const model::MachineModel& mm, const model::ErrorTermSp
     for (const model::LinkSpec& l : *chain) {
       if (l.name != t.link || !l.axis || l.tool) continue;
       const model::AxisSpec* a = mm.axis(*l.axis);
-      const std::size_t letter = std::string_view("XYZABCUVW").find(*l.axis);
+      const std::size_t letter = index_of_letter(*l.axis);
       const int along = static_cast<int>(letter % 3);  // U V W travel along X Y Z
       if ((a && a->type == model::AxisType::rotary) || letter != t.primary.index || along == t.component) return false;
       const int about = 3 + (3 - along - t.component);  // the line turned toward the straightness' direction

@@ -1,3 +1,4 @@
+#include "ccomp/axis.hpp"
 #include "ccomp/identify/fit_information.hpp"
 
 #include <algorithm>
@@ -65,9 +66,8 @@ model::AxisCoverage coverage_along(const MeasurementSet& data, char letter, std:
 
 std::vector<model::AxisCoverage> coverage_of(const model::MachineModel& machine, const MeasurementSet& data) {
   std::vector<model::AxisCoverage> out;
-  static constexpr std::string_view kLetters = "XYZABCUVW";
   for (const model::AxisSpec& a : machine.axes)
-    out.push_back(coverage_along(data, a.letter, kLetters.find(a.letter), a.type == model::AxisType::rotary, a.min,
+    out.push_back(coverage_along(data, a.letter, a.index(), a.type == model::AxisType::rotary, a.min,
                                  a.max));
   out.push_back(coverage_along(data, 'L', model::kToolLengthIndex, false, -std::numeric_limits<double>::infinity(),
                                std::numeric_limits<double>::infinity()));

@@ -1,3 +1,4 @@
+#include "ccomp/axis.hpp"
 #include "ccomp/identify/measurements.hpp"
 
 #include <fmt/format.h>
@@ -140,7 +141,7 @@ void io::to_machine(model::ChainQ& q, const ResolvedFrame& frame) {
     return;
   }
   for (std::size_t i = 0; i < 9; ++i)
-    q[static_cast<Eigen::Index>(i)] += (i >= 3 && i <= 5) ? frame.origin[i] * kRadPerDeg : frame.origin[i];
+    q[static_cast<Eigen::Index>(i)] += angular_at(i) ? frame.origin[i] * kRadPerDeg : frame.origin[i];
 }
 
 /// The rows read as program coordinates (work offset zero) become machine positions: the
@@ -153,7 +154,7 @@ void io::place_in_machine(MeasurementSet& set, std::size_t first, const Resolved
   if (!frame.unknown) return;
   for (const model::AxisSpec& a : model.axes) {
     if (a.type != model::AxisType::rotary) continue;
-    const auto i = static_cast<Eigen::Index>(std::string_view("XYZABCUVW").find(a.letter));
+    const auto i = static_cast<Eigen::Index>(a.index());
     for (std::size_t k = first + 1; k < set.observations.size(); ++k)
       if (set.observations[k].q[i] != set.observations[first].q[i]) {
         set.notices.push_back(fmt::format(
@@ -325,7 +326,7 @@ void io::read_contract(std::istream& stream, const std::string& name, const mode
     const double tool = value(at.L, "L", options.tool_length);
     for (std::size_t i = 0; i < 9; ++i) {
       const std::string_view axis = kAxes.substr(i, 1);
-      const bool rotary = i >= 3 && i <= 5;
+      const bool rotary = angular_at(i);
       const double v = i < 3 ? required(at.axis[i], axis) : value(at.axis[i], axis, 0.0);
       o.q[static_cast<Eigen::Index>(i)] = rotary ? v * kRadPerDeg : v;
       const double sign = value(at.direction[i], kDirectionNames[i], 0.0);
@@ -419,7 +420,7 @@ void summarize(MeasurementSet& set, const model::MachineModel& model) {
     if (r.min <= r.max) set.ranges.push_back(r);
   };
   for (const model::AxisSpec& a : model.axes) {
-    const std::size_t i = std::string_view("XYZABCUVW").find(a.letter);
+    const std::size_t i = a.index();
     const bool rotary = a.type == model::AxisType::rotary;
     // As the files write it: in each file's own frame.
     add(std::string(1, static_cast<char>(std::tolower(a.letter))), rotary ? "deg" : "mm", [&](const Observation& o) {
@@ -452,7 +453,7 @@ std::string to_csv(const MeasurementSet& set, const model::MachineModel& model, 
   std::vector<std::size_t> rotary;
   for (const model::AxisSpec& a : model.axes)
     if (a.type == model::AxisType::rotary) {
-      rotary.push_back(std::string_view("XYZABCUVW").find(a.letter));
+      rotary.push_back(a.index());
       out += fmt::format(",{}", static_cast<char>(std::tolower(a.letter)));
     }
   out += ",L,t";

@@ -1,3 +1,4 @@
+#include "ccomp/axis.hpp"
 #include "ccomp/identify/plan.hpp"
 
 #include <fmt/format.h>
@@ -23,7 +24,6 @@
 namespace ccomp::identify {
 namespace {
 
-constexpr std::string_view kLetters = "XYZABCUVW";
 
 /// The programs' poses, every k-th so that at most `most` are kept.
 std::vector<ProgramPose> spread(const std::vector<ProgramPose>& poses, std::size_t most) {
@@ -47,7 +47,7 @@ struct Candidate {
 std::vector<std::vector<double>> rotary_settings(const model::MachineModel& m, const std::vector<ProgramPose>& poses) {
   std::vector<std::size_t> rotary;
   for (const model::AxisSpec& a : m.axes)
-    if (a.type == model::AxisType::rotary) rotary.push_back(kLetters.find(a.letter));
+    if (a.type == model::AxisType::rotary) rotary.push_back(a.index());
   std::map<std::vector<long>, std::size_t> seen;
   for (const ProgramPose& p : poses) {
     std::vector<long> key;
@@ -89,7 +89,7 @@ ProgramBox box_of(const model::MachineModel& m, const std::vector<ProgramPose>& 
   for (const ProgramPose& p : poses) b.low = b.low.cwiseMin(p.q), b.high = b.high.cwiseMax(p.q);
   b.middle = (b.low + b.high) / 2;
   for (const model::AxisSpec& a : m.axes)
-    if (a.type == model::AxisType::linear) b.linear.push_back(kLetters.find(a.letter));
+    if (a.type == model::AxisType::linear) b.linear.push_back(a.index());
   std::vector<double> L;
   for (const ProgramPose& p : poses) L.push_back(p.q[static_cast<Eigen::Index>(model::kToolLengthIndex)]);
   std::nth_element(L.begin(), L.begin() + static_cast<std::ptrdiff_t>(L.size() / 2), L.end());
@@ -112,7 +112,7 @@ Observation reading_at(const ProgramBox& box, model::ChainQ q, const Eigen::Vect
 model::ChainQ at_setting(const model::MachineModel& m, model::ChainQ q, const std::vector<double>& angles) {
   std::size_t k = 0;
   for (const model::AxisSpec& a : m.axes)
-    if (a.type == model::AxisType::rotary) q[static_cast<Eigen::Index>(kLetters.find(a.letter))] = angles[k++];
+    if (a.type == model::AxisType::rotary) q[static_cast<Eigen::Index>(a.index())] = angles[k++];
   return q;
 }
 
@@ -147,7 +147,7 @@ void candidates_at(const model::MachineModel& m, const ProgramBox& box, const st
   for (const std::size_t i : box.linear) {
     const auto e = static_cast<Eigen::Index>(i);
     if (i > 2 || box.high[e] - box.low[e] <= 1.0) continue;  // X Y Z: a laser reads along the machine's axes
-    Candidate line{fmt::format("plan-{}-line{}", kLetters[i], suffix), "laser line", where, {}, {}, false};
+    Candidate line{fmt::format("plan-{}-line{}", kAxisLetters[i], suffix), "laser line", where, {}, {}, false};
     for (const int way : {+1, -1})
       for (int t = 0; t <= 10; ++t) {
         model::ChainQ q = base;
@@ -186,7 +186,7 @@ std::vector<std::vector<double>> sweep_angles(const model::MachineModel& m, cons
   std::vector<Range> ranges;
   for (const model::AxisSpec& a : m.axes) {
     if (a.type != model::AxisType::rotary) continue;
-    const auto e = static_cast<Eigen::Index>(kLetters.find(a.letter));
+    const auto e = static_cast<Eigen::Index>(a.index());
     const double low = box.low[e], high = box.high[e], range_deg = (high - low) / kRadPerDeg;
     const bool full_turn = range_deg >= 360.0 - 1e-6;
     const int count = range_deg < 1.0 ? 1 : std::clamp(static_cast<int>(std::ceil(range_deg / 15.0)) + 1, 3, 13);
@@ -252,7 +252,7 @@ void sphere_candidates(const model::ForwardModel& model, const ProgramBox& box, 
       for (int c = 0; c < 3; ++c) {
         Observation o = reading_at(box, *q, Eigen::Vector3d::Unit(c));
         for (const model::AxisSpec& a : m.axes)  // the rotary axes turned one way through the sweep
-          if (a.type == model::AxisType::rotary) o.directions[kLetters.find(a.letter)] = 1;
+          if (a.type == model::AxisType::rotary) o.directions[a.index()] = 1;
         sphere.readings.push_back(o);
       }
     }
@@ -414,11 +414,11 @@ std::string plan_csv(const MeasurementPlan& plan, const model::MachineModel& mod
   std::vector<std::size_t> rotary;
   for (const model::AxisSpec& a : model.axes)
     if (a.type == model::AxisType::rotary) {
-      rotary.push_back(kLetters.find(a.letter));
+      rotary.push_back(a.index());
       out += fmt::format(",{}", static_cast<char>(std::tolower(a.letter)));
     }
   out += ",L,vx,vy,vz";
-  for (const std::size_t i : rotary) out += fmt::format(",v{}", static_cast<char>(std::tolower(kLetters[i])));
+  for (const std::size_t i : rotary) out += fmt::format(",v{}", static_cast<char>(std::tolower(kAxisLetters[i])));
   out += ",nx,ny,nz,source\n";
   const bool machine = frame.frame.kind == FrameKind::machine;
   for (const PlannedGroup& g : plan.groups) {

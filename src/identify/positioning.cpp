@@ -18,7 +18,6 @@
 namespace ccomp::identify {
 namespace {
 
-constexpr std::string_view kLetters = "XYZABC";
 
 /// The deviations read at one target, by approach.
 struct Approaches {
@@ -186,11 +185,14 @@ void say_what_is_not_stated(PositioningReport& r) {
 
 PositioningReport analyse_positioning(const MeasurementSet& data, std::size_t axis, const std::string& source,
                                       const model::ForwardModel* forward) {
-  if (axis >= kLetters.size()) throw Error(ErrorKind::usage, fmt::format("axis {}: not X Y Z A B or C", axis));
-  const char letter = kLetters[axis];
+  if (axis > index(Axis::C)) throw Error(ErrorKind::usage, fmt::format("axis {}: not X Y Z A B or C", axis));
+  const char letter = kAxisLetters[axis];
   PositioningReport report;
   report.axis = axis;
-  report.rotary = axis >= 3;
+  // The machine's own word where it is given; the program's letter otherwise (the model
+  // refuses a type its letter contradicts, so the two agree).
+  const model::AxisSpec* spec = forward != nullptr ? forward->machine().axis(letter) : nullptr;
+  report.rotary = spec != nullptr ? spec->rotary() : angular_in_programs(*axis_at(axis));
   if (report.rotary && forward == nullptr)
     throw Error(ErrorKind::usage, fmt::format("rotary axis {}: the machine's kinematics are needed to read its turns", letter));
   const std::map<long long, Approaches> at = readings_by_target(data, axis, report.rotary, source, forward);

@@ -101,7 +101,7 @@ void refuse_beyond_bound(const model::MachineModel& m, const MeasurementSet& set
     if (std::abs(o.value) <= m.max_correction) continue;
     std::string at;
     for (const model::AxisSpec& a : m.axes) {
-      const auto j = static_cast<Eigen::Index>(std::string_view("XYZABCUVW").find(a.letter));
+      const auto j = static_cast<Eigen::Index>(a.index());
       at += fmt::format(" {} {:g}", a.letter, a.type == model::AxisType::rotary ? o.q[j] / kRadPerDeg : o.q[j]);
     }
     const std::string size = std::isfinite(o.value)
@@ -120,7 +120,7 @@ std::vector<Eigen::Index> rotary_indices(const model::MachineModel& m) {
   std::vector<Eigen::Index> out;
   for (const model::AxisSpec& a : m.axes)
     if (a.type == model::AxisType::rotary)
-      out.push_back(static_cast<Eigen::Index>(std::string_view("XYZABCUVW").find(a.letter)));
+      out.push_back(static_cast<Eigen::Index>(a.index()));
   std::sort(out.begin(), out.end());
   return out;
 }
@@ -172,7 +172,7 @@ std::vector<model::ChainQ> sphere_poses(const model::ForwardModel& truth, const 
   // Every combination of the rotary axes' probing angles (a tilt axis' range by a turn of
   // the other), as ISO 10791-6's K tests and the control cycles that fit a kinematics do.
   std::vector<std::vector<double>> angles;
-  for (const Eigen::Index j : rotary) angles.push_back(probe_angles(m, "XYZABCUVW"[j], options.rotary_step));
+  for (const Eigen::Index j : rotary) angles.push_back(probe_angles(m, kAxisLetters[j], options.rotary_step));
   std::vector<model::ChainQ> out;
   model::ForwardData d(truth);
   const double L = options.tool_length;

@@ -25,7 +25,7 @@ void reach_table_point(const model::ForwardModel& model, model::ForwardData& d, 
 
 bool within_limits(const model::MachineModel& m, const model::ChainQ& q) {
   for (const model::AxisSpec& a : m.axes) {
-    const auto j = static_cast<Eigen::Index>(std::string_view("XYZABCUVW").find(a.letter));
+    const auto j = static_cast<Eigen::Index>(a.index());
     const double v = a.type == model::AxisType::rotary ? q[j] / kRadPerDeg : q[j];
     if (v < a.min - 1e-9 || v > a.max + 1e-9) return false;
   }

@@ -1,3 +1,4 @@
+#include "ccomp/axis.hpp"
 #include "ccomp/model/forward.hpp"
 
 #include <fmt/format.h>
@@ -48,7 +49,7 @@ void add_joints(const MachineModel& machine, const std::vector<LinkSpec>& links,
     } else if (l.axis) {
       const auto* a = machine.axis(*l.axis);
       j.type = a && a->type == AxisType::rotary ? JointType::rotary : JointType::linear;
-      j.axis = std::string_view("XYZABCUVW").find(*l.axis);
+      j.axis = index_of_letter(*l.axis);
     }
     chain.joints.push_back(j);
   }
@@ -181,7 +182,7 @@ double switch_of(const MachineModel& m, const ErrorTermSpec& t) {
   if (t.shape.form != TermForm::reversal || t.shape.order_primary == 0 || t.secondary.kind != VariableKind::axis)
     return at(0.0);
   double lo = -1000.0, hi = 1000.0;
-  const AxisSpec* axis = m.axis("XYZABCUVW"[t.secondary.index]);
+  const AxisSpec* axis = m.axis(kAxisLetters[t.secondary.index]);
   const double unit = axis && axis->type == AxisType::rotary ? kRadPerDeg : 1.0;
   if (axis && std::isfinite(axis->min) && std::isfinite(axis->max)) lo = axis->min * unit, hi = axis->max * unit;
   double largest = 0.0;
@@ -760,7 +761,7 @@ void take_up_play(const ForwardModel& model, std::array<double, 9>& directions, 
     if (w > 0) {
       directions[i] = std::clamp(directions[i] + 2.0 * delta / w, -1.0, 1.0);
     } else {
-      const bool rotary = i >= 3 && i <= 5;
+      const bool rotary = angular_at(i);
       if (std::abs(delta) > (rotary ? 1e-8 : 1e-6)) directions[i] = delta > 0 ? 1.0 : -1.0;
     }
   }

@@ -15,8 +15,8 @@ void validate(const MachineModel& model) {
   if (model.axes.empty()) fail("the model has no axes");
   for (std::size_t i = 0; i < model.axes.size(); ++i) {
     const AxisSpec& a = model.axes[i];
-    if (std::string_view("XYZABCUVW").find(a.letter) == std::string_view::npos)
-      fail(fmt::format("axis '{}' is not one of X Y Z A B C U V W", a.letter));
+    if (!axis_named(a.letter)) fail(fmt::format("axis '{}' is not one of X Y Z A B C U V W", a.letter));
+    if (const std::optional<std::string> why = type_contradiction(a)) fail(*why);
     for (std::size_t j = 0; j < i; ++j)
       if (model.axes[j].letter == a.letter) fail(fmt::format("axis {} is declared twice", a.letter));
     if (std::isnan(a.min) || std::isnan(a.max)) fail(fmt::format("axis {}: a limit is NaN", a.letter));
@@ -51,6 +51,12 @@ void validate(const MachineModel& model) {
   if (!(model.max_correction > 0)) fail(fmt::format("max_correction must be positive, not {}", model.max_correction));
   if (!gcode::dialect_named(model.dialect))
     fail(fmt::format("unknown dialect '{}' (known: linuxcnc, fanuc, mazak, wincnc)", model.dialect));
+}
+
+std::optional<std::string> type_contradiction(const AxisSpec& a) {
+  if (a.rotary() == angular_in_programs(a.axis())) return std::nullopt;
+  return fmt::format("axis {}: type {}, but programs give {} in {} (RS-274's rotary axes are A, B and C)", a.letter,
+                     a.rotary() ? "rotary" : "linear", a.letter, a.rotary() ? "lengths" : "degrees");
 }
 
 std::optional<AxisHold> axis_hold_named(std::string_view name) {

@@ -1,3 +1,4 @@
+#include "ccomp/axis.hpp"
 #include "ccomp/model/parameter_units.hpp"
 #include "ccomp/model/term_forms.hpp"
 
@@ -35,7 +36,7 @@ std::string unit_name(double scale, bool angle, MicroSign micro) {
 std::pair<std::string, double> variable_unit(const Variable& v, MicroSign micro) {
   switch (v.kind) {
     case VariableKind::axis:
-      return v.index >= 3 && v.index <= 5 ? std::pair<std::string, double>{"deg", std::numbers::pi / 180}
+      return angular_at(v.index) ? std::pair<std::string, double>{"deg", std::numbers::pi / 180}
                                           : std::pair<std::string, double>{"mm", 1.0};
     case VariableKind::tool_length:
       return {"mm", 1.0};

@@ -1,3 +1,4 @@
+#include "ccomp/axis.hpp"
 #include "ccomp/model/term_span.hpp"
 
 #include <fmt/format.h>
@@ -13,7 +14,7 @@ namespace {
 std::pair<double, const char*> shown_unit(const Variable& v) {
   switch (v.kind) {
     case VariableKind::axis:
-      return v.index >= 3 && v.index <= 5 ? std::pair{kRadPerDeg, "deg"} : std::pair{1.0, "mm"};
+      return angular_at(v.index) ? std::pair{kRadPerDeg, "deg"} : std::pair{1.0, "mm"};
     case VariableKind::tool_length:
       return {1.0, "mm"};
     case VariableKind::temperature:

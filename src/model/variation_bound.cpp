@@ -18,7 +18,7 @@ using Range = TermRange;
 /// An axis' limits in chain units (mm, rad), widened by the largest correction: a nominal
 /// point may lie outside them by that much.
 Range axis_range(const MachineModel& machine, std::size_t index) {
-  const AxisSpec* axis = machine.axis("XYZABCUVW"[index]);
+  const AxisSpec* axis = machine.axis(kAxisLetters[index]);
   if (!axis) return {-kInf, kInf};
   const bool rotary = axis->type == AxisType::rotary;
   const double scale = rotary ? kTwoPi / 360.0 : 1.0;                                     // limits in deg, chain in rad
@@ -65,7 +65,7 @@ double along(double bound, double travel) {
 VariationBound::VariationBound(const ForwardModel& model, const Conditions& conditions) {
   const MachineModel& machine = model.machine();
   for (std::size_t i = 0; i < 9; ++i)
-    if (const AxisSpec* a = machine.axis("XYZABCUVW"[i])) rotary_[i] = a->type == AxisType::rotary;
+    if (const AxisSpec* a = machine.axis(kAxisLetters[i])) rotary_[i] = a->type == AxisType::rotary;
   for (const ErrorTermSpec& t : machine.terms) {
     const TermBound b =
         term_bound(t, range_of(t.primary, machine, conditions), range_of(t.secondary, machine, conditions));

@@ -1,3 +1,4 @@
+#include "ccomp/axis.hpp"
 #include "ccomp/model/work_offsets.hpp"
 
 #include <fmt/format.h>
@@ -15,12 +16,12 @@
 namespace ccomp::model {
 namespace {
 
-constexpr std::string_view kAxisLetters = "XYZABCUVW";
 constexpr std::array<std::string_view, kCoordinateSystems> kSystemNames = {"G54", "G55", "G56",   "G57",  "G58",
                                                                            "G59", "G59.1", "G59.2", "G59.3"};
 
 bool is_rotary_letter(char letter) {
-  return letter == 'A' || letter == 'B' || letter == 'C';
+  const std::optional<Axis> axis = axis_named(letter);
+  return axis && angular_in_programs(*axis);
 }
 
 std::string upper(std::string_view s) {
@@ -74,7 +75,7 @@ std::string coordinate_system_name(std::size_t number) {
 std::string describe_work_offset(std::size_t number, const WorkOrigin& origin) {
   std::string out = coordinate_system_name(number);
   for (std::size_t i = 0; i < origin.size(); ++i) {
-    if (i >= 3 && origin[i] == 0.0) continue;
+    if (i > index(Axis::Z) && origin[i] == 0.0) continue;  // X Y Z always, the others where set
     std::string v = fmt::format("{:.6f}", origin[i]);
     while (v.back() == '0') v.pop_back();
     if (v.back() == '.') v.pop_back();

@@ -65,7 +65,7 @@ Workspace workspace(const CheckReportInput& in) {
   }
   for (const model::AxisSpec& a : in.model.axes)
     if (a.type == model::AxisType::rotary && w.rotary == 9)
-      w.rotary = static_cast<std::size_t>(std::string_view("XYZABCUVW").find(a.letter));
+      w.rotary = static_cast<std::size_t>(a.index());
   std::vector<double> tools;
   for (const identify::Observation& o : in.data.observations)
     tools.push_back(o.q[static_cast<Eigen::Index>(model::kToolLengthIndex)]);

@@ -49,7 +49,7 @@ std::string line_quantity(const ReadingDirection& read, std::size_t moving) {
 std::string line_place(const identify::Observation& o, const model::MachineModel& model, std::size_t moving) {
   std::string out;
   for (const model::AxisSpec& a : model.axes) {
-    const auto axis = static_cast<std::size_t>(std::string_view("XYZABCUVW").find(a.letter));
+    const auto axis = static_cast<std::size_t>(a.index());
     if (axis == moving) continue;
     out += fmt::format("{}{} {:g} {}", out.empty() ? "" : ", ", a.letter, axis_value(o, axis),
                        is_rotary(axis) ? "&deg;" : "mm");

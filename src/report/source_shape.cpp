@@ -6,15 +6,16 @@
 #include <map>
 #include <numbers>
 
+#include "ccomp/axis.hpp"
 #include "ccomp/util/interval.hpp"
 
 namespace ccomp::report {
 
 bool is_rotary(std::size_t axis) {
-  return axis >= 3 && axis <= 5;
+  return angular_at(axis);
 }
 char axis_letter(std::size_t axis) {
-  return "XYZABCUVW"[axis];
+  return kAxisLetters[axis];
 }
 
 double axis_value(const identify::Observation& o, std::size_t axis) {
@@ -64,7 +65,7 @@ std::vector<SourceShape> source_shapes(const identify::MeasurementSet& data, con
   for (SourceShape& s : shapes) {
     std::vector<std::size_t> linear_moving, rotary_moving;
     for (const model::AxisSpec& a : model.axes) {
-      const auto axis = static_cast<std::size_t>(std::string_view("XYZABCUVW").find(a.letter));
+      const auto axis = static_cast<std::size_t>(a.index());
       util::Interval range;
       for (std::size_t i : s.readings) range.add(axis_value(data.observations[i], axis));
       if (range.width() > 1e-6) (is_rotary(axis) ? rotary_moving : linear_moving).push_back(axis);

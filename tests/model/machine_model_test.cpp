@@ -78,6 +78,10 @@ INSTANTIATE_TEST_SUITE_P(
         BadModel{"name: m\naxes: {X: {min: .nan}}\n", "NaN"},
         BadModel{"name: m\naxes: {X: {max: fast}}\n", "must be a number"},
         BadModel{"name: m\naxes: {X: {type: spiral}}\n", "spiral"},
+        // The type a program's words contradict: a U in millimetres cannot turn, an A in
+        // degrees cannot slide.
+        BadModel{"name: m\naxes: {U: {type: rotary}}\n", "axis U: type rotary, but programs give U in lengths"},
+        BadModel{"name: m\naxes: {A: {type: linear}}\n", "axis A: type linear, but programs give A in degrees"},
         BadModel{"name: m\naxes: {X: {}}\ndialect: heidenhain\n", "heidenhain"}, BadModel{"name: m\naxes: [X\n", ""},
         // A misspelt safety bound is not silently dropped.
         BadModel{"name: m\nmax_corection: 0.001 mm\naxes: {X: {}}\n", "did you mean 'max_correction'"},

@@ -19,6 +19,7 @@
 #include <cmath>
 #include <vector>
 
+#include "ccomp/axis.hpp"
 #include "ccomp/compensate/inverse.hpp"
 #include "ccomp/model/forward.hpp"
 #include "ccomp/model/variation_bound.hpp"
@@ -80,7 +81,7 @@ struct MoveReport {
   /// Bit i: axis i's reversal could not be taken up (it leads the command, the axis has no
   /// lost motion of its own and its terms switch at once, or they act along it: the tool
   /// strays from the corner during the take-up).
-  unsigned unhidden_reversals = 0;
+  AxisSet unhidden_reversals;
   /// mm: how far the tool was from the move's start where a move the compensator did not
   /// plan (machine coordinates, a canned cycle) left it; 0 after a planned one.
   double start_error = 0.0;
@@ -92,7 +93,7 @@ struct MoveReport {
   bool kept_whole = false;
   /// Bit k: rotary axis k (chain order X Y Z A B C ...) was held at the program's value in
   /// a solve (CompensationOptions::hold): its share of the error is left (orientation error).
-  unsigned held_axes = 0;
+  AxisSet held_axes;
 };
 
 class Compensator {
@@ -167,7 +168,7 @@ class Compensator {
                                         const model::ChainQ& a_comp, const model::ChainQ& b_comp, double t);
   [[nodiscard]] const model::ForwardModel& model() const { return model_; }
   /// Rotary axes (bit k) the solve keeps at the program's values now.
-  [[nodiscard]] unsigned held_rotary() const { return held_rotary_; }
+  [[nodiscard]] AxisSet held_rotary() const { return held_rotary_; }
 
   model::Conditions& conditions() { return options_.conditions; }
   /// Where the machine was sent last (chain values; NaN before the first command).
@@ -186,7 +187,7 @@ class Compensator {
   /// move (see MoveSolver: a move under its radius offset with no travel in the plane): their
   /// approach stays as their play has it while the move is solved, whatever the correction's
   /// travel. keep_still() then holds their values and ends the hold.
-  void hold(unsigned axes) { held_axes_ = axes; }
+  void hold(AxisSet axes) { held_axes_ = axes; }
   /// The axes hold() named stay still through the straight move from `start` to `end`
   /// (nominal) whose points were just solved into `points`: they
   /// keep those values at `at`, where the machine was before the move, and so do the last
@@ -241,11 +242,11 @@ class Compensator {
   void take_up(const model::ChainQ& start, const model::ChainQ& a, std::vector<CompensatedPoint>& out,
                MoveReport& report);
   /// Axes with reversal terms whose play differs from the approach the move needs.
-  [[nodiscard]] unsigned unsettled_axes() const;
+  [[nodiscard]] AxisSet unsettled_axes() const;
   /// How far the tool at commanded `a`, under the play as it is, is from nominal `start`.
   [[nodiscard]] double deviation_at_play(const model::ChainQ& start, const model::ChainQ& a);
   /// Axes whose play is short of `target` by more than the tolerance can bear.
-  [[nodiscard]] unsigned unhidden(const std::array<double, 9>& target) const;
+  [[nodiscard]] AxisSet unhidden(const std::array<double, 9>& target) const;
   /// The travel slack of a take-up step in which `axis` turns (CompensatedPoint).
   void set_travel_slack(std::size_t axis, CompensatedPoint& point) const;
   /// How far the tool leaves the corner (nominal `start`) while a take-up travels from where
@@ -256,7 +257,7 @@ class Compensator {
   /// was solved for, the switch shows. `axes` gets the axes whose switch shows by more than
   /// a quarter of the tolerance. `solved_for`: the approach q was solved for.
   [[nodiscard]] double take_up_stray(const model::ChainQ& start, const model::ChainQ& q,
-                                     const std::array<double, 9>& solved_for, unsigned& axes);
+                                     const std::array<double, 9>& solved_for, AxisSet& axes);
   /// About how far the tool moves as the approaches go from `from` to `to`: each axis'
   /// switch (reversal_size()) times the share of it.
   [[nodiscard]] double switch_reach(const std::array<double, 9>& from, const std::array<double, 9>& to) const;
@@ -284,8 +285,8 @@ class Compensator {
   std::array<double, 9> play_{};                                     ///< approach state after the commands so far
   bool uncompensated_ = false;      ///< the last command was one moved() reported, not one planned here
   bool offset_by_control_ = false;  ///< see offset_by_control()
-  unsigned held_axes_ = 0;          ///< see hold()
-  [[nodiscard]] bool held(std::size_t i) const { return (held_axes_ >> i & 1U) != 0; }
+  AxisSet held_axes_;               ///< see hold()
+  [[nodiscard]] bool held(std::size_t i) const { return held_axes_.contains_at(i); }
   model::ChainQ last_straight_end_ = model::ChainQ::Constant(std::nan(""));  ///< its error before is counted
   // The nominal tips of the last points solved (a move's ends and midpoints), round robin.
   /// The last nominal tips taken, by chain values; NaN keys match nothing (Eigen leaves a
@@ -301,12 +302,12 @@ class Compensator {
   NominalPose expected_pose_;
   /// The rotary axes held now (CompensationOptions::hold), the `automatic` ones the program
   /// has turned (free from then on), and where the program had them first.
-  unsigned rotary_axes_ = 0, held_rotary_ = 0, turned_ = 0;
+  AxisSet rotary_axes_, held_rotary_, turned_;
   model::ChainQ first_nominal_ = model::ChainQ::Constant(std::nan(""));
   /// Holds before solving at `nominal`: an `automatic` axis the program turns there is free
   /// from then on; where the held axes change, the solve's problem does.
   void follow_holds(const model::ChainQ& nominal);
-  [[nodiscard]] unsigned rotary_axes_to_hold() const;
+  [[nodiscard]] AxisSet rotary_axes_to_hold() const;
   InverseProblem problem_;
   InverseWorkspace workspace_;  ///< the last point solved, its solution and the solve matrix
   model::ForwardData data_, check_;

@@ -15,6 +15,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "ccomp/axis.hpp"
 #include "ccomp/model/forward.hpp"
 #include "ccomp/model/variation_bound.hpp"
 
@@ -64,7 +65,7 @@ enum class OrientationEquations : std::uint8_t {
 /// rotary axis the compensation must not turn (model::AxisHold). The orientation equations
 /// are those the axes left can answer; what the held ones would have corrected is reported.
 struct InverseProblem {
-  explicit InverseProblem(const model::ForwardModel& model, unsigned held = 0);
+  explicit InverseProblem(const model::ForwardModel& model, AxisSet held = {});
   std::vector<int> unknowns;                       ///< chain variable indices moved by the solve
   std::vector<int> held;                           ///< chain axes the solve keeps at the program's values
   std::vector<Eigen::Vector3d> rotary_directions;  ///< for each rotary unknown: its axis in the table frame at q=0

@@ -10,6 +10,7 @@
 #include <utility>
 #include <vector>
 
+#include "ccomp/axis.hpp"
 #include "ccomp/compensate/program_header.hpp"
 #include "ccomp/compensate/work_split.hpp"
 #include "ccomp/gcode/interpreter.hpp"
@@ -81,7 +82,7 @@ struct JobReport {
   double max_orientation_error = 0.0;  ///< rad: what the machine cannot correct
   /// Bit i: rotary axis gcode::kAxisLetters[i] was held at the program's values (its hold,
   /// model::AxisHold): what it would have corrected is in max_orientation_error.
-  unsigned held_axes = 0;
+  AxisSet held_axes;
 };
 
 /// Throws Error(usage) naming the option and its value when `options` cannot be right: a

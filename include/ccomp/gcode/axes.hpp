@@ -1,20 +1,24 @@
 #pragma once
-// The nine axis letters of RS-274/NGC and a fixed-size array indexed by them.
+// The program's view of the nine axes (ccomp/axis.hpp): their positions, and which words are
+// angles. In RS-274 the letter decides: A B C are degrees, the others lengths in the
+// program's unit.
 #include <array>
 #include <cstdint>
 #include <optional>
 
+#include "ccomp/axis.hpp"
+
 namespace ccomp::gcode {
 
-enum class Axis : std::uint8_t { x, y, z, a, b, c, u, v, w };
-inline constexpr std::size_t kAxisCount = 9;
-inline constexpr std::array<char, kAxisCount> kAxisLetters = {'X', 'Y', 'Z', 'A', 'B', 'C', 'U', 'V', 'W'};
+using ccomp::kAxisCount;
+using ccomp::kAxisLetters;
 
 /// Positions of all nine axes: linear in mm, rotary (A B C) in degrees.
 using Axes = std::array<double, kAxisCount>;
 
+/// Whether the program gives axis i (X..W order) in degrees.
 [[nodiscard]] constexpr bool is_rotary(std::size_t axis) {
-  return axis >= 3 && axis <= 5;
+  return angular_at(axis);
 }
 /// Each byte's axis index, or -1 (a lookup: every word of every block asks).
 inline constexpr std::array<std::int8_t, 256> kAxisOfByte = [] {

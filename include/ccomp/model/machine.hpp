@@ -10,6 +10,7 @@
 #include <string_view>
 #include <vector>
 
+#include "ccomp/axis.hpp"
 #include "ccomp/model/error_term.hpp"
 #include "ccomp/model/units.hpp"
 #include "ccomp/model/work_offsets.hpp"
@@ -40,7 +41,17 @@ struct AxisSpec {
   AxisHold hold = AxisHold::free;  ///< a rotary axis': see AxisHold
   double min = -std::numeric_limits<double>::infinity();  ///< mm or deg
   double max = std::numeric_limits<double>::infinity();
+
+  /// The axis its letter names (validate() has checked the letter).
+  [[nodiscard]] Axis axis() const { return axis_named(letter).value(); }
+  /// Its place in X Y Z A B C U V W, where arrays of all nine axes (a ChainQ) hold it.
+  [[nodiscard]] std::size_t index() const { return ccomp::index(axis()); }
+  [[nodiscard]] bool rotary() const { return type == AxisType::rotary; }
 };
+
+/// Why an axis' type cannot be, where the words programs give for its letter say otherwise
+/// (A B C are angles, the others lengths); nothing where the two agree.
+[[nodiscard]] std::optional<std::string> type_contradiction(const AxisSpec& a);
 
 /// What a term depends on.
 enum class VariableKind : std::uint8_t { none, axis, tool_length, time, temperature, direction };

@@ -12,6 +12,7 @@
 #include <optional>
 #include <sstream>
 
+#include "ccomp/axis.hpp"
 #include "ccomp/constants.hpp"
 #include "ccomp/error.hpp"
 #include "ccomp/gcode/dialect.hpp"
@@ -54,6 +55,7 @@ void read_axis_spec(const std::string& file, const YAML::Node& spec, AxisSpec& a
       a.type = AxisType::rotary;
     else
       bad(file, spec["type"], fmt::format("axis {}: type '{}' is neither linear nor rotary", a.letter, type));
+    if (const std::optional<std::string> why = type_contradiction(a)) bad(file, spec["type"], *why);
   }
   if (spec["min"]) a.min = io::number(file, spec["min"], fmt::format("axis {} min", a.letter));
   if (spec["max"]) a.max = io::number(file, spec["max"], fmt::format("axis {} max", a.letter));
@@ -76,11 +78,11 @@ void read_axes(const std::string& file, const YAML::Node& root, MachineModel& m)
   for (const auto& entry : axes) {
     AxisSpec a;
     const std::string letter = io::text(file, entry.first, "an axis letter");
-    if (letter.size() != 1 || std::string_view("XYZABCUVWxyzabcuvw").find(letter[0]) == std::string_view::npos)
+    if (letter.size() != 1 || !axis_named(static_cast<char>(std::toupper(static_cast<unsigned char>(letter[0])))))
       bad(file, entry.first, fmt::format("axis '{}' is not one letter of XYZABCUVW", letter));
     a.letter = static_cast<char>(std::toupper(static_cast<unsigned char>(letter[0])));
     if (m.axis(a.letter)) bad(file, entry.first, fmt::format("axis {} is declared twice", a.letter));
-    a.type = (a.letter >= 'A' && a.letter <= 'C') ? AxisType::rotary : AxisType::linear;
+    a.type = angular_in_programs(a.axis()) ? AxisType::rotary : AxisType::linear;
     read_axis_spec(file, entry.second, a);
     m.axes.push_back(a);
   }
@@ -111,8 +113,7 @@ void read_work_offsets(const std::string& file, const YAML::Node& node, MachineM
   if (!node) return;
   if (!node.IsMap()) bad(file, node, "'work_offsets' is a mapping from G54 ... G59.3 to {X: ..., Y: ..., Z: ...}");
   std::vector<std::string_view> letters;
-  static const std::string kLetters = "XYZABCUVW";
-  for (const AxisSpec& a : m.axes) letters.push_back(std::string_view(kLetters).substr(kLetters.find(a.letter), 1));
+  for (const AxisSpec& a : m.axes) letters.push_back(kAxisLetters.substr(a.index(), 1));
   for (const auto& entry : node) {
     const std::string name = io::text(file, entry.first, "a coordinate system");
     const std::optional<std::size_t> system = coordinate_system_number(name);
@@ -123,7 +124,7 @@ void read_work_offsets(const std::string& file, const YAML::Node& node, MachineM
     WorkOrigin origin{};
     for (const auto& axis : entry.second) {
       const char letter = axis.first.Scalar()[0];
-      const std::size_t i = kLetters.find(letter);
+      const std::size_t i = kAxisLetters.find(letter);
       const bool rotary = m.axis(letter)->type == AxisType::rotary;
       const std::string what = fmt::format("work offset {} {}", name, letter);
       const double v = rotary ? io::quantity(file, axis.second, kAngle, "deg", what) / kRadPerDeg

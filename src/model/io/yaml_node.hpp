@@ -8,13 +8,13 @@
 #include <string_view>
 #include <vector>
 
+#include "ccomp/axis.hpp"
 #include "ccomp/error.hpp"
 #include "ccomp/model/units.hpp"
 
 namespace ccomp::model::io {
 
 /// The axis letters a model file may write, in the order of Variable::index.
-inline constexpr std::string_view kAxisLetters = "XYZABCUVW";
 
 /// The place of a YAML mark in `file` (lines and columns from 1; 0 when unknown).
 [[nodiscard]] SourceLocation at(const std::string& file, const YAML::Mark& mark);

@@ -110,10 +110,10 @@ TEST(JobGuards, AnUnhiddenReversalIsWarnedOncePerAxis) {
   JobReport report;
   JobGuards guards(m, options, report, "p.ngc");
   MoveReport move;
-  move.unhidden_reversals = 1U << 0;
+  move.unhidden_reversals = {Axis::X};
   guards.account(move, gcode::Units::mm, 5, "G1 X1");
   guards.account(move, gcode::Units::mm, 6, "G1 X0");
-  move.unhidden_reversals = (1U << 0) | (1U << 1);
+  move.unhidden_reversals = {Axis::X, Axis::Y};
   guards.account(move, gcode::Units::mm, 7, "G1 X1 Y1");
   EXPECT_EQ(lines, (std::vector<std::uint32_t>{5, 7}));
 }
