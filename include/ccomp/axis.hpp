@@ -4,6 +4,7 @@
 // others in lengths; whether a machine's axis turns is its model's to say (AxisSpec::type),
 // and the model refuses a type its letter's program words would contradict.
 #include <array>
+#include <bit>
 #include <cstddef>
 #include <cstdint>
 #include <initializer_list>
@@ -85,11 +86,7 @@ class AxisSet {
   constexpr AxisSet& operator-=(AxisSet other) { return *this = *this - other; }
   [[nodiscard]] constexpr AxisSet operator|(AxisSet other) const { return AxisSet(*this) |= other; }
   [[nodiscard]] constexpr bool empty() const { return bits_ == 0; }
-  [[nodiscard]] constexpr std::size_t size() const {
-    std::size_t n = 0;
-    for (const Axis a : kAllAxes) n += contains(a);
-    return n;
-  }
+  [[nodiscard]] constexpr std::size_t size() const { return static_cast<std::size_t>(std::popcount(bits_)); }
   /// The letters of the set's axes in X..W order ("AC").
   [[nodiscard]] std::string letters() const {
     std::string out;

@@ -14,8 +14,6 @@
 
 namespace ccomp::cli {
 
-/// The chain's axes in order: a letter's index into model::ChainQ.
-
 /// The line the tables are taken along: each other axis at --at's value, else at 0 when
 /// its travel holds 0, else mid-travel; rotary axes at 0; the tool length of
 /// --tool-length. `axis` is the table's own (0: none): an --at for it is refused when

@@ -19,7 +19,6 @@
 namespace ccomp::cli {
 namespace {
 
-
 char axis_letter(const std::string& text, std::string_view option) {
   if (text.size() != 1 || kAxisLetters.find(static_cast<char>(std::toupper(static_cast<unsigned char>(text[0])))) ==
                               std::string_view::npos)

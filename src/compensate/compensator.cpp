@@ -1,4 +1,3 @@
-#include "ccomp/axis.hpp"
 #include "ccomp/compensate/compensator.hpp"
 
 #include <fmt/format.h>
@@ -9,6 +8,7 @@
 #include <utility>
 
 #include "axis_travel.hpp"
+#include "ccomp/axis.hpp"
 #include "ccomp/error.hpp"
 
 namespace ccomp::compensate {
@@ -65,7 +65,7 @@ Compensator::SolvedPoint Compensator::solve_point(const ChainQ& nominal, MoveRep
 AxisSet Compensator::rotary_axes_to_hold() const {
   AxisSet axes;
   for (const Axis a : rotary_axes_) {
-    const model::AxisHold hold = options_.hold[index(a)];
+    const model::AxisHold hold = options_.hold[a];
     if (hold == model::AxisHold::clamped || (hold == model::AxisHold::automatic && !turned_.contains(a)))
       axes.insert(a);
   }
@@ -78,7 +78,7 @@ void Compensator::follow_holds(const ChainQ& nominal) {
   for (const Axis a : held_rotary_) {
     const std::size_t i = index(a);
     const auto k = static_cast<Eigen::Index>(i);
-    if (options_.hold[i] == model::AxisHold::automatic && std::abs(nominal[k] - first_nominal_[k]) > still(i))
+    if (options_.hold[a] == model::AxisHold::automatic && std::abs(nominal[k] - first_nominal_[k]) > still(i))
       turned_.insert(a);
   }
   const AxisSet axes = rotary_axes_to_hold();

@@ -32,7 +32,7 @@ CompensationOptions compensation_options(const model::MachineModel& model, const
   c.conditions = model::conditions_for(model, options.sensors, options.time);
   for (const model::AxisSpec& a : model.axes)
     if (a.type == model::AxisType::rotary)
-      c.hold.at(a.index()) = a.hold;
+      c.hold[a.axis()] = a.hold;
   return c;
 }
 

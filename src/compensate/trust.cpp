@@ -1,4 +1,3 @@
-#include "ccomp/axis.hpp"
 #include "ccomp/compensate/trust.hpp"
 
 #include <fmt/format.h>
@@ -10,6 +9,7 @@
 #include <numbers>
 #include <random>
 
+#include "ccomp/axis.hpp"
 #include "ccomp/constants.hpp"
 
 namespace ccomp::compensate {

@@ -1,4 +1,3 @@
-#include "ccomp/axis.hpp"
 #include "ccomp/controller/axis_table.hpp"
 
 #include <fmt/format.h>
@@ -7,6 +6,7 @@
 #include <cmath>
 #include <string_view>
 
+#include "ccomp/axis.hpp"
 #include "ccomp/error.hpp"
 #include "ccomp/kinematics/pose.hpp"
 #include "correction_bound.hpp"

@@ -1,4 +1,3 @@
-#include "ccomp/axis.hpp"
 #include "ccomp/identify/axis_runs.hpp"
 
 #include <fmt/format.h>
@@ -10,6 +9,7 @@
 #include <limits>
 #include <map>
 
+#include "ccomp/axis.hpp"
 #include "ccomp/constants.hpp"
 #include "ccomp/error.hpp"
 #include "ccomp/identify/measurement_formats.hpp"

@@ -1,4 +1,3 @@
-#include "ccomp/axis.hpp"
 #include "ccomp/identify/fit_information.hpp"
 
 #include <algorithm>
@@ -7,6 +6,7 @@
 #include <map>
 #include <set>
 
+#include "ccomp/axis.hpp"
 #include "ccomp/constants.hpp"
 
 namespace ccomp::identify {

@@ -1,4 +1,3 @@
-#include "ccomp/axis.hpp"
 #include "ccomp/identify/measurements.hpp"
 
 #include <fmt/format.h>
@@ -13,6 +12,7 @@
 #include <map>
 #include <sstream>
 
+#include "ccomp/axis.hpp"
 #include "ccomp/constants.hpp"
 #include "ccomp/error.hpp"
 #include "ccomp/identify/measurement_formats.hpp"

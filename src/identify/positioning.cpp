@@ -192,7 +192,7 @@ PositioningReport analyse_positioning(const MeasurementSet& data, std::size_t ax
   // The machine's own word where it is given; the program's letter otherwise (the model
   // refuses a type its letter contradicts, so the two agree).
   const model::AxisSpec* spec = forward != nullptr ? forward->machine().axis(letter) : nullptr;
-  report.rotary = spec != nullptr ? spec->rotary() : angular_in_programs(*axis_at(axis));
+  report.rotary = spec != nullptr ? spec->rotary() : angular_at(axis);
   if (report.rotary && forward == nullptr)
     throw Error(ErrorKind::usage, fmt::format("rotary axis {}: the machine's kinematics are needed to read its turns", letter));
   const std::map<long long, Approaches> at = readings_by_target(data, axis, report.rotary, source, forward);

@@ -1,4 +1,3 @@
-#include "ccomp/axis.hpp"
 #include "ccomp/model/forward.hpp"
 
 #include <fmt/format.h>
@@ -10,6 +9,7 @@
 #include <limits>
 #include <tuple>
 
+#include "ccomp/axis.hpp"
 #include "ccomp/constants.hpp"
 #include "ccomp/error.hpp"
 #include "ccomp/model/cubic_spline.hpp"

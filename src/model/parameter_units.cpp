@@ -1,6 +1,4 @@
-#include "ccomp/axis.hpp"
 #include "ccomp/model/parameter_units.hpp"
-#include "ccomp/model/term_forms.hpp"
 
 #include <fmt/format.h>
 
@@ -8,6 +6,9 @@
 #include <cmath>
 #include <numbers>
 #include <utility>
+
+#include "ccomp/axis.hpp"
+#include "ccomp/model/term_forms.hpp"
 
 namespace ccomp::model {
 namespace {

@@ -1,10 +1,10 @@
-#include "ccomp/axis.hpp"
 #include "ccomp/model/term_span.hpp"
 
 #include <fmt/format.h>
 
 #include <algorithm>
 
+#include "ccomp/axis.hpp"
 #include "ccomp/constants.hpp"
 
 namespace ccomp::model {

@@ -1,4 +1,3 @@
-#include "ccomp/axis.hpp"
 #include "ccomp/model/work_offsets.hpp"
 
 #include <fmt/format.h>
@@ -8,6 +7,7 @@
 #include <charconv>
 #include <cmath>
 
+#include "ccomp/axis.hpp"
 #include "ccomp/constants.hpp"
 #include "ccomp/error.hpp"
 #include "ccomp/model/quantity_reader.hpp"

@@ -9,6 +9,7 @@
 #include <map>
 #include <numbers>
 
+#include "ccomp/axis.hpp"
 #include "ccomp/error.hpp"
 #include "ccomp/identify/positioning.hpp"
 #include "ccomp/identify/stated_conditions.hpp"
@@ -52,7 +53,7 @@ std::string line_place(const identify::Observation& o, const model::MachineModel
     const auto axis = static_cast<std::size_t>(a.index());
     if (axis == moving) continue;
     out += fmt::format("{}{} {:g} {}", out.empty() ? "" : ", ", a.letter, axis_value(o, axis),
-                       is_rotary(axis) ? "&deg;" : "mm");
+                       angular_at(axis) ? "&deg;" : "mm");
   }
   return out + fmt::format(", L {:g} mm", o.q[static_cast<Eigen::Index>(model::kToolLengthIndex)]);
 }

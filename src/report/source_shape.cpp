@@ -11,9 +11,6 @@
 
 namespace ccomp::report {
 
-bool is_rotary(std::size_t axis) {
-  return angular_at(axis);
-}
 char axis_letter(std::size_t axis) {
   return kAxisLetters[axis];
 }
@@ -21,11 +18,11 @@ char axis_letter(std::size_t axis) {
 double axis_value(const identify::Observation& o, std::size_t axis) {
   // The chain's own variable, as the model's terms read it: Z with the tool length in it.
   const double q = o.q[static_cast<Eigen::Index>(axis)];
-  return is_rotary(axis) ? q * 180.0 / std::numbers::pi : q;
+  return angular_at(axis) ? q * 180.0 / std::numbers::pi : q;
 }
 
 std::string position_title(std::size_t axis) {
-  return fmt::format("{} axis position, machine ({})", axis_letter(axis), is_rotary(axis) ? "deg" : "mm");
+  return fmt::format("{} axis position, machine ({})", axis_letter(axis), angular_at(axis) ? "deg" : "mm");
 }
 
 std::string frame_note(const identify::MeasurementSet& data, std::size_t reading) {
@@ -68,7 +65,7 @@ std::vector<SourceShape> source_shapes(const identify::MeasurementSet& data, con
       const auto axis = static_cast<std::size_t>(a.index());
       util::Interval range;
       for (std::size_t i : s.readings) range.add(axis_value(data.observations[i], axis));
-      if (range.width() > 1e-6) (is_rotary(axis) ? rotary_moving : linear_moving).push_back(axis);
+      if (range.width() > 1e-6) (angular_at(axis) ? rotary_moving : linear_moving).push_back(axis);
     }
     util::Interval tool;
     for (std::size_t i : s.readings)

@@ -40,7 +40,6 @@ struct ReadingDirection {
 /// A sentence saying which frame the plots' positions are in, and how the file of `reading`
 /// writes them (its frame, its origin, the tool length).
 [[nodiscard]] std::string frame_note(const identify::MeasurementSet& data, std::size_t reading);
-[[nodiscard]] bool is_rotary(std::size_t axis);
 [[nodiscard]] char axis_letter(std::size_t axis);
 [[nodiscard]] std::string kind_name(SourceKind kind);
 

@@ -38,10 +38,10 @@ struct CompensationOptions {
   /// error field's bound proves it within kBoundedShare of the tolerance (InverseOptions::bound).
   bool exact = false;
   model::Conditions conditions;
-  /// Per chain axis (X Y Z A B C U V W), whether the solve may turn it (model::AxisHold;
-  /// only rotary axes are held). `free` everywhere unless given: the job sets the model's.
-  std::array<model::AxisHold, 9> hold = [] {
-    std::array<model::AxisHold, 9> all{};
+  /// Per axis, whether the solve may turn it (model::AxisHold; only rotary axes are held).
+  /// `free` everywhere unless given: the job sets the model's.
+  AxisArray<model::AxisHold> hold = [] {
+    AxisArray<model::AxisHold> all{};
     all.fill(model::AxisHold::free);
     return all;
   }();
@@ -78,7 +78,7 @@ struct MoveReport {
   double max_correction = 0.0;         ///< mm: largest change of a linear axis
   double max_rotary_correction = 0.0;  ///< rad: largest change of a rotary axis
   double max_orientation_error = 0.0;  ///< rad: what the machine cannot correct
-  /// Bit i: axis i's reversal could not be taken up (it leads the command, the axis has no
+  /// The axes whose reversal could not be taken up (it leads the command, the axis has no
   /// lost motion of its own and its terms switch at once, or they act along it: the tool
   /// strays from the corner during the take-up).
   AxisSet unhidden_reversals;
@@ -91,8 +91,8 @@ struct MoveReport {
   /// The control offsets this move as one piece (G41/G42: the entry move, or an arc of
   /// several turns): it was not split, whatever the error field needs along it.
   bool kept_whole = false;
-  /// Bit k: rotary axis k (chain order X Y Z A B C ...) was held at the program's value in
-  /// a solve (CompensationOptions::hold): its share of the error is left (orientation error).
+  /// The rotary axes held at the program's value in a solve (CompensationOptions::hold):
+  /// their share of the error is left (orientation error).
   AxisSet held_axes;
 };
 
@@ -167,7 +167,7 @@ class Compensator {
   [[nodiscard]] double deviation_across(const model::ChainQ& a_nominal, const model::ChainQ& b_nominal,
                                         const model::ChainQ& a_comp, const model::ChainQ& b_comp, double t);
   [[nodiscard]] const model::ForwardModel& model() const { return model_; }
-  /// Rotary axes (bit k) the solve keeps at the program's values now.
+  /// The rotary axes the solve keeps at the program's values now.
   [[nodiscard]] AxisSet held_rotary() const { return held_rotary_; }
 
   model::Conditions& conditions() { return options_.conditions; }
@@ -183,10 +183,9 @@ class Compensator {
   bool approach_by_travel(const model::ChainQ& from, const model::ChainQ& to);
   /// The approach state of each axis after what was commanded so far.
   [[nodiscard]] const std::array<double, 9>& play() const { return play_; }
-  /// The control keeps the axes in `axes` (bit k: chain value k) still through the next
-  /// move (see MoveSolver: a move under its radius offset with no travel in the plane): their
-  /// approach stays as their play has it while the move is solved, whatever the correction's
-  /// travel. keep_still() then holds their values and ends the hold.
+  /// The control keeps `axes` still through the next move (see MoveSolver: a move under its
+  /// radius offset with no travel in the plane): their approach stays as their play has it
+  /// while the move is solved, whatever the correction's travel. keep_still() then holds their values and ends the hold.
   void hold(AxisSet axes) { held_axes_ = axes; }
   /// The axes hold() named stay still through the straight move from `start` to `end`
   /// (nominal) whose points were just solved into `points`: they

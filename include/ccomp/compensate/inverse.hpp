@@ -61,9 +61,9 @@ enum class OrientationEquations : std::uint8_t {
 };
 
 /// The axes the solve may move: the chain's linear and rotary axes (not the tool length),
-/// but those `held` names (bit k: chain variable k), which keep the program's values: a
-/// rotary axis the compensation must not turn (model::AxisHold). The orientation equations
-/// are those the axes left can answer; what the held ones would have corrected is reported.
+/// but the `held` ones, which keep the program's values: a rotary axis the compensation
+/// must not turn (model::AxisHold). The orientation equations are those the axes left can
+/// answer; what the held ones would have corrected is reported.
 struct InverseProblem {
   explicit InverseProblem(const model::ForwardModel& model, AxisSet held = {});
   std::vector<int> unknowns;                       ///< chain variable indices moved by the solve

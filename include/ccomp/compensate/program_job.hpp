@@ -80,8 +80,8 @@ struct JobReport {
   double max_error_after = 0.0;        ///< mm: the compensated path's, at the checked points
   double max_correction = 0.0;         ///< mm
   double max_orientation_error = 0.0;  ///< rad: what the machine cannot correct
-  /// Bit i: rotary axis gcode::kAxisLetters[i] was held at the program's values (its hold,
-  /// model::AxisHold): what it would have corrected is in max_orientation_error.
+  /// The rotary axes held at the program's values (their hold, model::AxisHold): what they
+  /// would have corrected is in max_orientation_error.
   AxisSet held_axes;
 };
 

@@ -78,9 +78,10 @@ void read_axes(const std::string& file, const YAML::Node& root, MachineModel& m)
   for (const auto& entry : axes) {
     AxisSpec a;
     const std::string letter = io::text(file, entry.first, "an axis letter");
-    if (letter.size() != 1 || !axis_named(static_cast<char>(std::toupper(static_cast<unsigned char>(letter[0])))))
+    const char upper = letter.empty() ? '\0' : static_cast<char>(std::toupper(static_cast<unsigned char>(letter[0])));
+    if (letter.size() != 1 || !axis_named(upper))
       bad(file, entry.first, fmt::format("axis '{}' is not one letter of XYZABCUVW", letter));
-    a.letter = static_cast<char>(std::toupper(static_cast<unsigned char>(letter[0])));
+    a.letter = upper;
     if (m.axis(a.letter)) bad(file, entry.first, fmt::format("axis {} is declared twice", a.letter));
     a.type = angular_in_programs(a.axis()) ? AxisType::rotary : AxisType::linear;
     read_axis_spec(file, entry.second, a);
