@@ -415,7 +415,7 @@ namespace {
 /// where they turn, the original's axes run straight from the piece's q0 to q1 (an arc's
 /// rotary axes with its angle): the direction is the nominal chain's at the fraction whose
 /// nominal tip is nearest the point, found by Gauss-Newton from the point's place on the
-/// chord, to 1e-12 of the fraction.
+/// chord (to 1e-12 of the fraction, or to where the tip moves less than the rounding).
 /// Where the piece's tip stands still while the tool turns about it, the tip says nothing of
 /// where along the turn the point is: the fraction whose direction is nearest the executed
 /// one is taken, as the tip's distance is to the nearest point of the path.
@@ -445,16 +445,26 @@ class MeantDirection {
   }
   /// The fraction in [0, 1] where g comes nearest `target` (Gauss-Newton on |g - target|^2,
   /// the slope by central differences); -1 where g does not move.
+  /// Settled when the step is below 1e-12 of the fraction or moves g by less than
+  /// kSettledMove, or, once it moves g by less than kNoiseMove, when it no longer shrinks.
+  /// Where g hardly moves along the piece (a tip standing nearly still while the tool
+  /// turns), the rounding of g's coordinates in the slope alone makes steps of 1e-10 to
+  /// 1e-8 of the fraction: steps that no longer shrink are that noise.
   template <class G>
   static double nearest_fraction(double f, const Eigen::Vector3d& target, G g) {
     constexpr double h = 1e-5;
+    constexpr double kSettledMove = 1e-11;  // mm (or rad): ten times the rounding of a chain's coordinates
+    constexpr double kNoiseMove = 1e-9;     // mm (or rad): a picometre
+    double last_move = std::numeric_limits<double>::infinity();
     for (int k = 0; k < 12; ++k) {
       const Eigen::Vector3d slope = (g(f + h) - g(f - h)) / (2 * h);
       const double slope2 = slope.squaredNorm();
       if (!(slope2 > 1e-24)) return k == 0 ? -1.0 : f;
       const double next = std::clamp(f - (g(f) - target).dot(slope) / slope2, 0.0, 1.0);
-      const bool settled = std::abs(next - f) < 1e-12;
-      f = next;
+      const double step = std::abs(next - f), move = step * std::sqrt(slope2);
+      const bool settled =
+          step < 1e-12 || move < kSettledMove || (move < kNoiseMove && !(move < last_move));
+      f = next, last_move = move;
       if (settled) break;
     }
     return f;
