@@ -24,7 +24,7 @@ model::ChainQ chain_of(const gcode::Axes& controlled, const gcode::Offsets& o) {
   model::ChainQ q;
   for (std::size_t i = 0; i < gcode::kAxisCount; ++i)  // the machine axis carries the tool
     q[static_cast<Eigen::Index>(i)] = (controlled[i] + o.tool[i]) * kChainPerAxisUnit[i];
-  q[static_cast<Eigen::Index>(model::kToolLengthIndex)] = o.tool[2];
+  q[static_cast<Eigen::Index>(model::kToolLengthIndex)] = o.tool[Axis::Z];  // the tool length, along Z
   return q;
 }
 

@@ -13,8 +13,9 @@ namespace ccomp::gcode {
 using ccomp::kAxisCount;
 using ccomp::kAxisLetters;
 
-/// Positions of all nine axes: linear in mm, rotary (A B C) in degrees.
-using Axes = std::array<double, kAxisCount>;
+/// Positions of all nine axes: linear in mm, rotary (A B C) in degrees; indexed by Axis or
+/// by place.
+using Axes = AxisArray<double>;
 
 /// Whether the program gives axis i (X..W order) in degrees.
 [[nodiscard]] constexpr bool is_rotary(std::size_t axis) {

@@ -12,6 +12,7 @@
 #include <string_view>
 #include <vector>
 
+#include "ccomp/axis.hpp"
 #include "ccomp/error.hpp"
 
 namespace ccomp::model {
@@ -22,7 +23,7 @@ inline constexpr std::size_t kCoordinateSystems = 9;
 
 /// A coordinate system's origin in machine coordinates, per axis X Y Z A B C U V W: mm for
 /// the linear axes, degrees for the rotary ones.
-using WorkOrigin = std::array<double, 9>;
+using WorkOrigin = AxisArray<double>;
 
 /// The origins known of each coordinate system (index 0 is G54); an unknown one is absent.
 struct WorkOffsets {
