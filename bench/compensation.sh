@@ -107,4 +107,23 @@ for circles in 400 1600; do
   printf '  %5d circles: %9d lines written in %6.2f s, peak RSS %.1f MB\n' "$circles" "$(wc -l < "$work/out.ngc")" \
     "$(echo "$t1 - $t0" | bc -l)" "$(echo "$(cat "$work/rss")/1024" | bc -l)"
 done
-rm -f "$work/out.ngc" "$work/t.ngc" "$work/circles.ngc"
+
+echo
+# Five-axis: the TCP sample, whose verify follows the control's kinematics through the
+# nominal chain at every point (MeantDirection in src/compensate/verify.cpp), and the
+# joint-coordinate sample; one round is one run of each command, in turn.
+five=samples/machines/vmc-xyzac-trunnion.yaml
+echo "five-axis samples on $five, median of $rounds interleaved runs:"
+rm -f "$work"/times-* "$work"/rss-*
+for ((round = 0; round < rounds; ++round)); do
+  for kind in tcp joint; do
+    program5=samples/programs/five-axis-xyzac.ngc
+    [ "$kind" = tcp ] && program5=samples/programs/five-axis-tcp-xyzac.ngc
+    run "job-$kind" "$ccomp" "$program5" -m "$five" -o "$work/out5-$kind.ngc" --tool-table samples/tools.tbl --force -q
+    run "verify-$kind" "$ccomp" verify "$program5" "$work/out5-$kind.ngc" -m "$five" --tool-table samples/tools.tbl
+  done
+done
+for name in job-tcp verify-tcp job-joint verify-joint; do
+  printf '  %-18s %7.3f s  (runs %s)\n' "$name" "$(median "$name")" "$(spread "$name")"
+done
+rm -f "$work/out.ngc" "$work/t.ngc" "$work/circles.ngc" "$work"/out5-*.ngc
