@@ -3,7 +3,8 @@
 # the full 46-term HMC at 1 um on two threads and one, the zero model's main job, verify
 # and predict, against LinuxCNC's rs274 -g reading the same file (median of ROUNDS interleaved
 # runs, 5 by default), with the speed targets met or not; the inverse's points/s; and how
-# many lines compensation adds per move as the tolerance tightens (docs/compensation.md).
+# many lines compensation adds per move as the tolerance tightens (docs/compensation.md);
+# the peak memory with bent moves; the five-axis samples' main job and verify.
 #   bench/compensation.sh    (after tools/build.sh and tools/rs274/fetch.sh build/rs274)
 source "$(dirname "$0")/common.sh"
 model=samples/machines/hmc-xyzb.yaml
@@ -111,7 +112,8 @@ done
 echo
 # Five-axis: the TCP sample, whose verify follows the control's kinematics through the
 # nominal chain at every point (MeantDirection in src/compensate/verify.cpp), and the
-# joint-coordinate sample; one round is one run of each command, in turn.
+# joint-coordinate sample; one round is one run of each command, in turn. The main job's
+# time includes its verdict (a verify of what it wrote).
 five=samples/machines/vmc-xyzac-trunnion.yaml
 echo "five-axis samples on $five, median of $rounds interleaved runs:"
 rm -f "$work"/times-* "$work"/rss-*
@@ -124,6 +126,7 @@ for ((round = 0; round < rounds; ++round)); do
   done
 done
 for name in job-tcp verify-tcp job-joint verify-joint; do
-  printf '  %-18s %7.3f s  (runs %s)\n' "$name" "$(median "$name")" "$(spread "$name")"
+  printf '  %-18s %7.3f s  (runs %s)\n' "$name" "$(median "$name")" \
+    "$(sort -g "$work/times-$name" | awk 'NR == 1 {lo = $1} {hi = $1} END {printf "%.3f-%.3f s", lo, hi}')"
 done
 rm -f "$work/out.ngc" "$work/t.ngc" "$work/circles.ngc" "$work"/out5-*.ngc

@@ -12,6 +12,7 @@
 #include <tuple>
 #include <vector>
 
+#include "ccomp/axis.hpp"
 #include "ccomp/compensate/machine_coordinates.hpp"
 #include "ccomp/compensate/tcp_kinematics.hpp"
 #include "ccomp/constants.hpp"
@@ -20,6 +21,7 @@
 #include "ccomp/util/handoff.hpp"
 #include "ccomp/util/parallel.hpp"
 #include "executed_tip.hpp"
+#include "nearest_fraction.hpp"
 #include "path_search.hpp"
 #include "tool_direction.hpp"
 
@@ -415,7 +417,7 @@ namespace {
 /// where they turn, the original's axes run straight from the piece's q0 to q1 (an arc's
 /// rotary axes with its angle): the direction is the nominal chain's at the fraction whose
 /// nominal tip is nearest the point, found by Gauss-Newton from the point's place on the
-/// chord (to 1e-12 of the fraction, or to where the tip moves less than the rounding).
+/// chord until the direction there is settled (nearest_fraction.hpp).
 /// Where the piece's tip stands still while the tool turns about it, the tip says nothing of
 /// where along the turn the point is: the fraction whose direction is nearest the executed
 /// one is taken, as the tip's distance is to the nearest point of the path.
@@ -426,15 +428,25 @@ class MeantDirection {
 
   Eigen::Vector3d at(const Piece& piece, const Eigen::Vector3d& p, const Eigen::Vector3d& executed) {
     if (!piece.rotary_turns) return piece.direction;
-    const double s = piece.arc ? piece.fraction_at(p)
-                               : nearest_fraction(piece.fraction_at(p), p, [&](double f) { return tip(piece, f); });
-    if (s >= 0) return direction(piece, s);
-    const double turned = nearest_fraction(0.5, executed, [&](double f) { return direction(piece, f); });
-    return direction(piece, std::max(turned, 0.0));  // (neither moves: the direction is the same all along)
+    NearestFractionOptions o;
+    o.turn = rotary_turn(piece);
+    if (piece.arc) return direction(piece, piece.fraction_at(p));
+    if (const auto s = nearest_fraction(piece.fraction_at(p), p, [&](double f) { return tip(piece, f); }, o))
+      return direction(piece, s->fraction);
+    const auto turned = nearest_fraction(0.5, executed, [&](double f) { return direction(piece, f); }, o);
+    return direction(piece, turned ? turned->fraction : 0.0);  // (neither moves: the direction is the same all along)
   }
 
  private:
   [[nodiscard]] static model::ChainQ q_at(const Piece& piece, double f) { return piece.q0 + (piece.q1 - piece.q0) * f; }
+  /// rad: the most the nominal tool direction turns along the piece, its rotary axes' turns
+  /// summed.
+  [[nodiscard]] static double rotary_turn(const Piece& piece) {
+    double turn = 0.0;
+    for (std::size_t i = 0; i < kAxisCount; ++i)
+      if (angular_at(i)) turn += std::abs(piece.q1[static_cast<Eigen::Index>(i)] - piece.q0[static_cast<Eigen::Index>(i)]);
+    return turn;
+  }
   Eigen::Vector3d tip(const Piece& piece, double f) {
     model::forward(model_, data_, q_at(piece, f), conditions_, false, model::Evaluate::nominal);
     return data_.nominal;
@@ -442,32 +454,6 @@ class MeantDirection {
   Eigen::Vector3d direction(const Piece& piece, double f) {
     model::forward(model_, data_, q_at(piece, f), conditions_, false, model::Evaluate::nominal);
     return data_.R_nominal * tool_axis_;
-  }
-  /// The fraction in [0, 1] where g comes nearest `target` (Gauss-Newton on |g - target|^2,
-  /// the slope by central differences); -1 where g does not move.
-  /// Settled when the step is below 1e-12 of the fraction or moves g by less than
-  /// kSettledMove, or, once it moves g by less than kNoiseMove, when it no longer shrinks.
-  /// Where g hardly moves along the piece (a tip standing nearly still while the tool
-  /// turns), the rounding of g's coordinates in the slope alone makes steps of 1e-10 to
-  /// 1e-8 of the fraction: steps that no longer shrink are that noise.
-  template <class G>
-  static double nearest_fraction(double f, const Eigen::Vector3d& target, G g) {
-    constexpr double h = 1e-5;
-    constexpr double kSettledMove = 1e-11;  // mm (or rad): ten times the rounding of a chain's coordinates
-    constexpr double kNoiseMove = 1e-9;     // mm (or rad): a picometre
-    double last_move = std::numeric_limits<double>::infinity();
-    for (int k = 0; k < 12; ++k) {
-      const Eigen::Vector3d slope = (g(f + h) - g(f - h)) / (2 * h);
-      const double slope2 = slope.squaredNorm();
-      if (!(slope2 > 1e-24)) return k == 0 ? -1.0 : f;
-      const double next = std::clamp(f - (g(f) - target).dot(slope) / slope2, 0.0, 1.0);
-      const double step = std::abs(next - f), move = step * std::sqrt(slope2);
-      const bool settled =
-          step < 1e-12 || move < kSettledMove || (move < kNoiseMove && !(move < last_move));
-      f = next, last_move = move;
-      if (settled) break;
-    }
-    return f;
   }
 
   const model::ForwardModel& model_;
