@@ -35,11 +35,16 @@ struct NearestFractionOptions {
   double direction_noise = 1e-9;   ///< rad: a thousandth of a microradian
   double noise_move = 1e-9;        ///< g's unit: a picometre
   int most_steps = 12;
+  /// Nothing where `target` is farther from g than g moves over the whole piece (at the
+  /// start): g cannot tell where along the piece the target is, and Gauss-Newton, its rate
+  /// above 1, wanders from end to end.
+  bool only_within_reach = false;
 };
 
 /// The fraction in [0, 1] where g (a function double -> Eigen::Vector3d) comes nearest
 /// `target`, by Gauss-Newton on |g - target|^2 from `start`, the slope by central
-/// differences; nothing where g does not move at the start.
+/// differences; nothing where g does not move at the start (or, `only_within_reach`, where
+/// the target is beyond what g's move can tell).
 template <class G>
 [[nodiscard]] std::optional<NearestFraction> nearest_fraction(double start, const Eigen::Vector3d& target, G g,
                                                               const NearestFractionOptions& o = {}) {
@@ -54,7 +59,9 @@ template <class G>
       if (found.steps == 0) return std::nullopt;
       break;
     }
-    const double next = std::clamp(f - (g(f) - target).dot(slope) / slope2, 0.0, 1.0);
+    const Eigen::Vector3d off = g(f) - target;
+    if (found.steps == 0 && o.only_within_reach && off.squaredNorm() > slope2) return std::nullopt;
+    const double next = std::clamp(f - off.dot(slope) / slope2, 0.0, 1.0);
     const double step = std::abs(next - f), move = step * std::sqrt(slope2), turned = step * o.turn;
     const bool settled = step < o.fraction_step || turned < o.settled_turn ||
                          (move < o.settled_move && turned < o.direction_noise) ||

@@ -418,9 +418,10 @@ namespace {
 /// rotary axes with its angle): the direction is the nominal chain's at the fraction whose
 /// nominal tip is nearest the point, found by Gauss-Newton from the point's place on the
 /// chord until the direction there is settled (nearest_fraction.hpp).
-/// Where the piece's tip stands still while the tool turns about it, the tip says nothing of
-/// where along the turn the point is: the fraction whose direction is nearest the executed
-/// one is taken, as the tip's distance is to the nearest point of the path.
+/// Where the piece's tip stands still while the tool turns about it, or moves less over the
+/// whole piece than the point is off its path, the tip says nothing of where along the turn
+/// the point is: the fraction whose direction is nearest the executed one is taken, as the
+/// tip's distance is to the nearest point of the path.
 class MeantDirection {
  public:
   explicit MeantDirection(const model::ForwardModel& model)
@@ -431,7 +432,9 @@ class MeantDirection {
     NearestFractionOptions o;
     o.turn = rotary_turn(piece);
     if (piece.arc) return direction(piece, piece.fraction_at(p));
-    if (const auto s = nearest_fraction(piece.fraction_at(p), p, [&](double f) { return tip(piece, f); }, o))
+    NearestFractionOptions by_tip = o;
+    by_tip.only_within_reach = true;
+    if (const auto s = nearest_fraction(piece.fraction_at(p), p, [&](double f) { return tip(piece, f); }, by_tip))
       return direction(piece, s->fraction);
     const auto turned = nearest_fraction(0.5, executed, [&](double f) { return direction(piece, f); }, o);
     return direction(piece, turned ? turned->fraction : 0.0);  // (neither moves: the direction is the same all along)

@@ -90,6 +90,21 @@ TEST(NearestFraction, AStandingCurveHasNoFraction) {
   EXPECT_FALSE(nearest_fraction(0.5, Eigen::Vector3d(301.0, -120.0, 80.0), [&](double) { return still; }));
 }
 
+// A tip moving 2.6 nm over the piece, the point 1 um off it: the tip cannot say where
+// along the piece the point is. Asked for only what is within reach, the search says so
+// (verify then takes the direction's nearest); asked anyway, it lands where its
+// wandering ends.
+TEST(NearestFraction, ATargetFartherThanTheCurveMovesIsBeyondReach) {
+  TipArc arc;
+  arc.radius = 0.013, arc.sweep = 2e-4, arc.rise = 0.0;
+  const Eigen::Vector3d target = arc.target(0.4, 1e-3);
+  NearestFractionOptions o;
+  o.only_within_reach = true;
+  EXPECT_FALSE(nearest_fraction(0.4, target, [&](double f) { return arc.at(f); }, o));
+  // Within reach, the same search answers: 50 pm off a path of 2.6 nm.
+  EXPECT_TRUE(nearest_fraction(0.4, arc.target(0.4, 5e-8), [&](double f) { return arc.at(f); }, o));
+}
+
 TEST(NearestFraction, ATargetBeyondTheEndGivesTheEnd) {
   TipArc arc;
   const std::optional<NearestFraction> found =
