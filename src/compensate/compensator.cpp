@@ -143,7 +143,7 @@ void Compensator::rapid(const ChainQ& end, std::vector<CompensatedPoint>& out, M
   command(q);
   // A rapid shorter than an axis' play leaves it part-way through: the axis goes back
   // past it and approaches again (the control's path does not matter between rapids).
-  const std::array<double, 9> target = need;
+  const AxisArray<double> target = need;
   for (std::size_t i = 0; i < need.size(); ++i) {
     const auto k = static_cast<Eigen::Index>(i);
     // (A held axis does not move: its play stays where it was, keep_still() says.)
@@ -168,7 +168,7 @@ void Compensator::rapid(const ChainQ& end, std::vector<CompensatedPoint>& out, M
 }
 
 void Compensator::carried(const ChainQ& by, MoveReport& report) {
-  const std::array<double, 9> before = play_;
+  const AxisArray<double> before = play_;
   command(commanded_ + by);
   for (std::size_t i = 0; i < play_.size(); ++i) {
     // (as unhidden() counts a play left short: the switch times the share of it taken up)
@@ -179,7 +179,7 @@ void Compensator::carried(const ChainQ& by, MoveReport& report) {
   }
 }
 
-AxisSet Compensator::unhidden(const std::array<double, 9>& target) const {
+AxisSet Compensator::unhidden(const AxisArray<double>& target) const {
   // What a play left short of its target costs: the switch of the axis' terms (mm at the
   // tool) times the shortfall. Worth a warning at a quarter of the tolerance.
   AxisSet axes;
@@ -190,7 +190,7 @@ AxisSet Compensator::unhidden(const std::array<double, 9>& target) const {
   return axes;
 }
 
-double Compensator::keep_still(const ChainQ& at, const std::array<double, 9>& play_before, const ChainQ& start,
+double Compensator::keep_still(const ChainQ& at, const AxisArray<double>& play_before, const ChainQ& start,
                                const ChainQ& end, bool feed, std::vector<CompensatedPoint>& points,
                                MoveReport& report) {
   auto kept = [this](Eigen::Index k) { return held(static_cast<std::size_t>(k)); };
@@ -240,7 +240,7 @@ double Compensator::error_at(const ChainQ& nominal) {
 }
 
 double Compensator::error_at(const ErrorProbe& probe) {
-  const std::array<double, 9> need = options_.conditions.directions;
+  const AxisArray<double> need = options_.conditions.directions;
   options_.conditions.directions = probe.directions;
   model::forward(model_, check_, probe.nominal, options_.conditions, false, model::Evaluate::actual);
   options_.conditions.directions = need;
@@ -356,7 +356,7 @@ void Compensator::straight(const ChainQ& start, const ChainQ& end, std::vector<C
   if (tolerance <= 0) tolerance = options_.tolerance;
   // Uncompensated, each axis' play is what the nominal travel leaves: the error before is
   // taken with it once the points are solved (their nominal tips serve both).
-  const std::array<double, 9> uncompensated = play_;
+  const AxisArray<double> uncompensated = play_;
   stretch({start, end, tolerance}, 0.0, 1.0, kMostTurns, out, report);
   error_before(start, end, uncompensated, report);
 }
@@ -480,7 +480,7 @@ double Compensator::deviation_at_play(const ChainQ& start, const ChainQ& a) {
 void Compensator::take_up(const ChainQ& start, const ChainQ& a, std::vector<CompensatedPoint>& out,
                           MoveReport& report) {
   auto& need = options_.conditions.directions;
-  const std::array<double, 9> target = need;
+  const AxisArray<double> target = need;
   // How far the tool leaves the corner on the way, and whose switch it shows. After a move
   // not planned here the machine starts off the corner anyway: what shows is counted, but
   // not as a reversal's.
@@ -546,14 +546,14 @@ double reach_after(const ChainQ& delta, double t) {
 }
 }  // namespace
 
-double Compensator::switch_reach(const std::array<double, 9>& from, const std::array<double, 9>& to) const {
+double Compensator::switch_reach(const AxisArray<double>& from, const AxisArray<double>& to) const {
   double reach = 0.0;
   for (std::size_t i = 0; i < from.size(); ++i)
     if (model_.reads_approach(i)) reach += 0.5 * model_.reversal_size()[i] * std::abs(to[i] - from[i]);
   return reach;
 }
 
-double Compensator::take_up_stray(const ChainQ& start, const ChainQ& q, const std::array<double, 9>& solved_for,
+double Compensator::take_up_stray(const ChainQ& start, const ChainQ& q, const AxisArray<double>& solved_for,
                                   AxisSet& axes) {
   // Terms linear in the approach switch linearly while an axis travels its play, so the
   // tool's course bends only where a play runs out, where an axis without lost motion
@@ -567,7 +567,7 @@ double Compensator::take_up_stray(const ChainQ& start, const ChainQ& q, const st
   std::array<Bend, 11> bends{};
   std::size_t n = 0;
   AxisSet at_once, switching;
-  std::array<double, 9> started = play_;  // an instant after the step starts
+  AxisArray<double> started = play_;  // an instant after the step starts
   const ChainQ delta = q - commanded_;
   for (std::size_t i = 0; i < play_.size(); ++i) {
     const auto k = static_cast<Eigen::Index>(i);
@@ -617,9 +617,9 @@ double Compensator::start_error(const ChainQ& start, const ChainQ& a) {
   return (check_.actual - nominal_tip(start)).norm();
 }
 
-void Compensator::error_before(const ChainQ& start, const ChainQ& end, const std::array<double, 9>& play,
+void Compensator::error_before(const ChainQ& start, const ChainQ& end, const AxisArray<double>& play,
                                MoveReport& report) {
-  const std::array<double, 9> need = options_.conditions.directions;
+  const AxisArray<double> need = options_.conditions.directions;
   options_.conditions.directions = play;
   if (start != last_straight_end_) error_before_at(start, report);
   if (model_.check_points(start, end, 1) > 1) error_before_at(0.5 * (start + end), report);

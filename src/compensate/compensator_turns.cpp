@@ -7,6 +7,7 @@
 #include <span>
 
 #include "axis_travel.hpp"
+#include "ccomp/axis.hpp"
 #include "ccomp/compensate/compensator.hpp"
 
 namespace ccomp::compensate {
@@ -20,10 +21,10 @@ double Compensator::play_stray(const StraightMove& move, double s0, const ChainQ
   // pieces up to the last whose travel moves a play are looked at (mostly none).
   std::size_t last = first;
   {
-    std::array<double, 9> plays = play_;
+    AxisArray<double> plays = play_;
     ChainQ from_q = a;
     for (std::size_t k = first; k < out.size(); ++k) {
-      const std::array<double, 9> before = plays;
+      const AxisArray<double> before = plays;
       model::take_up_play(model_, plays, from_q, out[k].q);
       for (std::size_t i = 0; i < before.size(); ++i)
         if (model_.reads_approach(i) && std::abs(plays[i] - before[i]) > 0.02) last = k + 1;
@@ -31,7 +32,7 @@ double Compensator::play_stray(const StraightMove& move, double s0, const ChainQ
     }
   }
   model::Conditions at = options_.conditions;
-  std::array<double, 9> state = play_;
+  AxisArray<double> state = play_;
   ChainQ from_q = a;
   double from_s = s0, stray = 0.0;
   for (std::size_t k = first; k < last; ++k) {

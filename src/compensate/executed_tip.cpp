@@ -5,7 +5,7 @@ namespace ccomp::compensate {
 ExecutedTip::ExecutedTip(const model::ForwardModel& model, const model::Conditions& conditions)
     : model_(model), bound_(model, conditions), data_(model), tool_axis_(tool_axis_of(model)) {}
 
-bool ExecutedTip::same_approach(const std::array<double, 9>& a, const std::array<double, 9>& b) const {
+bool ExecutedTip::same_approach(const AxisArray<double>& a, const AxisArray<double>& b) const {
   for (std::size_t i = 0; i < a.size(); ++i)
     if (model_.reads_approach(i) && a[i] != b[i]) return false;
   return true;

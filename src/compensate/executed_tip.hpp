@@ -10,6 +10,7 @@
 #include <array>
 #include <cmath>
 
+#include "ccomp/axis.hpp"
 #include "ccomp/model/forward.hpp"
 #include "ccomp/model/variation_bound.hpp"
 #include "tool_direction.hpp"
@@ -69,7 +70,7 @@ class ExecutedTip {
                          Eigen::Vector3d* nominal);
   /// Whether a and b are alike in every approach a term reads (ForwardModel::reads_approach;
   /// the others change nothing).
-  [[nodiscard]] bool same_approach(const std::array<double, 9>& a, const std::array<double, 9>& b) const;
+  [[nodiscard]] bool same_approach(const AxisArray<double>& a, const AxisArray<double>& b) const;
 
   const model::ForwardModel& model_;
   model::VariationBound bound_;
@@ -82,7 +83,7 @@ class ExecutedTip {
   Eigen::Vector3d nominal_direction_ = Eigen::Vector3d::Zero();
   // The last end evaluated: the next move's start.
   model::ChainQ last_q_ = model::ChainQ::Constant(std::nan(""));
-  std::array<double, 9> last_directions_{};
+  AxisArray<double> last_directions_{};
   Eigen::Vector3d last_tip_ = Eigen::Vector3d::Zero(), last_nominal_ = Eigen::Vector3d::Zero();
   Eigen::Vector3d last_direction_ = Eigen::Vector3d::Zero(), last_nominal_direction_ = Eigen::Vector3d::Zero();
   bool last_has_nominal_ = false;

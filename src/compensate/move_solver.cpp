@@ -8,6 +8,7 @@
 #include <numbers>
 #include <utility>
 
+#include "ccomp/axis.hpp"
 #include "ccomp/compensate/machine_coordinates.hpp"
 #include "ccomp/error.hpp"
 
@@ -185,7 +186,7 @@ void MoveSolver::solve(const gcode::Motion& m, const gcode::Offsets& offsets, Mo
     solve_path(centre, offsets, move, points, range, false);
   } else {  // (where the machine stands before the move: what the held axes keep)
     const model::ChainQ before = compensator.commanded();
-    const std::array<double, 9> play_before = compensator.play();
+    const AxisArray<double> play_before = compensator.play();
     solve_path(centre, offsets, move, points, range, false);
     const double left = compensator.keep_still(before, play_before, start, chain_of(m.tool_end, offsets),
                                                m.kind == gcode::MotionKind::feed, points, move);

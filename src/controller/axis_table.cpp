@@ -98,7 +98,7 @@ AxisTable sample_axis_table(const model::ForwardModel& model, const TableOptions
       for (int iteration = 0; iteration < 8; ++iteration) {
         model::ChainQ commanded = target;
         commanded[a] += t;
-        const std::array<double, 9> travel = travelling({table.axis_index}, direction);
+        const AxisArray<double> travel = travelling({table.axis_index}, direction);
         m = miss(commanded, target, travel);
         const double step = table.rotary ? miss.turn(commanded, target, travel, turn_axis) : m[a] / own_sense;
         t -= step;
@@ -106,7 +106,7 @@ AxisTable sample_axis_table(const model::ForwardModel& model, const TableOptions
       }
       // Newton runs away where the error is far beyond any machine's: then what it would
       // have to correct is said, the model's error at the point.
-      const std::array<double, 9> travel = travelling({table.axis_index}, direction);
+      const AxisArray<double> travel = travelling({table.axis_index}, direction);
       const double said = std::isfinite(t) || table.rotary ? t : -miss(target, target, travel)[a] / own_sense;
       check_correction(machine, std::isfinite(said) ? said : t, table.rotary, fmt::format("the correction of {}", options.axis),
                        fmt::format("{} {:g} {} travelling {}", options.axis, p, table.rotary ? "deg" : "mm",

@@ -5,6 +5,7 @@
 #include <initializer_list>
 #include <span>
 
+#include "ccomp/axis.hpp"
 #include "ccomp/kinematics/pose.hpp"
 #include "ccomp/model/forward.hpp"
 
@@ -12,12 +13,12 @@ namespace ccomp::controller {
 
 /// Approach states with `axes` travelling `direction` (+1 up, -1 down) and every other
 /// axis in the middle of its play (0), as TipMiss takes them.
-inline std::array<double, 9> travelling(std::span<const std::size_t> axes, int direction) {
-  std::array<double, 9> d{};
+inline AxisArray<double> travelling(std::span<const std::size_t> axes, int direction) {
+  AxisArray<double> d{};
   for (const std::size_t axis : axes) d[axis] = direction;
   return d;
 }
-inline std::array<double, 9> travelling(std::initializer_list<std::size_t> axes, int direction) {
+inline AxisArray<double> travelling(std::initializer_list<std::size_t> axes, int direction) {
   return travelling(std::span<const std::size_t>(axes.begin(), axes.size()), direction);
 }
 
@@ -37,7 +38,7 @@ class TipMiss {
   /// `directions`: each axis' approach state (+1 up, -1 down, 0 the middle of its play):
   /// an axis not moving is in the middle, so its backlash is no one else's.
   Eigen::Vector3d operator()(const model::ChainQ& commanded, const model::ChainQ& target,
-                             const std::array<double, 9>& directions) {
+                             const AxisArray<double>& directions) {
     model::forward(model_, data_, target, conditions_, false, model::Evaluate::nominal);
     const Eigen::Vector3d wanted = data_.nominal;
     conditions_.directions = directions;
@@ -47,7 +48,7 @@ class TipMiss {
 
   /// How far the tool turns relative to the table about `u` (rad): commanded against the
   /// perfect machine at target.
-  double turn(const model::ChainQ& commanded, const model::ChainQ& target, const std::array<double, 9>& directions,
+  double turn(const model::ChainQ& commanded, const model::ChainQ& target, const AxisArray<double>& directions,
               const Eigen::Vector3d& u) {
     model::forward(model_, data_, target, conditions_, false, model::Evaluate::nominal);
     const Eigen::Matrix3d wanted = data_.R_nominal;

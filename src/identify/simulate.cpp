@@ -7,6 +7,7 @@
 #include <cmath>
 #include <random>
 
+#include "ccomp/axis.hpp"
 #include "ccomp/constants.hpp"
 #include "ccomp/error.hpp"
 #include "table_point.hpp"
@@ -38,7 +39,7 @@ struct Recorder {
   /// Records the reading along each direction at the controlled point (x, y, z, b deg) in
   /// machine coordinates.
   void record(const std::string& label, double x, double y, double z, double b_deg, double tool, double time,
-              const std::vector<double>& temperatures, const std::array<double, 9>& directions,
+              const std::vector<double>& temperatures, const AxisArray<double>& directions,
               std::initializer_list<Eigen::Vector3d> along) {
     model::ChainQ q;
     q << x, y, z + tool, 0, b_deg * kRadPerDeg, 0, 0, 0, 0, tool;
@@ -46,7 +47,7 @@ struct Recorder {
   }
   /// The same at the axis positions `q` (the tool length in it).
   void record(const std::string& label, const model::ChainQ& q, double time, const std::vector<double>& temperatures,
-              const std::array<double, 9>& directions, std::initializer_list<Eigen::Vector3d> along) {
+              const AxisArray<double>& directions, std::initializer_list<Eigen::Vector3d> along) {
     Observation o;
     o.q = q;
     o.time = time;
@@ -242,7 +243,7 @@ MeasurementSet simulate(const model::ForwardModel& truth, const SimulateOptions&
           for (int line = 0; line < 3; ++line) {
             const std::string label = fmt::format("{}-line{}", static_cast<char>(std::tolower(letters[a])), line + 1);
             for (int pass = 0; pass < 2 * std::max(1, options.runs); ++pass) {  // out and back, each run
-              std::array<double, 9> dirs{};
+              AxisArray<double> dirs{};
               dirs[static_cast<std::size_t>(a)] = pass % 2 == 0 ? 1.0 : -1.0;
               const std::vector<double> targets = iso230_targets(s[a].first, s[a].second, options.step);
               const auto count = targets.size();

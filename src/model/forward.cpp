@@ -165,7 +165,7 @@ ChainQ shortest_features(const std::vector<ErrorTermSpec>& terms) {
 
 /// What the terms switched by each axis' approach add up to, and the axis' lost motion.
 struct Reversals {
-  std::array<double, 9> size{}, lost_motion{};
+  AxisArray<double> size{}, lost_motion{};
 };
 
 /// How much term t (its variable an approach, in which it is linear: the model file refuses
@@ -197,7 +197,7 @@ Reversals reversals_of(const MachineModel& m, const std::vector<ForwardModel::Si
                        const kinematics::ChainModel& chain) {
   const std::vector<ErrorTermSpec>& terms = m.terms;
   Reversals r;
-  std::array<double, 9> own_reversal{};
+  AxisArray<double> own_reversal{};
   for (std::size_t i = 0; i < terms.size(); ++i) {
     const ErrorTermSpec& t = terms[i];
     if (t.primary.kind != VariableKind::direction) continue;
@@ -403,7 +403,7 @@ KeyMatch update_variables(ForwardData& d, const ChainQ& q, const Conditions& c) 
   double* v = d.variables.data();
   for (std::size_t i = 0; i < kChainVariables; ++i) v[i] = q[static_cast<Eigen::Index>(i)];
   constexpr std::size_t kDirections = ForwardModel::kFirstTemperatureVariable - ForwardModel::kFirstDirectionVariable;
-  static_assert(kDirections == std::tuple_size_v<decltype(c.directions)>);
+  static_assert(kDirections == kAxisCount);
   const auto differs = [](const double* a, const double* b, std::size_t n) {
     return std::memcmp(a, b, n * sizeof(double)) != 0;
   };
@@ -754,7 +754,7 @@ void take_up_play(const ForwardModel& model, Conditions& c, const ChainQ& a, con
   take_up_play(model, c.directions, a, b);
 }
 
-void take_up_play(const ForwardModel& model, std::array<double, 9>& directions, const ChainQ& a, const ChainQ& b) {
+void take_up_play(const ForwardModel& model, AxisArray<double>& directions, const ChainQ& a, const ChainQ& b) {
   for (std::size_t i = 0; i < directions.size(); ++i) {
     const double delta = b[static_cast<Eigen::Index>(i)] - a[static_cast<Eigen::Index>(i)];
     const double w = model.lost_motion()[i];

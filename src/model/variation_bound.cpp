@@ -5,6 +5,7 @@
 #include <limits>
 #include <numbers>
 
+#include "ccomp/axis.hpp"
 #include "ccomp/model/term_forms.hpp"
 
 namespace ccomp::model {
@@ -185,7 +186,7 @@ double VariationBound::error_change(const ChainQ& a, const ChainQ& b) const {
   return second_order(m.lever) * slope + rounding;
 }
 
-double VariationBound::direction_change(const std::array<double, 9>& a, const std::array<double, 9>& b,
+double VariationBound::direction_change(const AxisArray<double>& a, const AxisArray<double>& b,
                                         double tool_length) const {
   if (!bounded_ || !directions_bounded_) return kInf;
   // At one point the chain stands: only the terms reading a direction change, each by at

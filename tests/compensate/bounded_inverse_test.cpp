@@ -10,6 +10,7 @@
 #include <regex>
 #include <sstream>
 
+#include "ccomp/axis.hpp"
 #include "ccomp/compensate/inverse.hpp"
 #include "ccomp/kinematics/pose.hpp"
 #include "ccomp/model/model_file.hpp"
@@ -27,7 +28,7 @@ constexpr double kTolerance = 1e-4;  // mm: what the compensation at 1 um allows
 /// over in Y between them (the approach of X turns round), a tool change and a table index
 /// on the way. `zigzag`: every third point steps back a step and a half, so that points
 /// fall between the last two solved and behind them.
-model::ChainQ path_point(int k, double step, std::array<double, 9>& directions, bool zigzag = false) {
+model::ChainQ path_point(int k, double step, AxisArray<double>& directions, bool zigzag = false) {
   const int per_row = static_cast<int>(std::lround(20.0 / step));
   const int row = k / per_row, along = k % per_row;
   const double s = (along - (zigzag && along % 3 == 2 ? 1.5 : 0.0)) * step;

@@ -9,6 +9,7 @@
 #include <cstring>
 #include <new>
 
+#include "ccomp/axis.hpp"
 #include "ccomp/compensate/compensator.hpp"
 #include "ccomp/model/machine.hpp"
 #include "ccomp/model/model_file.hpp"
@@ -34,7 +35,7 @@ Pass finishing_pass(int rows, double (*y)(int)) {
   o.conditions.temperatures = {24.0, 23.0, 31.0};
   Compensator every(m, o), bounded(m, o);
   Pass pass;
-  std::array<double, 9> last{};
+  AxisArray<double> last{};
   for (int row = 0; row < rows; ++row) {
     const double direction = row % 2 == 0 ? 1.0 : -1.0;
     for (int k = 0; k <= 400; ++k, ++pass.probes) {

@@ -13,6 +13,7 @@
 #include <utility>
 #include <vector>
 
+#include "ccomp/axis.hpp"
 #include "ccomp/model/model_file.hpp"
 #include "random_terms.hpp"
 #include "sample_models.hpp"
@@ -116,10 +117,10 @@ TEST(VariationBound, ErrorSlopesSumToTheErrorChange) {
 }
 
 /// |e(q, b) - e(q, a)|: the tip's error at q, the approach directions changed from a to b.
-double measured_direction_change(const ForwardModel& m, const ChainQ& q, Conditions c, const std::array<double, 9>& a,
-                                 const std::array<double, 9>& b) {
+double measured_direction_change(const ForwardModel& m, const ChainQ& q, Conditions c, const AxisArray<double>& a,
+                                 const AxisArray<double>& b) {
   ForwardData d(m);
-  auto error = [&](const std::array<double, 9>& directions) {
+  auto error = [&](const AxisArray<double>& directions) {
     c.directions = directions;
     forward(m, d, q, c, false, Evaluate::both);
     return Eigen::Vector3d(d.actual - d.nominal);
@@ -166,7 +167,7 @@ TEST(VariationBound, BoundsWhatTheErrorSwitchesAsTheApproachChanges) {
       for (int i = 0; i < 3; ++i) q[i] = 400 * u(rng);
       q[4] = 3.0 * u(rng);
       q[kToolLengthIndex] = 100.0;
-      std::array<double, 9> a{}, b{};
+      AxisArray<double> a{}, b{};
       for (std::size_t i = 0; i < a.size(); ++i) {
         a[i] = u(rng) > 0 ? 1.0 : -1.0;
         // reversed, part of the play taken up, or as it was
@@ -179,7 +180,7 @@ TEST(VariationBound, BoundsWhatTheErrorSwitchesAsTheApproachChanges) {
       if (measured > 1e-9) tightest = std::min(tightest, limit / measured);
     }
     EXPECT_LT(tightest, 10.0) << name;
-    std::array<double, 9> same{};
+    AxisArray<double> same{};
     same.fill(0.25);
     EXPECT_EQ(bound.direction_change(same, same, 100.0), 0.0) << name;
   }

@@ -68,7 +68,7 @@ struct CompensatedPoint {
 /// would have there (see Compensator::defer_error_before).
 struct ErrorProbe {
   model::ChainQ nominal;
-  std::array<double, 9> directions{};
+  AxisArray<double> directions{};
   Eigen::Vector3d tip;  ///< the nominal tool tip there (the compensation knows it already)
 };
 
@@ -182,7 +182,7 @@ class Compensator {
   /// correction that asks for one is only reached by travelling through the play.
   bool approach_by_travel(const model::ChainQ& from, const model::ChainQ& to);
   /// The approach state of each axis after what was commanded so far.
-  [[nodiscard]] const std::array<double, 9>& play() const { return play_; }
+  [[nodiscard]] const AxisArray<double>& play() const { return play_; }
   /// The control keeps `axes` still through the next move (see MoveSolver: a move under its
   /// radius offset with no travel in the plane): their approach stays as their play has it
   /// while the move is solved, whatever the correction's travel. keep_still() then holds their values and ends the hold.
@@ -194,7 +194,7 @@ class Compensator {
   /// theirs is reported. Where the move cuts (`feed`), the error that leaves at each point and
   /// half-way to it goes into the report's figure after. Returns the error where the move
   /// leaves the machine (mm): the start of a cut after it (the caller's to count there).
-  double keep_still(const model::ChainQ& at, const std::array<double, 9>& play_before, const model::ChainQ& start,
+  double keep_still(const model::ChainQ& at, const AxisArray<double>& play_before, const model::ChainQ& start,
                     const model::ChainQ& end, bool feed, std::vector<CompensatedPoint>& points, MoveReport& report);
 
  private:
@@ -245,7 +245,7 @@ class Compensator {
   /// How far the tool at commanded `a`, under the play as it is, is from nominal `start`.
   [[nodiscard]] double deviation_at_play(const model::ChainQ& start, const model::ChainQ& a);
   /// Axes whose play is short of `target` by more than the tolerance can bear.
-  [[nodiscard]] AxisSet unhidden(const std::array<double, 9>& target) const;
+  [[nodiscard]] AxisSet unhidden(const AxisArray<double>& target) const;
   /// The travel slack of a take-up step in which `axis` turns (CompensatedPoint).
   void set_travel_slack(std::size_t axis, CompensatedPoint& point) const;
   /// How far the tool leaves the corner (nominal `start`) while a take-up travels from where
@@ -256,10 +256,10 @@ class Compensator {
   /// was solved for, the switch shows. `axes` gets the axes whose switch shows by more than
   /// a quarter of the tolerance. `solved_for`: the approach q was solved for.
   [[nodiscard]] double take_up_stray(const model::ChainQ& start, const model::ChainQ& q,
-                                     const std::array<double, 9>& solved_for, AxisSet& axes);
+                                     const AxisArray<double>& solved_for, AxisSet& axes);
   /// About how far the tool moves as the approaches go from `from` to `to`: each axis'
   /// switch (reversal_size()) times the share of it.
-  [[nodiscard]] double switch_reach(const std::array<double, 9>& from, const std::array<double, 9>& to) const;
+  [[nodiscard]] double switch_reach(const AxisArray<double>& from, const AxisArray<double>& to) const;
   /// How far the tool, where a move the compensator did not plan left the machine, is from
   /// the start of a move (nominal `start`, compensated `a`); 0 after a planned one.
   [[nodiscard]] double start_error(const model::ChainQ& start, const model::ChainQ& a);
@@ -270,7 +270,7 @@ class Compensator {
   void remember_tip(const model::ChainQ& q, const Eigen::Vector3d& tip);
   /// Where a move's error before is taken: its end, its start when the last move did not
   /// end there, and its middle where the error field has features shorter than the move.
-  void error_before(const model::ChainQ& start, const model::ChainQ& end, const std::array<double, 9>& play,
+  void error_before(const model::ChainQ& start, const model::ChainQ& end, const AxisArray<double>& play,
                     MoveReport& report);
   /// Whether the nominal path from a to b is straight in the workpiece frame as the linear
   /// axes are (the rotary axes and the tool length stand still).
@@ -281,7 +281,7 @@ class Compensator {
   const model::ForwardModel& model_;
   CompensationOptions options_;
   model::ChainQ commanded_ = model::ChainQ::Constant(std::nan(""));  ///< where the machine was sent last
-  std::array<double, 9> play_{};                                     ///< approach state after the commands so far
+  AxisArray<double> play_{};                                     ///< approach state after the commands so far
   bool uncompensated_ = false;      ///< the last command was one moved() reported, not one planned here
   bool offset_by_control_ = false;  ///< see offset_by_control()
   AxisSet held_axes_;               ///< see hold()

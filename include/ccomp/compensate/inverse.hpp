@@ -110,7 +110,7 @@ struct PathNodes {
   model::ChainQ line = model::ChainQ::Zero();
   double length2 = 0.0, lever = 0.0;
   /// What they were evaluated under.
-  std::array<double, 9> directions{};
+  AxisArray<double> directions{};
   Eigen::Matrix3d orientation = Eigen::Matrix3d::Zero();
   double time = 0.0;
   std::vector<double> temperatures;
@@ -149,7 +149,7 @@ struct PathMemory {
   model::ChainQ last_nominal = model::ChainQ::Constant(std::nan(""));  ///< the point it was solved for
   Eigen::Vector3d last_target = Eigen::Vector3d::Zero();
   Eigen::Matrix3d last_target_orientation = Eigen::Matrix3d::Zero();
-  std::array<double, 9> last_directions{};  ///< the approach the last solution was for
+  AxisArray<double> last_directions{};  ///< the approach the last solution was for
   /// The last prediction's miss (solution - prediction) and the target shift it was made
   /// for: along a path of even steps the next miss is alike (the error field's curvature
   /// and the Jacobian's age), so it is added to the next prediction.

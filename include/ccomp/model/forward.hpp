@@ -10,6 +10,7 @@
 #include <limits>
 #include <vector>
 
+#include "ccomp/axis.hpp"
 #include "ccomp/kinematics/chain.hpp"
 #include "ccomp/model/machine.hpp"
 
@@ -28,7 +29,7 @@ struct Conditions {
   /// Approach state of each axis, what reversal terms depend on: +1 after travelling up,
   /// -1 after travelling down, in between while the axis takes up its lost motion after
   /// turning round; 0 unknown (the middle of the play).
-  std::array<double, 9> directions{};
+  AxisArray<double> directions{};
 };
 
 /// mm: the lever through which the compensation's estimates see an angle (an angular
@@ -60,11 +61,11 @@ class ForwardModel {
   /// for X, EBB's for B, of whatever form in the axis' approach). After turning round, the
   /// axis travels this far before the terms of its approach have switched over; 0 means
   /// they switch as soon as it moves.
-  [[nodiscard]] const std::array<double, 9>& lost_motion() const { return lost_motion_; }
+  [[nodiscard]] const AxisArray<double>& lost_motion() const { return lost_motion_; }
   /// The sum of the sizes of the terms switched by axis i's approach (a reversal's size,
   /// another form's value at +1 less its value at -1; all are linear in the approach), in
   /// mm at the tool: an angular one seen kSwitchLever out. About what a turn of the axis changes.
-  [[nodiscard]] const std::array<double, 9>& reversal_size() const { return reversal_size_; }
+  [[nodiscard]] const AxisArray<double>& reversal_size() const { return reversal_size_; }
   /// Whether any term reads axis i's approach state (a reversal's, or any form given it as
   /// a variable): where none does, the axis may turn round without changing the error.
   [[nodiscard]] bool reads_approach(std::size_t axis) const { return approach_axes_ >> axis & 1U; }
@@ -143,7 +144,7 @@ class ForwardModel {
   std::vector<std::size_t> offsets_;
   std::size_t parameter_count_ = 0;
   ChainQ feature_;  ///< shortest error feature along each chain variable (mm, rad), or +inf
-  std::array<double, 9> lost_motion_{}, reversal_size_{};
+  AxisArray<double> lost_motion_{}, reversal_size_{};
   unsigned approach_axes_ = 0;  ///< bit i: some term reads axis i's approach state
 };
 
@@ -220,7 +221,7 @@ enum class Evaluate : std::uint8_t { both, actual, nominal };
 /// without lost motion switches as soon as it moves (by more than 1 nm or 1e-8 rad).
 void take_up_play(const ForwardModel& model, Conditions& conditions, const ChainQ& a, const ChainQ& b);
 /// The same of the approach states alone.
-void take_up_play(const ForwardModel& model, std::array<double, 9>& directions, const ChainQ& a, const ChainQ& b);
+void take_up_play(const ForwardModel& model, AxisArray<double>& directions, const ChainQ& a, const ChainQ& b);
 
 /// Evaluates the model at q. With `jacobians`, fills J_q and J_parameters.
 /// With `jacobians`, fills J_q and (unless `parameter_jacobian` is false: the inverse

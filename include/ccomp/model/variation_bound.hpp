@@ -28,6 +28,7 @@
 #include <limits>
 #include <vector>
 
+#include "ccomp/axis.hpp"
 #include "ccomp/model/forward.hpp"
 
 namespace ccomp::model {
@@ -71,7 +72,7 @@ class VariationBound {
   /// change from `a` to `b`, with a tool of `tool_length`; +inf when the model gives no
   /// bound. Added to error_change() (which holds the computed errors' rounding), it bounds
   /// a change of both the point and the approach between two computed errors.
-  [[nodiscard]] double direction_change(const std::array<double, 9>& a, const std::array<double, 9>& b,
+  [[nodiscard]] double direction_change(const AxisArray<double>& a, const AxisArray<double>& b,
                                         double tool_length) const;
   /// rad: the sum of the angular terms' bounds, the largest error angle the chain can make.
   [[nodiscard]] double largest_error_angle() const { return angular_sum_; }
@@ -105,7 +106,7 @@ class VariationBound {
   std::vector<TwoVariables> two_variables_;
   /// What the terms reading axis i's approach direction add up to, per unit of it:
   /// translations in mm, rotations in rad (times the lever).
-  std::array<double, 9> direction_translation_{}, direction_angular_{};
+  AxisArray<double> direction_translation_{}, direction_angular_{};
   bool directions_bounded_ = true;  ///< false: a term reads a direction the bound cannot place
   std::array<bool, kChainVariables> rotary_{};
   double lever_ = 0.0;               ///< mm, without the tool length
