@@ -429,13 +429,13 @@ class MeantDirection {
 
   Eigen::Vector3d at(const Piece& piece, const Eigen::Vector3d& p, const Eigen::Vector3d& executed) {
     if (!piece.rotary_turns) return piece.direction;
+    if (piece.arc) return direction(piece, piece.fraction_at(p));
     NearestFractionOptions o;
     o.turn = rotary_turn(piece);
-    if (piece.arc) return direction(piece, piece.fraction_at(p));
-    NearestFractionOptions by_tip = o;
-    by_tip.only_within_reach = true;
-    if (const auto s = nearest_fraction(piece.fraction_at(p), p, [&](double f) { return tip(piece, f); }, by_tip))
+    o.only_within_reach = true;
+    if (const auto s = nearest_fraction(piece.fraction_at(p), p, [&](double f) { return tip(piece, f); }, o))
       return direction(piece, s->fraction);
+    o.only_within_reach = false;  // (the direction's own move decides)
     const auto turned = nearest_fraction(0.5, executed, [&](double f) { return direction(piece, f); }, o);
     return direction(piece, turned ? turned->fraction : 0.0);  // (neither moves: the direction is the same all along)
   }
