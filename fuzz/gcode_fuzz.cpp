@@ -41,7 +41,7 @@ const ToolTable& sample_tools() {
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   // The input stays a plain program (any corpus file runs as it is with `ccomp trace`): its
   // length picks the dialect, so every dialect sees every kind of program.
-  static const std::array<const char*, 4> kDialects = {"linuxcnc", "fanuc", "mazak", "wincnc"};
+  static const std::array<const char*, 5> kDialects = {"linuxcnc", "fanuc", "mazak", "wincnc", "siemens"};
   InterpreterOptions options;
   options.dialect = *dialect_named(kDialects[size % kDialects.size()]);
   options.tools = sample_tools();

@@ -80,7 +80,7 @@ class WrittenProgram {
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   // The input stays a plain program (any finding runs as it is with `ccomp`): its length
   // picks the dialect and the job's options, so each option meets every kind of program.
-  static const std::array<const char*, 4> kDialects = {"linuxcnc", "fanuc", "mazak", "wincnc"};
+  static const std::array<const char*, 5> kDialects = {"linuxcnc", "fanuc", "mazak", "wincnc", "siemens"};
   compensate::JobOptions options;
   options.interpreter.dialect = *gcode::dialect_named(kDialects[size % kDialects.size()]);
   options.interpreter.tools = sample_tools();

@@ -20,7 +20,7 @@ void add_program_options(CLI::App& cmd, ProgramArgs& args) {
   cmd.add_option("--work-offset", args.work_offsets,
                  "where a coordinate system's zero lies in machine coordinates, as the control stores it: "
                  "G54=X-250,Y0,Z-300 (mm and deg; repeat for G55 ... G59.3; over the model's work_offsets)");
-  cmd.add_option("--dialect", args.dialect, "G-code dialect: linuxcnc, fanuc, mazak, wincnc")
+  cmd.add_option("--dialect", args.dialect, "G-code dialect: linuxcnc, fanuc, mazak, wincnc, siemens")
       ->check(CLI::IsMember(gcode::dialect_names()));
   cmd.add_option("--sub-path", args.sub_path, "folder with subroutine files (name.ngc)");
   cmd.add_flag("--block-delete", args.block_delete, "skip lines that start with '/'");

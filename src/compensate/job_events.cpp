@@ -134,7 +134,9 @@ void JobSink::take_out_offset(const gcode::Block& block) {
     }
   }
   if (!turns_on || repeated_ || elsewhere_) return;
-  if (const gcode::Word* d = block.find('D')) words.push_back(d->span);
+  // (Siemens' D is the tool's cutting edge, its length as much as its radius: it stays.)
+  if (const gcode::Word* d = block.find('D'); d && !options_.interpreter.dialect.d_selects_cutting_edge)
+    words.push_back(d->span);
   if (stages_) stages_->pipeline.drain();  // the lines before it are written first
   std::vector<gcode::Edit> edits;
   gcode::removal_edits(block.text, words, edits);
@@ -144,7 +146,8 @@ void JobSink::take_out_offset(const gcode::Block& block) {
 void JobSink::check_axes(const gcode::Block& block) const {
   for (const gcode::Word& w : block.words) {
     // (A lone letter, which the interpreter ignores, names no axis it moves.)
-    if (!w.has_value || w.letter < 'A' || w.letter > 'Z' || ((machine_axes_ >> (w.letter - 'A')) & 1U) ||
+    // (Nor does an extended address, Siemens' A3=: the interpreter refuses it at its column.)
+    if (!w.has_value || w.extension != 0 || w.letter < 'A' || w.letter > 'Z' || ((machine_axes_ >> (w.letter - 'A')) & 1U) ||
         !gcode::axis_index(w.letter))
       continue;
     throw Error(ErrorKind::safety,

@@ -15,7 +15,6 @@
 namespace ccomp::compensate {
 namespace {
 
-constexpr std::string_view kHeaderPrefix = "(ccomp ";
 constexpr std::string_view kWorkOffsets = "work offsets ", kSensors = "sensors ", kTime = "time ";
 
 /// "G54 X0 Y0 Z-400, G55 X100 Y0 Z0" (or "none") as header_line() writes it.
@@ -94,12 +93,14 @@ std::string sanitize(std::string_view s) {
 
 }  // namespace
 
-std::string header_line(const model::MachineModel& model, double tolerance, const RunConditions& conditions) {
+std::string header_line(const model::MachineModel& model, double tolerance, const RunConditions& conditions,
+                        bool parenthesis_comments) {
   // Shortest round-trip numbers ({}): a check reads back the very readings and time.
-  return fmt::format("{}{} compensated for machine '{}' model sha256:{} at {:g} um; {}{}{}{})", kHeaderPrefix, kVersion,
-                     sanitize(model.name), model.sha256, tolerance * 1000.0, kWorkOffsets,
-                     model::describe_work_offsets(conditions.work_offsets), sensors_part(model, conditions.sensors),
-                     conditions.time ? fmt::format("; {}{} s", kTime, *conditions.time) : std::string());
+  const std::string text = fmt::format(
+      "ccomp {} compensated for machine '{}' model sha256:{} at {:g} um; {}{}{}{}", kVersion, sanitize(model.name),
+      model.sha256, tolerance * 1000.0, kWorkOffsets, model::describe_work_offsets(conditions.work_offsets),
+      sensors_part(model, conditions.sensors), conditions.time ? fmt::format("; {}{} s", kTime, *conditions.time) : std::string());
+  return parenthesis_comments ? "(" + text + ")" : "; " + text;
 }
 
 std::optional<HeaderFacts> read_header(std::string_view line) {

@@ -115,7 +115,7 @@ JobReport run_program_job(gcode::LineSource& input, std::FILE* out, const model:
   }
   // What the run assumes goes into the header, so that verify and predict assume the same.
   const RunConditions assumed{starting_work_offsets(options.interpreter), options.sensors, options.time};
-  gcode::ProgramWriter writer(input.another_reader(), out, header_line(model, options.tolerance, assumed));
+  gcode::ProgramWriter writer(input.another_reader(), out, header_line(model, options.tolerance, assumed, options.interpreter.dialect.parenthesis_comments));
   JobSink sink(writer, model, options, input, report);
   // The program's G41/G42 stay for the control (the job rewrites the programmed path), or
   // the offset path is written instead.

@@ -13,6 +13,7 @@ void Block::clear() {
   words.clear();
   settings.clear();
   comments.clear();
+  commands.clear();
   o.present = false;
   o.named = false;
   o.number = 0;

@@ -1,5 +1,9 @@
 #include "ccomp/gcode/dialect.hpp"
 
+#include <fmt/format.h>
+
+#include "g_codes.hpp"
+
 namespace ccomp::gcode {
 
 std::optional<Dialect> dialect_named(std::string_view name) {
@@ -33,11 +37,39 @@ std::optional<Dialect> dialect_named(std::string_view name) {
     d.g53_alone_is_rapid = true;
     return d;
   }
+  if (name == "siemens") {
+    d.parenthesis_comments = false;
+    d.named_commands = true;
+    d.d_selects_cutting_edge = true;
+    d.dwell_in_f_or_s = true;
+    d.unused_words_are_errors = false;  // H words go to the PLC
+    d.starts_in_g99 = false;
+    // Path control (G60, G64, G641-G645), exact stop (G9, G601-G603): how the control blends
+    // blocks, not where they go.
+    d.passthrough_g_codes = {90, 600, 6010, 6020, 6030, 6410, 6420, 6430, 6440, 6450};
+    d.g_code_aliases = {{710, 210}, {7100, 210}, {7000, 200}, {1530, 530}};
+    d.unsupported_g_codes = {
+        {700, "G70 gives lengths in inches and feed rates in millimetres, which ccomp does not model (G700: both "
+              "in inches)"},
+        {5000, "G500 switches the settable work offsets off; ccomp's work offsets are G54 to G59.3 (--work-offset)"},
+        {580, "G58 is a Siemens axial programmable offset (a frame), not a work offset: not followed"},
+        {590, "G59 is a Siemens axial programmable offset (a frame), not a work offset: not followed"},
+        {920, "G92 limits the spindle speed in Siemens syntax; ccomp does not read it"},
+    };
+    // RS-274 codes a Sinumerik does not have in its own syntax, or gives another meaning:
+    // read as LinuxCNC's they would be wrong (its ISO mode, G291, is the fanuc dialect).
+    for (int code : {100, 280, 300, 430, 431, 432, 434, 435, 490, 730, 810, 820, 830, 840, 850, 860, 870, 880, 890})
+      d.unsupported_g_codes.emplace_back(
+          code, fmt::format("{} is not Siemens syntax (tool lengths come with D, cycles are CYCLE81 and on); a "
+                            "program for a Sinumerik's ISO mode (G291) is read with --dialect fanuc",
+                            g_name(code)));
+    return d;
+  }
   return std::nullopt;
 }
 
 std::vector<std::string> dialect_names() {
-  return {"linuxcnc", "fanuc", "mazak", "wincnc"};
+  return {"linuxcnc", "fanuc", "mazak", "wincnc", "siemens"};
 }
 
 }  // namespace ccomp::gcode

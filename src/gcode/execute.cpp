@@ -10,6 +10,7 @@
 #include "ccomp/gcode/tcp_mode.hpp"
 #include "g_codes.hpp"
 #include "interpreter_impl.hpp"
+#include "siemens_commands.hpp"
 
 namespace ccomp::gcode {
 
@@ -34,6 +35,14 @@ std::uint32_t Words::axis_mask() const {
   return mask;
 }
 
+int Interpreter::Impl::dialect_g_code(const Block& b, const Word& w, int code) const {
+  for (const auto& [refused, why] : options.dialect.unsupported_g_codes)
+    if (code == refused) unsupported_at(b, w.span, why);
+  for (const auto& [alias, meant] : options.dialect.g_code_aliases)
+    if (code == alias) return meant;
+  return code;
+}
+
 void Interpreter::Impl::decode(const Block& b) {
   words = Words{};
   const bool report = sink && sink->wants_values();
@@ -46,10 +55,12 @@ void Interpreter::Impl::decode(const Block& b) {
     const double v = w.value.is_literal() ? w.value.literal : evaluate(b, w.value);
     if (!std::isfinite(v)) fail(b, &w, fmt::format("{} word evaluates to {}", w.letter, v));
     if (report) word_values.push_back(v);
+    if (w.extension != 0) unsupported_at(b, w.span, extended_address_refusal(w.letter, w.extension));
     if (w.letter == 'G') {
       const double scaled = v * 10.0;
-      const auto code = static_cast<int>(std::lround(scaled));
+      auto code = static_cast<int>(std::lround(scaled));
       if (std::abs(scaled - code) > 1e-4 || code < 0) fail(b, &w, fmt::format("bad G code G{}", v));
+      code = dialect_g_code(b, w, code);
       if (words.g_count == static_cast<int>(words.g.size())) fail(b, &w, "too many G codes on one line");
       words.g[static_cast<std::size_t>(words.g_count)] = code;
       if (code < 1000) words.g_set.set(static_cast<std::size_t>(code));
@@ -404,8 +415,9 @@ void Interpreter::Impl::execute(const Block& b) {
     if (words.has_g(940)) modal.feed_mode = FeedMode::units_per_minute, emit("SET_FEED_MODE", "0, 0");
     if (words.has_g(950)) modal.feed_mode = FeedMode::units_per_rev, emit("SET_FEED_MODE", "0, 2");
   }
-  // 3. feed rate
-  if (words.has('F')) {
+  // 3. feed rate (a Siemens dwell's F is its time)
+  const bool dwell_words = non_modal == 40 && options.dialect.dwell_in_f_or_s;
+  if (words.has('F') && !dwell_words) {
     const double f = words['F'];
     if (f < 0) fail(b, words.word['F' - 'A'], fmt::format("negative F word: {}", f));
     modal.feed = modal.feed_mode == FeedMode::inverse_time ? f : f * u;
@@ -417,7 +429,7 @@ void Interpreter::Impl::execute(const Block& b) {
       fail(b, nullptr, fmt::format("F word missing with inverse time {} move", g_name(m)));
   }
   // 4. spindle speed
-  if (words.has('S')) {
+  if (words.has('S') && !dwell_words) {
     if (words['S'] < 0) fail(b, words.word['S' - 'A'], "negative spindle speed");
     modal.speed = words['S'];
     emit_lazy("SET_SPINDLE_SPEED", [&] { return "0, " + fixed4(modal.speed); });
@@ -431,7 +443,8 @@ void Interpreter::Impl::execute(const Block& b) {
     modal.selected_tool = static_cast<int>(t);
     emit_lazy("SELECT_TOOL", [&] { return fmt::format("{}", modal.selected_tool); });
   }
-  // 6. tool change; 7. spindle (M codes are rare: skip them together)
+  // 6. tool change; 7. spindle (M codes are rare: skip them together); a Siemens D after both
+  const bool tool_changed = words.m_count > 0 && words.has_m(6);
   if (words.m_count > 0) {
     if (words.has_m(6)) {
       refuse_under_compensation(b, "change tools");
@@ -453,11 +466,17 @@ void Interpreter::Impl::execute(const Block& b) {
     if (words.has_m(4)) modal.spindle = -1, emit("START_SPINDLE_COUNTERCLOCKWISE", "0");
     if (words.has_m(5)) modal.spindle = 0, emit("STOP_SPINDLE_TURNING", "0");
   }
+  if (options.dialect.d_selects_cutting_edge) cutting_edge(b, tool_changed);
   // 8. coolant: nothing that moves.  9. overrides: nothing that moves.
   // 10. dwell
   if (non_modal == 40) {
-    if (!words.has('P')) fail(b, nullptr, "dwell time missing with G4");
-    emit("DWELL", fixed4(words['P']));
+    if (dwell_words) {
+      if (!words.has('F') && !words.has('S')) fail(b, nullptr, "dwell time missing with G4: F (seconds) or S (turns)");
+      emit("DWELL", fixed4(words.has('F') ? words['F'] : words['S'] * 60.0 / std::max(modal.speed, 1e-9)));
+    } else {
+      if (!words.has('P')) fail(b, nullptr, "dwell time missing with G4");
+      emit("DWELL", fixed4(words['P']));
+    }
   }
   // 11.-18. modal settings, only when the block has a G code of those groups
   constexpr std::uint32_t kSettingGroups =
@@ -504,6 +523,7 @@ void Interpreter::Impl::execute(const Block& b) {
     if (words.has_g(980)) modal.retract_to_r = false;
     if (words.has_g(990)) modal.retract_to_r = true;
   }
+  if (!b.commands.empty()) named_commands(b);
   // 19. reference return, coordinate data, axis offsets
   if (non_modal == 100) g10(b);
   if (non_modal == 280 || non_modal == 300 || non_modal == 281 || non_modal == 301) reference_return(b, non_modal);
@@ -589,7 +609,7 @@ void Interpreter::Impl::check_unused_words(const Block& b, int motion_code, int 
                       words.has_m(66) || words.has_m(19) || words.has_m(62) || words.has_m(63) || words.has_m(64) ||
                       words.has_m(65) || words.has_g(50) || motion_mode == 760;
   if (!p_user) unused('P', "G4, G10, G64, G2/G3 turns, dwelling cycles, M98, M66");
-  const bool d_user = words.has_g(410) || words.has_g(420) || words.has_g(411) || words.has_g(421) ||
+  const bool d_user = options.dialect.d_selects_cutting_edge || words.has_g(410) || words.has_g(420) || words.has_g(411) || words.has_g(421) ||
                       words.has_g(960) || words.has_g(432);
   if (!d_user) unused('D', "G41, G42, G96");
   if (!(words.has_g(430) || words.has_g(432) || words.has_g(434))) unused('H', "G43");
@@ -619,6 +639,7 @@ void Interpreter::Impl::motion(const Block& b, int code, int non_modal) {
       if (code == 10 && modal.feed == 0.0 && modal.feed_mode != FeedMode::inverse_time)
         fail(b, nullptr, "cannot do G1 with zero feed rate (no F word yet)");
       const Axes t = target_of(b, g53);
+      if (code == 10) check_orientation_interpolation(b, t);
       straight(code == 0 ? MotionKind::traverse : MotionKind::feed, t,
                g53 ? MotionSource::machine_coordinates : MotionSource::program);
       return;

@@ -35,7 +35,10 @@ void Interpreter::Impl::cutter_compensation(const Block& b, int code) {
   } else {
     // D names a tool of the table; without it (or D0), the tool in the spindle.
     int tool = modal.tool;
-    if (words.has('D')) {
+    if (options.dialect.d_selects_cutting_edge) {
+      // Siemens: the spindle's tool, by the edge in force (none under D0).
+      if (modal.cutting_edge == 0) tool = -1;
+    } else if (words.has('D')) {
       const double d = words['D'];
       if (std::abs(d - std::round(d)) >= 0.0001)
         fail(b, d_word, fmt::format("G{} needs D to be a whole number (a tool number), not {}", code / 10, d));

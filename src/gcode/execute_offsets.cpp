@@ -173,13 +173,15 @@ void Interpreter::Impl::tool_length(const Block& b, int code) {
       break;
     case 430:
     case 432: {
-      const int tool = words.has('H') ? static_cast<int>(std::lround(words['H'])) : modal.tool;
+      // (Siemens' H is an auxiliary function: the length is the spindle's tool's, by its D.)
+      const bool by_h = words.has('H') && !options.dialect.d_selects_cutting_edge;
+      const int tool = by_h ? static_cast<int>(std::lround(words['H'])) : modal.tool;
       if (tool < 0) fail(b, nullptr, "negative H word");
       if (code == 432) next = offsets.tool;
       if (tool != 0) {
         const ToolEntry* e = tools.find(tool);
         if (!e)
-          fail(b, words.has('H') ? words.word['H' - 'A'] : nullptr,
+          fail(b, by_h ? words.word['H' - 'A'] : nullptr,
                fmt::format("tool {} is not in the tool table (give one with --tool-table)", tool));
         for (std::size_t i = 0; i < kAxisCount; ++i) next[i] += e->offset[i];
       }

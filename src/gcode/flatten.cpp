@@ -66,7 +66,8 @@ class FlattenSink : public CanonSink {
         call = call || values[k] == 98;
         back = back || values[k] == 99;
       }
-    bool acts = b.o.present;  // only a program's number (its name) is executed as a block
+    // A program's number (its name) is executed as a block, and so is a Siemens command.
+    bool acts = b.o.present || !b.commands.empty();
     removed_.clear();
     for (std::size_t k = 0; k < b.words.size(); ++k) {
       const Word& w = b.words[k];

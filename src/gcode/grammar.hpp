@@ -73,14 +73,39 @@ struct empty_value {
   }
 };
 
-struct word : pegtl::seq<word_letter, pegtl::must<pegtl::sor<real_value, empty_value>>> {};
+/// Matches nothing, only where the dialect is Siemens' (Dialect::named_commands).
+struct siemens_only {
+  using rule_t = siemens_only;
+  using subs_t = pegtl::empty_list;
+  template <pegtl::apply_mode A, pegtl::rewind_mode M, template <typename...> class Action,
+            template <typename...> class Control, typename ParseInput, typename State>
+  static bool match(ParseInput& /*in*/, State& state) {
+    return state.dialect->named_commands;
+  }
+};
+
+struct address_extension : pegtl::seq<siemens_only, pegtl::sor<pegtl::seq<digits, pegtl::one<'='>>, pegtl::one<'='>>> {
+};
+struct word
+    : pegtl::seq<word_letter, pegtl::opt<address_extension>, pegtl::must<pegtl::sor<real_value, empty_value>>> {};
+
+struct string_end : pegtl::one<'"'> {};
+struct string : pegtl::seq<pegtl::one<'"'>, pegtl::star<pegtl::not_one<'"'>>, pegtl::must<string_end>> {};
+struct command_name : pegtl::seq<pegtl::upper, pegtl::sor<pegtl::upper, pegtl::one<'_'>>,
+                                 pegtl::star<pegtl::sor<pegtl::upper, pegtl::digit, pegtl::one<'_'>>>> {};
+struct arguments_end : pegtl::one<')'> {};
+struct command_arguments
+    : pegtl::seq<pegtl::one<'('>, pegtl::star<pegtl::sor<string, pegtl::not_one<')'>>>, pegtl::must<arguments_end>> {};
+struct command_value : pegtl::seq<pegtl::one<'='>, pegtl::must<real_value>> {};
+struct command : pegtl::seq<siemens_only, command_name, pegtl::opt<pegtl::sor<command_arguments, command_value>>> {};
 
 struct parameter_index : pegtl::sor<named_parameter, real_value> {};
 struct parameter_setting
     : pegtl::seq<pegtl::one<'#'>, pegtl::must<parameter_index>, pegtl::must<pegtl::one<'='>>, pegtl::must<real_value>> {
 };
 
-struct segment : pegtl::sor<word, comment, parameter_setting> {};
+struct separator : pegtl::one<' '> {};
+struct segment : pegtl::sor<command, word, comment, parameter_setting, separator> {};
 
 struct comment;
 struct o_label : pegtl::sor<named_parameter, digits, parameter_value> {};
@@ -101,7 +126,9 @@ struct o_repeat : pegtl::seq<TAO_PEGTL_STRING("REPEAT"), pegtl::must<expression>
 struct o_endrepeat : TAO_PEGTL_STRING("ENDREPEAT") {};
 struct o_keyword : pegtl::sor<o_sub, o_endsub, o_call, o_return, o_if, o_elseif, o_else, o_endif, o_while, o_endwhile,
                               o_do, o_break, o_continue, o_repeat, o_endrepeat> {};
-struct o_statement : pegtl::seq<pegtl::one<'O'>, pegtl::must<o_label>, pegtl::opt<o_keyword>, pegtl::star<segment>> {};
+struct o_statement
+    : pegtl::seq<pegtl::not_at<command>, pegtl::one<'O'>, pegtl::must<o_label>, pegtl::opt<o_keyword>,
+                 pegtl::star<segment>> {};
 
 struct block_delete : pegtl::one<'/'> {};
 struct line_number : pegtl::seq<pegtl::one<'N'>, pegtl::must<unsigned_real>> {};

@@ -167,6 +167,8 @@ struct Interpreter::Impl {
   // --- one block (execute.cpp)
   void execute(const Block& b);
   void decode(const Block& b);
+  /// The G code (times ten) the dialect means by `code`: its alias, or a refusal at the word.
+  [[nodiscard]] int dialect_g_code(const Block& b, const Word& w, int code) const;
   void check_unused_words(const Block& b, int motion_code, int non_modal);
   /// A dialect pass-through G code of the block that moves axes ccomp does not model, or -1.
   [[nodiscard]] int passthrough_code() const;
@@ -211,6 +213,16 @@ struct Interpreter::Impl {
   /// TCP by `code` (0: off), the position carried into the other coordinates where it
   /// switches (InterpreterOptions::tcp_switch).
   void set_tcp(int code);
+
+  // --- the siemens dialect (execute_commands.cpp)
+  /// The block's named commands (TRAORI, TRAFOOF, ORIAXES, ...): each followed, passed
+  /// through or refused at its name.
+  void named_commands(const Block& b);
+  /// D as a cutting edge of the tool in the spindle, after a tool change (Dialect::
+  /// d_selects_cutting_edge): its length offset in force, or none with D0.
+  void cutting_edge(const Block& b, bool tool_changed);
+  /// Under TRAORI a feed move that turns a rotary axis is followed only under ORIAXES.
+  void check_orientation_interpolation(const Block& b, const Axes& target) const;
   void end_program(const Block& b);
   Axes target_of(const Block& b, bool machine_coordinates);
 

@@ -68,6 +68,10 @@ template <>
 inline constexpr const char* kMessage<g::expression> = "expected a bracketed expression [ ... ]";
 template <>
 inline constexpr const char* kMessage<g::o_label> = "expected a number or <name> after O";
+template <>
+inline constexpr const char* kMessage<g::arguments_end> = "expected ')' to close the command's arguments";
+template <>
+inline constexpr const char* kMessage<g::string_end> = "unclosed string: expected '\"' before the end of the line";
 
 struct Errors {
   template <typename Rule>
@@ -91,6 +95,10 @@ struct State {
   bool index_named = false;
   std::uint32_t index_name_begin = 0;
   std::uint32_t index_name_size = 0;
+  // The word being read: its extended address (Siemens `A3=`) and where its value starts.
+  std::uint16_t extension = 0;
+  const char* value_begin = nullptr;
+  Command command{};  // the command being read
 
   [[nodiscard]] std::uint32_t original(const char* p) const { return offsets[static_cast<std::size_t>(p - base)]; }
   [[nodiscard]] Span span(const char* begin, const char* end) const {
@@ -134,7 +142,8 @@ template <typename Rule>
 inline constexpr bool kMarked =
     std::is_same_v<Rule, g::word> || std::is_same_v<Rule, g::signed_value> ||
     std::is_same_v<Rule, g::parameter_value> || std::is_same_v<Rule, g::parameter_setting> ||
-    std::is_same_v<Rule, g::expression> || std::is_same_v<Rule, g::exists_call> || std::is_same_v<Rule, g::o_label>;
+    std::is_same_v<Rule, g::expression> || std::is_same_v<Rule, g::exists_call> || std::is_same_v<Rule, g::o_label> ||
+    std::is_same_v<Rule, g::command>;
 
 template <typename Rule>
 struct Control : pegtl::must_if<Errors>::control<Rule> {
@@ -346,16 +355,65 @@ struct Action<g::expression> {
 };
 
 template <>
+struct Action<g::address_extension> {
+  template <typename Input>
+  static void apply(const Input& in, State& st) {
+    std::uint32_t digits = 0;
+    if (in.size() > 1) {
+      const auto [ptr, ec] = std::from_chars(in.begin(), in.end() - 1, digits);
+      if (ec != std::errc() || digits == 0 || digits > 99)
+        throw pegtl::parse_error("an extended address has 1 to 99 after its letter (A3=, C7=)", in);
+    }
+    st.extension = static_cast<std::uint16_t>(digits);
+    st.value_begin = in.end();
+  }
+};
+
+template <>
 struct Action<g::word> {
   template <typename Input>
   static void apply(const Input& in, State& st) {
     Word w;
+    const char* value_begin = st.value_begin ? st.value_begin : in.begin() + 1;
     w.letter = in.peek_char();
+    w.extension = st.extension;
     w.span = st.span(in.begin(), in.end());
-    w.value_span = st.span(in.begin() + 1, in.end());
-    w.has_value = in.size() > 1;
+    w.value_span = st.span(value_begin, in.end());
+    w.has_value = value_begin < in.end();
     w.value = st.value(st.marks.back(), st.rpn_size());
     st.block->words.push_back(w);
+    st.extension = 0;
+    st.value_begin = nullptr;
+  }
+};
+
+template <>
+struct Action<g::command_name> {
+  template <typename Input>
+  static void apply(const Input& in, State& st) {
+    st.command = Command{};
+    st.command.name = st.span(in.begin(), in.end());
+  }
+};
+
+template <>
+struct Action<g::command_arguments> {
+  template <typename Input>
+  static void apply(const Input& in, State& st) {
+    st.command.has_arguments = true;
+    st.command.arguments = st.span(in.begin() + 1, in.end() - 1);
+  }
+};
+
+template <>
+struct Action<g::command> {
+  template <typename Input>
+  static void apply(const Input& in, State& st) {
+    Command c = st.command;
+    c.span = st.span(in.begin(), in.end());
+    c.has_value = st.rpn_size() > st.marks.back();
+    if (c.has_value) c.value = st.value(st.marks.back(), st.rpn_size());
+    st.block->commands.push_back(c);
   }
 };
 
@@ -525,6 +583,10 @@ struct ByteClasses {
 };
 constexpr ByteClasses kBytes;
 
+bool is_name_char(char c) {
+  return (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') || c == '_';
+}
+
 // The lexical layer: blanks out, letters up, comments verbatim; remember where each kept
 // byte came from.
 constexpr std::string_view kByteOrderMark = "\xEF\xBB\xBF";
@@ -545,10 +607,29 @@ void fold(std::string_view line, const Dialect& dialect, std::string& folded, st
   while (i < n) {
     const char c = line[i];
     const std::uint8_t kind = kBytes.kind[static_cast<unsigned char>(c)];
-    if (kind == kCopy || (c == '[' && !dialect.bracket_comments)) {
+    if (c == '"' && !dialect.parenthesis_comments) {
+      // A Siemens string: verbatim, blanks, case and ';' included.
+      keep(i++);
+      while (i < n && line[i] != '"') keep(i++);
+      if (i < n) keep(i++);
+      continue;
+    }
+    if (kind == kCopy || (c == '[' && !dialect.bracket_comments) || (c == '(' && !dialect.parenthesis_comments)) {
       f[k] = kBytes.upper[static_cast<unsigned char>(c)];
       o[k++] = static_cast<std::uint32_t>(i++);
     } else if (kind == kBlank) {
+      // Siemens: a blank ends a command's name (`TRAORI G0`): one is kept between two names
+      // or numbers, for the grammar's separator.
+      if (dialect.named_commands && k > 0 && is_name_char(f[k - 1])) {
+        std::size_t next = i;
+        while (next < n && kBytes.kind[static_cast<unsigned char>(line[next])] == kBlank) ++next;
+        if (next < n && is_name_char(kBytes.upper[static_cast<unsigned char>(line[next])])) {
+          f[k] = ' ';
+          o[k++] = static_cast<std::uint32_t>(i);
+        }
+        i = next;
+        continue;
+      }
       ++i;
     } else if (c == '(' || c == '[') {
       // WinCNC's `[ ... ]` reads as `( ... )`; the offsets still point at the brackets.
@@ -626,6 +707,7 @@ bool Parser::parse_simple(std::string_view t, Block& out) const {
     if (i == n) return true;
     const char c = t[i];
     if (c == '(') {
+      if (!dialect_.parenthesis_comments) return false;
       const std::size_t close = t.find(')', i + 1);
       if (close == std::string_view::npos) return false;
       if (t.substr(i + 1, close - i - 1).find('(') != std::string_view::npos) return false;

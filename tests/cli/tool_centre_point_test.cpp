@@ -58,7 +58,8 @@ INSTANTIATE_TEST_SUITE_P(Modes, ToolCentrePoint,
                          testing::Values(TcpCase{"LinuxcncSwitchkinsM428", "linuxcnc", "M428 G43 H1"},
                                          TcpCase{"FanucG43_4", "fanuc", "G43.4 H1"},
                                          TcpCase{"LinuxcncG43_4", "linuxcnc", "G43.4 H1"},
-                                         TcpCase{"HeidenhainM128InIso", "fanuc", "M128 G43 H1"}),
+                                         TcpCase{"HeidenhainM128InIso", "fanuc", "M128 G43 H1"},
+                                         TcpCase{"SiemensTraori", "siemens", "T1 M6 D1 ORIAXES TRAORI"}),
                          [](const auto& param_info) { return std::string(param_info.param.name); });
 
 /// What is not followed under TCP yet, refused (exit 4) at its line and column.
@@ -97,6 +98,11 @@ INSTANTIATE_TEST_SUITE_P(
                    "4:1: error: an arc under tool centre point control"},
         Unfollowed{"AnOffsetFromThePosition", "fanuc", "G21 G90 G17\nG43.4 H1\nG0 X10 Y0 Z20 A10\nG92 X0\nM2\n",
                    "4:1: error: an offset set from the position (G92, G10 L20) under tool centre point control"},
+        Unfollowed{"SiemensTurningWithoutOriaxes", "siemens",
+                   "G71 G90\nT1 M6\nTRAORI\nG0 X10 Y0 Z20 A10\nG1 X20 A15 F500\nM30\n",
+                   "5:8: error: A turns under TRAORI without ORIAXES"},
+        Unfollowed{"SiemensDirectionVector", "siemens", "G71\nT1 M6\nORIAXES TRAORI\nG1 X10 A3=0 B3=0 C3=1 F500\nM30\n",
+                   "4:8: error: A3=: the tool's direction as a vector"},
         Unfollowed{"ACannedCycle", "fanuc", "G21 G90 G17\nG43.4 H1\nG0 X10 Y0 Z20\nG81 X20 Y5 Z-5 R2 F100\nG80\nM2\n",
                    "4:1: error: a canned cycle, G28/G30 or G53 under tool centre point control"}),
     [](const auto& param_info) { return std::string(param_info.param.name); });

@@ -28,9 +28,10 @@ struct RunConditions {
 /// The header comment that marks a compensated program, names the model by its hash and
 /// says the tolerance (mm) it was compensated to and what the run assumed: the work
 /// offsets (always), the sensor readings and the time (where given), as
-/// "; work offsets G54 X0 Y0 Z-400; sensors bed=20, column=21.5; time 3600 s".
+/// "; work offsets G54 X0 Y0 Z-400; sensors bed=20, column=21.5; time 3600 s". In `( ... )`,
+/// or after `;` where the dialect's parentheses are no comment (Siemens).
 [[nodiscard]] std::string header_line(const model::MachineModel& model, double tolerance,
-                                      const RunConditions& conditions = {});
+                                      const RunConditions& conditions = {}, bool parenthesis_comments = true);
 /// True when `line` is a header that header_line() wrote, as a transfer or a control may
 /// have kept it: in any case, respaced, `( ccomp ...)` or `; ccomp ...` (a whole-line comment
 /// starting with "ccomp" that says "compensated for machine").

@@ -83,6 +83,9 @@ struct Word {
   /// a line the grammar read, more than 127 digits after the point).
   std::int8_t decimals = -1;
   bool point_first = false;  ///< written ".5": the point before any digit
+  /// Siemens' extended address: the digits between the letter and `=` (`A3=0` is A, 3), 0
+  /// where there are none. `X=10` has none: it is X.
+  std::uint16_t extension = 0;
   Span span;                 ///< the whole word in the original text
   Span value_span;           ///< the value's bytes (what a writer replaces)
   Value value;
@@ -102,6 +105,17 @@ struct Comment {
   Span span;                 ///< including the delimiters
   Span text;                 ///< inside the delimiters
   bool end_of_line = false;  ///< `;` comment
+};
+
+/// A named command of the siemens dialect (Dialect::named_commands): `TRAORI`, `ORIAXES`,
+/// `CYCLE832(0.01,1)`, `MSG("ROUGHING")`, `CR=5`. Its arguments are kept as written.
+struct Command {
+  Span span;       ///< the whole command in the original text
+  Span name;       ///< its name (letters, digits, '_')
+  Span arguments;  ///< inside its parentheses; empty without them
+  bool has_arguments = false;
+  bool has_value = false;  ///< `NAME=value`
+  Value value;
 };
 
 enum class OKeyword : std::uint8_t {
@@ -147,6 +161,7 @@ struct Block {
   std::vector<Word> words;
   std::vector<ParameterSetting> settings;
   std::vector<Comment> comments;
+  std::vector<Command> commands;
   OStatement o;
   std::vector<ExprNode> rpn;  ///< expression nodes of every non-literal value
   std::string names;          ///< arena of folded parameter names
@@ -162,7 +177,9 @@ struct Block {
   /// dialect allows one) is ignored, as the interpreter ignores it.
   [[nodiscard]] const Word* find(char letter) const;
   /// True when the line holds nothing but blanks and comments.
-  [[nodiscard]] bool is_empty() const { return words.empty() && settings.empty() && !o.present && !program_delimiter; }
+  [[nodiscard]] bool is_empty() const {
+    return words.empty() && settings.empty() && commands.empty() && !o.present && !program_delimiter;
+  }
 };
 
 }  // namespace ccomp::gcode

@@ -5,6 +5,7 @@
 #include <optional>
 #include <string>
 #include <string_view>
+#include <utility>
 #include <vector>
 
 namespace ccomp::gcode {
@@ -39,9 +40,28 @@ struct Dialect {
   /// M codes outside the standard set (M100-M199 are always user codes) are accepted and
   /// passed through unless this is set.
   bool strict_m_codes = false;
+
+  // Siemens Sinumerik (the `siemens` preset: docs/dialects.md).
+  /// `(` opens a comment. Not in Siemens syntax, where only `;` does and parentheses hold a
+  /// command's arguments.
+  bool parenthesis_comments = true;
+  /// A name of two letters or more is a command (`TRAORI`, `ORIAXES`, `CYCLE832(...)`), and an
+  /// address may take its value after `=` (`X=10`, `A3=0`): gcode::Command, Word::extension.
+  bool named_commands = false;
+  /// D selects a cutting edge of the tool in the spindle: D1 and up put its length offset in
+  /// force at once (and its radius under G41/G42), D0 none; a tool change takes edge 1. In
+  /// RS-274 D only names the radius' tool for G41/G42, and G43 puts the length in force.
+  bool d_selects_cutting_edge = false;
+  /// G4 takes its time in F (seconds) or S (spindle turns) and leaves the feed rate alone.
+  bool dwell_in_f_or_s = false;
+  /// G codes (times ten) read as another: Siemens' G71/G710 as G21, G700 as G20.
+  std::vector<std::pair<int, int>> g_code_aliases;
+  /// G codes refused at their word (exit 4) with the reason: what the dialect's G code does
+  /// that ccomp does not follow.
+  std::vector<std::pair<int, std::string>> unsupported_g_codes;
 };
 
-/// The presets: linuxcnc, fanuc (Haas), mazak, wincnc. Unknown names give nullopt.
+/// The presets: linuxcnc, fanuc (Haas), mazak, wincnc, siemens (Sinumerik 840D). Unknown names give nullopt.
 [[nodiscard]] std::optional<Dialect> dialect_named(std::string_view name);
 [[nodiscard]] std::vector<std::string> dialect_names();
 

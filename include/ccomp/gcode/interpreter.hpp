@@ -86,9 +86,16 @@ struct ModalState {
   int tool_length_mode = 490;     ///< G49, G43, G43.1, G43.2
   /// The code tool centre point control is on by (TcpCodes::follow): 434 (G43.4, off again
   /// with G43, G43.1, G43.2 or G49, its group's), 128 (M128, off with M129), 428 (M428, off
-  /// with M429: LinuxCNC's kinematics switch, which G43 and G49 leave as it is); 0 off. Under
+  /// with M429: LinuxCNC's kinematics switch, which G43 and G49 leave as it is), kTraoriTcp
+  /// (Siemens' TRAORI, off with TRAFOOF); 0 off. Under
   /// it the axis words are the tool tip in the part and the rotary axes' angles (Motion::tcp).
   int tcp = 0;
+  /// Siemens' ORIAXES in force (G group 51): under TRAORI the rotary axes move linearly
+  /// between blocks, as under G43.4. ORIVECT and the rest of the group interpolate the
+  /// tool's direction instead, which ccomp does not follow.
+  bool orientation_axes = false;
+  /// The tool's cutting edge in force (Dialect::d_selects_cutting_edge): 0 none.
+  int cutting_edge = 0;
   bool retract_to_r = true;       ///< G99 (else G98: back to the initial level)
   int path_mode = 640;
   double feed = 0.0;  ///< mm/min (or inverse time, or mm/rev)

@@ -22,11 +22,14 @@ enum class TcpCodes : std::uint8_t {
   pass,
   /// Refused at the code (exit 4): where the axis words must be the joints'.
   refuse,
-  /// Followed: G43.4 (with G43's H), M128 (Fanuc dialect) and M428 (LinuxCNC dialect) switch
-  /// TCP on; G43, G43.1, G43.2, G49, M129 and M429 off; each motion says which it is under.
+  /// Followed: G43.4 (with G43's H), M128 (Fanuc dialect), M428 (LinuxCNC dialect) and TRAORI
+  /// (siemens dialect, off with TRAFOOF) switch TCP on; G43, G43.1, G43.2, G49, M129 and M429 off; each motion says which it is under.
   /// G43.5 (the tool's direction as I J K) and M430 (user kinematics) are refused.
   follow,
 };
+
+/// ModalState::tcp under Siemens' TRAORI (which is a command, not a code).
+inline constexpr int kTraoriTcp = 1;
 
 /// Whether M `code` switches TCP off again in the dialect (M129 of Fanuc-style dialects,
 /// M429 of LinuxCNC's).

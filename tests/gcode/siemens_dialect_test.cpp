@@ -1,0 +1,186 @@
+// The siemens dialect (Sinumerik 840D syntax): parentheses hold a command's arguments and
+// `;` alone opens a comment; named commands, `X=10` and extended addresses are parsed with
+// their spans; the interpreter follows TRAORI/TRAFOOF, ORIAXES and D as a cutting edge, and
+// refuses at its column what it does not follow.
+#include <fmt/format.h>
+#include <gtest/gtest.h>
+
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "ccomp/error.hpp"
+#include "ccomp/gcode/interpreter.hpp"
+#include "ccomp/gcode/parser.hpp"
+#include "ccomp/gcode/tool_table.hpp"
+
+namespace ccomp::gcode {
+namespace {
+
+struct Parsed {
+  std::string text;  // owns the bytes the block views
+  Block block;
+};
+
+Parsed parse(const std::string& line, const char* dialect = "siemens", bool fast_path = true) {
+  Parsed p{line, {}};
+  Parser parser(*dialect_named(dialect), fast_path);
+  parser.parse(p.text, 3, "t.mpf", p.block);
+  return p;
+}
+
+/// The error a line gives: "column: message".
+std::string parse_error(const std::string& line, const char* dialect = "siemens") {
+  try {
+    (void)parse(line, dialect);
+  } catch (const Error& e) {
+    return std::to_string(e.where().column) + ": " + e.message();
+  }
+  return "no error";
+}
+
+TEST(SiemensParser, CommandsKeepTheirNamesAndArgumentsAsWritten) {
+  const Parsed p = parse("N50 cycle832(0.01, _SEMIFIN ,1) TRAORI G0 X1");
+  ASSERT_EQ(p.block.commands.size(), 2U);
+  EXPECT_EQ(p.block.slice(p.block.commands[0].name), "cycle832");
+  EXPECT_TRUE(p.block.commands[0].has_arguments);
+  EXPECT_EQ(p.block.slice(p.block.commands[0].arguments), "0.01, _SEMIFIN ,1");
+  EXPECT_EQ(p.block.slice(p.block.commands[1].span), "TRAORI");
+  EXPECT_FALSE(p.block.commands[1].has_arguments);
+  ASSERT_EQ(p.block.words.size(), 2U);
+  EXPECT_FALSE(p.block.is_empty());
+  EXPECT_FALSE(parse("ORIAXES").block.is_empty()) << "a command is no O statement";
+  EXPECT_FALSE(parse("ORIAXES").block.o.present);
+}
+
+TEST(SiemensParser, StringsAreVerbatimAndOnlyTheSemicolonComments) {
+  const Parsed p = parse(R"x(MSG("Rough ; pass (1)") ; done (really))x");
+  ASSERT_EQ(p.block.commands.size(), 1U);
+  EXPECT_EQ(p.block.slice(p.block.commands[0].arguments), R"x("Rough ; pass (1)")x");
+  ASSERT_EQ(p.block.comments.size(), 1U);
+  EXPECT_EQ(p.block.slice(p.block.comments[0].text), " done (really)");
+}
+
+TEST(SiemensParser, AnAddressMayTakeItsValueAfterAnEqualsSign) {
+  for (bool fast : {true, false}) {
+    const Parsed p = parse("G1 X=-1.5 A3=0.25 F200", "siemens", fast);
+    ASSERT_EQ(p.block.words.size(), 4U);
+    const Word& x = p.block.words[1];
+    EXPECT_EQ(x.letter, 'X');
+    EXPECT_EQ(x.extension, 0U);
+    EXPECT_EQ(p.block.slice(x.span), "X=-1.5");
+    EXPECT_EQ(p.block.slice(x.value_span), "-1.5") << "the writer replaces the number, not the '='";
+    EXPECT_DOUBLE_EQ(x.value.literal, -1.5);
+    EXPECT_EQ(p.block.words[2].extension, 3U);
+    EXPECT_EQ(p.block.slice(p.block.words[2].value_span), "0.25");
+  }
+}
+
+TEST(SiemensParser, MalformedSyntaxIsAnErrorAtItsColumn) {
+  EXPECT_EQ(parse_error(R"x(MSG("open)x"), "10: unclosed string: expected '\"' before the end of the line");
+  EXPECT_EQ(parse_error("CYCLE832(0.01,1"), "16: expected ')' to close the command's arguments");
+  EXPECT_EQ(parse_error("G1 X=AC(5)"), "6: expected a value after the letter: a number, [expression], #parameter or "
+                                       "function");
+  EXPECT_EQ(parse_error("A0=5"), "2: an extended address has 1 to 99 after its letter (A3=, C7=)");
+  // Outside the dialect none of it is read.
+  EXPECT_NE(parse_error("TRAORI", "linuxcnc"), "no error");
+  EXPECT_NE(parse_error("G1 X=1", "fanuc"), "no error");
+}
+
+// --- the interpreter ---------------------------------------------------------------------
+
+struct Recorded : CanonSink {
+  void motion(const Motion& m) override { moves.push_back(m); }
+  std::vector<Motion> moves;
+};
+
+InterpreterOptions siemens_options() {
+  InterpreterOptions o;
+  o.dialect = *dialect_named("siemens");
+  std::istringstream table("T1 P1 Z100.0 D10.0\nT2 P2 Z80.0 D6.0\n");
+  o.tools = read_tool_table(table, "t.tbl");
+  o.tcp = TcpCodes::follow;
+  return o;
+}
+
+struct Outcome {
+  Recorded sink;
+  ModalState modal;
+  Offsets offsets;
+};
+
+Outcome run(const std::string& program) {
+  Outcome r;
+  LineSource source = LineSource::from_string(program, "t.mpf");
+  Interpreter interpreter(siemens_options());
+  interpreter.run(source, r.sink);
+  r.modal = interpreter.modal();
+  r.offsets = interpreter.offsets();
+  return r;
+}
+
+/// The refusal a program gives: "exit kind line:column: message start".
+std::string refusal(const std::string& program) {
+  try {
+    (void)run(program);
+  } catch (const Error& e) {
+    return fmt::format("{} {}:{}: {}", static_cast<int>(e.kind()), e.where().line, e.where().column, e.message());
+  }
+  return "no refusal";
+}
+
+TEST(SiemensInterpreter, TraoriIsOnUntilTrafoofAndTakesTheEdgesLength) {
+  const Outcome r = run("T1 M6\nORIAXES\nTRAORI\nG0 X1 Z50 A5\nG1 X2 A6 F100\nTRAFOOF\nG1 X3\nM30\n");
+  ASSERT_EQ(r.sink.moves.size(), 3U);
+  EXPECT_TRUE(r.sink.moves[0].tcp);
+  EXPECT_TRUE(r.sink.moves[1].tcp);
+  EXPECT_FALSE(r.sink.moves[2].tcp);
+  EXPECT_EQ(r.modal.cutting_edge, 1) << "a tool change takes edge 1";
+  EXPECT_DOUBLE_EQ(r.offsets.tool[2], 100.0);
+}
+
+TEST(SiemensInterpreter, DSelectsTheEdgeOfTheToolInTheSpindle) {
+  EXPECT_DOUBLE_EQ(run("T2 M6 D1\nG0 X0\nM30\n").offsets.tool[2], 80.0);
+  EXPECT_DOUBLE_EQ(run("T2 M6 D0\nG0 X0\nM30\n").offsets.tool[2], 0.0);
+  EXPECT_DOUBLE_EQ(run("T2 M6\nD0\nD1\nG0 X0 H5\nM30\n").offsets.tool[2], 80.0) << "H goes to the PLC";
+  // The radius of G41 is the spindle's tool's, whatever the edge's number.
+  EXPECT_EQ(refusal("T2 M6 D1\nG0 X0 Y0\nG41 G1 X10 F100\nG40 X20\nM30\n"), "no refusal");
+}
+
+TEST(SiemensInterpreter, TheSiemensCodesOfUnitsAndDwellAreRead) {
+  EXPECT_EQ(run("G700\nG0 X1\nM30\n").modal.units, Units::inch);
+  EXPECT_EQ(run("G700\nG710\nG0 X1\nM30\n").modal.units, Units::mm);
+  EXPECT_EQ(run("G700\nG71\nG0 X1\nM30\n").modal.units, Units::mm);
+  // G4's F is its time in seconds: the feed rate stays.
+  EXPECT_DOUBLE_EQ(run("G1 X1 F300\nG4 F2\nG1 X2\nM30\n").sink.moves.back().feed, 300.0);
+  EXPECT_EQ(refusal("G4\nM30\n").substr(0, 2), "3 ");
+}
+
+TEST(SiemensInterpreter, WhatIsNotFollowedIsRefusedAtItsColumn) {
+  const int unsupported = static_cast<int>(ErrorKind::unsupported);
+  auto starts = [](const std::string& text, const std::string& start) { return text.rfind(start, 0) == 0; };
+  const std::string no_oriaxes = refusal("T1 M6\nTRAORI\nG0 X1 Z50 A5\nG1 X2 A6 F100\nM30\n");
+  EXPECT_TRUE(starts(no_oriaxes, fmt::format("{} 4:7: A turns under TRAORI without ORIAXES", unsupported)))
+      << no_oriaxes;
+  const std::string vector = refusal("TRAORI\nG1 X2 A3=0 B3=0 C3=1 F100\nM30\n");
+  EXPECT_TRUE(starts(vector, fmt::format("{} 2:7: A3=: the tool's direction as a vector", unsupported))) << vector;
+  const std::string swivel = refusal("G0 X0\nN20 CYCLE800(1,\"TC1\",200000,57,0,0,0,30,0,0,0,0,0,-1,100,1)\nM30\n");
+  EXPECT_TRUE(starts(swivel, fmt::format("{} 2:5: CYCLE800: swivels the working plane", unsupported))) << swivel;
+  const std::string frame = refusal("G0 X0\nTRANS X10\nM30\n");
+  EXPECT_TRUE(starts(frame, fmt::format("{} 2:1: TRANS: a programmable frame", unsupported))) << frame;
+  const std::string unknown = refusal("G0 X0\nG1 X5 FOO F100\nM30\n");
+  EXPECT_TRUE(starts(unknown, fmt::format("{} 2:7: FOO: a command the siemens dialect does not read", unsupported)))
+      << unknown;
+  const std::string g70 = refusal("G70\nM30\n");
+  EXPECT_TRUE(starts(g70, fmt::format("{} 1:1: G70 gives lengths in inches", unsupported))) << g70;
+  const std::string iso = refusal("G0 X0\nG81 X1 Z-2 R1 F100\nM30\n");
+  EXPECT_TRUE(starts(iso, fmt::format("{} 2:1: G81 is not Siemens syntax", unsupported))) << iso;
+  const std::string g58 = refusal("G58 X10\nM30\n");
+  EXPECT_TRUE(starts(g58, fmt::format("{} 1:1: G58 is a Siemens axial programmable offset", unsupported))) << g58;
+  const std::string edge = refusal("T1 M6\nORIAXES TRAORI\nG0 X1 A5\nD2\nM30\n");
+  EXPECT_TRUE(starts(edge, fmt::format("{} 4:1: a change of the tool's length offset under TRAORI", unsupported)))
+      << edge;
+}
+
+}  // namespace
+}  // namespace ccomp::gcode
