@@ -211,8 +211,9 @@ gcode::Axes JobSink::tcp_switch(const gcode::Axes& position, const gcode::Offset
 
 /// A move under tool centre point control: the axes' positions the control's kinematics
 /// command (tcp_kinematics.hpp), in pieces the axes move straight along within half the
-/// tolerance of the control's line (a rapid's path is the control's: one piece), each a
-/// move of the block compensated within the other half and written as TCP words.
+/// tolerance of the control's line or arc (a rapid's path is the control's: one piece), each
+/// a move of the block compensated within the other half and written as TCP words (an arc's
+/// as G1 lines).
 void JobSink::tcp_motion(const gcode::Motion& m) {
   try {
     tcp_pieces(stages_->tcp_kinematics(), m, options_.tolerance / 2.0, tcp_pieces_);
@@ -220,7 +221,7 @@ void JobSink::tcp_motion(const gcode::Motion& m) {
     refuse(e.kind(), e.message());
   }
   for (const TcpPiece& p : tcp_pieces_) {
-    piece_ = MovePiece{p.from, p.to, true, p.deviation};
+    piece_ = MovePiece{p.from, p.to, true, p.deviation, m.kind == gcode::MotionKind::arc};
     joint_motion(p.motion);
   }
   piece_ = {};

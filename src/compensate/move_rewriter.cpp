@@ -279,7 +279,7 @@ void MoveRewriter::rewrite(const gcode::Motion& m, const gcode::Block& b, const 
     throw Error(ErrorKind::unsupported,
                 "a move that must be split shares its block with a program stop (M0 M1 M2 M30 M60)",
                 SourceLocation{std::string(file_), b.line, 0}, std::string(b.text));
-  finish_lines(m, b, offset, part, appended, adds_lines_only);
+  finish_lines(m, b, offset, part, appended, adds_lines_only, piece.of_arc);
 }
 
 /// Hands the move's edits and added lines to the writer. A part after the first is written
@@ -321,13 +321,15 @@ void MoveRewriter::centre_by_words(const gcode::Motion& m, const gcode::Block& b
 }
 
 void MoveRewriter::finish_lines(const gcode::Motion& m, const gcode::Block& b, std::uint64_t offset,
-                                const ChordRange& part, std::string& appended, bool adds_lines_only) {
+                                const ChordRange& part, std::string& appended, bool adds_lines_only,
+                                bool arc_block) {
   if (!part.first()) {  // the line is open: the lines go straight out
     writer_.append(appended);
     if (part.last()) writer_.close_line();
     return;
   }
-  if (m.kind == gcode::MotionKind::arc && !m.radius_compensation && !adds_lines_only) arc_to_line_edits(b, edits_);
+  if ((m.kind == gcode::MotionKind::arc || arc_block) && !m.radius_compensation && !adds_lines_only)
+    arc_to_line_edits(b, edits_);
   if (!appended.empty())
     edits_.push_back(
         gcode::Edit{{static_cast<std::uint32_t>(b.text.size()), static_cast<std::uint32_t>(b.text.size())}, appended});

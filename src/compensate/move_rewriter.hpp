@@ -99,7 +99,7 @@ class MoveRewriter {
   [[nodiscard]] std::string centre_words(const gcode::Motion& m, const gcode::Block& b, const gcode::Axes& start);
   void centre_by_words(const gcode::Motion& m, const gcode::Block& b, const gcode::Axes& start);
   void finish_lines(const gcode::Motion& m, const gcode::Block& b, std::uint64_t offset, const ChordRange& part,
-                    std::string& appended, bool adds_lines_only);
+                    std::string& appended, bool adds_lines_only, bool arc_block);
 
   /// A take-up's word for its turning axis: its travel from `from` (program units), rounded
   /// out from the plan.

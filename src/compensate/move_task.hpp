@@ -30,6 +30,8 @@ struct MovePiece {
   double from = 0.0, to = 1.0;
   bool tcp = false;
   double deviation = 0.0;  ///< mm: how far the axes' straight move leaves the control's line
+  /// The block is an arc under TCP, followed as straight pieces: its own line becomes a G1.
+  bool of_arc = false;
 };
 
 struct MoveTask {

@@ -8,6 +8,7 @@
 
 #include "ccomp/compensate/machine_coordinates.hpp"
 #include "ccomp/error.hpp"
+#include "move_solver.hpp"
 
 namespace ccomp::compensate {
 
@@ -153,6 +154,42 @@ std::vector<double> tcp_split(TcpKinematics& kinematics, const gcode::Axes& star
   return cuts;
 }
 
+namespace {
+
+/// The share of a TCP arc's tolerance its chords' sagitta takes: the rest is each chord's
+/// own split into the axes' straight moves (tcp_split()).
+constexpr double kArcChordShare = 0.5;
+
+/// How far an arc's chords of `count` equal steps bulge from it at most (mm).
+double chord_sagitta(const gcode::ArcGeometry& g, std::size_t count) {
+  const double step = g.sweep / static_cast<double>(count);
+  return 2.0 * std::max(g.r_start, g.r_end) * std::pow(std::sin(step / 4.0), 2);
+}
+
+/// The pieces of the straight TCP move from `a` to `b`, which is the share [from, to] of the
+/// block's move `m`, onto `out`; each piece's deviation plus `bulge` (an arc's chord off the
+/// arc).
+void straight_pieces(TcpKinematics& kinematics, const gcode::Motion& m, const gcode::Axes& a, const gcode::Axes& b,
+                     double from, double to, double tolerance, double bulge, std::size_t most,
+                     std::vector<TcpPiece>& out) {
+  const gcode::Offsets& offsets = *m.offsets;
+  std::vector<double> deviations{0.0};
+  const std::vector<double> cuts = m.kind == gcode::MotionKind::traverse
+                                       ? std::vector<double>{0.0, 1.0}
+                                       : tcp_split(kinematics, a, b, offsets, tolerance, most, &deviations);
+  gcode::Motion piece = m;
+  piece.kind = m.kind == gcode::MotionKind::arc ? gcode::MotionKind::feed : m.kind;
+  piece.tcp = false;
+  piece.end = out.empty() ? controlled_of_chain(kinematics.joints_of(a, offsets), offsets) : out.back().motion.end;
+  for (std::size_t c = 1; c < cuts.size(); ++c) {
+    piece.start = piece.end;
+    piece.end = controlled_of_chain(kinematics.joints_of(lerp(a, b, cuts[c]), offsets), offsets);
+    out.push_back({piece, from + cuts[c - 1] * (to - from), from + cuts[c] * (to - from), deviations[c - 1] + bulge});
+  }
+}
+
+}  // namespace
+
 void tcp_pieces(TcpKinematics& kinematics, const gcode::Motion& m, double tolerance, std::vector<TcpPiece>& out,
                 std::size_t most) {
   using gcode::MotionKind;
@@ -163,28 +200,30 @@ void tcp_pieces(TcpKinematics& kinematics, const gcode::Motion& m, double tolera
     out.push_back({joints, 0.0, 1.0});
     return;
   }
-  if (m.kind == MotionKind::arc)
-    throw Error(ErrorKind::unsupported,
-                "an arc under tool centre point control: ccomp follows straight moves under TCP (G0, G1)");
   if (m.kind == MotionKind::probe) throw Error(ErrorKind::unsupported, "a probe move (G38.x) cannot be compensated");
   if (m.source != gcode::MotionSource::program)
     throw Error(ErrorKind::unsupported,
                 "a canned cycle, G28/G30 or G53 under tool centre point control: ccomp follows the program's own "
-                "straight moves under TCP");
+                "moves under TCP");
   if (m.radius_compensation || m.offset)
     throw Error(ErrorKind::unsupported, "cutter radius compensation (G41/G42) under tool centre point control");
-  const gcode::Offsets& offsets = *m.offsets;
-  std::vector<double> deviations{0.0};
-  const std::vector<double> cuts = m.kind == MotionKind::traverse
-                                       ? std::vector<double>{0.0, 1.0}
-                                       : tcp_split(kinematics, m.start, m.end, offsets, tolerance, most, &deviations);
-  gcode::Motion piece = m;
-  piece.tcp = false;
-  piece.end = controlled_of_chain(kinematics.joints_of(m.start, offsets), offsets);
-  for (std::size_t c = 1; c < cuts.size(); ++c) {
-    piece.start = piece.end;
-    piece.end = controlled_of_chain(kinematics.joints_of(lerp(m.start, m.end, cuts[c]), offsets), offsets);
-    out.push_back({piece, cuts[c - 1], cuts[c], deviations[c - 1]});
+  if (m.kind != MotionKind::arc) return straight_pieces(kinematics, m, m.start, m.end, 0.0, 1.0, tolerance, 0.0, most, out);
+  // An arc: the control moves the tip along it in the part. It is followed as chords within
+  // a share of the tolerance, each chord as a straight TCP move within the rest.
+  const gcode::ArcGeometry g = gcode::arc_geometry(m);
+  const std::size_t chords = arc_chord_count(g, kArcChordShare * tolerance);
+  const double bulge = chord_sagitta(g, chords);
+  gcode::Axes a = m.start;
+  for (std::size_t k = 1; k <= chords; ++k) {
+    const double from = static_cast<double>(k - 1) / static_cast<double>(chords);
+    const double to = static_cast<double>(k) / static_cast<double>(chords);
+    const gcode::Axes b = gcode::arc_point(m, g, to);
+    straight_pieces(kinematics, m, a, b, from, to, (1.0 - kArcChordShare) * tolerance, bulge, most, out);
+    if (out.size() > most)
+      throw Error(ErrorKind::program,
+                  fmt::format("a tool-centre-point arc that needs more than {} pieces to follow within {} mm", most,
+                              tolerance));
+    a = b;
   }
 }
 

@@ -1,11 +1,12 @@
 // Five-axis programs as the command line takes them: a program written for tool-centre-point
-// control is followed by the job, verify and predict (what is not followed under TCP yet is
-// refused at its line, exit 4); verify and predict report the tool's direction beside the
+// control is followed by the job, verify and predict, arcs included (what is not followed
+// under TCP yet is refused at its line, exit 4); verify and predict report the tool's direction beside the
 // tip and verify judges it against its angular tolerance.
 #include <fmt/format.h>
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <regex>
 #include <string>
 
 #include "trace_capture.hpp"
@@ -94,8 +95,6 @@ INSTANTIATE_TEST_SUITE_P(
                    "2:5: error: M430 switches to LinuxCNC's switchable kinematics: the user kinematics"},
         Unfollowed{"ToolDirectionG43_5", "fanuc", "G21 G90\nT1 M6 G43.5 H1\nG0 X10 A10\nM2\n",
                    "2:7: error: G43.5 gives the tool's direction as I J K"},
-        Unfollowed{"AnArc", "fanuc", "G21 G90 G17\nG43.4 H1\nG0 X10 Y0 Z20 A10\nG2 X20 Y10 I10 J0 F500\nM2\n",
-                   "4:1: error: an arc under tool centre point control"},
         Unfollowed{"AnOffsetFromThePosition", "fanuc", "G21 G90 G17\nG43.4 H1\nG0 X10 Y0 Z20 A10\nG92 X0\nM2\n",
                    "4:1: error: an offset set from the position (G92, G10 L20) under tool centre point control"},
         Unfollowed{"SiemensTurningWithoutOriaxes", "siemens",
@@ -106,6 +105,30 @@ INSTANTIATE_TEST_SUITE_P(
         Unfollowed{"ACannedCycle", "fanuc", "G21 G90 G17\nG43.4 H1\nG0 X10 Y0 Z20\nG81 X20 Y5 Z-5 R2 F100\nG80\nM2\n",
                    "4:1: error: a canned cycle, G28/G30 or G53 under tool centre point control"}),
     [](const auto& param_info) { return std::string(param_info.param.name); });
+
+// Arcs under TCP (I J K and R, the tool tilting and C turning along the first): the control
+// moves the tip along them in the part; the job writes each as G1 lines (its own line a G1,
+// its centre words gone) and verify finds them within the tolerance of the arcs.
+TEST(ToolCentrePoint, AnArcIsFollowedAndWrittenAsLines) {
+  const std::string dir = temp_dir("tcp_arc");
+  const std::string program = dir + "/arc.ngc", out = dir + "/out.ngc";
+  write_file(program,
+             "G21 G90 G17\nG43.4 H1\nG0 X10 Y0 Z20 A10 C0\nG2 X20 Y10 I10 J0 A20 C30 F500\nG3 X30 Y0 R10\nG1 X35\n"
+             "G49\nM2\n");
+  const std::string options = " -m " + five_axis_model() + " --dialect fanuc" + kTools;
+  const CommandResult job = run_command(shell_quote(ccomp_binary()) + " " + program + options + " -o " + out + " -q");
+  ASSERT_EQ(job.exit_code, 0) << job.err;
+  std::string written = read_file(out);
+  written.erase(0, written.find('\n') + 1);  // ccomp's header
+  EXPECT_GT(std::count(written.begin(), written.end(), '\n'), 100) << written;
+  EXPECT_FALSE(std::regex_search(written, std::regex(R"((G0?[23]|[IJR]-?[0-9.]+)\b)"))) << "an arc word left\n"
+                                                                                     << written;
+  const auto own = written.find("\nG1 X", written.find("G0 X"));
+  EXPECT_NE(own, std::string::npos) << "the arc's own line a G1\n" << written;
+  const CommandResult verified =
+      run_command(shell_quote(ccomp_binary()) + " verify " + program + " " + out + options);
+  EXPECT_EQ(verified.exit_code, 0) << verified.err << verified.out;
+}
 
 TEST(ToolCentrePoint, TheSwitchBackAndATraceAreNotRefused) {
   const std::string dir = temp_dir("tcp_read");

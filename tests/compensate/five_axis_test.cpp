@@ -508,6 +508,47 @@ TEST_P(FiveAxis, ATcpProgramCutsOnTheReferenceWhereItMeans) {
   EXPECT_EQ(e.uncut_length, 0.0) << c.name;
 }
 
+// An arc under TCP, run on the reference's control as its G1 lines (the job writes it so):
+// the tip half round a 30 mm circle in the part while the tool tilts from 15 to 30 degrees
+// and C turns 90, on each reference with all its errors. The path meant is the arc (1,440
+// of its points); the compensated tip stays within the tolerance of it and the tool within
+// 10 urad of its direction, where uncompensated they are 10 tolerances and more off.
+TEST(FiveAxisTcp, AnArcCutsOnTheReferenceWhereItMeans) {
+  for (const FiveAxisCase& c : five_axis_cases()) {
+    if (!c.name.ends_with("All")) continue;
+    const char rotary = c.head ? 'B' : 'A';
+    const std::string original = fmt::format(
+        "G21 G90 G94 G17\nG43.4 H2\nG0 X30 Y0 Z10 {0}15 C0\nG3 X-30 Y0 I-30 J0 {0}30 C90 F1000\nG49\nM2\n", rotary);
+    std::vector<FiveAxisWords> meant;
+    for (int k = 0; k <= 1440; ++k) {
+      const double s = k / 1440.0, angle = std::numbers::pi * s;
+      FiveAxisWords w{30 * std::cos(angle), 30 * std::sin(angle), 10, 0, 0, 90 * s};
+      (c.head ? w.b : w.a) = 15 + 15 * s;
+      meant.push_back(w);
+    }
+    const model::MachineModel mm = model::parse_machine_model(c.model, c.name + ".yaml");
+    JobOptions job;
+    job.interpreter = with_test_tool();
+    const std::string compensated = test::compensate(original, mm, job);
+    EXPECT_EQ(compensated.find("G3"), std::string::npos) << compensated;
+    const std::vector<FiveAxisWords> run = points_of(compensated);
+    ASSERT_GT(run.size(), 100U) << compensated;
+    const TcpLanding after = run_on_reference(c, meant, run);
+    EXPECT_LT(after.tip, job.tolerance) << c.name;
+    EXPECT_LT(after.direction, 10e-6) << c.name;
+    const TcpLanding before = run_on_reference(c, meant, meant);
+    EXPECT_GT(before.tip, 10 * job.tolerance) << c.name;
+    EXPECT_LT(after.direction, before.direction / 5) << c.name;
+    CheckOptions o;
+    o.interpreter = with_test_tool();
+    gcode::LineSource a = gcode::LineSource::from_string(original, "arc.ngc");
+    gcode::LineSource b = gcode::LineSource::from_string(compensated, "out.ngc");
+    const PathError e = verify(a, b, model::ForwardModel(mm), o);
+    EXPECT_LT(e.max, job.tolerance) << c.name;
+    EXPECT_EQ(e.uncut_length, 0.0) << c.name;
+  }
+}
+
 // The zero model writes a TCP program back as it is, bar ccomp's header line: nothing is
 // corrected, nothing misread.
 TEST(FiveAxisTcp, TheZeroModelWritesATcpProgramBackByteForByte) {

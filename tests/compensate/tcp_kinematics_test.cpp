@@ -7,7 +7,10 @@
 // tolerance of the control's straight line.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <limits>
+#include <numbers>
 #include <memory>
 #include <string>
 #include <vector>
@@ -152,6 +155,67 @@ TEST_P(TcpKinematicsTest, AMoveFarBeyondTheMachineIsRefusedNotSplitForever) {
     EXPECT_EQ(e.kind(), ErrorKind::program) << e.message();
     EXPECT_NE(e.message().find("a tool-centre-point move"), std::string::npos) << e.message();
   }
+}
+
+// An arc under TCP (the tip half round a circle in the part while the tool tilts and C
+// turns): its pieces cover the block in order, and both the axes' straight move along each
+// and the control's straight line between the pieces' TCP points keep the reference's tip
+// within the tolerance of the arc (the arc's part points, 4,000 of them).
+TEST_P(TcpKinematicsTest, AnArcsPiecesKeepTheReferenceTipOnTheArc) {
+  const Machine& m = GetParam();
+  const model::ForwardModel model(model::parse_machine_model(m.model, m.name + ".yaml"));
+  compensate::TcpKinematics tcp(model);
+  const gcode::Offsets offsets = tool_offsets();
+  constexpr double kTolerance = 0.5e-3, kRadius = 30.0;
+  gcode::Motion arc;
+  arc.kind = gcode::MotionKind::arc;
+  arc.offsets = &offsets;
+  FiveAxisWords from{kRadius, 0, 10, 0, 0, 0}, to{-kRadius, 0, 10, 0, 0, 90};
+  (m.head ? from.b : from.a) = 15, (m.head ? to.b : to.a) = 30;
+  arc.start = axes_of(from), arc.end = axes_of(to);
+  arc.arc.plane = gcode::Plane::xy, arc.arc.center_first = 0, arc.arc.center_second = 0, arc.arc.turns = 1;
+  std::vector<compensate::TcpPiece> pieces;
+  compensate::tcp_pieces(tcp, arc, kTolerance, pieces);
+  ASSERT_GT(pieces.size(), 50U);
+  EXPECT_EQ(pieces.front().from, 0.0);
+  EXPECT_EQ(pieces.back().to, 1.0);
+  std::vector<Eigen::Vector3d> meant;  // the arc in the part: at rotary zero, where its X Y Z put the tip
+  for (int k = 0; k <= 4000; ++k) {
+    const double angle = std::numbers::pi * k / 4000.0;
+    meant.push_back(m.reference->nominal({kRadius * std::cos(angle), kRadius * std::sin(angle), 10, 0, 0, 0}, kToolLength).tip);
+  }
+  auto off_arc = [&](const Eigen::Vector3d& p) {
+    double nearest = std::numeric_limits<double>::infinity();
+    for (std::size_t k = 1; k < meant.size(); ++k) {
+      const Eigen::Vector3d d = meant[k] - meant[k - 1];
+      const double f = std::clamp((p - meant[k - 1]).dot(d) / d.squaredNorm(), 0.0, 1.0);
+      nearest = std::min(nearest, (p - (meant[k - 1] + f * d)).norm());
+    }
+    return nearest;
+  };
+  double axes_off = 0.0, control_off = 0.0;
+  for (std::size_t k = 0; k < pieces.size(); ++k) {
+    const compensate::TcpPiece& p = pieces[k];
+    EXPECT_EQ(p.motion.kind, gcode::MotionKind::feed);
+    EXPECT_FALSE(p.motion.tcp);
+    if (k > 0) EXPECT_EQ(p.from, pieces[k - 1].to);
+    EXPECT_LT(p.from, p.to);
+    const gcode::Axes tcp_a = tcp.world_of(compensate::chain_of(p.motion.start, offsets), offsets);
+    const gcode::Axes tcp_b = tcp.world_of(compensate::chain_of(p.motion.end, offsets), offsets);
+    for (int j = 0; j <= 8; ++j) {
+      const double f = j / 8.0;
+      gcode::Axes joints, words;
+      for (std::size_t i = 0; i < joints.size(); ++i) {
+        joints[i] = p.motion.start[i] + f * (p.motion.end[i] - p.motion.start[i]);
+        words[i] = tcp_a[i] + f * (tcp_b[i] - tcp_a[i]);
+      }
+      axes_off = std::max(axes_off, off_arc(m.reference->nominal(words_of(joints), kToolLength).tip));
+      control_off = std::max(control_off, off_arc(m.reference->nominal({words[0], words[1], words[2], 0, 0, 0}, kToolLength).tip));
+    }
+  }
+  EXPECT_LE(axes_off, kTolerance * 1.05) << m.name;
+  EXPECT_LE(control_off, kTolerance * 1.05) << m.name;
+  EXPECT_GT(axes_off, 0.1 * kTolerance) << m.name << ": pieces no finer than they need";
 }
 
 INSTANTIATE_TEST_SUITE_P(References, TcpKinematicsTest, ::testing::ValuesIn(machines()),

@@ -80,10 +80,13 @@ struct TcpPiece {
 };
 
 /// A move under TCP as the axes' moves that follow it: a feed move in pieces within
-/// `tolerance` (tcp_split()), a rapid in one (its path is the control's). Throws
-/// ccomp::Error (unsupported, no position: the caller's line gives it) for what is not
-/// followed under TCP: arcs, probes, canned cycles, G28/G30/G53, cutter radius compensation.
-/// On a machine without rotary axes the move is its own piece, whatever it is.
+/// `tolerance` (tcp_split()), a rapid in one (its path is the control's), an arc (the tip
+/// along it in the part) as chords within half the tolerance, each chord a straight TCP move
+/// in pieces within the other half: each piece a straight feed move of the axes, its
+/// deviation the chord's sagitta beside its own. Throws ccomp::Error (unsupported, no
+/// position: the caller's line gives it) for what is not followed under TCP: probes, canned
+/// cycles, G28/G30/G53, cutter radius compensation. On a machine without rotary axes the
+/// move is its own piece, whatever it is.
 void tcp_pieces(TcpKinematics& kinematics, const gcode::Motion& m, double tolerance, std::vector<TcpPiece>& out,
                 std::size_t most = 100000);
 
