@@ -209,6 +209,16 @@ gcode::Axes JobSink::tcp_switch(const gcode::Axes& position, const gcode::Offset
   }
 }
 
+std::optional<gcode::Axes> JobSink::tcp_direction(const std::array<double, 3>& direction,
+                                                  const gcode::Axes& position, const gcode::Offsets& offsets) {
+  if (!stages_) return position;
+  try {
+    return stages_->tcp_kinematics().turned_to(direction, position, offsets);
+  } catch (const Error& e) {
+    refuse(e.kind(), e.message());
+  }
+}
+
 /// A move under tool centre point control: the axes' positions the control's kinematics
 /// command (tcp_kinematics.hpp), in pieces the axes move straight along within half the
 /// tolerance of the control's line or arc (a rapid's path is the control's: one piece), each

@@ -38,6 +38,10 @@ class JobSink : public gcode::CanonSink {
   /// Where the machine is in the other coordinates when TCP switches (the interpreter's
   /// InterpreterOptions::tcp_switch): through the control's kinematics.
   [[nodiscard]] gcode::Axes tcp_switch(const gcode::Axes& position, const gcode::Offsets& offsets, bool to_tcp);
+  /// The angles for a G43.5 direction (InterpreterOptions::tcp_direction): the control's
+  /// kinematics'; without an error term the position as it is (nothing is corrected).
+  [[nodiscard]] std::optional<gcode::Axes> tcp_direction(const std::array<double, 3>& direction,
+                                                         const gcode::Axes& position, const gcode::Offsets& offsets);
 
   /// Finishes the program: the moves still queued, then a cycle still open.
   void finish();

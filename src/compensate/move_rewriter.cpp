@@ -184,6 +184,7 @@ void MoveRewriter::point_words(const gcode::Motion& m, const gcode::Block& b, co
     const gcode::Word* own = words[i];
     const gcode::Word* word = line.own ? own : nullptr;
     const bool rotary = gcode::is_rotary(i);
+    if (tcp && rotary && m.tcp_ijk) continue;  // G43.5: the direction's words say where they go
     const NumberStyle style = style_of(own, b.text, inch && !rotary, rotary, decimals_.for_axis(rotary));
     // (Under TCP a linear axis' word is the tip's, not the axis': no way to turn it.)
     const TurnWord turn = tcp && !rotary ? TurnWord{} : turn_word(point, *m.offsets, i, unit);
@@ -197,6 +198,25 @@ void MoveRewriter::point_words(const gcode::Motion& m, const gcode::Block& b, co
     std::string& into =
         line.own ? edits_.emplace_back(gcode::Edit{{line.insert_at, line.insert_at}, {}}).text : line.segment;
     into.append(1, ' ').append(1, letter).append(word_text_);
+  }
+  if (tcp && m.tcp_ijk) direction_words(b, point, line);
+}
+
+void MoveRewriter::direction_words(const gcode::Block& b, const CompensatedPoint& point, PointLine& line) {
+  const Eigen::Vector3d d = tcp_->direction(point.q);
+  constexpr std::array<char, 3> kLetters{'I', 'J', 'K'};
+  for (std::size_t k = 0; k < kLetters.size(); ++k) {
+    // Seven decimals: a tenth of a microradian.
+    std::string value = fmt::format("{:.7f}", d[static_cast<Eigen::Index>(k)]);
+    if (value == "-0.0000000") value.erase(0, 1);
+    const gcode::Word* own = line.own ? b.find(kLetters[k]) : nullptr;
+    if (own) {
+      edits_.push_back(gcode::Edit{own->value_span, std::move(value)});
+      continue;
+    }
+    std::string& into =
+        line.own ? edits_.emplace_back(gcode::Edit{{line.insert_at, line.insert_at}, {}}).text : line.segment;
+    into.append(1, ' ').append(1, kLetters[k]).append(value);
   }
 }
 

@@ -125,6 +125,9 @@ JobReport run_program_job(gcode::LineSource& input, std::FILE* out, const model:
   interpreting.tcp_switch = [&sink](const gcode::Axes& p, const gcode::Offsets& o, bool to_tcp) {
     return sink.tcp_switch(p, o, to_tcp);
   };
+  interpreting.tcp_direction = [&sink](const std::array<double, 3>& d, const gcode::Axes& p, const gcode::Offsets& o) {
+    return sink.tcp_direction(d, p, o);
+  };
   gcode::Interpreter interpreter(interpreting);
   try {
     interpreter.run(input, sink);

@@ -2,17 +2,23 @@
 
 #include <fmt/format.h>
 
+#include <Eigen/Cholesky>
 #include <Eigen/LU>
 #include <algorithm>
 #include <cmath>
+#include <limits>
+#include <numbers>
 
 #include "ccomp/compensate/machine_coordinates.hpp"
 #include "ccomp/error.hpp"
+#include "ccomp/compensate/verdict.hpp"
 #include "move_solver.hpp"
+#include "tool_direction.hpp"
 
 namespace ccomp::compensate {
 
-TcpKinematics::TcpKinematics(const model::ForwardModel& model) : model_(model), data_(model) {
+TcpKinematics::TcpKinematics(const model::ForwardModel& model)
+    : model_(model), data_(model), tool_axis_(tool_axis_of(model)) {
   for (const auto* chain : {&model.chain().workpiece, &model.chain().tool})
     for (const kinematics::Joint& j : chain->joints) {
       if (j.type == kinematics::JointType::fixed || j.axis == model::kToolLengthIndex) continue;
@@ -33,6 +39,85 @@ TcpKinematics::TcpKinematics(const model::ForwardModel& model) : model_(model), 
 Eigen::Vector3d TcpKinematics::tip(const model::ChainQ& q) {
   model::forward(model_, data_, q, conditions_, false, model::Evaluate::nominal);
   return data_.nominal;
+}
+
+Eigen::Vector3d TcpKinematics::direction(const model::ChainQ& q) {
+  model::forward(model_, data_, q, conditions_, false, model::Evaluate::nominal);
+  return -(data_.R_nominal * tool_axis_).normalized();
+}
+
+std::optional<model::ChainQ> TcpKinematics::rotary_for(const Eigen::Vector3d& target, model::ChainQ q) {
+  if (!(target.norm() > 1e-9) || !target.allFinite() || rotary_.empty()) return std::nullopt;
+  const Eigen::Vector3d want = target.normalized();
+  if (std::optional<model::ChainQ> found = solve_rotary(want, q)) return found;
+  // From the singular pose (or a saddle) the steps go nowhere: start again a little turned
+  // each way about each axis, and keep the angles nearest the ones before.
+  constexpr double kNudge = 0.2;  // rad
+  // Two sets of angles this much or less apart in their distance from q's are a tie: which
+  // one a control takes is its own setting's choice.
+  constexpr double kTie = 1e-3;  // rad
+  std::optional<model::ChainQ> nearest;
+  double distance = std::numeric_limits<double>::infinity();
+  std::vector<std::pair<double, model::ChainQ>> found_all;
+  for (const int place : rotary_)
+    for (const double sign : {1.0, -1.0}) {
+      model::ChainQ start = q;
+      start[place] += sign * kNudge;
+      const std::optional<model::ChainQ> found = solve_rotary(want, start);
+      if (!found) continue;
+      double d = 0.0;
+      for (const int k : rotary_) d += std::abs((*found)[k] - q[k]);
+      found_all.emplace_back(d, *found);
+      if (d < distance) distance = d, nearest = found;
+    }
+  for (const auto& [d, other] : found_all) {
+    double apart = 0.0;
+    for (const int k : rotary_) apart = std::max(apart, std::abs(other[k] - (*nearest)[k]));
+    if (apart > 1e-6 && d - distance < kTie)
+      throw Error(ErrorKind::unsupported,
+                  "from the singular pose two sets of rotary angles turn the tool to this direction, as near the "
+                  "angles before: which one the control takes is its own setting's choice; turn the rotary axes "
+                  "towards it before G43.5 (A B C words, or G43.4)");
+  }
+  return nearest;
+}
+
+std::optional<model::ChainQ> TcpKinematics::solve_rotary(const Eigen::Vector3d& want, model::ChainQ q) {
+  constexpr double kStep = 1e-6;        // rad: central differences of a direction, exact to ~1e-12
+  constexpr double kLargestTurn = 0.5;  // rad a step: no leap onto another branch
+  // Keeps a rotary axis that turns the direction nowhere (at the pole) still, and no other:
+  // near the pole the last axis turns it by the tilt's sine, which may be 1e-6 and less.
+  constexpr double kDamping = 1e-20;
+  const auto n = static_cast<Eigen::Index>(rotary_.size());
+  for (int iteration = 0; iteration < 60; ++iteration) {
+    const Eigen::Vector3d d = direction(q);
+    if (angle_between(d, want) < 1e-12) return q;
+    Eigen::Matrix<double, 3, Eigen::Dynamic> columns(3, n);
+    for (Eigen::Index k = 0; k < n; ++k) {
+      const int place = rotary_[static_cast<std::size_t>(k)];
+      model::ChainQ ahead = q, behind = q;
+      ahead[place] += kStep, behind[place] -= kStep;
+      columns.col(k) = (direction(ahead) - direction(behind)) / (2.0 * kStep);
+    }
+    const Eigen::MatrixXd normal = columns.transpose() * columns + kDamping * Eigen::MatrixXd::Identity(n, n);
+    Eigen::VectorXd turn = normal.ldlt().solve(columns.transpose() * (want - d));
+    if (!turn.allFinite()) return std::nullopt;
+    if (turn.cwiseAbs().maxCoeff() > kLargestTurn) turn *= kLargestTurn / turn.cwiseAbs().maxCoeff();
+    for (Eigen::Index k = 0; k < n; ++k) q[rotary_[static_cast<std::size_t>(k)]] += turn[k];
+  }
+  return angle_between(direction(q), want) < 1e-12 ? std::optional<model::ChainQ>(q) : std::nullopt;
+}
+
+std::optional<gcode::Axes> TcpKinematics::turned_to(const std::array<double, 3>& direction,
+                                                    const gcode::Axes& position, const gcode::Offsets& offsets) {
+  const std::optional<model::ChainQ> q =
+      rotary_for(Eigen::Vector3d(direction[0], direction[1], direction[2]), chain_of(position, offsets));
+  if (!q) return std::nullopt;
+  const gcode::Axes angles = controlled_of_chain(*q, offsets);
+  gcode::Axes turned = position;
+  for (std::size_t i = 0; i < turned.size(); ++i)
+    if (gcode::is_rotary(i)) turned[i] = angles[i];
+  return turned;
 }
 
 Eigen::Matrix3d TcpKinematics::linear_columns(const model::ChainQ& q, const Eigen::Vector3d& at) {
@@ -95,15 +180,63 @@ gcode::Axes lerp(const gcode::Axes& a, const gcode::Axes& b, double s) {
   return out;
 }
 
+/// The great circle from `a` to `b` (unit directions) at fraction t; a pair of opposite
+/// directions has none (ccomp::Error, program).
+Eigen::Vector3d on_great_circle(const Eigen::Vector3d& a, const Eigen::Vector3d& b, double t) {
+  const double angle = angle_between(a, b);
+  if (angle < 1e-12) return a;
+  if (!(std::numbers::pi - angle > 1e-9))
+    throw Error(ErrorKind::program, "a move under G43.5 that turns the tool's direction to its opposite: no great "
+                                    "circle joins the two");
+  return ((std::sin((1.0 - t) * angle) * a + std::sin(t * angle) * b) / std::sin(angle)).normalized();
+}
+
 }  // namespace
+
+TcpLine::TcpLine(TcpKinematics& kinematics, const gcode::Axes& start, const gcode::Axes& end,
+                 const gcode::Offsets& offsets, bool great_circle)
+    : kinematics_(kinematics), start_(start), end_(end), offsets_(offsets), great_circle_(great_circle) {
+  if (!great_circle_) return;
+  from_ = kinematics_.direction(kinematics_.joints_of(start_, offsets_));
+  to_ = kinematics_.direction(kinematics_.joints_of(end_, offsets_));
+}
+
+Eigen::Vector3d TcpLine::direction_at(double f) const { return on_great_circle(from_, to_, f); }
+
+gcode::Axes TcpLine::at(double f) {
+  gcode::Axes p = lerp(start_, end_, f);
+  if (!great_circle_ || f == 0.0 || f == 1.0) return p;
+  // The angles lerped are the guess: the solve keeps to their branch.
+  const std::optional<model::ChainQ> turned = kinematics_.rotary_for(direction_at(f), chain_of(p, offsets_));
+  if (!turned)
+    throw Error(ErrorKind::program, "a move under G43.5 whose tool direction on the way is none the machine can take");
+  const gcode::Axes angles = controlled_of_chain(*turned, offsets_);
+  for (std::size_t i = 0; i < p.size(); ++i)
+    if (gcode::is_rotary(i)) p[i] = angles[i];
+  return p;
+}
 
 std::vector<double> tcp_split(TcpKinematics& kinematics, const gcode::Axes& start, const gcode::Axes& end,
                               const gcode::Offsets& offsets, double tolerance, std::size_t most,
-                              std::vector<double>* deviations) {
+                              std::vector<double>* deviations, bool great_circle) {
   if (deviations) deviations->clear();
   if (kinematics.identity()) {
     if (deviations) deviations->push_back(0.0);
     return {0.0, 1.0};
+  }
+  TcpLine line(kinematics, start, end, offsets, great_circle);
+  const double angular = default_angular_tolerance(tolerance);
+  if (great_circle) {
+    // Leaving the singular pose (the tool along the last rotary line) towards a direction its
+    // angle there does not point to, the control swings that axis at once, the tip standing.
+    constexpr double kSwing = 0.01;  // deg a millionth into the move: more is no motion of the path
+    const gcode::Axes leaving = line.at(1e-6);
+    for (std::size_t i = 0; i < leaving.size(); ++i)
+      if (gcode::is_rotary(i) && std::abs(leaving[i] - start[i]) > kSwing)
+        throw Error(ErrorKind::unsupported,
+                    "a move under G43.5 that leaves the singular pose (the tool along the last rotary axis) in a "
+                    "direction the axis' angle there does not point to: the control swings the axis at once, which "
+                    "ccomp does not follow (a point just off the pole before it does)");
   }
   const model::ChainQ q_start = kinematics.joints_of(start, offsets), q_end = kinematics.joints_of(end, offsets);
   std::vector<double> cuts{0.0};
@@ -119,14 +252,20 @@ std::vector<double> tcp_split(TcpKinematics& kinematics, const gcode::Axes& star
     bool within = true;
     double largest = 0.0;
     for (const double f : {0.25, 0.5, 0.75}) {
+      const double at = p.a + f * (p.b - p.a);
       const model::ChainQ straight = p.qa + f * (p.qb - p.qa);
-      const Eigen::Vector3d drawn = kinematics.part_point(lerp(start, end, p.a + f * (p.b - p.a)), offsets);
+      // (The tip's path is the line whichever way the direction turns: part_point() takes
+      // the X Y Z alone.)
+      const Eigen::Vector3d drawn = kinematics.part_point(lerp(start, end, at), offsets);
       const double off = (kinematics.tip(straight) - drawn).norm();
       if (!std::isfinite(off))
         throw Error(ErrorKind::program,
                     "a tool-centre-point move whose axes' positions are not finite numbers (a point far beyond "
                     "the machine?)");
-      if (!(off <= tolerance)) {
+      // Under G43.5 the axes' straight move turns the tool off the great circle, too.
+      const bool turned_off =
+          great_circle && !(angle_between(kinematics.direction(straight), line.direction_at(at)) <= angular);
+      if (!(off <= tolerance) || turned_off) {
         within = false;
         break;
       }
@@ -147,7 +286,7 @@ std::vector<double> tcp_split(TcpKinematics& kinematics, const gcode::Axes& star
                               "moves (a point far beyond the machine, or a tolerance below the arithmetic's)",
                               tolerance));
     const double mid = 0.5 * (p.a + p.b);
-    const model::ChainQ q_mid = kinematics.joints_of(lerp(start, end, mid), offsets);
+    const model::ChainQ q_mid = kinematics.joints_of(line.at(mid), offsets);
     stack.push_back({mid, p.b, q_mid, p.qb});  // the right half after the left
     stack.push_back({p.a, mid, p.qa, q_mid});
   }
@@ -174,16 +313,18 @@ void straight_pieces(TcpKinematics& kinematics, const gcode::Motion& m, const gc
                      std::vector<TcpPiece>& out) {
   const gcode::Offsets& offsets = *m.offsets;
   std::vector<double> deviations{0.0};
-  const std::vector<double> cuts = m.kind == gcode::MotionKind::traverse
-                                       ? std::vector<double>{0.0, 1.0}
-                                       : tcp_split(kinematics, a, b, offsets, tolerance, most, &deviations);
+  const std::vector<double> cuts =
+      m.kind == gcode::MotionKind::traverse
+          ? std::vector<double>{0.0, 1.0}
+          : tcp_split(kinematics, a, b, offsets, tolerance, most, &deviations, m.tcp_great_circle);
+  TcpLine line(kinematics, a, b, offsets, m.tcp_great_circle);
   gcode::Motion piece = m;
   piece.kind = m.kind == gcode::MotionKind::arc ? gcode::MotionKind::feed : m.kind;
   piece.tcp = false;
   piece.end = out.empty() ? controlled_of_chain(kinematics.joints_of(a, offsets), offsets) : out.back().motion.end;
   for (std::size_t c = 1; c < cuts.size(); ++c) {
     piece.start = piece.end;
-    piece.end = controlled_of_chain(kinematics.joints_of(lerp(a, b, cuts[c]), offsets), offsets);
+    piece.end = controlled_of_chain(kinematics.joints_of(line.at(cuts[c]), offsets), offsets);
     out.push_back({piece, from + cuts[c - 1] * (to - from), from + cuts[c] * (to - from), deviations[c - 1] + bulge});
   }
 }

@@ -57,6 +57,11 @@ class MotionSink : public gcode::CanonSink {
   gcode::Axes tcp_switch(const gcode::Axes& position, const gcode::Offsets& offsets, bool to_tcp) {
     return kinematics().switched(position, offsets, to_tcp);
   }
+  /// InterpreterOptions::tcp_direction.
+  std::optional<gcode::Axes> tcp_direction(const std::array<double, 3>& direction, const gcode::Axes& position,
+                                           const gcode::Offsets& offsets) {
+    return kinematics().turned_to(direction, position, offsets);
+  }
 
  private:
   TcpKinematics& kinematics() {
@@ -82,6 +87,9 @@ void each_motion(gcode::LineSource& program, const model::MachineModel& model, c
   interpreting.tcp = gcode::TcpCodes::follow;
   interpreting.tcp_switch = [&sink](const gcode::Axes& p, const gcode::Offsets& o, bool to_tcp) {
     return sink.tcp_switch(p, o, to_tcp);
+  };
+  interpreting.tcp_direction = [&sink](const std::array<double, 3>& d, const gcode::Axes& p, const gcode::Offsets& o) {
+    return sink.tcp_direction(d, p, o);
   };
   check_work_offsets(interpreting, model);
   gcode::Interpreter interpreter(interpreting);

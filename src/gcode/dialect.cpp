@@ -55,7 +55,15 @@ std::optional<Dialect> dialect_named(std::string_view name) {
         {580, "G58 is a Siemens axial programmable offset (a frame), not a work offset: not followed"},
         {590, "G59 is a Siemens axial programmable offset (a frame), not a work offset: not followed"},
         {920, "G92 limits the spindle speed in Siemens syntax; ccomp does not read it"},
+        {250, "G25 sets a lower working-area or spindle limit in Siemens syntax; ccomp does not read it"},
+        {260, "G26 sets an upper working-area or spindle limit in Siemens syntax; ccomp does not read it"},
+        {740, "G74 approaches the reference point: ccomp does not know where it moves"},
+        {750, "G75 approaches a fixed point: ccomp does not know where it moves"},
     };
+    for (int system = 505; system <= 599; ++system)
+      d.unsupported_g_codes.emplace_back(
+          system * 10, fmt::format("G{}: a settable work offset beyond G57; ccomp's are G54 to G59.3 (--work-offset)",
+                                   system));
     // RS-274 codes a Sinumerik does not have in its own syntax, or gives another meaning:
     // read as LinuxCNC's they would be wrong (its ISO mode, G291, is the fanuc dialect).
     for (int code : {100, 280, 300, 430, 431, 432, 434, 435, 490, 730, 810, 820, 830, 840, 850, 860, 870, 880, 890})

@@ -89,12 +89,14 @@ void Interpreter::Impl::decode(const Block& b) {
     const int code = words.g[static_cast<std::size_t>(i)];
     const Word* w = words.g_word[static_cast<std::size_t>(i)];
     int group = g_group(code);
-    if (group < 0 && code == 434 && options.tcp == TcpCodes::follow) group = g_group(430);  // G43.4: G43's group
+    // G43.4 and G43.5: G43's group
+    if (group < 0 && options.tcp == TcpCodes::follow && (code == 434 || (code == 435 && options.tcp_direction)))
+      group = g_group(430);
     if (group < 0) {
       if (code == 435 && options.tcp == TcpCodes::follow)
         unsupported_at(b, w->span,
-                       "G43.5 gives the tool's direction as I J K, which ccomp does not follow yet (G43.4, the "
-                       "rotary axes' angles given, it does)");
+                       "G43.5 gives the tool's direction as I J K, which this command does not follow (the main "
+                       "job, verify and predict do)");
       if (const auto mode = tcp_g_code(code)) unsupported_at(b, w->span, tcp_refusal(g_name(code), *mode));
       const auto& pass = options.dialect.passthrough_g_codes;
       const auto& moving = options.dialect.passthrough_moving_g_codes;
@@ -288,6 +290,8 @@ Motion Interpreter::Impl::motion_to(MotionKind kind, MotionSource source, const 
   m.absolute_centre = modal.arc_absolute;
   m.radius_compensation = modal.cutter_compensation != 400;
   m.tcp = modal.tcp != 0;
+  m.tcp_great_circle = modal.tcp == 435 || (modal.tcp == kTraoriTcp && siemens_interpolation() == OrientationPath::vector);
+  m.tcp_ijk = modal.tcp == 435;
   m.offsets = &offsets;
   m.line = block.line;
   return m;
@@ -472,7 +476,9 @@ void Interpreter::Impl::execute(const Block& b) {
   if (non_modal == 40) {
     if (dwell_words) {
       if (!words.has('F') && !words.has('S')) fail(b, nullptr, "dwell time missing with G4: F (seconds) or S (turns)");
-      emit("DWELL", fixed4(words.has('F') ? words['F'] : words['S'] * 60.0 / std::max(modal.speed, 1e-9)));
+      if (!words.has('F') && !(modal.speed > 0.0))
+        fail(b, words.word['S' - 'A'], "G4 S (spindle turns) with no spindle speed in force (S before it)");
+      emit("DWELL", fixed4(words.has('F') ? words['F'] : words['S'] * 60.0 / modal.speed));
     } else {
       if (!words.has('P')) fail(b, nullptr, "dwell time missing with G4");
       emit("DWELL", fixed4(words['P']));
@@ -498,10 +504,11 @@ void Interpreter::Impl::execute(const Block& b) {
     // Off under the offset it was on with, on under the offset it takes.
     for (int code : {430, 431, 432, 490})
       if (words.has_g(code)) {
-        if (modal.tcp == 434) set_tcp(0);
+        if (modal.tcp == 434 || modal.tcp == 435) set_tcp(0);
         tool_length(b, code);
       }
-    if (words.has_g(434)) tool_length(b, 430), set_tcp(434);  // G43.4: G43's offset, and TCP
+    for (int code : {434, 435})  // G43.4, G43.5: G43's offset, and TCP
+      if (words.has_g(code)) tool_length(b, 430), set_tcp(code);
     // 15. coordinate system
     static constexpr int kSystems[] = {540, 550, 560, 570, 580, 590, 591, 592, 593};
     for (int s = 0; s < 9; ++s) {
@@ -594,12 +601,13 @@ void Interpreter::Impl::check_unused_words(const Block& b, int motion_code, int 
   };
   if (!(arc || cycle || g10 || words.has_m(19) || words.has_g(640)))
     unused('R', "G2, G3, canned cycles, G10, G64, M19");
-  if (!(arc || (cycle && motion_mode == 870) || g10 || words.has_g(50))) {
-    unused('I', "G2, G3, G87, G10");
-    unused('J', "G2, G3, G87, G10");
+  const bool direction = modal.tcp == 435 || words.has_g(435);  // G43.5's I J K: the tool's direction
+  if (!(arc || (cycle && motion_mode == 870) || g10 || words.has_g(50) || direction)) {
+    unused('I', "G2, G3, G87, G10, G43.5");
+    unused('J', "G2, G3, G87, G10, G43.5");
   }
-  if (!(arc || (cycle && motion_mode == 870) || motion_mode == 331 || motion_mode == 330))
-    unused('K', "G2, G3, G33, G87");
+  if (!(arc || (cycle && motion_mode == 870) || motion_mode == 331 || motion_mode == 330 || direction))
+    unused('K', "G2, G3, G33, G87, G43.5");
   if (!(cycle || g10 || words.has_m(98) || words.has_m(66) || motion_mode == 760))
     unused('L', "canned cycles, G10, M98, M66");
   if (!(cycle || words.has_m(61) || words.has_m(66) || words.has_m(67) || words.has_m(68) || words.has_m(19) ||
@@ -612,7 +620,7 @@ void Interpreter::Impl::check_unused_words(const Block& b, int motion_code, int 
   const bool d_user = options.dialect.d_selects_cutting_edge || words.has_g(410) || words.has_g(420) || words.has_g(411) || words.has_g(421) ||
                       words.has_g(960) || words.has_g(432);
   if (!d_user) unused('D', "G41, G42, G96");
-  if (!(words.has_g(430) || words.has_g(432) || words.has_g(434))) unused('H', "G43");
+  if (!(words.has_g(430) || words.has_g(432) || words.has_g(434) || words.has_g(435))) unused('H', "G43");
   // LinuxCNC's E is G70/G76's taper and M66-M68's analog channel ("X1e999" is X1 and E999).
   if (!(motion_mode == 760 || words.has_g(700) || words.has_m(66) || words.has_m(67) || words.has_m(68)))
     unused('E', "G70, G76, M66, M67, M68");
@@ -638,8 +646,9 @@ void Interpreter::Impl::motion(const Block& b, int code, int non_modal) {
       }
       if (code == 10 && modal.feed == 0.0 && modal.feed_mode != FeedMode::inverse_time)
         fail(b, nullptr, "cannot do G1 with zero feed rate (no F word yet)");
-      const Axes t = target_of(b, g53);
-      if (code == 10) check_orientation_interpolation(b, t);
+      Axes t = target_of(b, g53);
+      if (modal.tcp == 435) t = turned_to_direction(b, t);
+      if (code == 10) check_orientation_interpolation(b, t, false);
       straight(code == 0 ? MotionKind::traverse : MotionKind::feed, t,
                g53 ? MotionSource::machine_coordinates : MotionSource::program);
       return;
@@ -650,6 +659,10 @@ void Interpreter::Impl::motion(const Block& b, int code, int non_modal) {
       const std::uint32_t in_plane = (1U << pa.first) | (1U << pa.second);
       const bool has_center = words.has('I') || words.has('J') || words.has('K') || words.has('R');
       if (words.axis_mask() == 0 && !has_center) return;
+      if (modal.tcp == 435)
+        unsupported_at(b, Span{}, "an arc under G43.5, whose I J K are the tool's direction: ccomp follows arcs under "
+                                  "G43.4");
+      check_orientation_interpolation(b, target_of(b, false), true);
       if (!has_center) fail(b, nullptr, "R, I, J and K words all missing for arc");
       if (modal.feed == 0.0 && modal.feed_mode != FeedMode::inverse_time)
         fail(b, nullptr, "cannot make an arc with zero feed rate (no F word yet)");

@@ -54,7 +54,9 @@ struct real_value : pegtl::sor<unsigned_value, signed_value> {};
 
 struct comment_text : pegtl::star<pegtl::not_one<')', '('>> {};
 
-struct comment : pegtl::seq<pegtl::one<'('>, comment_text, pegtl::must<pegtl::one<')'>>> {};
+struct siemens_only;
+struct comment : pegtl::seq<pegtl::not_at<siemens_only>, pegtl::one<'('>, comment_text, pegtl::must<pegtl::one<')'>>> {
+};
 struct eol_comment : pegtl::seq<pegtl::one<';'>, pegtl::star<pegtl::any>> {};
 
 struct word_letter : pegtl::sor<pegtl::ranges<'A', 'M', 'P', 'Z'>, pegtl::one<'$'>> {};
@@ -94,8 +96,8 @@ struct string : pegtl::seq<pegtl::one<'"'>, pegtl::star<pegtl::not_one<'"'>>, pe
 struct command_name : pegtl::seq<pegtl::upper, pegtl::sor<pegtl::upper, pegtl::one<'_'>>,
                                  pegtl::star<pegtl::sor<pegtl::upper, pegtl::digit, pegtl::one<'_'>>>> {};
 struct arguments_end : pegtl::one<')'> {};
-struct command_arguments
-    : pegtl::seq<pegtl::one<'('>, pegtl::star<pegtl::sor<string, pegtl::not_one<')'>>>, pegtl::must<arguments_end>> {};
+struct command_arguments : pegtl::seq<pegtl::one<'('>, pegtl::star<pegtl::sor<string, command_arguments, pegtl::not_one<')'>>>,
+                                      pegtl::must<arguments_end>> {};
 struct command_value : pegtl::seq<pegtl::one<'='>, pegtl::must<real_value>> {};
 struct command : pegtl::seq<siemens_only, command_name, pegtl::opt<pegtl::sor<command_arguments, command_value>>> {};
 

@@ -221,8 +221,15 @@ struct Interpreter::Impl {
   /// D as a cutting edge of the tool in the spindle, after a tool change (Dialect::
   /// d_selects_cutting_edge): its length offset in force, or none with D0.
   void cutting_edge(const Block& b, bool tool_changed);
-  /// Under TRAORI a feed move that turns a rotary axis is followed only under ORIAXES.
-  void check_orientation_interpolation(const Block& b, const Axes& target) const;
+  /// Under TRAORI, how the tool turns from block to block (ModalState::orientation_path):
+  /// OrientationPath::other where the program's codes leave it to the machine data.
+  [[nodiscard]] OrientationPath siemens_interpolation() const;
+  /// Under TRAORI a feed move or an arc whose rotary axes turn is refused where ccomp does
+  /// not follow its interpolation (an arc: along a great circle, too).
+  void check_orientation_interpolation(const Block& b, const Axes& target, bool arc) const;
+  /// Under G43.5: `target` with its rotary axes' angles where the control's kinematics put the
+  /// direction the block's I J K give (InterpreterOptions::tcp_direction); as it is without.
+  Axes turned_to_direction(const Block& b, Axes target);
   void end_program(const Block& b);
   Axes target_of(const Block& b, bool machine_coordinates);
 

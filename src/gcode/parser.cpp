@@ -587,6 +587,17 @@ bool is_name_char(char c) {
   return (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') || c == '_';
 }
 
+/// Whether the folded text before `k` ends in a command's name: two letters after anything
+/// but a letter (`N60ORIMKS`, `CYCLE832`), then letters, digits and '_' to `k`.
+bool ends_a_name(const char* folded, std::size_t k) {
+  auto letter = [](char c) { return c >= 'A' && c <= 'Z'; };
+  std::size_t start = k;
+  while (start > 0 && is_name_char(folded[start - 1])) --start;
+  for (std::size_t p = start; p + 1 < k; ++p)
+    if (letter(folded[p]) && letter(folded[p + 1]) && (p == start || !letter(folded[p - 1]))) return true;
+  return false;
+}
+
 // The lexical layer: blanks out, letters up, comments verbatim; remember where each kept
 // byte came from.
 constexpr std::string_view kByteOrderMark = "\xEF\xBB\xBF";
@@ -618,9 +629,9 @@ void fold(std::string_view line, const Dialect& dialect, std::string& folded, st
       f[k] = kBytes.upper[static_cast<unsigned char>(c)];
       o[k++] = static_cast<std::uint32_t>(i++);
     } else if (kind == kBlank) {
-      // Siemens: a blank ends a command's name (`TRAORI G0`): one is kept between two names
-      // or numbers, for the grammar's separator.
-      if (dialect.named_commands && k > 0 && is_name_char(f[k - 1])) {
+      // Siemens: a blank ends a command's name (`TRAORI G0`): one is kept after a name, for
+      // the grammar's separator (after a word's letter it goes, as `X 10` is X10).
+      if (dialect.named_commands && ends_a_name(f, k)) {
         std::size_t next = i;
         while (next < n && kBytes.kind[static_cast<unsigned char>(line[next])] == kBlank) ++next;
         if (next < n && is_name_char(kBytes.upper[static_cast<unsigned char>(line[next])])) {

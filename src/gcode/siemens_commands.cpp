@@ -14,8 +14,8 @@ constexpr std::array kCommands{
     CommandDescriptor{"TRAORI", tcp_on},
     CommandDescriptor{"TRAFOOF", tcp_off},
     CommandDescriptor{"ORIAXES", orientation_axes},
-    CommandDescriptor{"ORIVECT", orientation_other},
-    CommandDescriptor{"ORIPLANE", orientation_other},
+    CommandDescriptor{"ORIVECT", orientation_vector},
+    CommandDescriptor{"ORIPLANE", orientation_vector},
     CommandDescriptor{"ORIPATH", orientation_other},
     CommandDescriptor{"ORIPATHS", orientation_other},
     CommandDescriptor{"ORICONCW", orientation_other},
@@ -24,9 +24,9 @@ constexpr std::array kCommands{
     CommandDescriptor{"ORICONTO", orientation_other},
     CommandDescriptor{"ORICURVE", orientation_other},
     // How the orientation is programmed as angles or vectors (refused at their addresses),
-    // its reference frame, the messages, and how the control smooths and paces the path.
-    CommandDescriptor{"ORIWKS", setting},
-    CommandDescriptor{"ORIMKS", setting},
+    // the messages, and how the control smooths and paces the path.
+    CommandDescriptor{"ORIWKS", orientation_workpiece},
+    CommandDescriptor{"ORIMKS", orientation_machine},
     CommandDescriptor{"ORIEULER", setting},
     CommandDescriptor{"ORIRPY", setting},
     CommandDescriptor{"MSG", setting},
@@ -70,13 +70,13 @@ std::string siemens_refusal(std::string_view name) {
   else if (name.starts_with("CYCLE") || name.starts_with("POCKET") || name.starts_with("SLOT") || name == "MCALL" ||
            name == "HOLES1" || name == "HOLES2")
     why = "a machining cycle: it moves the axes in ways ccomp does not model";
-  else if (starts_with_any(name, {"TRANS", "ATRANS", "ROT", "AROT", "SCALE", "ASCALE", "MIRROR", "AMIRROR"}))
-    why = "a programmable frame: it shifts, turns or scales the coordinates, which ccomp does not follow";
   else if (starts_with_any(name, {"TRAANG", "TRACYL", "TRANSMIT", "TRACON"}))
     why = "a kinematic transformation other than TRAORI, which ccomp does not follow";
+  else if (starts_with_any(name, {"TRANS", "ATRANS", "ROT", "AROT", "SCALE", "ASCALE", "MIRROR", "AMIRROR"}))
+    why = "a programmable frame: it shifts, turns or scales the coordinates, which ccomp does not follow";
   else if (starts_with_any(name, {"CR", "AR", "CT", "CIP", "TURN", "SPLINE", "BSPLINE", "POLY", "ASPLINE", "CSPLINE"}))
     why = "an interpolation ccomp does not read (arcs are read by I J K)";
-  else if (name == "ORIRESET" || name == "SUPA" || name == "G74" || name == "G75")
+  else if (name == "ORIRESET" || name == "SUPA")
     why = "moves axes to positions ccomp does not know";
   else if (starts_with_any(name, {"IF", "GOTO", "DEF", "LOOP", "WHILE", "FOR", "REPEAT", "CASE", "ELSE", "END"}))
     why = "control flow and variables, which the siemens dialect does not read";

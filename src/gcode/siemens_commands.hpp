@@ -11,8 +11,11 @@ namespace ccomp::gcode {
 enum class CommandKind : std::uint8_t {
   tcp_on,             ///< TRAORI: the five-axis transformation (tool-centre-point control)
   tcp_off,            ///< TRAFOOF
-  orientation_axes,   ///< ORIAXES: the rotary axes interpolated linearly, as G43.4 does
-  orientation_other,  ///< ORIVECT and the rest of G group 51: the tool's direction interpolated
+  orientation_vector,     ///< ORIVECT, ORIPLANE (G group 51): the direction along a great circle
+  orientation_axes,       ///< ORIAXES (G group 51): the rotary axes linearly
+  orientation_other,      ///< the rest of G group 51: cones, curves, the path's tangent
+  orientation_workpiece,  ///< ORIWKS (G group 25): the direction's turn in the workpiece
+  orientation_machine,    ///< ORIMKS (G group 25): the rotary axes' in the machine
   setting,            ///< moves nothing and changes no coordinates: passed through
 };
 

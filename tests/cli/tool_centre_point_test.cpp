@@ -6,6 +6,8 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
+#include <numbers>
 #include <regex>
 #include <string>
 
@@ -60,7 +62,8 @@ INSTANTIATE_TEST_SUITE_P(Modes, ToolCentrePoint,
                                          TcpCase{"FanucG43_4", "fanuc", "G43.4 H1"},
                                          TcpCase{"LinuxcncG43_4", "linuxcnc", "G43.4 H1"},
                                          TcpCase{"HeidenhainM128InIso", "fanuc", "M128 G43 H1"},
-                                         TcpCase{"SiemensTraori", "siemens", "T1 M6 D1 ORIAXES TRAORI"}),
+                                         TcpCase{"SiemensTraoriAxesLinear", "siemens", "T1 M6 D1 ORIMKS ORIAXES TRAORI"},
+                                         TcpCase{"SiemensTraoriGreatCircle", "siemens", "T1 M6 D1 TRAORI"}),
                          [](const auto& param_info) { return std::string(param_info.param.name); });
 
 /// What is not followed under TCP yet, refused (exit 4) at its line and column.
@@ -93,14 +96,16 @@ INSTANTIATE_TEST_SUITE_P(
     testing::Values(
         Unfollowed{"UserKinematicsM430", "linuxcnc", "G21 G90\nG54 M430\nG0 X10 A10\nM2\n",
                    "2:5: error: M430 switches to LinuxCNC's switchable kinematics: the user kinematics"},
-        Unfollowed{"ToolDirectionG43_5", "fanuc", "G21 G90\nT1 M6 G43.5 H1\nG0 X10 A10\nM2\n",
-                   "2:7: error: G43.5 gives the tool's direction as I J K"},
+        Unfollowed{"AngleWordsUnderG43_5", "fanuc", "G21 G90\nT1 M6 G43.5 H1\nG0 X10 A10\nM2\n",
+                   "3:8: error: under G43.5 the rotary axes follow the tool's direction (I J K)"},
+        Unfollowed{"G43_5FromTheSingularPose", "fanuc", "G21 G90\nT1 M6 G43.5 H1\nG0 X10 Z20 I0.5 J0 K0.866025\nM2\n",
+                   "3:1: error: from the singular pose two sets of rotary angles"},
         Unfollowed{"AnOffsetFromThePosition", "fanuc", "G21 G90 G17\nG43.4 H1\nG0 X10 Y0 Z20 A10\nG92 X0\nM2\n",
                    "4:1: error: an offset set from the position (G92, G10 L20) under tool centre point control"},
-        Unfollowed{"SiemensTurningWithoutOriaxes", "siemens",
-                   "G71 G90\nT1 M6\nTRAORI\nG0 X10 Y0 Z20 A10\nG1 X20 A15 F500\nM30\n",
-                   "5:8: error: A turns under TRAORI without ORIAXES"},
-        Unfollowed{"SiemensDirectionVector", "siemens", "G71\nT1 M6\nORIAXES TRAORI\nG1 X10 A3=0 B3=0 C3=1 F500\nM30\n",
+        Unfollowed{"SiemensOriaxesUnderOriwks", "siemens",
+                   "G71 G90\nT1 M6\nORIAXES TRAORI\nG0 X10 Y0 Z20 A10\nG1 X20 A15 F500\nM30\n",
+                   "5:8: error: a rotary axis turns under TRAORI: ORIWKS and ORIAXES disagree"},
+        Unfollowed{"SiemensDirectionVector", "siemens", "G71\nT1 M6\nTRAORI\nG1 X10 A3=0 B3=0 C3=1 F500\nM30\n",
                    "4:8: error: A3=: the tool's direction as a vector"},
         Unfollowed{"ACannedCycle", "fanuc", "G21 G90 G17\nG43.4 H1\nG0 X10 Y0 Z20\nG81 X20 Y5 Z-5 R2 F100\nG80\nM2\n",
                    "4:1: error: a canned cycle, G28/G30 or G53 under tool centre point control"}),
@@ -128,6 +133,39 @@ TEST(ToolCentrePoint, AnArcIsFollowedAndWrittenAsLines) {
   const CommandResult verified =
       run_command(shell_quote(ccomp_binary()) + " verify " + program + " " + out + options);
   EXPECT_EQ(verified.exit_code, 0) << verified.err << verified.out;
+}
+
+// G43.5 (the tool's direction as I J K, Fanuc's TCP type 2): the job writes the compensated
+// tip and direction as X Y Z I J K (no angle words), verify passes it, and the model without
+// error gives the program back byte for byte.
+TEST(ToolCentrePoint, AG43_5ProgramIsFollowedAndWrittenAsDirections) {
+  const std::string dir = temp_dir("tcp_g43_5");
+  const std::string program = dir + "/g43_5.ngc", out = dir + "/out.ngc", zero = dir + "/zero.ngc";
+  std::string text = "G21 G90 G17 G94\nG0 A20 C90\nG43.5 H1\nG0 X30 Y0 Z60 I0.342020 J0 K0.939693\nG1 Z10 F600\n";
+  for (int k = 1; k <= 12; ++k) {
+    const double phi = 7.5 * k * std::numbers::pi / 180, tilt = (20 + k) * std::numbers::pi / 180;
+    text += fmt::format("X{:.4f} Y{:.4f} I{:.6f} J{:.6f} K{:.6f}\n", 30 * std::cos(phi), 30 * std::sin(phi),
+                        std::sin(tilt) * std::cos(phi), std::sin(tilt) * std::sin(phi), std::cos(tilt));
+  }
+  text += "G0 Z60\nG49\nM2\n";
+  write_file(program, text);
+  const std::string options = " -m " + five_axis_model() + " --dialect fanuc" + kTools;
+  const CommandResult job = run_command(shell_quote(ccomp_binary()) + " " + program + options + " -o " + out + " -q");
+  ASSERT_EQ(job.exit_code, 0) << job.err;
+  const std::string written = read_file(out);
+  const std::string under = written.substr(written.find("G43.5"));
+  EXPECT_EQ(under.find_first_of("ABC"), std::string::npos) << written;
+  EXPECT_GT(std::count(under.begin(), under.end(), 'K'), 12) << written;
+  EXPECT_NE(written, read_file(program));
+  const CommandResult verified = run_command(shell_quote(ccomp_binary()) + " verify " + program + " " + out + options);
+  EXPECT_EQ(verified.exit_code, 0) << verified.err << verified.out;
+  const CommandResult unchanged =
+      run_command(shell_quote(ccomp_binary()) + " " + program + " -m " + source_dir() +
+                  "/samples/machines/zero.yaml --dialect fanuc" + kTools + " -o " + zero + " -q");
+  ASSERT_EQ(unchanged.exit_code, 0) << unchanged.err;
+  std::string back = read_file(zero);
+  back.erase(0, back.find('\n') + 1);
+  EXPECT_EQ(back, text);
 }
 
 TEST(ToolCentrePoint, TheSwitchBackAndATraceAreNotRefused) {

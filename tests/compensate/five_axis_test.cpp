@@ -549,6 +549,189 @@ TEST(FiveAxisTcp, AnArcCutsOnTheReferenceWhereItMeans) {
   }
 }
 
+// A program that gives the tool's direction (G43.5's I J K), run on the reference's control:
+// its own inverse for the direction (Newton on the reference's perfect pose, from the angles
+// before) and for the tip, the direction turned along the great circle between the written
+// points. A sweep like the TCP test's, the tool tilting from 10 to 40 degrees and C turning
+// 210 (off the singular pose, where a G43.5 move that leaves it is refused), as directions,
+// the rotary axes set to its first angles before G43.5.
+
+/// The reference control's angles for a tool direction: Newton on its perfect machine's tool
+/// axis over the two rotary axes (deg), from `near`.
+FiveAxisWords reference_angles(const FiveAxisCase& c, const Eigen::Vector3d& axis, FiveAxisWords near) {
+  auto direction = [&](const FiveAxisWords& w) { return c.pose({0, 0, 0, w.a, w.b, w.c}, false).axis; };
+  for (int step = 0; step < 40; ++step) {
+    const Eigen::Vector3d at = direction(near);
+    if ((at - axis).norm() < 1e-14) break;
+    Eigen::Matrix<double, 3, 2> columns;
+    for (int k = 0; k < 2; ++k) {
+      FiveAxisWords ahead = near, behind = near;
+      double& a = k == 0 ? (c.head ? ahead.b : ahead.a) : ahead.c;
+      double& b = k == 0 ? (c.head ? behind.b : behind.a) : behind.c;
+      a += 1e-5, b -= 1e-5;
+      columns.col(k) = (direction(ahead) - direction(behind)) / 2e-5;
+    }
+    const Eigen::Matrix2d normal = columns.transpose() * columns + 1e-12 * Eigen::Matrix2d::Identity();
+    const Eigen::Vector2d turn = normal.ldlt().solve(columns.transpose() * (axis - at));
+    (c.head ? near.b : near.a) += turn[0];
+    near.c += turn[1];
+  }
+  return near;
+}
+
+Eigen::Vector3d along_great_circle(const Eigen::Vector3d& a, const Eigen::Vector3d& b, double t) {
+  const double angle = angle_between(a, b);
+  if (angle < 1e-12) return a;
+  return ((std::sin((1 - t) * angle) * a + std::sin(t * angle) * b) / std::sin(angle)).normalized();
+}
+
+struct TipAndDirection {
+  FiveAxisWords tip;  ///< x y z (the angles unused)
+  Eigen::Vector3d direction;
+};
+
+/// Each G0/G1 point of a G43.5 program: X Y Z and I J K as its words say (absolute, modal).
+std::vector<TipAndDirection> direction_points_of(const std::string& program) {
+  std::vector<TipAndDirection> points;
+  TipAndDirection at{{}, Eigen::Vector3d::UnitZ()};
+  std::istringstream lines(program);
+  std::string line;
+  bool tcp = false;
+  while (std::getline(lines, line)) {
+    const test::ParsedBlock parsed(line);
+    bool moved = false;
+    for (const gcode::Word& w : parsed.block.words) {
+      if (!w.has_value || !w.value.is_literal()) continue;
+      const double v = w.value.literal;
+      switch (w.letter) {
+        case 'X': at.tip.x = v, moved = true; break;
+        case 'Y': at.tip.y = v, moved = true; break;
+        case 'Z': at.tip.z = v, moved = true; break;
+        case 'I': at.direction.x() = v, moved = true; break;
+        case 'J': at.direction.y() = v, moved = true; break;
+        case 'K': at.direction.z() = v, moved = true; break;
+        case 'G': tcp = (tcp || std::abs(v - 43.5) < 1e-9) && v != 49.0; break;
+        default: break;
+      }
+    }
+    if (moved && tcp) points.push_back({at.tip, at.direction.normalized()});
+  }
+  return points;
+}
+
+TcpLanding run_directions_on_reference(const FiveAxisCase& c, const std::vector<TipAndDirection>& meant,
+                                       const std::vector<TipAndDirection>& run, FiveAxisWords angles) {
+  std::vector<Eigen::Vector3d> path;
+  for (const TipAndDirection& p : meant) path.push_back(c.pose({p.tip.x, p.tip.y, p.tip.z, 0, 0, 0}, false).tip);
+  TcpLanding l;
+  for (std::size_t k = 1; k < run.size(); ++k)
+    for (int j = 0; j <= 16; ++j) {
+      const double t = j / 16.0;
+      angles = reference_angles(c, along_great_circle(run[k - 1].direction, run[k].direction, t), angles);
+      FiveAxisWords words = between(run[k - 1].tip, run[k].tip, t);
+      words.a = angles.a, words.b = angles.b, words.c = angles.c;
+      const PartPose actual = c.pose(reference_joints(c, words), true);
+      double nearest = std::numeric_limits<double>::infinity();
+      Eigen::Vector3d meant_direction = Eigen::Vector3d::UnitZ();
+      for (std::size_t m = 1; m < path.size(); ++m) {
+        const Eigen::Vector3d d = path[m] - path[m - 1];
+        const double f = std::clamp((actual.tip - path[m - 1]).dot(d) / d.squaredNorm(), 0.0, 1.0);
+        const double off = (actual.tip - (path[m - 1] + f * d)).norm();
+        if (off < nearest)
+          nearest = off, meant_direction = along_great_circle(meant[m - 1].direction, meant[m].direction, f);
+      }
+      l.tip = std::max(l.tip, nearest);
+      if (angle_between(meant_direction, Eigen::Vector3d::UnitZ()) > kAwayFromSingular * kRadPerDeg)
+        l.direction = std::max(l.direction, angle_between(actual.axis, meant_direction));
+    }
+  return l;
+}
+
+TEST(FiveAxisTcp, AG43_5ProgramCutsOnTheReferenceWhereItMeans) {
+  for (const FiveAxisCase& c : five_axis_cases()) {
+    if (!c.name.ends_with("All")) continue;
+    std::vector<FiveAxisWords> sweep = tcp_sweep(c.head);
+    for (std::size_t k = 0; k < sweep.size(); ++k) (c.head ? sweep[k].b : sweep[k].a) = 10 + 30 * k / 60.0;
+    std::string original = fmt::format("G21 G90 G94 G17\nG0 {}{:.6f} C{:.6f}\nG43.5 H2\n", c.head ? 'B' : 'A',
+                                       c.head ? sweep[0].b : sweep[0].a, sweep[0].c);
+    for (std::size_t k = 0; k < sweep.size(); ++k) {
+      const FiveAxisWords& w = sweep[k];
+      const Eigen::Vector3d d = c.pose({0, 0, 0, w.a, w.b, w.c}, false).axis;
+      original += fmt::format("{} X{:.6f} Y{:.6f} Z{:.6f} I{:.9f} J{:.9f} K{:.9f}{}\n", k == 0 ? "G0" : "G1", w.x, w.y,
+                              w.z, d.x(), d.y(), d.z(), k == 0 ? "" : " F1000");
+    }
+    original += "G49\nM2\n";
+    const model::MachineModel mm = model::parse_machine_model(c.model, c.name + ".yaml");
+    JobOptions job;
+    job.interpreter = with_test_tool();
+    const std::string compensated = test::compensate(original, mm, job);
+    const std::vector<TipAndDirection> program = direction_points_of(original), run = direction_points_of(compensated);
+    ASSERT_EQ(program.size(), sweep.size());
+    ASSERT_GE(run.size(), program.size()) << compensated;
+    const std::string under = compensated.substr(compensated.find("G43.5"));
+    EXPECT_EQ(under.find_first_of("ABC"), std::string::npos) << "no angle words under G43.5\n" << compensated;
+    FiveAxisWords start{};
+    (c.head ? start.b : start.a) = c.head ? sweep[0].b : sweep[0].a;
+    start.c = sweep[0].c;
+    const TcpLanding after = run_directions_on_reference(c, program, run, start);
+    EXPECT_LT(after.tip, job.tolerance) << c.name;
+    EXPECT_LT(after.direction, 10e-6) << c.name;
+    const TcpLanding before = run_directions_on_reference(c, program, program, start);
+    EXPECT_GT(before.tip, 10 * job.tolerance) << c.name;
+    EXPECT_LT(after.direction, before.direction / 5) << c.name;
+    CheckOptions o;
+    o.interpreter = with_test_tool();
+    gcode::LineSource a = gcode::LineSource::from_string(original, "g43_5.ngc");
+    gcode::LineSource b = gcode::LineSource::from_string(compensated, "out.ngc");
+    const PathError e = verify(a, b, model::ForwardModel(mm), o);
+    EXPECT_LT(e.max, job.tolerance) << c.name;
+    EXPECT_EQ(e.uncut_length, 0.0) << c.name;
+  }
+}
+
+// Siemens' TRAORI in its basic settings (ORIWKS, ORIVECT): the program gives the rotary axes'
+// angles, the control turns the tool's direction along the great circle between them. The
+// same sweep in Siemens syntax, run on the reference's control as the G43.5 program is, the
+// directions those of the written angles on the reference's perfect machine.
+TEST(FiveAxisTcp, ATraoriProgramOnAGreatCircleCutsOnTheReferenceWhereItMeans) {
+  for (const FiveAxisCase& c : five_axis_cases()) {
+    if (!c.name.ends_with("All")) continue;
+    std::vector<FiveAxisWords> sweep = tcp_sweep(c.head);
+    for (std::size_t k = 0; k < sweep.size(); ++k) (c.head ? sweep[k].b : sweep[k].a) = 10 + 30 * k / 60.0;
+    const char rotary = c.head ? 'B' : 'A';
+    std::string original = "G71 G90 G94 G17\nT2 M6 D1\nTRAORI\n";
+    for (std::size_t k = 0; k < sweep.size(); ++k) {
+      const FiveAxisWords& w = sweep[k];
+      original += fmt::format("{} X{:.6f} Y{:.6f} Z{:.6f} {}{:.6f} C{:.6f}{}\n", k == 0 ? "G0" : "G1", w.x, w.y, w.z,
+                              rotary, c.head ? w.b : w.a, w.c, k == 0 ? "" : " F1000");
+    }
+    original += "TRAFOOF\nM30\n";
+    const model::MachineModel mm = model::parse_machine_model(c.model, c.name + ".yaml");
+    JobOptions job;
+    job.interpreter = with_test_tool();
+    job.interpreter.dialect = *gcode::dialect_named("siemens");
+    const std::string compensated = test::compensate(original, mm, job);
+    auto as_directions = [&](const std::vector<FiveAxisWords>& points) {
+      std::vector<TipAndDirection> out;
+      for (const FiveAxisWords& w : points) out.push_back({w, c.pose({0, 0, 0, w.a, w.b, w.c}, false).axis});
+      return out;
+    };
+    // (points_of reads RS-274: the lines of TRAORI's commands left out)
+    std::string moves;
+    std::istringstream lines(compensated);
+    for (std::string line; std::getline(lines, line);)
+      if (line.find("TRA") == std::string::npos) moves += line + "\n";
+    const std::vector<TipAndDirection> meant = as_directions(written(sweep)), run = as_directions(points_of(moves));
+    ASSERT_GE(run.size(), meant.size()) << compensated;
+    const TcpLanding after = run_directions_on_reference(c, meant, run, sweep[0]);
+    EXPECT_LT(after.tip, job.tolerance) << c.name;
+    EXPECT_LT(after.direction, 10e-6) << c.name;
+    const TcpLanding before = run_directions_on_reference(c, meant, meant, sweep[0]);
+    EXPECT_GT(before.tip, 10 * job.tolerance) << c.name;
+    EXPECT_LT(after.direction, before.direction / 5) << c.name;
+  }
+}
+
 // The zero model writes a TCP program back as it is, bar ccomp's header line: nothing is
 // corrected, nothing misread.
 TEST(FiveAxisTcp, TheZeroModelWritesATcpProgramBackByteForByte) {

@@ -218,6 +218,86 @@ TEST_P(TcpKinematicsTest, AnArcsPiecesKeepTheReferenceTipOnTheArc) {
   EXPECT_GT(axes_off, 0.1 * kTolerance) << m.name << ": pieces no finer than they need";
 }
 
+// The tool's direction as a program gives it (G43.5's I J K): along the reference's tool
+// axis for the angles, (0, 0, 1) with the rotary axes at zero; and the angles for a
+// direction, found from nearby ones, are the angles it came from (the branch nearest), at
+// the singular pose without turning the last rotary axis.
+TEST_P(TcpKinematicsTest, ADirectionGivesBackTheAnglesNearestTheOnesBefore) {
+  const Machine& m = GetParam();
+  const model::ForwardModel model(model::parse_machine_model(m.model, m.name + ".yaml"));
+  compensate::TcpKinematics tcp(model);
+  const gcode::Offsets offsets = tool_offsets();
+  auto q_of = [&](double tilt, double c) {
+    FiveAxisWords w{10, -5, 20, 0, 0, c};
+    (m.head ? w.b : w.a) = tilt;
+    return compensate::chain_of(axes_of(w), offsets);
+  };
+  EXPECT_LT((tcp.direction(q_of(0, 0)) - Eigen::Vector3d::UnitZ()).norm(), 1e-15) << m.name;
+  const std::size_t tilt_place = m.head ? 4 : 3;
+  for (const double tilt : {-40.0, -5.0, 0.5, 25.0})
+    for (const double c : {-170.0, 0.0, 35.0, 200.0}) {
+      const model::ChainQ q = q_of(tilt, c);
+      FiveAxisWords angles{0, 0, 0, 0, 0, c};
+      (m.head ? angles.b : angles.a) = tilt;
+      const Eigen::Vector3d axis = m.reference->nominal(angles, kToolLength).axis;
+      const Eigen::Vector3d d = tcp.direction(q);
+      EXPECT_LT((d - axis).norm(), 1e-12) << m.name << " tilt " << tilt << " c " << c;
+      model::ChainQ near = q;
+      near[static_cast<Eigen::Index>(tilt_place)] += 0.04, near[5] -= 0.06;
+      const std::optional<model::ChainQ> found = tcp.rotary_for(d, near);
+      ASSERT_TRUE(found.has_value()) << m.name << " tilt " << tilt << " c " << c;
+      EXPECT_NEAR((*found)[static_cast<Eigen::Index>(tilt_place)], q[static_cast<Eigen::Index>(tilt_place)], 1e-9);
+      EXPECT_NEAR((*found)[5], q[5], 1e-9) << m.name << " tilt " << tilt << " c " << c;
+      EXPECT_EQ((*found)[0], near[0]) << "the linear axes are left alone";
+    }
+  // Along the last rotary line (tilt 0) C turns the direction nowhere: it stays.
+  model::ChainQ tilted = q_of(0.3, 57.0);
+  const std::optional<model::ChainQ> upright = tcp.rotary_for(Eigen::Vector3d::UnitZ() * 3.0, tilted);
+  ASSERT_TRUE(upright.has_value());
+  EXPECT_NEAR((*upright)[static_cast<Eigen::Index>(tilt_place)], 0.0, 1e-9);
+  EXPECT_NEAR((*upright)[5], tilted[5], 1e-6);
+  EXPECT_FALSE(tcp.rotary_for(Eigen::Vector3d::Zero(), tilted).has_value());
+}
+
+// Under G43.5 a move's axes keep the tool within the angular tolerance of the great circle
+// too; and a move that leaves the singular pose where its last rotary axis does not point is
+// refused (the control would swing that axis at once).
+TEST_P(TcpKinematicsTest, AGreatCircleMoveKeepsTheToolOnItAndLeavesNoPoleBySwinging) {
+  const Machine& m = GetParam();
+  const model::ForwardModel model(model::parse_machine_model(m.model, m.name + ".yaml"));
+  compensate::TcpKinematics tcp(model);
+  const gcode::Offsets offsets = tool_offsets();
+  constexpr double kTolerance = 0.5e-3;
+  FiveAxisWords from{-20, 10, 15, 0, 0, 10}, to{30, -5, 20, 0, 0, 80};
+  (m.head ? from.b : from.a) = 15, (m.head ? to.b : to.a) = 35;
+  const gcode::Axes a = axes_of(from), b = axes_of(to);
+  const std::vector<double> cuts = compensate::tcp_split(tcp, a, b, offsets, kTolerance, 100000, nullptr, true);
+  compensate::TcpLine line(tcp, a, b, offsets, true);
+  double worst = 0.0;
+  for (std::size_t c = 1; c < cuts.size(); ++c) {
+    const model::ChainQ qa = tcp.joints_of(line.at(cuts[c - 1]), offsets), qb = tcp.joints_of(line.at(cuts[c]), offsets);
+    for (int j = 1; j < 8; ++j) {
+      const double f = j / 8.0;
+      const FiveAxisWords joints = words_of(compensate::controlled_of_chain(qa + f * (qb - qa), offsets));
+      const Eigen::Vector3d meant = line.direction_at(cuts[c - 1] + f * (cuts[c] - cuts[c - 1]));
+      const Eigen::Vector3d axis = m.reference->nominal(joints, kToolLength).axis;
+      worst = std::max(worst, std::atan2(axis.cross(meant).norm(), axis.dot(meant)));
+    }
+  }
+  EXPECT_LT(worst, kTolerance / 10.0 * 1.05) << m.name;  // the angular tolerance: the tolerance over 10 mm
+  EXPECT_GT(cuts.size(), 2U) << m.name;
+  // From the pole (tilt 0, C at 10) towards a direction C 80 points to.
+  FiveAxisWords pole = from;
+  (m.head ? pole.b : pole.a) = 0;
+  try {
+    (void)compensate::tcp_split(tcp, axes_of(pole), b, offsets, kTolerance, 100000, nullptr, true);
+    FAIL() << m.name << ": left the pole";
+  } catch (const Error& e) {
+    EXPECT_EQ(e.kind(), ErrorKind::unsupported) << e.message();
+    EXPECT_NE(e.message().find("leaves the singular pose"), std::string::npos) << e.message();
+  }
+}
+
 INSTANTIATE_TEST_SUITE_P(References, TcpKinematicsTest, ::testing::ValuesIn(machines()),
                          [](const ::testing::TestParamInfo<Machine>& p) { return p.param.name; });
 
@@ -232,6 +312,7 @@ TEST(TcpKinematics, WithoutRotaryAxesAPointIsTheAxes) {
   const model::ChainQ q = tcp.joints_of(world, offsets);
   EXPECT_EQ(q, compensate::chain_of(world, offsets));
   EXPECT_EQ(tcp.world_of(q, offsets), compensate::controlled_of_chain(q, offsets));
+  EXPECT_FALSE(tcp.rotary_for(Eigen::Vector3d::UnitX(), q).has_value()) << "no rotary axis to turn";
   gcode::Motion arc;
   arc.kind = gcode::MotionKind::arc;
   arc.tcp = true;

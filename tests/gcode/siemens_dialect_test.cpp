@@ -5,6 +5,7 @@
 #include <fmt/format.h>
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -130,7 +131,7 @@ std::string refusal(const std::string& program) {
 }
 
 TEST(SiemensInterpreter, TraoriIsOnUntilTrafoofAndTakesTheEdgesLength) {
-  const Outcome r = run("T1 M6\nORIAXES\nTRAORI\nG0 X1 Z50 A5\nG1 X2 A6 F100\nTRAFOOF\nG1 X3\nM30\n");
+  const Outcome r = run("T1 M6\nORIMKS ORIAXES\nTRAORI\nG0 X1 Z50 A5\nG1 X2 A6 F100\nTRAFOOF\nG1 X3\nM30\n");
   ASSERT_EQ(r.sink.moves.size(), 3U);
   EXPECT_TRUE(r.sink.moves[0].tcp);
   EXPECT_TRUE(r.sink.moves[1].tcp);
@@ -143,6 +144,8 @@ TEST(SiemensInterpreter, DSelectsTheEdgeOfTheToolInTheSpindle) {
   EXPECT_DOUBLE_EQ(run("T2 M6 D1\nG0 X0\nM30\n").offsets.tool[2], 80.0);
   EXPECT_DOUBLE_EQ(run("T2 M6 D0\nG0 X0\nM30\n").offsets.tool[2], 0.0);
   EXPECT_DOUBLE_EQ(run("T2 M6\nD0\nD1\nG0 X0 H5\nM30\n").offsets.tool[2], 80.0) << "H goes to the PLC";
+  // A tool table holds one length and radius a tool: a second edge's are not there.
+  EXPECT_TRUE(refusal("T2 M6 D2\nM30\n").starts_with(fmt::format("{} 1:7: D2", static_cast<int>(ErrorKind::unsupported))));
   // The radius of G41 is the spindle's tool's, whatever the edge's number.
   EXPECT_EQ(refusal("T2 M6 D1\nG0 X0 Y0\nG41 G1 X10 F100\nG40 X20\nM30\n"), "no refusal");
 }
@@ -154,14 +157,17 @@ TEST(SiemensInterpreter, TheSiemensCodesOfUnitsAndDwellAreRead) {
   // G4's F is its time in seconds: the feed rate stays.
   EXPECT_DOUBLE_EQ(run("G1 X1 F300\nG4 F2\nG1 X2\nM30\n").sink.moves.back().feed, 300.0);
   EXPECT_EQ(refusal("G4\nM30\n").substr(0, 2), "3 ");
+  EXPECT_EQ(refusal("G4 S10\nM30\n").substr(0, 6), "3 1:4:") << "turns with no spindle speed";
+  EXPECT_EQ(refusal("S600 M3\nG4 S10\nM30\n"), "no refusal");
 }
 
 TEST(SiemensInterpreter, WhatIsNotFollowedIsRefusedAtItsColumn) {
   const int unsupported = static_cast<int>(ErrorKind::unsupported);
   auto starts = [](const std::string& text, const std::string& start) { return text.rfind(start, 0) == 0; };
-  const std::string no_oriaxes = refusal("T1 M6\nTRAORI\nG0 X1 Z50 A5\nG1 X2 A6 F100\nM30\n");
-  EXPECT_TRUE(starts(no_oriaxes, fmt::format("{} 4:7: A turns under TRAORI without ORIAXES", unsupported)))
-      << no_oriaxes;
+  const std::string disagree = refusal("T1 M6\nORIAXES\nTRAORI\nG0 X1 Z50 A5\nG1 X2 A6 F100\nM30\n");
+  EXPECT_TRUE(starts(disagree, fmt::format("{} 5:7: a rotary axis turns under TRAORI: ORIWKS and ORIAXES disagree",
+                                           unsupported)))
+      << disagree;
   const std::string vector = refusal("TRAORI\nG1 X2 A3=0 B3=0 C3=1 F100\nM30\n");
   EXPECT_TRUE(starts(vector, fmt::format("{} 2:7: A3=: the tool's direction as a vector", unsupported))) << vector;
   const std::string swivel = refusal("G0 X0\nN20 CYCLE800(1,\"TC1\",200000,57,0,0,0,30,0,0,0,0,0,-1,100,1)\nM30\n");
@@ -177,9 +183,58 @@ TEST(SiemensInterpreter, WhatIsNotFollowedIsRefusedAtItsColumn) {
   EXPECT_TRUE(starts(iso, fmt::format("{} 2:1: G81 is not Siemens syntax", unsupported))) << iso;
   const std::string g58 = refusal("G58 X10\nM30\n");
   EXPECT_TRUE(starts(g58, fmt::format("{} 1:1: G58 is a Siemens axial programmable offset", unsupported))) << g58;
-  const std::string edge = refusal("T1 M6\nORIAXES TRAORI\nG0 X1 A5\nD2\nM30\n");
+  const std::string edge = refusal("T1 M6\nTRAORI\nG0 X1 A5\nD0\nM30\n");
   EXPECT_TRUE(starts(edge, fmt::format("{} 4:1: a change of the tool's length offset under TRAORI", unsupported)))
       << edge;
+}
+
+// How the tool turns under TRAORI is what the program's codes settle whichever G group the
+// control's machine data make decide: ORIWKS with ORIVECT (the basic settings) a great
+// circle, ORIMKS with ORIAXES the rotary axes linearly; a pair that disagrees, a cone or a
+// curve is refused where a rotary axis turns (a turn too small to tell them apart is not).
+TEST(SiemensInterpreter, TheOrientationInterpolationIsTheOneBothGroupsSay) {
+  const std::string moves = "G0 X1 Z50 A5 C0\nG1 X2 A6 C10 F100\nM30\n";
+  const Outcome basic = run("T1 M6\nTRAORI\n" + moves);
+  ASSERT_EQ(basic.sink.moves.size(), 2U);
+  EXPECT_TRUE(basic.sink.moves[1].tcp_great_circle);
+  const Outcome axes = run("T1 M6\nORIMKS ORIAXES TRAORI\n" + moves);
+  EXPECT_FALSE(axes.sink.moves[1].tcp_great_circle);
+  const int unsupported = static_cast<int>(ErrorKind::unsupported);
+  EXPECT_TRUE(refusal("T1 M6\nORIMKS TRAORI\n" + moves)
+                  .starts_with(fmt::format("{} 4:7: a rotary axis turns under TRAORI: ORIMKS and ORIVECT disagree",
+                                           unsupported)));
+  EXPECT_TRUE(refusal("T1 M6\nORICONCW TRAORI\n" + moves)
+                  .starts_with(fmt::format("{} 4:7: a rotary axis turns under TRAORI: the tool's direction goes along a "
+                                           "cone",
+                                           unsupported)));
+  EXPECT_EQ(refusal("T1 M6\nORIAXES TRAORI\nG0 X1 Z50 A5\nG1 X2 A5.005 F100\nM30\n"), "no refusal");
+  // An arc whose rotary axes turn: followed where they move linearly, not on a great circle.
+  const std::string arc = "G0 X10 Y0 Z50 A5\nG3 X-10 Y0 I-10 J0 A10 F100\nM30\n";
+  EXPECT_EQ(refusal("T1 M6\nORIMKS ORIAXES TRAORI\n" + arc), "no refusal");
+  EXPECT_TRUE(refusal("T1 M6\nTRAORI\n" + arc)
+                  .starts_with(fmt::format("{} 4:20: a rotary axis turns under TRAORI: an arc", unsupported)));
+  EXPECT_EQ(refusal("T1 M6\nTRAORI\nG0 X10 Y0 Z50 A5\nG3 X-10 Y0 I-10 J0 F100\nM30\n"), "no refusal");
+}
+
+TEST(SiemensInterpreter, OtherTransformationsAndCommentsInParenthesesAreNotRead) {
+  const int unsupported = static_cast<int>(ErrorKind::unsupported);
+  EXPECT_EQ(refusal("TRAORI(1)\nM30\n"), "no refusal");
+  EXPECT_TRUE(refusal("TRAORI(2)\nM30\n").starts_with(fmt::format("{} 1:8: TRAORI with arguments", unsupported)));
+  EXPECT_EQ(refusal("G1 X10 F100 (a comment)\nM30\n").substr(0, 7), "3 1:13:");
+  EXPECT_EQ(refusal("TRANSMIT\nM30\n").find("a kinematic transformation other than TRAORI") != std::string::npos, true);
+  EXPECT_EQ(refusal("SPOS=90 CYCLE832(0.01,(1),1)\nM30\n"), "no refusal");
+  EXPECT_TRUE(refusal("G505\nM30\n").starts_with(fmt::format("{} 1:1: G505: a settable work offset", unsupported)));
+  EXPECT_TRUE(refusal("G74 X0\nM30\n").starts_with(fmt::format("{} 1:1: G74 approaches", unsupported)));
+}
+
+// A blank between a word's letter and its number reads the same whichever path reads the line.
+TEST(SiemensParser, TheFastPathAndTheGrammarReadBlanksAlike) {
+  for (const char* line : {"G1 X 10 F100", "G1 X 10 F100 ORIAXES", "N10 G1 X 10", "N 10 M 3 X 10 ORIAXES"}) {
+    const Parsed p = parse(line);
+    const auto x = std::find_if(p.block.words.begin(), p.block.words.end(), [](const Word& w) { return w.letter == 'X'; });
+    ASSERT_NE(x, p.block.words.end()) << line;
+    EXPECT_DOUBLE_EQ(x->value.literal, 10.0) << line;
+  }
 }
 
 }  // namespace

@@ -4,6 +4,8 @@
 // M428 and Heidenhain's M128 are switches of their own, which only M429 and M129 undo.
 #include <gtest/gtest.h>
 
+#include <array>
+#include <optional>
 #include <sstream>
 #include <string>
 #include <utility>
@@ -84,6 +86,7 @@ void expect_refused(const std::string& program, const char* dialect, TcpCodes tc
 }
 
 TEST(TcpModes, WhatIsNotFollowedIsRefusedAtTheCode) {
+  // (G43.5 without the caller's kinematics for directions: tcp_direction unset.)
   expect_refused("T1 M6 G43.5 H1\nM2\n", "fanuc", TcpCodes::follow, "G43.5 gives the tool's direction as I J K", 7);
   expect_refused("G54 M430\nM2\n", "linuxcnc", TcpCodes::follow, "M430 switches to", 5);
   // Refusing: every switch.
@@ -121,6 +124,48 @@ TEST(TcpModes, ASwitchCarriesThePositionIntoTheOtherCoordinates) {
   EXPECT_EQ(sink.x[1], (std::pair<double, double>{1005.0, 1005.0})) << "under TCP from the converted point";
   EXPECT_EQ(sink.x[2], (std::pair<double, double>{5.0, 5.0})) << "back where the axis was";
   EXPECT_EQ(sink.x[3], (std::pair<double, double>{1005.0, 1005.0}));
+}
+
+// G43.5: the block's I J K (a component left out is 0) go to the caller's kinematics, whose
+// angles the move ends at; the direction stays where a block gives none; each move says it
+// turns the direction on a great circle and gives it as I J K; G49 ends it.
+TEST(TcpModes, G43_5TakesTheAnglesForItsDirectionFromTheCaller) {
+  InterpreterOptions o = options_for("fanuc", TcpCodes::follow);
+  std::vector<std::array<double, 3>> asked;
+  o.tcp_direction = [&asked](const std::array<double, 3>& d, const Axes& p, const Offsets&) -> std::optional<Axes> {
+    asked.push_back(d);
+    if (d[2] < 0) return std::nullopt;  // pointing down: none this machine takes
+    Axes q = p;
+    q[3] = 100 * d[0], q[5] = 100 * d[1];  // angles the test can recognise
+    return q;
+  };
+  struct Moves : CanonSink {
+    void motion(const Motion& m) override { moves.push_back(m); }
+    std::vector<Motion> moves;
+  } sink;
+  LineSource source = LineSource::from_string(
+      "G43.5 H1\nG0 X1 Z50 I0.5 K0.8\nG1 X2 J0.25 K1 F100\nG1 X3\nG49\nG1 X4\nM2\n", "t.ngc");
+  Interpreter(o).run(source, sink);
+  EXPECT_EQ(asked, (std::vector<std::array<double, 3>>{{0.5, 0, 0.8}, {0, 0.25, 1}}));
+  ASSERT_EQ(sink.moves.size(), 4U);
+  EXPECT_DOUBLE_EQ(sink.moves[0].end[3], 50.0);
+  EXPECT_DOUBLE_EQ(sink.moves[1].end[3], 0.0);
+  EXPECT_DOUBLE_EQ(sink.moves[1].end[5], 25.0);
+  EXPECT_DOUBLE_EQ(sink.moves[2].end[5], 25.0) << "no I J K: the direction, and the angles, stay";
+  for (std::size_t k = 0; k < 3; ++k) EXPECT_TRUE(sink.moves[k].tcp && sink.moves[k].tcp_ijk && sink.moves[k].tcp_great_circle);
+  EXPECT_FALSE(sink.moves[3].tcp || sink.moves[3].tcp_ijk);
+  // A direction the machine cannot take, an angle word and an arc are refused at the line.
+  for (const char* program : {"G43.5 H1\nG0 X1 I0 J0 K-1\nM2\n", "G43.5 H1\nG0 X1 A5\nM2\n",
+                              "G43.5 H1\nG0 X1\nG2 X2 Y1 I1 J0 F100\nM2\n"}) {
+    LineSource refused = LineSource::from_string(program, "t.ngc");
+    Moves ignored;
+    try {
+      Interpreter(o).run(refused, ignored);
+      FAIL() << program;
+    } catch (const Error& e) {
+      EXPECT_GE(e.where().line, 2U) << e.message();
+    }
+  }
 }
 
 TEST(TcpModes, TwoSwitchesOnOneLineAreRefused) {

@@ -15,6 +15,7 @@
 // Both maps are one affine solve each: with the rotary axes at given angles the perfect
 // machine's tip is affine in the linear axes' positions.
 #include <Eigen/Core>
+#include <optional>
 #include <vector>
 
 #include "ccomp/gcode/canon.hpp"
@@ -46,17 +47,58 @@ class TcpKinematics {
   [[nodiscard]] Eigen::Vector3d part_point(const gcode::Axes& world, const gcode::Offsets& offsets);
   /// The perfect machine's tool tip in the table frame at q.
   [[nodiscard]] Eigen::Vector3d tip(const model::ChainQ& q);
+  /// The perfect machine's tool direction in the part (table frame, unit) at q, as a program
+  /// gives it: from the tip towards the spindle (Fanuc's G43.5 I J K).
+  [[nodiscard]] Eigen::Vector3d direction(const model::ChainQ& q);
+  /// q with its rotary axes turned so that the tool's direction is `target` (any length),
+  /// the angles nearest q's own: damped Gauss-Newton on the rotary axes, so that at the
+  /// singular pose (the direction along the last rotary line) that axis stays where it is;
+  /// where it gets nowhere from q (a start at the singular pose), from q turned 0.2 rad each
+  /// way about each rotary axis, the angles nearest q's of those found. Throws ccomp::Error
+  /// (unsupported, no position) where two sets of angles found there are as near (a tie a
+  /// control breaks by its own setting).
+  /// nullopt where no angles come within 1e-12 rad of it (a direction the machine cannot
+  /// take, a machine with one rotary axis), or `target` is no direction.
+  [[nodiscard]] std::optional<model::ChainQ> rotary_for(const Eigen::Vector3d& target, model::ChainQ q);
+  /// `position` (a TCP point) with its rotary axes' angles turned so that the tool's
+  /// direction is `direction` (rotary_for()): gcode::InterpreterOptions::tcp_direction.
+  [[nodiscard]] std::optional<gcode::Axes> turned_to(const std::array<double, 3>& direction,
+                                                     const gcode::Axes& position, const gcode::Offsets& offsets);
 
  private:
   /// The tip's move per unit of each linear axis at q (`at`: the tip there).
   [[nodiscard]] Eigen::Matrix3d linear_columns(const model::ChainQ& q, const Eigen::Vector3d& at);
+  /// rotary_for() from q alone: nullopt where its steps do not get there.
+  [[nodiscard]] std::optional<model::ChainQ> solve_rotary(const Eigen::Vector3d& want, model::ChainQ q);
   /// The linear axes' values that put the tip at `target` with the rest of q as given.
   [[nodiscard]] model::ChainQ solve_linear(model::ChainQ q, const Eigen::Vector3d& target);
 
   const model::ForwardModel& model_;
   model::ForwardData data_;
+  Eigen::Vector3d tool_axis_;  ///< the tool's axis in the tool frame, from the spindle to the tip
   model::Conditions conditions_;
   std::vector<int> linear_, rotary_;  ///< the chain's linear and rotary axes (chain variables)
+};
+
+/// A straight TCP move's point at a fraction, as the control moves it: the tip along the line,
+/// and the rotary axes' angles lerped (G43.4) or, under G43.5 (`great_circle`), where the
+/// control's kinematics put the tool's direction on the great circle from the start's to the
+/// end's (the angles nearest the lerped ones).
+class TcpLine {
+ public:
+  TcpLine(TcpKinematics& kinematics, const gcode::Axes& start, const gcode::Axes& end, const gcode::Offsets& offsets,
+          bool great_circle);
+  /// Throws ccomp::Error (program, no position) where the direction is none the machine takes.
+  [[nodiscard]] gcode::Axes at(double f);
+  /// Under G43.5: the tool's direction meant at f (throws for a turn to the opposite).
+  [[nodiscard]] Eigen::Vector3d direction_at(double f) const;
+
+ private:
+  TcpKinematics& kinematics_;
+  gcode::Axes start_, end_;
+  const gcode::Offsets& offsets_;
+  bool great_circle_;
+  Eigen::Vector3d from_ = Eigen::Vector3d::UnitZ(), to_ = Eigen::Vector3d::UnitZ();
 };
 
 /// The points (fractions of the move, 0 and 1 included, increasing) at which a straight TCP
@@ -67,9 +109,13 @@ class TcpKinematics {
 /// (ccomp::Error, program, beyond, or where the tip is not a finite number: the caller names
 /// the line).
 /// `deviations`, when given, gets each piece's largest distance found between the two (mm).
+/// Under G43.5 (`great_circle`: TcpLine) the axes' straight moves also keep the tool within
+/// the angular tolerance that goes with `tolerance` (default_angular_tolerance()) of the
+/// great circle.
 [[nodiscard]] std::vector<double> tcp_split(TcpKinematics& kinematics, const gcode::Axes& start,
                                             const gcode::Axes& end, const gcode::Offsets& offsets, double tolerance,
-                                            std::size_t most = 100000, std::vector<double>* deviations = nullptr);
+                                            std::size_t most = 100000, std::vector<double>* deviations = nullptr,
+                                            bool great_circle = false);
 
 /// A piece of a move under TCP: a move of the axes (`motion`, joint coordinates, `tcp` off)
 /// and the share of the TCP move it makes.

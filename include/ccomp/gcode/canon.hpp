@@ -86,6 +86,14 @@ struct Motion {
   /// and `end` are the tool tip in the part and the rotary axes' angles, which the control's
   /// kinematics turn into the axes' positions, and it moves them in a straight line.
   bool tcp = false;
+  /// Under TCP, the control turns the tool's direction along the great circle from the
+  /// start's to the end's, the rotary axes wherever its kinematics put it on the way (G43.5,
+  /// Siemens' ORIWKS with ORIVECT); else it moves the rotary axes linearly.
+  bool tcp_great_circle = false;
+  /// Under TCP, the program gives the tool's direction as I J K (G43.5), not the rotary axes'
+  /// angles: `start` and `end` hold the angles the control's kinematics take for them
+  /// (InterpreterOptions::tcp_direction), and a rewriter writes the direction back.
+  bool tcp_ijk = false;
   /// With the programmed path reported (CutterPath::programmed): the move the tool centre
   /// makes under G41/G42 (and on the move after G40, from where the offset left it), as the
   /// control offsets it before the next move settles its corner; machine frame. Without an

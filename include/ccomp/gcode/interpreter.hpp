@@ -71,6 +71,20 @@ struct InterpreterOptions {
   /// (a block after the switch that names some axes keeps the others where the machine is).
   /// Without it the numbers stay as they are.
   std::function<Axes(const Axes& position, const Offsets& offsets, bool to_tcp)> tcp_switch;
+  /// Under TcpCodes::follow, for programs that give the tool's direction (G43.5's I J K, in
+  /// the program's frame): `position` (a TCP point) with its rotary axes' angles turned to
+  /// where the control's kinematics put that direction, nearest their angles now; nullopt
+  /// where the machine cannot take it. Without it G43.5 is refused.
+  std::function<std::optional<Axes>(const std::array<double, 3>& direction, const Axes& position,
+                                    const Offsets& offsets)>
+      tcp_direction;
+};
+
+/// Siemens' G group 51: how the tool's direction goes from block to block under TRAORI.
+enum class OrientationPath : std::uint8_t {
+  vector,  ///< ORIVECT, ORIPLANE: along the great circle
+  axes,    ///< ORIAXES: the rotary axes linearly
+  other,   ///< a cone, a curve, the path's tangent (ORICONxx, ORICURVE, ORIPATH): not followed
 };
 
 /// The modal state an observer may read between blocks (G codes times ten).
@@ -85,15 +99,19 @@ struct ModalState {
   int cutter_compensation = 400;  ///< G40, G41, G41.1, G42, G42.1
   int tool_length_mode = 490;     ///< G49, G43, G43.1, G43.2
   /// The code tool centre point control is on by (TcpCodes::follow): 434 (G43.4, off again
-  /// with G43, G43.1, G43.2 or G49, its group's), 128 (M128, off with M129), 428 (M428, off
+  /// with G43, G43.1, G43.2 or G49, its group's), 435 (G43.5, the same, the tool's direction
+  /// given as I J K), 128 (M128, off with M129), 428 (M428, off
   /// with M429: LinuxCNC's kinematics switch, which G43 and G49 leave as it is), kTraoriTcp
   /// (Siemens' TRAORI, off with TRAFOOF); 0 off. Under
   /// it the axis words are the tool tip in the part and the rotary axes' angles (Motion::tcp).
   int tcp = 0;
-  /// Siemens' ORIAXES in force (G group 51): under TRAORI the rotary axes move linearly
-  /// between blocks, as under G43.4. ORIVECT and the rest of the group interpolate the
-  /// tool's direction instead, which ccomp does not follow.
-  bool orientation_axes = false;
+  /// Siemens' orientation interpolation under TRAORI, which G group 25 (ORIWKS, the basic
+  /// setting, or ORIMKS) decides on some controls and G group 51 (ORIVECT, its basic setting,
+  /// ORIAXES or the rest) on others (machine data MD21104): ORIWKS with ORIVECT turns the
+  /// tool's direction along a great circle, ORIMKS with ORIAXES moves the rotary axes
+  /// linearly; a pair that disagrees is the machine data's to settle.
+  bool orientation_in_machine = false;  ///< ORIMKS (else ORIWKS)
+  OrientationPath orientation_path = OrientationPath::vector;
   /// The tool's cutting edge in force (Dialect::d_selects_cutting_edge): 0 none.
   int cutting_edge = 0;
   bool retract_to_r = true;       ///< G99 (else G98: back to the initial level)
