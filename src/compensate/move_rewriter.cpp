@@ -176,7 +176,8 @@ void MoveRewriter::point_words(const gcode::Motion& m, const gcode::Block& b, co
   // the interpreter ignores, is not one: a value written into it would be a second word).
   std::array<const gcode::Word*, gcode::kAxisCount> words{};
   for (const gcode::Word& w : b.words)
-    if (const std::optional<std::size_t> axis = gcode::axis_index(w.letter); axis && w.has_value && !words[*axis])
+    if (const std::optional<std::size_t> axis = gcode::axis_index(w.letter);
+        axis && w.has_value && w.extension == 0 && !words[*axis])
       words[*axis] = &w;
   for (std::size_t n = 0; n < machine_axis_count_; ++n) {
     const std::size_t i = machine_axes_[n];
@@ -184,7 +185,8 @@ void MoveRewriter::point_words(const gcode::Motion& m, const gcode::Block& b, co
     const gcode::Word* own = words[i];
     const gcode::Word* word = line.own ? own : nullptr;
     const bool rotary = gcode::is_rotary(i);
-    if (tcp && rotary && m.tcp_ijk) continue;  // G43.5: the direction's words say where they go
+    // (A program that gives the direction: its words say where the rotary axes go.)
+    if (tcp && rotary && m.direction_words != gcode::DirectionWords::none) continue;
     const NumberStyle style = style_of(own, b.text, inch && !rotary, rotary, decimals_.for_axis(rotary));
     // (Under TCP a linear axis' word is the tip's, not the axis': no way to turn it.)
     const TurnWord turn = tcp && !rotary ? TurnWord{} : turn_word(point, *m.offsets, i, unit);
@@ -199,24 +201,32 @@ void MoveRewriter::point_words(const gcode::Motion& m, const gcode::Block& b, co
         line.own ? edits_.emplace_back(gcode::Edit{{line.insert_at, line.insert_at}, {}}).text : line.segment;
     into.append(1, ' ').append(1, letter).append(word_text_);
   }
-  if (tcp && m.tcp_ijk) direction_words(b, point, line);
+  if (tcp && m.direction_words != gcode::DirectionWords::none) direction_words(m, b, point, line);
 }
 
-void MoveRewriter::direction_words(const gcode::Block& b, const CompensatedPoint& point, PointLine& line) {
+void MoveRewriter::direction_words(const gcode::Motion& m, const gcode::Block& b, const CompensatedPoint& point,
+                                   PointLine& line) {
   const Eigen::Vector3d d = tcp_->direction(point.q);
-  constexpr std::array<char, 3> kLetters{'I', 'J', 'K'};
-  for (std::size_t k = 0; k < kLetters.size(); ++k) {
+  const bool siemens = m.direction_words == gcode::DirectionWords::siemens_vector;
+  const std::array<std::string_view, 3> addresses =
+      siemens ? std::array<std::string_view, 3>{"A3=", "B3=", "C3="} : std::array<std::string_view, 3>{"I", "J", "K"};
+  auto own_word = [&](std::size_t k) -> const gcode::Word* {
+    for (const gcode::Word& w : b.words)
+      if (w.has_value && w.letter == addresses[k][0] && w.extension == (siemens ? 3 : 0)) return &w;
+    return nullptr;
+  };
+  for (std::size_t k = 0; k < addresses.size(); ++k) {
     // Seven decimals: a tenth of a microradian.
     std::string value = fmt::format("{:.7f}", d[static_cast<Eigen::Index>(k)]);
     if (value == "-0.0000000") value.erase(0, 1);
-    const gcode::Word* own = line.own ? b.find(kLetters[k]) : nullptr;
+    const gcode::Word* own = line.own ? own_word(k) : nullptr;
     if (own) {
       edits_.push_back(gcode::Edit{own->value_span, std::move(value)});
       continue;
     }
     std::string& into =
         line.own ? edits_.emplace_back(gcode::Edit{{line.insert_at, line.insert_at}, {}}).text : line.segment;
-    into.append(1, ' ').append(1, kLetters[k]).append(value);
+    into.append(1, ' ').append(addresses[k]).append(value);
   }
 }
 

@@ -94,7 +94,7 @@ class MoveRewriter {
                    PointLine& line);
   /// Under G43.5: the tool's direction at the point as the block's I J K (its own words
   /// replaced, or added).
-  void direction_words(const gcode::Block& b, const CompensatedPoint& point, PointLine& line);
+  void direction_words(const gcode::Motion& m, const gcode::Block& b, const CompensatedPoint& point, PointLine& line);
   /// Where q is, as the rewritten program says it: the controlled point, or the TCP point.
   [[nodiscard]] gcode::Axes commanded_of(const model::ChainQ& q, const gcode::Offsets& offsets, bool tcp);
   /// The centre words of an arc piece from `start` (the programmed, nominal point).

@@ -55,7 +55,16 @@ void Interpreter::Impl::decode(const Block& b) {
     const double v = w.value.is_literal() ? w.value.literal : evaluate(b, w.value);
     if (!std::isfinite(v)) fail(b, &w, fmt::format("{} word evaluates to {}", w.letter, v));
     if (report) word_values.push_back(v);
-    if (w.extension != 0) unsupported_at(b, w.span, extended_address_refusal(w.letter, w.extension));
+    if (w.extension != 0) {
+      // Siemens' direction vector (A3= B3= C3=), read where TRAORI is (motion()).
+      if (w.extension == 3 && w.letter >= 'A' && w.letter <= 'C' && options.dialect.named_commands) {
+        const auto k = static_cast<std::size_t>(w.letter - 'A');
+        if (words.vector_word[k]) fail(b, &w, fmt::format("multiple {}3= words on one line", w.letter));
+        words.vector[k] = v, words.vector_word[k] = &w;
+        continue;
+      }
+      unsupported_at(b, w.span, extended_address_refusal(w.letter, w.extension));
+    }
     if (w.letter == 'G') {
       const double scaled = v * 10.0;
       auto code = static_cast<int>(std::lround(scaled));
@@ -291,7 +300,9 @@ Motion Interpreter::Impl::motion_to(MotionKind kind, MotionSource source, const 
   m.radius_compensation = modal.cutter_compensation != 400;
   m.tcp = modal.tcp != 0;
   m.tcp_great_circle = modal.tcp == 435 || (modal.tcp == kTraoriTcp && siemens_interpolation() == OrientationPath::vector);
-  m.tcp_ijk = modal.tcp == 435;
+  m.direction_words = modal.tcp == 435                                ? DirectionWords::ijk
+                      : modal.tcp == kTraoriTcp && modal.siemens_vectors ? DirectionWords::siemens_vector
+                                                                         : DirectionWords::none;
   m.offsets = &offsets;
   m.line = block.line;
   return m;
@@ -543,7 +554,7 @@ void Interpreter::Impl::execute(const Block& b) {
          b.line);
   }
   // 20. motion
-  if (motion_code >= 0 || (!axes_used_by_non_modal && words.axis_mask() != 0)) {
+  if (motion_code >= 0 || (!axes_used_by_non_modal && (words.axis_mask() != 0 || direction_given()))) {
     if (g53 && motion_code != 0 && motion_code != 10 && !(motion_code < 0 && (modal.motion == 0 || modal.motion == 10)))
       fail(b, nullptr, "must use G0 or G1 with G53");
     if (g53 && !modal.absolute) fail(b, nullptr, "cannot use G53 incremental");
@@ -638,7 +649,7 @@ void Interpreter::Impl::motion(const Block& b, int code, int non_modal) {
     case 10: {
       if (code == 10 && modal.feed == 0.0 && modal.feed_mode != FeedMode::inverse_time && words.has_g(code))
         fail(b, nullptr, "cannot do G1 with zero feed rate (no F word yet)");
-      if (words.axis_mask() == 0) {
+      if (words.axis_mask() == 0 && !direction_given()) {
         // An explicit G0/G1 without axis words moves nowhere, yet LinuxCNC still issues it.
         if (words.has_g(code))
           straight(code == 0 ? MotionKind::traverse : MotionKind::feed, position, MotionSource::program);
@@ -647,7 +658,18 @@ void Interpreter::Impl::motion(const Block& b, int code, int non_modal) {
       if (code == 10 && modal.feed == 0.0 && modal.feed_mode != FeedMode::inverse_time)
         fail(b, nullptr, "cannot do G1 with zero feed rate (no F word yet)");
       Axes t = target_of(b, g53);
-      if (modal.tcp == 435) t = turned_to_direction(b, t);
+      if (modal.tcp == 435) {
+        t = turned_to_direction(b, t, {words.word['I' - 'A'], words.word['J' - 'A'], words.word['K' - 'A']},
+                                {words['I'], words['J'], words['K']});
+      } else if (words.vector_word != std::array<const Word*, 3>{}) {
+        const Word* first = words.vector_word[0] ? words.vector_word[0] : words.vector_word[1] ? words.vector_word[1] : words.vector_word[2];
+        if (modal.tcp != kTraoriTcp)
+          unsupported_at(b, first->span, "A3= B3= C3= give the tool's direction under TRAORI only");
+        t = turned_to_direction(b, t, words.vector_word, words.vector);
+        modal.siemens_vectors = true;
+      } else if (modal.tcp == kTraoriTcp && (words.has('A') || words.has('B') || words.has('C'))) {
+        modal.siemens_vectors = false;
+      }
       if (code == 10) check_orientation_interpolation(b, t, false);
       straight(code == 0 ? MotionKind::traverse : MotionKind::feed, t,
                g53 ? MotionSource::machine_coordinates : MotionSource::program);

@@ -114,28 +114,34 @@ void Interpreter::Impl::check_orientation_interpolation(const Block& b, const Ax
   unsupported_at(b, turning ? turning->span : Span{}, fmt::format("a rotary axis turns under TRAORI: {}", why));
 }
 
-Axes Interpreter::Impl::turned_to_direction(const Block& b, Axes target) {
+Axes Interpreter::Impl::turned_to_direction(const Block& b, Axes target, const std::array<const Word*, 3>& given,
+                                            const std::array<double, 3>& values) {
+  const bool fanuc = modal.tcp == 435;
   for (std::size_t i = 0; i < kAxisCount; ++i)
     if (is_rotary(i) && words.has(kAxisLetters[i]))
       unsupported_at(b, words.word[static_cast<std::size_t>(kAxisLetters[i] - 'A')]->span,
-                     "under G43.5 the rotary axes follow the tool's direction (I J K): an A B C word is not read");
-  const Word* first = words.has('I') ? words.word['I' - 'A'] : words.has('J') ? words.word['J' - 'A'] : words.word['K' - 'A'];
+                     fanuc ? "under G43.5 the rotary axes follow the tool's direction (I J K): an A B C word is not read"
+                           : "a block that gives both the rotary axes' angles and the tool's direction (A3= B3= C3=)");
+  const Word* first = given[0] ? given[0] : given[1] ? given[1] : given[2];
   if (!first) return target;  // the direction stays, and so do the angles
   if (offsets.rotation != 0.0)
-    unsupported_at(b, first->span, "G43.5's tool direction in a rotated coordinate system (G10 L2 R) is not followed");
-  // (A component not given is 0, as on Fanuc controls.)
-  const std::array<double, 3> direction{words.has('I') ? words['I'] : 0.0, words.has('J') ? words['J'] : 0.0,
-                                        words.has('K') ? words['K'] : 0.0};
+    unsupported_at(b, first->span, "a tool direction in a rotated coordinate system (G10 L2 R) is not followed");
+  // (A component not given is 0, on Fanuc and Siemens controls alike.)
+  const std::array<double, 3> direction{given[0] ? values[0] : 0.0, given[1] ? values[1] : 0.0,
+                                        given[2] ? values[2] : 0.0};
   std::optional<Axes> turned;
   try {
-    turned = options.tcp_direction(direction, target, offsets);
+    turned = options.tcp_direction ? options.tcp_direction(direction, target, offsets) : std::nullopt;
   } catch (const Error& e) {
     if (!e.where().file.empty()) throw;
     unsupported_at(b, first->span, e.message());
   }
+  if (!options.tcp_direction)
+    unsupported_at(b, first->span, "the tool's direction given: this command does not follow it (the main job, "
+                                   "verify and predict do)");
   if (!turned)
     fail(b, first,
-         fmt::format("the tool's direction I{:g} J{:g} K{:g} is none the machine's rotary axes can turn the tool to",
+         fmt::format("the tool's direction ({:g}, {:g}, {:g}) is none the machine's rotary axes can turn the tool to",
                      direction[0], direction[1], direction[2]));
   for (std::size_t i = 0; i < kAxisCount; ++i)
     if (is_rotary(i)) target[i] = (*turned)[i];

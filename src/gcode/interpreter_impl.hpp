@@ -31,6 +31,9 @@ struct Words {
   std::array<const Word*, 8> m_word{};
   int m_count = 0;
   bool has_spindle_selector = false;
+  /// Siemens' direction vector under TRAORI (A3= B3= C3=): the components given.
+  std::array<double, 3> vector{};
+  std::array<const Word*, 3> vector_word{};
   std::bitset<1000> g_set;   ///< G codes (times ten) below G100 present, for has_g()
   std::uint32_t groups = 0;  ///< bit g: a G code of modal group g is present
   [[nodiscard]] bool has_group(int group) const { return (groups >> group) & 1U; }
@@ -227,9 +230,17 @@ struct Interpreter::Impl {
   /// Under TRAORI a feed move or an arc whose rotary axes turn is refused where ccomp does
   /// not follow its interpolation (an arc: along a great circle, too).
   void check_orientation_interpolation(const Block& b, const Axes& target, bool arc) const;
-  /// Under G43.5: `target` with its rotary axes' angles where the control's kinematics put the
-  /// direction the block's I J K give (InterpreterOptions::tcp_direction); as it is without.
-  Axes turned_to_direction(const Block& b, Axes target);
+  /// Whether the block gives the tool's direction (G43.5's I J K, Siemens' A3= B3= C3=): a
+  /// move, though it names no axis.
+  [[nodiscard]] bool direction_given() const {
+    return (modal.tcp == 435 && (words.has('I') || words.has('J') || words.has('K'))) ||
+           words.vector_word != std::array<const Word*, 3>{};
+  }
+  /// Under G43.5 (the block's I J K) or TRAORI (its A3= B3= C3=): `target` with its rotary
+  /// axes' angles where the control's kinematics put the direction the words give, a
+  /// component left out 0 (InterpreterOptions::tcp_direction); as it is without them.
+  Axes turned_to_direction(const Block& b, Axes target, const std::array<const Word*, 3>& given,
+                           const std::array<double, 3>& values);
   void end_program(const Block& b);
   Axes target_of(const Block& b, bool machine_coordinates);
 

@@ -9,7 +9,9 @@
 #include <cmath>
 #include <numbers>
 #include <regex>
+#include <sstream>
 #include <string>
+#include <vector>
 
 #include "trace_capture.hpp"
 
@@ -105,8 +107,8 @@ INSTANTIATE_TEST_SUITE_P(
         Unfollowed{"SiemensOriaxesUnderOriwks", "siemens",
                    "G71 G90\nT1 M6\nORIAXES TRAORI\nG0 X10 Y0 Z20 A10\nG1 X20 A15 F500\nM30\n",
                    "5:8: error: a rotary axis turns under TRAORI: ORIWKS and ORIAXES disagree"},
-        Unfollowed{"SiemensDirectionVector", "siemens", "G71\nT1 M6\nTRAORI\nG1 X10 A3=0 B3=0 C3=1 F500\nM30\n",
-                   "4:8: error: A3=: the tool's direction as a vector"},
+        Unfollowed{"SiemensDirectionVectorWithoutTraori", "siemens", "G71\nT1 M6\nG1 X10 A3=0 B3=0 C3=1 F500\nM30\n",
+                   "3:8: error: A3= B3= C3= give the tool's direction under TRAORI only"},
         Unfollowed{"ACannedCycle", "fanuc", "G21 G90 G17\nG43.4 H1\nG0 X10 Y0 Z20\nG81 X20 Y5 Z-5 R2 F100\nG80\nM2\n",
                    "4:1: error: a canned cycle, G28/G30 or G53 under tool centre point control"}),
     [](const auto& param_info) { return std::string(param_info.param.name); });
@@ -166,6 +168,38 @@ TEST(ToolCentrePoint, AG43_5ProgramIsFollowedAndWrittenAsDirections) {
   std::string back = read_file(zero);
   back.erase(0, back.find('\n') + 1);
   EXPECT_EQ(back, text);
+  // The same program for a Sinumerik (TRAORI in its basic settings, the direction as
+  // A3= B3= C3=): the very words the G43.5 one gets, in Siemens' addresses.
+  std::string siemens = std::regex_replace(text, std::regex("G43.5 H1"), "D1 TRAORI");
+  siemens = std::regex_replace(siemens, std::regex("G49"), "TRAFOOF");
+  siemens = std::regex_replace(siemens, std::regex(" I"), " A3=");
+  siemens = std::regex_replace(siemens, std::regex(" J"), " B3=");
+  siemens = std::regex_replace(siemens, std::regex(" K"), " C3=");
+  siemens = std::regex_replace(siemens, std::regex("G21 G90 G17 G94"), "G71 G90 G17 G94\nT1 M6");
+  write_file(dir + "/traori.mpf", siemens);
+  const CommandResult traori = run_command(shell_quote(ccomp_binary()) + " " + dir + "/traori.mpf -m " +
+                                           five_axis_model() + " --dialect siemens" + kTools + " -o " + dir +
+                                           "/traori_out.mpf -q");
+  ASSERT_EQ(traori.exit_code, 0) << traori.err << siemens;
+  auto words_under_tcp = [](std::string program, const char* on) {
+    program = program.substr(program.find(on));
+    program = std::regex_replace(program, std::regex("A3="), "I");
+    program = std::regex_replace(program, std::regex("B3="), "J");
+    program = std::regex_replace(program, std::regex("C3="), "K");
+    // Each line's words in letter order (where an added word goes differs by dialect).
+    std::vector<std::vector<std::string>> lines;
+    const std::regex word(R"([XYZIJK]-?[0-9.]+)");
+    std::istringstream in(program);
+    for (std::string line; std::getline(in, line);) {
+      std::vector<std::string> words;
+      for (auto it = std::sregex_iterator(line.begin(), line.end(), word); it != std::sregex_iterator(); ++it)
+        words.push_back((*it)[0].str());
+      std::sort(words.begin(), words.end());
+      if (!words.empty()) lines.push_back(words);
+    }
+    return lines;
+  };
+  EXPECT_EQ(words_under_tcp(read_file(dir + "/traori_out.mpf"), "TRAORI"), words_under_tcp(written, "G43.5"));
 }
 
 TEST(ToolCentrePoint, TheSwitchBackAndATraceAreNotRefused) {

@@ -6,6 +6,8 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <array>
+#include <optional>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -168,8 +170,9 @@ TEST(SiemensInterpreter, WhatIsNotFollowedIsRefusedAtItsColumn) {
   EXPECT_TRUE(starts(disagree, fmt::format("{} 5:7: a rotary axis turns under TRAORI: ORIWKS and ORIAXES disagree",
                                            unsupported)))
       << disagree;
-  const std::string vector = refusal("TRAORI\nG1 X2 A3=0 B3=0 C3=1 F100\nM30\n");
-  EXPECT_TRUE(starts(vector, fmt::format("{} 2:7: A3=: the tool's direction as a vector", unsupported))) << vector;
+  const std::string euler = refusal("TRAORI\nG1 X2 A2=0 B2=0 C2=1 F100\nM30\n");
+  EXPECT_TRUE(starts(euler, fmt::format("{} 2:7: A2=: the tool's direction as Euler or RPY angles", unsupported)))
+      << euler;
   const std::string swivel = refusal("G0 X0\nN20 CYCLE800(1,\"TC1\",200000,57,0,0,0,30,0,0,0,0,0,-1,100,1)\nM30\n");
   EXPECT_TRUE(starts(swivel, fmt::format("{} 2:5: CYCLE800: swivels the working plane", unsupported))) << swivel;
   const std::string frame = refusal("G0 X0\nTRANS X10\nM30\n");
@@ -225,6 +228,44 @@ TEST(SiemensInterpreter, OtherTransformationsAndCommentsInParenthesesAreNotRead)
   EXPECT_EQ(refusal("SPOS=90 CYCLE832(0.01,(1),1)\nM30\n"), "no refusal");
   EXPECT_TRUE(refusal("G505\nM30\n").starts_with(fmt::format("{} 1:1: G505: a settable work offset", unsupported)));
   EXPECT_TRUE(refusal("G74 X0\nM30\n").starts_with(fmt::format("{} 1:1: G74 approaches", unsupported)));
+}
+
+// A3= B3= C3= under TRAORI: the direction (a component left out 0) goes to the caller's
+// kinematics, the move ends at their angles and says the program gives directions, until a
+// block gives angles again; outside TRAORI, or beside angle words, they are refused.
+TEST(SiemensInterpreter, ADirectionVectorTakesItsAnglesFromTheCaller) {
+  InterpreterOptions o = siemens_options();
+  std::vector<std::array<double, 3>> asked;
+  o.tcp_direction = [&asked](const std::array<double, 3>& d, const Axes& p, const Offsets&) -> std::optional<Axes> {
+    asked.push_back(d);
+    Axes q = p;
+    q[3] = 100 * d[0], q[5] = 100 * d[1];
+    return q;
+  };
+  Recorded sink;
+  LineSource source = LineSource::from_string(
+      "T1 M6\nTRAORI\nG0 X1 Z50 A3=0.5 C3=0.8\nG1 X2 B3=0.25 C3=1 F100\nC3=1\nG1 X3 A7 C9\nTRAFOOF\nM30\n", "t.mpf");
+  Interpreter(o).run(source, sink);
+  EXPECT_EQ(asked, (std::vector<std::array<double, 3>>{{0.5, 0, 0.8}, {0, 0.25, 1}, {0, 0, 1}}));
+  ASSERT_EQ(sink.moves.size(), 4U);
+  EXPECT_DOUBLE_EQ(sink.moves[0].end[3], 50.0);
+  EXPECT_DOUBLE_EQ(sink.moves[1].end[5], 25.0);
+  EXPECT_DOUBLE_EQ(sink.moves[2].end[5], 0.0) << "a direction alone is a move";
+  for (std::size_t k = 0; k < 3; ++k) {
+    EXPECT_EQ(sink.moves[k].direction_words, DirectionWords::siemens_vector) << k;
+    EXPECT_TRUE(sink.moves[k].tcp_great_circle) << k;
+  }
+  EXPECT_EQ(sink.moves[3].direction_words, DirectionWords::none) << "angles again";
+  for (const char* program : {"G1 X1 A3=0 B3=0 C3=1 F100\nM30\n", "TRAORI\nG1 X1 A5 C3=1 F100\nM30\n"}) {
+    LineSource refused = LineSource::from_string(program, "t.mpf");
+    Recorded ignored;
+    try {
+      Interpreter(o).run(refused, ignored);
+      FAIL() << program;
+    } catch (const Error& e) {
+      EXPECT_EQ(e.kind(), ErrorKind::unsupported) << e.message();
+    }
+  }
 }
 
 // A blank between a word's letter and its number reads the same whichever path reads the line.

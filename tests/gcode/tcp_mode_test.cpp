@@ -152,8 +152,8 @@ TEST(TcpModes, G43_5TakesTheAnglesForItsDirectionFromTheCaller) {
   EXPECT_DOUBLE_EQ(sink.moves[1].end[3], 0.0);
   EXPECT_DOUBLE_EQ(sink.moves[1].end[5], 25.0);
   EXPECT_DOUBLE_EQ(sink.moves[2].end[5], 25.0) << "no I J K: the direction, and the angles, stay";
-  for (std::size_t k = 0; k < 3; ++k) EXPECT_TRUE(sink.moves[k].tcp && sink.moves[k].tcp_ijk && sink.moves[k].tcp_great_circle);
-  EXPECT_FALSE(sink.moves[3].tcp || sink.moves[3].tcp_ijk);
+  for (std::size_t k = 0; k < 3; ++k) EXPECT_TRUE(sink.moves[k].tcp && sink.moves[k].direction_words == DirectionWords::ijk && sink.moves[k].tcp_great_circle);
+  EXPECT_FALSE(sink.moves[3].tcp || sink.moves[3].direction_words != DirectionWords::none);
   // A direction the machine cannot take, an angle word and an arc are refused at the line.
   for (const char* program : {"G43.5 H1\nG0 X1 I0 J0 K-1\nM2\n", "G43.5 H1\nG0 X1 A5\nM2\n",
                               "G43.5 H1\nG0 X1\nG2 X2 Y1 I1 J0 F100\nM2\n"}) {

@@ -69,6 +69,14 @@ struct Arc {
   int turns = 1;               ///< signed: + counter-clockwise (G3), - clockwise (G2)
 };
 
+/// How a TCP program gives the tool's direction, where it does instead of the rotary axes'
+/// angles.
+enum class DirectionWords : std::uint8_t {
+  none,            ///< the angles (A B C)
+  ijk,             ///< G43.5's I J K
+  siemens_vector,  ///< Siemens' A3= B3= C3= under TRAORI
+};
+
 struct Motion {
   MotionKind kind = MotionKind::traverse;
   MotionSource source = MotionSource::program;
@@ -90,10 +98,10 @@ struct Motion {
   /// start's to the end's, the rotary axes wherever its kinematics put it on the way (G43.5,
   /// Siemens' ORIWKS with ORIVECT); else it moves the rotary axes linearly.
   bool tcp_great_circle = false;
-  /// Under TCP, the program gives the tool's direction as I J K (G43.5), not the rotary axes'
-  /// angles: `start` and `end` hold the angles the control's kinematics take for them
-  /// (InterpreterOptions::tcp_direction), and a rewriter writes the direction back.
-  bool tcp_ijk = false;
+  /// Under TCP, how the program gives the tool's direction where it does not give the rotary
+  /// axes' angles: `start` and `end` hold the angles the control's kinematics take for it
+  /// (InterpreterOptions::tcp_direction), and a rewriter writes the direction back so.
+  DirectionWords direction_words = DirectionWords::none;
   /// With the programmed path reported (CutterPath::programmed): the move the tool centre
   /// makes under G41/G42 (and on the move after G40, from where the offset left it), as the
   /// control offsets it before the next move settles its corner; machine frame. Without an

@@ -112,6 +112,9 @@ struct ModalState {
   /// linearly; a pair that disagrees is the machine data's to settle.
   bool orientation_in_machine = false;  ///< ORIMKS (else ORIWKS)
   OrientationPath orientation_path = OrientationPath::vector;
+  /// Under TRAORI the program gives the tool's direction as A3= B3= C3= (since its last block
+  /// that gave any), not the rotary axes' angles.
+  bool siemens_vectors = false;
   /// The tool's cutting edge in force (Dialect::d_selects_cutting_edge): 0 none.
   int cutting_edge = 0;
   bool retract_to_r = true;       ///< G99 (else G98: back to the initial level)
