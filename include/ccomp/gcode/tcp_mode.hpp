@@ -22,9 +22,10 @@ enum class TcpCodes : std::uint8_t {
   pass,
   /// Refused at the code (exit 4): where the axis words must be the joints'.
   refuse,
-  /// Followed: G43.4 (with G43's H), M128 (Fanuc dialect), M428 (LinuxCNC dialect) and TRAORI
-  /// (siemens dialect, off with TRAFOOF) switch TCP on; G43, G43.1, G43.2, G49, M129 and M429 off; each motion says which it is under.
-  /// G43.5 (the tool's direction as I J K) and M430 (user kinematics) are refused.
+  /// Followed: G43.4 (with G43's H), G43.5 (the tool's direction as I J K, where the caller
+  /// gives InterpreterOptions::tcp_direction), M128 (Fanuc dialect), M428 (LinuxCNC dialect)
+  /// and TRAORI (siemens dialect, off with TRAFOOF) switch TCP on; G43, G43.1, G43.2, G49,
+  /// M129 and M429 off; each motion says which it is under. M430 (user kinematics) is refused.
   follow,
 };
 
