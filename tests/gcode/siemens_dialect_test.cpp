@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <array>
+#include <cmath>
 #include <optional>
 #include <sstream>
 #include <string>
@@ -148,8 +149,12 @@ TEST(SiemensInterpreter, DSelectsTheEdgeOfTheToolInTheSpindle) {
   EXPECT_DOUBLE_EQ(run("T2 M6\nD0\nD1\nG0 X0 H5\nM30\n").offsets.tool[2], 80.0) << "H goes to the PLC";
   // A tool table holds one length and radius a tool: a second edge's are not there.
   EXPECT_TRUE(refusal("T2 M6 D2\nM30\n").starts_with(fmt::format("{} 1:7: D2", static_cast<int>(ErrorKind::unsupported))));
-  // The radius of G41 is the spindle's tool's, whatever the edge's number.
-  EXPECT_EQ(refusal("T2 M6 D1\nG0 X0 Y0\nG41 G1 X10 F100\nG40 X20\nM30\n"), "no refusal");
+  // The radius of G41 is the spindle's tool's (tool 2: 3 mm), not a tool the D names: the
+  // tool centre runs 3 mm left of the programmed line along X.
+  const Outcome left = run("T2 M6 D1\nG0 X0 Y0\nG41 G1 X10 Y0 F100\nG1 X20\nG1 X30\nG40 G1 X40\nM30\n");
+  bool three_left = false;
+  for (const Motion& m : left.sink.moves) three_left = three_left || std::abs(m.end[1] - 3.0) < 1e-9;
+  EXPECT_TRUE(three_left);
 }
 
 TEST(SiemensInterpreter, TheSiemensCodesOfUnitsAndDwellAreRead) {
