@@ -17,6 +17,21 @@
 
 namespace ccomp::compensate {
 
+namespace {
+
+/// The great circle from `a` to `b` (unit directions) at fraction t; a pair of opposite
+/// directions has none (ccomp::Error, program).
+Eigen::Vector3d on_great_circle(const Eigen::Vector3d& a, const Eigen::Vector3d& b, double t) {
+  const double angle = angle_between(a, b);
+  if (angle < 1e-12) return a;
+  if (!(std::numbers::pi - angle > 1e-9))
+    throw Error(ErrorKind::program, "a move under G43.5 that turns the tool's direction to its opposite: no great "
+                                    "circle joins the two");
+  return ((std::sin((1.0 - t) * angle) * a + std::sin(t * angle) * b) / std::sin(angle)).normalized();
+}
+
+}  // namespace
+
 TcpKinematics::TcpKinematics(const model::ForwardModel& model)
     : model_(model), data_(model), tool_axis_(tool_axis_of(model)) {
   for (const auto* chain : {&model.chain().workpiece, &model.chain().tool})
@@ -110,8 +125,16 @@ std::optional<model::ChainQ> TcpKinematics::solve_rotary(const Eigen::Vector3d& 
 
 std::optional<gcode::Axes> TcpKinematics::turned_to(const std::array<double, 3>& direction,
                                                     const gcode::Axes& position, const gcode::Offsets& offsets) {
-  const std::optional<model::ChainQ> q =
-      rotary_for(Eigen::Vector3d(direction[0], direction[1], direction[2]), chain_of(position, offsets));
+  const Eigen::Vector3d target(direction[0], direction[1], direction[2]);
+  if (!(target.norm() > 1e-9) || !target.allFinite()) return std::nullopt;
+  std::optional<model::ChainQ> q = chain_of(position, offsets);
+  const Eigen::Vector3d from = this->direction(*q), to = target.normalized();
+  const double turn = angle_between(from, to);
+  constexpr double kLargestStep = 0.1;  // rad along the great circle
+  const int steps = std::min(1000, static_cast<int>(std::ceil(turn / kLargestStep)));
+  for (int k = 1; k < steps && q; ++k)
+    if (std::numbers::pi - turn > 1e-9) q = rotary_for(on_great_circle(from, to, static_cast<double>(k) / steps), *q);
+  if (q) q = rotary_for(to, *q);
   if (!q) return std::nullopt;
   const gcode::Axes angles = controlled_of_chain(*q, offsets);
   gcode::Axes turned = position;
@@ -180,17 +203,6 @@ gcode::Axes lerp(const gcode::Axes& a, const gcode::Axes& b, double s) {
   return out;
 }
 
-/// The great circle from `a` to `b` (unit directions) at fraction t; a pair of opposite
-/// directions has none (ccomp::Error, program).
-Eigen::Vector3d on_great_circle(const Eigen::Vector3d& a, const Eigen::Vector3d& b, double t) {
-  const double angle = angle_between(a, b);
-  if (angle < 1e-12) return a;
-  if (!(std::numbers::pi - angle > 1e-9))
-    throw Error(ErrorKind::program, "a move under G43.5 that turns the tool's direction to its opposite: no great "
-                                    "circle joins the two");
-  return ((std::sin((1.0 - t) * angle) * a + std::sin(t * angle) * b) / std::sin(angle)).normalized();
-}
-
 }  // namespace
 
 TcpLine::TcpLine(TcpKinematics& kinematics, const gcode::Axes& start, const gcode::Axes& end,
@@ -206,13 +218,18 @@ Eigen::Vector3d TcpLine::direction_at(double f) const { return on_great_circle(f
 gcode::Axes TcpLine::at(double f) {
   gcode::Axes p = lerp(start_, end_, f);
   if (!great_circle_ || f == 0.0 || f == 1.0) return p;
-  // The angles lerped are the guess: the solve keeps to their branch.
-  const std::optional<model::ChainQ> turned = kinematics_.rotary_for(direction_at(f), chain_of(p, offsets_));
+  // From the angles nearest before f: the branch the interpolation has been on.
+  auto before = solved_.lower_bound(f);
+  gcode::Axes guess = before == solved_.begin() ? start_ : std::prev(before)->second;
+  for (std::size_t i = 0; i < p.size(); ++i)
+    if (!gcode::is_rotary(i)) guess[i] = p[i];
+  const std::optional<model::ChainQ> turned = kinematics_.rotary_for(direction_at(f), chain_of(guess, offsets_));
   if (!turned)
     throw Error(ErrorKind::program, "a move under G43.5 whose tool direction on the way is none the machine can take");
   const gcode::Axes angles = controlled_of_chain(*turned, offsets_);
   for (std::size_t i = 0; i < p.size(); ++i)
     if (gcode::is_rotary(i)) p[i] = angles[i];
+  solved_.emplace(f, p);
   return p;
 }
 
@@ -280,6 +297,12 @@ std::vector<double> tcp_split(TcpKinematics& kinematics, const gcode::Axes& star
                                 tolerance));
       continue;
     }
+    if (!(p.b - p.a > 1e-9) && great_circle)
+      throw Error(ErrorKind::unsupported,
+                  "a move whose tool direction turns along a great circle (G43.5, Siemens' ORIWKS with ORIVECT) "
+                  "past the singular pose so near that the control swings the last rotary axis round within a "
+                  "billionth of the move: ccomp does not follow it (keep the direction off the pole, or split the "
+                  "move there)");
     if (!(p.b - p.a > 1e-9))  // the rounding of the points, not the path, is what is left
       throw Error(ErrorKind::program,
                   fmt::format("a tool-centre-point move that cannot be followed within {} mm by the axes' straight "

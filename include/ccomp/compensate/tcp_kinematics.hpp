@@ -15,6 +15,7 @@
 // Both maps are one affine solve each: with the rotary axes at given angles the perfect
 // machine's tip is affine in the linear axes' positions.
 #include <Eigen/Core>
+#include <map>
 #include <optional>
 #include <vector>
 
@@ -61,7 +62,10 @@ class TcpKinematics {
   /// take, a machine with one rotary axis), or `target` is no direction.
   [[nodiscard]] std::optional<model::ChainQ> rotary_for(const Eigen::Vector3d& target, model::ChainQ q);
   /// `position` (a TCP point) with its rotary axes' angles turned so that the tool's
-  /// direction is `direction` (rotary_for()): gcode::InterpreterOptions::tcp_direction.
+  /// direction is `direction`: gcode::InterpreterOptions::tcp_direction. The angles follow
+  /// the great circle from the direction now to it in steps of at most 0.1 rad (rotary_for()
+  /// from the step before), so a large turn ends on the branch the control's continuous
+  /// interpolation reaches.
   [[nodiscard]] std::optional<gcode::Axes> turned_to(const std::array<double, 3>& direction,
                                                      const gcode::Axes& position, const gcode::Offsets& offsets);
 
@@ -99,6 +103,9 @@ class TcpLine {
   const gcode::Offsets& offsets_;
   bool great_circle_;
   Eigen::Vector3d from_ = Eigen::Vector3d::UnitZ(), to_ = Eigen::Vector3d::UnitZ();
+  /// The angles found so far, by fraction: each solve starts from the nearest one before it,
+  /// so the angles follow the great circle continuously, as a control's do.
+  std::map<double, gcode::Axes> solved_;
 };
 
 /// The points (fractions of the move, 0 and 1 included, increasing) at which a straight TCP
