@@ -71,9 +71,7 @@ std::optional<model::ChainQ> TcpKinematics::rotary_for(const Eigen::Vector3d& ta
   // Two sets of angles this much or less apart in their distance from q's are a tie: which
   // one a control takes is its own setting's choice.
   constexpr double kTie = 1e-3;  // rad
-  std::optional<model::ChainQ> nearest;
-  double distance = std::numeric_limits<double>::infinity();
-  std::vector<std::pair<double, model::ChainQ>> found_all;
+  std::vector<std::pair<double, model::ChainQ>> found_all;  // (distance from q, angles)
   for (const int place : rotary_)
     for (const double sign : {1.0, -1.0}) {
       model::ChainQ start = q;
@@ -83,11 +81,13 @@ std::optional<model::ChainQ> TcpKinematics::rotary_for(const Eigen::Vector3d& ta
       double d = 0.0;
       for (const int k : rotary_) d += std::abs((*found)[k] - q[k]);
       found_all.emplace_back(d, *found);
-      if (d < distance) distance = d, nearest = found;
     }
+  if (found_all.empty()) return std::nullopt;
+  const auto& [distance, nearest] = *std::min_element(
+      found_all.begin(), found_all.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
   for (const auto& [d, other] : found_all) {
     double apart = 0.0;
-    for (const int k : rotary_) apart = std::max(apart, std::abs(other[k] - (*nearest)[k]));
+    for (const int k : rotary_) apart = std::max(apart, std::abs(other[k] - nearest[k]));
     if (apart > 1e-6 && d - distance < kTie)
       throw Error(ErrorKind::unsupported,
                   "from the singular pose two sets of rotary angles turn the tool to this direction, as near the "

@@ -661,8 +661,7 @@ void Interpreter::Impl::motion(const Block& b, int code, int non_modal) {
       if (modal.tcp == 435) {
         t = turned_to_direction(b, t, {words.word['I' - 'A'], words.word['J' - 'A'], words.word['K' - 'A']},
                                 {words['I'], words['J'], words['K']});
-      } else if (words.vector_word != std::array<const Word*, 3>{}) {
-        const Word* first = words.vector_word[0] ? words.vector_word[0] : words.vector_word[1] ? words.vector_word[1] : words.vector_word[2];
+      } else if (const Word* first = words.first_vector_word()) {
         if (modal.tcp != kTraoriTcp)
           unsupported_at(b, first->span, "A3= B3= C3= give the tool's direction under TRAORI only");
         t = turned_to_direction(b, t, words.vector_word, words.vector);

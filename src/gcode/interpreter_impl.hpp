@@ -34,6 +34,12 @@ struct Words {
   /// Siemens' direction vector under TRAORI (A3= B3= C3=): the components given.
   std::array<double, 3> vector{};
   std::array<const Word*, 3> vector_word{};
+  /// The first of A3= B3= C3= the block gives, or nullptr.
+  [[nodiscard]] const Word* first_vector_word() const {
+    for (const Word* w : vector_word)
+      if (w) return w;
+    return nullptr;
+  }
   std::bitset<1000> g_set;   ///< G codes (times ten) below G100 present, for has_g()
   std::uint32_t groups = 0;  ///< bit g: a G code of modal group g is present
   [[nodiscard]] bool has_group(int group) const { return (groups >> group) & 1U; }
@@ -234,7 +240,7 @@ struct Interpreter::Impl {
   /// move, though it names no axis.
   [[nodiscard]] bool direction_given() const {
     return (modal.tcp == 435 && (words.has('I') || words.has('J') || words.has('K'))) ||
-           words.vector_word != std::array<const Word*, 3>{};
+           words.first_vector_word() != nullptr;
   }
   /// Under G43.5 (the block's I J K) or TRAORI (its A3= B3= C3=): `target` with its rotary
   /// axes' angles where the control's kinematics put the direction the words give, a
